@@ -1,0 +1,152 @@
+"""Height maps and line profiles: the two measured objects roadscan works on.
+
+Heights are in metres, spacings in metres. Unmeasured points (instrument dropouts) are
+carried explicitly: ``heights_m`` holds NaN there and ``unmeasured`` is True there; the two
+are kept consistent by the constructors.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+__all__ = ["HeightMap", "Profile"]
+
+
+def _clean(heights, unmeasured):
+    h = np.array(heights, dtype=np.float64, copy=True)
+    bad = ~np.isfinite(h)
+    if unmeasured is not None:
+        bad |= np.asarray(unmeasured, dtype=bool)
+    h[bad] = np.nan
+    return h, bad
+
+
+@dataclass(frozen=True, eq=False)
+class HeightMap:
+    """Heights on a regular grid.
+
+    Parameters
+    ----------
+    heights_m : (ny, nx) array
+        Heights [m]; rows run along y, columns along x. NaN where unmeasured.
+    dx_m, dy_m : float
+        Spacing along x (columns) and y (rows) [m].
+    unmeasured : (ny, nx) bool array, optional
+        True where the instrument did not measure. Derived from NaNs when omitted.
+    name : str
+        A label (usually the file stem).
+    meta : dict
+        Free-form provenance (source file, units read, instrument...).
+    """
+
+    heights_m: np.ndarray
+    dx_m: float
+    dy_m: float
+    unmeasured: np.ndarray = None
+    name: str = ""
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        h, bad = _clean(self.heights_m, self.unmeasured)
+        if h.ndim != 2:
+            raise ValueError(f"height map must be 2D, got shape {h.shape}")
+        if h.shape[0] < 2 or h.shape[1] < 2:
+            raise ValueError(f"height map too small: shape {h.shape}")
+        for s in (self.dx_m, self.dy_m):
+            if not (np.isfinite(s) and s > 0):
+                raise ValueError(f"spacing must be positive and finite, got {s!r}")
+        if bad.all():
+            raise ValueError("height map has no measured points")
+        object.__setattr__(self, "heights_m", h)
+        object.__setattr__(self, "unmeasured", bad)
+        object.__setattr__(self, "dx_m", float(self.dx_m))
+        object.__setattr__(self, "dy_m", float(self.dy_m))
+
+    @property
+    def shape(self):
+        return self.heights_m.shape
+
+    @property
+    def nx(self):
+        return self.heights_m.shape[1]
+
+    @property
+    def ny(self):
+        return self.heights_m.shape[0]
+
+    @property
+    def size_m(self):
+        """(L_x, L_y) = (nx dx, ny dy) [m]."""
+        return self.nx * self.dx_m, self.ny * self.dy_m
+
+    @property
+    def measured_fraction(self):
+        return float(1.0 - self.unmeasured.mean())
+
+    def with_heights(self, heights_m, unmeasured=None, **changes):
+        """A copy with new heights (same spacing, name, meta unless changed)."""
+        if unmeasured is None:
+            unmeasured = self.unmeasured
+        return replace(self, heights_m=heights_m, unmeasured=unmeasured, **changes)
+
+    def x_m(self):
+        return np.arange(self.nx) * self.dx_m
+
+    def y_m(self):
+        return np.arange(self.ny) * self.dy_m
+
+
+@dataclass(frozen=True, eq=False)
+class Profile:
+    """Heights along a line (a road texture laser's output).
+
+    Parameters
+    ----------
+    heights_m : (n,) array
+        Heights [m], NaN where unmeasured (dropouts).
+    dx_m : float
+        Sampling interval [m].
+    unmeasured : (n,) bool array, optional
+    name, meta : as for HeightMap.
+    """
+
+    heights_m: np.ndarray
+    dx_m: float
+    unmeasured: np.ndarray = None
+    name: str = ""
+    meta: dict = field(default_factory=dict)
+
+    def __post_init__(self):
+        h, bad = _clean(self.heights_m, self.unmeasured)
+        if h.ndim != 1:
+            raise ValueError(f"profile must be 1D, got shape {h.shape}")
+        if h.size < 4:
+            raise ValueError(f"profile too short: {h.size} points")
+        if not (np.isfinite(self.dx_m) and self.dx_m > 0):
+            raise ValueError(f"spacing must be positive and finite, got {self.dx_m!r}")
+        if bad.all():
+            raise ValueError("profile has no measured points")
+        object.__setattr__(self, "heights_m", h)
+        object.__setattr__(self, "unmeasured", bad)
+        object.__setattr__(self, "dx_m", float(self.dx_m))
+
+    @property
+    def n(self):
+        return self.heights_m.size
+
+    @property
+    def length_m(self):
+        return self.n * self.dx_m
+
+    @property
+    def measured_fraction(self):
+        return float(1.0 - self.unmeasured.mean())
+
+    def with_heights(self, heights_m, unmeasured=None, **changes):
+        if unmeasured is None:
+            unmeasured = self.unmeasured
+        return replace(self, heights_m=heights_m, unmeasured=unmeasured, **changes)
+
+    def x_m(self):
+        return np.arange(self.n) * self.dx_m
