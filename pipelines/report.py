@@ -1,0 +1,203 @@
+"""Plots and self-contained HTML reports shared by every pipeline.
+
+Every figure has labelled axes with units and log scales where the thesis uses them; every
+report embeds its PNGs (base64) so that ``report.html`` opens offline from anywhere.
+"""
+from __future__ import annotations
+
+import base64
+import html
+import io
+import json
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+from roadscan.io.atomic import atomic_path, atomic_write_text  # noqa: E402
+
+__all__ = [
+    "save_figure", "plot_heightmap", "plot_profile", "plot_psd", "plot_mu", "write_html",
+    "write_json", "write_csv", "table_html",
+]
+
+FIGSIZE = (6.4, 4.4)
+
+
+def save_figure(fig, path):
+    """Save ``fig`` as PNG atomically and close it."""
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, dpi=120, format="png")
+    plt.close(fig)
+    return Path(path)
+
+
+def plot_heightmap(hm, path, title=None, depth_m=None):
+    """Height map image: x, y in mm, heights in um, unmeasured points grey."""
+    fig, ax = plt.subplots(figsize=FIGSIZE)
+    data = hm.heights_m * 1e6 if depth_m is None else depth_m * 1e3
+    lx, ly = hm.size_m
+    cmap = matplotlib.colormaps["viridis" if depth_m is None else "Blues"].copy()
+    cmap.set_bad("0.6")
+    finite = data[np.isfinite(data)]
+    vmin, vmax = (np.percentile(finite, [0.5, 99.5]) if finite.size else (0, 1))
+    if depth_m is not None:
+        vmin = 0.0
+    im = ax.imshow(np.ma.masked_invalid(data), origin="lower", extent=(0, lx * 1e3, 0, ly * 1e3),
+                   cmap=cmap, vmin=vmin, vmax=max(vmax, vmin + 1e-12), interpolation="nearest")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    cb = fig.colorbar(im, ax=ax, shrink=0.9)
+    cb.set_label("height [µm]" if depth_m is None else "water depth [mm]")
+    ax.set_title(title or ("height map" if depth_m is None else "water depth"))
+    return save_figure(fig, path)
+
+
+def plot_profile(profile, path, title=None):
+    """Line profile: distance in mm, height in mm."""
+    fig, ax = plt.subplots(figsize=(7.5, 3.4))
+    ax.plot(profile.x_m() * 1e3, profile.heights_m * 1e3, lw=0.5, color="C0")
+    ax.set_xlabel("distance [mm]")
+    ax.set_ylabel("height [mm]")
+    ax.set_title(title or "profile")
+    ax.grid(alpha=0.3)
+    return save_figure(fig, path)
+
+
+def plot_psd(curves, path, title="power spectral density", fits=()):
+    """Log-log C(q). ``curves``: iterable of (label, q_per_m, C_m4); ``fits`` the same, dashed."""
+    fig, ax = plt.subplots(figsize=FIGSIZE)
+    for i, (label, q, C) in enumerate(curves):
+        ok = np.asarray(C) > 0
+        ax.loglog(np.asarray(q)[ok], np.asarray(C)[ok], "-", lw=1.4, color=f"C{i}", label=label)
+    for i, (label, q, C) in enumerate(fits):
+        ok = np.asarray(C) > 0
+        ax.loglog(np.asarray(q)[ok], np.asarray(C)[ok], "--", lw=1.2, color=f"C{i + 3}", label=label)
+    ax.set_xlabel("wave vector q [1/m]")
+    ax.set_ylabel("C(q) [m$^4$]")
+    ax.set_title(title)
+    ax.grid(which="both", alpha=0.25)
+    ax.legend(fontsize=8)
+    return save_figure(fig, path)
+
+
+def plot_mu(curves, path, title="friction coefficient", ylabel="friction coefficient μ [-]",
+            logy=False):
+    """mu(v) on a log speed axis. ``curves``: iterable of (label, v_m_per_s, mu) or with a 4th
+    element, a matplotlib style string."""
+    fig, ax = plt.subplots(figsize=FIGSIZE)
+    for i, curve in enumerate(curves):
+        label, v, mu = curve[:3]
+        style = curve[3] if len(curve) > 3 else "-"
+        ax.plot(v, mu, style, lw=1.5, color=f"C{i}", label=label, ms=4)
+    ax.set_xscale("log")
+    if logy:
+        ax.set_yscale("log")
+    ax.set_xlabel("sliding speed v [m/s]")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(which="both", alpha=0.25)
+    if len(curves) > 1 or (curves and curves[0][0]):
+        ax.legend(fontsize=8)
+    return save_figure(fig, path)
+
+
+def _fmt(x):
+    if x is None:
+        return "—"
+    if isinstance(x, float):
+        return f"{x:.4g}"
+    if isinstance(x, (list, tuple)):
+        return ", ".join(_fmt(v) for v in x)
+    return html.escape(str(x))
+
+
+def table_html(rows, header=None):
+    """An HTML table from rows of cells (or a dict: one row per key)."""
+    if isinstance(rows, dict):
+        rows = [(k, v) for k, v in rows.items()]
+    out = ["<table>"]
+    if header:
+        out.append("<tr>" + "".join(f"<th>{html.escape(str(h))}</th>" for h in header) + "</tr>")
+    for row in rows:
+        out.append("<tr>" + "".join(f"<td>{_fmt(c)}</td>" for c in row) + "</tr>")
+    out.append("</table>")
+    return "\n".join(out)
+
+
+def _img(path):
+    data = base64.b64encode(Path(path).read_bytes()).decode("ascii")
+    return f'<img src="data:image/png;base64,{data}" alt="{html.escape(Path(path).stem)}">'
+
+
+_CSS = """body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;color:#222}
+h1{font-size:1.5em}h2{font-size:1.15em;margin-top:1.6em;border-bottom:1px solid #ccc}
+table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding:3px 8px;
+text-align:right;font-size:.9em}th{background:#f0f0f0}td:first-child{text-align:left}
+img{max-width:100%;margin:.4em 0}.grid{display:flex;flex-wrap:wrap;gap:8px}
+.grid img{max-width:540px}p.note{color:#555;font-size:.9em}"""
+
+
+def write_html(path, title, sections, intro=None):
+    """Write a self-contained report.
+
+    ``sections``: list of (heading, items); each item is a PNG path (embedded as base64), or a
+    string of HTML, or a list of PNG paths (shown side by side).
+    """
+    parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
+             f"<style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
+    if intro:
+        parts.append(f"<p>{intro}</p>")
+    for heading, items in sections:
+        parts.append(f"<h2>{html.escape(heading)}</h2>")
+        if not isinstance(items, (list, tuple)):
+            items = [items]
+        for item in items:
+            if isinstance(item, (list, tuple)):
+                parts.append("<div class='grid'>" + "".join(_img(p) for p in item) + "</div>")
+            elif isinstance(item, Path) or (isinstance(item, str) and item.endswith(".png")):
+                parts.append(_img(item))
+            else:
+                parts.append(str(item))
+    parts.append("<p class='note'>Made by roadscan. PSD convention: Persson's, "
+                 "&lt;h²&gt; = 2π ∫ q C(q) dq; friction by Persson's theory (DESIGN.md).</p>")
+    parts.append("</body></html>")
+    atomic_write_text(path, "\n".join(parts))
+    return Path(path)
+
+
+def _jsonable(obj):
+    if isinstance(obj, dict):
+        return {str(k): _jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_jsonable(v) for v in obj]
+    if isinstance(obj, (np.floating, float)):
+        x = float(obj)
+        return x if np.isfinite(x) else None
+    if isinstance(obj, np.integer):
+        return int(obj)
+    if isinstance(obj, np.bool_):
+        return bool(obj)
+    if isinstance(obj, np.ndarray):
+        return _jsonable(obj.tolist())
+    return obj
+
+
+def write_json(path, data):
+    """Write JSON atomically; numpy scalars/arrays converted, non-finite floats -> null."""
+    atomic_write_text(path, json.dumps(_jsonable(data), indent=2) + "\n")
+    return Path(path)
+
+
+def write_csv(path, header, columns):
+    """Write columns (equal-length 1D arrays) as CSV with ``header`` (list of names)."""
+    buf = io.StringIO()
+    buf.write(",".join(header) + "\n")
+    np.savetxt(buf, np.column_stack([np.asarray(c, dtype=float) for c in columns]),
+               delimiter=",", fmt="%.10g")
+    atomic_write_text(path, buf.getvalue())
+    return Path(path)

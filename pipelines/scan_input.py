@@ -1,0 +1,62 @@
+"""Command-line input options shared by every command that reads a scan."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from roadscan.errors import InputError
+
+__all__ = ["add_scan_options", "load_scan", "parse_spacing_option"]
+
+_UNITS = ("m", "mm", "um", "nm")
+
+
+def add_scan_options(parser):
+    """Add ``--spacing DX[,DY]`` [m] and ``--units {m,mm,um,nm}`` to an argparse parser."""
+    parser.add_argument(
+        "--spacing", metavar="DX[,DY]", default=None,
+        help="grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or 5e-5,6e-5)",
+    )
+    parser.add_argument(
+        "--units", choices=_UNITS, default=None,
+        help="units of the heights in files that carry no units (default m)",
+    )
+
+
+def parse_spacing_option(text, path=None):
+    """``"DX"`` or ``"DX,DY"`` in metres -> (dx, dy); InputError when malformed."""
+    if text is None:
+        return None
+    try:
+        parts = [float(p) for p in str(text).split(",")]
+    except ValueError:
+        raise InputError(path, f"--spacing {text!r} is not a number or a pair DX,DY in metres") from None
+    if len(parts) == 1:
+        parts = parts * 2
+    if len(parts) != 2 or not all(p > 0 and p < float("inf") for p in parts):
+        raise InputError(path, f"--spacing {text!r} must be one or two positive numbers in metres")
+    return tuple(parts)
+
+
+def load_scan(path, args=None, spacing=None, units=None):
+    """Read a height file (HeightMap or Profile) with the options of ``add_scan_options``.
+
+    Any reader failure becomes an :class:`InputError` naming the file.
+    """
+    from roadscan.io import read
+
+    path = Path(path)
+    if args is not None:
+        spacing = getattr(args, "spacing", None) if spacing is None else spacing
+        units = getattr(args, "units", None) if units is None else units
+    if isinstance(spacing, str):
+        spacing = parse_spacing_option(spacing, path)
+    if not path.exists():
+        raise InputError(path, "no such file")
+    if path.is_dir():
+        raise InputError(path, "is a directory, expected a height file")
+    try:
+        return read(path, spacing=spacing, units=units)
+    except InputError:
+        raise
+    except (ValueError, OSError, KeyError, IndexError) as exc:
+        raise InputError(path, f"cannot read height data ({type(exc).__name__}: {exc})") from None

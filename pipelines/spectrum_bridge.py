@@ -1,0 +1,117 @@
+"""From a read scan to everything the reports need: the metrology chain in one place.
+
+read -> level (plane, ignoring unmeasured points) -> roughness of the levelled measured heights
+-> fill unmeasured points -> Tukey-windowed PSD -> self-affine fit; plus the bridge from a
+measured spectrum to the friction engine's PSD (DESIGN.md section 5, "which spectrum").
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from roadscan.heightmap import HeightMap, Profile
+
+__all__ = ["SurfaceAnalysis", "analyse_surface", "surface_psd", "default_velocities",
+           "friction_curve", "spectrum_of"]
+
+
+@dataclass(eq=False)
+class SurfaceAnalysis:
+    """Everything derived from one scan (area or line profile)."""
+
+    source: object            # HeightMap or Profile as read
+    levelled: object          # levelled, unmeasured points still unmeasured
+    filled: object            # levelled and inpainted (what the FFT sees)
+    filled_fraction: float
+    spectrum: object          # roadscan.Spectrum: isotropic 2D C(q) [m^4]
+    spec2d: object = None     # roadscan.Spectrum2D for areas, None for profiles
+    psd1d: tuple = None       # (q_per_m, C1_m3) for profiles
+    fit: object = None        # roadscan.fit.SelfAffineFit
+    roughness: dict = field(default_factory=dict)
+    mpd_m: float = None
+    mpd_note: str = ""
+    anisotropy: dict = None
+
+    @property
+    def is_profile(self):
+        return isinstance(self.source, Profile)
+
+    @property
+    def name(self):
+        return self.source.name
+
+
+def spectrum_of(obj, window_alpha=0.25):
+    """PSD of an already levelled, fully measured HeightMap/Profile -> (Spectrum, spec2d, psd1d)."""
+    from roadscan import spectrum as sp
+
+    if isinstance(obj, Profile):
+        q1, c1, spec = sp.psd_profile(obj, window_alpha=window_alpha)
+        return spec, None, (q1, c1)
+    spec, spec2d = sp.psd_area(obj, window_alpha=window_alpha)
+    return spec, spec2d, None
+
+
+def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_band=None):
+    """Run the metrology chain on a HeightMap or Profile (see module docstring)."""
+    from roadscan import fit as fitmod
+    from roadscan import inpaint, level, roughness
+    from roadscan.spectrum import anisotropy
+
+    if not isinstance(obj, (HeightMap, Profile)):
+        raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
+    work = level.remove_spikes(obj) if despike else obj
+    levelled = level.level(work, degree=level_degree)
+    if isinstance(obj, Profile):
+        rough = roughness.profile_parameters(levelled)
+        mpd_m, mpd_note = roughness.mean_profile_depth(obj)
+    else:
+        rough = roughness.area_parameters(levelled)
+        mpd_m, mpd_note = roughness.mean_profile_depth_area(obj)
+    filled, filled_fraction = inpaint.fill_unmeasured(levelled)
+    spec, spec2d, psd1d = spectrum_of(filled, window_alpha)
+    fit = fitmod.fit_self_affine(spec, band=fit_band)
+    aniso = anisotropy(spec2d) if spec2d is not None else None
+    return SurfaceAnalysis(obj, levelled, filled, float(filled_fraction), spec, spec2d, psd1d,
+                           fit, rough, mpd_m, mpd_note, aniso)
+
+
+def surface_psd(spectrum, fit=None, q1_per_m=None):
+    """The friction engine's PSD for a measured spectrum.
+
+    Integrates the measured angular average from its lowest ring to its highest (the Nyquist
+    wave vector pi/a), with q0 (for the macro-asperity wave vector q_m = zeta_m q0) at the
+    detected roll-off, else the lowest wave vector (DESIGN.md section 5). With ``q1_per_m``
+    beyond the measured band the spectrum is extended by the engine's power-law continuation.
+    """
+    from friction import TabulatedPSD
+
+    q = np.asarray(spectrum.q_per_m, dtype=float)
+    C = np.asarray(spectrum.C_m4, dtype=float)
+    ok = np.isfinite(C) & (C > 0) & np.isfinite(q) & (q > 0)
+    q, C = q[ok], C[ok]
+    q0 = None
+    if fit is not None and getattr(fit, "q_roll_per_m", None):
+        q0 = float(np.clip(fit.q_roll_per_m, q[0], q[-1]))
+    psd = TabulatedPSD(q, C, q0_per_m=q0)
+    if q1_per_m is not None and q1_per_m > q[-1]:
+        psd = psd.with_q1(q1_per_m)
+    return psd
+
+
+def default_velocities(lo=1e-8, hi=1e4, per_decade=10):
+    """DESIGN.md section 5 default speeds: 1e-8 to 1e4 m/s at 10 per decade (121 points)."""
+    n = int(round(np.log10(hi / lo) * per_decade)) + 1
+    return np.logspace(np.log10(lo), np.log10(hi), n)
+
+
+def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None, flash=False):
+    """mu(v) from the shared engine with the defaults of DESIGN.md section 5."""
+    import friction
+
+    rubber = friction.thesis_rubber() if rubber is None else rubber
+    v = default_velocities() if v_m_per_s is None else np.asarray(v_m_per_s, float)
+    if flash:
+        return friction.mu_flash(psd, rubber, v, sigma0_Pa=sigma0_Pa, T0_C=T0_C)
+    return friction.mu_isothermal(psd, rubber, v, sigma0_Pa=sigma0_Pa, T0_C=T0_C)
