@@ -1,0 +1,171 @@
+"""The ``analyse`` job: one scan -> spectrum, fit, roughness figures, mu(v), plots and report.
+
+Outputs (one directory per scan): ``summary.json``, ``psd.csv`` (``q_per_m,C_m4``),
+``mu.csv`` (``v_m_per_s,mu``), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
+``psd2d.png`` (areas), ``mu.png`` and a self-contained ``report.html``.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from roadscan.heightmap import Profile
+
+from . import report
+from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
+
+__all__ = ["FrictionSettings", "summarise", "run_analysis", "nominal_band"]
+
+PSD_HEADER = ["q_per_m", "C_m4"]
+MU_HEADER = ["v_m_per_s", "mu"]
+
+
+@dataclass
+class FrictionSettings:
+    """How mu(v) is computed (defaults: DESIGN.md section 5)."""
+
+    rubber: object = None          # friction rubber; None -> thesis rubber
+    sigma0_Pa: float = 0.2e6
+    T0_C: float = None             # None -> the rubber's T_ref
+    flash: bool = False
+    v_m_per_s: np.ndarray = None   # None -> 1e-8..1e4 m/s, 10 per decade
+    q1_per_m: float = None         # extension beyond Nyquist (None: measured band only)
+    enabled: bool = True
+
+
+def nominal_band(obj):
+    """(2 pi / L of the longer side, pi / a of the coarser spacing) [1/m]."""
+    if isinstance(obj, Profile):
+        return 2 * np.pi / obj.length_m, np.pi / obj.dx_m
+    lx, ly = obj.size_m
+    return 2 * np.pi / max(lx, ly), np.pi / max(obj.dx_m, obj.dy_m)
+
+
+def summarise(analysis, fr=None):
+    """The ``summary.json`` dictionary of one analysed scan (contract keys of issue 2)."""
+    fit = analysis.fit
+    qmin, qmax = nominal_band(analysis.source)
+    src = analysis.source
+    out = {
+        "name": analysis.name,
+        "kind": "profile" if analysis.is_profile else "area",
+        "shape": list(src.heights_m.shape),
+        "spacing_m": [src.dx_m] if analysis.is_profile else [src.dx_m, src.dy_m],
+        "hurst": fit.hurst,
+        "hurst_stderr": fit.hurst_stderr,
+        "rms_height_m": analysis.roughness.get("Sq_m", analysis.roughness.get("Rq_m")),
+        "band_rms_m": fit.band_rms_m,
+        "h0_m": fit.h0_m,
+        "q_min_per_m": qmin,
+        "q_max_per_m": qmax,
+        "fit_band_per_m": [float(b) for b in fit.fit_band_per_m],
+        "q_roll_per_m": fit.q_roll_per_m,
+        "roughness": analysis.roughness,
+        "mpd_m": analysis.mpd_m,
+        "mpd_note": analysis.mpd_note,
+        "filled_fraction": analysis.filled_fraction,
+        "psd_convention": "Persson: <h^2> = 2 pi integral q C(q) dq; C in m^4; Tukey window "
+                          "alpha 0.25 with its power loss corrected",
+    }
+    if analysis.is_profile:
+        out["psd_conversion"] = analysis.spectrum.meta.get("conversion")
+    if analysis.anisotropy is not None:
+        out["anisotropy"] = analysis.anisotropy
+    if fr is not None:
+        i = int(np.argmax(fr.mu))
+        out["friction"] = {
+            "model": "flash temperature" if fr.T_q_C is not None else "isothermal",
+            "mu_peak": float(fr.mu[i]),
+            "v_peak_m_per_s": float(fr.v_m_per_s[i]),
+        }
+    return out
+
+
+def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False):
+    """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict."""
+    settings = settings or FrictionSettings()
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike)
+    spec, fit = an.spectrum, an.fit
+
+    fr = None
+    if settings.enabled:
+        try:
+            import friction  # noqa: F401
+        except ImportError:
+            settings.enabled = False
+    if settings.enabled:
+        psd = surface_psd(spec, fit, q1_per_m=settings.q1_per_m)
+        fr = friction_curve(psd, settings.rubber, settings.v_m_per_s, settings.sigma0_Pa,
+                            settings.T0_C, settings.flash)
+
+    summary = summarise(an, fr)
+    report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
+    figs = []
+    if an.is_profile:
+        figs.append(report.plot_profile(an.levelled, out_dir / "profile.png",
+                                        title=f"{an.name}: levelled profile"))
+    else:
+        figs.append(report.plot_heightmap(an.levelled, out_dir / "heightmap.png",
+                                          title=f"{an.name}: levelled heights"))
+        figs.append(_plot_psd2d(an.spec2d, out_dir / "psd2d.png", an.name))
+    lo, hi = fit.fit_band_per_m
+    qf = np.geomspace(lo, hi, 50)
+    curves = [("measured (angular average)" if not an.is_profile else
+               f"2D estimate from profile ({spec.meta.get('conversion', '')})", spec.q_per_m, spec.C_m4)]
+    figs.append(report.plot_psd(
+        curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {fit.hurst:.3f} ± {fit.hurst_stderr:.3f}",
+        fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m", qf, fit.model_C(qf))]))
+    if fr is not None:
+        report.write_csv(out_dir / "mu.csv", MU_HEADER, [fr.v_m_per_s, fr.mu])
+        rub = "thesis rubber" if settings.rubber is None else getattr(settings.rubber, "name", "rubber")
+        figs.append(report.plot_mu([(f"{summary['friction']['model']}, {rub}, σ0 = "
+                                     f"{settings.sigma0_Pa / 1e6:g} MPa", fr.v_m_per_s, fr.mu)],
+                                   out_dir / "mu.png", title=f"{an.name}: friction μ(v)"))
+    report.write_json(out_dir / "summary.json", summary)
+    _write_report(out_dir, an, summary, figs)
+    return summary
+
+
+def _plot_psd2d(spec2d, path, name):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=report.FIGSIZE)
+    C = np.asarray(spec2d.C_m4)
+    pos = C[C > 0]
+    lo = np.percentile(pos, 5) if pos.size else 1e-30
+    im = ax.imshow(np.log10(np.maximum(C, lo)), origin="lower", cmap="magma",
+                   extent=(spec2d.qx_per_m[0], spec2d.qx_per_m[-1], spec2d.qy_per_m[0], spec2d.qy_per_m[-1]),
+                   aspect="auto")
+    ax.set_xlabel("q$_x$ [1/m]")
+    ax.set_ylabel("q$_y$ [1/m]")
+    ax.set_title(f"{name}: 2D PSD (anisotropy)")
+    cb = fig.colorbar(im, ax=ax)
+    cb.set_label("log$_{10}$ C [m$^4$]")
+    ax.ticklabel_format(style="sci", scilimits=(-2, 3))
+    return report.save_figure(fig, path)
+
+
+def _write_report(out_dir, an, summary, figs):
+    rough = {k: v for k, v in summary["roughness"].items()}
+    key = {
+        "Hurst exponent H": f"{summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}",
+        "rms height (Sq of levelled measured heights) [m]": summary["rms_height_m"],
+        "band rms from fit [m]": summary["band_rms_m"],
+        "h0 (thesis form) [m]": summary["h0_m"],
+        "q range [1/m]": [summary["q_min_per_m"], summary["q_max_per_m"]],
+        "fitted band [1/m]": summary["fit_band_per_m"],
+        "roll-off q [1/m]": summary["q_roll_per_m"],
+        "mean profile depth MPD [m]": summary["mpd_m"] if summary["mpd_m"] is not None else summary["mpd_note"],
+        "filled (unmeasured) fraction": summary["filled_fraction"],
+    }
+    if "friction" in summary:
+        key["peak μ"] = summary["friction"]["mu_peak"]
+        key["speed at peak [m/s]"] = summary["friction"]["v_peak_m_per_s"]
+    sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
+                ("Roughness (ISO 25178-2 / 4287; SI units in names)", report.table_html(rough, ["parameter", "value"])),
+                ("Figures", [list(figs)])]
+    report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections)

@@ -1,0 +1,86 @@
+"""``roadscan analyse FILE... --out DIR``."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from roadscan.errors import InputError
+
+from ..analyse import run_analysis
+from ..friction_options import add_friction_options, settings_from_args
+from ..scan_input import add_scan_options, load_scan
+
+NAME = "analyse"
+HELP = "PSD, self-affine fit, roughness figures and friction mu(v) of height files"
+
+
+def add_arguments(p):
+    p.add_argument("files", nargs="+", metavar="FILE", help="height files (area scans or line profiles)")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_scan_options(p)
+    p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
+    p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
+                   help="self-affine fit band [1/m] (default: detected)")
+    p.add_argument("--despike", action="store_true", help="mark spikes as unmeasured before levelling")
+    add_friction_options(p)
+
+
+def _fit_band(text):
+    if text is None:
+        return None
+    try:
+        lo, hi = (float(x) for x in text.split(","))
+    except ValueError:
+        raise InputError(None, f"--fit-band {text!r}: expected QLO,QHI in 1/m") from None
+    if not 0 < lo < hi:
+        raise InputError(None, f"--fit-band {text!r}: need 0 < QLO < QHI")
+    return lo, hi
+
+
+def _unique_dirs(paths):
+    seen, out = {}, []
+    for p in paths:
+        stem = Path(p).stem
+        n = seen.get(stem, 0)
+        seen[stem] = n + 1
+        out.append(stem if n == 0 else f"{stem}_{n + 1}")
+    return out
+
+
+def run(args):
+    from .. import report
+
+    if not 0 <= args.window_alpha <= 1:
+        raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
+    band = _fit_band(args.fit_band)
+    settings = settings_from_args(args)
+    scans = [load_scan(f, args) for f in args.files]  # every input is checked before any output
+    out = Path(args.out)
+    many = len(scans) > 1
+    rows = []
+    for i, (path, scan, sub) in enumerate(zip(args.files, scans, _unique_dirs(args.files))):
+        if many:
+            print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
+        try:
+            summary = run_analysis(scan, out / sub if many else out, settings,
+                                   window_alpha=args.window_alpha, fit_band=band, despike=args.despike)
+        except ValueError as exc:
+            raise InputError(path, str(exc)) from None
+        rows.append((sub, summary))
+        if not many:
+            print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
+                  f"rms height = {summary['rms_height_m'] * 1e6:.1f} um -> {out / 'report.html'}")
+    if many:
+        header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak"]
+        table = [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],
+                  d["filled_fraction"], d.get("friction", {}).get("mu_peak")] for s, d in rows]
+        from roadscan.io.atomic import atomic_write_text
+
+        lines = [",".join(header)] + [",".join("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))
+                                               for c in r) for r in table]
+        atomic_write_text(out / "summary.csv", "\n".join(lines) + "\n")
+        links = "".join(f"<li><a href='{s}/report.html'>{s}</a></li>" for s, _ in rows)
+        report.write_html(out / "report.html", "roadscan analyse: summary",
+                          [("Scans", report.table_html(table, header)), ("Reports", f"<ul>{links}</ul>")])
+        print(f"analysed {len(rows)} scans -> {out / 'summary.csv'}, {out / 'report.html'}")
+    return 0
