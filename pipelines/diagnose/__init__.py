@@ -1,0 +1,17 @@
+"""Sim-to-real gap diagnosis (``roadscan diagnose``, issue 5).
+
+Where a model and a measurement disagree, which unmodelled effect causes it, and how much
+adding that effect closes the gap. One idea per module:
+
+- :mod:`.measured`   reading a measured mu(v) CSV (per-row temperature, load, condition)
+- :mod:`.gap`        the gap metric (rms of log10 real/sim), noise estimate, significance,
+                     gap per speed band
+- :mod:`.model`      the simulation specification that effects modify, and its evaluation
+                     with the friction engine at the measured speeds only
+- :mod:`.effects`    the plug-in registry; one module per unmodelled effect
+- :mod:`.search`     bounded least-squares fits, held-out ranking, greedy pairs, verdict
+- :mod:`.bandmap`    which length scales and frequencies carry mu in each speed band
+- :mod:`.surface`    the surface level (scan versus its fitted Gaussian self-affine twin)
+- :mod:`.cases`      the seeded case generator used for the proof (tests and benchmark)
+- :mod:`.report`     diagnosis.json and report.html
+"""

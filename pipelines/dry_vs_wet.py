@@ -1,0 +1,147 @@
+"""The dry-vs-wet job (thesis section 4.4): rain-fill a scan and compare spectra and mu(v).
+
+Water fills the road's cavities and the sliding rubber seals them, so the rubber "feels" the
+filled (wet) surface. The dry surface is levelled (plane, ignoring unmeasured points), filled
+with water by :func:`roadscan.rain.rain_fill` in that levelled frame, and both surfaces go
+through the same spectrum and friction chain. The friction engine uses the dry surface's q0
+for both, so that only the surface changes.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from roadscan.errors import InputError
+from roadscan.heightmap import HeightMap
+from roadscan.io.atomic import atomic_path
+
+from . import report
+from .analyse import FrictionSettings, nominal_band
+from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
+
+__all__ = ["run_dry_vs_wet", "speed_table", "mu_by_speed"]
+
+
+def mu_by_speed(v_m_per_s, mu):
+    """{f"{v:g}": mu} (the JSON form of a mu(v) curve in comparison reports)."""
+    return {f"{float(v):g}": float(m) for v, m in zip(v_m_per_s, mu)}
+
+
+def speed_table(v_m_per_s):
+    """Speeds at whole decades within the grid (for the report's table)."""
+    lv = np.log10(v_m_per_s)
+    return [i for i, x in enumerate(lv) if abs(x - round(x)) < 1e-6]
+
+
+def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=None,
+                   water_film_m=None, window_alpha=0.25):
+    """Compute and write the dry-vs-wet comparison; returns the ``comparison.json`` dict."""
+    from roadscan import level
+    from roadscan.rain import rain_fill
+
+    if not isinstance(scan, HeightMap):
+        raise InputError(scan.name or None, "dry-vs-wet needs an area scan (a height map), not a line profile")
+    settings = settings or FrictionSettings()
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+
+    dry = level.level(scan, degree=1)
+    rain = rain_fill(dry, connectivity=connectivity, max_depth_m=max_depth_m, water_film_m=water_film_m)
+    wet = rain.wet
+    an_dry = analyse_surface(dry, window_alpha=window_alpha)
+    an_wet = analyse_surface(wet, window_alpha=window_alpha)
+
+    with atomic_path(out_dir / "wet.npy") as tmp:
+        with open(tmp, "wb") as fh:
+            np.save(fh, np.where(wet.unmeasured, np.nan, wet.heights_m))
+
+    result = {
+        "name": scan.name,
+        "rms_height_dry_m": an_dry.roughness["Sq_m"],
+        "rms_height_wet_m": an_wet.roughness["Sq_m"],
+        "hurst_dry": an_dry.fit.hurst,
+        "hurst_wet": an_wet.fit.hurst,
+        "hurst_stderr_dry": an_dry.fit.hurst_stderr,
+        "hurst_stderr_wet": an_wet.fit.hurst_stderr,
+        "wetted_fraction": rain.wetted_fraction,
+        "water_volume_m3_per_m2": rain.water_volume_m3_per_m2,
+        "connectivity": connectivity,
+        "max_depth_m": max_depth_m,
+        "water_film_m": water_film_m,
+        "q_range_per_m": list(nominal_band(scan)),
+    }
+    # ratio of spectra, band by band: the thesis found the wet PSD about four times lower
+    q = an_dry.spectrum.q_per_m
+    C_wet_on_dry = np.interp(np.log(q), np.log(an_wet.spectrum.q_per_m), an_wet.spectrum.C_m4)
+    psd_ratio = C_wet_on_dry / an_dry.spectrum.C_m4
+    result["psd_ratio_wet_to_dry_median"] = float(np.median(psd_ratio))
+
+    figs = [report.plot_heightmap(dry, out_dir / "dry_heightmap.png", title=f"{scan.name}: dry (levelled)"),
+            report.plot_heightmap(dry, out_dir / "water_depth.png", depth_m=rain.depth_m,
+                                  title=f"{scan.name}: water depth ({connectivity}-connected fill)")]
+    figs.append(report.plot_psd([("dry", q, an_dry.spectrum.C_m4),
+                                 ("wet (rain-filled)", an_wet.spectrum.q_per_m, an_wet.spectrum.C_m4)],
+                                out_dir / "psd_dry_wet.png", title=f"{scan.name}: PSD dry and wet"))
+    try:
+        from .render3d import render_surface_with_water
+
+        figs.append(render_surface_with_water(dry, rain.depth_m, out_dir / "surface_3d.png",
+                                              title=f"{scan.name}: surface and water"))
+    except Exception as exc:  # rendering needs an OpenGL context; the numbers do not
+        result["render_note"] = f"3D view not rendered: {type(exc).__name__}: {exc}"
+
+    if settings.enabled:
+        psd_dry = surface_psd(an_dry.spectrum, an_dry.fit, q1_per_m=settings.q1_per_m)
+        psd_wet = surface_psd(an_wet.spectrum, an_dry.fit, q1_per_m=settings.q1_per_m)
+        fd = friction_curve(psd_dry, settings.rubber, settings.v_m_per_s, settings.sigma0_Pa,
+                            settings.T0_C, settings.flash)
+        fw = friction_curve(psd_wet, settings.rubber, fd.v_m_per_s, settings.sigma0_Pa,
+                            settings.T0_C, settings.flash)
+        v = fd.v_m_per_s
+        result["model"] = "flash temperature" if settings.flash else "isothermal"
+        result["mu_dry"] = mu_by_speed(v, fd.mu)
+        result["mu_wet"] = mu_by_speed(v, fw.mu)
+        i = int(np.argmax(np.abs(fd.mu - fw.mu)))
+        result["max_difference_v_m_per_s"] = float(v[i])
+        result["max_difference_mu"] = float(fd.mu[i] - fw.mu[i])
+        result["mu_peak_dry"] = float(fd.mu.max())
+        result["mu_peak_wet"] = float(fw.mu.max())
+        report.write_csv(out_dir / "mu.csv", ["v_m_per_s", "mu_dry", "mu_wet"], [v, fd.mu, fw.mu])
+        figs.append(report.plot_mu([("dry", v, fd.mu), ("wet (rain-filled)", v, fw.mu)],
+                                   out_dir / "mu_dry_wet.png", title=f"{scan.name}: μ(v) dry and wet"))
+        ratio = np.divide(fw.mu, fd.mu, out=np.full_like(fw.mu, np.nan), where=fd.mu > 0)
+        figs.append(report.plot_mu([("μ_wet / μ_dry", v, ratio)], out_dir / "mu_ratio.png",
+                                   title=f"{scan.name}: wet-to-dry friction ratio",
+                                   ylabel="μ_wet / μ_dry [-]"))
+    else:
+        result["mu_dry"] = result["mu_wet"] = None
+        result["max_difference_v_m_per_s"] = None
+
+    report.write_json(out_dir / "comparison.json", result)
+    _write_report(out_dir, scan.name, result, figs)
+    return result
+
+
+def _write_report(out_dir, name, r, figs):
+    key = {
+        "rms height dry / wet [m]": [r["rms_height_dry_m"], r["rms_height_wet_m"]],
+        "Hurst exponent dry / wet": [r["hurst_dry"], r["hurst_wet"]],
+        "median PSD ratio wet / dry": r["psd_ratio_wet_to_dry_median"],
+        "wetted area fraction": r["wetted_fraction"],
+        "water volume per area [m³/m²]": r["water_volume_m3_per_m2"],
+        "connectivity of the fill": r["connectivity"],
+    }
+    sections = [("Key figures", report.table_html(key, ["quantity", "value"]))]
+    if r.get("mu_dry"):
+        vs = list(r["mu_dry"])
+        v = np.array([float(s) for s in vs])
+        rows = [(s, r["mu_dry"][s], r["mu_wet"][s], r["mu_wet"][s] / r["mu_dry"][s] if r["mu_dry"][s] else None)
+                for s, i in zip(vs, range(len(vs))) if i in speed_table(v)]
+        sections.append((f"Friction ({r['model']}); largest difference at v = "
+                         f"{r['max_difference_v_m_per_s']:.3g} m/s",
+                         report.table_html(rows, ["v [m/s]", "μ dry", "μ wet", "wet / dry"])))
+    sections.append(("Figures", [list(figs)]))
+    note = ("Water fills every depression not connected to the border up to its spill level "
+            "(grayscale imfill / morphological reconstruction), the rubber slides over the filled surface.")
+    report.write_html(out_dir / "report.html", f"roadscan dry-vs-wet: {name}", sections, intro=note)
