@@ -1,0 +1,140 @@
+"""The surface-comparison job (thesis section 4.3): several scans side by side.
+
+All spectra and all mu(v) on common axes, and for each scan against the first (the
+reference): at which wave vectors and speeds they differ, and by how much.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from . import report
+from .analyse import FrictionSettings, summarise
+from .dry_vs_wet import mu_by_speed, speed_table
+from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
+
+__all__ = ["run_compare", "spectrum_difference", "friction_difference"]
+
+
+def spectrum_difference(spec_ref, spec):
+    """Where two spectra differ: log10 ratio C/C_ref on the reference's rings, in their common band.
+
+    Returns a dict: ``q_per_m`` and ``log10_ratio`` arrays, the largest |log10 ratio| and the
+    wave vector where it occurs, and the median ratio.
+    """
+    lo = max(spec_ref.q_per_m[0], spec.q_per_m[0])
+    hi = min(spec_ref.q_per_m[-1], spec.q_per_m[-1])
+    q = spec_ref.q_per_m[(spec_ref.q_per_m >= lo) & (spec_ref.q_per_m <= hi)]
+    if q.size < 2:
+        return {"common_band_per_m": None, "note": "no common band of wave vectors"}
+    c_ref = np.exp(np.interp(np.log(q), np.log(spec_ref.q_per_m), np.log(spec_ref.C_m4)))
+    c = np.exp(np.interp(np.log(q), np.log(spec.q_per_m), np.log(spec.C_m4)))
+    lr = np.log10(c / c_ref)
+    i = int(np.argmax(np.abs(lr)))
+    return {"common_band_per_m": [float(lo), float(hi)], "q_per_m": q, "log10_ratio": lr,
+            "psd_ratio_median": float(10 ** np.median(lr)),
+            "psd_ratio_at_max": float(10 ** lr[i]), "q_at_max_ratio_per_m": float(q[i])}
+
+
+def friction_difference(v, mu_ref, mu):
+    """Where two mu(v) curves differ most (absolute and relative) and by how much."""
+    d = mu - mu_ref
+    i = int(np.argmax(np.abs(d)))
+    rel = np.divide(mu, mu_ref, out=np.full_like(mu, np.nan), where=mu_ref > 0)
+    j = int(np.nanargmax(np.abs(np.log(rel)))) if np.isfinite(rel).any() else i
+    return {"max_difference_v_m_per_s": float(v[i]), "max_difference_mu": float(d[i]),
+            "max_ratio_v_m_per_s": float(v[j]), "mu_ratio_at_max": float(rel[j]),
+            "mu_peak_ratio": float(mu.max() / mu_ref.max())}
+
+
+def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
+    """Compare scans (HeightMaps or Profiles); write PNGs, report.html and comparison.json."""
+    settings = settings or FrictionSettings()
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    analyses = [analyse_surface(s, window_alpha=window_alpha) for s in scans]
+    curves = []
+    if settings.enabled:
+        first = None
+        for an in analyses:
+            psd = surface_psd(an.spectrum, an.fit, q1_per_m=settings.q1_per_m)
+            fr = friction_curve(psd, settings.rubber, settings.v_m_per_s if first is None else first,
+                                settings.sigma0_Pa, settings.T0_C, settings.flash)
+            first = fr.v_m_per_s
+            curves.append(fr)
+    result = {}
+    ref = analyses[0]
+    for k, (name, an) in enumerate(zip(names, analyses)):
+        s = summarise(an, curves[k] if curves else None)
+        entry = {key: s[key] for key in ("hurst", "hurst_stderr", "rms_height_m", "band_rms_m", "h0_m",
+                                         "q_min_per_m", "q_max_per_m", "fit_band_per_m", "q_roll_per_m",
+                                         "roughness", "mpd_m", "mpd_note", "filled_fraction", "kind")}
+        entry["mu"] = mu_by_speed(curves[k].v_m_per_s, curves[k].mu) if curves else None
+        if curves:
+            entry["mu_peak"] = float(curves[k].mu.max())
+            entry["v_peak_m_per_s"] = float(curves[k].v_m_per_s[np.argmax(curves[k].mu)])
+        if k > 0:
+            diff = {"reference": names[0]}
+            sd = spectrum_difference(ref.spectrum, an.spectrum)
+            diff.update({kk: vv for kk, vv in sd.items() if kk not in ("q_per_m", "log10_ratio")})
+            if curves:
+                diff.update(friction_difference(curves[0].v_m_per_s, curves[0].mu, curves[k].mu))
+            entry["difference_from_reference"] = diff
+        result[name] = entry
+
+    figs = [report.plot_psd([(n, a.spectrum.q_per_m, a.spectrum.C_m4) for n, a in zip(names, analyses)],
+                            out_dir / "psd_all.png", title="PSD of all surfaces")]
+    ratio_curves = []
+    for n, a in zip(names[1:], analyses[1:]):
+        sd = spectrum_difference(ref.spectrum, a.spectrum)
+        if "q_per_m" in sd:
+            ratio_curves.append((f"{n} / {names[0]}", sd["q_per_m"], 10 ** sd["log10_ratio"]))
+    if ratio_curves:
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=report.FIGSIZE)
+        for i, (lab, q, r) in enumerate(ratio_curves):
+            ax.loglog(q, r, color=f"C{i + 1}", label=lab)
+        ax.axhline(1, color="0.5", lw=0.8)
+        ax.set_xlabel("wave vector q [1/m]")
+        ax.set_ylabel("PSD ratio C / C$_{ref}$ [-]")
+        ax.set_title("where the spectra differ")
+        ax.grid(which="both", alpha=0.25)
+        ax.legend(fontsize=8)
+        figs.append(report.save_figure(fig, out_dir / "psd_ratio.png"))
+    if curves:
+        figs.append(report.plot_mu([(n, c.v_m_per_s, c.mu) for n, c in zip(names, curves)],
+                                   out_dir / "mu_all.png", title="μ(v) of all surfaces"))
+        if len(curves) > 1:
+            figs.append(report.plot_mu([(f"{n} / {names[0]}", c.v_m_per_s, c.mu / curves[0].mu)
+                                        for n, c in zip(names[1:], curves[1:])],
+                                       out_dir / "mu_ratio.png", title="where the friction differs",
+                                       ylabel="μ / μ$_{ref}$ [-]"))
+    report.write_json(out_dir / "comparison.json", result)
+    _write_report(out_dir, names, result, figs, curves)
+    return result
+
+
+def _write_report(out_dir, names, result, figs, curves):
+    header = ["surface", "H", "rms height [m]", "h0 [m]", "MPD [m]", "peak μ", "v at peak [m/s]"]
+    rows = [[n, r["hurst"], r["rms_height_m"], r["h0_m"], r["mpd_m"], r.get("mu_peak"), r.get("v_peak_m_per_s")]
+            for n, r in result.items()]
+    sections = [("Surfaces", report.table_html(rows, header))]
+    drows = []
+    for n, r in result.items():
+        d = r.get("difference_from_reference")
+        if d:
+            drows.append([n, d["reference"], d.get("psd_ratio_median"), d.get("q_at_max_ratio_per_m"),
+                          d.get("psd_ratio_at_max"), d.get("max_difference_v_m_per_s"), d.get("max_difference_mu")])
+    if drows:
+        sections.append(("Where and by how much they differ", report.table_html(
+            drows, ["surface", "reference", "median PSD ratio", "q of largest PSD ratio [1/m]",
+                    "largest PSD ratio", "v of largest μ difference [m/s]", "largest μ difference"])))
+    if curves:
+        v = curves[0].v_m_per_s
+        idx = speed_table(v)
+        sections.append(("μ at whole decades of speed", report.table_html(
+            [[f"{v[i]:g}"] + [float(c.mu[i]) for c in curves] for i in idx], ["v [m/s]"] + list(names))))
+    sections.append(("Figures", [list(figs)]))
+    report.write_html(out_dir / "report.html", "roadscan compare: " + " vs ".join(names), sections)
