@@ -1,0 +1,117 @@
+"""End-to-end: ``roadscan analyse`` as a user runs it (contract of issue 2, item 8)."""
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from conftest import fourier_surface
+from pipelines.cli import main
+
+
+@pytest.fixture(scope="module")
+def scan_npy(tmp_path_factory):
+    d = tmp_path_factory.mktemp("scan")
+    h = fourier_surface(256, 5e-5, 0.8, 3e-4, seed=3)
+    x = np.arange(256) * 5e-5
+    h = h + 2e-3 * x[None, :] - 1e-3 * x[:, None]   # tilt
+    h[100:104, 50:60] = np.nan                          # dropouts
+    p = d / "tile.npy"
+    np.save(p, h)
+    return p, h
+
+
+def test_analyse_single_file_contract(scan_npy, tmp_path):
+    path, h = scan_npy
+    out = tmp_path / "out"
+    assert main(["analyse", str(path), "--spacing", "5e-5", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    for key in ("hurst", "hurst_stderr", "rms_height_m", "band_rms_m", "h0_m", "q_min_per_m", "q_max_per_m",
+                "fit_band_per_m", "roughness", "mpd_m", "mpd_note", "filled_fraction"):
+        assert key in s, key
+    assert len(s["fit_band_per_m"]) == 2
+    assert s["mpd_m"] is None and s["mpd_note"]          # 12.8 mm: too short for a 100 mm baseline
+    assert abs(s["hurst"] - 0.8) < 0.1
+    # rms height is Sq of the levelled measured heights: the tilt must be gone
+    assert s["rms_height_m"] == pytest.approx(s["roughness"]["Sq_m"])
+    assert s["rms_height_m"] == pytest.approx(3e-4, rel=0.1)
+    assert s["filled_fraction"] == pytest.approx(40 / 256**2, rel=1e-6)
+    assert s["q_min_per_m"] == pytest.approx(2 * np.pi / (256 * 5e-5))
+    assert s["q_max_per_m"] == pytest.approx(np.pi / 5e-5)
+    for k in ("Sa_m", "Sq_m", "Ssk", "Sku", "Sp_m", "Sv_m", "Sz_m", "Sdq", "Sdr"):
+        assert k in s["roughness"]
+    with open(out / "psd.csv") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["q_per_m", "C_m4"]
+    q, C = np.array(rows[1:], float).T
+    assert np.all(np.diff(q) > 0) and np.all(C > 0)
+    # the radial PSD integrates to roughly the variance (DESIGN.md: ~10 % on a radial curve)
+    var = 2 * np.pi * np.trapezoid(q * C, q)
+    assert var == pytest.approx(s["rms_height_m"] ** 2, rel=0.35)
+    with open(out / "mu.csv") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["v_m_per_s", "mu"]
+    v, mu = np.array(rows[1:], float).T
+    assert len(v) == 121 and v[0] == pytest.approx(1e-8) and v[-1] == pytest.approx(1e4)
+    assert np.all(np.isfinite(mu)) and np.all(mu >= 0) and mu.max() > 0.1
+    for png in ("heightmap.png", "psd.png", "mu.png"):
+        assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    html = (out / "report.html").read_text()
+    assert "data:image/png;base64," in html and "src=\"http" not in html
+
+
+def test_analyse_units_give_same_spectrum(scan_npy, tmp_path):
+    path, h = scan_npy
+    mm = tmp_path / "mm.npy"
+    np.save(mm, h * 1e3)
+    a, b = tmp_path / "a", tmp_path / "b"
+    assert main(["analyse", str(path), "--spacing", "5e-5", "--out", str(a), "--no-friction"]) == 0
+    assert main(["analyse", str(mm), "--spacing", "5e-5", "--units", "mm", "--out", str(b), "--no-friction"]) == 0
+    ca = np.loadtxt(a / "psd.csv", delimiter=",", skiprows=1)
+    cb = np.loadtxt(b / "psd.csv", delimiter=",", skiprows=1)
+    np.testing.assert_allclose(ca, cb, rtol=1e-6)
+    assert not (a / "mu.csv").exists()
+
+
+def test_analyse_several_files(scan_npy, tmp_path):
+    path, h = scan_npy
+    other = tmp_path / "other.npy"
+    np.save(other, fourier_surface(128, 5e-5, 0.5, 1e-4, seed=9))
+    out = tmp_path / "many"
+    r = subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(path), str(other),
+                        "--spacing", "5e-5", "--out", str(out), "--velocities", "1e-4:1e2:13"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "[1/2]" in r.stderr and "[2/2]" in r.stderr
+    assert (out / "tile" / "summary.json").exists() and (out / "other" / "summary.json").exists()
+    lines = (out / "summary.csv").read_text().splitlines()
+    assert lines[0].startswith("scan,hurst") and len(lines) == 3
+    assert json.loads((out / "other" / "summary.json").read_text())["hurst"] < 0.7
+
+
+@pytest.mark.parametrize("content,expect", [
+    (None, "no such file"),
+    (b"", ""),
+    (b"1 2 3\n4 5\n", ""),
+])
+def test_bad_input_is_one_line_exit_2(tmp_path, content, expect):
+    p = tmp_path / "bad.txt"
+    if content is not None:
+        p.write_bytes(content)
+    out = tmp_path / "o"
+    r = subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(p), "--out", str(out)],
+                       capture_output=True, text=True)
+    assert r.returncode == 2
+    err = r.stderr.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert "bad.txt" in err and expect in err
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_npy_without_spacing_is_refused(scan_npy, tmp_path):
+    path, _ = scan_npy
+    r = subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(path), "--out", str(tmp_path / "o")],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and "tile.npy" in r.stderr and "spacing" in r.stderr
