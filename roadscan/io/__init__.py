@@ -1,0 +1,99 @@
+"""Reading and writing height files.
+
+>>> from roadscan.io import read, write
+>>> hmap = read("scan.npy", spacing=55.4e-6)          # doctest: +SKIP
+>>> prof = read("station_0.dat")                       # doctest: +SKIP  (CAPTIF profile)
+>>> write("scan.x3p", hmap)                            # doctest: +SKIP
+
+The reader is chosen by the file's extension (``READERS``; one small module per format);
+see ``roadscan/io/FORMATS.md`` for the table of formats and how each is tested.
+Every problem with an input raises :class:`roadscan.errors.InputError` naming the file.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..errors import InputError
+from ..heightmap import HeightMap, Profile
+from . import ascii_text, captif, gwy, numpy_files, tiff, vendor, x3p  # noqa: F401  (registration)
+from ._common import parse_spacing, parse_units, resolve_spacing, unit_factor
+from ._registry import READERS, WRITERS, register_reader, register_writer
+from .atomic import atomic_path
+
+__all__ = [
+    "read", "write", "READERS", "WRITERS", "parse_spacing", "parse_units",
+    "register_reader", "register_writer", "atomic_path",
+]
+
+
+def read(path, spacing=None, units=None):
+    """Read a height map or line profile, choosing the reader by the file's extension.
+
+    Parameters
+    ----------
+    path : str or Path
+    spacing : None, float, (float, float) or str, optional
+        Grid spacing DX or (DX, DY) [m], or the CLI string ``"DX"`` / ``"DX,DY"``. Required for
+        files that carry none (``.npy``, plain ASCII matrices, TIFFs without physical resolution);
+        overrides the file's spacing otherwise.
+    units : {"m", "mm", "um", "nm"}, optional
+        Units of the heights of a file that carries no units (default "m"); ignored (and noted
+        in ``meta["units_ignored"]``) for files that state theirs (X3P, .gwy, CAPTIF, vendor).
+
+    Returns
+    -------
+    HeightMap or Profile
+        Heights [m] with NaN and ``unmeasured`` True at unmeasured points; ``meta["source"]`` is
+        the path and ``meta["format"]`` the format read.
+
+    Raises
+    ------
+    InputError
+        Missing, empty or malformed files, unknown extensions, missing spacing, bad units.
+    """
+    p = Path(path)
+    ext = p.suffix.lower()
+    reader = READERS.get(ext)
+    if reader is None:
+        known = ", ".join(sorted(READERS))
+        raise InputError(path, f"unknown file extension {ext or '(none)'!r}; known: {known}")
+    if units is not None:
+        parse_units(units, path)
+    resolve_spacing(spacing, path)
+    try:
+        return reader(path, spacing=spacing, units=units)
+    except InputError:
+        raise
+    except (MemoryError, KeyboardInterrupt):
+        raise
+    except Exception as exc:  # noqa: BLE001 - never a traceback for a bad file
+        raise InputError(path, f"cannot read {ext} file ({exc.__class__.__name__}: {exc})") from None
+
+
+def write(path, heightmap):
+    """Write a :class:`HeightMap` (or a :class:`Profile` where the format allows) atomically.
+
+    Formats by extension: ``.x3p`` (ISO 25178-72, float64 metres, exact round trip),
+    ``.npy`` (heights [m], NaN unmeasured; spacing not stored), ``.npz`` (``heights``, ``dx``,
+    ``dy``, ``unmeasured``), ``.tif``/``.tiff`` (float32 or float64 metres, spacing in a JSON
+    description and in resolution tags per cm). The file appears only when complete
+    (:func:`roadscan.io.atomic.atomic_path`).
+
+    Raises
+    ------
+    InputError
+        Unknown extension (naming the path).
+    TypeError
+        If the object is neither a HeightMap nor a Profile, or the format cannot hold it.
+    """
+    p = Path(path)
+    ext = p.suffix.lower()
+    writer = WRITERS.get(ext)
+    if writer is None:
+        raise InputError(path, f"cannot write {ext or '(no extension)'!r}; "
+                               f"writable: {', '.join(sorted(WRITERS))}")
+    if not isinstance(heightmap, (HeightMap, Profile)):
+        raise TypeError(f"write() takes a HeightMap or Profile, got {type(heightmap).__name__}")
+    with atomic_path(p) as tmp:
+        writer(tmp, heightmap)
+    return p

@@ -1,0 +1,227 @@
+"""Text height files: ASCII grids, x,y,z point lists and x,z line profiles.
+
+One reader for ``.txt``, ``.csv``, ``.asc`` and ``.xyz``; the layout is recognised from the
+content (see :mod:`roadscan.io.text_table` for the table syntax):
+
+- **ESRI ASCII grid** (header ``ncols``, ``nrows``, ``xllcorner``/``xllcenter``,
+  ``yllcorner``/``yllcenter``, ``cellsize`` or ``dx``/``dy``, optional ``NODATA_value``):
+  a height map; ``cellsize`` is taken as metres, the first data row is the north (largest y)
+  edge, so rows are flipped to make row index increase with y. NODATA becomes unmeasured.
+- **Gwyddion ASCII export** (``# Width: 5.00 mm``, ``# Height: ...``, ``# Value units: m``):
+  a height map whose spacing is width / columns and height / rows, heights in the stated units.
+- **1 column**: a profile of heights; ``spacing`` required.
+- **2 columns x, z**: a line profile. x must be on a regular grid (missing x values become
+  unmeasured points); the spacing comes from x. Units: a title line naming units in brackets
+  (``distance (mm), height (mm)``) gives each column's unit; otherwise ``units`` applies to x and
+  z alike (x in the same units as z).
+- **3 columns x, y, z** (any order of points): a point list that must fill a regular x,y grid
+  (points may be missing: they become unmeasured); spacing from the coordinates; x, y, z in the
+  units of a title line, else all three in ``units``.
+- **4 or more columns**: a matrix of heights, rows along y, columns along x; ``spacing``
+  required (unless a Gwyddion or ESRI header gives it).
+
+``spacing=`` always overrides a spacing found in the file. Heights without stated units are
+metres unless ``units`` says otherwise.
+"""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from ..errors import InputError
+from ._common import (NO_SPACING, make_heightmap, make_profile, parse_units, regular_axis,
+                      resolve_spacing, unit_factor)
+from ._registry import register_reader
+from .text_table import ESRI_KEYS, column_units, read_table, read_text
+
+__all__ = ["read_text_heights", "grid_from_points"]
+
+_GWY_LINE = re.compile(r"^#\s*(width|height|value units)\s*:\s*(.+?)\s*$", re.IGNORECASE)
+
+
+def _esri_header(header):
+    out = {}
+    for line in header:
+        toks = line.split()
+        if len(toks) == 2 and toks[0].lower() in ESRI_KEYS:
+            out[toks[0].lower()] = toks[1]
+    return out if {"ncols", "nrows"} <= out.keys() else None
+
+
+def _gwy_header(header, path):
+    out = {}
+    for line in header:
+        m = _GWY_LINE.match(line)
+        if m:
+            out[m.group(1).lower()] = m.group(2)
+    if not out:
+        return None
+    res = {}
+    for key in ("width", "height"):
+        if key in out:
+            parts = out[key].split()
+            try:
+                val = float(parts[0])
+            except ValueError:
+                raise InputError(path, f"bad Gwyddion header '{key}: {out[key]}'") from None
+            res[key] = val * (parse_units(parts[1], path) if len(parts) > 1 else 1.0)
+    if "value units" in out:
+        res["value units"] = out["value units"]
+    return res
+
+
+def _float(value, path, key):
+    try:
+        return float(value)
+    except ValueError:
+        raise InputError(path, f"bad header value {key} = {value!r}") from None
+
+
+@register_reader(".txt", ".csv", ".asc", ".xyz")
+def read_text_heights(path, spacing=None, units=None):
+    """Read a text height file (grid, x,y,z list or x,z profile; see the module notes)."""
+    text = read_text(path)
+    table = read_table(path, text)
+    sp = resolve_spacing(spacing, path)
+    factor = unit_factor(units, path)
+    values, header = table.values, table.header
+    meta = {"format": "text"}
+
+    esri = _esri_header(header)
+    if esri is not None:
+        return _esri(path, values, esri, sp, factor, units, meta)
+    gwy = _gwy_header(header, path)
+    if gwy is not None and values.shape[1] >= 2:
+        return _gwy_matrix(path, values, gwy, sp, factor, units, meta)
+
+    ncol = values.shape[1]
+    titles = column_units(header[-1]) if header else None
+    if titles is not None and len(titles) != ncol:
+        titles = None
+    if ncol == 1:
+        if sp is None:
+            raise InputError(path, NO_SPACING)
+        meta.update(layout="heights column", units=units or "m")
+        return make_profile(path, values[:, 0] * factor, sp[0], meta=meta)
+    if ncol == 2:
+        return _profile(path, values, titles, sp, factor, units, meta)
+    if ncol == 3:
+        return _xyz(path, values, titles, sp, factor, units, meta)
+    if sp is None:
+        raise InputError(path, NO_SPACING)
+    meta.update(layout="matrix", units=units or "m")
+    return make_heightmap(path, values * factor, sp[0], sp[1], meta=meta)
+
+
+def _esri(path, values, hdr, sp, factor, units, meta):
+    nrows = int(_float(hdr["nrows"], path, "nrows"))
+    ncols = int(_float(hdr["ncols"], path, "ncols"))
+    if values.size != nrows * ncols:
+        raise InputError(path, f"header says {nrows} x {ncols} values, file has {values.size}")
+    h = values.reshape(nrows, ncols)[::-1].copy()  # first row is the north edge
+    if "nodata_value" in hdr:
+        h[h == _float(hdr["nodata_value"], path, "NODATA_value")] = np.nan
+    if sp is None:
+        if "cellsize" in hdr:
+            c = _float(hdr["cellsize"], path, "cellsize")
+            sp = (c, c)
+        elif "dx" in hdr and "dy" in hdr:
+            sp = (_float(hdr["dx"], path, "dx"), _float(hdr["dy"], path, "dy"))
+        else:
+            raise InputError(path, NO_SPACING)
+    meta.update(layout="ESRI ASCII grid (rows flipped: row 0 is the south edge)", units=units or "m")
+    return make_heightmap(path, h * factor, sp[0], sp[1], meta=meta)
+
+
+def _gwy_matrix(path, values, gwy, sp, factor, units, meta):
+    ny, nx = values.shape
+    if sp is None:
+        if "width" not in gwy:
+            raise InputError(path, NO_SPACING)
+        dx = gwy["width"] / nx
+        sp = (dx, gwy.get("height", dx * ny) / ny)
+    if "value units" in gwy:
+        factor = parse_units(gwy["value units"], path)
+        meta["units"] = gwy["value units"]
+        if units is not None:
+            meta["units_ignored"] = units
+    else:
+        meta["units"] = units or "m"
+    meta["layout"] = "Gwyddion ASCII export"
+    return make_heightmap(path, values * factor, sp[0], sp[1], meta=meta)
+
+
+def _column_factors(path, titles, ncol, factor, units, meta):
+    if titles is not None:
+        meta["units"] = ",".join(titles)
+        if units is not None:
+            meta["units_ignored"] = units
+        return [parse_units(t, path) for t in titles]
+    meta["units"] = units or "m"
+    return [factor] * ncol
+
+
+def _profile(path, values, titles, sp, factor, units, meta):
+    fx, fz = _column_factors(path, titles, 2, factor, units, meta)
+    x, z = values[:, 0], values[:, 1]
+    if not np.all(np.isfinite(x)):
+        raise InputError(path, "x column contains NaN")
+    order = np.argsort(x, kind="stable")
+    x, z = x[order], z[order]
+    x0, dx, idx = regular_axis(x, path, "x")
+    h = np.full(idx[-1] + 1, np.nan)
+    h[idx] = z
+    meta.update(layout="x,z profile", x0_m=x0 * fx, missing_points=int(h.size - x.size))
+    dx_m = sp[0] if sp is not None else dx * fx
+    return make_profile(path, h * fz, dx_m, meta=meta)
+
+
+def _clusters(v, path, what):
+    """Distinct values of a coordinate that carries rounding noise."""
+    s = np.sort(v)
+    gaps = np.diff(s)
+    if gaps.size == 0 or gaps.max() <= 0:
+        raise InputError(path, f"all {what} coordinates are equal: not a grid")
+    cut = np.flatnonzero(gaps > 0.1 * gaps.max())
+    groups = np.split(s, cut + 1)
+    centres = np.array([g.mean() for g in groups])
+    return centres
+
+
+def grid_from_points(path, x, y, z):
+    """Place x,y,z points on the regular grid they sample.
+
+    Returns ``(heights (ny, nx) with NaN at missing nodes, x0, dx, y0, dy)`` in the units of
+    the input. Raises :class:`InputError` when the points are not on a regular grid, when two
+    points share a node, or when fewer than half of the nodes are present.
+    """
+    if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        raise InputError(path, "x or y column contains NaN")
+    xs, ys = _clusters(x, path, "x"), _clusters(y, path, "y")
+    x0, dx, _ = regular_axis(xs, path, "x")
+    y0, dy, _ = regular_axis(ys, path, "y")
+    ix = np.rint((x - x0) / dx).astype(np.int64)
+    iy = np.rint((y - y0) / dy).astype(np.int64)
+    if max(np.abs(x - (x0 + ix * dx)).max() / dx, np.abs(y - (y0 + iy * dy)).max() / dy) > 0.25:
+        raise InputError(path, "x,y points are not on a regular grid")
+    nx, ny = ix.max() + 1, iy.max() + 1
+    flat = iy * nx + ix
+    if np.unique(flat).size != flat.size:
+        raise InputError(path, "x,y points are not on a regular grid (two points share a node)")
+    if flat.size < 0.5 * nx * ny:
+        raise InputError(path, f"x,y points are not on a regular grid ({flat.size} points for "
+                               f"{nx} x {ny} nodes)")
+    h = np.full(nx * ny, np.nan)
+    h[flat] = z
+    return h.reshape(ny, nx), x0, dx, y0, dy
+
+
+def _xyz(path, values, titles, sp, factor, units, meta):
+    fx, fy, fz = _column_factors(path, titles, 3, factor, units, meta)
+    h, x0, dx, y0, dy = grid_from_points(path, values[:, 0], values[:, 1], values[:, 2])
+    meta.update(layout="x,y,z points", x0_m=x0 * fx, y0_m=y0 * fy,
+                missing_points=int(h.size - values.shape[0]))
+    if sp is None:
+        sp = (dx * fx, dy * fy)
+    return make_heightmap(path, h * fz, sp[0], sp[1], meta=meta)

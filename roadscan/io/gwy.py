@@ -1,0 +1,78 @@
+"""Gwyddion native ``.gwy`` files through the ``gwyfile`` package.
+
+The first data channel (lowest channel number, ``/N/data``) is read; its title is kept in
+``meta``. Spacing = ``xreal / xres`` and ``yreal / yres`` in the lateral unit of the field
+(``si_unit_xy``, normally "m"), heights in ``si_unit_z`` (normally "m"); a field without a
+height unit uses ``units`` (default m), one without a lateral unit needs ``spacing``.
+NaN heights are unmeasured. Gwyddion marks invalid points of imported data with a mask
+(``/N/mask``), but masks are also used for grains and other selections, so the mask is not
+applied: its covered fraction is reported in ``meta["gwy_mask_fraction"]``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ._common import NO_SPACING, check_file, make_heightmap, parse_units, resolve_spacing, unit_factor
+from ._registry import register_reader
+
+__all__ = ["read_gwy"]
+
+
+def _unit(field, key):
+    u = field.get(key)
+    if u is None:
+        return ""
+    try:
+        return str(u.unitstr or "")
+    except (KeyError, AttributeError):
+        return ""
+
+
+@register_reader(".gwy")
+def read_gwy(path, spacing=None, units=None):
+    """Read the first data channel of a Gwyddion ``.gwy`` file."""
+    import gwyfile
+
+    check_file(path)
+    try:
+        obj = gwyfile.load(str(path))
+    except Exception as exc:  # noqa: BLE001 - gwyfile raises plain ValueError/struct errors
+        raise InputError(path, f"not a readable Gwyddion file ({exc.__class__.__name__}: {exc})") from None
+    channels = sorted(
+        int(k[1:-len("/data")]) for k in obj.keys()
+        if k.startswith("/") and k.endswith("/data") and k[1:-len("/data")].isdigit()
+    )
+    if not channels:
+        raise InputError(path, "no data channel in the Gwyddion file")
+    ch = channels[0]
+    field = obj[f"/{ch}/data"]
+    try:
+        z = np.asarray(field.data, dtype=np.float64)
+    except Exception as exc:  # noqa: BLE001
+        raise InputError(path, f"channel {ch} is not a readable data field ({exc})") from None
+    meta = {"format": "gwy", "channel": ch, "title": str(obj.get(f"/{ch}/data/title", ""))}
+    zu = _unit(field, "si_unit_z")
+    if zu:
+        factor = parse_units(zu, path)
+        meta["units"] = zu
+        if units is not None:
+            meta["units_ignored"] = units
+    else:
+        factor = unit_factor(units, path)
+        meta["units"] = units or "m"
+    mask = obj.get(f"/{ch}/mask")
+    if mask is not None:
+        try:
+            meta["gwy_mask_fraction"] = float(np.mean(np.asarray(mask.data) > 0.5))
+        except Exception:  # noqa: BLE001
+            pass
+    sp = resolve_spacing(spacing, path)
+    if sp is None:
+        xyu = _unit(field, "si_unit_xy")
+        if not xyu or field.xreal is None or field.yreal is None:
+            raise InputError(path, NO_SPACING)
+        f = parse_units(xyu, path)
+        ny, nx = z.shape
+        sp = (field.xreal * f / nx, field.yreal * f / ny)
+    return make_heightmap(path, z * factor, sp[0], sp[1], meta=meta)

@@ -1,0 +1,105 @@
+"""NumPy ``.npy`` and ``.npz`` height files.
+
+- ``.npy``: a 2D array of heights, rows along y, columns along x, NaN where unmeasured, in
+  metres unless ``units`` says otherwise. The file has no spacing: ``spacing`` is required.
+- ``.npz``: keys ``heights`` (2D, or 1D for a profile), ``dx`` and ``dy`` [m] (``dy`` absent for
+  a profile), optional boolean ``unmeasured``. ``spacing`` given to the reader overrides
+  ``dx``/``dy``. Heights are metres unless ``units`` says otherwise.
+
+Writers store metres (float64 unless the map is float32) and NaN at unmeasured points.
+"""
+from __future__ import annotations
+
+import zipfile
+
+import numpy as np
+
+from ..errors import InputError
+from ..heightmap import HeightMap, Profile
+from ._common import NO_SPACING, check_file, make_heightmap, make_profile, resolve_spacing, unit_factor
+from ._registry import register_reader, register_writer
+
+__all__ = ["read_npy", "read_npz", "write_npy", "write_npz"]
+
+
+def _load(path, **kw):
+    try:
+        return np.load(path, allow_pickle=False, **kw)
+    except (ValueError, OSError, EOFError, zipfile.BadZipFile) as exc:
+        raise InputError(path, f"not a readable NumPy file ({exc.__class__.__name__}: {exc})") from None
+
+
+@register_reader(".npy")
+def read_npy(path, spacing=None, units=None):
+    """Read a ``.npy`` height array; ``spacing`` [m] is required."""
+    check_file(path)
+    arr = _load(path)
+    factor = unit_factor(units, path)
+    sp = resolve_spacing(spacing, path)
+    if arr.dtype.names is not None or not (np.issubdtype(arr.dtype, np.number) or arr.dtype == bool):
+        raise InputError(path, f"heights are not numbers (dtype {arr.dtype})")
+    if arr.ndim == 1:
+        if sp is None:
+            raise InputError(path, NO_SPACING)
+        return make_profile(path, arr * factor, sp[0], meta={"format": "npy", "units": units or "m"})
+    if arr.ndim != 2:
+        raise InputError(path, f"expected a 2D height array, got shape {arr.shape}")
+    if sp is None:
+        raise InputError(path, NO_SPACING)
+    return make_heightmap(path, arr.astype(np.float64) * factor, sp[0], sp[1],
+                          meta={"format": "npy", "units": units or "m"})
+
+
+@register_reader(".npz")
+def read_npz(path, spacing=None, units=None):
+    """Read a ``.npz`` with keys ``heights``, ``dx``, ``dy`` [m] and optional ``unmeasured``."""
+    check_file(path)
+    factor = unit_factor(units, path)
+    sp = resolve_spacing(spacing, path)
+    with _load(path) as z:
+        keys = set(z.files)
+        if "heights" not in keys:
+            raise InputError(path, f"no 'heights' array (keys: {', '.join(sorted(keys)) or 'none'})")
+        h = z["heights"]
+        unmeasured = z["unmeasured"] if "unmeasured" in keys else None
+        dx = float(z["dx"]) if "dx" in keys and z["dx"].size == 1 else None
+        dy = float(z["dy"]) if "dy" in keys and z["dy"].size == 1 else None
+    if not (np.issubdtype(h.dtype, np.number) or h.dtype == bool):
+        raise InputError(path, f"heights are not numbers (dtype {h.dtype})")
+    if unmeasured is not None and unmeasured.shape != h.shape:
+        raise InputError(path, f"'unmeasured' has shape {unmeasured.shape}, heights {h.shape}")
+    meta = {"format": "npz", "units": units or "m"}
+    if h.ndim == 1:
+        if sp is not None:
+            dx = sp[0]
+        if dx is None:
+            raise InputError(path, NO_SPACING)
+        return make_profile(path, h * factor, dx, unmeasured=unmeasured, meta=meta)
+    if h.ndim != 2:
+        raise InputError(path, f"expected a 2D height array, got shape {h.shape}")
+    if sp is not None:
+        dx, dy = sp
+    elif dx is not None and dy is None:
+        dy = dx
+    if dx is None or dy is None:
+        raise InputError(path, NO_SPACING)
+    return make_heightmap(path, h.astype(np.float64) * factor, dx, dy, unmeasured=unmeasured, meta=meta)
+
+
+@register_writer(".npy")
+def write_npy(path, obj):
+    """Heights [m] with NaN at unmeasured points; the spacing is not stored."""
+    with open(path, "wb") as f:
+        np.save(f, obj.heights_m)
+
+
+@register_writer(".npz")
+def write_npz(path, obj):
+    """``heights`` [m, NaN unmeasured], ``dx`` (and ``dy`` for a map) [m], ``unmeasured``."""
+    arrays = {"heights": obj.heights_m, "dx": np.float64(obj.dx_m), "unmeasured": obj.unmeasured}
+    if isinstance(obj, HeightMap):
+        arrays["dy"] = np.float64(obj.dy_m)
+    elif not isinstance(obj, Profile):
+        raise TypeError(f"cannot write {type(obj).__name__}")
+    with open(path, "wb") as f:
+        np.savez_compressed(f, **arrays)

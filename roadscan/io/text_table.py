@@ -1,0 +1,136 @@
+"""Parse a numeric text table with optional header lines (shared by the text readers).
+
+A table is a block of lines of numbers separated by commas, semicolons, tabs or spaces
+(``nan``/``NaN`` allowed), after any header lines. Header lines are everything before the first
+all-numeric line; lines starting with ``#`` are comments anywhere. Every data line must have the
+same number of values.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ._common import check_file
+
+__all__ = ["Table", "read_table", "read_text", "column_units"]
+
+ESRI_KEYS = {"ncols", "nrows", "xllcorner", "yllcorner", "xllcenter", "yllcenter", "cellsize",
+             "dx", "dy", "nodata_value"}
+_SPLIT = re.compile(r"[,;\s]+")
+
+
+@dataclass
+class Table:
+    """Numbers of a text table and the lines above them."""
+
+    values: np.ndarray                      # (rows, columns) float64
+    header: list = field(default_factory=list)   # header lines (stripped), comments included
+    first_line: int = 1                     # 1-based line number of the first data row
+
+
+def read_text(path):
+    """The file's text (UTF-8, with or without BOM; Latin-1 as fallback)."""
+    p = check_file(path)
+    raw = p.read_bytes()
+    if b"\x00" in raw[:4096]:
+        raise InputError(path, "binary file, not a text table")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        text = raw.decode("latin-1")
+    if not text.strip():
+        raise InputError(path, "empty file")
+    return text
+
+
+def _tokens(line):
+    return [t for t in _SPLIT.split(line.strip()) if t]
+
+
+def _is_numeric(tokens):
+    if not tokens:
+        return False
+    try:
+        for t in tokens:
+            float(t)
+    except ValueError:
+        return False
+    return True
+
+
+def read_table(path, text=None):
+    """Parse ``path`` into a :class:`Table`; raises :class:`InputError` for ragged or non-numeric
+    rows, or when there is no numeric row at all."""
+    if text is None:
+        text = read_text(path)
+    lines = text.splitlines()
+    header, start = [], None
+    for i, line in enumerate(lines):
+        s = line.strip()
+        if not s:
+            continue
+        if s.startswith("#") or not _is_numeric(_tokens(s)):
+            header.append(s)
+            continue
+        start = i
+        break
+    if start is None:
+        raise InputError(path, "no numeric data found")
+    data_lines, numbers = [], []
+    for i in range(start, len(lines)):
+        s = lines[i].strip()
+        if not s or s.startswith("#"):
+            continue
+        data_lines.append(i)
+        numbers.append(s)
+    ncol0 = len(_tokens(numbers[0]))
+    for k, h in enumerate(header):
+        toks = _tokens(h)
+        if not h.startswith("#") and toks[0].lower() not in ESRI_KEYS and len(toks) == ncol0 and 2 * sum(_is_numeric([t]) for t in toks) >= len(toks):
+            word = next(t for t in toks if not _is_numeric([t]))
+            raise InputError(path, f"non-numeric value {word!r} in a data row above line {data_lines[0] + 1}")
+    sep_comma = "," in numbers[0] or ";" in numbers[0]
+    ncol = len(_tokens(numbers[0]))
+    counts = np.fromiter((len(_tokens(s)) for s in numbers), dtype=np.int64, count=len(numbers))
+    # an empty field between two commas ("1,,2") is a missing value, not a separator
+    if sep_comma:
+        empty = [k for k, s in enumerate(numbers) if re.search(r"[,;]\s*[,;]|^[,;]|[,;]$", s)]
+        if empty:
+            k = empty[0]
+            raise InputError(path, f"empty field on line {data_lines[k] + 1}")
+    bad = np.flatnonzero(counts != ncol)
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(path, f"ragged rows: line {data_lines[k] + 1} has {counts[k]} values, "
+                               f"line {data_lines[0] + 1} has {ncol}")
+    try:
+        values = np.array(_SPLIT.split(" ".join(numbers).strip()), dtype=np.float64)
+    except ValueError:
+        for k, s in enumerate(numbers):
+            if not _is_numeric(_tokens(s)):
+                word = next(t for t in _tokens(s) if not _is_numeric([t]))
+                raise InputError(path, f"non-numeric value {word!r} on line {data_lines[k] + 1}") from None
+        raise InputError(path, "non-numeric values") from None
+    return Table(values.reshape(len(numbers), ncol), header, data_lines[0] + 1)
+
+
+_UNIT_IN_NAME = re.compile(r"[\(\[]\s*(m|mm|um|µm|μm|nm)\s*[\)\]]", re.IGNORECASE)
+
+
+def column_units(header_line):
+    """Units named in a column-title line, e.g. ``"x (mm), z (mm)"`` -> ``["mm", "mm"]``.
+
+    Returns None when the last header line is not a list of titles with units for every column.
+    """
+    if header_line is None or header_line.startswith("#"):
+        return None
+    names = [n for n in re.split(r"[,;\t]|\s{2,}", header_line.strip()) if n.strip()]
+    if len(names) < 2:
+        names = _tokens(header_line)
+    found = [_UNIT_IN_NAME.search(n) for n in names]
+    if not names or not all(found):
+        return None
+    return [m.group(1) for m in found]

@@ -1,0 +1,122 @@
+"""TIFF height images through :mod:`tifffile`.
+
+Reading: the first page (first sample of a multi-sample page is refused), rows along y,
+columns along x, NaN where unmeasured. Heights are metres unless ``units`` says otherwise
+(integer images are converted with the same factor). The spacing comes, in this order, from
+``spacing=``; from the JSON description roadscan writes (``dx_m``, ``dy_m``, ``units``); from a
+GeoTIFF ModelPixelScaleTag (assumed metres: a projected CRS); from the resolution tags when they
+carry real units (centimetre, or inch with a value other than the screen/print defaults 72, 96,
+150, 300 and 600 dpi, which image programs write without meaning it). Otherwise ``spacing`` is
+required.
+
+Writing: float32 maps stay float32, anything else float64; metres, NaN unmeasured, resolution
+tags in pixels per centimetre and a JSON description with ``dx_m``, ``dy_m``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ._common import NO_SPACING, check_file, make_heightmap, resolve_spacing, unit_factor
+from ._registry import register_reader, register_writer
+
+__all__ = ["read_tiff", "write_tiff"]
+
+_DEFAULT_DPI = {72.0, 96.0, 150.0, 300.0, 600.0}
+
+
+def _ratio(value):
+    if isinstance(value, tuple):
+        num, den = value
+        return num / den if den else float("nan")
+    return float(value)
+
+
+def _spacing_from_tags(tif, page):
+    """(dx, dy, how) in metres from the file, or None."""
+    try:
+        meta = tif.shaped_metadata
+    except Exception:  # noqa: BLE001 - tifffile raises several kinds on odd descriptions
+        meta = None
+    if meta:
+        m = meta[0]
+        if "dx_m" in m and "dy_m" in m:
+            return float(m["dx_m"]), float(m["dy_m"]), "roadscan description"
+    tags = page.tags
+    scale = tags.get("ModelPixelScaleTag")
+    if scale is not None:
+        sx, sy = float(scale.value[0]), float(scale.value[1])
+        if sx > 0 and sy > 0:
+            return sx, sy, "GeoTIFF ModelPixelScaleTag (assumed metres)"
+    xr, yr, unit = tags.get("XResolution"), tags.get("YResolution"), tags.get("ResolutionUnit")
+    if xr is None or yr is None or unit is None:
+        return None
+    unit = int(unit.value)
+    xres, yres = _ratio(xr.value), _ratio(yr.value)
+    if not (np.isfinite(xres) and np.isfinite(yres) and xres > 0 and yres > 0):
+        return None
+    if unit == 3:  # centimetre
+        return 1e-2 / xres, 1e-2 / yres, "resolution tags (per cm)"
+    if unit == 2 and not (xres in _DEFAULT_DPI and yres in _DEFAULT_DPI):
+        return 0.0254 / xres, 0.0254 / yres, "resolution tags (per inch)"
+    return None
+
+
+@register_reader(".tif", ".tiff")
+def read_tiff(path, spacing=None, units=None):
+    """Read a TIFF height image (see the module notes for the spacing rules)."""
+    import tifffile
+
+    check_file(path)
+    factor = unit_factor(units, path)
+    sp = resolve_spacing(spacing, path)
+    try:
+        with tifffile.TiffFile(path) as tif:
+            page = tif.pages.first
+            arr = page.asarray()
+            from_file = _spacing_from_tags(tif, page)
+            desc_units = None
+            try:
+                m = tif.shaped_metadata
+                if m and "units" in m[0]:
+                    desc_units = str(m[0]["units"])
+            except Exception:  # noqa: BLE001
+                pass
+    except InputError:
+        raise
+    except Exception as exc:  # noqa: BLE001 - tifffile raises many types for broken files
+        raise InputError(path, f"not a readable TIFF ({exc.__class__.__name__}: {exc})") from None
+    arr = np.squeeze(arr)
+    if arr.ndim != 2:
+        raise InputError(path, f"expected one 2D height image, got shape {arr.shape}")
+    if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
+        raise InputError(path, f"heights are not real numbers (dtype {arr.dtype})")
+    meta = {"format": "tiff", "dtype": str(arr.dtype)}
+    if desc_units is not None and units is None:
+        factor = unit_factor(desc_units, path)
+        meta["units"] = desc_units
+    else:
+        meta["units"] = units or "m"
+    if sp is None:
+        if from_file is None:
+            raise InputError(path, NO_SPACING)
+        sp = from_file[:2]
+        meta["spacing_from"] = from_file[2]
+    return make_heightmap(path, arr.astype(np.float64) * factor, sp[0], sp[1], meta=meta)
+
+
+@register_writer(".tif", ".tiff")
+def write_tiff(path, hmap):
+    """Write heights [m] as float32 (if the map is float32) or float64 with spacing tags."""
+    import tifffile
+
+    if getattr(hmap, "dy_m", None) is None:
+        raise TypeError("TIFF stores height maps, not profiles")
+    data = hmap.heights_m
+    if data.dtype not in (np.float32, np.float64):
+        data = data.astype(np.float64)
+    tifffile.imwrite(
+        path, data,
+        resolution=(1e-2 / hmap.dx_m, 1e-2 / hmap.dy_m), resolutionunit="CENTIMETER",
+        metadata={"dx_m": hmap.dx_m, "dy_m": hmap.dy_m, "units": "m", "writer": "roadscan"},
+    )

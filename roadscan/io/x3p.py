@@ -1,0 +1,71 @@
+"""ISO 25178-72 X3P through the ``x3pio`` package (read and write).
+
+X3P stores coordinates in metres; unmeasured points are NaN (x3pio applies the file's validity
+information). Surfaces on an incremental (regular) grid become a :class:`HeightMap` (rows along
+y, columns along x, as in x3pio); regular profiles a :class:`Profile`. The first layer is read;
+irregular grids and point clouds are refused. ``units`` is ignored (the file is in metres).
+
+Writing stores float64 heights (z_scale 1, so no quantisation): a write-then-read gives the same
+heights, spacings and unmeasured points bit for bit.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+from ..heightmap import HeightMap, Profile
+from ._common import check_file, make_heightmap, make_profile, resolve_spacing
+from ._registry import register_reader, register_writer
+
+__all__ = ["read_x3p", "write_x3p"]
+
+
+@register_reader(".x3p")
+def read_x3p(path, spacing=None, units=None):
+    """Read an X3P profile or surface (first layer)."""
+    import x3pio
+
+    check_file(path)
+    try:
+        f = x3pio.read(str(path))
+    except x3pio.X3pError as exc:
+        raise InputError(path, f"not a readable X3P file ({exc.__class__.__name__}: {exc})") from None
+    except Exception as exc:  # noqa: BLE001 - zip/xml errors of broken files
+        raise InputError(path, f"not a readable X3P file ({exc.__class__.__name__}: {exc})") from None
+    kind = type(f).__name__
+    if kind == "PointCloud":
+        raise InputError(path, "X3P point cloud: only regular profiles and surfaces are supported")
+    if not f.is_regular_grid:
+        raise InputError(path, f"X3P {kind.lower()} on an irregular grid: not supported")
+    layer = f.layers[0]
+    meta = {"format": "x3p", "units": "m", "layers": len(f.layers), "feature": kind}
+    md = f.metadata
+    if md is not None:
+        inst = md.instrument
+        meta["instrument"] = " ".join(s for s in (inst.manufacturer, inst.model, inst.version) if s)
+        if md.date is not None:
+            meta["date"] = md.date.isoformat()
+        if md.comment:
+            meta["comment"] = md.comment
+    if units is not None:
+        meta["units_ignored"] = units
+    sp = resolve_spacing(spacing, path)
+    z = np.array(layer.z, dtype=np.float64)
+    if kind == "Profile":
+        dx = f.header.x.increment if sp is None else sp[0]
+        return make_profile(path, z.ravel(), dx, meta=meta)
+    dx, dy = (f.header.x.increment, f.header.y.increment) if sp is None else sp
+    return make_heightmap(path, z, dx, dy, meta=meta)
+
+
+@register_writer(".x3p")
+def write_x3p(path, obj):
+    """Write a height map (surface) or profile as X3P, float64 metres, NaN unmeasured."""
+    import x3pio
+
+    if isinstance(obj, HeightMap):
+        x3pio.write(str(path), obj.heights_m, x_scale=obj.dx_m, y_scale=obj.dy_m)
+    elif isinstance(obj, Profile):
+        x3pio.write(str(path), obj.heights_m, x_scale=obj.dx_m)
+    else:
+        raise TypeError(f"cannot write {type(obj).__name__} as X3P")
