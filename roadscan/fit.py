@@ -1,0 +1,236 @@
+"""Self-affine fit of an angular-averaged PSD, band detection, roll-off and extension.
+
+Model (DESIGN.md section 2, thesis appendix A), Persson's normalisation:
+
+    C(q) = (H / 2 pi) (h0 / q0)^2 (q / q0)^(-2(H+1))       q0 <= q <= q1,
+
+so that 2 pi int_{q0}^{q1} q C dq = (h0^2 / 2) (1 - (q1/q0)^(-2H)) and
+h0 = sqrt(2) h_band / sqrt(1 - (q1/q0)^(-2H)) with h_band the rms height of the band
+(``band_rms_m``). Below q0 a detected roll-off is modelled as a plateau C(q0).
+
+The fit is ordinary least squares of log10 C against log10 q over the band (log-spaced rings
+weigh every decade alike); H = -slope/2 - 1 and its standard error is half the slope's
+standard error from the regression. q0 is the roll-off wave vector where one is detected,
+else the lowest wave vector of the spectrum (DESIGN.md section 5); q1 is the highest.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .spectrum_types import Spectrum
+
+__all__ = ["SelfAffineFit", "fit_self_affine", "detect_band", "extend_spectrum", "local_slopes"]
+
+
+@dataclass(frozen=True)
+class SelfAffineFit:
+    """Result of :func:`fit_self_affine` (all wave vectors in 1/m, heights in m).
+
+    Attributes
+    ----------
+    hurst, hurst_stderr : float
+        Hurst exponent H and its standard error (regression).
+    h0_m : float
+        The thesis's h0 of the self-affine form on [q0, q1].
+    band_rms_m : float
+        rms height implied by the fitted power law on [q0, q1] (not Sq).
+    fit_band_per_m : (float, float)
+        The band fitted.
+    q_roll_per_m : float or None
+        Roll-off wave vector: where the fitted power law meets the low-q plateau.
+    q0_per_m, q1_per_m : float
+        Range of the self-affine form (q0 = q_roll if detected else lowest q of the spectrum;
+        q1 = highest q of the spectrum).
+    C_at_q0_m4 : float
+        Fitted C(q0) [m^4].
+    n_points : int
+        Number of spectrum points in the fit.
+    """
+
+    hurst: float
+    hurst_stderr: float
+    h0_m: float
+    band_rms_m: float
+    fit_band_per_m: tuple
+    q_roll_per_m: float | None
+    q0_per_m: float
+    q1_per_m: float
+    C_at_q0_m4: float
+    n_points: int
+
+    def model_C(self, q_per_m):
+        """Fitted C(q) [m^4]: C(q0) (q/q0)^(-2(H+1)) for q >= q0 (also beyond q1, for an
+        extension); below q0 the plateau C(q0) if a roll-off was detected, else the power law."""
+        q = np.asarray(q_per_m, dtype=np.float64)
+        expo = -2.0 * (self.hurst + 1.0)
+        c = self.C_at_q0_m4 * (q / self.q0_per_m) ** expo
+        if self.q_roll_per_m is not None:
+            c = np.where(q < self.q0_per_m, self.C_at_q0_m4, c)
+        return c
+
+    def as_dict(self):
+        d = dict(self.__dict__)
+        d["fit_band_per_m"] = list(self.fit_band_per_m)
+        return d
+
+
+def _loglog_fit(q, C, lo, hi):
+    """OLS of log10 C on log10 q over lo <= q <= hi: (slope, intercept, slope_stderr, n)."""
+    q, C = np.asarray(q), np.asarray(C)
+    s = (q >= lo * (1 - 1e-12)) & (q <= hi * (1 + 1e-12)) & (C > 0)
+    x, y = np.log10(q[s]), np.log10(C[s])
+    n = x.size
+    if n < 3:
+        raise ValueError(f"only {n} spectrum points in the fit band [{lo:.4g}, {hi:.4g}] 1/m")
+    xm, ym = x.mean(), y.mean()
+    sxx = np.sum((x - xm) ** 2)
+    slope = np.sum((x - xm) * (y - ym)) / sxx
+    icpt = ym - slope * xm
+    resid = y - (icpt + slope * x)
+    se = np.sqrt(np.sum(resid**2) / (n - 2) / sxx) if n > 2 else np.inf
+    return float(slope), float(icpt), float(se), int(n)
+
+
+def local_slopes(q, C, window_decades=0.4):
+    """Slope of log C vs log q by least squares in a window of ``window_decades`` around
+    each point (vectorised with prefix sums)."""
+    x, y = np.log10(q), np.log10(C)
+    lo = np.searchsorted(x, x - window_decades / 2, side="left")
+    hi = np.searchsorted(x, x + window_decades / 2, side="right")
+    cs = [np.concatenate([[0.0], np.cumsum(v)]) for v in (np.ones_like(x), x, y, x * x, x * y)]
+    n, sx, sy, sxx, sxy = (c[hi] - c[lo] for c in cs)
+    den = n * sxx - sx**2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(den > 0, (n * sxy - sx * sy) / np.where(den > 0, den, 1.0), np.nan)
+
+
+def _usable(spectrum, min_count):
+    q, C = spectrum.q_per_m, spectrum.C_m4
+    ok = (C > 0) & np.isfinite(C) & (q > 0)
+    if spectrum.count is not None:
+        ok &= np.asarray(spectrum.count) >= min_count
+    return np.flatnonzero(ok)
+
+
+def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
+    """Self-affine band of a spectrum: the stretch around the middle where log C is straight.
+
+    Local slopes of log C vs log q (window ``window_decades``) are compared with the median
+    slope of the middle third of the range (in log q); the band is the contiguous run of
+    points around the middle whose slope is within ``tolerance`` of it. This cuts a roll-off
+    (flattening at low q) and a noise floor (flattening) or instrument cut-off (steepening)
+    at high q. Rings holding fewer than ``min_count`` lattice points are not used.
+
+    Returns
+    -------
+    (lo, hi) : wave vectors [1/m] of the first and last point of the band.
+    """
+    idx = _usable(spectrum, min_count)
+    if idx.size < 5:
+        raise ValueError("spectrum has fewer than 5 usable points: cannot detect a band")
+    q, C = spectrum.q_per_m[idx], spectrum.C_m4[idx]
+    s = local_slopes(q, C, window_decades)
+    x = np.log10(q)
+    mid = (x >= x[0] + (x[-1] - x[0]) / 3) & (x <= x[-1] - (x[-1] - x[0]) / 3)
+    if mid.sum() < 1:
+        mid = np.ones_like(x, dtype=bool)
+    s_ref = np.nanmedian(s[mid])
+    good = np.abs(s - s_ref) <= tolerance
+    centre = int(np.flatnonzero(mid)[np.argmin(np.abs(s[mid] - s_ref))])
+    i0 = centre
+    while i0 > 0 and good[i0 - 1]:
+        i0 -= 1
+    i1 = centre
+    while i1 < x.size - 1 and good[i1 + 1]:
+        i1 += 1
+    if i1 - i0 < 2:
+        i0, i1 = max(0, centre - 1), min(x.size - 1, centre + 1)
+    return float(q[i0]), float(q[i1])
+
+
+def _detect_roll_off(q, C, slope, icpt, lo, window_decades, min_deficit=0.3):
+    """Wave vector where the fitted power law meets a low-q plateau, or None.
+
+    A roll-off is declared when the (usable) points below the band lie, on the median, more
+    than ``min_deficit`` decades (default 0.3: a factor 2) below the extrapolated power law
+    and are flatter than half its slope; the plateau level is their median log C.
+    """
+    below = q < lo * (1 - 1e-9)
+    if below.sum() < 2:
+        return None
+    x, y = np.log10(q[below]), np.log10(C[below])
+    deficit = (icpt + slope * x) - y
+    s = local_slopes(q, C, window_decades)[below]
+    if np.median(deficit) < min_deficit or not (np.nanmedian(np.abs(s)) < abs(slope) / 2):
+        return None
+    plateau = np.median(y)
+    q_roll = 10 ** ((plateau - icpt) / slope)
+    if not (q[0] <= q_roll <= lo * 1.5):
+        return None
+    return float(q_roll)
+
+
+def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4):
+    """Fit the self-affine form to a (2D, isotropic) spectrum.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        C(q) [m^4] in Persson's normalisation (kind area, profile or model).
+    band : (lo, hi), optional
+        Fit band [1/m]; detected with :func:`detect_band` when omitted.
+
+    Returns
+    -------
+    SelfAffineFit
+    """
+    idx = _usable(spectrum, min_count)
+    q, C = spectrum.q_per_m[idx], spectrum.C_m4[idx]
+    if band is None:
+        band = detect_band(spectrum, window_decades=window_decades, min_count=min_count)
+    lo, hi = float(band[0]), float(band[1])
+    slope, icpt, se, n = _loglog_fit(q, C, lo, hi)
+    hurst = -slope / 2.0 - 1.0
+    q_roll = _detect_roll_off(q, C, slope, icpt, lo, window_decades)
+    q0 = q_roll if q_roll is not None else float(q[0])
+    q1 = float(q[-1])
+    c0 = 10 ** (icpt + slope * np.log10(q0))
+    if hurst > 0:
+        h0 = q0 * np.sqrt(2 * np.pi * c0 / hurst)
+        band_rms = h0 / np.sqrt(2.0) * np.sqrt(max(0.0, 1.0 - (q1 / q0) ** (-2.0 * hurst)))
+    else:
+        h0 = float("nan")
+        band_rms = float(np.sqrt(2 * np.pi * c0 * q0**2 * np.log(q1 / q0)))
+    return SelfAffineFit(hurst=float(hurst), hurst_stderr=float(se / 2.0), h0_m=float(h0),
+                         band_rms_m=float(band_rms), fit_band_per_m=(lo, hi),
+                         q_roll_per_m=q_roll, q0_per_m=float(q0), q1_per_m=q1,
+                         C_at_q0_m4=float(c0), n_points=n)
+
+
+def extend_spectrum(spectrum, fit, q1_per_m, points_per_decade=20):
+    """The measured spectrum continued by the fitted power law up to ``q1_per_m``.
+
+    Points of ``spectrum`` are kept up to its highest wave vector; above it, log-spaced
+    points (``points_per_decade``) carry ``fit.model_C``. ``count`` is 0 for model points.
+
+    Returns
+    -------
+    Spectrum
+        kind ``"extended"``; ``meta['extended_from_per_m']`` marks the join.
+    """
+    q_top = spectrum.q_max_per_m
+    meta = dict(spectrum.meta)
+    meta.update(extended_from_per_m=q_top, extended_to_per_m=float(q1_per_m),
+                extension_hurst=fit.hurst, source_kind=spectrum.kind)
+    cnt = (np.asarray(spectrum.count) if spectrum.count is not None
+           else np.zeros(spectrum.q_per_m.size, dtype=np.int64))
+    if q1_per_m <= q_top:
+        return Spectrum(spectrum.q_per_m, spectrum.C_m4, count=cnt, kind="extended", meta=meta)
+    n = max(1, int(np.ceil(points_per_decade * np.log10(q1_per_m / q_top))))
+    q_new = q_top * (q1_per_m / q_top) ** (np.arange(1, n + 1) / n)
+    return Spectrum(np.concatenate([spectrum.q_per_m, q_new]),
+                    np.concatenate([spectrum.C_m4, fit.model_C(q_new)]),
+                    count=np.concatenate([cnt, np.zeros(n, dtype=np.int64)]),
+                    kind="extended", meta=meta)

@@ -1,0 +1,393 @@
+"""Power spectral densities of height maps and line profiles (Persson's normalisation).
+
+2D (DESIGN.md section 2). With the window w, H_m = FFT2(w h) and A = L_x L_y = n_x dx n_y dy,
+
+    C(q_m) = (dx dy)^2 |H_m|^2 / ((2 pi)^2 A <w^2>)          [m^4]
+
+on the FFT lattice q = 2 pi (k_x / L_x, k_y / L_y); <h^2> = sum_m C(q_m) (2 pi)^2 / A
+(Parseval, for the windowed heights divided by <w^2>), and for an isotropic surface
+<h^2> = 2 pi int q C(q) dq. Dividing by <w^2> (the mean of w^2 over the grid, 0.7105 for the
+2D Tukey window with alpha = 0.25) restores the power the window removes. The window is the
+outer product of two ``scipy.signal.windows.tukey`` windows (alpha = 0: rectangular,
+alpha = 1: Hann). SurfaceTopography's C is (2 pi)^2 times this one.
+
+1D (line profiles), with L = n dx:
+
+    C1(q_k) = dx^2 |FFT(w h)_k|^2 / (2 pi L <w^2>)            [m^3],  <h^2> = 2 int_0^inf C1 dq.
+
+For an isotropic surface C1(q_x) = int dq_y C(sqrt(q_x^2 + q_y^2)) (an Abel transform). For a
+power law C ~ q^(-2(1+H)) it inverts to the conversion used here, named
+``"power-law Abel inversion"`` in ``meta['conversion']``:
+
+    C(q) = C1(q) / q * Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)),
+
+with H estimated from the slope of C1 (C1 ~ q^-(1 + 2H)) over its self-affine band unless given.
+
+Angular averages use log-spaced rings from q_min = 2 pi / L (the longer side) to the Nyquist
+wave vector q_max = pi / max(dx, dy); each ring reports the mean |q| and the mean C of the
+lattice points inside it, and the number of points; empty rings are dropped.
+
+Reference: Persson et al., J. Phys.: Condens. Matter 17, R1 (2005); Jacobs, Junge, Pastewka,
+Surf. Topogr.: Metrol. Prop. 5, 013001 (2017).
+"""
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+import scipy.fft as sfft
+from scipy.signal.windows import tukey
+from scipy.special import gammaln
+
+from .heightmap import HeightMap, Profile
+from .spectrum_types import Spectrum, Spectrum2D
+
+__all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",
+           "window_2d", "profile_to_area_factor", "NORMALISATION_2D", "NORMALISATION_1D"]
+
+NORMALISATION_2D = "C = (dx dy)^2 |FFT2(w h)|^2 / ((2 pi)^2 A <w^2>) [m^4] (Persson; DESIGN.md sec 2)"
+NORMALISATION_1D = "C1 = dx^2 |FFT(w h)|^2 / (2 pi L <w^2>) [m^3]; <h^2> = 2 int_0^inf C1 dq"
+_WORKERS = -1
+
+
+@lru_cache(maxsize=16)
+def _tukey(n, alpha):
+    w = tukey(n, alpha) if alpha > 0 else np.ones(n)
+    w.setflags(write=False)
+    return w
+
+
+def window_2d(ny, nx, alpha=0.25):
+    """The 2D Tukey window (outer product of two 1D Tukey windows) and its mean square <w^2>."""
+    wy, wx = _tukey(ny, float(alpha)), _tukey(nx, float(alpha))
+    return np.outer(wy, wx), float(np.mean(wy**2) * np.mean(wx**2))
+
+
+def _require_filled(obj):
+    if obj.unmeasured.any():
+        raise ValueError(f"{obj.name or type(obj).__name__}: {int(obj.unmeasured.sum())} unmeasured "
+                         "points; fill them first (roadscan.inpaint.fill_unmeasured)")
+
+
+def _ring_edges(q_min, q_max, rings_per_decade):
+    if not (0 < q_min < q_max):
+        raise ValueError(f"need 0 < q_min < q_max, got {q_min}, {q_max}")
+    n = max(1, int(np.ceil(rings_per_decade * np.log10(q_max / q_min) - 1e-9)))
+    return q_min * (q_max / q_min) ** (np.arange(n + 1) / n)
+
+
+def _ring_index(q, q_min, q_max, n_rings):
+    """Ring number of each |q| (-1 outside [q_min, q_max]); rings log-spaced."""
+    qc = np.maximum(q, q_min * 1e-3)
+    r = np.floor(np.log(qc / q_min) / np.log(q_max / q_min) * n_rings).astype(np.int64)
+    r = np.clip(r, 0, n_rings - 1)                      # |q| == q_min or q_max up to round-off
+    r[(q < q_min * (1 - 1e-12)) | (q > q_max * (1 + 1e-12)) | (q <= 0)] = -1
+    return r
+
+
+@lru_cache(maxsize=8)
+def _half_rings(ny, nx, dx, dy, q_min, q_max, n_rings):
+    """Ring bookkeeping on the rfft2 half lattice (cached per grid): flat indices of points
+    inside the range, their ring, the weight of each (2 for a column whose mirror image is
+    not stored, else 1), the weighted count per ring and the weighted mean |q| per ring."""
+    qx = 2 * np.pi * sfft.rfftfreq(nx, dx)
+    qy = 2 * np.pi * sfft.fftfreq(ny, dy)
+    q = np.hypot(qx[None, :], qy[:, None]).ravel()
+    ring = _ring_index(q, q_min, q_max, n_rings)
+    wcol = np.full(qx.size, 2.0)
+    wcol[0] = 1.0
+    if nx % 2 == 0:
+        wcol[-1] = 1.0
+    wt = np.broadcast_to(wcol[None, :], (ny, qx.size)).ravel()
+    sel = np.flatnonzero(ring >= 0)
+    ring, wt = ring[sel], wt[sel]
+    count = np.bincount(ring, weights=wt, minlength=n_rings)
+    qsum = np.bincount(ring, weights=wt * q[sel], minlength=n_rings)
+    for a in (sel, ring, wt, count, qsum):
+        a.setflags(write=False)
+    return sel, ring, wt, count, qsum
+
+
+def _half_psd(hm, window_alpha):
+    ny, nx = hm.shape
+    w, w2 = window_2d(ny, nx, window_alpha)
+    F = sfft.rfft2(hm.heights_m * w, workers=_WORKERS)
+    area = nx * hm.dx_m * ny * hm.dy_m
+    P = F.real**2 + F.imag**2
+    P *= (hm.dx_m * hm.dy_m) ** 2 / ((2 * np.pi) ** 2 * area * w2)
+    return P, w2
+
+
+def _full_from_half(P, nx):
+    """The full (ny, nx) lattice from the rfft2 half (C(-q) = C(q) for real heights),
+    fftshifted so that q = 0 is at the centre."""
+    ny, nxr = P.shape
+    full = np.empty((ny, nx))
+    full[:, :nxr] = P
+    if nx > nxr:
+        rows = (-np.arange(ny)) % ny
+        cols = nx - np.arange(nxr, nx)
+        full[:, nxr:] = P[rows][:, cols]
+    return sfft.fftshift(full)
+
+
+def _meta_2d(hm, alpha, w2):
+    return {"window": "tukey2d", "window_alpha": float(alpha), "window_mean_square": w2,
+            "dx_m": hm.dx_m, "dy_m": hm.dy_m, "nx": hm.nx, "ny": hm.ny,
+            "normalisation": NORMALISATION_2D, "name": hm.name}
+
+
+def psd_2d(hm, window_alpha=0.25):
+    """Full 2D PSD map of a filled height map.
+
+    C(q_m) = (dx dy)^2 |FFT2(w h)|^2 / ((2 pi)^2 A <w^2>) [m^4], w the 2D Tukey window
+    (``window_alpha``), power loss corrected by <w^2>. The caller levels (and fills) first:
+    the map must have no unmeasured points; no mean or tilt is removed here.
+
+    Returns
+    -------
+    Spectrum2D
+        fftshifted lattice wave vectors ``qx_per_m`` (nx,), ``qy_per_m`` (ny,) [1/m] and the
+        map ``C_m4`` (ny, nx); ``meta`` holds the window, <w^2> and the normalisation.
+    """
+    _require_filled(hm)
+    P, w2 = _half_psd(hm, window_alpha)
+    qx = sfft.fftshift(2 * np.pi * sfft.fftfreq(hm.nx, hm.dx_m))
+    qy = sfft.fftshift(2 * np.pi * sfft.fftfreq(hm.ny, hm.dy_m))
+    return Spectrum2D(qx, qy, _full_from_half(P, hm.nx), meta=_meta_2d(hm, window_alpha, w2))
+
+
+def _default_range(Lx, Ly, dx, dy, q_min, q_max):
+    q_min = 2 * np.pi / max(Lx, Ly) if q_min is None else float(q_min)
+    q_max = np.pi / max(dx, dy) if q_max is None else float(q_max)
+    return q_min, q_max
+
+
+def _grid_of(spec2d):
+    """(Lx, Ly, dx, dy) of a 2D map: from its meta when present (exact), else its lattice."""
+    qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
+    m = spec2d.meta
+    if all(k in m for k in ("dx_m", "dy_m", "nx", "ny")) and (m["nx"], m["ny"]) == (qx.size, qy.size):
+        dx, dy = float(m["dx_m"]), float(m["dy_m"])
+        return qx.size * dx, qy.size * dy, dx, dy
+    Lx, Ly = 2 * np.pi / abs(qx[1] - qx[0]), 2 * np.pi / abs(qy[1] - qy[0])
+    return Lx, Ly, Lx / qx.size, Ly / qy.size
+
+
+def _spectrum_from_rings(csum, count, qsum, edges, meta):
+    keep = count > 0
+    c = count[keep]
+    return Spectrum(qsum[keep] / c, csum[keep] / c, count=np.rint(c).astype(np.int64),
+                    kind="area", meta=meta)
+
+
+def angular_average(spec2d, rings_per_decade=20, q_min=None, q_max=None):
+    """Average a 2D PSD map over log-spaced rings of |q|.
+
+    Rings: ``rings_per_decade`` per decade (rounded so that they tile [q_min, q_max]
+    exactly) from q_min = 2 pi / L (longer side; default) to q_max = pi / max(dx, dy)
+    (Nyquist; default). Each ring reports the mean |q| and the mean C of the lattice points
+    with q_min <= |q| <= q_max inside it; ``count`` is the number of points; empty rings are
+    dropped.
+
+    Returns
+    -------
+    Spectrum
+        kind ``"area"``; ``meta`` carries the ring edges and the 2D map's meta.
+    """
+    qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
+    Lx, Ly, dx, dy = _grid_of(spec2d)
+    q_min, q_max = _default_range(Lx, Ly, dx, dy, q_min, q_max)
+    edges = _ring_edges(q_min, q_max, rings_per_decade)
+    n = edges.size - 1
+    q = np.hypot(qx[None, :], qy[:, None]).ravel()
+    ring = _ring_index(q, q_min, q_max, n)
+    sel = ring >= 0
+    r = ring[sel]
+    count = np.bincount(r, minlength=n).astype(np.float64)
+    csum = np.bincount(r, weights=np.asarray(spec2d.C_m4).ravel()[sel], minlength=n)
+    qsum = np.bincount(r, weights=q[sel], minlength=n)
+    meta = dict(spec2d.meta)
+    meta.update(rings_per_decade=rings_per_decade, ring_edges_per_m=edges.tolist(),
+                q_range_per_m=(q_min, q_max))
+    return _spectrum_from_rings(csum, count, qsum, edges, meta)
+
+
+def psd_area(hm, window_alpha=0.25, rings_per_decade=20, q_min=None, q_max=None):
+    """The whole spectrum step of a levelled, filled height map: window, FFT, angular average.
+
+    Same normalisation and rings as :func:`psd_2d` and :func:`angular_average` (the ring
+    average is taken on the rfft half lattice, each point whose mirror image is not stored
+    counted twice, which equals the average over the full lattice).
+
+    Returns
+    -------
+    (Spectrum, Spectrum2D)
+    """
+    _require_filled(hm)
+    ny, nx = hm.shape
+    P, w2 = _half_psd(hm, window_alpha)
+    q_min, q_max = _default_range(nx * hm.dx_m, ny * hm.dy_m, hm.dx_m, hm.dy_m, q_min, q_max)
+    edges = _ring_edges(q_min, q_max, rings_per_decade)
+    sel, ring, wt, count, qsum = _half_rings(ny, nx, hm.dx_m, hm.dy_m, q_min, q_max,
+                                             edges.size - 1)
+    csum = np.bincount(ring, weights=P.ravel()[sel] * wt, minlength=edges.size - 1)
+    meta = _meta_2d(hm, window_alpha, w2)
+    qxs = sfft.fftshift(2 * np.pi * sfft.fftfreq(nx, hm.dx_m))
+    qys = sfft.fftshift(2 * np.pi * sfft.fftfreq(ny, hm.dy_m))
+    spec2d = Spectrum2D(qxs, qys, _full_from_half(P, nx), meta=dict(meta))
+    meta.update(rings_per_decade=rings_per_decade, ring_edges_per_m=edges.tolist(),
+                q_range_per_m=(q_min, q_max))
+    return _spectrum_from_rings(csum, count.copy(), qsum.copy(), edges, meta), spec2d
+
+
+# ----------------------------------------------------------------------------- profiles
+
+def profile_to_area_factor(hurst):
+    """Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)): C(q) = C1(q) / q times this (power law)."""
+    return np.exp(gammaln(1.0 + hurst) - gammaln(hurst + 0.5)) / np.sqrt(np.pi)
+
+
+def _profiles_array(profiles):
+    if isinstance(profiles, HeightMap):
+        _require_filled(profiles)
+        return profiles.heights_m, profiles.dx_m
+    if isinstance(profiles, Profile):
+        profiles = [profiles]
+    profiles = list(profiles)
+    if not profiles or not all(isinstance(p, Profile) for p in profiles):
+        raise TypeError("expected a Profile, a list of Profiles or a HeightMap (rows along x)")
+    n, dx = profiles[0].n, profiles[0].dx_m
+    for p in profiles:
+        _require_filled(p)
+        if p.n != n or not np.isclose(p.dx_m, dx, rtol=1e-9):
+            raise ValueError("profiles must share length and spacing")
+    return np.stack([p.heights_m for p in profiles]), dx
+
+
+def psd_profile(profiles, window_alpha=0.25, hurst=None, rings_per_decade=20, detrend="mean"):
+    """1D PSD of line profiles and its isotropic 2D estimate.
+
+    C1(q_k) = dx^2 |FFT(w h)_k|^2 / (2 pi L <w^2>) [m^3] at q_k = 2 pi k / L, k = 1 .. n/2,
+    averaged over the profiles (1D Tukey window, power loss corrected). The 2D estimate uses
+    the power-law Abel inversion C(q) = C1(q) / q * Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2))
+    on C1 averaged in log-spaced bins (2 pi / L to pi / dx, ``rings_per_decade``).
+
+    Parameters
+    ----------
+    profiles : Profile, sequence of Profile, or HeightMap
+        Filled profiles of equal length and spacing; a HeightMap contributes its rows (x).
+    window_alpha : float
+        Tukey alpha (0.25 default).
+    hurst : float, optional
+        H for the conversion; by default fitted to C1 (slope -(1 + 2H)) over the band found
+        by :func:`roadscan.fit.detect_band`.
+    detrend : {"mean", "linear", None}
+        Removed from each profile before windowing.
+
+    Returns
+    -------
+    q_per_m : (n/2,) array
+    C1_m3 : (n/2,) array
+    Spectrum
+        kind ``"profile"``; ``meta['conversion']`` names the conversion and the H used.
+    """
+    from .fit import detect_band, _loglog_fit  # fit does not import spectrum
+
+    h, dx = _profiles_array(profiles)
+    h = np.array(h, dtype=np.float64)
+    n = h.shape[1]
+    if detrend == "linear":
+        x = np.linspace(-1, 1, n)
+        h = h - h.mean(axis=1, keepdims=True)
+        h = h - np.outer(h @ x / (x @ x), x)
+    elif detrend == "mean":
+        h = h - h.mean(axis=1, keepdims=True)
+    elif detrend is not None:
+        raise ValueError(f"detrend must be 'mean', 'linear' or None, got {detrend!r}")
+    w = _tukey(n, float(window_alpha))
+    w2 = float(np.mean(w**2))
+    L = n * dx
+    F = sfft.rfft(h * w[None, :], axis=1, workers=_WORKERS)[:, 1:]
+    C1 = (np.abs(F) ** 2).mean(axis=0) * dx**2 / (2 * np.pi * L * w2)
+    q = 2 * np.pi * np.arange(1, C1.size + 1) / L
+    q_min, q_max = 2 * np.pi / L, np.pi / dx
+    edges = _ring_edges(q_min, q_max, rings_per_decade)
+    nb = edges.size - 1
+    b = _ring_index(q, q_min, q_max, nb)
+    s = b >= 0
+    cnt = np.bincount(b[s], minlength=nb).astype(np.float64)
+    keep = cnt > 0
+    qb = np.bincount(b[s], weights=q[s], minlength=nb)[keep] / cnt[keep]
+    c1b = np.bincount(b[s], weights=C1[s], minlength=nb)[keep] / cnt[keep]
+    counts = np.rint(cnt[keep] * h.shape[0]).astype(np.int64)
+    source = "given"
+    if hurst is None:
+        tmp = Spectrum(qb, c1b, count=counts, kind="profile")
+        lo, hi = detect_band(tmp)
+        slope, _, _, _ = _loglog_fit(qb, c1b, lo, hi)
+        hurst = float(np.clip((-slope - 1.0) / 2.0, 0.01, 1.0))
+        source = f"fitted to C1 on [{lo:.4g}, {hi:.4g}] 1/m"
+    factor = profile_to_area_factor(hurst)
+    meta = {"conversion": "power-law Abel inversion: C(q) = C1(q)/q * Gamma(1+H)/(sqrt(pi) Gamma(H+1/2))",
+            "conversion_hurst": float(hurst), "conversion_hurst_source": source,
+            "window": "tukey", "window_alpha": float(window_alpha), "window_mean_square": w2,
+            "dx_m": dx, "n_profiles": int(h.shape[0]), "profile_length_m": L,
+            "normalisation_1d": NORMALISATION_1D, "normalisation": NORMALISATION_2D,
+            "rings_per_decade": rings_per_decade, "q_range_per_m": (q_min, q_max),
+            "C1_binned_m3": c1b.tolist()}
+    spec = Spectrum(qb, c1b / qb * factor, count=counts, kind="profile", meta=meta)
+    return q, C1, spec
+
+
+# ----------------------------------------------------------------------------- anisotropy
+
+def anisotropy(spec2d, q_min=None, q_max=None, rings_per_decade=10, n_sectors=36):
+    """Directional distribution of a 2D PSD map (for a figure and the summary).
+
+    Each lattice point in [q_min, q_max] (defaults as :func:`angular_average`) is weighted by
+    C / (mean C of its ring x number of points in its ring), so every ring counts equally and
+    the steep fall of C with q does not let the few lowest rings dominate. From these weights:
+    the tensor M = sum w q^ q^T (q^ = q / |q|, trace 1).
+
+    Returns
+    -------
+    dict
+        ``power_ratio_x_to_y`` = M_xx / M_yy (> 1: heights vary more along x, i.e. texture
+        ridges run along y); ``dominant_direction_deg``: direction of the principal axis of M
+        (the wave-vector direction with most power, degrees from +x in [0, 180));
+        ``anisotropy_index`` = (l1 - l2) / (l1 + l2) of M's eigenvalues (0 isotropic, 1 fully
+        one-directional); ``sector_angle_deg`` and ``sector_power_fraction``: weights summed
+        in ``n_sectors`` sectors of wave-vector direction over [0, 180) (centres, fractions).
+    """
+    qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
+    Lx, Ly, dx, dy = _grid_of(spec2d)
+    q_min, q_max = _default_range(Lx, Ly, dx, dy, q_min, q_max)
+    QX, QY = np.meshgrid(qx, qy)
+    q = np.hypot(QX, QY).ravel()
+    n = _ring_edges(q_min, q_max, rings_per_decade).size - 1
+    ring = _ring_index(q, q_min, q_max, n)
+    sel = ring >= 0
+    r = ring[sel]
+    C = np.asarray(spec2d.C_m4).ravel()[sel]
+    cnt = np.bincount(r, minlength=n)
+    csum = np.bincount(r, weights=C, minlength=n)
+    ok = (cnt > 0) & (csum > 0)
+    norm = np.where(ok, csum, 1.0)                  # sum of C in ring = mean C x count
+    w = C / norm[r]
+    w /= ok.sum()
+    ux, uy = QX.ravel()[sel] / q[sel], QY.ravel()[sel] / q[sel]
+    M = np.array([[np.sum(w * ux * ux), np.sum(w * ux * uy)],
+                  [np.sum(w * ux * uy), np.sum(w * uy * uy)]])
+    evals, evecs = np.linalg.eigh(M)
+    v = evecs[:, 1]
+    theta = np.degrees(np.arctan2(v[1], v[0])) % 180.0
+    ang = np.degrees(np.arctan2(uy, ux)) % 180.0
+    sec = np.minimum((ang / 180.0 * n_sectors).astype(int), n_sectors - 1)
+    sp = np.bincount(sec, weights=w, minlength=n_sectors)
+    return {"power_ratio_x_to_y": float(M[0, 0] / M[1, 1]),
+            "dominant_direction_deg": float(theta),
+            "anisotropy_index": float((evals[1] - evals[0]) / (evals[1] + evals[0])),
+            "sector_angle_deg": ((np.arange(n_sectors) + 0.5) * 180.0 / n_sectors).tolist(),
+            "sector_power_fraction": (sp / sp.sum()).tolist(),
+            "q_range_per_m": (q_min, q_max)}
