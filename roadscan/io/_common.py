@@ -170,7 +170,8 @@ def regular_axis(x, path=None, what="x", tol=0.25):
     Raises
     ------
     InputError
-        Fewer than 2 values, repeated values, or values off a regular grid.
+        Fewer than 2 values, repeated values, values off a regular grid, or values that would
+        fill under half of the grid's nodes (scattered values fit a fine enough grid).
     """
     x = np.asarray(x, dtype=np.float64)
     if x.size < 2:
@@ -186,8 +187,9 @@ def regular_axis(x, path=None, what="x", tol=0.25):
         if np.any(steps < 1):
             raise InputError(path, f"{what} coordinates are not on a regular grid")
         index = np.concatenate([[0], np.cumsum(steps)])
-        if index[-1] > 50 * x.size + 1000:
-            raise InputError(path, f"{what} coordinates are not on a regular grid (too many gaps)")
+        if index[-1] + 1 > 2 * x.size:
+            raise InputError(path, f"{what} coordinates are not on a regular grid "
+                                   f"({x.size} values would fill under half of {index[-1] + 1} nodes)")
         dx, x0 = np.polyfit(index.astype(np.float64), x, 1)
         if not dx > 0:
             raise InputError(path, f"{what} coordinates are not on a regular grid")
