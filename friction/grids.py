@@ -1,0 +1,132 @@
+"""Quadrature grids: the wave-vector grid (uniform in ln q) and the phi rule, plus the
+tabulated phi integrals of a rubber.
+
+Phi integrals (DESIGN.md sec 5). With ``x = q v`` [rad/s] and the rubber at its reference
+state, Persson's angular integrals reduce to two functions of x alone,
+
+    m(x) = integral_0^{pi/2} cos(phi) Im E(x cos phi) dphi        [Pa]
+    w(x) = integral_0^{pi/2} |E(x cos phi)|^2 dphi                 [Pa^2]
+
+(the integrands are even about phi = 0 and phi = pi, so the 0..2 pi integrals are 4 m and 4 w).
+A temperature T only rescales the frequency, ``E(omega, T) = E_ref(omega a)``, so the moduli at
+any temperature are ``m(x a)`` and ``w(x a)``: one table per rubber serves every speed,
+wave vector and temperature. The table is a cubic spline of (ln x, ln m) and (ln x, ln w).
+"""
+from __future__ import annotations
+
+import weakref
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+__all__ = ["phi_rule", "q_grid", "q_nodes_per_decade", "PhiTable", "phi_table"]
+
+
+def phi_rule(n_gl=8, panels_per_decade=1.0, u_min=1e-8):
+    """Gauss-Legendre panels on phi in [0, pi/2], graded geometrically towards phi = pi/2.
+
+    With ``u = pi/2 - phi`` (so ``cos phi = sin u``) the range ``[u_min, pi/2]`` is cut into
+    panels of equal width in ln u (``panels_per_decade`` per decade), each integrated with
+    ``n_gl`` Gauss-Legendre nodes in ln u; ``[0, u_min]`` gets one ``n_gl``-node panel.
+    The grading follows the structure of the integrand near phi = pi/2, where
+    ``omega = x cos phi -> 0`` crosses the rubber's relaxation frequencies.
+
+    Returns
+    -------
+    cos_phi, weights : (n,) arrays with ``sum w f(phi) ~ integral_0^{pi/2} f dphi``.
+    """
+    t, wt = np.polynomial.legendre.leggauss(int(n_gl))
+    lo, hi = np.log(u_min), np.log(np.pi / 2)
+    npan = max(1, int(np.ceil((hi - lo) / np.log(10.0) * panels_per_decade)))
+    edges = np.linspace(lo, hi, npan + 1)
+    a, b = edges[:-1, None], edges[1:, None]
+    s = 0.5 * (a + b) + 0.5 * (b - a) * t[None, :]
+    u = np.exp(s)
+    w = 0.5 * (b - a) * wt[None, :] * u  # du = u ds
+    u0 = 0.5 * u_min * (1 + t)
+    w0 = 0.5 * u_min * wt
+    u = np.concatenate([u0, u.ravel()])
+    w = np.concatenate([w0, w.ravel()])
+    return np.sin(u), w
+
+
+def q_nodes_per_decade(tol, base=40.0, ref_tol=1e-3, minimum=8):
+    """q nodes per decade for a relative tolerance ``tol`` on mu (second-order rule:
+    about 40 per decade at 1e-3, scaling as tol^-1/2; measured in tests)."""
+    return max(minimum, int(np.ceil(base * np.sqrt(ref_tol / tol))))
+
+
+def q_grid(breakpoints_per_m, nodes_per_decade, grade=8):
+    """Nodes uniform in ln q between consecutive breakpoints (all breakpoints are nodes),
+    with the first interval graded geometrically towards the lowest q: ``grade`` extra nodes at
+    ``s0 + h / 2^k``, k = 1..grade, where G rises from 0 and P has its 1/sqrt(q - q_min)
+    shape (keeps the P integration second order).
+
+    Returns ``q`` (n,) [1/m] and ``h`` (n-1,) the interval widths in ln q."""
+    bp = np.unique(np.asarray(breakpoints_per_m, dtype=float))
+    parts = []
+    for a, b in zip(bp[:-1], bp[1:]):
+        n = max(2, int(np.ceil(np.log10(b / a) * nodes_per_decade)))
+        parts.append(np.linspace(np.log(a), np.log(b), n + 1)[:-1])
+    s = np.concatenate(parts + [[np.log(bp[-1])]])
+    if grade and s.size > 1:
+        s = np.sort(np.concatenate([s, s[0] + (s[1] - s[0]) * 0.5 ** np.arange(1, grade + 1)]))
+    return np.exp(s), np.diff(s)
+
+
+class PhiTable:
+    """Spline tables of ``m(x)`` and ``w(x)`` (see module docstring) over ``[x_lo, x_hi]``.
+
+    Nodes are on the lattice ``ln x = k / per_decade * ln 10``; outside the range the tables
+    are extended linearly in (ln x, ln m) with the end slopes. ``m`` and ``w`` are returned
+    in Pa and Pa^2; Persson's M and W follow as ``4 m / ((1 - nu^2) sigma0)`` and
+    ``4 w / ((1 - nu^2) sigma0)^2``.
+    """
+
+    def __init__(self, rubber, k_lo, k_hi, per_decade=24, n_gl=8, panels_per_decade=1.0):
+        self.rubber, self.k_lo, self.k_hi, self.per_decade = rubber, int(k_lo), int(k_hi), per_decade
+        lx = np.arange(self.k_lo, self.k_hi + 1) * (np.log(10.0) / per_decade)
+        c, wphi = phi_rule(n_gl, panels_per_decade)
+        self.phi_nodes = c.size
+        E = rubber.modulus_ref(np.exp(lx)[:, None] * c[None, :])
+        m = (c * E.imag) @ wphi
+        w = (E.real ** 2 + E.imag ** 2) @ wphi
+        tiny = 1e-300
+        self._lx = lx
+        self._lm = CubicSpline(lx, np.log(np.maximum(m, tiny)))
+        self._lw = CubicSpline(lx, np.log(np.maximum(w, tiny)))
+        self._ends = [(f(lx[0]), f(lx[0], 1), f(lx[-1]), f(lx[-1], 1)) for f in (self._lm, self._lw)]
+
+    def covers(self, k_lo, k_hi):
+        return self.k_lo <= k_lo and k_hi <= self.k_hi
+
+    def __call__(self, x):
+        """``(m, w)`` at ``x = q v a`` [rad/s] (any shape, x > 0)."""
+        lx = np.log(x)
+        lo, hi = self._lx[0], self._lx[-1]
+        lxc = np.clip(lx, lo, hi)
+        out = []
+        for f, (y0, d0, y1, d1) in zip((self._lm, self._lw), self._ends):
+            y = f(lxc)
+            y = np.where(lx < lo, y0 + d0 * (lx - lo), y)
+            y = np.where(lx > hi, y1 + d1 * (lx - hi), y)
+            out.append(np.exp(y))
+        return out[0], out[1]
+
+
+_CACHE = weakref.WeakKeyDictionary()
+
+
+def phi_table(rubber, x_min, x_max, per_decade=24):
+    """A cached :class:`PhiTable` for ``rubber`` covering ``[x_min, x_max]`` (with margin)."""
+    d = np.log(10.0) / per_decade
+    k_lo = int(np.floor(np.log(x_min) / d)) - 3
+    k_hi = int(np.ceil(np.log(x_max) / d)) + 3
+    tabs = _CACHE.setdefault(rubber, {})
+    t = tabs.get(per_decade)
+    if t is None or not t.covers(k_lo, k_hi):
+        if t is not None:
+            k_lo, k_hi = min(k_lo, t.k_lo), max(k_hi, t.k_hi)
+        t = PhiTable(rubber, k_lo, k_hi, per_decade)
+        tabs[per_decade] = t
+    return t
