@@ -1,0 +1,116 @@
+"""``roadscan stitch``: overlapping tiles into one height map (thesis section 4.1).
+
+    roadscan stitch MANIFEST.csv --out OUT.x3p [--spacing DX[,DY]] [--units U]
+    roadscan stitch TILE... --grid ROWSxCOLS --overlap FRACTION --out OUT.x3p
+
+The manifest is a CSV with header ``file,x_m,y_m`` (tile file relative to the manifest, nominal
+position [m] of its first sample; x along columns, y along rows). With ``--grid`` the tiles are
+given in row-major order and their nominal positions follow from the tile size, the spacing and
+the nominal overlap fraction. The output format follows the extension of ``--out`` (``.x3p``,
+``.npy`` metres with NaN unmeasured, ``.npz``, ``.tif``). The residual height mismatch of every
+overlap is printed and written beside the output as ``<stem>_overlaps.csv``.
+"""
+from __future__ import annotations
+
+import io
+import csv
+import re
+from pathlib import Path
+
+from roadscan.errors import InputError
+from roadscan.heightmap import HeightMap
+from roadscan.io.atomic import atomic_write_text
+
+from ..scan_input import add_scan_options, load_scan
+
+NAME = "stitch"
+HELP = "stitch overlapping tiles (manifest CSV or --grid) into one height map"
+
+
+def add_arguments(p):
+    p.add_argument("inputs", nargs="+", metavar="MANIFEST_OR_TILE",
+                   help="a manifest CSV (file,x_m,y_m), or the tile files with --grid")
+    p.add_argument("--out", required=True, metavar="FILE",
+                   help="output height file; format from the extension (.x3p, .npy, .npz, .tif)")
+    p.add_argument("--grid", metavar="ROWSxCOLS", default=None,
+                   help="tiles given in row-major order on a ROWS x COLS grid")
+    p.add_argument("--overlap", type=float, default=None, metavar="FRACTION",
+                   help="nominal overlap fraction of neighbouring tiles (with --grid)")
+    p.add_argument("--max-shift", type=int, default=20, metavar="PX",
+                   help="largest nominal position error searched, in samples (default 20)")
+    p.add_argument("--blend", choices=("feather", "average"), default="feather",
+                   help="blending of overlaps (default feather)")
+    add_scan_options(p)
+
+
+def _load_tile(path, args):
+    t = load_scan(path, args)
+    if not isinstance(t, HeightMap):
+        raise InputError(path, "a tile must be an area scan (height map), not a line profile")
+    meta = dict(t.meta)
+    meta["path"] = str(path)
+    return t.with_heights(t.heights_m, name=t.name or Path(path).stem, meta=meta)
+
+
+def _tiles_and_positions(args):
+    from roadscan.stitch import grid_positions, read_manifest
+
+    if args.grid is None:
+        if args.overlap is not None:
+            raise InputError(None, "--overlap needs --grid ROWSxCOLS")
+        if len(args.inputs) != 1:
+            raise InputError(None, "give one manifest CSV, or tile files with --grid ROWSxCOLS --overlap F")
+        entries = read_manifest(args.inputs[0])
+        tiles = [_load_tile(f, args) for f, _, _ in entries]
+        return tiles, [(x, y) for _, x, y in entries]
+    m = re.fullmatch(r"\s*(\d+)\s*[xX]\s*(\d+)\s*", args.grid)
+    if not m or int(m.group(1)) < 1 or int(m.group(2)) < 1:
+        raise InputError(None, f"--grid {args.grid!r}: expected ROWSxCOLS, e.g. 2x3")
+    rows, cols = int(m.group(1)), int(m.group(2))
+    if args.overlap is None or not 0 <= args.overlap < 1:
+        raise InputError(None, "--grid needs --overlap FRACTION with 0 <= FRACTION < 1")
+    if len(args.inputs) != rows * cols:
+        raise InputError(None, f"--grid {rows}x{cols} needs {rows * cols} tiles, got {len(args.inputs)}")
+    tiles = [_load_tile(f, args) for f in args.inputs]
+    shape = tiles[0].shape
+    for t, f in zip(tiles, args.inputs):
+        if t.shape != shape:
+            raise InputError(f, f"tile shape {t.shape} differs from the first tile's {shape} (--grid needs equal tiles)")
+    return tiles, grid_positions(rows, cols, shape, tiles[0].dx_m, tiles[0].dy_m, args.overlap)
+
+
+def overlaps_csv(result):
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    names = result.meta["tile_names"]
+    w.writerow(["tile_i", "tile_j", "n_points", "rms_mismatch_m", "shift_row_px", "shift_col_px", "registered"])
+    for o in result.overlaps:
+        w.writerow([names[o["i"]], names[o["j"]], o["n_points"], f"{o['rms_mismatch_m']:.6g}",
+                    f"{o['shift_px'][0]:.3f}", f"{o['shift_px'][1]:.3f}", o["registered"]])
+    return buf.getvalue()
+
+
+def run(args):
+    from roadscan.io import write
+    from roadscan.stitch import stitch
+
+    out = Path(args.out)
+    if not out.suffix:
+        out = out.with_suffix(".x3p")
+    tiles, positions = _tiles_and_positions(args)
+    if len(tiles) < 2:
+        raise InputError(args.inputs[0], "need at least two tiles to stitch")
+    res = stitch(tiles, positions, max_shift_px=args.max_shift, blend=args.blend)
+    hm = res.heightmap
+    write(out, hm)
+    table = overlaps_csv(res)
+    atomic_write_text(out.with_name(out.stem + "_overlaps.csv"), table)
+    names = res.meta["tile_names"]
+    print(f"{'tile i':>24} {'tile j':>24} {'points':>8} {'rms mismatch [um]':>18} {'shift [px]':>16}")
+    for o in res.overlaps:
+        flag = "" if o["registered"] else "  (not registered: nominal kept)"
+        print(f"{Path(names[o['i']]).name:>24} {Path(names[o['j']]).name:>24} {o['n_points']:>8d} "
+              f"{o['rms_mismatch_m'] * 1e6:>18.4g} {o['shift_px'][0]:>7.2f},{o['shift_px'][1]:>7.2f}{flag}")
+    print(f"wrote {out}: {hm.ny} x {hm.nx} points at {hm.dx_m:g} x {hm.dy_m:g} m from {len(tiles)} tiles, "
+          f"{hm.measured_fraction:.1%} measured")
+    return 0
