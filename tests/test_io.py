@@ -61,14 +61,31 @@ def test_npy_round_trip_needs_spacing(tmp_path):
     assert sq.dx_m == sq.dy_m == 1e-4
 
 
-def test_tiff_float32_kept(tmp_path):
-    hm = _surface(dtype=np.float32)
-    h32 = hm.heights_m.astype(np.float32)
-    hm32 = HeightMap(h32, hm.dx_m, hm.dy_m)
-    # HeightMap stores float64; the writer keeps float32 only if the array is float32
-    write(tmp_path / "a.tif", hm32)
-    back = read(tmp_path / "a.tif")
-    np.testing.assert_array_equal(back.heights_m, h32.astype(np.float64))
+@pytest.mark.parametrize("ext", [".tif", ".npz", ".npy", ".x3p"])
+def test_float32_on_request(tmp_path, ext):
+    import tifffile
+
+    hm = _surface()
+    write(tmp_path / f"a{ext}", hm, dtype="float32")
+    if ext == ".tif":
+        stored = tifffile.imread(tmp_path / "a.tif")
+    elif ext == ".npz":
+        stored = np.load(tmp_path / "a.npz")["heights"]
+    elif ext == ".x3p":
+        import x3pio
+
+        f = x3pio.read(str(tmp_path / "a.x3p"))
+        assert f.header.z.data_type == x3pio.DataType.FLOAT32
+        stored = f.layers[0].z.astype(np.float32)
+    else:
+        stored = np.load(tmp_path / "a.npy")
+    assert stored.dtype == np.float32
+    back = read(tmp_path / f"a{ext}", spacing=None if ext != ".npy" else (hm.dx_m, hm.dy_m))
+    np.testing.assert_array_equal(back.heights_m, hm.heights_m.astype(np.float32).astype(np.float64))
+    np.testing.assert_array_equal(back.unmeasured, hm.unmeasured)
+    with pytest.raises(ValueError):
+        write(tmp_path / f"b{ext}", hm, dtype="int16")
+    assert sorted(p.name for p in tmp_path.iterdir()) == [f"a{ext}"]  # nothing half-written
 
 
 def test_tiff_resolution_tags(tmp_path):

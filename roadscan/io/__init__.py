@@ -53,6 +53,10 @@ def read(path, spacing=None, units=None):
     """
     p = Path(path)
     ext = p.suffix.lower()
+    if not p.exists():
+        raise InputError(path, "no such file")
+    if p.is_dir():
+        raise InputError(path, "is a directory, not a height file")
     reader = READERS.get(ext)
     if reader is None:
         known = ", ".join(sorted(READERS))
@@ -70,7 +74,7 @@ def read(path, spacing=None, units=None):
         raise InputError(path, f"cannot read {ext} file ({exc.__class__.__name__}: {exc})") from None
 
 
-def write(path, heightmap):
+def write(path, heightmap, **options):
     """Write a :class:`HeightMap` (or a :class:`Profile` where the format allows) atomically.
 
     Formats by extension: ``.x3p`` (ISO 25178-72, float64 metres, exact round trip),
@@ -78,6 +82,9 @@ def write(path, heightmap):
     ``dy``, ``unmeasured``), ``.tif``/``.tiff`` (float32 or float64 metres, spacing in a JSON
     description and in resolution tags per cm). The file appears only when complete
     (:func:`roadscan.io.atomic.atomic_path`).
+
+    ``options`` go to the format's writer: ``dtype="float32"`` (``.x3p``, ``.npy``, ``.npz``,
+    ``.tif``) halves the file; the default float64 makes every round trip exact.
 
     Raises
     ------
@@ -95,5 +102,5 @@ def write(path, heightmap):
     if not isinstance(heightmap, (HeightMap, Profile)):
         raise TypeError(f"write() takes a HeightMap or Profile, got {type(heightmap).__name__}")
     with atomic_path(p) as tmp:
-        writer(tmp, heightmap)
+        writer(tmp, heightmap, **options)
     return p

@@ -46,9 +46,16 @@ def read_dat(path, spacing=None, units=None):
     check_file(path)
     if is_captif(path):
         return read_captif(path, spacing=spacing, units=units)
-    from .vendor import read_vendor
+    from .vendor import read_vendor, surfalize_available
 
-    return read_vendor(path, spacing=spacing, units=units)
+    if not surfalize_available():
+        raise InputError(path, "no '*****DATA*****' line: not a CAPTIF profile (other .dat "
+                               "formats need the optional extra: pip install 'roadscan[vendor]')")
+    try:
+        return read_vendor(path, spacing=spacing, units=units)
+    except InputError as exc:
+        raise InputError(path, f"not a CAPTIF profile (no '*****DATA*****' line) nor a vendor "
+                               f".dat: {exc.problem}") from None
 
 
 def read_captif(path, spacing=None, units=None):

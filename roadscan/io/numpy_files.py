@@ -6,7 +6,7 @@
   a profile), optional boolean ``unmeasured``. ``spacing`` given to the reader overrides
   ``dx``/``dy``. Heights are metres unless ``units`` says otherwise.
 
-Writers store metres (float64 unless the map is float32) and NaN at unmeasured points.
+Writers store metres (float64, or float32 with ``dtype="float32"``) and NaN at unmeasured points.
 """
 from __future__ import annotations
 
@@ -86,17 +86,26 @@ def read_npz(path, spacing=None, units=None):
     return make_heightmap(path, h.astype(np.float64) * factor, dx, dy, unmeasured=unmeasured, meta=meta)
 
 
+def _float_dtype(dtype):
+    dtype = np.dtype(dtype)
+    if dtype not in (np.float32, np.float64):
+        raise ValueError(f"heights are written as float32 or float64, not {dtype}")
+    return dtype
+
+
 @register_writer(".npy")
-def write_npy(path, obj):
-    """Heights [m] with NaN at unmeasured points; the spacing is not stored."""
+def write_npy(path, obj, dtype="float64"):
+    """Heights [m] with NaN at unmeasured points (float64, or float32 on request); the spacing
+    is not stored."""
     with open(path, "wb") as f:
-        np.save(f, obj.heights_m)
+        np.save(f, obj.heights_m.astype(_float_dtype(dtype), copy=False))
 
 
 @register_writer(".npz")
-def write_npz(path, obj):
-    """``heights`` [m, NaN unmeasured], ``dx`` (and ``dy`` for a map) [m], ``unmeasured``."""
-    arrays = {"heights": obj.heights_m, "dx": np.float64(obj.dx_m), "unmeasured": obj.unmeasured}
+def write_npz(path, obj, dtype="float64"):
+    """``heights`` [m, NaN unmeasured; float64 or float32 on request], ``dx`` (and ``dy`` for a
+    map) [m], ``unmeasured``; compressed."""
+    arrays = {"heights": obj.heights_m.astype(_float_dtype(dtype), copy=False), "dx": np.float64(obj.dx_m), "unmeasured": obj.unmeasured}
     if isinstance(obj, HeightMap):
         arrays["dy"] = np.float64(obj.dy_m)
     elif not isinstance(obj, Profile):

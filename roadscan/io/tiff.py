@@ -9,7 +9,7 @@ carry real units (centimetre, or inch with a value other than the screen/print d
 150, 300 and 600 dpi, which image programs write without meaning it). Otherwise ``spacing`` is
 required.
 
-Writing: float32 maps stay float32, anything else float64; metres, NaN unmeasured, resolution
+Writing: float64 (or float32 on request, ``write(path, hmap, dtype="float32")``); metres, NaN unmeasured, resolution
 tags in pixels per centimetre and a JSON description with ``dx_m``, ``dy_m``.
 """
 from __future__ import annotations
@@ -106,15 +106,16 @@ def read_tiff(path, spacing=None, units=None):
 
 
 @register_writer(".tif", ".tiff")
-def write_tiff(path, hmap):
-    """Write heights [m] as float32 (if the map is float32) or float64 with spacing tags."""
+def write_tiff(path, hmap, dtype="float64"):
+    """Write heights [m] as float64 (or ``dtype="float32"``, half the size) with spacing tags."""
     import tifffile
 
     if getattr(hmap, "dy_m", None) is None:
         raise TypeError("TIFF stores height maps, not profiles")
-    data = hmap.heights_m
-    if data.dtype not in (np.float32, np.float64):
-        data = data.astype(np.float64)
+    dtype = np.dtype(dtype)
+    if dtype not in (np.float32, np.float64):
+        raise ValueError(f"TIFF heights are float32 or float64, not {dtype}")
+    data = hmap.heights_m.astype(dtype, copy=False)
     tifffile.imwrite(
         path, data,
         resolution=(1e-2 / hmap.dx_m, 1e-2 / hmap.dy_m), resolutionunit="CENTIMETER",

@@ -5,7 +5,7 @@ information). Surfaces on an incremental (regular) grid become a :class:`HeightM
 y, columns along x, as in x3pio); regular profiles a :class:`Profile`. The first layer is read;
 irregular grids and point clouds are refused. ``units`` is ignored (the file is in metres).
 
-Writing stores float64 heights (z_scale 1, so no quantisation): a write-then-read gives the same
+Writing stores float64 heights by default (z_scale 1, so no quantisation; float32 on request): a write-then-read gives the same
 heights, spacings and unmeasured points bit for bit.
 """
 from __future__ import annotations
@@ -59,13 +59,19 @@ def read_x3p(path, spacing=None, units=None):
 
 
 @register_writer(".x3p")
-def write_x3p(path, obj):
-    """Write a height map (surface) or profile as X3P, float64 metres, NaN unmeasured."""
+def write_x3p(path, obj, dtype="float64"):
+    """Write a height map (surface) or profile as X3P: metres, NaN unmeasured, float64 (exact)
+    or ``dtype="float32"`` (half the size)."""
     import x3pio
 
+    dtype = np.dtype(dtype)
+    z_types = {np.dtype(np.float64): x3pio.DataType.FLOAT64, np.dtype(np.float32): x3pio.DataType.FLOAT32}
+    if dtype not in z_types:
+        raise ValueError(f"X3P heights are written as float32 or float64, not {dtype}")
+    h = obj.heights_m.astype(dtype, copy=False)
     if isinstance(obj, HeightMap):
-        x3pio.write(str(path), obj.heights_m, x_scale=obj.dx_m, y_scale=obj.dy_m)
+        x3pio.write(str(path), h, x_scale=obj.dx_m, y_scale=obj.dy_m, z_type=z_types[dtype])
     elif isinstance(obj, Profile):
-        x3pio.write(str(path), obj.heights_m, x_scale=obj.dx_m)
+        x3pio.write(str(path), h, x_scale=obj.dx_m, z_type=z_types[dtype])
     else:
         raise TypeError(f"cannot write {type(obj).__name__} as X3P")
