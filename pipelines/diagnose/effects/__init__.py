@@ -1,0 +1,103 @@
+"""The registry of candidate unmodelled effects (plug-ins).
+
+Each module in this package registers one :class:`Effect` with :func:`register` when imported;
+:func:`all_effects` imports every module of the package (``pkgutil``), so adding an effect is
+adding a module: nothing else changes.
+
+An effect has a ``level`` ("friction" or "surface"), a few named parameters, each with bounds,
+an initial value and a scale ("log" or "lin"; the search works on the unit interval mapped onto
+the bounds), ``requires`` (inputs it needs, e.g. ``{"scan"}``; missing ones skip it with a
+reason), an optional ``prepare(context) -> str | None`` (precompute; a returned string skips the
+effect with that reason) and ``modify(spec, params, context) -> spec``. For the friction level
+``apply(context, params)`` evaluates the modified baseline; for the surface level an effect
+provides ``apply`` directly (predicted descriptors). ``cost`` > 1 marks expensive effects (the
+search spends fewer evaluations on them).
+"""
+from __future__ import annotations
+
+import importlib
+import pkgutil
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["Param", "Effect", "register", "all_effects", "get"]
+
+
+@dataclass(frozen=True)
+class Param:
+    """One effect parameter: ``name`` (with units), bounds, initial value, ``scale`` log|lin."""
+
+    name: str
+    lo: float
+    hi: float
+    init: float
+    scale: str = "log"
+
+    def to_unit(self, x):
+        if self.scale == "log":
+            return (np.log(x) - np.log(self.lo)) / (np.log(self.hi) - np.log(self.lo))
+        return (x - self.lo) / (self.hi - self.lo)
+
+    def from_unit(self, u):
+        u = float(np.clip(u, 0.0, 1.0))
+        if self.scale == "log":
+            return float(np.exp(np.log(self.lo) + u * (np.log(self.hi) - np.log(self.lo))))
+        return float(self.lo + u * (self.hi - self.lo))
+
+
+@dataclass(frozen=True, eq=False)
+class Effect:
+    """A candidate unmodelled effect (see the package docstring)."""
+
+    name: str
+    level: str
+    params: tuple
+    modify: Callable = None
+    apply_fn: Callable = None
+    requires: frozenset = frozenset()
+    prepare: Callable = None
+    cost: float = 1.0
+    description: str = ""
+
+    def missing(self, context):
+        """Inputs this effect needs that the context lacks (empty when usable)."""
+        return sorted(set(self.requires) - set(context.inputs))
+
+    def apply(self, context, params, spec=None):
+        """Predicted curve (friction: mu at the context's rows) for parameter dict ``params``."""
+        if self.apply_fn is not None:
+            return self.apply_fn(context, params)
+        from ..model import simulate
+
+        spec = context.base if spec is None else spec
+        return simulate(self.modify(spec, params, context), context)
+
+
+_REGISTRY: dict = {}
+
+
+def register(effect):
+    """Add ``effect`` to the registry (called at import of its module); returns it."""
+    if effect.level not in ("friction", "surface"):
+        raise ValueError(f"effect {effect.name}: level must be friction or surface")
+    _REGISTRY[effect.name] = effect
+    return effect
+
+
+def _load_all():
+    for mod in pkgutil.iter_modules(__path__):
+        if not mod.name.startswith("_"):
+            importlib.import_module(f"{__name__}.{mod.name}")
+
+
+def all_effects(level=None):
+    """Every registered effect (of ``level`` if given), in name order."""
+    _load_all()
+    return [e for _, e in sorted(_REGISTRY.items()) if level is None or e.level == level]
+
+
+def get(name):
+    _load_all()
+    return _REGISTRY[name]

@@ -1,0 +1,132 @@
+"""The simulation side: a specification that effects modify, evaluated at the measured speeds.
+
+A :class:`SimSpec` names everything the friction engine needs (spectrum, rubber, background
+temperature offset, load scale, flash or isothermal, contact correction, extra additive terms,
+the spectrum of the wet rows). An effect plug-in returns a modified copy
+(:func:`dataclasses.replace`), so that two effects compose by applying one after the other.
+:func:`simulate` evaluates a spec on a :class:`FrictionContext` (the measured rows and their
+conditions): rows are grouped by (T0, sigma0, wet) and each group is one vectorised engine call
+at exactly its measured speeds.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Callable
+
+import numpy as np
+
+__all__ = ["SimSpec", "FrictionContext", "simulate", "engine"]
+
+
+def engine():
+    """The friction engine's public names (``friction`` package)."""
+    import friction
+
+    return friction
+
+
+@dataclass(frozen=True, eq=False)
+class SimSpec:
+    """What the simulation assumes.
+
+    Attributes
+    ----------
+    psd : friction PSD (SelfAffinePSD or TabulatedPSD), C(q) [m^4]
+    rubber : friction rubber model (modulus at its T_ref_C, shift with temperature)
+    T0_shift_C : added to every row's background temperature [K]
+    sigma0_scale : multiplies every row's nominal pressure [-]
+    flash : None (isothermal) or a dict of keyword arguments for ``friction.mu_flash``
+    contact_gamma : None or Persson's gamma in S = gamma + (1 - gamma) P^2
+    wet_psd : None, or the spectrum "felt" on wet rows (cavities filled with water)
+    additive : tuple of callables ``f(v_m_per_s) -> mu`` added to the engine's mu
+    tol : engine accuracy target
+    """
+
+    psd: object
+    rubber: object
+    T0_shift_C: float = 0.0
+    sigma0_scale: float = 1.0
+    flash: dict | None = None
+    contact_gamma: float | None = None
+    wet_psd: object = None
+    additive: tuple = ()
+    tol: float = 1e-3
+
+    def with_(self, **changes):
+        return replace(self, **changes)
+
+
+@dataclass(eq=False)
+class FrictionContext:
+    """The measured rows, the baseline spec and the optional inputs effects may need.
+
+    Attributes
+    ----------
+    v_m_per_s, T0_C, sigma0_Pa : (n,) arrays; T0_C NaN = the rubber's T_ref_C
+    wet : (n,) bool, rows the water effect applies to (all rows when the data give no
+        condition column)
+    base : SimSpec, the baseline model
+    scan : levelled and filled HeightMap the surface came from, or None
+    inputs : set of available inputs ("scan", "psd", "rubber", "master_curve", ...)
+    cache : dict shared by effects (e.g. precomputed wet spectra)
+    """
+
+    v_m_per_s: np.ndarray
+    T0_C: np.ndarray
+    sigma0_Pa: np.ndarray
+    wet: np.ndarray
+    base: SimSpec
+    scan: object = None
+    spectrum: object = None
+    fit: object = None
+    inputs: set = field(default_factory=set)
+    cache: dict = field(default_factory=dict)
+
+    @property
+    def n(self):
+        return self.v_m_per_s.size
+
+    def subset(self, idx):
+        idx = np.asarray(idx)
+        return FrictionContext(self.v_m_per_s[idx], self.T0_C[idx], self.sigma0_Pa[idx],
+                               self.wet[idx], self.base, self.scan, self.spectrum, self.fit,
+                               self.inputs, self.cache)
+
+    @classmethod
+    def from_measured(cls, curve, base, **kw):
+        wet = curve.wet if curve.has_condition else np.ones(curve.n, bool)
+        return cls(curve.v_m_per_s, curve.T0_C, curve.sigma0_Pa, wet, base, **kw)
+
+
+def _groups(ctx, spec):
+    T = np.where(np.isfinite(ctx.T0_C), ctx.T0_C, spec.rubber.T_ref_C) + spec.T0_shift_C
+    s = ctx.sigma0_Pa * spec.sigma0_scale
+    wet = ctx.wet if spec.wet_psd is not None else np.zeros(ctx.n, bool)
+    keys = np.rec.fromarrays([np.round(T, 9), np.round(s, 3), wet])
+    uniq, inv = np.unique(keys, return_inverse=True)
+    return [(float(u[0]), float(u[1]), bool(u[2]), np.flatnonzero(inv == k)) for k, u in enumerate(uniq)]
+
+
+def simulate(spec, ctx, full=False):
+    """mu at every row of ``ctx`` under ``spec`` (one engine call per condition group).
+
+    Returns the (n,) mu array, or with ``full=True`` also the list of (rows, FrictionResult).
+    """
+    fr = engine()
+    mu = np.empty(ctx.n)
+    results = []
+    for T0, s0, wet, rows in _groups(ctx, spec):
+        psd = spec.wet_psd if wet else spec.psd
+        v = ctx.v_m_per_s[rows]
+        if spec.flash is not None:
+            res = fr.mu_flash(psd, spec.rubber, v, sigma0_Pa=s0, T0_C=T0, **spec.flash)
+        else:
+            res = fr.mu_isothermal(psd, spec.rubber, v, sigma0_Pa=s0, T0_C=T0, tol=spec.tol,
+                                   contact_gamma=spec.contact_gamma)
+        m = np.asarray(res.mu, float)
+        for f in spec.additive:
+            m = m + f(v)
+        mu[rows] = m
+        results.append((rows, res))
+    mu = np.maximum(mu, 1e-12)
+    return (mu, results) if full else mu
