@@ -345,3 +345,27 @@ def test_registry_has_required_formats():
     for ext in (".npy", ".npz", ".tif", ".tiff", ".txt", ".csv", ".asc", ".xyz", ".x3p", ".gwy",
                 ".dat", ".plu", ".plux", ".sur", ".datx", ".vk4", ".opd", ".al3d"):
         assert ext in READERS, ext
+
+
+def test_geotiff_pixel_scale(tmp_path):
+    import tifffile
+
+    h = np.random.default_rng(9).random((5, 6))
+    tifffile.imwrite(tmp_path / "geo.tif", h, metadata=None,
+                     extratags=[(33550, "d", 3, (0.002, 0.003, 0.0), True)])
+    m = read(tmp_path / "geo.tif")
+    assert (m.dx_m, m.dy_m) == (0.002, 0.003)
+    assert "ModelPixelScaleTag" in m.meta["spacing_from"]
+
+
+def test_profile_in_npz_and_one_column_text(tmp_path):
+    z = np.cos(np.arange(50) * 0.3)
+    write(tmp_path / "p.npz", Profile(z, 1e-4))
+    p = read(tmp_path / "p.npz")
+    assert isinstance(p, Profile) and p.dx_m == 1e-4
+    np.testing.assert_array_equal(p.heights_m, z)
+    np.savetxt(tmp_path / "c.txt", z * 1e3)
+    with pytest.raises(InputError, match="c.txt: no spacing"):
+        read(tmp_path / "c.txt")
+    c = read(tmp_path / "c.txt", spacing=1e-4, units="mm")
+    np.testing.assert_allclose(c.heights_m, z, rtol=1e-12)
