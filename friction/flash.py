@@ -66,10 +66,10 @@ def _anderson_step(X, R, T, r, beta, reg=1e-10):
     dR = np.diff(R, axis=1)
     Mtx = dR @ dR.transpose(0, 2, 1)
     scale = np.trace(Mtx, axis1=1, axis2=2)[:, None, None] + 1e-300
-    Mtx = Mtx + reg * scale * np.eye(Mtx.shape[1])[None]
+    Mtx = Mtx + (reg * scale + 1e-300) * np.eye(Mtx.shape[1])[None]
     rhs = dR @ r[:, :, None]
     gam = np.linalg.solve(Mtx, rhs)[:, :, 0]
-    return T + beta * r - np.einsum("vm,vmq->vq", gam, dX + beta * dR)
+    return T + beta * r - np.einsum("vm,vmq->vq", gam, dX + beta[:, :, None] * dR)
 
 
 def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=3.0,
@@ -145,30 +145,36 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
 
     T = np.full((v.size, q.size), T0)
     hist_X, hist_R = [], []
-    it, res, best = 0, np.inf, np.inf
+    beta_v = np.full(v.size, float(beta))
+    prev = np.full(v.size, np.inf)
+    it, res = 0, np.inf
     converged = False
     for it in range(1, max_iter + 1):
         Tn, R = phi_map(T)
         r = Tn - T
         res_rows = np.max(np.abs(r), axis=1)
-        rise = max(1.0, float(np.max(Tn - T0)))
         res = float(res_rows.max())
-        if res <= 1e-2 * tol * rise:
+        if res <= 1e-2 * tol * max(1.0, float(np.max(Tn - T0))):
             converged = True
             T = Tn
             break
+        # safeguard per speed: a growing residual means the accelerated step overshot (the map
+        # is steeply decreasing at high speed): drop that row's history and damp harder.
+        bad = res_rows > prev
+        beta_v = np.where(bad, np.maximum(beta_v * 0.5, 1.0 / 64), np.minimum(beta_v * 1.25, beta))
+        prev = res_rows
+        for X, Rr in zip(hist_X, hist_R):
+            X[bad], Rr[bad] = T[bad], r[bad]
         hist_X.append(T.copy())
         hist_R.append(r.copy())
         if len(hist_X) > memory + 1:
             hist_X.pop(0)
             hist_R.pop(0)
-        if res > 10 * best and len(hist_X) > 2:  # Anderson went astray: restart history
-            hist_X, hist_R = hist_X[-1:], hist_R[-1:]
-        best = min(best, res)
+        bcol = beta_v[:, None]
         if len(hist_X) >= 2:
-            Tnew = _anderson_step(np.stack(hist_X, 1), np.stack(hist_R, 1), T, r, beta)
+            Tnew = _anderson_step(np.stack(hist_X, 1), np.stack(hist_R, 1), T, r, bcol)
         else:
-            Tnew = T + beta * r
+            Tnew = T + bcol * r
         T = np.clip(Tnew, T0, T0 + 1e4)
     if not converged:
         raise RuntimeError(f"flash temperature did not converge: residual {res:.3g} K after {it} iterations")
