@@ -1,0 +1,94 @@
+"""``roadscan diagnose``: the sim-to-real gap (issue 5).
+
+Friction level: ``roadscan diagnose --measured MU.csv (--scan FILE | --psd FILE)
+[--rubber FILE.toml] [--sigma0 PA] [--temperature C] [--noise RMS] [--validate OTHER.csv] --out DIR``.
+Surface level: ``roadscan diagnose --scan FILE --out DIR``.
+Writes DIR/diagnosis.json and DIR/report.html (see :mod:`pipelines.diagnose`).
+"""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from roadscan.errors import InputError
+
+from ..scan_input import add_scan_options, load_scan
+
+NAME = "diagnose"
+HELP = "sim-to-real gap: where model and measurement disagree, which unmodelled effect, how much it closes"
+
+
+def add_arguments(p):
+    p.add_argument("--measured", metavar="MU.csv", default=None,
+                   help="measured mu(v): CSV v_m_per_s,mu[,T0_C,sigma0_Pa,condition] (friction level); "
+                        "without it the scan itself is diagnosed (surface level)")
+    p.add_argument("--scan", metavar="FILE", default=None, help="height file (area scan or line profile)")
+    p.add_argument("--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)")
+    p.add_argument("--rubber", metavar="FILE.toml", default=None,
+                   help="rubber model (default: the thesis's standard linear solid, T_ref = 60 C)")
+    p.add_argument("--sigma0", type=float, default=0.2e6, metavar="PA", help="nominal pressure [Pa] (default 2e5)")
+    p.add_argument("--temperature", type=float, default=None, metavar="C",
+                   help="background temperature T0 [C] (default: the rubber's reference temperature)")
+    p.add_argument("--noise", type=float, default=None, metavar="RMS",
+                   help="measurement noise as rms of log10 (default: estimated from the data)")
+    p.add_argument("--validate", metavar="OTHER.csv", default=None,
+                   help="a separate measurement predicted by the corrected model without refitting")
+    p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_scan_options(p)
+
+
+def _say(msg):
+    print(msg, file=sys.stderr)
+
+
+def run(args):
+    if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):
+        raise InputError(None, f"--noise {args.noise!r} must be a positive rms of log10")
+    if not (np.isfinite(args.sigma0) and args.sigma0 > 0):
+        raise InputError(None, f"--sigma0 {args.sigma0!r} must be a positive pressure in Pa")
+    if args.measured is None:
+        if args.scan is None:
+            raise InputError(None, "give --measured MU.csv with --scan/--psd (friction level) or --scan alone (surface level)")
+        if args.psd or args.validate:
+            raise InputError(None, "--psd and --validate need --measured (friction level)")
+        from ..diagnose.surface import run_surface
+
+        obj = load_scan(args.scan, args)
+        data = run_surface(obj, args.out, log=_say)
+        _report(data, args.out)
+        return 0
+    if (args.scan is None) == (args.psd is None):
+        raise InputError(args.measured, "the friction level needs exactly one of --scan FILE or --psd FILE")
+    from ..diagnose.inputs import build_context, read_psd_csv, surface_from_scan
+    from ..diagnose.measured import read_measured
+    from ..diagnose.run import run_friction
+
+    curve = read_measured(args.measured, sigma0_Pa=args.sigma0, T0_C=args.temperature)
+    other = (read_measured(args.validate, sigma0_Pa=args.sigma0, T0_C=args.temperature)
+             if args.validate else None)
+    rubber = None
+    if args.rubber:
+        from ..rubber_file import load_rubber
+
+        rubber = load_rubber(args.rubber)
+    if args.psd:
+        psd, scan, spec, fit = read_psd_csv(args.psd), None, None, None
+    else:
+        obj = load_scan(args.scan, args)
+        try:
+            psd, scan, spec, fit = surface_from_scan(obj)
+        except ValueError as exc:
+            raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
+    ctx = build_context(curve, psd, rubber=rubber, scan=scan, spectrum=spec, fit=fit)
+    data = run_friction(curve, ctx, args.out, noise=args.noise, other=other, log=_say)
+    _report(data, args.out)
+    return 0
+
+
+def _report(data, out):
+    v = data["verdict"]
+    eff = v["effect"] if not isinstance(v["effect"], list) else "+".join(v["effect"])
+    print(f"{data['level']} level: baseline gap {data['baseline_gap']:.4g}, noise {data['noise']:.4g}; "
+          f"verdict: {eff or 'null'}" + (f" (held-out shrink {v['shrink']:.0%})" if v.get("shrink") is not None else ""))
+    print(f"wrote {out}/diagnosis.json and {out}/report.html")

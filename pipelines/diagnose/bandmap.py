@@ -1,0 +1,57 @@
+"""Which length scales and frequencies carry the friction in each speed band.
+
+Persson's mu(v) = 1/2 ∫ dq q^3 C(q) P(q) M(q) (DESIGN.md sec 5), so per unit ln q the
+contribution is ``dmu/dln q = 1/2 q^4 C(q) P(q) M(q)`` with
+``M(q) = 4 / ((1 - nu^2) sigma0) ∫_0^{pi/2} dphi cos(phi) Im E(q v cos(phi), T0)``
+(Im E > 0 for omega > 0; Gauss-Legendre in phi here, accurate enough for a map). P(q) comes
+from the engine. For each band the map reports the wave-vector range holding the central
+80 % of the integrand at the band's geometric-mean speed, its peak, the length scales 2 pi / q
+and the excitation frequencies omega = q v over the band's speeds.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["integrand", "band_map"]
+
+
+def integrand(result, psd, rubber, sigma0_Pa, T0_C=None, nu=0.5, n_phi=48):
+    """dmu/dln q on the result's (nv, nq) grid [-] (see module docstring)."""
+    q = result.q_per_m
+    v = result.v_m_per_s
+    x, w = np.polynomial.legendre.leggauss(n_phi)
+    phi = (x + 1) * np.pi / 4
+    wphi = w * np.pi / 4
+    om = v[:, None, None] * q[None, :, None] * np.cos(phi)[None, None, :]
+    ImE = np.imag(rubber.modulus(om, T0_C))
+    M = 4.0 * np.sum(wphi * np.cos(phi) * ImE, axis=-1) / ((1 - nu * nu) * sigma0_Pa)
+    return 0.5 * q[None, :] ** 4 * psd.C(q)[None, :] * result.P * M
+
+
+def band_map(spec, bands, sigma0_Pa=0.2e6, T0_C=None, share=0.8):
+    """One dict per speed band (v_min, v_max from :func:`gap.decade_bands`) with the q range
+    carrying ``share`` of mu, the peak q, the length scales [m] and frequencies [rad/s].
+
+    Also returns the curves (q, dmu/dln q per band) for the figure.
+    """
+    import friction
+
+    v_c = np.array([np.sqrt(a * b) for a, b, *_ in bands])
+    res = friction.mu_isothermal(spec.psd, spec.rubber, v_c, sigma0_Pa=sigma0_Pa, T0_C=T0_C,
+                                 tol=spec.tol)
+    T = spec.rubber.T_ref_C if T0_C is None else T0_C
+    f = integrand(res, spec.psd, spec.rubber, sigma0_Pa, T)
+    lq = np.log(res.q_per_m)
+    out = []
+    for i, (a, b, *_) in enumerate(bands):
+        fi = np.maximum(f[i], 0)
+        cum = np.concatenate([[0], np.cumsum(0.5 * (fi[1:] + fi[:-1]) * np.diff(lq))])
+        tot = cum[-1] if cum[-1] > 0 else 1.0
+        lo_q = float(np.exp(np.interp((1 - share) / 2 * tot, cum, lq)))
+        hi_q = float(np.exp(np.interp((1 + share) / 2 * tot, cum, lq)))
+        pk = float(res.q_per_m[int(np.argmax(fi))])
+        out.append(dict(v_min_m_per_s=a, v_max_m_per_s=b, q_min_per_m=lo_q, q_max_per_m=hi_q,
+                        q_peak_per_m=pk, length_min_m=2 * np.pi / hi_q, length_max_m=2 * np.pi / lo_q,
+                        omega_min_rad_s=lo_q * a, omega_max_rad_s=hi_q * b,
+                        mu_at_centre=float(res.mu[i])))
+    return out, (res.q_per_m, f, v_c)

@@ -1,0 +1,170 @@
+"""Outputs of a diagnosis: ``diagnosis.json`` (the contract of issue 5) and ``report.html``
+(self-contained: PNGs embedded base64, opens offline), via :mod:`pipelines.report`."""
+from __future__ import annotations
+
+import html
+from pathlib import Path
+import tempfile
+
+import numpy as np
+
+from .. import report as rep
+
+__all__ = ["friction_json", "write_friction_report", "write_surface_report"]
+
+
+def _r(x, nd=6):
+    return None if x is None or not np.isfinite(x) else float(round(float(x), nd))
+
+
+def friction_json(d, where, bandmap, validate=None):
+    """The diagnosis.json content for a friction-level :class:`search.Diagnosis`."""
+    return dict(
+        level="friction",
+        baseline_gap=_r(d.baseline_gap),
+        baseline_gap_train=_r(d.baseline_gap_train),
+        baseline_gap_heldout=_r(d.baseline_gap_heldout),
+        noise=_r(d.noise),
+        noise_source="given (--noise)" if d.noise_given else "estimated from the data (smoothing spline, modified GCV)",
+        p_value=d.p_value,
+        gap_definition="rms over points of log10(measured/simulated)",
+        heldout="every third point (indices 1, 4, 7, ...), never used in a fit",
+        ranking="held-out rms x (1 + k / n_train), k = number of fitted parameters",
+        where=[{k: w[k] for k in ("v_min_m_per_s", "v_max_m_per_s", "gap", "n", "mean_log_ratio",
+                                  "p_value", "significant")} for w in where],
+        band_map=bandmap,
+        effects=[c.as_dict() for c in d.candidates],
+        skipped=d.skipped,
+        verdict=dict(effect=d.verdict["effect"], shrink=_r(d.verdict["shrink"]),
+                     gap_validate=None if validate is None else _r(validate["gap_after"]),
+                     gap_validate_baseline=None if validate is None else _r(validate["gap_before"]),
+                     reason=d.verdict["reason"]),
+        seconds=round(d.seconds, 2),
+    )
+
+
+def _plots_friction(tmp, curve, d, where, bm_curves, validate):
+    import matplotlib.pyplot as plt
+
+    v, mu = curve.v_m_per_s, curve.mu
+    held = ~d.train
+    figs = []
+    fig, ax = plt.subplots(figsize=rep.FIGSIZE)
+    ax.loglog(v[d.train], mu[d.train], "o", color="k", ms=4, label="measured (fit)")
+    ax.loglog(v[held], mu[held], "s", mfc="none", color="k", ms=5, label="measured (held out)")
+    ax.loglog(v, d.baseline_mu, "-", color="C0", label="simulated (baseline)")
+    if d.best is not None:
+        ax.loglog(v, d.best.pred, "-", color="C3", label=f"corrected: {d.best.name}")
+    elif d.candidates:
+        ax.loglog(v, d.candidates[0].pred, ":", color="C7", label=f"best candidate: {d.candidates[0].name}")
+    if validate is not None:
+        ax.loglog(validate["v"], validate["mu"], "^", color="C2", ms=4, label="validation data")
+        ax.loglog(validate["v"], validate["pred"], "--", color="C2", label="validation prediction")
+    ax.set_xlabel("sliding speed v [m/s]")
+    ax.set_ylabel("friction coefficient μ [-]")
+    ax.grid(which="both", alpha=0.25)
+    ax.legend(fontsize=8)
+    ax.set_title("measured, simulated and corrected μ(v)")
+    figs.append(rep.save_figure(fig, tmp / "mu.png"))
+
+    fig, ax = plt.subplots(figsize=rep.FIGSIZE)
+    r0 = np.log10(mu / d.baseline_mu)
+    ax.semilogx(v, r0, "o-", color="C0", ms=4, label="log10(measured/baseline)")
+    if d.best is not None:
+        ax.semilogx(v, np.log10(mu / d.best.pred), "s-", color="C3", ms=4, label=f"after {d.best.name}")
+    ax.axhspan(-d.noise, d.noise, color="0.85", label=f"± noise ({d.noise:.3g})")
+    for w in where:
+        ax.hlines([w["gap"], -w["gap"]], w["v_min_m_per_s"], w["v_max_m_per_s"],
+                  colors="C1" if w["significant"] else "C7", lw=2)
+    ax.axhline(0, color="k", lw=0.5)
+    ax.set_xlabel("sliding speed v [m/s]")
+    ax.set_ylabel("log10 ratio [-]")
+    ax.set_title("gap against speed (bars: band rms; orange = significant)")
+    ax.grid(which="both", alpha=0.25)
+    ax.legend(fontsize=8)
+    figs.append(rep.save_figure(fig, tmp / "gap.png"))
+
+    q, f, vc = bm_curves
+    fig, ax = plt.subplots(figsize=rep.FIGSIZE)
+    for i in range(f.shape[0]):
+        tot = np.trapezoid(np.maximum(f[i], 0), np.log(q)) or 1.0
+        ax.semilogx(q, f[i] / tot, color=plt.cm.viridis(i / max(f.shape[0] - 1, 1)),
+                    label=f"v = {vc[i]:.2g} m/s")
+    ax.set_xlabel("wave vector q [1/m]  (length scale 2π/q)")
+    ax.set_ylabel("share of μ per ln q [-]")
+    ax.set_title("band map: which q carries μ in each speed band")
+    ax.grid(which="both", alpha=0.25)
+    ax.legend(fontsize=7)
+    figs.append(rep.save_figure(fig, tmp / "bandmap.png"))
+    return figs
+
+
+def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=None):
+    """Write ``report.html`` for a friction-level diagnosis (``data``: the JSON dict)."""
+    out_dir = Path(out_dir)
+    with tempfile.TemporaryDirectory() as t:
+        figs = _plots_friction(Path(t), curve, d, where, bm_curves, validate)
+        v = data["verdict"]
+        name = v["effect"] if not isinstance(v["effect"], list) else " + ".join(v["effect"])
+        verdict = (f"<p><b>Verdict:</b> {html.escape(str(name)) if name else 'no effect named (null)'}. "
+                   f"{html.escape(v['reason'])}.</p>")
+        summary = rep.table_html({
+            "baseline gap (rms log10, all points)": data["baseline_gap"],
+            "baseline gap, held-out points": data["baseline_gap_heldout"],
+            "noise (rms log10)": data["noise"], "noise source": data["noise_source"],
+            "chi-square p-value of the baseline gap": data["p_value"],
+            "held-out shrink of the verdict": v["shrink"],
+            "validation gap (baseline → corrected)": (f"{v['gap_validate_baseline']} → {v['gap_validate']}"
+                                                      if v["gap_validate"] is not None else None),
+            "run time [s]": data["seconds"]})
+        eff = rep.table_html([(e["name"], ", ".join(f"{k}={val:.4g}" for k, val in e["params"].items()),
+                               e["gap_train"], e["gap_heldout"], e["shrink"], e["score"])
+                              for e in data["effects"]],
+                             header=["effect", "fitted parameters", "gap train", "gap held-out",
+                                     "shrink (held-out)", "score"])
+        skipped = rep.table_html([(s["name"], s["reason"]) for s in data["skipped"]],
+                                 header=["skipped effect", "reason"]) if data["skipped"] else "<p>none</p>"
+        bands = rep.table_html([(f"{w['v_min_m_per_s']:.3g}–{w['v_max_m_per_s']:.3g}", w["n"], w["gap"],
+                                 "yes" if w["significant"] else "no",
+                                 f"{b['q_min_per_m']:.3g}–{b['q_max_per_m']:.3g}",
+                                 f"{b['length_min_m'] * 1e6:.3g}–{b['length_max_m'] * 1e6:.3g}",
+                                 f"{b['omega_min_rad_s']:.3g}–{b['omega_max_rad_s']:.3g}")
+                                for w, b in zip(data["where"], data["band_map"])],
+                               header=["speed band [m/s]", "points", "gap", "significant",
+                                       "q carrying 80 % of μ [1/m]", "length scales [µm]",
+                                       "frequencies ω = q v [rad/s]"])
+        rep.write_html(out_dir / "report.html", f"Sim-to-real gap diagnosis: {curve.name}", [
+            ("Verdict", [verdict, summary]),
+            ("Measured, simulated and corrected friction", [figs[0]]),
+            ("Where: the gap against speed", [figs[1], bands]),
+            ("Band map", [figs[2]]),
+            ("Candidate effects (best first)", [eff]),
+            ("Skipped effects", [skipped]),
+        ], intro="Friction level: measured μ(v) against Persson's theory with the given surface, "
+                 "rubber and conditions; gap = rms of log10(measured/simulated).")
+
+
+def write_surface_report(out_dir, name, data, figs):
+    """Write ``report.html`` for a surface-level diagnosis."""
+    v = data["verdict"]
+    name_v = v["effect"] if not isinstance(v["effect"], list) else " + ".join(v["effect"])
+    verdict = (f"<p><b>Verdict:</b> {html.escape(str(name_v)) if name_v else 'no effect named (null)'}. "
+               f"{html.escape(v.get('reason', ''))}.</p>")
+    summary = rep.table_html({k: data[k] for k in ("baseline_gap", "noise") if k in data})
+    stats = rep.table_html([(k, *val) for k, val in data["descriptors"].items()],
+                           header=["descriptor", "measured", "self-affine twin", "uncertainty"])
+    eff = rep.table_html([(e["name"], ", ".join(f"{k}={val:.4g}" for k, val in e["params"].items()),
+                           e["gap_train"], e["gap_heldout"], e["shrink"]) for e in data["effects"]],
+                         header=["effect", "fitted parameters", "gap train", "gap held-out", "shrink"])
+    where = rep.table_html([(f"{w['q_min_per_m']:.3g}–{w['q_max_per_m']:.3g}", w["gap"], w.get("mean_log_ratio"))
+                            for w in data["where"]], header=["q band [1/m]", "gap (rms log10 C)", "mean log10 ratio"])
+    skipped = rep.table_html([(s["name"], s["reason"]) for s in data["skipped"]],
+                             header=["skipped effect", "reason"]) if data["skipped"] else "<p>none</p>"
+    rep.write_html(Path(out_dir) / "report.html", f"Surface-level gap diagnosis: {name}", [
+        ("Verdict", [verdict, summary]),
+        ("Spectrum: measured against the fitted self-affine surface", [figs[0], where]),
+        ("Height distribution, rain fill and friction", [list(figs[1:]), stats]),
+        ("Candidate effects (best first)", [eff]),
+        ("Skipped effects", [skipped]),
+    ], intro="Surface level: the measured scan against the Gaussian self-affine surface fitted to it "
+             "(the thesis's calculated-versus-fitted spectrum, section 4.2).")
