@@ -138,15 +138,16 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
         mid = np.ones_like(x, dtype=bool)
     s_ref = np.nanmedian(s[mid])
     good = np.abs(s - s_ref) <= tolerance
-    centre = int(np.flatnonzero(mid)[np.argmin(np.abs(s[mid] - s_ref))])
-    i0 = centre
-    while i0 > 0 and good[i0 - 1]:
-        i0 -= 1
-    i1 = centre
-    while i1 < x.size - 1 and good[i1 + 1]:
-        i1 += 1
+    # contiguous runs of good points; keep the one spanning most decades that meets the middle
+    edges = np.flatnonzero(np.diff(np.r_[0, good.astype(np.int8), 0]))
+    runs = [(a, b - 1) for a, b in zip(edges[::2], edges[1::2])]
+    runs = [r for r in runs if mid[r[0]: r[1] + 1].any()] or runs
+    if not runs:
+        raise ValueError("no straight stretch found in the spectrum")
+    i0, i1 = max(runs, key=lambda r: x[r[1]] - x[r[0]])
     if i1 - i0 < 2:
-        i0, i1 = max(0, centre - 1), min(x.size - 1, centre + 1)
+        c = (i0 + i1) // 2
+        i0, i1 = max(0, c - 1), min(x.size - 1, c + 1)
     return float(q[i0]), float(q[i1])
 
 

@@ -346,8 +346,8 @@ def anisotropy(spec2d, q_min=None, q_max=None, rings_per_decade=10, n_sectors=36
     """Directional distribution of a 2D PSD map (for a figure and the summary).
 
     Each lattice point in [q_min, q_max] (defaults as :func:`angular_average`) is weighted by
-    C / (mean C of its ring x number of points in its ring), so every ring counts equally and
-    the steep fall of C with q does not let the few lowest rings dominate. From these weights:
+    C / (mean C of its ring), so the steep fall of C with q does not let the few lowest rings
+    dominate (every lattice point counts alike; weights normalised to sum 1). From these:
     the tensor M = sum w q^ q^T (q^ = q / |q|, trace 1).
 
     Returns
@@ -373,9 +373,9 @@ def anisotropy(spec2d, q_min=None, q_max=None, rings_per_decade=10, n_sectors=36
     cnt = np.bincount(r, minlength=n)
     csum = np.bincount(r, weights=C, minlength=n)
     ok = (cnt > 0) & (csum > 0)
-    norm = np.where(ok, csum, 1.0)                  # sum of C in ring = mean C x count
-    w = C / norm[r]
-    w /= ok.sum()
+    mean_c = np.where(ok, csum / np.maximum(cnt, 1), 1.0)
+    w = np.where(ok[r], C / mean_c[r], 0.0)
+    w /= w.sum()
     ux, uy = QX.ravel()[sel] / q[sel], QY.ravel()[sel] / q[sel]
     M = np.array([[np.sum(w * ux * ux), np.sum(w * ux * uy)],
                   [np.sum(w * ux * uy), np.sum(w * uy * uy)]])

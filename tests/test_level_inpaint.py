@@ -1,0 +1,98 @@
+"""Levelling, spike removal and filling of unmeasured points."""
+import numpy as np
+import pytest
+
+from roadscan import HeightMap, Profile
+from roadscan.inpaint import fill_unmeasured
+from roadscan.level import level, remove_spikes
+
+
+def _grid(ny=60, nx=80, d=1e-4):
+    y, x = np.mgrid[0:ny, 0:nx] * d
+    return x, y
+
+
+@pytest.mark.parametrize("degree", [0, 1, 2, 3])
+def test_level_removes_polynomial_ignoring_unmeasured(degree):
+    x, y = _grid()
+    rng = np.random.default_rng(degree)
+    form = 1e-3 + 0.05 * x * (degree >= 1) - 0.02 * y * (degree >= 1) \
+        + 3.0 * x * y * (degree >= 2) + 40.0 * x**3 * (degree >= 3)
+    bad = rng.random(x.shape) < 0.2
+    h = form.copy()
+    h[bad] = 1.0                                   # garbage under the mask must be ignored
+    out = level(HeightMap(h, 1e-4, 1e-4, unmeasured=bad), degree)
+    assert np.array_equal(out.unmeasured, bad)
+    assert np.all(np.isnan(out.heights_m[bad]))
+    assert np.max(np.abs(out.heights_m[~bad])) < 1e-12
+    assert out.meta["levelled_degree"] == degree
+
+
+def test_level_leaves_residual_orthogonal_to_plane():
+    x, y = _grid()
+    rng = np.random.default_rng(1)
+    h = rng.standard_normal(x.shape) * 1e-5 + 0.01 * x + 2e-3
+    out = level(HeightMap(h, 1e-4, 1e-4), 1).heights_m
+    for basis in (np.ones_like(x), x, y):
+        assert abs(np.sum(out * basis)) < 1e-12 * np.sum(np.abs(basis)) + 1e-15
+
+
+def test_level_profile():
+    x = np.arange(500) * 1e-4
+    h = 0.02 * x + 1e-3 + 1e-6 * np.sin(x * 300)
+    h[10:20] = np.nan
+    out = level(Profile(h, 1e-4), 1)
+    ok = ~out.unmeasured
+    xr = x[ok] - x[ok].mean()
+    assert abs(np.mean(out.heights_m[ok])) < 1e-15
+    assert abs(np.sum(out.heights_m[ok] * xr)) < 1e-15
+    assert out.unmeasured[10:20].all()
+
+
+def test_remove_spikes_finds_injected_spikes_only():
+    x, y = _grid(100, 100)
+    h = 1e-4 * np.sin(x * 400) * np.cos(y * 300)
+    spikes = np.zeros(h.shape, bool)
+    spikes[[10, 50, 70], [20, 33, 90]] = True
+    h2 = h + spikes * 5e-3
+    out = remove_spikes(HeightMap(h2, 1e-4, 1e-4))
+    assert np.array_equal(out.unmeasured, spikes)
+    assert out.meta["spikes_removed"] == 3
+    p = remove_spikes(Profile(h2[10], 1e-4))
+    assert p.unmeasured[20] and p.unmeasured.sum() == 1
+
+
+def test_fill_map_methods_accuracy():
+    x, y = _grid(200, 200, 1e-4)
+    h = 1e-4 * np.sin(x * 200) * np.cos(y * 150) + 0.01 * x
+    rng = np.random.default_rng(3)
+    bad = rng.random(h.shape) < 0.03
+    bad[50:56, 60:66] = True
+    hm = HeightMap(h, 1e-4, 1e-4, unmeasured=bad)
+    for method, tol in (("biharmonic", 1e-3), ("ns", 2e-2)):
+        filled, frac = fill_unmeasured(hm, method=method)
+        assert not filled.unmeasured.any()
+        assert frac == pytest.approx(bad.mean())
+        assert np.array_equal(filled.heights_m[~bad], h[~bad])
+        err = np.sqrt(np.mean((filled.heights_m[bad] - h[bad]) ** 2)) / np.std(h)
+        assert err < tol, (method, err)
+        assert filled.meta["fill_method"] == method
+    with pytest.raises(ValueError):
+        fill_unmeasured(hm, method="telea")
+
+
+def test_fill_profile_linear_and_ends():
+    h = np.arange(20, dtype=float) * 1e-5
+    h[[0, 1, 7, 8, 9, 19]] = np.nan
+    filled, frac = fill_unmeasured(Profile(h, 1e-4))
+    expect = np.arange(20) * 1e-5
+    expect[[0, 1]] = 2e-5
+    expect[19] = 18e-5
+    assert np.allclose(filled.heights_m, expect, rtol=0, atol=1e-18)
+    assert frac == pytest.approx(6 / 20)
+
+
+def test_fill_nothing_to_do():
+    hm = HeightMap(np.ones((5, 5)), 1e-4, 1e-4)
+    filled, frac = fill_unmeasured(hm)
+    assert frac == 0 and np.array_equal(filled.heights_m, hm.heights_m)
