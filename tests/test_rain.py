@@ -192,3 +192,40 @@ def test_bad_arguments():
         rain_fill(hm, max_depth_m=1.0, water_film_m=0.1)
     with pytest.raises(ValueError):
         rain_fill(hm, max_depth_m=-1.0)
+
+
+# --- the command ------------------------------------------------------------------------------
+
+def test_cli_rain_fill(tmp_path, capsys):
+    import json
+
+    from pipelines.cli import main
+    from roadscan.level import level
+
+    h = 1e-3 * fourier_surface(48, seed=3)
+    h[10:12, 20:23] = np.nan                          # a dropout
+    f = tmp_path / "scan.npy"
+    np.save(f, h * 1e3)                               # millimetres, no spacing in the file
+    out = tmp_path / "rf"
+    assert main(["rain-fill", str(f), "--out", str(out), "--spacing", "1e-4", "--units", "mm",
+                 "--water-film", "2e-5"]) == 0
+    assert "wetted" in capsys.readouterr().out
+    js = json.loads((out / "rainfill.json").read_text())
+    expect = rain_fill(level(HeightMap(h, 1e-4, 1e-4)), water_film_m=2e-5)
+    assert js["connectivity"] == 4
+    assert js["water_film_m"] == 2e-5
+    assert js["water_volume_m3_per_m2"] == pytest.approx(2e-5, rel=1e-9)
+    assert js["wetted_fraction"] == pytest.approx(expect.wetted_fraction)
+    assert js["max_depth_m"] == pytest.approx(expect.meta["max_depth_m"])
+    depth = np.load(out / "depth.npy")
+    wet = np.load(out / "wet.npy")
+    assert np.isnan(depth[10, 20]) and np.isnan(wet[10, 20])
+    np.testing.assert_allclose(depth, expect.depth_m, atol=1e-15)
+    np.testing.assert_allclose(wet, expect.wet.heights_m, atol=1e-15)
+
+    assert main(["rain-fill", str(f), "--out", str(out), "--spacing", "1e-4",
+                 "--max-depth", "-1"]) == 2
+    assert "--max-depth" in capsys.readouterr().err
+    with pytest.raises(SystemExit):                   # argparse: mutually exclusive
+        main(["rain-fill", str(f), "--out", str(out), "--max-depth", "1", "--water-film", "1"])
+    assert main(["rain-fill", str(tmp_path / "none.npy"), "--out", str(out), "--spacing", "1e-4"]) == 2
