@@ -207,7 +207,7 @@ def grid_from_points(path, x, y, z):
         raise InputError(path, "x,y points are not on a regular grid")
     nx, ny = ix.max() + 1, iy.max() + 1
     flat = iy * nx + ix
-    if np.unique(flat).size != flat.size:
+    if np.bincount(flat, minlength=nx * ny).max() > 1:
         raise InputError(path, "x,y points are not on a regular grid (two points share a node)")
     if flat.size < 0.5 * nx * ny:
         raise InputError(path, f"x,y points are not on a regular grid ({flat.size} points for "
