@@ -6,8 +6,10 @@ nominal positions (stage coordinates). :func:`stitch` puts them together in four
 1. **Registration.** Every pair of tiles whose nominal footprints overlap is registered by
    masked normalised cross-correlation computed by FFT (Padfield 2012, as implemented by
    :func:`skimage.registration.phase_cross_correlation` with masks), on the overlap window
-   enlarged by ``max_shift_px`` on every side, unmeasured points masked out. Tiles are
-   levelled (their own least-squares plane removed) first, so tilt does not bias it. The
+   enlarged by ``max_shift_px`` on every side, unmeasured points masked out. It runs on
+   high-passed tiles (each minus its Gaussian smoothing, sigma = 2 samples): a plane passes
+   through the smoothing unchanged, so the tiles' different tilts cannot bias the peak, and the
+   otherwise very broad correlation peak of a self-affine surface becomes sharp. The
    integer shift is then refined to a subpixel one by upsampled phase correlation
    (Guizar-Sicairos et al. 2008, ``upsample_factor``) on the exactly overlapping windows
    (plane removed, Tukey-windowed).
