@@ -13,7 +13,7 @@ def fit_prony(master_curve, n_terms=None, per_decade=1.0):
     """Fit a generalized Maxwell (Prony) series to a master curve.
 
     Relaxation times are fixed, log-spaced over the measured range
-    (``tau_i`` from ``1/(2 pi f_max)`` to ``1/(2 pi f_min)``; ``n_terms`` of them, default
+    (``tau_i`` from ``0.1/(2 pi f_max)`` to ``10/(2 pi f_min)``; ``n_terms`` of them, default
     ``per_decade`` per decade); ``E_inf`` and ``E_i >= 0`` solve a non-negative least-squares
     problem on the relative residuals of E' and E'' (each point weighted by 1/E' and 1/E'').
 
@@ -30,8 +30,8 @@ def fit_prony(master_curve, n_terms=None, per_decade=1.0):
     w = 2 * np.pi * f
     decades = np.log10(f[-1] / f[0])
     if n_terms is None:
-        n_terms = max(2, int(np.ceil(decades * per_decade)) + 1)
-    tau = np.logspace(np.log10(1 / w[-1]), np.log10(1 / w[0]), int(n_terms))
+        n_terms = max(2, int(np.ceil((decades + 2) * per_decade)) + 1)
+    tau = np.logspace(np.log10(1 / w[-1]) - 1, np.log10(1 / w[0]) + 1, int(n_terms))
     wt = w[:, None] * tau[None, :]
     re = wt ** 2 / (1 + wt ** 2)
     im = wt / (1 + wt ** 2)
