@@ -5,7 +5,7 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-__all__ = ["add_scan_options", "load_scan", "parse_spacing_option"]
+__all__ = ["add_scan_options", "load_scan"]
 
 _UNITS = ("m", "mm", "um", "nm")
 
@@ -22,21 +22,6 @@ def add_scan_options(parser):
     )
 
 
-def parse_spacing_option(text, path=None):
-    """``"DX"`` or ``"DX,DY"`` in metres -> (dx, dy); InputError when malformed."""
-    if text is None:
-        return None
-    try:
-        parts = [float(p) for p in str(text).split(",")]
-    except ValueError:
-        raise InputError(path, f"--spacing {text!r} is not a number or a pair DX,DY in metres") from None
-    if len(parts) == 1:
-        parts = parts * 2
-    if len(parts) != 2 or not all(p > 0 and p < float("inf") for p in parts):
-        raise InputError(path, f"--spacing {text!r} must be one or two positive numbers in metres")
-    return tuple(parts)
-
-
 def load_scan(path, args=None, spacing=None, units=None):
     """Read a height file (HeightMap or Profile) with the options of ``add_scan_options``.
 
@@ -48,8 +33,6 @@ def load_scan(path, args=None, spacing=None, units=None):
     if args is not None:
         spacing = getattr(args, "spacing", None) if spacing is None else spacing
         units = getattr(args, "units", None) if units is None else units
-    if isinstance(spacing, str):
-        spacing = parse_spacing_option(spacing, path)
     if not path.exists():
         raise InputError(path, "no such file")
     if path.is_dir():
