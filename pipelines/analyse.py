@@ -130,19 +130,22 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     return summary
 
 
-def _plot_psd2d(spec2d, path, name):
+def _plot_psd2d(spec2d, path, name, zoom=4):
+    """log10 C(qx, qy) around the origin (|q| up to Nyquist / zoom, where anisotropy shows)."""
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=report.FIGSIZE)
-    C = np.asarray(spec2d.C_m4)
+    qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
+    qlim = min(np.abs(qx).max(), np.abs(qy).max()) / zoom
+    ix, iy = np.abs(qx) <= qlim, np.abs(qy) <= qlim
+    C = np.asarray(spec2d.C_m4)[np.ix_(iy, ix)]
     pos = C[C > 0]
-    lo = np.percentile(pos, 5) if pos.size else 1e-30
+    lo = np.percentile(pos, 2) if pos.size else 1e-30
+    fig, ax = plt.subplots(figsize=report.FIGSIZE)
     im = ax.imshow(np.log10(np.maximum(C, lo)), origin="lower", cmap="magma",
-                   extent=(spec2d.qx_per_m[0], spec2d.qx_per_m[-1], spec2d.qy_per_m[0], spec2d.qy_per_m[-1]),
-                   aspect="auto")
+                   extent=(qx[ix][0], qx[ix][-1], qy[iy][0], qy[iy][-1]), aspect="equal")
     ax.set_xlabel("q$_x$ [1/m]")
     ax.set_ylabel("q$_y$ [1/m]")
-    ax.set_title(f"{name}: 2D PSD (anisotropy)")
+    ax.set_title(f"{name}: 2D PSD, |q| < {qlim:.3g} 1/m (anisotropy)")
     cb = fig.colorbar(im, ax=ax)
     cb.set_label("log$_{10}$ C [m$^4$]")
     ax.ticklabel_format(style="sci", scilimits=(-2, 3))
