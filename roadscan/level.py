@@ -56,15 +56,23 @@ def polynomial_form(heights_m, unmeasured, degree=1):
         h = h[None, :]
         unmeasured = np.asarray(unmeasured)[None, :]
     ny, nx = h.shape
-    meas = (~np.asarray(unmeasured, dtype=bool)).astype(np.float64)
-    hz = np.where(meas > 0, h, 0.0)
+    bad = np.asarray(unmeasured, dtype=bool)
+    any_bad = bool(bad.any())
     U = _powers(_unit_coords(nx), 2 * degree)        # (nx, 2d+1)
     V = _powers(_unit_coords(ny), 2 * degree)        # (ny, 2d+1)
     if one_d:
         V = np.zeros((1, 2 * degree + 1))
         V[0, 0] = 1.0
-    S = V.T @ meas @ U                               # S[j, i] = sum m v^j u^i
-    R = V[:, : degree + 1].T @ hz @ U[:, : degree + 1]   # R[j, i] = sum m h v^j u^i
+    # (grid @ narrow) first: a transposed narrow matrix on the left takes a slow matmul path
+    if any_bad:
+        meas = (~bad).astype(np.float64)
+        hz = np.where(bad, 0.0, h)
+        S = V.T @ (meas @ U)                         # S[j, i] = sum m v^j u^i
+    else:
+        hz = h
+        S = np.outer(V.sum(axis=0), U.sum(axis=0))
+    Ud = np.ascontiguousarray(U[:, : degree + 1])
+    R = V[:, : degree + 1].T @ (hz @ Ud)             # R[j, i] = sum m h v^j u^i
     terms = [(i, j) for i in range(degree + 1) for j in range(degree + 1)
              if i + j <= degree and (not one_d or j == 0)]
     G = np.array([[S[j + l, i + k] for (k, l) in terms] for (i, j) in terms])
