@@ -41,8 +41,7 @@ def plot_heightmap(hm, path, title=None, depth_m=None):
     fig, ax = plt.subplots(figsize=FIGSIZE)
     data = hm.heights_m * 1e6 if depth_m is None else depth_m * 1e3
     lx, ly = hm.size_m
-    cmap = matplotlib.colormaps["viridis" if depth_m is None else "Blues"].copy()
-    cmap.set_bad("0.6")
+    cmap = matplotlib.colormaps["viridis" if depth_m is None else "Blues"].with_extremes(bad="0.6")
     finite = data[np.isfinite(data)]
     vmin, vmax = (np.percentile(finite, [0.5, 99.5]) if finite.size else (0, 1))
     if depth_m is not None:

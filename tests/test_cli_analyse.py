@@ -36,7 +36,14 @@ def test_analyse_single_file_contract(scan_npy, tmp_path):
     assert abs(s["hurst"] - 0.8) < 0.1
     # rms height is Sq of the levelled measured heights: the tilt must be gone
     assert s["rms_height_m"] == pytest.approx(s["roughness"]["Sq_m"])
-    assert s["rms_height_m"] == pytest.approx(3e-4, rel=0.1)
+    # independent check: the added tilt is planar, so the levelled heights are the original
+    # (untilted) surface minus its own least-squares plane over the measured points
+    h0 = fourier_surface(256, 5e-5, 0.8, 3e-4, seed=3)
+    ok = ~np.isnan(h)
+    yy, xx = np.nonzero(ok)
+    A = np.column_stack([np.ones(xx.size), xx, yy])
+    coef, *_ = np.linalg.lstsq(A, h0[ok], rcond=None)
+    assert s["rms_height_m"] == pytest.approx(np.sqrt(np.mean((h0[ok] - A @ coef) ** 2)), rel=1e-6)
     assert s["filled_fraction"] == pytest.approx(40 / 256**2, rel=1e-6)
     assert s["q_min_per_m"] == pytest.approx(2 * np.pi / (256 * 5e-5))
     assert s["q_max_per_m"] == pytest.approx(np.pi / 5e-5)
