@@ -69,6 +69,8 @@ def summarise(analysis, fr=None):
         "psd_convention": "Persson: <h^2> = 2 pi integral q C(q) dq; C in m^4; Tukey window "
                           "alpha 0.25 with its power loss corrected",
     }
+    if "trim_note" in src.meta:
+        out["trim_note"] = src.meta["trim_note"]
     if analysis.is_profile:
         out["psd_conversion"] = analysis.spectrum.meta.get("conversion")
     if analysis.anisotropy is not None:
@@ -115,7 +117,7 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     lo, hi = fit.fit_band_per_m
     qf = np.geomspace(lo, hi, 50)
     curves = [("measured (angular average)" if not an.is_profile else
-               f"2D estimate from profile ({spec.meta.get('conversion', '')})", spec.q_per_m, spec.C_m4)]
+               "2D estimate from the profile's 1D PSD", spec.q_per_m, spec.C_m4)]
     figs.append(report.plot_psd(
         curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {fit.hurst:.3f} ± {fit.hurst_stderr:.3f}",
         fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m", qf, fit.model_C(qf))]))
@@ -145,7 +147,7 @@ def _plot_psd2d(spec2d, path, name, zoom=4):
                    extent=(qx[ix][0], qx[ix][-1], qy[iy][0], qy[iy][-1]), aspect="equal")
     ax.set_xlabel("q$_x$ [1/m]")
     ax.set_ylabel("q$_y$ [1/m]")
-    ax.set_title(f"{name}: 2D PSD, |q| < {qlim:.3g} 1/m (anisotropy)")
+    report.set_title(ax, f"{name}: 2D PSD, |q| < {qlim:.3g} 1/m (anisotropy)")
     cb = fig.colorbar(im, ax=ax)
     cb.set_label("log$_{10}$ C [m$^4$]")
     ax.ticklabel_format(style="sci", scilimits=(-2, 3))

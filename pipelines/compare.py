@@ -99,7 +99,7 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
         ax.axhline(1, color="0.5", lw=0.8)
         ax.set_xlabel("wave vector q [1/m]")
         ax.set_ylabel("PSD ratio C / C$_{ref}$ [-]")
-        ax.set_title("where the spectra differ")
+        report.set_title(ax, "where the spectra differ")
         ax.grid(which="both", alpha=0.25)
         ax.legend(fontsize=8)
         figs.append(report.save_figure(fig, out_dir / "psd_ratio.png"))

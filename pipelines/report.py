@@ -27,6 +27,13 @@ __all__ = [
 FIGSIZE = (6.4, 4.4)
 
 
+def set_title(ax, text, width=58):
+    """A title wrapped to the axes width (long scan names must not run off the figure)."""
+    import textwrap
+
+    ax.set_title("\n".join(textwrap.wrap(str(text), width)) or "", fontsize=10)
+
+
 def save_figure(fig, path):
     """Save ``fig`` as PNG atomically and close it."""
     fig.tight_layout()
@@ -52,7 +59,7 @@ def plot_heightmap(hm, path, title=None, depth_m=None):
     ax.set_ylabel("y [mm]")
     cb = fig.colorbar(im, ax=ax, shrink=0.9)
     cb.set_label("height [µm]" if depth_m is None else "water depth [mm]")
-    ax.set_title(title or ("height map" if depth_m is None else "water depth"))
+    set_title(ax, title or ("height map" if depth_m is None else "water depth"))
     return save_figure(fig, path)
 
 
@@ -62,7 +69,7 @@ def plot_profile(profile, path, title=None):
     ax.plot(profile.x_m() * 1e3, profile.heights_m * 1e3, lw=0.5, color="C0")
     ax.set_xlabel("distance [mm]")
     ax.set_ylabel("height [mm]")
-    ax.set_title(title or "profile")
+    set_title(ax, title or "profile")
     ax.grid(alpha=0.3)
     return save_figure(fig, path)
 
@@ -78,9 +85,9 @@ def plot_psd(curves, path, title="power spectral density", fits=()):
         ax.loglog(np.asarray(q)[ok], np.asarray(C)[ok], "--", lw=1.2, color=f"C{i + 3}", label=label)
     ax.set_xlabel("wave vector q [1/m]")
     ax.set_ylabel("C(q) [m$^4$]")
-    ax.set_title(title)
+    set_title(ax, title)
     ax.grid(which="both", alpha=0.25)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="best")
     return save_figure(fig, path)
 
 
@@ -98,7 +105,7 @@ def plot_mu(curves, path, title="friction coefficient", ylabel="friction coeffic
         ax.set_yscale("log")
     ax.set_xlabel("sliding speed v [m/s]")
     ax.set_ylabel(ylabel)
-    ax.set_title(title)
+    set_title(ax, title)
     ax.grid(which="both", alpha=0.25)
     if len(curves) > 1 or (curves and curves[0][0]):
         ax.legend(fontsize=8)

@@ -58,9 +58,12 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     from roadscan import fit as fitmod
     from roadscan import inpaint, level, roughness
     from roadscan.spectrum import anisotropy
+    from roadscan.trim import road_section
 
     if not isinstance(obj, (HeightMap, Profile)):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
+    if isinstance(obj, Profile):
+        obj = road_section(obj)  # a profiler's reference plates are not road
     work = level.remove_spikes(obj) if despike else obj
     levelled = level.level(work, degree=level_degree)
     if isinstance(obj, Profile):
