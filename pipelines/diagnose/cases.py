@@ -153,13 +153,17 @@ def identifiable(case, move=2.0, effects=None):
 
 
 def draw_cases(n_effect, n_null, seed0=0, effects=None, max_tries=6, log=None):
-    """``n_effect`` identifiable effect cases (cycling through the friction effects) and
-    ``n_null`` null cases, reproducibly from ``seed0``. Returns (cases, rejected count)."""
+    """``n_effect`` identifiable effect cases and ``n_null`` null cases, reproducibly from
+    ``seed0``. Hidden effects cycle through the friction effects; an effect whose draws fail
+    the filter ``max_tries`` times in a row gives its turn to the next one (load and water
+    often move mu too little, or like another effect, to be told apart).
+    Returns (cases, rejected count)."""
     say = log or (lambda *_: None)
     names = [e.name for e in (effects or all_effects("friction"))]
-    cases, rejected, seed = [], 0, seed0
-    for i in range(n_effect):
-        name = names[i % len(names)]
+    cases, rejected, seed, turn = [], 0, seed0, 0
+    while len(cases) < n_effect and turn < 20 * max(n_effect, 1):
+        name = names[turn % len(names)]
+        turn += 1
         for _ in range(max_tries):
             seed += 1
             c = make_case(seed, name)
