@@ -45,6 +45,9 @@ def render_surface_with_water(dry_hm, depth_m, path, max_points=220, exaggeratio
     Z = (h_plot - fill) * 1e3 * exaggeration
     ground = pv.StructuredGrid(X, Y, Z)
     ground["height [µm]"] = (h_plot * 1e6).ravel(order="F")
+    ground["measured"] = np.isfinite(h).ravel(order="F").astype(float)
+    if not np.isfinite(h).all():   # unmeasured points are holes, not invented ground
+        ground = ground.threshold(0.5, scalars="measured", all_scalars=True)
     pl = pv.Plotter(off_screen=True, window_size=(900, 650))
     pl.set_background("white")
     pl.add_mesh(ground, scalars="height [µm]", cmap="copper", show_scalar_bar=True,
@@ -62,6 +65,7 @@ def render_surface_with_water(dry_hm, depth_m, path, max_points=220, exaggeratio
                 color="black")
     pl.camera_position = "iso"
     pl.camera.elevation = -10
+    pl.camera.zoom(1.35)
     with atomic_path(path) as tmp:
         pl.screenshot(str(tmp))
     pl.close()
