@@ -14,6 +14,8 @@ import numpy as np
 
 from roadscan.errors import InputError
 
+from ..friction_options import parse_velocities
+
 NAME = "friction"
 HELP = "friction coefficient mu(v) from a spectrum (psd.csv or self-affine model) and a rubber"
 
@@ -37,17 +39,6 @@ def add_arguments(p):
                    help="with --flash: also report T at these magnifications zeta = q/q0")
     p.add_argument("--tol", type=float, default=1e-3, help="relative accuracy target for mu (1e-3)")
     p.add_argument("--out", default="mu.csv", metavar="mu.csv", help="output CSV (PNG beside it)")
-
-
-def _velocities(text):
-    try:
-        lo, hi, n = text.split(":")
-        lo, hi, n = float(lo), float(hi), int(n)
-    except ValueError:
-        raise InputError(None, f"--velocities {text!r}: expected LO:HI:N, e.g. 1e-8:1e4:121") from None
-    if not (0 < lo < hi < np.inf) or n < 2:
-        raise InputError(None, f"--velocities {text!r}: need 0 < LO < HI and N >= 2")
-    return np.logspace(np.log10(lo), np.log10(hi), n)
 
 
 def _self_affine(text):
@@ -106,7 +97,7 @@ def run(args):
 
     from ..report import plot_mu, write_csv
 
-    v = _velocities(args.velocities)
+    v = parse_velocities(args.velocities)
     psd = read_psd_csv(args.psd) if args.psd else _self_affine(args.self_affine)
     if args.rubber:
         from ..rubber_file import load_rubber
