@@ -81,6 +81,7 @@ def summarise(analysis, fr=None):
             "model": "flash temperature" if fr.T_q_C is not None else "isothermal",
             "mu_peak": float(fr.mu[i]),
             "v_peak_m_per_s": float(fr.v_m_per_s[i]),
+            "q1_per_m": float(fr.q_per_m[-1]),
         }
     return out
 
@@ -115,12 +116,14 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
                                           title=f"{an.name}: levelled heights"))
         figs.append(_plot_psd2d(an.spec2d, out_dir / "psd2d.png", an.name))
     lo, hi = fit.fit_band_per_m
-    qf = np.geomspace(lo, hi, 50)
+    q_top = max(hi, settings.q1_per_m or 0.0) if settings.enabled else hi
+    qf = np.geomspace(lo, q_top, 60)
     curves = [("measured (angular average)" if not an.is_profile else
                "2D estimate from the profile's 1D PSD", spec.q_per_m, spec.C_m4)]
     figs.append(report.plot_psd(
         curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {fit.hurst:.3f} ± {fit.hurst_stderr:.3f}",
-        fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m", qf, fit.model_C(qf))]))
+        fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m"
+               + (f", extended to q1 = {q_top:.3g} 1/m" if q_top > hi else ""), qf, fit.model_C(qf))]))
     if fr is not None:
         report.write_csv(out_dir / "mu.csv", MU_HEADER, [fr.v_m_per_s, fr.mu])
         rub = "thesis rubber" if settings.rubber is None else getattr(settings.rubber, "name", "rubber")

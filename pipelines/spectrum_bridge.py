@@ -86,10 +86,16 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     Integrates the measured angular average from its lowest ring to its highest (the Nyquist
     wave vector pi/a), with q0 (for the macro-asperity wave vector q_m = zeta_m q0) at the
     detected roll-off, else the lowest wave vector (DESIGN.md section 5). With ``q1_per_m``
-    beyond the measured band the spectrum is extended by the engine's power-law continuation.
+    beyond the measured band, the spectrum is continued by the fitted self-affine power law
+    (:func:`roadscan.fit.extend_spectrum`) up to q1: roughness below the scan's resolution.
     """
     from friction import TabulatedPSD
+    from roadscan.fit import extend_spectrum
 
+    if q1_per_m is not None and q1_per_m > spectrum.q_max_per_m:
+        if fit is None:
+            raise ValueError("extending a spectrum beyond its band needs its self-affine fit")
+        spectrum = extend_spectrum(spectrum, fit, q1_per_m)
     q = np.asarray(spectrum.q_per_m, dtype=float)
     C = np.asarray(spectrum.C_m4, dtype=float)
     ok = np.isfinite(C) & (C > 0) & np.isfinite(q) & (q > 0)
@@ -97,10 +103,7 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     q0 = None
     if fit is not None and getattr(fit, "q_roll_per_m", None):
         q0 = float(np.clip(fit.q_roll_per_m, q[0], q[-1]))
-    psd = TabulatedPSD(q, C, q0_per_m=q0)
-    if q1_per_m is not None and q1_per_m > q[-1]:
-        psd = psd.with_q1(q1_per_m)
-    return psd
+    return TabulatedPSD(q, C, q0_per_m=q0)
 
 
 def default_velocities(lo=1e-8, hi=1e4, per_decade=10):

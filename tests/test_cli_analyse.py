@@ -122,3 +122,20 @@ def test_npy_without_spacing_is_refused(scan_npy, tmp_path):
     r = subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(path), "--out", str(tmp_path / "o")],
                        capture_output=True, text=True)
     assert r.returncode == 2 and "tile.npy" in r.stderr and "spacing" in r.stderr
+
+
+def test_extension_beyond_nyquist_raises_friction(scan_npy, tmp_path):
+    """Roughness below the scan's resolution adds friction (thesis: +58 % at q1 = 6e5 1/m)."""
+    path, _ = scan_npy
+    a, b = tmp_path / "a", tmp_path / "b"
+    common = ["--spacing", "5e-5", "--velocities", "1e-4:1e2:25"]
+    assert main(["analyse", str(path), "--out", str(a)] + common) == 0
+    assert main(["analyse", str(path), "--out", str(b), "--q1", "6e5"] + common) == 0
+    sa = json.loads((a / "summary.json").read_text())["friction"]
+    sb = json.loads((b / "summary.json").read_text())["friction"]
+    assert sb["q1_per_m"] == pytest.approx(6e5)
+    assert sa["q1_per_m"] <= np.pi / 5e-5
+    assert sb["mu_peak"] > 1.2 * sa["mu_peak"]
+    # the measured spectrum itself (psd.csv) is not changed by the extension
+    np.testing.assert_allclose(np.loadtxt(a / "psd.csv", delimiter=",", skiprows=1),
+                               np.loadtxt(b / "psd.csv", delimiter=",", skiprows=1))
