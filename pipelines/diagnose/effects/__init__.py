@@ -9,8 +9,10 @@ an initial value and a scale ("log" or "lin"; the search works on the unit inter
 the bounds), ``requires`` (inputs it needs, e.g. ``{"scan"}``; missing ones skip it with a
 reason), an optional ``prepare(context) -> str | None`` (precompute; a returned string skips the
 effect with that reason) and ``modify(spec, params, context) -> spec``. For the friction level
-``apply(context, params)`` evaluates the modified baseline; for the surface level an effect
-provides ``apply`` directly (predicted descriptors). ``cost`` > 1 marks expensive effects (the
+``apply(context, params)`` evaluates the modified baseline (mu at the measured rows); an effect
+may instead give ``apply_fn(context, params) -> mu`` directly. Surface-level effects give
+``apply_fn(context, params, C, stats) -> (C, stats)``: the predicted spectrum and statistics of
+the twin (see :mod:`pipelines.diagnose.surface`), so that they compose in pairs. ``cost`` > 1 marks expensive effects (the
 search spends fewer evaluations on them).
 """
 from __future__ import annotations
