@@ -13,13 +13,14 @@ accepted (as in the pyvisco files of ../shared/data/rubber/).
 """
 from __future__ import annotations
 
-import csv
 import tomllib
 from pathlib import Path
 
 import numpy as np
 
 from roadscan.errors import InputError
+
+from .csv_files import read_csv_rows
 
 __all__ = ["load_rubber", "read_master_curve_csv", "read_shift_csv"]
 
@@ -33,18 +34,10 @@ _A_NAMES = ("log_at", "log10_at", "log_a_t", "logat")
 
 def _read_table(path):
     """Rows of a small CSV: (header names, optional units row, float data (n, k))."""
-    try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(path, "no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, f"cannot read ({exc})") from None
-    rows = [[c.strip() for c in r] for r in csv.reader(
-        l for l in text.splitlines() if l.strip() and not l.lstrip().startswith("#"))]
-    if len(rows) < 2:
+    head, body = read_csv_rows(path)
+    if not body:
         raise InputError(path, "expected a header line and data rows")
-    head = [h.lower() for h in rows[0]]
-    body = rows[1:]
+    head = [h.lower() for h in head]
     units = None
     try:
         float(body[0][0])

@@ -7,13 +7,13 @@ rubber at T0 = T_ref, isothermal, speeds 1e-8 to 1e4 m/s at 10 per decade (121 p
 """
 from __future__ import annotations
 
-import csv
 from pathlib import Path
 
 import numpy as np
 
 from roadscan.errors import InputError
 
+from ..csv_files import read_psd_csv
 from ..friction_options import parse_velocities
 
 NAME = "friction"
@@ -62,34 +62,6 @@ def _self_affine(text):
         return SelfAffinePSD(**kw)
     except ValueError as exc:
         raise InputError(None, f"--self-affine: {exc}") from None
-
-
-def read_psd_csv(path):
-    """``q_per_m,C_m4`` CSV -> friction.TabulatedPSD (InputError on bad input)."""
-    from friction import TabulatedPSD
-
-    try:
-        text = Path(path).read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(path, "no such file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, f"cannot read ({exc})") from None
-    rows = list(csv.reader(l for l in text.splitlines() if l.strip() and not l.lstrip().startswith("#")))
-    if not rows:
-        raise InputError(path, "empty file, expected a header q_per_m,C_m4")
-    head = [h.strip() for h in rows[0]]
-    if "q_per_m" not in head or "C_m4" not in head:
-        raise InputError(path, f"missing column q_per_m or C_m4 (header is {','.join(head)!r})")
-    iq, ic = head.index("q_per_m"), head.index("C_m4")
-    try:
-        d = np.array([[float(r[iq]), float(r[ic])] for r in rows[1:]], float).reshape(-1, 2)
-    except (ValueError, IndexError):
-        raise InputError(path, "non-numeric or missing q_per_m/C_m4 values") from None
-    ok = np.all(np.isfinite(d), axis=1) & (d[:, 0] > 0) & (d[:, 1] > 0)
-    d = d[ok][np.argsort(d[ok][:, 0])]
-    if d.shape[0] < 4 or np.any(np.diff(d[:, 0]) <= 0):
-        raise InputError(path, "need at least 4 rows with distinct positive q and positive C")
-    return TabulatedPSD(d[:, 0], d[:, 1])
 
 
 def run(args):

@@ -7,13 +7,14 @@ flag for its row; an empty cell falls back to the flag.
 """
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from roadscan.errors import InputError
+
+from ..csv_files import read_csv_rows
 
 __all__ = ["MeasuredCurve", "read_measured"]
 
@@ -74,25 +75,14 @@ def read_measured(path, sigma0_Pa=0.2e6, T0_C=None, min_points=5):
     ``min_points`` rows, or an unknown condition.
     """
     path = Path(path)
-    if not path.exists():
-        raise InputError(path, "no such file")
-    if path.is_dir():
-        raise InputError(path, "is a directory, expected a CSV of v_m_per_s,mu")
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(path, f"cannot read ({exc})") from None
-    rows = list(csv.reader(line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")))
-    if not rows:
-        raise InputError(path, "empty file, expected a header v_m_per_s,mu")
-    header = [h.strip() for h in rows[0]]
+    header, body = read_csv_rows(path, "a header v_m_per_s,mu")
     for need in ("v_m_per_s", "mu"):
         if need not in header:
             raise InputError(path, f"missing column {need!r} (header is {','.join(header)!r})")
     col = {h: i for i, h in enumerate(header)}
     v, mu, T, s, wet = [], [], [], [], []
     has_cond = "condition" in col
-    for k, row in enumerate(rows[1:], start=2):
+    for k, row in enumerate(body, start=2):
         if len(row) < len(header):
             row = row + [""] * (len(header) - len(row))
         v.append(_float(row[col["v_m_per_s"]], path, k, "v_m_per_s"))

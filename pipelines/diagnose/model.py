@@ -11,7 +11,6 @@ at exactly its measured speeds.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Callable
 
 import numpy as np
 

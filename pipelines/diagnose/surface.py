@@ -34,7 +34,6 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
-from roadscan.heightmap import Profile
 
 from . import gap as gapmod
 from .effects import all_effects
@@ -204,8 +203,6 @@ def _mu_gap(an, ctx):
 def _surface_search(ctx):
     """Fit every usable surface effect (and greedy pairs) to the descriptor vector."""
     from scipy import optimize
-
-    from .effects import _REGISTRY  # noqa: F401  (registry populated by all_effects)
 
     n = ctx.q.size + ctx.stat_real.size
     held = np.zeros(n, bool)

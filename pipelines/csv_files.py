@@ -1,0 +1,60 @@
+"""Small CSV files the commands read: one reader for rows, one for ``psd.csv``.
+
+All accept a UTF-8 byte-order mark, blank lines, ``#`` comment lines and spaces after commas,
+and raise :class:`roadscan.errors.InputError` naming the file on any problem.
+"""
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from roadscan.errors import InputError
+
+__all__ = ["read_csv_rows", "read_psd_csv"]
+
+
+def read_csv_rows(path, expected="a header line and data rows"):
+    """-> (header cells, data rows), every cell stripped of surrounding blanks.
+
+    ``expected`` is named in the message when the file has no header.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise InputError(path, "no such file")
+    if path.is_dir():
+        raise InputError(path, f"is a directory, expected a CSV with {expected}")
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(path, f"cannot read ({exc})") from None
+    rows = [[c.strip() for c in r] for r in csv.reader(
+        line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#"))]
+    if not rows:
+        raise InputError(path, f"empty file, expected {expected}")
+    return rows[0], rows[1:]
+
+
+def read_psd_csv(path):
+    """``psd.csv`` (columns ``q_per_m`` [1/m], ``C_m4`` [m^4], Persson's normalisation, as
+    ``roadscan analyse`` writes it) -> :class:`friction.TabulatedPSD`.
+
+    Rows with non-finite or non-positive q or C are dropped; rows are sorted by q. The engine
+    integrates the table from its lowest to its highest q (DESIGN.md section 5).
+    """
+    from friction import TabulatedPSD
+
+    head, body = read_csv_rows(path, "a header q_per_m,C_m4")
+    if "q_per_m" not in head or "C_m4" not in head:
+        raise InputError(path, f"missing column q_per_m or C_m4 (header is {','.join(head)!r})")
+    iq, ic = head.index("q_per_m"), head.index("C_m4")
+    try:
+        d = np.array([[float(r[iq]), float(r[ic])] for r in body], float).reshape(-1, 2)
+    except (ValueError, IndexError):
+        raise InputError(path, "non-numeric or missing q_per_m/C_m4 values") from None
+    ok = np.all(np.isfinite(d), axis=1) & (d[:, 0] > 0) & (d[:, 1] > 0)
+    d = d[ok][np.argsort(d[ok][:, 0])]
+    if d.shape[0] < 4 or np.any(np.diff(d[:, 0]) <= 0):
+        raise InputError(path, "need at least 4 rows with distinct positive q and positive C")
+    return TabulatedPSD(d[:, 0], d[:, 1])
