@@ -14,7 +14,7 @@ import numpy as np
 
 from roadscan.errors import InputError
 from roadscan.heightmap import HeightMap
-from roadscan.io.atomic import atomic_path
+from roadscan.io.atomic import atomic_save_npy
 
 from . import report
 from .analyse import FrictionSettings, nominal_band
@@ -52,9 +52,7 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     an_dry = analyse_surface(dry, window_alpha=window_alpha)
     an_wet = analyse_surface(wet, window_alpha=window_alpha)
 
-    with atomic_path(out_dir / "wet.npy") as tmp:
-        with open(tmp, "wb") as fh:
-            np.save(fh, np.where(wet.unmeasured, np.nan, wet.heights_m))
+    atomic_save_npy(out_dir / "wet.npy", wet.heights_m)   # NaN where unmeasured
 
     result = {
         "name": scan.name,

@@ -22,8 +22,29 @@ def _clean(heights, unmeasured):
     return h, bad
 
 
+class _Measured:
+    """What height maps and profiles share: the measured fraction and copying with new heights."""
+
+    @property
+    def measured_fraction(self):
+        """Fraction of points the instrument measured."""
+        return float(1.0 - self.unmeasured.mean())
+
+    def with_heights(self, heights_m, unmeasured=None, **changes):
+        """A copy with new heights (same spacing, name, meta unless changed)."""
+        if unmeasured is None:
+            unmeasured = self.unmeasured
+        return replace(self, heights_m=heights_m, unmeasured=unmeasured, **changes)
+
+
+def _check_spacing(*spacings):
+    for s in spacings:
+        if not (np.isfinite(s) and s > 0):
+            raise ValueError(f"spacing must be positive and finite, got {s!r}")
+
+
 @dataclass(frozen=True, eq=False)
-class HeightMap:
+class HeightMap(_Measured):
     """Heights on a regular grid.
 
     Parameters
@@ -53,9 +74,7 @@ class HeightMap:
             raise ValueError(f"height map must be 2D, got shape {h.shape}")
         if h.shape[0] < 2 or h.shape[1] < 2:
             raise ValueError(f"height map too small: shape {h.shape}")
-        for s in (self.dx_m, self.dy_m):
-            if not (np.isfinite(s) and s > 0):
-                raise ValueError(f"spacing must be positive and finite, got {s!r}")
+        _check_spacing(self.dx_m, self.dy_m)
         if bad.all():
             raise ValueError("height map has no measured points")
         object.__setattr__(self, "heights_m", h)
@@ -80,16 +99,6 @@ class HeightMap:
         """(L_x, L_y) = (nx dx, ny dy) [m]."""
         return self.nx * self.dx_m, self.ny * self.dy_m
 
-    @property
-    def measured_fraction(self):
-        return float(1.0 - self.unmeasured.mean())
-
-    def with_heights(self, heights_m, unmeasured=None, **changes):
-        """A copy with new heights (same spacing, name, meta unless changed)."""
-        if unmeasured is None:
-            unmeasured = self.unmeasured
-        return replace(self, heights_m=heights_m, unmeasured=unmeasured, **changes)
-
     def x_m(self):
         return np.arange(self.nx) * self.dx_m
 
@@ -98,7 +107,7 @@ class HeightMap:
 
 
 @dataclass(frozen=True, eq=False)
-class Profile:
+class Profile(_Measured):
     """Heights along a line (a road texture laser's output).
 
     Parameters
@@ -123,8 +132,7 @@ class Profile:
             raise ValueError(f"profile must be 1D, got shape {h.shape}")
         if h.size < 4:
             raise ValueError(f"profile too short: {h.size} points")
-        if not (np.isfinite(self.dx_m) and self.dx_m > 0):
-            raise ValueError(f"spacing must be positive and finite, got {self.dx_m!r}")
+        _check_spacing(self.dx_m)
         if bad.all():
             raise ValueError("profile has no measured points")
         object.__setattr__(self, "heights_m", h)
@@ -138,15 +146,6 @@ class Profile:
     @property
     def length_m(self):
         return self.n * self.dx_m
-
-    @property
-    def measured_fraction(self):
-        return float(1.0 - self.unmeasured.mean())
-
-    def with_heights(self, heights_m, unmeasured=None, **changes):
-        if unmeasured is None:
-            unmeasured = self.unmeasured
-        return replace(self, heights_m=heights_m, unmeasured=unmeasured, **changes)
 
     def x_m(self):
         return np.arange(self.n) * self.dx_m

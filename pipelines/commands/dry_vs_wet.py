@@ -6,6 +6,7 @@ from roadscan.errors import InputError
 from ..dry_vs_wet import run_dry_vs_wet
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
+from .rainfill import add_water_options, check_water_options
 
 NAME = "dry-vs-wet"
 HELP = "rain-fill a scan and compare PSD and friction mu(v) dry and wet (thesis section 4.4)"
@@ -15,20 +16,12 @@ def add_arguments(p):
     p.add_argument("scan", metavar="SCAN", help="area height file")
     p.add_argument("--out", required=True, metavar="DIR")
     add_scan_options(p)
-    p.add_argument("--connectivity", type=int, choices=(4, 8), default=4,
-                   help="connectivity of the fill (default 4, as Matlab's imfill)")
-    g = p.add_mutually_exclusive_group()
-    g.add_argument("--max-depth", type=float, default=None, metavar="M",
-                   help="limit water to this depth above each depression's lowest point [m]")
-    g.add_argument("--water-film", type=float, default=None, metavar="M",
-                   help="limit water to this volume per area [m^3/m^2 = m]")
+    add_water_options(p)
     add_friction_options(p)
 
 
 def run(args):
-    for flag, val in (("--max-depth", args.max_depth), ("--water-film", args.water_film)):
-        if val is not None and not val >= 0:
-            raise InputError(None, f"{flag} {val}: must be a non-negative length in metres")
+    check_water_options(args)
     settings = settings_from_args(args)
     scan = load_scan(args.scan, args)
     try:

@@ -15,7 +15,7 @@ import numpy as np
 
 from roadscan.errors import InputError
 from roadscan.heightmap import HeightMap
-from roadscan.io.atomic import atomic_path, atomic_write_text
+from roadscan.io.atomic import atomic_save_npy, atomic_write_text
 
 from ..scan_input import add_scan_options, load_scan
 
@@ -27,6 +27,13 @@ def add_arguments(p):
     p.add_argument("scan", metavar="SCAN", help="area height file")
     p.add_argument("--out", required=True, metavar="DIR", help="output folder")
     add_scan_options(p)
+    add_water_options(p)
+    p.add_argument("--no-level", action="store_true",
+                   help="fill the heights as read (default: remove the least-squares plane first)")
+
+
+def add_water_options(p):
+    """``--connectivity 4|8`` and ``--max-depth M`` / ``--water-film M`` (DESIGN.md section 3)."""
     p.add_argument("--connectivity", type=int, choices=(4, 8), default=4,
                    help="connectivity of the fill (default 4, as Matlab's imfill)")
     g = p.add_mutually_exclusive_group()
@@ -34,22 +41,18 @@ def add_arguments(p):
                    help="water at most this deep above each depression's lowest point [m]")
     g.add_argument("--water-film", type=float, default=None, metavar="M",
                    help="water available per area [m^3/m^2 = m]; fills to the smallest depth cap holding it")
-    p.add_argument("--no-level", action="store_true",
-                   help="fill the heights as read (default: remove the least-squares plane first)")
 
 
-def _save_npy(path, arr):
-    with atomic_path(path) as tmp:
-        with open(tmp, "wb") as fh:
-            np.save(fh, np.asarray(arr, dtype=np.float64))
+def check_water_options(args):
+    for flag, val in (("--max-depth", args.max_depth), ("--water-film", args.water_film)):
+        if val is not None and not (np.isfinite(val) and val >= 0):
+            raise InputError(None, f"{flag} {val}: must be a non-negative length in metres")
 
 
 def run(args):
     from roadscan.rain import rain_fill
 
-    for flag, val in (("--max-depth", args.max_depth), ("--water-film", args.water_film)):
-        if val is not None and not (np.isfinite(val) and val >= 0):
-            raise InputError(None, f"{flag} {val}: must be a non-negative length in metres")
+    check_water_options(args)
     scan = load_scan(args.scan, args)
     if not isinstance(scan, HeightMap):
         raise InputError(args.scan, "rain-fill needs an area scan (a height map), not a line profile")
@@ -60,8 +63,8 @@ def run(args):
                   water_film_m=args.water_film)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    _save_npy(out / "wet.npy", r.wet.heights_m)
-    _save_npy(out / "depth.npy", r.depth_m)
+    atomic_save_npy(out / "wet.npy", r.wet.heights_m)
+    atomic_save_npy(out / "depth.npy", r.depth_m)
     summary = {
         "scan": str(args.scan),
         "wetted_fraction": r.wetted_fraction,

@@ -6,7 +6,7 @@ import os
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes"]
+__all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_save_npy"]
 
 
 @contextlib.contextmanager
@@ -37,3 +37,12 @@ def atomic_write_text(path, text, encoding="utf-8"):
 def atomic_write_bytes(path, data):
     with atomic_path(path) as tmp:
         tmp.write_bytes(data)
+
+
+def atomic_save_npy(path, array):
+    """``numpy.save`` through a temporary file (float64 heights in metres, NaN kept)."""
+    import numpy as np
+
+    with atomic_path(path) as tmp:
+        with open(tmp, "wb") as fh:
+            np.save(fh, np.asarray(array, dtype=np.float64))
