@@ -301,8 +301,8 @@ def alternative_fits(y_log, surf, v, skip):
         a_frac = base.P[:, -1]
 
         def adh(x):
-            return base.mu + 10 ** x[0] / SIGMA0_PA * a_frac * adhesion_shape(v, "bell", 10 ** x[1],
-                                                                              x[2])
+            lt, lv, w = np.clip(x, [3.0, -9.0, 0.1], [9.0, 2.0, 5.0])
+            return base.mu + 10 ** lt / SIGMA0_PA * a_frac * adhesion_shape(v, "bell", 10 ** lv, w)
         best = min(optimize.minimize(lambda x: res(adh(x)), x0, method="Nelder-Mead",
                                      options=dict(maxiter=300)).fun
                    for x0 in ([6.0, -5.0, 1.0], [7.0, -3.0, 1.5], [5.0, -1.0, 1.0]))
