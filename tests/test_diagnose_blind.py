@@ -235,9 +235,6 @@ def test_bad_input_exit_2_one_line(tmp_path, content, extra):
     assert "Traceback" not in pr.stderr
 
 
-@pytest.mark.xfail(reason="known failure when written: exit 1 with a traceback (mu_flash did not "
-                          "converge inside the flash_temperature fit); see the blind report",
-                   strict=False)
 def test_no_crash_on_fast_cold_temperature_offset(runs):
     c, diag = runs["_cases"]["crash"], runs["crash"]
     assert c.strong and c.unambiguous

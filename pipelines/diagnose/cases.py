@@ -38,14 +38,17 @@ def _logu(rng, a, b):
 #: realistic ranges of the hidden effects' parameters (generator side)
 RANGES = {
     "flash_temperature": lambda r: dict(zeta_m=_u(r, 2.0, 5.0), R_scale=_logu(r, 0.5, 2.0)),
-    "relaxation_spectrum": lambda r: dict(width_decades=_logu(r, 0.2, 1.5)),
+    "relaxation_spectrum": lambda r: dict(width_decades=_logu(r, 0.2, 1.5),
+                                          centre_shift_decades=_u(r, -0.5, 0.5)),
     "temperature_offset": lambda r: dict(dT_C=float(r.choice([-1, 1])) * _u(r, 3.0, 20.0)),
     "fine_roughness": lambda r: dict(q1_factor=_logu(r, 2.0, 30.0)),
     "water": lambda r: dict(fill_fraction=_logu(r, 0.1, 1.0)),
+    # adhesion is drawn in the generator's own shapes (see _adhesion_truth), not the effect's
     "adhesion": lambda r: dict(amplitude=_logu(r, 0.02, 0.3), v_c_m_per_s=_logu(r, 1e-6, 1e-2),
-                               exponent=_u(r, 0.7, 2.0)),
+                               exponent=_u(r, 0.7, 2.0), bell_decades=(None if r.random() < 0.5
+                                                                        else _u(r, 0.5, 1.5))),
     "load": lambda r: dict(sigma0_scale=(_logu(r, 0.3, 0.6) if r.random() < 0.5 else _logu(r, 1.7, 3.5))),
-    "contact_correction": lambda r: dict(contact_gamma=_u(r, 0.4, 0.9)),
+    "contact_correction": lambda r: dict(contact_gamma=_u(r, 0.2, 0.9)),
 }
 
 
@@ -89,6 +92,15 @@ def _surface(rng, want_scan):
     return psd, filled, spec, fit
 
 
+def _adhesion_truth(v, p):
+    """The generator's adhesion, independent of the effect's own form: either a plateau falling
+    as A / (1 + (v/v_c)^n), or Persson's bell A exp(-1/2 (log10(v/v_c)/w)^2) (``bell_decades`` w)."""
+    x = np.asarray(v, float) / p["v_c_m_per_s"]
+    if p["bell_decades"] is None:
+        return p["amplitude"] / (1.0 + x ** p["exponent"])
+    return p["amplitude"] * np.exp(-0.5 * (np.log10(x) / p["bell_decades"]) ** 2)
+
+
 def make_case(seed, effect=None, scan=None):
     """Generate the case of ``seed`` with hidden ``effect`` (a registered name) or none."""
     rng = np.random.default_rng(seed)
@@ -114,7 +126,10 @@ def make_case(seed, effect=None, scan=None):
             why = e.prepare(ctx)
             if why:
                 raise ValueError(f"case {seed}: {effect} unusable: {why}")
-        truth = simulate(e.modify(ctx.base, params, ctx), ctx)
+        if effect == "adhesion":
+            truth = base + _adhesion_truth(v, params)
+        else:
+            truth = simulate(e.modify(ctx.base, params, ctx), ctx)
     mu = truth * (1.0 + noise * rng.standard_normal(n))
     mu = np.maximum(mu, 1e-3 * truth)
     curve = MeasuredCurve(v, mu, nanT, np.full(n, 0.2e6), np.zeros(n, bool), False, f"case{seed}")

@@ -7,8 +7,11 @@ residuals log10(real/sim) on the training points, with forward differences of a 
 the unit cube (the engine's adaptive grid makes tiny steps noisy).
 
 Held-out points: every third point (indices 1, 4, 7, ...), never used in a fit. The ranking
-score is the held-out rms times (1 + k / n_train), a penalty for free parameters. The shrink of a
-candidate is 1 - gap_heldout / baseline gap_heldout.
+score is the held-out rms times (1 + k / n_train) OCCAM^k, a penalty for free parameters: the
+first factor corrects the training fit's optimism, the second prefers the simpler of two
+candidates that explain the data about equally well (e.g. a temperature offset over a
+relaxation spectrum whose spread went to zero and whose centre shift mimics it). The shrink of
+a candidate is 1 - gap_heldout / baseline gap_heldout.
 
 Pairs: the best single effect combined with each other usable effect, started from the two
 single fits (greedy forward selection).
@@ -34,6 +37,7 @@ __all__ = ["Candidate", "Diagnosis", "heldout_mask", "fit_candidate", "diagnose_
 
 MIN_SHRINK = 0.25
 PAIR_GAIN = 0.85
+OCCAM = 1.08
 HELDOUT_EVERY = 3
 
 
@@ -119,7 +123,9 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None):
         if key not in cache:
             try:
                 cache[key] = np.log10(predict(ctx, effects, _unpack(effects, u)))
-            except (ValueError, FloatingPointError, ZeroDivisionError):
+            except (ValueError, ArithmeticError, RuntimeError):
+                # e.g. a flash-temperature solve that does not converge at these parameters:
+                # the point is unusable for the fit, not a failure of the diagnosis
                 cache[key] = np.full(y.size, np.nan)
         return cache[key]
 
@@ -142,7 +148,7 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None):
     if start is not None:
         u0 = np.clip(_pack(effects, start), 0, 1)
     else:
-        per_dim = {1: 7, 2: 4, 3: 3}.get(k, 2) if cost <= 1 else 3
+        per_dim = {1: 7, 2: 5, 3: 4, 4: 3}.get(k, 2) if cost <= 1 else 3
         axes = [np.linspace(0.05, 0.95, per_dim)] * k
         grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(k, -1).T
         init = _pack(effects, [{p.name: p.init for p in e.params} for e in effects])
@@ -151,7 +157,7 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None):
             grid = np.vstack([init, np.full(k, 0.15), np.full(k, 0.85)])
         costs = [float(np.sum(resid(g) ** 2)) for g in grid]
         u0 = grid[int(np.argmin(costs))]
-    max_nfev = budget or (8 if cost > 1 else 40)
+    max_nfev = budget or (8 if cost > 1 else 30 + 10 * k)
     try:
         sol = optimize.least_squares(resid, u0, jac=jac, bounds=(0.0, 1.0), method="trf",
                                      max_nfev=max_nfev, x_scale=0.1, xtol=1e-4, ftol=1e-6)
@@ -170,7 +176,7 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None):
 
 
 def _score(c, n_train):
-    return c.gap_heldout * (1.0 + c.k / n_train)
+    return c.gap_heldout * (1.0 + c.k / n_train) * OCCAM ** c.k
 
 
 @dataclass

@@ -1,19 +1,29 @@
 """``adhesion``: an extra contribution at low speed that the viscoelastic theory lacks.
 
-mu_adh(v) = A / (1 + (v / v_c)^n): a plateau A [-] at low speed falling off above a
-characteristic speed v_c [m/s] with exponent n (a simple form of the bond-breaking term of
-Persson's later work; the exponent lets it fall gently or steeply).
+The adhesive (bond-breaking) shear stress of Persson's later work is a bell in log v
+(tau_f(v) ~ exp(-c log^2(v / v*))); measured data often show only its falling side. The
+effect covers both with
+
+    mu_adh(v) = A exp(-1/2 (min(log10(v / v_c), 0) / w)^2) / (1 + (v / v_c)^n),
+
+a rise of width w [decades] below the peak speed v_c [m/s] (w large: a plateau at low speed)
+and a fall with exponent n above it; A [-] is the peak amplitude.
 """
 import numpy as np
 
 from . import Effect, Param, register
 
 
-def _modify(spec, p, ctx):
-    A, vc, n = p["amplitude"], p["v_c_m_per_s"], p["exponent"]
+def adhesion_mu(v, amplitude, v_c_m_per_s, exponent, rise_decades):
+    """mu_adh(v) of the module docstring (vectorised over v [m/s])."""
+    x = np.asarray(v, float) / v_c_m_per_s
+    below = np.minimum(np.log10(x), 0.0) / rise_decades
+    return amplitude * np.exp(-0.5 * below * below) / (1.0 + x ** exponent)
 
+
+def _modify(spec, p, ctx):
     def mu_adh(v):
-        return A / (1.0 + (np.asarray(v, float) / vc) ** n)
+        return adhesion_mu(v, p["amplitude"], p["v_c_m_per_s"], p["exponent"], p["rise_decades"])
 
     return spec.with_(additive=spec.additive + (mu_adh,))
 
@@ -21,8 +31,9 @@ def _modify(spec, p, ctx):
 EFFECT = register(Effect(
     name="adhesion", level="friction",
     params=(Param("amplitude", 1e-3, 3.0, 0.05, "log"),
-            Param("v_c_m_per_s", 1e-7, 30.0, 1e-3, "log"),
-            Param("exponent", 0.5, 3.0, 1.0, "log")),
+            Param("v_c_m_per_s", 1e-8, 30.0, 1e-3, "log"),
+            Param("exponent", 0.3, 6.0, 1.0, "log"),
+            Param("rise_decades", 0.2, 20.0, 20.0, "log")),
     modify=_modify,
-    description="additive mu_adh = A / (1 + (v/v_c)^n)",
+    description="additive bell in log v: rise of width w below v_c, fall (v/v_c)^-n above",
 ))
