@@ -93,9 +93,10 @@ def is_significant(gap_value, noise, n, alpha=1e-3, min_ratio=1.3):
     return bool(chi2_pvalue(gap_value, noise, n) < alpha and gap_value > min_ratio * noise)
 
 
-def decade_bands(v_m_per_s, width_decades=1.0):
+def decade_bands(v_m_per_s, width_decades=1.0, min_points=3):
     """Contiguous speed bands [v_lo, v_hi) of ``width_decades`` aligned on whole decades,
-    covering the data; bands without points are dropped."""
+    covering the data; bands without points are dropped and bands with fewer than
+    ``min_points`` points are merged into a neighbour."""
     lv = np.log10(np.asarray(v_m_per_s, float))
     lo = np.floor(lv.min() / width_decades) * width_decades
     hi = np.ceil((lv.max() + 1e-12) / width_decades) * width_decades
@@ -104,8 +105,19 @@ def decade_bands(v_m_per_s, width_decades=1.0):
     for a, b in zip(edges[:-1], edges[1:]):
         m = (lv >= a) & (lv < b) if b < edges[-1] else (lv >= a) & (lv <= b)
         if m.any():
-            bands.append((10 ** a, 10 ** b, m))
-    return bands
+            bands.append([10 ** a, 10 ** b, m])
+    # a band of one or two points says nothing on its own: merge it into its neighbour
+    i = 0
+    while len(bands) > 1 and i < len(bands):
+        if bands[i][2].sum() < min_points:
+            j = i - 1 if i > 0 else i + 1
+            lo_, hi_ = min(bands[i][0], bands[j][0]), max(bands[i][1], bands[j][1])
+            bands[min(i, j)] = [lo_, hi_, bands[i][2] | bands[j][2]]
+            del bands[max(i, j)]
+            i = 0
+        else:
+            i += 1
+    return [tuple(b) for b in bands]
 
 
 def gap_by_band(v_m_per_s, real, sim, noise, width_decades=1.0):
