@@ -62,7 +62,14 @@ def test_bands_cover_all_points_once():
     bands = gapmod.decade_bands(v)
     total = sum(m.sum() for *_, m in bands)
     assert total == v.size
-    assert all(np.isclose(np.log10(b / a), 1.0) for a, b, _ in bands)
+    assert np.all(np.sum([m for *_, m in bands], axis=0) == 1)
+    # whole decades, and no band of fewer than 3 points (merged into a neighbour)
+    for a, b, m in bands:
+        ratio = np.log10(b / a)
+        assert ratio >= 1 - 1e-9 and np.isclose(ratio, round(ratio))
+        assert m.sum() >= 3
+        assert np.all((v[m] >= a * (1 - 1e-12)) & (v[m] <= b * (1 + 1e-12)))
+    assert len(bands) >= 5
 
 
 def test_heldout_mask_deterministic_every_third():
