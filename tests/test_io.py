@@ -248,10 +248,12 @@ def test_two_column_profile(tmp_path):
     z[10] = np.nan
     keep = np.ones(200, bool)
     keep[50:53] = False  # three rows missing: become unmeasured
-    np.savetxt(tmp_path / "p.txt", np.column_stack([x[keep], z[keep]]), fmt="%.3f %.9f")
+    # without unit titles the coordinates are metres (spacings are always metres) and --units
+    # applies to the heights only
+    np.savetxt(tmp_path / "p.txt", np.column_stack([x[keep] * 1e-3, z[keep]]), fmt="%.6e %.9f")
     p = read(tmp_path / "p.txt", units="mm")
     assert isinstance(p, Profile) and p.n == 200
-    assert p.dx_m == pytest.approx(0.05e-3, rel=1e-9)
+    assert p.dx_m == pytest.approx(0.05e-3, rel=1e-6)
     assert p.unmeasured.sum() == 4 and p.unmeasured[50:53].all() and p.unmeasured[10]
     np.testing.assert_allclose(p.heights_m[~p.unmeasured], z[keep & np.isfinite(z)] * 1e-3, atol=1e-12)
     with open(tmp_path / "q.csv", "w") as f:
@@ -369,3 +371,16 @@ def test_profile_in_npz_and_one_column_text(tmp_path):
         read(tmp_path / "c.txt")
     c = read(tmp_path / "c.txt", spacing=1e-4, units="mm")
     np.testing.assert_allclose(c.heights_m, z, rtol=1e-12)
+
+
+def test_xyz_units_apply_to_heights_only(tmp_path):
+    """--units names the heights' unit; x, y of a point list without unit titles are metres."""
+    h, pts = _xyz_points()
+    pts = pts.copy()
+    pts[:, 2] *= 1e6   # heights written in um, coordinates in m
+    np.savetxt(tmp_path / "u.xyz", pts, fmt="%.9g")
+    m = read(tmp_path / "u.xyz", units="um")
+    ref = read(tmp_path / "u.xyz")
+    assert (m.dx_m, m.dy_m) == pytest.approx((2e-4, 3e-4))
+    assert (ref.dx_m, ref.dy_m) == pytest.approx((2e-4, 3e-4))
+    np.testing.assert_allclose(m.heights_m, ref.heights_m * 1e-6)

@@ -12,11 +12,11 @@ content (see :mod:`roadscan.io.text_table` for the table syntax):
 - **1 column**: a profile of heights; ``spacing`` required.
 - **2 columns x, z**: a line profile. x must be on a regular grid (missing x values become
   unmeasured points); the spacing comes from x. Units: a title line naming units in brackets
-  (``distance (mm), height (mm)``) gives each column's unit; otherwise ``units`` applies to x and
-  z alike (x in the same units as z).
+  (``distance (mm), height (mm)``) gives each column's unit; otherwise x is in metres (spacings
+  are always metres) and z in ``units``.
 - **3 columns x, y, z** (any order of points): a point list that must fill a regular x,y grid
   (points may be missing: they become unmeasured); spacing from the coordinates; x, y, z in the
-  units of a title line, else all three in ``units``.
+  units of a title line, else x, y in metres and z in ``units``.
 - **4 or more columns**: a matrix of heights, rows along y, columns along x; ``spacing``
   required (unless a Gwyddion or ESRI header gives it).
 
@@ -153,13 +153,15 @@ def _gwy_matrix(path, values, gwy, sp, factor, units, meta):
 
 
 def _column_factors(path, titles, ncol, factor, units, meta):
+    """Scale factors to metres of each column: from the title line's units when it names them,
+    else coordinates in metres (spacings are always metres) and heights in ``units``."""
     if titles is not None:
         meta["units"] = ",".join(titles)
         if units is not None:
             meta["units_ignored"] = units
         return [parse_units(t, path) for t in titles]
-    meta["units"] = units or "m"
-    return [factor] * ncol
+    meta["units"] = f"coordinates m, heights {units or 'm'}"
+    return [1.0] * (ncol - 1) + [factor]
 
 
 def _profile(path, values, titles, sp, factor, units, meta):
