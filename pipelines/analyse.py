@@ -1,6 +1,8 @@
 """The ``analyse`` job: one scan -> spectrum, fit, roughness figures, mu(v), plots and report.
 
-Outputs (one directory per scan): ``summary.json``, ``psd.csv`` (``q_per_m,C_m4``),
+Outputs (one directory per scan): ``summary.json``, ``psd.csv`` (``q_per_m,C_m4``; for a line
+profile the isotropic 2D estimate, with the profile's own 1D PSD in ``psd1d.csv``,
+``q_per_m,C1_m3``),
 ``mu.csv`` (``v_m_per_s,mu``), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
 ``psd2d.png`` (areas), ``mu.png`` and a self-contained ``report.html``.
 """
@@ -20,6 +22,7 @@ __all__ = ["FrictionSettings", "summarise", "run_analysis", "nominal_band"]
 
 PSD_HEADER = ["q_per_m", "C_m4"]
 MU_HEADER = ["v_m_per_s", "mu"]
+PSD1D_HEADER = ["q_per_m", "C1_m3"]
 
 
 @dataclass
@@ -109,8 +112,12 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
     figs = []
     if an.is_profile:
+        q1d, c1d = an.psd1d
+        keep = (q1d > 0) & (c1d > 0)
+        report.write_csv(out_dir / "psd1d.csv", PSD1D_HEADER, [q1d[keep], c1d[keep]])
         figs.append(report.plot_profile(an.levelled, out_dir / "profile.png",
                                         title=f"{an.name}: levelled profile"))
+        figs.append(_plot_psd1d(q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name))
     else:
         figs.append(report.plot_heightmap(an.levelled, out_dir / "heightmap.png",
                                           title=f"{an.name}: levelled heights"))
@@ -133,6 +140,20 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     report.write_json(out_dir / "summary.json", summary)
     _write_report(out_dir, an, summary, figs)
     return summary
+
+
+def _plot_psd1d(q, C1, path, name):
+    """The line profile's own 1D PSD C1(q) [m^3] (<h^2> = 2 integral C1 dq)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=report.FIGSIZE)
+    ax.loglog(q, C1, lw=0.8, color="C2", label="1D PSD of the profile")
+    ax.set_xlabel("wave vector q [1/m]")
+    ax.set_ylabel("C$_1$(q) [m$^3$]")
+    report.set_title(ax, f"{name}: 1D PSD (<h²> = 2 ∫ C1 dq)")
+    ax.grid(which="both", alpha=0.25)
+    ax.legend(fontsize=8)
+    return report.save_figure(fig, path)
 
 
 def _plot_psd2d(spec2d, path, name, zoom=4):

@@ -139,3 +139,23 @@ def test_extension_beyond_nyquist_raises_friction(scan_npy, tmp_path):
     # the measured spectrum itself (psd.csv) is not changed by the extension
     np.testing.assert_allclose(np.loadtxt(a / "psd.csv", delimiter=",", skiprows=1),
                                np.loadtxt(b / "psd.csv", delimiter=",", skiprows=1))
+
+
+def test_analyse_captif_line_profile(shared_data, tmp_path):
+    """A real CAPTIF .dat read as it is: 1D PSD, its 2D estimate, Ra/Rq and MPD."""
+    src = shared_data / "profiles/captif/20211011_aylesbury_dec_station_0.dat"
+    out = tmp_path / "cap"
+    assert main(["analyse", str(src), "--out", str(out), "--velocities", "1e-3:1e1:5"]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["kind"] == "profile" and "Abel" in s["psd_conversion"]
+    assert "reference plates removed" in s["trim_note"]
+    assert {"Ra_m", "Rq_m"} <= set(s["roughness"])
+    assert s["rms_height_m"] == pytest.approx(s["roughness"]["Rq_m"])
+    assert 1e-3 < s["mpd_m"] < 5e-3                      # a chip seal: a few mm
+    assert 0.3 < s["hurst"] < 1.0 and s["filled_fraction"] > 0
+    c1 = np.loadtxt(out / "psd1d.csv", delimiter=",", skiprows=1)
+    assert (out / "psd1d.csv").read_text().splitlines()[0] == "q_per_m,C1_m3"
+    # the 1D PSD integrates to the variance of the (filled, levelled) profile: <h^2> = 2 int C1 dq
+    dq = c1[1, 0] - c1[0, 0]
+    assert 2 * np.sum(c1[:, 1]) * dq == pytest.approx(s["rms_height_m"] ** 2, rel=0.25)
+    assert (out / "profile.png").exists() and (out / "psd1d.png").exists()
