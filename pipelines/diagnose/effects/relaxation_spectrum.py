@@ -3,11 +3,13 @@ main recommendation).
 
 Each Prony term (the standard linear solid is a one-term Prony series, DESIGN.md sec 4) of
 strength E_i and relaxation time tau_i is replaced by ``n_terms`` terms with log10 tau normally
-distributed around log10 tau_i + ``centre_shift_decades`` with standard deviation
-``width_decades`` (a log-normal relaxation spectrum), strengths summing to E_i. The rubbery and
-glassy limits E(0), E(inf), the reference temperature and the temperature shift are kept, so the
-loss peak changes shape (broader and lower) and may move. A pure shift of the centre is the same
-as a temperature offset, which has one parameter fewer and so wins when no spread is needed.
+distributed around log10 tau_i with standard deviation ``width_decades`` (a log-normal
+relaxation spectrum), strengths summing to E_i. The rubbery and glassy limits E(0), E(inf),
+the reference temperature and the temperature shift are kept, so only the shape of the loss
+peak changes (broader and lower). The centre is not a parameter: a shift of every relaxation
+time is exactly a temperature offset (WLF), a separate effect, and a spread whose centre also
+moved is the pair relaxation_spectrum+temperature_offset. (Keeping the two apart keeps the
+effects identifiable: with a free centre this effect would contain every temperature offset.)
 """
 import numpy as np
 
@@ -17,9 +19,8 @@ N_TERMS = 25
 SPAN_SIGMAS = 3.0
 
 
-def lognormal_prony(rubber, width_decades, n_terms=N_TERMS, centre_shift_decades=0.0):
-    """A :class:`friction.Prony` with each term of ``rubber`` spread log-normally in tau
-    (standard deviation ``width_decades``) around its own tau shifted by ``centre_shift_decades``."""
+def lognormal_prony(rubber, width_decades, n_terms=N_TERMS):
+    """A :class:`friction.Prony` with each term of ``rubber`` spread log-normally in tau."""
     from friction.rubber import Prony
 
     base = rubber.as_prony() if hasattr(rubber, "as_prony") else rubber
@@ -27,7 +28,7 @@ def lognormal_prony(rubber, width_decades, n_terms=N_TERMS, centre_shift_decades
     w = np.exp(-0.5 * z ** 2)
     w /= w.sum()
     E = np.concatenate([Ei * w for Ei in base.E_i_Pa])
-    tau = np.concatenate([ti * 10.0 ** (centre_shift_decades + width_decades * z) for ti in base.tau_i_s])
+    tau = np.concatenate([ti * 10.0 ** (width_decades * z) for ti in base.tau_i_s])
     return Prony(base.E_inf_Pa, E, tau, base.T_ref_C, base.shift, base.thermal)
 
 
@@ -40,10 +41,8 @@ def _prepare(ctx):
 
 EFFECT = register(Effect(
     name="relaxation_spectrum", level="friction",
-    params=(Param("width_decades", 0.1, 4.0, 1.0, "log"),
-            Param("centre_shift_decades", -2.0, 2.0, 0.0, "lin")),
-    modify=lambda spec, p, ctx: spec.with_(rubber=lognormal_prony(
-        spec.rubber, p["width_decades"], centre_shift_decades=p["centre_shift_decades"])),
+    params=(Param("width_decades", 0.1, 4.0, 1.0, "log"),),
+    modify=lambda spec, p, ctx: spec.with_(rubber=lognormal_prony(spec.rubber, p["width_decades"])),
     prepare=_prepare,
-    description="log-normal spread of relaxation times around (a shift of) the rubber's own",
+    description="log-normal spread of relaxation times around the rubber's own",
 ))
