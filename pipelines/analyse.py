@@ -99,11 +99,6 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
 
     fr = None
     if settings.enabled:
-        try:
-            import friction  # noqa: F401
-        except ImportError:
-            settings.enabled = False
-    if settings.enabled:
         psd = surface_psd(spec, fit, q1_per_m=settings.q1_per_m)
         fr = friction_curve(psd, settings.rubber, settings.v_m_per_s, settings.sigma0_Pa,
                             settings.T0_C, settings.flash)
