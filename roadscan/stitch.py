@@ -337,6 +337,10 @@ def stitch(tiles, nominal_xy_m, max_shift_px=20, blend="feather", min_overlap_px
         T, good = _register_pair(lev[i], ok[i], lev[j], ok[j], t0, m, hp[i], hp[j])
         r0, r1, c0, c1 = _overlap_rect(tiles[i].shape, tiles[j].shape, tuple(np.rint(T).astype(int)))
         reg.append((i, j, T, good, max(1, (r1 - r0) * (c1 - c0)), P0[j] - P0[i]))
+    if n > 1:   # a nominal overlap whose textures do not match is no overlap
+        _check_connected(n, [(i, j, None) for i, j, _, good, *_ in reg if good], labels,
+                         how=" whose texture matches (no correlation peak within max_shift_px "
+                             "of the nominal position: check the positions)")
 
     # 2. one weighted least-squares solve for all positions (gauge: tile 0 nominal)
     P = P0.copy()
@@ -440,8 +444,9 @@ def _common(Ni, shape_i, Nj, shape_j):
     return sl, si, sj
 
 
-def _check_connected(n, pairs, labels):
-    """Raise InputError naming a tile cut off from tile 0 in the overlap graph."""
+def _check_connected(n, pairs, labels, how=""):
+    """Raise InputError naming a tile cut off from tile 0 in the overlap graph (``how`` is
+    appended to the message)."""
     if pairs:
         ii = [p[0] for p in pairs]
         jj = [p[1] for p in pairs]
@@ -458,7 +463,7 @@ def _check_connected(n, pairs, labels):
     isolated = np.nonzero(degree == 0)[0]
     if isolated.size:
         k = int(isolated[0])
-        raise InputError(labels[k], f"tile {labels[k]} does not overlap any other tile")
+        raise InputError(labels[k], f"tile {labels[k]} does not overlap any other tile{how}")
     k = int(np.nonzero(comp != comp[0])[0][0])
     raise InputError(labels[k], f"tile {labels[k]} and its neighbours do not overlap the "
-                     f"tiles connected to {labels[0]}")
+                     f"tiles connected to {labels[0]}{how}")

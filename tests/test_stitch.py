@@ -304,3 +304,18 @@ def test_cli_bad_inputs(tmp_path, capsys):
     assert run_cli(["stitch", str(bad), str(bad), "--grid", "3x1", "--overlap", "0.2",
                     "--out", str(tmp_path / "o.npy")]) == 2
     assert "needs 3 tiles" in capsys.readouterr().err
+
+
+def test_nominal_overlap_without_common_texture_is_refused():
+    """Two tiles placed side by side on paper whose overlap strips show unrelated texture."""
+    from pathlib import Path
+
+    from roadscan.io import read
+
+    d = Path(__file__).resolve().parents[1] / "sample_scans" / "tiles"
+    a, b = read(d / "tile_r0_c0.npz"), read(d / "tile_r1_c2.npz")   # far apart in truth
+    with pytest.raises(InputError, match="texture matches"):
+        stitch([a, b], [(0.0, 0.0), (288 * a.dx_m, 0.0)])
+    # the same two tiles where they really are (no overlap at all) are refused as well
+    with pytest.raises(InputError, match="does not overlap any other tile"):
+        stitch([a, b], [(0.0, 0.0), (512 * a.dx_m, 256 * a.dy_m)])
