@@ -89,12 +89,14 @@ def summarise(analysis, fr=None):
     return out
 
 
-def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False):
+def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
+                 mpd_settings=None):
     """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict."""
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike)
+    an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
+                         mpd_settings=mpd_settings)
     spec, fit = an.spectrum, an.fit
 
     fr = None

@@ -53,8 +53,12 @@ def spectrum_of(obj, window_alpha=0.25):
     return spec, spec2d, None
 
 
-def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_band=None):
-    """Run the metrology chain on a HeightMap or Profile (see module docstring)."""
+def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_band=None,
+                    mpd_settings=None):
+    """Run the metrology chain on a HeightMap or Profile (see module docstring).
+
+    ``mpd_settings`` overrides :data:`roadscan.roughness.MPD_SETTINGS` (e.g. ``spike_alpha``).
+    """
     from roadscan import fit as fitmod
     from roadscan import inpaint, level, roughness
     from roadscan.spectrum import anisotropy
@@ -68,10 +72,10 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     levelled = level.level(work, degree=level_degree)
     if isinstance(obj, Profile):
         rough = roughness.profile_parameters(levelled)
-        mpd_m, mpd_note = roughness.mean_profile_depth(obj)
+        mpd_m, mpd_note = roughness.mean_profile_depth(obj, **(mpd_settings or {}))
     else:
         rough = roughness.area_parameters(levelled)
-        mpd_m, mpd_note = roughness.mean_profile_depth_area(obj)
+        mpd_m, mpd_note = roughness.mean_profile_depth_area(obj, **(mpd_settings or {}))
     filled, filled_fraction = inpaint.fill_unmeasured(levelled)
     spec, spec2d, psd1d = spectrum_of(filled, window_alpha)
     fit = fitmod.fit_self_affine(spec, band=fit_band)

@@ -159,3 +159,17 @@ def test_analyse_captif_line_profile(shared_data, tmp_path):
     dq = c1[1, 0] - c1[0, 0]
     assert 2 * np.sum(c1[:, 1]) * dq == pytest.approx(s["rms_height_m"] ** 2, rel=0.25)
     assert (out / "profile.png").exists() and (out / "psd1d.png").exists()
+
+
+def test_mpd_spike_criterion_option(shared_data, tmp_path):
+    """The chip seal's steep stone edges trip the standard's default spike criterion (alpha 3);
+    CAPTIF's own setting (alpha 6) keeps most 100 mm segments valid."""
+    src = shared_data / "profiles/captif/20211011_aylesbury_dec_station_10.dat"
+    notes = {}
+    for alpha in ("3", "6"):
+        out = tmp_path / alpha
+        assert main(["analyse", str(src), "--out", str(out), "--no-friction", "--mpd-spike-alpha", alpha]) == 0
+        notes[alpha] = json.loads((out / "summary.json").read_text())
+    assert notes["3"]["mpd_m"] is None and "no valid segment" in notes["3"]["mpd_note"]
+    assert 2e-3 < notes["6"]["mpd_m"] < 5e-3 and "14 of 18" in notes["6"]["mpd_note"]
+    assert main(["analyse", str(src), "--out", str(tmp_path / "x"), "--mpd-spike-alpha", "-1"]) == 2
