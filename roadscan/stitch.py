@@ -50,6 +50,7 @@ from skimage.registration import phase_cross_correlation
 
 from .errors import InputError
 from .heightmap import HeightMap
+from .level import polynomial_form
 
 __all__ = ["StitchResult", "stitch", "read_manifest", "grid_positions"]
 
@@ -180,15 +181,9 @@ def _tile_label(hm, k):
 
 def _plane_removed(z, ok):
     """z minus its least-squares plane over the points ``ok``; unmeasured -> 0."""
-    ny, nx = z.shape
-    yy, xx = np.nonzero(ok)
-    out = np.zeros_like(z)
-    if yy.size < 3:
-        return out
-    A = np.column_stack([np.ones(yy.size), xx / nx, yy / ny])
-    coef, *_ = np.linalg.lstsq(A, z[ok], rcond=None)
-    out[ok] = z[ok] - A @ coef
-    return out
+    if np.count_nonzero(ok) < 3:
+        return np.zeros_like(z)
+    return np.where(ok, z - polynomial_form(z, ~ok, degree=1), 0.0)
 
 
 def _highpass(z, ok, sigma=2.0):
