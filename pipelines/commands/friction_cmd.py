@@ -15,6 +15,7 @@ from roadscan.errors import InputError
 
 from ..csv_files import read_psd_csv
 from ..friction_options import parse_velocities
+from ..spectrum_bridge import default_velocities
 
 NAME = "friction"
 HELP = "friction coefficient mu(v) from a spectrum (psd.csv or self-affine model) and a rubber"
@@ -33,7 +34,7 @@ def add_arguments(p):
     p.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's T_ref)")
     p.add_argument("--flash", action="store_true", help="flash-temperature model (Persson 2006)")
-    p.add_argument("--velocities", default="1e-8:1e4:121", metavar="LO:HI:N",
+    p.add_argument("--velocities", default=None, metavar="LO:HI:N",
                    help="N log-spaced sliding speeds [m/s] (default 1e-8:1e4:121)")
     p.add_argument("--magnifications", default="", metavar="Z1,Z2,...",
                    help="with --flash: also report T at these magnifications zeta = q/q0")
@@ -69,7 +70,7 @@ def run(args):
 
     from ..report import plot_mu, write_csv
 
-    v = parse_velocities(args.velocities)
+    v = parse_velocities(args.velocities) if args.velocities else default_velocities()
     psd = read_psd_csv(args.psd) if args.psd else _self_affine(args.self_affine)
     if args.rubber:
         from ..rubber_file import load_rubber
