@@ -14,7 +14,8 @@ from roadscan.errors import InputError
 
 # subcommand modules, in the order ``roadscan --help`` lists them
 COMMAND_MODULES = (
-    "analyse", "synth", "friction_cmd", "stitch", "rainfill", "dry_vs_wet", "compare", "diagnose",
+    "analyse", "batch", "synth", "friction_cmd", "rubber", "stitch", "rainfill", "dry_vs_wet", "compare",
+    "diagnose", "convert",
 )
 
 
