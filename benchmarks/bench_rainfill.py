@@ -16,7 +16,12 @@ ratio printed (issue 13: at most 0.5 at 4096^2). Then
   ``FLOOD_MIN_POINTS``;
 - the full ``rain_fill(hm)`` (default ``auto``) on the 1088 x 978 sample grid against the baseline.
 
-Usage: ``python benchmarks/bench_rainfill.py [--repeats N] [--sizes 1024,2048,4096]``.
+With ``--memory N`` it also measures, in a fresh process on an N x N scan (Linux), the peak
+resident memory of ``full_fill(method="flood")`` and of the whole ``rain_fill`` above the memory
+held before the call, in units of one float64 map (8 N^2 bytes).
+
+Usage: ``python benchmarks/bench_rainfill.py [--repeats N] [--sizes 1024,2048,4096]
+[--memory 8192]``.
 """
 from __future__ import annotations
 
@@ -70,10 +75,46 @@ COLD = ("import time; t = time.perf_counter(); import numpy as np; t1 = time.per
         "full_fill(np.zeros((3, 3)), method='flood'); print(time.perf_counter() - t1)")
 
 
+MEMORY = """
+import sys, time
+import numpy as np
+sys.path.insert(0, {bench!r})
+from bench_rainfill import scan
+from roadscan.rain import full_fill, rain_fill
+n, what = {n}, {what!r}
+full_fill(np.zeros((3, 3)), method="flood")
+hm = scan(n, n)
+
+def rss(key):
+    with open("/proc/self/status") as f:
+        return [int(l.split()[1]) * 1024 for l in f if l.startswith(key)][0]
+
+base = rss("VmRSS:")
+with open("/proc/self/clear_refs", "w") as f:
+    f.write("5")                                     # reset the peak (VmHWM) to the current RSS
+t = time.perf_counter()
+out = full_fill(hm.heights_m, method="flood") if what == "fill" else rain_fill(hm, method="flood")
+dt = time.perf_counter() - t
+print((rss("VmHWM:") - base) / hm.heights_m.nbytes, dt)
+"""
+
+
+def memory(n):
+    for what, label in (("fill", "full_fill (flood)"), ("rain", "rain_fill (flood)")):
+        code = MEMORY.format(bench=str(Path(__file__).resolve().parent), n=n, what=what)
+        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                             cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": ""}, check=True)
+        ratio, dt = (float(x) for x in out.stdout.split())
+        print(f"{n}^2 {label}: {dt:.1f} s, peak memory above the input {ratio:.2f} x the "
+              f"float64 map ({8 * n * n / 2 ** 20:.0f} MiB)")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--sizes", default="1024,2048,4096")
+    ap.add_argument("--memory", type=int, default=0, metavar="N",
+                    help="also measure peak memory on an N x N scan (Linux; e.g. 8192)")
     a = ap.parse_args(argv)
     sizes = [int(s) for s in a.sizes.split(",")]
     full_fill(np.zeros((3, 3)), method="flood")          # load the compiled code (warm runs)
@@ -112,6 +153,8 @@ def main(argv=None):
     print(f"sample grid 1088 x 978, rain_fill (auto, warm), connectivity 4: {t_rs:.3f} s, "
           f"skimage {t_ref:.3f} s, ratio {t_rs / t_ref:.3f}; wetted fraction "
           f"{res.wetted_fraction:.4f}")
+    if a.memory:
+        memory(a.memory)
 
 
 if __name__ == "__main__":

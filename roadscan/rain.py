@@ -269,13 +269,21 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None, method="a
     if n_measured == 0:
         raise ValueError("rain fill needs at least one measured point")
     filled = full_fill(h, connectivity, method=method)
-    full_depth = filled - h                     # NaN where unmeasured (both are NaN there)
-    capacity = float(np.nansum(full_depth) / n_measured)
-
+    wet_name = f"{hm.name}_wet" if hm.name else "wet"
     cap_used = None
     all_full = True
     n_dep = None
-    if max_depth_m is not None or water_film_m is not None:
+    if max_depth_m is None and water_film_m is None:
+        # full fill: the wet surface is F itself (HeightMap keeps its own copy), and F turns into
+        # the depth map in place, so the peak is two maps beside the input
+        wet = hm.with_heights(filled, unmeasured=hm.unmeasured, name=wet_name, meta=dict(hm.meta))
+        depth = np.subtract(filled, h, out=filled)   # NaN where unmeasured (both NaN there)
+        del filled
+        capacity = volume = float(np.sum(depth, where=measured) / n_measured)  # no NaN copy
+    else:
+        full_depth = filled - h
+        capacity = float(np.nansum(full_depth) / n_measured)
+        del full_depth
         labels, n_dep, lowest = _depressions(h, filled, connectivity)
         if water_film_m is not None:
             sel = labels > 0
@@ -287,15 +295,12 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None, method="a
             cap_used = float(max_depth_m)
         level = capped_levels(h, filled, labels, lowest, cap_used)
         all_full = bool(np.array_equal(level[measured], filled[measured]))
-        del labels
+        del labels, filled
         depth = np.where(measured, level - h, np.nan)
-        wet_h = np.where(measured, level, np.nan)
+        wet = hm.with_heights(np.where(measured, level, np.nan), unmeasured=hm.unmeasured,
+                              name=wet_name, meta=dict(hm.meta))
         del level
         volume = float(np.nansum(depth) / n_measured)
-    else:
-        # full fill: the level is F itself (NaN where unmeasured), no further copies
-        depth, wet_h, volume = full_depth, filled, capacity
-    del full_depth
     wetted = float(np.count_nonzero(depth > 0) / n_measured)   # NaN > 0 is False
     meta = {
         "max_depth_m": cap_used,
@@ -307,8 +312,6 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None, method="a
         "unmeasured_policy": "transparent: dropouts neither hold nor block water; NaN in outputs",
         "method": "grayscale reconstruction by erosion from the border (imfill)",
     }
-    wet = hm.with_heights(wet_h, unmeasured=hm.unmeasured,
-                          name=f"{hm.name}_wet" if hm.name else "wet",
-                          meta={**hm.meta, "rain_fill": dict(meta, connectivity=connectivity)})
+    wet.meta["rain_fill"] = dict(meta, connectivity=connectivity)
     return RainFill(wet=wet, depth_m=depth, wetted_fraction=wetted,
                     water_volume_m3_per_m2=volume, connectivity=int(connectivity), meta=meta)
