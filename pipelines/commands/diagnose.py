@@ -57,8 +57,12 @@ def run(args):
             raise InputError(None, "--psd and --validate need --measured (friction level)")
         from ..diagnose.surface import run_surface
 
+        from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+        check_output_dir(args.out, inputs=[args.scan])
         obj = load_scan(args.scan, args)
-        data = run_surface(obj, args.out, log=_say)
+        with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
+            data = run_surface(obj, tmp, log=_say)
         _report(data, args.out)
         return 0
     if (args.scan is None) == (args.psd is None):
@@ -90,7 +94,11 @@ def run(args):
         from dataclasses import replace
 
         ctx.base = replace(ctx.base, contact_gamma=args.contact_gamma)
-    data = run_friction(curve, ctx, args.out, noise=args.noise, other=other, log=_say)
+    from roadscan.io.atomic import atomic_output_dir
+
+    inputs = [f for f in (args.measured, args.scan, args.psd, args.validate) if f]
+    with atomic_output_dir(args.out, inputs=inputs) as tmp:
+        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say)
     _report(data, args.out)
     return 0
 
