@@ -55,7 +55,11 @@ def run(args):
         from ..diagnose.surface import run_surface
 
         obj = load_scan(args.scan, args)
-        data = run_surface(obj, args.out, log=_say)
+        _check_surface(obj, args.scan)
+        try:
+            data = run_surface(obj, args.out, log=_say)
+        except (ValueError, np.linalg.LinAlgError) as exc:
+            raise InputError(args.scan, f"cannot diagnose the scan ({exc})") from None
         _report(data, args.out)
         return 0
     if (args.scan is None) == (args.psd is None):
@@ -84,6 +88,19 @@ def run(args):
     data = run_friction(curve, ctx, args.out, noise=args.noise, other=other, log=_say)
     _report(data, args.out)
     return 0
+
+
+def _check_surface(obj, path):
+    """One-line errors for scans the surface level cannot use: too few points, or flat."""
+    h = np.asarray(obj.heights_m, float)
+    shape = " x ".join(str(n) for n in h.shape)
+    if h.ndim == 2 and min(h.shape) < 48:
+        raise InputError(path, f"a {shape} grid is too small for the surface level (needs at least 48 x 48 points)")
+    if h.ndim == 1 and h.size < 128:
+        raise InputError(path, f"a profile of {h.size} points is too short for the surface level (needs at least 128)")
+    good = h[np.isfinite(h)]
+    if good.size == 0 or float(np.ptp(good)) <= 1e-12 * max(1.0, float(np.max(np.abs(good)))):
+        raise InputError(path, "the scan is flat (all heights equal): no texture to diagnose")
 
 
 def _report(data, out):
