@@ -6,7 +6,6 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-from ..analyse import run_analysis
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
 
@@ -52,6 +51,7 @@ def _unique_dirs(paths):
 
 def run(args):
     from .. import report
+    from ..analyse import run_analysis
 
     if not 0 <= args.window_alpha <= 1:
         raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")

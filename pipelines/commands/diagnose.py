@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import sys
 
-import numpy as np
-
 from roadscan.errors import InputError
 
 from ..scan_input import add_scan_options, load_scan
@@ -43,6 +41,8 @@ def _say(msg):
 
 
 def run(args):
+    import numpy as np
+
     if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):
         raise InputError(None, f"--noise {args.noise!r} must be a positive rms of log10")
     if not (np.isfinite(args.sigma0) and args.sigma0 > 0):

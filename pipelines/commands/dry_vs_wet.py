@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from roadscan.errors import InputError
 
-from ..dry_vs_wet import run_dry_vs_wet
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
 from .rainfill import add_water_options, check_water_options
@@ -21,6 +20,8 @@ def add_arguments(p):
 
 
 def run(args):
+    from ..dry_vs_wet import run_dry_vs_wet
+
     check_water_options(args)
     settings = settings_from_args(args)
     scan = load_scan(args.scan, args)
