@@ -54,8 +54,12 @@ def run(args):
             raise InputError(None, "--psd and --validate need --measured (friction level)")
         from ..diagnose.surface import run_surface
 
+        from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+        check_output_dir(args.out, inputs=[args.scan])
         obj = load_scan(args.scan, args)
-        data = run_surface(obj, args.out, log=_say)
+        with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
+            data = run_surface(obj, tmp, log=_say)
         _report(data, args.out)
         return 0
     if (args.scan is None) == (args.psd is None):
@@ -81,7 +85,11 @@ def run(args):
         except ValueError as exc:
             raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
     ctx = build_context(curve, psd, rubber=rubber, scan=scan, spectrum=spec, fit=fit)
-    data = run_friction(curve, ctx, args.out, noise=args.noise, other=other, log=_say)
+    from roadscan.io.atomic import atomic_output_dir
+
+    inputs = [f for f in (args.measured, args.scan, args.psd, args.validate) if f]
+    with atomic_output_dir(args.out, inputs=inputs) as tmp:
+        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say)
     _report(data, args.out)
     return 0
 
