@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import sys
 
-import numpy as np
-
 from roadscan.errors import InputError
 
 from ..scan_input import add_scan_options, load_scan
@@ -43,6 +41,8 @@ def _say(msg):
 
 
 def run(args):
+    import numpy as np
+
     if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):
         raise InputError(None, f"--noise {args.noise!r} must be a positive rms of log10")
     if not (np.isfinite(args.sigma0) and args.sigma0 > 0):
@@ -54,10 +54,14 @@ def run(args):
             raise InputError(None, "--psd and --validate need --measured (friction level)")
         from ..diagnose.surface import run_surface
 
+        from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+        check_output_dir(args.out, inputs=[args.scan])
         obj = load_scan(args.scan, args)
         _check_surface(obj, args.scan)
         try:
-            data = run_surface(obj, args.out, log=_say)
+            with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
+                data = run_surface(obj, tmp, log=_say)
         except (ValueError, np.linalg.LinAlgError) as exc:
             raise InputError(args.scan, f"cannot diagnose the scan ({exc})") from None
         _report(data, args.out)
@@ -85,7 +89,11 @@ def run(args):
         except ValueError as exc:
             raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
     ctx = build_context(curve, psd, rubber=rubber, scan=scan, spectrum=spec, fit=fit)
-    data = run_friction(curve, ctx, args.out, noise=args.noise, other=other, log=_say)
+    from roadscan.io.atomic import atomic_output_dir
+
+    inputs = [f for f in (args.measured, args.scan, args.psd, args.validate) if f]
+    with atomic_output_dir(args.out, inputs=inputs) as tmp:
+        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say)
     _report(data, args.out)
     return 0
 
