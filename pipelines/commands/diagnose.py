@@ -100,6 +100,8 @@ def run(args):
 
 def _check_surface(obj, path):
     """One-line errors for scans the surface level cannot use: too few points, or flat."""
+    import numpy as np
+
     h = np.asarray(obj.heights_m, float)
     shape = " x ".join(str(n) for n in h.shape)
     if h.ndim == 2 and min(h.shape) < 48:
