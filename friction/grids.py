@@ -17,7 +17,6 @@ from __future__ import annotations
 import weakref
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 __all__ = ["phi_rule", "q_grid", "q_nodes_per_decade", "PhiTable", "phi_table"]
 
@@ -95,6 +94,8 @@ class PhiTable:
         m = np.where(np.isfinite(m), m, 0.0)
         w = np.where(np.isfinite(w), w, np.finfo(float).max)
         tiny = 1e-300
+        from scipy.interpolate import CubicSpline  # on demand: it loads scipy.optimize
+
         self._lx = lx
         self._lm = CubicSpline(lx, np.log(np.maximum(m, tiny)))
         self._lw = CubicSpline(lx, np.log(np.maximum(w, tiny)))

@@ -13,10 +13,9 @@ power law above its last point (said in one line and in the outputs).
 """
 from __future__ import annotations
 
+import math
 import re
 import sys
-
-import numpy as np
 
 from roadscan.errors import InputError
 
@@ -48,7 +47,7 @@ def parse_pressure(text, flag="--sigma0"):
     val, unit = float(m.group(1)), m.group(2).lower()
     if unit and unit not in _PRESSURE_UNITS:
         raise InputError(None, f"{flag} {text!r}: unknown unit {m.group(2)!r} (Pa, kPa, MPa, GPa, bar)")
-    if not (np.isfinite(val) and val > 0):
+    if not (math.isfinite(val) and val > 0):
         raise InputError(None, f"{flag} {text!r}: must be a positive pressure")
     if not unit and val < MIN_BARE_PA:
         hint = f"{m.group(1)}MPa" if val <= 50 else f"{m.group(1)}kPa"
@@ -59,6 +58,8 @@ def parse_pressure(text, flag="--sigma0"):
 
 def parse_velocities(text):
     """``"LO:HI:N"`` -> N log-spaced speeds [m/s] from LO to HI (InputError when malformed)."""
+    import numpy as np
+
     try:
         lo, hi, n = text.split(":")
         lo, hi, n = float(lo), float(hi), int(n)
@@ -92,15 +93,15 @@ def add_contact_options(g, q1_help=None, nu=True):
 def check_contact_args(args):
     """One-line InputErrors for --q0, --q1, --contact-gamma, --nu."""
     for flag, val in (("--q0", getattr(args, "q0", None)), ("--q1", getattr(args, "q1", None))):
-        if val is not None and not (np.isfinite(val) and val > 0):
+        if val is not None and not (math.isfinite(val) and val > 0):
             raise InputError(None, f"{flag} {val!r}: must be a positive wave vector in 1/m")
     if args.q0 is not None and args.q1 is not None and not args.q0 < args.q1:
         raise InputError(None, f"--q0 {args.q0:g} must be below --q1 {args.q1:g}")
     g = getattr(args, "contact_gamma", None)
-    if g is not None and not (np.isfinite(g) and 0 <= g <= 1):
+    if g is not None and not (math.isfinite(g) and 0 <= g <= 1):
         raise InputError(None, f"--contact-gamma {g!r}: must lie in [0, 1] (Persson uses about 0.5 to 0.75)")
     nu = getattr(args, "nu", 0.5)
-    if not (np.isfinite(nu) and 0 <= nu <= 0.5):
+    if not (math.isfinite(nu) and 0 <= nu <= 0.5):
         raise InputError(None, f"--nu {nu!r}: the Poisson ratio of rubber must lie in [0, 0.5] (about 0.5)")
 
 
@@ -162,6 +163,8 @@ def add_friction_options(parser):
 
 
 def settings_from_args(args):
+    import numpy as np
+
     from .analyse import FrictionSettings
 
     check_contact_args(args)

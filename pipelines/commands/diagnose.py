@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import sys
 
-import numpy as np
-
 from roadscan.errors import InputError
 
 from ..friction_options import (PRESSURE_HELP, add_contact_options, apply_band, check_contact_args,
@@ -46,6 +44,8 @@ def _say(msg):
 
 
 def run(args):
+    import numpy as np
+
     if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):
         raise InputError(None, f"--noise {args.noise!r} must be a positive rms of log10")
     args.sigma0 = parse_pressure(args.sigma0)
@@ -61,8 +61,12 @@ def run(args):
 
         check_output_dir(args.out, inputs=[args.scan])
         obj = load_scan(args.scan, args)
-        with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
-            data = run_surface(obj, tmp, log=_say)
+        _check_surface(obj, args.scan)
+        try:
+            with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
+                data = run_surface(obj, tmp, log=_say)
+        except (ValueError, np.linalg.LinAlgError) as exc:
+            raise InputError(args.scan, f"cannot diagnose the scan ({exc})") from None
         _report(data, args.out)
         return 0
     if (args.scan is None) == (args.psd is None):
@@ -101,6 +105,21 @@ def run(args):
         data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say)
     _report(data, args.out)
     return 0
+
+
+def _check_surface(obj, path):
+    """One-line errors for scans the surface level cannot use: too few points, or flat."""
+    import numpy as np
+
+    h = np.asarray(obj.heights_m, float)
+    shape = " x ".join(str(n) for n in h.shape)
+    if h.ndim == 2 and min(h.shape) < 48:
+        raise InputError(path, f"a {shape} grid is too small for the surface level (needs at least 48 x 48 points)")
+    if h.ndim == 1 and h.size < 128:
+        raise InputError(path, f"a profile of {h.size} points is too short for the surface level (needs at least 128)")
+    good = h[np.isfinite(h)]
+    if good.size == 0 or float(np.ptp(good)) <= 1e-12 * max(1.0, float(np.max(np.abs(good)))):
+        raise InputError(path, "the scan is flat (all heights equal): no texture to diagnose")
 
 
 def _report(data, out):

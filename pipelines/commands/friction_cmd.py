@@ -12,14 +12,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from roadscan.errors import InputError
 
-from ..csv_files import read_psd_csv
-from ..friction_options import (PRESSURE_HELP, add_contact_options, apply_band, check_contact_args,
-                                parse_pressure, parse_velocities, run_checks, with_extrapolation)
-from ..spectrum_bridge import default_velocities
+from ..friction_options import PRESSURE_HELP, add_contact_options
 
 NAME = "friction"
 HELP = "friction coefficient mu(v) and contact area A/A0 from a spectrum (psd.csv or self-affine model) and a rubber"
@@ -98,6 +93,9 @@ def _rubber(args):
 
 
 def _psd(args):
+    from ..csv_files import read_psd_csv
+    from ..friction_options import apply_band
+
     if args.psd:
         psd, band = apply_band(read_psd_csv(args.psd), args.q0, args.q1)
         if band is None:
@@ -116,9 +114,13 @@ def _psd(args):
 
 
 def run(args):
+    import numpy as np
+
     import friction
 
+    from ..friction_options import check_contact_args, parse_pressure, parse_velocities, run_checks, with_extrapolation
     from ..report import plot_mu, write_csv, write_json
+    from ..spectrum_bridge import default_velocities
 
     check_contact_args(args)
     sigma0 = parse_pressure(args.sigma0)
