@@ -112,6 +112,16 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
 
         psd = surface_psd(spec, fit, q1_per_m=settings.q1_per_m)
         psd, band = apply_band(psd, settings.q0_per_m, settings.q1_per_m)
+        q_nyq = float(np.max(spec.q_per_m))
+        if settings.q1_per_m is not None and settings.q1_per_m > q_nyq * (1 + 1e-9):
+            band = dict(band or {}, extended_by="self-affine fit", extended_decades=float(
+                np.log10(settings.q1_per_m / q_nyq)), note=(
+                f"q1 = {settings.q1_per_m:.4g} 1/m is above the measured band (to {q_nyq:.4g} 1/m): "
+                f"C(q) extended {np.log10(settings.q1_per_m / q_nyq):.2f} decades by the self-affine "
+                f"fit, H = {fit.hurst:.3f}"))
+            import sys
+
+            print(f"note: {an.name}: {band['note']}", file=sys.stderr)
         rubber = with_extrapolation(settings.rubber, settings.extrapolate)
         fr = friction_curve(psd, rubber, settings.v_m_per_s, settings.sigma0_Pa,
                             settings.T0_C, settings.flash, settings.nu, settings.contact_gamma)

@@ -59,6 +59,9 @@ def _read_table(path):
     The units come from a second, non-numeric line (``Hz, MPa, MPa``) when there is one, else
     from the header cells themselves (``E_stor_MPa``, ``T [C]``)."""
     head, body = read_csv_rows(path)
+    if len(head) == 1 and len(head[0].replace(";", " ").split()) > 1:   # whitespace or ; separated
+        head = head[0].replace(";", " ").split()
+        body = [r[0].replace(";", " ").split() if len(r) == 1 else r for r in body]
     if not body:
         raise InputError(path, "expected a header line and data rows")
     names, units = zip(*(_split_name(h) for h in head))

@@ -279,3 +279,53 @@ def test_wlf_report_recovers_exact_constants():
     r = wlf_fit_report(ShiftTable(T, y))
     assert r["C1"] == pytest.approx(17.4, rel=1e-4) and r["C2_K"] == pytest.approx(51.6, rel=1e-4)
     assert r["T_s_C"] == pytest.approx(10.0) and r["rms_decades"] < 1e-6
+
+
+def test_whitespace_and_semicolon_tables(tmp_path):
+    from pipelines.rubber_file import read_master_curve_csv, read_shift_csv
+
+    (tmp_path / "m.dat").write_text("f_Hz  E_stor_MPa\tE_loss_MPa\n1 5 0.5\n10 8 1\n")
+    (tmp_path / "a.csv").write_text("T_C;aT\n0;1\n10;0.01\n")
+    f, E1, E2 = read_master_curve_csv(tmp_path / "m.dat")
+    np.testing.assert_allclose(E1, [5e6, 8e6]) and np.testing.assert_allclose(E2, [5e5, 1e6])
+    T, la = read_shift_csv(tmp_path / "a.csv")
+    np.testing.assert_allclose(la, [0.0, -2.0])
+
+
+def test_contact_gamma_in_the_flash_model():
+    """S(q) = gamma + (1 - gamma) P^2 <= 1 lowers mu; without heating the flash model with gamma
+    equals the isothermal model with gamma (both engines apply S to the same integrand)."""
+    from friction import SelfAffinePSD, mu_flash, mu_isothermal, thesis_rubber
+
+    psd = SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5)
+    v = np.logspace(-3, 1, 5)
+    r = thesis_rubber()
+    iso_g = mu_isothermal(psd, r, v, contact_gamma=0.5, tol=1e-4).mu
+    fl_g0 = mu_flash(psd, r, v, contact_gamma=0.5, heat_scale=0.0, tol=1e-4).mu
+    np.testing.assert_allclose(fl_g0, iso_g, rtol=2e-3)
+    fl = mu_flash(psd, r, v).mu
+    fl_g = mu_flash(psd, r, v, contact_gamma=0.5).mu
+    assert np.all(fl_g < fl)
+    with pytest.raises(ValueError, match="contact_gamma"):
+        mu_isothermal(psd, r, v, contact_gamma=1.5)
+
+
+def test_analyse_and_diagnose_flags(tmp_path, capsys):
+    from conftest import fourier_surface
+
+    p = tmp_path / "s.npy"
+    np.save(p, fourier_surface(128, 5e-5, 0.8, 3e-4, seed=1))
+    assert main(["analyse", str(p), "--spacing", "5e-5", "--sigma0", "0.3", "--out", str(tmp_path / "x")]) == 2
+    assert "did you mean 0.3MPa" in capsys.readouterr().err
+    out = tmp_path / "a"
+    assert main(["analyse", str(p), "--spacing", "5e-5", "--sigma0", "300kPa", "--q0", "2e3", "--q1", "2e5",
+                 "--contact-gamma", "0.6", "--nu", "0.45", "--velocities", "1e-3:1:4", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())["friction"]
+    assert s["sigma0_Pa"] == 3e5 and s["contact_gamma"] == 0.6 and s["nu"] == 0.45
+    assert s["q0_per_m"] == pytest.approx(2e3) and s["q1_per_m"] == pytest.approx(2e5)
+    assert "self-affine fit" in s["band"]["note"]
+    head, d = _read(out / "mu.csv")
+    assert head == ["v_m_per_s", "mu", "area_fraction"] and d.shape == (4, 3)
+    assert main(["diagnose", "--measured", str(tmp_path / "none.csv"), "--psd", str(PSD), "--sigma0", "0.2",
+                 "--out", str(tmp_path / "d")]) == 2
+    assert "did you mean 0.2MPa" in capsys.readouterr().err
