@@ -106,7 +106,7 @@ class PhiTable:
 
     def __call__(self, x):
         """``(m, w)`` at ``x = q v a`` [rad/s] (any shape, x > 0)."""
-        lx = np.log(x)
+        lx = np.log(np.maximum(x, 1e-300))  # x = 0 (a shift factor that underflowed) stays finite
         lo, hi = self._lx[0], self._lx[-1]
         lxc = np.clip(lx, lo, hi)
         out = []
@@ -124,6 +124,9 @@ _CACHE = weakref.WeakKeyDictionary()
 def phi_table(rubber, x_min, x_max, per_decade=24):
     """A cached :class:`PhiTable` for ``rubber`` covering ``[x_min, x_max]`` (with margin)."""
     d = np.log(10.0) / per_decade
+    if not (np.isfinite(x_min) and np.isfinite(x_max) and 0 < x_min <= x_max):
+        raise ValueError(f"reduced frequencies q v aT out of range ({x_min:.3g}..{x_max:.3g} rad/s): "
+                         "is the temperature far outside the rubber's shift table?")
     k_lo = int(np.floor(np.log(x_min) / d)) - 3
     k_hi = int(np.ceil(np.log(x_max) / d)) + 3
     tabs = _CACHE.setdefault(rubber, {})

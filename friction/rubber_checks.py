@@ -18,7 +18,7 @@ __all__ = ["frequency_coverage", "wlf_fit_report"]
 
 
 def frequency_coverage(rubber, v_m_per_s, q0_per_m, q1_per_m, T0_C=None, T_max_C=None,
-                       wlf_form="relative"):
+                       wlf_form="relative", T_q_C=None, q_per_m=None):
     """Frequencies [Hz] a run needs, read on the reference-temperature curve, vs the curve's.
 
     Parameters
@@ -27,6 +27,8 @@ def frequency_coverage(rubber, v_m_per_s, q0_per_m, q1_per_m, T0_C=None, T_max_C
     v_m_per_s : speeds [m/s].  q0_per_m, q1_per_m : integration band [1/m].
     T0_C : background temperature [C] (None: ``T_ref``).  T_max_C : hottest flash temperature [C]
         (None: isothermal).
+    T_q_C, q_per_m : optional flash temperatures (nv, nq) on the run's wave vectors (nq,): the
+        needed range is then the exact one, min/max of ``v q aT(T_q(v, q)) / 2 pi``.
 
     Returns
     -------
@@ -41,6 +43,12 @@ def frequency_coverage(rubber, v_m_per_s, q0_per_m, q1_per_m, T0_C=None, T_max_C
         sh = np.clip(np.asarray(log10_shift(rubber, np.asarray(Ts), wlf_form, T0), float), -300, 300)
     lo = float(np.log10(v.min() * q0_per_m / (2 * np.pi)) + sh.min())
     hi = float(np.log10(v.max() * q1_per_m / (2 * np.pi)) + sh.max())
+    if T_q_C is not None and q_per_m is not None:
+        with np.errstate(over="ignore", invalid="ignore"):
+            s_q = np.clip(np.asarray(log10_shift(rubber, np.asarray(T_q_C, float), wlf_form, T0), float),
+                          -300, 300)
+        lf = np.log10(v[:, None] * np.asarray(q_per_m, float)[None, :] / (2 * np.pi)) + s_q
+        lo, hi = float(lf.min()), float(lf.max())
     out = dict(f_needed_Hz=[10.0 ** lo, 10.0 ** hi], temperatures_C=Ts,
                log10_shift=[float(x) for x in sh], f_curve_Hz=None,
                extrapolated_decades_below=None, extrapolated_decades_above=None,

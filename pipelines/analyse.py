@@ -128,7 +128,7 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
         if rubber is not None:
             T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))
             checks = run_checks(rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m,
-                                fr.meta["T0_C"], T_max)
+                                fr.meta["T0_C"], T_max, result=fr)
 
     summary = summarise(an, fr)
     if fr is not None:

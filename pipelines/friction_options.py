@@ -192,7 +192,7 @@ def with_extrapolation(rubber, mode):
     return rubber
 
 
-def run_checks(rubber, v, q0, q1, T0_C, T_max_C=None, log=None):
+def run_checks(rubber, v, q0, q1, T0_C, T_max_C=None, log=None, result=None):
     """The ``rubber_checks`` of a run: frequency coverage (warned once, in one line, beyond
     one decade of extrapolation) and the WLF fit of a shift table. Returns a dict for JSON."""
     import warnings
@@ -201,7 +201,10 @@ def run_checks(rubber, v, q0, q1, T0_C, T_max_C=None, log=None):
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
-        cov = frequency_coverage(rubber, v, q0, q1, T0_C, T_max_C)
+        flash = result is not None and result.T_q_C is not None
+        cov = frequency_coverage(rubber, v, q0, q1, T0_C, T_max_C,
+                                 T_q_C=result.T_q_C if flash else None,
+                                 q_per_m=result.q_per_m if flash else None)
     msg = coverage_note(cov)
     if msg:
         (log or _say)(msg)

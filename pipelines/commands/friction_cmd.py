@@ -163,7 +163,7 @@ def run(args):
             header.append(f"T_C_zeta_{z:g}")
             cols.append(res.temperature_at(z))
     checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, res.meta["T0_C"],
-                        None if T_max is None else float(T_max.max()))
+                        None if T_max is None else float(T_max.max()), result=res)
     write_csv(out, header, cols)
     mu_max, v_max = res.peak
     summary = {
