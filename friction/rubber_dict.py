@@ -13,7 +13,8 @@ Format (see RUBBER_TOML.md)::
     [thermal]      rho_kg_m3, c_v_J_kgK, conductivity_W_mK   (all optional)
 
 Missing ``[shift]`` means the thesis WLF for "sls"/"prony" and no shift for "master_curve";
-missing ``T_ref_C`` means 60 C (the thesis). Raises ValueError naming the bad key.
+missing ``T_ref_C`` means 60 C (the thesis) for "sls"/"prony", and for a master curve the
+temperature where its shift factor is 1 (:func:`unit_shift_temperature`). Raises ValueError naming the bad key.
 """
 from __future__ import annotations
 
@@ -21,7 +22,7 @@ import numpy as np
 
 from .rubber import WLF, MasterCurve, Prony, ShiftTable, StandardLinearSolid, Thermal
 
-__all__ = ["rubber_from_dict", "MODELS"]
+__all__ = ["rubber_from_dict", "MODELS", "unit_shift_temperature"]
 
 MODELS = ("sls", "prony", "master_curve")
 
@@ -79,6 +80,23 @@ def _shift(d, model):
     raise ValueError(f"[shift] kind must be 'wlf', 'table' or 'none', not {kind!r}")
 
 
+def unit_shift_temperature(shift):
+    """The temperature [C] where aT = 1 (log10 aT = 0): T_s of a WLF, the interpolated zero
+    crossing of a table (the first one); None without a shift or a crossing."""
+    if isinstance(shift, WLF):
+        return float(shift.T_s_C)
+    if isinstance(shift, ShiftTable):
+        T, y = shift.T_C, shift.log10_aT_values
+        z = np.flatnonzero(y == 0)
+        if z.size:
+            return float(T[z[0]])
+        c = np.flatnonzero(np.sign(y[:-1]) * np.sign(y[1:]) < 0)
+        if c.size:
+            i = c[0]
+            return float(T[i] - y[i] * (T[i + 1] - T[i]) / (y[i + 1] - y[i]))
+    return None
+
+
 def rubber_from_dict(d):
     """Rubber model from a dict (see module docstring); raises ValueError on bad content."""
     if not isinstance(d, dict):
@@ -88,8 +106,16 @@ def rubber_from_dict(d):
     model = str(d.get("model", "")).lower()
     if model not in MODELS:
         raise ValueError(f"'model' must be one of {', '.join(MODELS)}")
-    T_ref = _num(d, "T_ref_C", "top level") if "T_ref_C" in d else 60.0
     shift = _shift(d.get("shift"), model)
+    if "T_ref_C" in d:
+        T_ref = _num(d, "T_ref_C", "top level")
+    elif model == "master_curve":
+        T_ref = unit_shift_temperature(shift)
+        if T_ref is None:
+            raise ValueError("a master curve needs 'T_ref_C' (its temperature), or a shift table "
+                             "or WLF constants with aT = 1 somewhere")
+    else:
+        T_ref = 60.0
     th = d.get("thermal", {})
     _unknown(th, ("rho_kg_m3", "c_v_J_kgK", "conductivity_W_mK"), "thermal")
     thermal = Thermal(**{k: _num(th, k, "thermal") for k in th})

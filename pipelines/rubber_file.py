@@ -212,8 +212,9 @@ def rubber_from_csv_files(master_csv, shift_csv=None, T_ref_C=None, units=None):
     import friction
 
     f, E1, E2 = read_master_curve_csv(master_csv, units)
-    d = {"model": "master_curve", "T_ref_C": float(T_ref_C),
-         "master_curve": {"f_Hz": f, "E_storage_Pa": E1, "E_loss_Pa": E2}}
+    d = {"model": "master_curve", "master_curve": {"f_Hz": f, "E_storage_Pa": E1, "E_loss_Pa": E2}}
+    if T_ref_C is not None:
+        d["T_ref_C"] = float(T_ref_C)
     if shift_csv:
         T, a = orient_shift(*read_shift_csv(shift_csv), shift_csv)
         d["shift"] = {"kind": "table", "T_C": T, "log10_aT": a}

@@ -329,3 +329,21 @@ def test_analyse_and_diagnose_flags(tmp_path, capsys):
     assert main(["diagnose", "--measured", str(tmp_path / "none.csv"), "--psd", str(PSD), "--sigma0", "0.2",
                  "--out", str(tmp_path / "d")]) == 2
     assert "did you mean 0.2MPa" in capsys.readouterr().err
+
+
+def test_master_curve_reference_temperature_defaults_to_unit_shift(tmp_path):
+    import friction
+
+    base = {"model": "master_curve",
+            "master_curve": {"f_Hz": [1, 10], "E_storage_Pa": [1e6, 2e6], "E_loss_Pa": [1e5, 2e5]}}
+    r = friction.rubber_from_dict({**base, "shift": {"kind": "table", "T_C": [0, 10, 30], "aT": [30, 3, 0.1]}})
+    assert r.T_ref_C == pytest.approx(10 + (0 - np.log10(3)) / (np.log10(0.1) - np.log10(3)) * 20)
+    assert friction.rubber_from_dict({**base, "shift": {"kind": "wlf", "C1": 9, "C2_K": 50, "T_s_C": 7}}).T_ref_C == 7
+    with pytest.raises(ValueError, match="T_ref_C"):
+        friction.rubber_from_dict(base)
+    assert friction.rubber_from_dict({**base, "T_ref_C": 20}).T_ref_C == 20   # sls/prony keep 60 C
+    out = tmp_path / "m.csv"
+    assert main(["friction", "--psd", str(PSD), "--master-curve", str(RUBBERS / "freq_user_master.csv"),
+                 "--shift-table", str(RUBBERS / "freq_user_master__shift_factors.csv"), "--temperature", "20",
+                 "--velocities", "1:10:2", "--out", str(out)]) == 0
+    assert json.loads((tmp_path / "m_summary.json").read_text())["rubber"]["T_ref_C"] == -5.0

@@ -35,7 +35,8 @@ def add_arguments(p):
     rub.add_argument("--shift-table", metavar="FILE.csv", default=None,
                      help="with --master-curve: shift factors, columns T_C and aT (linear) or log10_aT")
     rub.add_argument("--reference-temperature", type=float, default=None, metavar="C",
-                     help="with --master-curve: its reference temperature T_ref [C] (where aT = 1)")
+                     help="with --master-curve: the temperature of the master curve T_ref [C] "
+                          "(default: where the shift table has aT = 1)")
     p.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
     p.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's T_ref)")
@@ -79,8 +80,9 @@ def _rubber(args):
     if args.master_curve:
         if args.rubber:
             raise InputError(None, "give either --rubber FILE.toml or --master-curve FILE.csv, not both")
-        if args.reference_temperature is None:
-            raise InputError(args.master_curve, "--master-curve needs --reference-temperature C (its T_ref)")
+        if args.reference_temperature is None and not args.shift_table:
+            raise InputError(args.master_curve, "--master-curve needs --reference-temperature C (its T_ref) "
+                                                "or a --shift-table with aT = 1 at T_ref")
         from ..rubber_file import rubber_from_csv_files
         return rubber_from_csv_files(args.master_curve, args.shift_table, args.reference_temperature)
     if args.shift_table or args.reference_temperature is not None:
