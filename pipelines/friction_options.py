@@ -163,8 +163,6 @@ def add_friction_options(parser):
 
 
 def settings_from_args(args):
-    import numpy as np
-
     from .analyse import FrictionSettings
 
     check_contact_args(args)
