@@ -90,8 +90,12 @@ def summarise(analysis, fr=None):
 
 
 def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
-                 mpd_settings=None):
-    """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict."""
+                 mpd_settings=None, figures=True):
+    """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict.
+
+    ``figures=False`` (``roadscan batch`` without ``--figures``) skips the PNGs; the numbers,
+    the CSV/JSON files and ``report.html`` (tables only) are the same.
+    """
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -112,6 +116,13 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
         q1d, c1d = an.psd1d
         keep = (q1d > 0) & (c1d > 0)
         report.write_csv(out_dir / "psd1d.csv", PSD1D_HEADER, [q1d[keep], c1d[keep]])
+    if not figures:
+        if fr is not None:
+            report.write_csv(out_dir / "mu.csv", MU_HEADER, [fr.v_m_per_s, fr.mu])
+        report.write_json(out_dir / "summary.json", summary)
+        _write_report(out_dir, an, summary, figs)
+        return summary
+    if an.is_profile:
         figs.append(report.plot_profile(an.levelled, out_dir / "profile.png",
                                         title=f"{an.name}: levelled profile"))
         figs.append(_plot_psd1d(q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name))
@@ -194,4 +205,6 @@ def _write_report(out_dir, an, summary, figs):
     sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
                 ("Roughness (ISO 25178-2 / 4287; SI units in names)", report.table_html(rough, ["parameter", "value"])),
                 ("Figures", [list(figs)])]
+    if not figs:
+        sections.pop()
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections)

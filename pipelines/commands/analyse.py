@@ -17,6 +17,12 @@ HELP = "PSD, self-affine fit, roughness figures and friction mu(v) of height fil
 def add_arguments(p):
     p.add_argument("files", nargs="+", metavar="FILE", help="height files (area scans or line profiles)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_analysis_options(p)
+
+
+def add_analysis_options(p):
+    """Every per-scan option of ``analyse``, friction included (``roadscan batch`` takes the
+    very same)."""
     add_scan_options(p)
     p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
     p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
@@ -50,9 +56,9 @@ def _unique_dirs(paths):
     return out
 
 
-def run(args):
-    from .. import report
-
+def analysis_kwargs(args):
+    """Checked keyword arguments of :func:`pipelines.analyse.run_analysis` from the options of
+    :func:`add_analysis_options` (InputError naming the flag when one is out of range)."""
     if not 0 <= args.window_alpha <= 1:
         raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
     band = _fit_band(args.fit_band)
@@ -61,6 +67,14 @@ def run(args):
         if not args.mpd_spike_alpha > 0:
             raise InputError(None, f"--mpd-spike-alpha {args.mpd_spike_alpha}: must be positive")
         mpd = {"spike_alpha": args.mpd_spike_alpha}
+    return {"window_alpha": args.window_alpha, "fit_band": band, "despike": args.despike,
+            "mpd_settings": mpd}
+
+
+def run(args):
+    from .. import report
+
+    kw = analysis_kwargs(args)
     settings = settings_from_args(args)
     scans = [load_scan(f, args) for f in args.files]  # every input is checked before any output
     out = Path(args.out)
@@ -70,9 +84,7 @@ def run(args):
         if many:
             print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
         try:
-            summary = run_analysis(scan, out / sub if many else out, settings,
-                                   window_alpha=args.window_alpha, fit_band=band, despike=args.despike,
-                                   mpd_settings=mpd)
+            summary = run_analysis(scan, out / sub if many else out, settings, **kw)
         except ValueError as exc:
             raise InputError(path, str(exc)) from None
         rows.append((sub, summary))
