@@ -69,8 +69,9 @@ def _client(workers=None, scheduler=None):
     from distributed import Client, LocalCluster
 
     if scheduler:
+        _check_reachable(scheduler)
         try:
-            client = Client(scheduler, timeout="20s")
+            client = Client(scheduler, timeout="10s")
         except (OSError, TimeoutError) as exc:
             raise InputError(None, f"--scheduler {scheduler}: cannot connect ({exc})") from None
         try:
@@ -79,8 +80,12 @@ def _client(workers=None, scheduler=None):
             client.close()
         return
     n = workers or default_workers()
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                           dashboard_address=None, silence_logs=logging.ERROR)
+    try:
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.ERROR)
+    except Exception as exc:  # noqa: BLE001 - e.g. a script without the __main__ guard
+        raise InputError(None, f"--workers {n}: cannot start a local Dask cluster "
+                               f"({type(exc).__name__}: {exc})") from None
     client = Client(cluster)
     try:
         yield client
@@ -89,6 +94,26 @@ def _client(workers=None, scheduler=None):
             client.close()
         with contextlib.suppress(Exception):
             cluster.close()
+
+
+def _check_reachable(address):
+    """Fail fast (one line) when a ``tcp://HOST:PORT`` scheduler refuses the connection."""
+    import socket
+    from urllib.parse import urlsplit
+
+    if not address.startswith("tcp://"):
+        return
+    try:
+        u = urlsplit(address)
+        host, port = u.hostname, u.port
+    except ValueError:
+        raise InputError(None, f"--scheduler {address}: expected tcp://HOST:PORT") from None
+    if not host or not port:
+        raise InputError(None, f"--scheduler {address}: expected tcp://HOST:PORT")
+    try:
+        socket.create_connection((host, port), timeout=5).close()
+    except OSError as exc:
+        raise InputError(None, f"--scheduler {address}: cannot connect ({exc.strerror or exc})") from None
 
 
 def _scan_resources(client):
