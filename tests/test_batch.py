@@ -158,9 +158,11 @@ def test_manifest_labels_chainage_and_bad_rows(tmp_path):
         "cores/c1.npy,ten,oops\ncores/c0.npy,500,again\n")
     out = tmp_path / "out"
     rc = main(["batch", str(d / "manifest.csv"), "--spacing", str(DX), "--out", str(out),
-               "--workers", "1", "--no-friction"])
+               "--workers", "1", "--no-friction", "--figures"])
     assert rc == 2
     head, rows = _read_campaign(out / "campaign.csv")
+    # --figures: the PNGs analyse makes for an area scan (no mu.png without friction)
+    assert {"heightmap.png", "psd.png", "psd2d.png"} <= {p.name for p in (out / "c2").iterdir()}
     assert [r["label"] for r in rows] == ["lane 1 wheel path", "start", "oops", "again"]
     assert [r["chainage_m"] for r in rows] == ["250.0", "0.0", "", "500.0"]
     assert [r["status"] for r in rows] == ["ok", "ok", "error", "ok"]

@@ -55,7 +55,7 @@ def _values(records, quantities):
     return vals
 
 
-def _plot_grid(path, quantities, vals, chain=None):
+def _plot_grid(path, quantities, vals, chain=None, groups=None):
     import matplotlib.pyplot as plt
 
     n = len(quantities)
@@ -77,13 +77,21 @@ def _plot_grid(path, quantities, vals, chain=None):
             ax.set_ylabel("count")
         else:
             has = ok & np.isfinite(chain)
-            order = np.argsort(chain[has])
-            ax.plot(chain[has][order], v[has][order], "o-", ms=3, lw=0.8, color="C0", label="scans")
+            keys = np.asarray(groups)
+            uniq = list(dict.fromkeys(keys[has]))
+            single = len(uniq) == int(has.sum())       # one row per file: one line along the road
+            for gi, g in enumerate([None] if single else uniq):
+                sel = has if g is None else has & (keys == g)
+                order = np.argsort(chain[sel])
+                lab = "scans" if g is None else (Path(g).stem if len(uniq) <= 8 else None)
+                ax.plot(chain[sel][order], v[sel][order], "o-", ms=3, lw=0.8,
+                        color=f"C{gi % 10}" if len(uniq) <= 10 else "C0", label=lab)
             if (bad & has).any():
                 ax.plot(chain[bad & has], v[bad & has], "o", color="red", ms=6, label="outliers")
             ax.set_xlabel("chainage [m]")
             ax.set_ylabel(label)
-            ax.legend(fontsize=7)
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(fontsize=7)
         if not ok.any():
             ax.text(0.5, 0.5, "no values", transform=ax.transAxes, ha="center")
         ax.grid(alpha=0.3)
@@ -131,7 +139,8 @@ def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campa
     pngs = [_plot_grid(out_dir / ".campaign_distributions.png", quantities, vals)]
     sections = [("Distributions", [pngs[0]])]
     if np.isfinite(chain).any():
-        pngs.append(_plot_grid(out_dir / ".campaign_chainage.png", quantities, vals, chain))
+        pngs.append(_plot_grid(out_dir / ".campaign_chainage.png", quantities, vals, chain,
+                               [r["file"] for r in records]))
         sections.append(("Along chainage", [pngs[1]]))
     sections.append(("Scans", _table(records, quantities, vals, masks)))
     intro = (f"{len(records)} rows, {n_ok} ok, {len(records) - n_ok} failed. Outliers (red): "

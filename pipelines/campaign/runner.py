@@ -153,6 +153,8 @@ def run_campaign(jobs, workers=None, scheduler=None, progress=None):
             bar.close()
         return results
     try:
+        if not scheduler:     # no idle processes: at most one worker per input to run
+            workers = min(workers or default_workers(), len(todo))
         with _client(workers, scheduler) as client:
             res = _scan_resources(client)
             futures = {}
