@@ -17,7 +17,6 @@ from __future__ import annotations
 import weakref
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 __all__ = ["phi_rule", "q_grid", "q_nodes_per_decade", "PhiTable", "phi_table"]
 
@@ -92,6 +91,8 @@ class PhiTable:
         m = (c * E.imag) @ wphi
         w = (E.real ** 2 + E.imag ** 2) @ wphi
         tiny = 1e-300
+        from scipy.interpolate import CubicSpline  # on demand: it loads scipy.optimize
+
         self._lx = lx
         self._lm = CubicSpline(lx, np.log(np.maximum(m, tiny)))
         self._lw = CubicSpline(lx, np.log(np.maximum(w, tiny)))

@@ -1,14 +1,29 @@
 """The ``roadscan`` command. Each subcommand lives in ``pipelines/commands/<name>.py`` and
 provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
 
-Bad input raises :class:`roadscan.InputError` (or ``FileNotFoundError``/``ValueError`` from a
-reader); it is reported as one line on stderr with exit code 2, never a traceback.
+Errors (the policy of :mod:`pipelines.validate`): whatever goes wrong, the user sees **one
+line** on stderr, never a traceback.
+
+- Bad input (:class:`roadscan.InputError`, a missing/unreadable file, a bad option, a number
+  the checks refuse, and the arithmetic errors bad input provokes: ``ValueError``,
+  ``OverflowError``, ``ZeroDivisionError``, ``FloatingPointError``, ``MemoryError``) ->
+  ``roadscan CMD: error: ...``, exit code 2. argparse's usage errors are one line too, exit 2.
+- Anything else is a bug -> ``roadscan CMD: internal error (Type: message); rerun with --debug
+  for the traceback``, exit code 1.
+- ``--debug`` (before or after the command name) shows the full traceback instead.
+- NumPy floating-point warnings are not printed as they happen: the CLI collects them and, if
+  the command succeeds, prints one named line (``warning: numpy: ...``); the checks of
+  :mod:`pipelines.validate` make them rare. Python ``RuntimeWarning``\\ s are treated the same.
+- ``--max-pixels N`` (before or after the command name) caps the size a reader accepts
+  (default: :func:`roadscan.io._common.default_max_pixels`, from the available memory).
 """
 from __future__ import annotations
 
 import argparse
 import importlib
 import sys
+import traceback
+import warnings
 
 from roadscan.errors import InputError
 
@@ -17,6 +32,24 @@ COMMAND_MODULES = (
     "analyse", "batch", "synth", "friction_cmd", "rubber", "stitch", "rainfill", "dry_vs_wet", "compare",
     "diagnose", "convert",
 )
+
+#: exceptions that bad input provokes deep inside the numerics: reported as input errors (exit 2)
+INPUT_LIKE = (ValueError, OverflowError, ZeroDivisionError, FloatingPointError, MemoryError,
+              ArithmeticError)
+
+
+def one_line(text, limit=400):
+    """Collapse a message to one line (newlines -> ' | ', at most ``limit`` characters)."""
+    s = " | ".join(part.strip() for part in str(text).splitlines() if part.strip())
+    return s if len(s) <= limit else s[: limit - 3] + "..."
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """argparse parser whose usage errors are one line (``prog: error: msg (see prog -h)``),
+    exit code 2."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {one_line(message)} (see {self.prog} -h)\n")
 
 
 def _load_commands():
@@ -30,37 +63,108 @@ def _load_commands():
     return mods
 
 
+def _positive_int(text):
+    try:
+        v = int(float(text))
+    except (TypeError, ValueError, OverflowError):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if v < 1:
+        raise argparse.ArgumentTypeError(f"{text!r} must be at least 1")
+    return v
+
+
+def _add_global_options(p, default):
+    p.add_argument("--debug", action="store_true", default=default,
+                   help="show the full traceback of any error")
+    p.add_argument("--max-pixels", type=_positive_int, default=default, metavar="N",
+                   help="largest scan (points) a reader accepts before allocating "
+                        "(default: from the available memory)")
+
+
 def build_parser():
-    parser = argparse.ArgumentParser(
+    parser = OneLineParser(
         prog="roadscan",
         description="Road-surface scans to spectra, rain fill and rubber friction.",
     )
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    _add_global_options(parser, None)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     sub.required = True
     for mod in _load_commands():
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
+        _add_global_options(p, argparse.SUPPRESS)  # after the command name too
         p.set_defaults(_run=mod.run)
     return parser
 
 
+def _numpy_warning_line(caught):
+    seen = []
+    for w in caught:
+        key = (str(w.message), w.filename.rsplit("/", 1)[-1], w.lineno)
+        if key not in seen:
+            seen.append(key)
+    msg, fname, line = seen[0]
+    more = f" (+{len(seen) - 1} more)" if len(seen) > 1 else ""
+    return f"numpy: {one_line(msg)} in {fname}:{line}{more}; results may be inaccurate"
 
 
 def main(argv=None):
     parser = build_parser()
-    args = parser.parse_args(argv)  # argparse exits with code 2 on usage errors
+    args = parser.parse_args(argv)  # one-line usage errors, exit code 2
+    # heavy modules (numpy, the readers) only now: --help and usage errors stay fast (issue 13)
+    from roadscan.io import _common as io_common
+
+    from . import validate
+
+    cmd = f"roadscan {args.command}"
+    debug = bool(getattr(args, "debug", False))
+    validate.reset_warnings(prefix=cmd)
+    previous_limit = io_common.get_max_pixels()
+    if getattr(args, "max_pixels", None):
+        io_common.set_max_pixels(args.max_pixels)
     try:
-        return int(args._run(args) or 0)
-    except InputError as exc:
-        print(f"roadscan {args.command}: error: {exc}", file=sys.stderr)
-        return 2
-    except (FileNotFoundError, IsADirectoryError, PermissionError) as exc:
-        name = getattr(exc, "filename", None) or ""
-        print(f"roadscan {args.command}: error: {name}: {exc.strerror or exc}", file=sys.stderr)
-        return 2
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", RuntimeWarning)
+            rc = int(args._run(args) or 0)
+        runtime = [w for w in caught if issubclass(w.category, RuntimeWarning)]
+        for w in caught:
+            if w not in runtime and debug:
+                print(f"{cmd}: warning: {one_line(w.message)}", file=sys.stderr)
+        if runtime:
+            print(f"{cmd}: warning: {_numpy_warning_line(runtime)}", file=sys.stderr)
+        return rc
+    except SystemExit:
+        raise
     except KeyboardInterrupt:
-        print("roadscan: interrupted", file=sys.stderr)
+        print(f"{cmd}: interrupted", file=sys.stderr)
         return 130
+    except InputError as exc:
+        return _fail(cmd, debug, one_line(exc))
+    except (FileNotFoundError, IsADirectoryError, NotADirectoryError, PermissionError,
+            FileExistsError) as exc:
+        name = getattr(exc, "filename", None) or ""
+        return _fail(cmd, debug, one_line(f"{name}: {exc.strerror or exc}" if name else exc))
+    except MemoryError as exc:
+        return _fail(cmd, debug, one_line(f"out of memory ({exc or 'allocation failed'}); use a smaller "
+                                          f"scan or lower --max-pixels"))
+    except OSError as exc:
+        name = getattr(exc, "filename", None)
+        return _fail(cmd, debug, one_line(f"{name + ': ' if name else ''}{exc.strerror or exc}"))
+    except INPUT_LIKE as exc:
+        return _fail(cmd, debug, one_line(f"cannot process this input ({type(exc).__name__}: {exc})"))
+    except Exception as exc:  # noqa: BLE001 - last resort: a bug, still one line
+        return _fail(cmd, debug, one_line(f"internal error ({type(exc).__name__}: {exc}); rerun with "
+                                          f"--debug for the traceback"), internal=True)
+    finally:
+        io_common.set_max_pixels(previous_limit)
+
+
+def _fail(cmd, debug, message, internal=False):
+    if debug:
+        traceback.print_exc()
+    label = "" if internal else "error: "
+    print(f"{cmd}: {label}{message}", file=sys.stderr)
+    return 1 if internal else 2
 
 
 if __name__ == "__main__":

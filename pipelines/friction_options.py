@@ -1,8 +1,6 @@
 """Friction options shared by the commands that compute mu(v) from a scan."""
 from __future__ import annotations
 
-import numpy as np
-
 from roadscan.errors import InputError
 
 __all__ = ["add_friction_options", "settings_from_args", "parse_velocities"]
@@ -10,6 +8,8 @@ __all__ = ["add_friction_options", "settings_from_args", "parse_velocities"]
 
 def parse_velocities(text):
     """``"LO:HI:N"`` -> N log-spaced speeds [m/s] from LO to HI (InputError when malformed)."""
+    import numpy as np
+
     try:
         lo, hi, n = text.split(":")
         lo, hi, n = float(lo), float(hi), int(n)
@@ -37,6 +37,8 @@ def add_friction_options(parser):
 
 
 def settings_from_args(args):
+    import numpy as np
+
     from .analyse import FrictionSettings
 
     rubber = None

@@ -25,7 +25,9 @@ def add_scan_options(parser):
 def load_scan(path, args=None, spacing=None, units=None):
     """Read a height file (HeightMap or Profile) with the options of ``add_scan_options``.
 
-    Any reader failure becomes an :class:`InputError` naming the file.
+    Any reader failure becomes an :class:`InputError` naming the file; the scan then passes the
+    plausibility checks of :func:`pipelines.validate.check_scan` (spacing, grid size, measured
+    points, constant grids, spikes).
     """
     from roadscan.io import read
 
@@ -37,9 +39,21 @@ def load_scan(path, args=None, spacing=None, units=None):
         raise InputError(path, "no such file")
     if path.is_dir():
         raise InputError(path, "is a directory, expected a height file")
+    if spacing is not None:
+        from roadscan.io import resolve_spacing
+
+        from .validate import check_spacing
+
+        check_spacing(*resolve_spacing(spacing, None), flag="--spacing")
     try:
-        return read(path, spacing=spacing, units=units)
+        obj = read(path, spacing=spacing, units=units)
     except InputError:
         raise
+    except MemoryError:
+        raise InputError(path, "too large for the available memory (lower --max-pixels to refuse "
+                               "such files before reading)") from None
     except (ValueError, OSError, KeyError, IndexError) as exc:
         raise InputError(path, f"cannot read height data ({type(exc).__name__}: {exc})") from None
+    from .validate import check_scan
+
+    return check_scan(obj, path)

@@ -51,11 +51,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy import ndimage
-from skimage.morphology import reconstruction
 
 from .heightmap import HeightMap
 
-__all__ = ["RainFill", "rain_fill", "full_fill", "footprint", "capped_levels"]
+__all__ = ["RainFill", "rain_fill", "full_fill", "footprint", "capped_levels", "FLOOD_MIN_POINTS"]
 
 
 def footprint(connectivity):
@@ -67,7 +66,28 @@ def footprint(connectivity):
     raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")
 
 
-def full_fill(heights_m, connectivity=4):
+#: below this many points the fill uses scikit-image by default: the compiled priority-flood is
+#: 3 to 4x faster per call, but loading numba and its cached machine code costs about 0.6 s once
+#: per process, more than scikit-image needs for a 1-Mpx scan (benchmarks/bench_rainfill.py).
+FLOOD_MIN_POINTS = 2 ** 21
+
+
+def _flood_kernel():
+    """The compiled priority-flood, or None when numba is not installed."""
+    try:
+        from . import _flood
+    except ImportError:  # numba missing: the exact scikit-image path below
+        return None
+    return _flood.priority_flood_fill
+
+
+def _flood_warm():
+    import sys
+    mod = sys.modules.get("roadscan._flood")
+    return mod is not None and bool(mod._flood.signatures)
+
+
+def full_fill(heights_m, connectivity=4, method="auto"):
     """Fill every depression to its spill level (grayscale ``imfill``).
 
     Parameters
@@ -75,6 +95,14 @@ def full_fill(heights_m, connectivity=4):
     heights_m : (ny, nx) float array
         Heights [m]; NaN marks unmeasured points, which are transparent (see module notes).
     connectivity : {4, 8}
+    method : {"auto", "flood", "reconstruction"}
+        ``"flood"``: the compiled priority-flood (Barnes, Lehman & Mulla 2014, with the plain
+        queue of their Priority-Flood+; :mod:`roadscan._flood`, needs numba).
+        ``"reconstruction"``: ``skimage.morphology.reconstruction`` (Robinson & Whelan's
+        queue algorithm). Both give bit-identical results (every level is one of the heights).
+        ``"auto"`` (default) takes the flood for maps of at least :data:`FLOOD_MIN_POINTS`
+        points, or whenever it is already loaded in this process, and scikit-image otherwise
+        or when numba is not installed.
 
     Returns
     -------
@@ -86,21 +114,35 @@ def full_fill(heights_m, connectivity=4):
     h = np.asarray(heights_m, dtype=np.float64)
     if h.ndim != 2:
         raise ValueError(f"heights must be 2D, got shape {h.shape}")
-    bad = ~np.isfinite(h)
     fp = footprint(connectivity)
-    if bad.any():
-        # transparent: below every measured height, so never a barrier and never a store
-        lo, hi = np.nanmin(h), np.nanmax(h)
-        mask = np.where(bad, lo - (hi - lo) - 1.0, h)
+    if method not in ("auto", "flood", "reconstruction"):
+        raise ValueError(f"method must be 'auto', 'flood' or 'reconstruction', got {method!r}")
+    kernel = None
+    if method == "flood" or (method == "auto" and (h.size >= FLOOD_MIN_POINTS or _flood_warm())):
+        kernel = _flood_kernel()
+        if kernel is None and method == "flood":
+            raise ImportError("rain fill method 'flood' needs numba (pip install numba)")
+    bad = ~np.isfinite(h)
+    any_bad = bool(bad.any())
+    if kernel is not None:
+        # unmeasured points read as -inf inside the kernel: below every measured height
+        filled = kernel(h, -np.inf, connectivity)
     else:
-        mask = h
-    seed = np.full_like(mask, mask.max())
-    seed[0, :] = mask[0, :]
-    seed[-1, :] = mask[-1, :]
-    seed[:, 0] = mask[:, 0]
-    seed[:, -1] = mask[:, -1]
-    filled = reconstruction(seed, mask, method="erosion", footprint=fp)
-    if bad.any():
+        from skimage.morphology import reconstruction
+
+        if any_bad:
+            # transparent: below every measured height, so never a barrier and never a store
+            lo, hi = np.nanmin(h), np.nanmax(h)
+            mask = np.where(bad, lo - (hi - lo) - 1.0, h)
+        else:
+            mask = h
+        seed = np.full_like(mask, mask.max())
+        seed[0, :] = mask[0, :]
+        seed[-1, :] = mask[-1, :]
+        seed[:, 0] = mask[:, 0]
+        seed[:, -1] = mask[:, -1]
+        filled = reconstruction(seed, mask, method="erosion", footprint=fp)
+    if any_bad:
         filled[bad] = np.nan
     return filled
 
@@ -186,7 +228,7 @@ class RainFill:
     meta: dict = field(default_factory=dict)
 
 
-def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None):
+def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None, method="auto"):
     """Fill the depressions of a height map with water (thesis section 4.4, DESIGN.md sec. 3).
 
     Parameters
@@ -201,6 +243,8 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None):
         Water available per unit area w [m^3/m^2 = m]; d is the smallest cap whose stored volume
         per area equals w (all depressions full when w exceeds their capacity).
         At most one of ``max_depth_m`` and ``water_film_m``.
+    method : {"auto", "flood", "reconstruction"}
+        Algorithm of the full fill (identical results; see :func:`full_fill`).
 
     Returns
     -------
@@ -222,14 +266,24 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None):
     h = hm.heights_m
     measured = ~hm.unmeasured
     n_measured = int(measured.sum())
-    filled = full_fill(h, connectivity)
-    full_depth = np.where(measured, filled - h, np.nan)
-    capacity = float(np.nansum(full_depth) / n_measured)
-
+    if n_measured == 0:
+        raise ValueError("rain fill needs at least one measured point")
+    filled = full_fill(h, connectivity, method=method)
+    wet_name = f"{hm.name}_wet" if hm.name else "wet"
     cap_used = None
     all_full = True
     n_dep = None
-    if max_depth_m is not None or water_film_m is not None:
+    if max_depth_m is None and water_film_m is None:
+        # full fill: the wet surface is F itself (HeightMap keeps its own copy), and F turns into
+        # the depth map in place, so the peak is two maps beside the input
+        wet = hm.with_heights(filled, unmeasured=hm.unmeasured, name=wet_name, meta=dict(hm.meta))
+        depth = np.subtract(filled, h, out=filled)   # NaN where unmeasured (both NaN there)
+        del filled
+        capacity = volume = float(np.sum(depth, where=measured) / n_measured)  # no NaN copy
+    else:
+        full_depth = filled - h
+        capacity = float(np.nansum(full_depth) / n_measured)
+        del full_depth
         labels, n_dep, lowest = _depressions(h, filled, connectivity)
         if water_film_m is not None:
             sel = labels > 0
@@ -241,13 +295,13 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None):
             cap_used = float(max_depth_m)
         level = capped_levels(h, filled, labels, lowest, cap_used)
         all_full = bool(np.array_equal(level[measured], filled[measured]))
-    else:
-        level = filled
-
-    depth = np.where(measured, level - h, np.nan)
-    wet_h = np.where(measured, level, np.nan)
-    volume = float(np.nansum(depth) / n_measured)
-    wetted = float(np.count_nonzero(depth[measured] > 0) / n_measured)
+        del labels, filled
+        depth = np.where(measured, level - h, np.nan)
+        wet = hm.with_heights(np.where(measured, level, np.nan), unmeasured=hm.unmeasured,
+                              name=wet_name, meta=dict(hm.meta))
+        del level
+        volume = float(np.nansum(depth) / n_measured)
+    wetted = float(np.count_nonzero(depth > 0) / n_measured)   # NaN > 0 is False
     meta = {
         "max_depth_m": cap_used,
         "water_film_m": None if water_film_m is None else float(water_film_m),
@@ -258,8 +312,6 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None):
         "unmeasured_policy": "transparent: dropouts neither hold nor block water; NaN in outputs",
         "method": "grayscale reconstruction by erosion from the border (imfill)",
     }
-    wet = hm.with_heights(wet_h, unmeasured=hm.unmeasured,
-                          name=f"{hm.name}_wet" if hm.name else "wet",
-                          meta={**hm.meta, "rain_fill": dict(meta, connectivity=connectivity)})
+    wet.meta["rain_fill"] = dict(meta, connectivity=connectivity)
     return RainFill(wet=wet, depth_m=depth, wetted_fraction=wetted,
                     water_volume_m3_per_m2=volume, connectivity=int(connectivity), meta=meta)

@@ -80,7 +80,7 @@ def test_campaign_rows_status_and_outputs(campaign):
     assert "zz_garbage.npy" in errors["zz_garbage.npy"]["error"]
     assert "3D" in errors["zz_3d.npy"]["error"] or "shape" in errors["zz_3d.npy"]["error"]
     assert not (out / "zz_garbage").exists() and not (out / "zz_3d").exists()
-    assert not [p for p in out.iterdir() if ".tmp-" in p.name]   # no temporary folder left
+    assert not [p for p in out.iterdir() if "tmp-" in p.name]   # no temporary folder left
 
 
 def test_campaign_report_links_every_scan(campaign):
@@ -135,16 +135,16 @@ def test_resume_skips_unchanged_and_redoes_changed(campaign, tmp_path):
 def test_atomic_folder_keeps_old_outputs_on_failure(tmp_path):
     target = tmp_path / "scan"
     with atomic_folder(target) as tmp:
-        (tmp / "a.txt").write_text("first")
+        (tmp / "summary.json").write_text("first")
     for exc in (RuntimeError, KeyboardInterrupt):
         with pytest.raises(exc):
             with atomic_folder(target) as tmp:
-                (tmp / "a.txt").write_text("half")
+                (tmp / "summary.json").write_text("half")
                 raise exc()
-        assert (target / "a.txt").read_text() == "first"
+        assert (target / "summary.json").read_text() == "first"
     with atomic_folder(target) as tmp:
-        (tmp / "b.txt").write_text("second")
-    assert sorted(p.name for p in target.iterdir()) == ["b.txt"]
+        (tmp / "psd.csv").write_text("second")
+    assert sorted(p.name for p in target.iterdir()) == ["psd.csv"]
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scan"]
 
 

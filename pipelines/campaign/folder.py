@@ -1,7 +1,8 @@
 """Atomic per-scan output folders and the resume sidecar.
 
 A scan's folder is built as a hidden temporary folder beside the target
-(``DIR/.<name>.tmp-<random>``) and renamed onto ``DIR/<name>`` only when every file is written:
+(``DIR/.<name>.roadscan-tmp-<random>``) and swapped in as ``DIR/<name>`` only when every file is
+written (:func:`roadscan.io.atomic.atomic_output_dir`):
 an interrupted or failed scan never leaves a half-written ``DIR/<name>``, and a finished one is
 never touched by a later interruption.
 
@@ -11,13 +12,9 @@ and SHA-256), a fingerprint of the analysis options and the campaign record(s) o
 """
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import os
-import shutil
-import tempfile
-import uuid
 from pathlib import Path
 
 __all__ = ["atomic_folder", "SIDECAR", "file_identity", "same_input", "read_sidecar",
@@ -26,30 +23,16 @@ __all__ = ["atomic_folder", "SIDECAR", "file_identity", "same_input", "read_side
 SIDECAR = ".roadscan-batch.json"
 
 
-@contextlib.contextmanager
 def atomic_folder(target):
-    """Yield a fresh temporary folder beside ``target``; on success it replaces ``target``.
+    """Context manager yielding a fresh temporary folder beside ``target`` that replaces
+    ``target`` when the block succeeds (:func:`roadscan.io.atomic.atomic_output_dir`: the
+    target is always either the complete old set or the complete new one, even after
+    ``kill -9``; on an exception, KeyboardInterrupt included, the temporary folder is removed
+    and ``target`` is left as it was). An existing ``target`` that holds no roadscan output is
+    refused (InputError), never replaced."""
+    from roadscan.io.atomic import atomic_output_dir
 
-    An existing ``target`` is moved aside first and deleted after the rename, so at every
-    moment ``target`` is either the complete old folder or the complete new one (bar the one
-    instant between two renames). On an exception (including KeyboardInterrupt) the temporary
-    folder is removed and ``target`` is left as it was.
-    """
-    target = Path(target)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-    try:
-        yield tmp
-        old = None
-        if target.exists():
-            old = target.parent / f".{target.name}.old-{uuid.uuid4().hex[:8]}"
-            os.replace(target, old)
-        os.replace(tmp, target)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
+    return atomic_output_dir(target, flag="--out")
 
 
 def sha256_of(path, chunk=1 << 20):

@@ -6,7 +6,6 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-from ..analyse import run_analysis
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
 
@@ -72,13 +71,25 @@ def analysis_kwargs(args):
 
 
 def run(args):
-    from .. import report
-
     kw = analysis_kwargs(args)
     settings = settings_from_args(args)
-    scans = [load_scan(f, args) for f in args.files]  # every input is checked before any output
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
     out = Path(args.out)
+    check_output_dir(out, inputs=args.files)
+    scans = [load_scan(f, args) for f in args.files]  # every input is checked before any output
     many = len(scans) > 1
+    with atomic_output_dir(out, inputs=args.files) as tmp:  # all outputs or none
+        rows = _analyse_all(args, scans, tmp, out, many, settings, kw)
+    if many:
+        print(f"analysed {len(rows)} scans -> {out / 'summary.csv'}, {out / 'report.html'}")
+    return 0
+
+
+def _analyse_all(args, scans, out, final, many, settings, kw):
+    from .. import report
+    from ..analyse import run_analysis
+
     rows = []
     for i, (path, scan, sub) in enumerate(zip(args.files, scans, _unique_dirs(args.files))):
         if many:
@@ -90,7 +101,7 @@ def run(args):
         rows.append((sub, summary))
         if not many:
             print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
-                  f"rms height = {summary['rms_height_m'] * 1e6:.1f} um -> {out / 'report.html'}")
+                  f"rms height = {summary['rms_height_m'] * 1e6:.1f} um -> {final / 'report.html'}")
     if many:
         header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak"]
         table = [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],
@@ -103,5 +114,4 @@ def run(args):
         links = "".join(f"<li><a href='{s}/report.html'>{s}</a></li>" for s, _ in rows)
         report.write_html(out / "report.html", "roadscan analyse: summary",
                           [("Scans", report.table_html(table, header)), ("Reports", f"<ul>{links}</ul>")])
-        print(f"analysed {len(rows)} scans -> {out / 'summary.csv'}, {out / 'report.html'}")
-    return 0
+    return rows

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from roadscan.errors import InputError
 
-from ..compare import run_compare
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
 from .analyse import _unique_dirs
@@ -20,13 +19,19 @@ def add_arguments(p):
 
 
 def run(args):
+    from ..compare import run_compare
+
     if len(args.scans) < 2:
         raise InputError(args.scans[0], "compare needs at least two scans")
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+    check_output_dir(args.out, inputs=args.scans)
     settings = settings_from_args(args)
     scans = [load_scan(f, args) for f in args.scans]
     names = _unique_dirs(args.scans)
     try:
-        r = run_compare(scans, names, args.out, settings)
+        with atomic_output_dir(args.out, inputs=args.scans) as tmp:
+            r = run_compare(scans, names, tmp, settings)
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
     for n in names:

@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import sys
 
-import numpy as np
-
 from roadscan.errors import InputError
 
 from ..scan_input import add_scan_options, load_scan
@@ -43,6 +41,8 @@ def _say(msg):
 
 
 def run(args):
+    import numpy as np
+
     if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):
         raise InputError(None, f"--noise {args.noise!r} must be a positive rms of log10")
     if not (np.isfinite(args.sigma0) and args.sigma0 > 0):
@@ -54,8 +54,16 @@ def run(args):
             raise InputError(None, "--psd and --validate need --measured (friction level)")
         from ..diagnose.surface import run_surface
 
+        from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+        check_output_dir(args.out, inputs=[args.scan])
         obj = load_scan(args.scan, args)
-        data = run_surface(obj, args.out, log=_say)
+        _check_surface(obj, args.scan)
+        try:
+            with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
+                data = run_surface(obj, tmp, log=_say)
+        except (ValueError, np.linalg.LinAlgError) as exc:
+            raise InputError(args.scan, f"cannot diagnose the scan ({exc})") from None
         _report(data, args.out)
         return 0
     if (args.scan is None) == (args.psd is None):
@@ -81,9 +89,28 @@ def run(args):
         except ValueError as exc:
             raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
     ctx = build_context(curve, psd, rubber=rubber, scan=scan, spectrum=spec, fit=fit)
-    data = run_friction(curve, ctx, args.out, noise=args.noise, other=other, log=_say)
+    from roadscan.io.atomic import atomic_output_dir
+
+    inputs = [f for f in (args.measured, args.scan, args.psd, args.validate) if f]
+    with atomic_output_dir(args.out, inputs=inputs) as tmp:
+        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say)
     _report(data, args.out)
     return 0
+
+
+def _check_surface(obj, path):
+    """One-line errors for scans the surface level cannot use: too few points, or flat."""
+    import numpy as np
+
+    h = np.asarray(obj.heights_m, float)
+    shape = " x ".join(str(n) for n in h.shape)
+    if h.ndim == 2 and min(h.shape) < 48:
+        raise InputError(path, f"a {shape} grid is too small for the surface level (needs at least 48 x 48 points)")
+    if h.ndim == 1 and h.size < 128:
+        raise InputError(path, f"a profile of {h.size} points is too short for the surface level (needs at least 128)")
+    good = h[np.isfinite(h)]
+    if good.size == 0 or float(np.ptp(good)) <= 1e-12 * max(1.0, float(np.max(np.abs(good)))):
+        raise InputError(path, "the scan is flat (all heights equal): no texture to diagnose")
 
 
 def _report(data, out):

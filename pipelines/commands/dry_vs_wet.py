@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from roadscan.errors import InputError
 
-from ..dry_vs_wet import run_dry_vs_wet
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
 from .rainfill import add_water_options, check_water_options
@@ -21,12 +20,18 @@ def add_arguments(p):
 
 
 def run(args):
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+    from ..dry_vs_wet import run_dry_vs_wet
+
     check_water_options(args)
+    check_output_dir(args.out, inputs=[args.scan])
     settings = settings_from_args(args)
     scan = load_scan(args.scan, args)
     try:
-        r = run_dry_vs_wet(scan, args.out, settings, connectivity=args.connectivity,
-                           max_depth_m=args.max_depth, water_film_m=args.water_film)
+        with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
+            r = run_dry_vs_wet(scan, tmp, settings, connectivity=args.connectivity,
+                               max_depth_m=args.max_depth, water_film_m=args.water_film)
     except InputError as exc:
         raise InputError(args.scan, exc.problem) from None
     except ValueError as exc:

@@ -9,13 +9,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import numpy as np
-
 from roadscan.errors import InputError
 
-from ..csv_files import read_psd_csv
-from ..friction_options import parse_velocities
-from ..spectrum_bridge import default_velocities
 
 NAME = "friction"
 HELP = "friction coefficient mu(v) from a spectrum (psd.csv or self-affine model) and a rubber"
@@ -66,9 +61,14 @@ def _self_affine(text):
 
 
 def run(args):
+    import numpy as np
+
     import friction
 
+    from ..csv_files import read_psd_csv
+    from ..friction_options import parse_velocities
     from ..report import plot_mu, write_csv
+    from ..spectrum_bridge import default_velocities
 
     v = parse_velocities(args.velocities) if args.velocities else default_velocities()
     psd = read_psd_csv(args.psd) if args.psd else _self_affine(args.self_affine)

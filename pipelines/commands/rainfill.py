@@ -11,11 +11,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
-
 from roadscan.errors import InputError
-from roadscan.heightmap import HeightMap
-from roadscan.io.atomic import atomic_save_npy, atomic_write_text
 
 from ..scan_input import add_scan_options, load_scan
 
@@ -44,15 +40,22 @@ def add_water_options(p):
 
 
 def check_water_options(args):
+    import numpy as np
+
     for flag, val in (("--max-depth", args.max_depth), ("--water-film", args.water_film)):
         if val is not None and not (np.isfinite(val) and val >= 0):
             raise InputError(None, f"{flag} {val}: must be a non-negative length in metres")
 
 
 def run(args):
+    from roadscan.heightmap import HeightMap
+    from roadscan.io.atomic import atomic_save_npy, atomic_write_text
     from roadscan.rain import rain_fill
 
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
     check_water_options(args)
+    check_output_dir(args.out, inputs=[args.scan])
     scan = load_scan(args.scan, args)
     if not isinstance(scan, HeightMap):
         raise InputError(args.scan, "rain-fill needs an area scan (a height map), not a line profile")
@@ -61,8 +64,15 @@ def run(args):
         scan = level.level(scan, degree=1)
     r = rain_fill(scan, connectivity=args.connectivity, max_depth_m=args.max_depth,
                   water_film_m=args.water_film)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
+    final = Path(args.out)
+    with atomic_output_dir(final, inputs=[args.scan]) as out:
+        _write(out, args, scan, r)
+    print(f"{args.scan}: {r.connectivity}-connected fill, wetted {r.wetted_fraction:.1%}, "
+          f"water {r.water_volume_m3_per_m2 * 1e6:.4g} um (m^3/m^2 x 1e6) -> {final}")
+    return 0
+
+
+def _write(out, args, scan, r):
     atomic_save_npy(out / "wet.npy", r.wet.heights_m)
     atomic_save_npy(out / "depth.npy", r.depth_m)
     summary = {
@@ -82,7 +92,8 @@ def run(args):
         "files": {"wet.npy": "wet surface [m], NaN unmeasured",
                   "depth.npy": "water depth [m], 0 dry, NaN unmeasured"},
     }
+    from ..validate import warnings_list
+
+    if warnings_list():
+        summary["warnings"] = warnings_list()
     atomic_write_text(out / "rainfill.json", json.dumps(summary, indent=2) + "\n")
-    print(f"{args.scan}: {r.connectivity}-connected fill, wetted {r.wetted_fraction:.1%}, "
-          f"water {r.water_volume_m3_per_m2 * 1e6:.4g} um (m^3/m^2 x 1e6) -> {out}")
-    return 0

@@ -1,12 +1,59 @@
-"""Write-then-rename, so that a failed run never leaves a half-written output."""
+"""Write-then-rename, so that a failed or killed run never leaves a half-written output.
+
+Two levels:
+
+- :func:`atomic_path` (one file): the data go to a hidden temporary file beside the target,
+  which is renamed onto it only when complete. The temporary file gets the permissions a
+  normally created file would (``0o666 & ~umask``), not ``mkstemp``'s 0600.
+- :func:`atomic_output_dir` (a whole output folder): every file of a run is written into a
+  hidden temporary folder beside the target (``.<name>.roadscan-tmp-XXXX``), which is swapped
+  in only when the whole set is complete. After ``kill -9`` at any moment the target holds
+  either the complete old set or the complete new set, never a mix, and no temporary file
+  lives inside it. Temporary and set-aside folders left in the parent by a killed run are
+  removed by the next run on the same target (an old set that was set aside but not yet
+  replaced is put back first).
+
+The swap uses Linux ``renameat2(RENAME_EXCHANGE)`` (one atomic step: the old set moves to the
+temporary name, then is deleted). Where that is unavailable the old folder is renamed aside,
+the new one renamed in, and the old one deleted; a kill between the two renames leaves the
+target missing for an instant, and the next run restores the old set before doing anything.
+"""
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import ctypes.util
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_save_npy"]
+from ..errors import InputError
+
+__all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_save_npy",
+           "atomic_output_dir", "check_output_dir", "file_mode", "TMP_TAG", "OLD_TAG"]
+
+#: marker in the names of temporary output folders (``.<target>.roadscan-tmp-XXXX``)
+TMP_TAG = ".roadscan-tmp-"
+#: marker of an old output folder set aside during a swap (``.<target>.roadscan-old-XXXX``)
+OLD_TAG = ".roadscan-old-"
+
+#: files whose presence marks a folder as an earlier roadscan output (safe to replace)
+OUTPUT_MARKERS = ("summary.json", "report.html", "rainfill.json", "summary.csv", "mu.csv",
+                  "psd.csv", "compare.csv", "diagnosis.json", "wet.npy")
+
+
+def file_mode():
+    """Permission bits of a newly created file under the current umask (``0o666 & ~umask``)."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
+def _dir_mode():
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o777 & ~mask
 
 
 @contextlib.contextmanager
@@ -14,12 +61,17 @@ def atomic_path(path, suffix=None):
     """Yield a temporary path beside ``path``; rename it onto ``path`` on success.
 
     The temporary file keeps the final suffix (writers that pick a format from the
-    extension still work). On an exception the temporary file is removed.
+    extension still work) and gets mode ``0o666 & ~umask``. On an exception it is removed.
     """
     path = Path(path)
+    if path.is_dir():
+        raise InputError(path, "is a directory, cannot write a file there")
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix or path.suffix, dir=path.parent)
-    os.close(fd)
+    try:
+        os.fchmod(fd, file_mode())
+    finally:
+        os.close(fd)
     try:
         yield Path(tmp)
         os.replace(tmp, path)
@@ -46,3 +98,141 @@ def atomic_save_npy(path, array):
     with atomic_path(path) as tmp:
         with open(tmp, "wb") as fh:
             np.save(fh, np.asarray(array, dtype=np.float64))
+
+
+# ---------------------------------------------------------------------------- output folders
+
+_RENAME_EXCHANGE = 2
+_AT_FDCWD = -100
+
+
+def _renameat2():
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+        fn = libc.renameat2
+    except (OSError, AttributeError):
+        return None
+    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
+    fn.restype = ctypes.c_int
+    return fn
+
+
+_RENAMEAT2 = _renameat2()
+
+
+def _exchange(a, b):
+    """Atomically swap two existing paths; False when the system cannot."""
+    if _RENAMEAT2 is None:
+        return False
+    rc = _RENAMEAT2(_AT_FDCWD, os.fsencode(str(a)), _AT_FDCWD, os.fsencode(str(b)), _RENAME_EXCHANGE)
+    return rc == 0
+
+
+def _leftovers(target, tag):
+    prefix = f".{target.name}{tag}"
+    try:
+        return [p for p in target.parent.iterdir() if p.name.startswith(prefix)]
+    except OSError:
+        return []
+
+
+def recover_output_dir(target):
+    """Clean what a killed run left beside ``target``: put back an old set that was set aside
+    (when the target is missing), then delete temporary and set-aside folders."""
+    target = Path(target)
+    olds = _leftovers(target, OLD_TAG)
+    if olds and not os.path.lexists(target):
+        os.rename(olds[0], target)
+        olds = olds[1:]
+    for p in olds + _leftovers(target, TMP_TAG):
+        shutil.rmtree(p, ignore_errors=True)
+
+
+def check_output_dir(target, flag="--out", inputs=()):
+    """Refuse an output folder that cannot or must not be (re)placed, with one line.
+
+    Refused: a path that is an existing file; a path below a file; an existing non-empty folder
+    that holds no earlier roadscan output (it would be replaced as a whole); the current
+    folder, the home folder or a filesystem root; a folder that contains one of ``inputs``.
+    """
+    target = Path(target)
+    if str(target).strip() == "":
+        raise InputError(None, f"{flag}: empty folder name")
+    for parent in [target, *target.parents]:
+        if parent.exists() and not parent.is_dir():
+            what = "is an existing file" if parent == target else f"is below the file {parent}"
+            raise InputError(None, f"{flag} {target}: {what}, need a folder")
+    resolved = target.resolve()
+    if resolved in (Path.cwd().resolve(), Path.home().resolve()) or resolved == resolved.parent \
+            or resolved in Path.cwd().resolve().parents:
+        raise InputError(None, f"{flag} {target}: the whole folder would be replaced; name a new "
+                               f"or earlier output folder")
+    for inp in inputs:
+        try:
+            Path(inp).resolve().relative_to(resolved)
+        except ValueError:
+            continue
+        raise InputError(None, f"{flag} {target}: contains the input {inp}; name another folder")
+    if target.is_dir():
+        entries = [p.name for p in target.iterdir()]
+        if entries and not any(m in entries for m in OUTPUT_MARKERS) and not any(
+                (target / e / m).exists() for e in entries for m in OUTPUT_MARKERS):
+            raise InputError(None, f"{flag} {target}: folder exists, is not empty and holds no "
+                                   f"earlier roadscan output; name a new folder")
+
+
+@contextlib.contextmanager
+def atomic_output_dir(target, flag="--out", inputs=()):
+    """Build a whole output folder in a temporary folder beside ``target``; swap it in at the end.
+
+    Parameters
+    ----------
+    target : str or Path
+        The output folder. It may be missing (created), empty, or hold an earlier roadscan run
+        (replaced as a whole). See :func:`check_output_dir` for what is refused.
+    flag : str
+        The option naming the folder, for error messages.
+    inputs : sequence of paths
+        Input files of the run (a folder holding one of them is refused).
+
+    Yields
+    ------
+    Path
+        The temporary folder: write every output file there (plain writes are fine).
+
+    On an exception (including ``KeyboardInterrupt``) the temporary folder is deleted and the
+    target is left as it was. On success the target holds exactly the files written.
+    """
+    target = Path(target)
+    check_output_dir(target, flag, inputs)
+    parent = target.parent
+    try:
+        parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(None, f"{flag} {target}: cannot create the folder ({exc.strerror or exc})") from None
+    recover_output_dir(target)
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=parent))
+    except OSError as exc:
+        raise InputError(None, f"{flag} {target}: cannot write there ({exc.strerror or exc})") from None
+    try:
+        os.chmod(tmp, _dir_mode())
+        yield tmp
+        _swap_in(tmp, target)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+
+
+def _swap_in(tmp, target):
+    if not os.path.lexists(target):
+        os.rename(tmp, target)
+        return
+    if _exchange(tmp, target):       # tmp now holds the old set
+        shutil.rmtree(tmp, ignore_errors=True)
+        return
+    old = Path(tempfile.mkdtemp(prefix=f".{target.name}{OLD_TAG}", dir=target.parent))
+    os.rmdir(old)
+    os.rename(target, old)
+    os.rename(tmp, target)
+    shutil.rmtree(old, ignore_errors=True)

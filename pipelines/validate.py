@@ -1,0 +1,279 @@
+"""What roadscan does with input it cannot trust: the one policy, in one place.
+
+Every number a user (a flag) or a file gives is checked here for *physical plausibility*
+before it reaches the numerics. Each check either
+
+- **refuses**: raises :class:`roadscan.InputError` whose text is one line naming the flag or
+  file and the value (the CLI prints it and exits with code 2); used when no meaningful result
+  can follow (a constant grid has no roughness, a temperature at the rubber's WLF pole has no
+  shift factor, a PSD rising like q^3 is not a surface), or
+- **warns**: :func:`warn` prints one line ``roadscan CMD: warning: ...`` on stderr and records it;
+  commands that write ``summary.json`` store the list under ``"warnings"``. Used when the result
+  is still meaningful but the user should look (e.g. an unusual spacing, a small grid).
+
+Limits (SI units; chosen wide, to refuse only what no road scan or rubber can be):
+
+============================  =========================================================
+quantity                      refused outside (warned outside)
+============================  =========================================================
+grid spacing [m]              [1e-9, 1] (warned outside [1e-7, 1e-2])
+grid size                     fewer than 8 points along a side of an area, or fewer than
+                              16 measured points, or under 1 % of the points measured
+heights [m]                   all equal (no roughness); any |h - median| above 1e4 x the
+                              robust spread (a spike of another scale; refused naming the
+                              value, unless it is under 1 m); |h| >= 1e3 m
+nominal pressure sigma0 [Pa]  (0, 1e9]
+Poisson ratio nu              [0, 0.5]
+temperature T [C]             below -273.15, or within 5 K above the rubber's WLF pole
+                              (T_ref - C2), or above 1000 C
+wave vectors q [1/m]          q1 not above the spectrum's q0 / lowest q; non-finite
+PSD C(q) [m^4]                any row with C <= 0 or non-finite (refused naming the row);
+                              a log-log slope of the whole spectrum above +1 (rises with q:
+                              not a surface; self-affine surfaces fall as q^-2(1+H))
+friction mu                   non-finite values, or mu > 100 (refused: no physical result);
+                              warned when mu > 5
+============================  =========================================================
+
+Size limits on files are in :mod:`roadscan.io._common` (``check_declared_size``,
+``--max-pixels``) since the readers apply them before allocating.
+"""
+from __future__ import annotations
+
+import math
+import sys
+
+import numpy as np
+
+from roadscan.errors import InputError
+
+__all__ = [
+    "warn", "warnings_list", "reset_warnings",
+    "check_spacing", "check_heights", "check_scan", "check_pressure", "check_poisson",
+    "check_temperature", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu",
+    "finite_number",
+]
+
+KELVIN = 273.15
+SPACING_RANGE_M = (1e-9, 1.0)
+SPACING_USUAL_M = (1e-7, 1e-2)
+MIN_SIDE = 8
+MIN_MEASURED = 16
+MIN_MEASURED_FRACTION = 0.01
+SPIKE_FACTOR = 1e4
+MAX_ABS_HEIGHT_M = 1e3
+PRESSURE_RANGE_PA = (0.0, 1e9)
+POISSON_RANGE = (0.0, 0.5)
+WLF_POLE_MARGIN_K = 5.0
+T_MAX_C = 1000.0
+MAX_PSD_SLOPE = 1.0
+MU_MAX = 100.0
+MU_WARN = 5.0
+
+_WARNINGS = []
+_PREFIX = ["roadscan"]
+
+
+# ------------------------------------------------------------------------------ warnings
+def reset_warnings(prefix="roadscan"):
+    """Forget recorded warnings (the CLI calls this at the start of every command)."""
+    _WARNINGS.clear()
+    _PREFIX[0] = prefix
+
+
+def warn(message):
+    """Print one warning line on stderr and record it for ``summary.json``."""
+    line = " ".join(str(message).split())
+    if line not in _WARNINGS:
+        _WARNINGS.append(line)
+        print(f"{_PREFIX[0]}: warning: {line}", file=sys.stderr)
+
+
+def warnings_list():
+    """The warnings recorded since the last :func:`reset_warnings` (a new list)."""
+    return list(_WARNINGS)
+
+
+# ------------------------------------------------------------------------------ numbers
+def _where(flag=None, path=None):
+    return path, (f"{flag} " if flag else "")
+
+
+def finite_number(value, flag=None, path=None, what="value"):
+    """``float(value)``, refusing NaN, infinity and non-numbers (one line naming flag/file)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(path, f"{flag or what} {value!r}: not a number") from None
+    if not math.isfinite(v):
+        raise InputError(path, f"{flag or what} {value!r}: must be finite")
+    return v
+
+
+def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
+    """Grid spacing [m]: refused outside [1e-9, 1] m, warned outside [1e-7, 1e-2] m."""
+    for v in (dx_m,) if dy_m is None else (dx_m, dy_m):
+        v = finite_number(v, flag, path, "spacing")
+        lo, hi = SPACING_RANGE_M
+        if not lo <= v <= hi:
+            raise InputError(path, f"{flag} {v:g} m: implausible grid spacing (expected "
+                                   f"{lo:g}..{hi:g} m; is the unit metres?)")
+        ulo, uhi = SPACING_USUAL_M
+        if not ulo <= v <= uhi:
+            warn(f"{path + ': ' if path else ''}spacing {v:g} m is unusual for a road scan "
+                 f"({ulo:g}..{uhi:g} m)")
+
+
+def check_pressure(sigma0_Pa, flag="--sigma0"):
+    """Nominal contact pressure [Pa] in (0, 1e9]."""
+    v = finite_number(sigma0_Pa, flag)
+    lo, hi = PRESSURE_RANGE_PA
+    if not lo < v <= hi:
+        raise InputError(None, f"{flag} {v:g} Pa: must be a pressure in ({lo:g}, {hi:g}] Pa")
+    return v
+
+
+def check_poisson(nu, flag="--nu"):
+    """Poisson ratio in [0, 0.5] (rubber is nearly incompressible, 0.5)."""
+    v = finite_number(nu, flag)
+    lo, hi = POISSON_RANGE
+    if not lo <= v <= hi:
+        raise InputError(None, f"{flag} {v:g}: a Poisson ratio lies in [{lo:g}, {hi:g}]")
+    return v
+
+
+def wlf_pole_C(rubber):
+    """The temperature [C] where the rubber's WLF shift diverges (T_ref - C2), or None."""
+    wlf = getattr(rubber, "wlf", None) or getattr(rubber, "shift", None)
+    c2 = getattr(wlf, "C2_K", None) if wlf is not None else None
+    if c2 is None:
+        c2 = getattr(wlf, "C2", None) if wlf is not None else None
+    tref = getattr(wlf, "T_ref_C", None) if wlf is not None else None
+    if tref is None:
+        tref = getattr(rubber, "T_ref_C", None)
+    if c2 is None or tref is None:
+        return None
+    return float(tref) - float(c2)
+
+
+def check_temperature(T_C, rubber=None, flag="--temperature"):
+    """Temperature [C]: above absolute zero, below 1000 C, and more than 5 K above the
+    rubber's WLF pole ``T_ref - C2`` (at the pole log a_T diverges; below it WLF is meaningless)."""
+    if T_C is None:
+        return None
+    v = finite_number(T_C, flag)
+    if v <= -KELVIN:
+        raise InputError(None, f"{flag} {v:g} C: below absolute zero (-273.15 C)")
+    if v > T_MAX_C:
+        raise InputError(None, f"{flag} {v:g} C: implausible for rubber (above {T_MAX_C:g} C)")
+    pole = wlf_pole_C(rubber) if rubber is not None else None
+    if pole is not None and v <= pole + WLF_POLE_MARGIN_K:
+        raise InputError(None, f"{flag} {v:g} C: at or below the rubber's WLF pole "
+                               f"(T_ref - C2 = {pole:.4g} C); the shift factor diverges there")
+    return v
+
+
+# ------------------------------------------------------------------------------ scans
+def check_heights(heights_m, path=None, unmeasured=None, area=True):
+    """Plausibility of a height array [m] (see the module table); refuses with one line."""
+    h = np.asarray(heights_m)
+    if np.iscomplexobj(h):
+        raise InputError(path, "heights are complex numbers")
+    if area and h.ndim == 2 and min(h.shape) < MIN_SIDE:
+        raise InputError(path, f"grid {h.shape[0]} x {h.shape[1]} is too small for a spectrum "
+                               f"(need at least {MIN_SIDE} points along each side)")
+    if not area and h.size < 2 * MIN_SIDE:
+        raise InputError(path, f"profile of {h.size} points is too short (need {2 * MIN_SIDE})")
+    ok = np.isfinite(h)
+    if unmeasured is not None:
+        ok &= ~np.asarray(unmeasured, dtype=bool)
+    n_ok = int(np.count_nonzero(ok))
+    if n_ok < MIN_MEASURED or n_ok < MIN_MEASURED_FRACTION * h.size:
+        raise InputError(path, f"only {n_ok} of {h.size} points are measured (need at least "
+                               f"{max(MIN_MEASURED, int(np.ceil(MIN_MEASURED_FRACTION * h.size)))})")
+    vals = h[ok]
+    top = float(np.max(np.abs(vals)))
+    if top >= MAX_ABS_HEIGHT_M:
+        raise InputError(path, f"height {top:.3g} m is implausible for a road scan (units? spike?)")
+    med = float(np.median(vals))
+    mad = float(np.median(np.abs(vals - med)))
+    if mad == 0.0:
+        spread = float(np.max(vals) - np.min(vals))
+        if spread <= 1e-12 * max(abs(med), 1e-300) or spread == 0.0:
+            raise InputError(path, f"all measured heights are equal ({med:.6g}): a flat grid has no "
+                                   f"roughness")
+        return
+    far = float(np.max(np.abs(vals - med)))
+    if far > SPIKE_FACTOR * 1.4826 * mad and far > 1.0:
+        raise InputError(path, f"height {med + far:.3g} m lies {far / (1.4826 * mad):.3g} robust "
+                               f"spreads from the median: an implausible spike (mark it unmeasured)")
+
+
+def check_scan(obj, path=None):
+    """Check a read :class:`HeightMap` or :class:`Profile` (spacing and heights)."""
+    from roadscan.heightmap import HeightMap
+
+    area = isinstance(obj, HeightMap)
+    if area:
+        check_spacing(obj.dx_m, obj.dy_m, flag="spacing", path=str(path) if path else None)
+    else:
+        check_spacing(obj.dx_m, flag="spacing", path=str(path) if path else None)
+    check_heights(obj.heights_m, path, getattr(obj, "unmeasured", None), area=area)
+    return obj
+
+
+# ------------------------------------------------------------------------------ spectra
+def check_psd_rows(q, C, path=None, first_row=2):
+    """Every row of a tabulated PSD must have finite q > 0 and finite C > 0; the first bad row
+    is refused by number (``first_row`` is the file line of row 0; 2 after a header)."""
+    q = np.asarray(q, dtype=float)
+    C = np.asarray(C, dtype=float)
+    bad = ~(np.isfinite(q) & (q > 0) & np.isfinite(C) & (C > 0))
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise InputError(path, f"line {first_row + i}: q = {q[i]!r}, C = {C[i]!r}: need finite q > 0 "
+                               f"and C > 0 ({int(bad.sum())} such rows)")
+
+
+def check_psd_shape(q, C, path=None):
+    """A surface's PSD falls with q: refuse a spectrum whose least-squares log-log slope over
+    its band is above +1 (e.g. rising as q^3)."""
+    q = np.asarray(q, dtype=float)
+    C = np.asarray(C, dtype=float)
+    ok = np.isfinite(q) & np.isfinite(C) & (q > 0) & (C > 0)
+    if ok.sum() < 3:
+        raise InputError(path, f"the PSD has {int(ok.sum())} usable rows (need at least 3)")
+    lq, lc = np.log(q[ok]), np.log(C[ok])
+    if np.ptp(lq) == 0:
+        raise InputError(path, "the PSD has a single wave vector")
+    slope = float(np.polyfit(lq, lc, 1)[0])
+    if slope > MAX_PSD_SLOPE:
+        raise InputError(path, f"the PSD rises with q (log-log slope {slope:+.2f}): not the "
+                               f"spectrum of a surface, which falls as q^-2(1+H)")
+
+
+def check_q1(q1_per_m, q_lo_per_m, flag="--q1"):
+    """q1 [1/m] must be finite and above the spectrum's lowest wave vector ``q_lo``."""
+    if q1_per_m is None:
+        return None
+    v = finite_number(q1_per_m, flag)
+    if not v > q_lo_per_m:
+        raise InputError(None, f"{flag} {v:g} 1/m: must exceed the spectrum's lowest wave vector "
+                               f"q0 = {q_lo_per_m:.4g} 1/m")
+    return v
+
+
+def check_mu(mu, what="mu"):
+    """Friction results: refuse non-finite values and mu > 100 (no physical meaning);
+    warn when mu > 5."""
+    mu = np.asarray(mu, dtype=float)
+    if mu.size and not np.all(np.isfinite(mu)):
+        n = int(np.count_nonzero(~np.isfinite(mu)))
+        raise InputError(None, f"{what}: {n} of {mu.size} values are not finite (check h0, the "
+                               f"PSD and the rubber model)")
+    top = float(np.max(mu)) if mu.size else 0.0
+    if top > MU_MAX:
+        raise InputError(None, f"{what} reaches {top:.3g}: not physical (> {MU_MAX:g}); check the "
+                               f"PSD (does it fall with q?) and the rubber model")
+    if top > MU_WARN:
+        warn(f"{what} reaches {top:.3g}, unusually high for rubber on a road")
+    return mu
