@@ -194,3 +194,45 @@ def test_quiet_when_not_a_terminal(tmp_path):
     assert r.returncode == 2
     assert r.stdout == ""
     assert r.stderr.strip().splitlines() == [f"roadscan batch: error: {tmp_path / 'nope.npy'}: no such file"]
+
+
+def test_ctrl_c_keeps_finished_scans_and_resume_completes(tmp_path):
+    import signal
+    import time
+
+    src = tmp_path / "scans"
+    src.mkdir()
+    n = 30
+    for i in range(n):
+        np.save(src / f"k{i:02d}.npy", fourier_surface(128, DX, 0.8, 2e-4, seed=200 + i))
+    out = tmp_path / "out"
+    cmd = [sys.executable, "-m", "pipelines.cli", "batch", str(src / "*.npy"), "--spacing", str(DX),
+           "--out", str(out), "--workers", "1"]
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    p = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    t0 = time.time()
+    while time.time() - t0 < 120:
+        if out.exists() and len(list(out.glob("k*/summary.json"))) >= 2:
+            break
+        time.sleep(0.05)
+    p.send_signal(signal.SIGINT)
+    _, err = p.communicate(timeout=120)
+    if p.returncode == 0:
+        pytest.skip("the campaign finished before Ctrl-C arrived")
+    assert p.returncode == 130, err
+    assert "interrupted" in err and "Traceback" not in err
+    finished = [d for d in out.iterdir() if d.is_dir() and not d.name.startswith(".")]
+    assert 2 <= len(finished) < n
+    for d in finished:       # every folder present is complete
+        assert {"summary.json", "psd.csv", "mu.csv", SIDECAR} <= {f.name for f in d.iterdir()}
+        json.loads((d / "summary.json").read_text())
+    head, rows = _read_campaign(out / "campaign.csv")
+    assert len(rows) == n
+    ok = {Path(r["file"]).stem for r in rows if r["status"] == "ok"}
+    assert ok == {d.name for d in finished}
+    assert all("interrupted" in r["error"] for r in rows if r["status"] != "ok")
+    before = {d.name: (d / "summary.json").stat().st_mtime_ns for d in finished}
+    assert main(cmd[3:-2] + ["--workers", "2", "--resume"]) == 0
+    assert all((out / k / "summary.json").stat().st_mtime_ns == t for k, t in before.items())
+    assert len([d for d in out.iterdir() if d.is_dir() and not d.name.startswith(".")]) == n
+    assert not [d for d in out.iterdir() if "tmp-" in d.name]

@@ -64,6 +64,13 @@ def resumed_records(job):
     return recs
 
 
+def _finished_on_worker(job):
+    try:
+        return resumed_records(job)
+    except Exception:  # noqa: BLE001 - a half-visible folder is simply not finished
+        return None
+
+
 @contextlib.contextmanager
 def _client(workers=None, scheduler=None):
     from distributed import Client, LocalCluster
@@ -179,8 +186,10 @@ def run_campaign(jobs, workers=None, scheduler=None, progress=None):
                     fut.cancel()
                 raise
     except KeyboardInterrupt:
+        # a scan whose folder a worker completed before its result arrived still counts
         done = [r if r is not None else
-                [error_record(job, f"{job['file']}: interrupted before it finished")]
+                (_finished_on_worker(job) or
+                 [error_record(job, f"{job['file']}: interrupted before it finished")])
                 for r, job in zip(results, jobs)]
         raise Interrupted(done) from None
     finally:
