@@ -92,12 +92,15 @@ def summarise(analysis, fr=None):
 def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
                  mpd_settings=None):
     """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict."""
+    from . import validate
+
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
                          mpd_settings=mpd_settings)
     spec, fit = an.spectrum, an.fit
+    validate.check_fit(fit, an.name)
 
     fr = None
     if settings.enabled:
@@ -106,6 +109,7 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
                             settings.T0_C, settings.flash)
 
     summary = summarise(an, fr)
+    summary["warnings"] = validate.warnings_list()   # this run so far (they name the file)
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
     figs = []
     if an.is_profile:

@@ -56,6 +56,8 @@ def _self_affine(text):
             kw[keys[k.strip().lower()]] = float(val)
         except ValueError:
             raise InputError(None, f"--self-affine: {k}={val!r} is not a number") from None
+        if not np.isfinite(kw[keys[k.strip().lower()]]):
+            raise InputError(None, f"--self-affine: {k.strip()}={val.strip()}: must be finite")
     missing = {"hurst", "h0_m", "q0_per_m", "q1_per_m"} - set(kw)
     if missing:
         raise InputError(None, "--self-affine: missing " + ", ".join(sorted(missing)))
@@ -94,6 +96,9 @@ def run(args):
         raise InputError(None, f"--magnifications {bad}: outside the spectrum's range {zmin:g}..{zmax:g}")
     if zetas and not args.flash:
         raise InputError(None, "--magnifications needs --flash")
+    from ..validate import check_mu, check_temperature
+
+    check_temperature(args.temperature, rubber)
     kw = dict(sigma0_Pa=args.sigma0, nu=args.nu, T0_C=args.temperature, tol=args.tol)
     try:
         res = (friction.mu_flash if args.flash else friction.mu_isothermal)(psd, rubber, v, **kw)
@@ -101,6 +106,7 @@ def run(args):
         raise InputError(None, f"friction: {exc}") from None
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
+    check_mu(res.mu)
     out = Path(args.out)
     header, cols = ["v_m_per_s", "mu"], [res.v_m_per_s, res.mu]
     if args.flash:
