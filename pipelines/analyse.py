@@ -3,7 +3,8 @@
 Outputs (one directory per scan): ``summary.json``, ``psd.csv`` (``q_per_m,C_m4``; for a line
 profile the isotropic 2D estimate, with the profile's own 1D PSD in ``psd1d.csv``,
 ``q_per_m,C1_m3``),
-``mu.csv`` (``v_m_per_s,mu``), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
+``mu.csv`` (``v_m_per_s,mu,area_fraction`` with A/A0 = P(q1); ``T_flash_max_C`` added with
+flash), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
 ``psd2d.png`` (areas), ``mu.png`` and a self-contained ``report.html``.
 """
 from __future__ import annotations
@@ -22,6 +23,7 @@ __all__ = ["FrictionSettings", "summarise", "run_analysis", "nominal_band"]
 
 PSD_HEADER = ["q_per_m", "C_m4"]
 MU_HEADER = ["v_m_per_s", "mu"]
+MU_EXTRA = ["area_fraction", "T_flash_max_C"]   # A/A0 = P(q1); hottest flash temperature
 PSD1D_HEADER = ["q_per_m", "C1_m3"]
 
 
@@ -34,8 +36,12 @@ class FrictionSettings:
     T0_C: float = None             # None -> the rubber's T_ref
     flash: bool = False
     v_m_per_s: np.ndarray = None   # None -> 1e-8..1e4 m/s, 10 per decade
-    q1_per_m: float = None         # extension beyond Nyquist (None: measured band only)
+    q1_per_m: float = None         # upper end; beyond Nyquist the self-affine fit extends C(q)
     enabled: bool = True
+    q0_per_m: float = None         # lower end of the friction integrals (None: lowest ring)
+    nu: float = 0.5
+    contact_gamma: float = None    # Persson's S(q) = gamma + (1 - gamma) P^2 (None: S = 1)
+    extrapolate: str = "powerlaw"  # master curve beyond its data: powerlaw | hold
 
 
 def nominal_band(obj):
@@ -103,12 +109,30 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     validate.check_fit(fit, an.name)
 
     fr = None
+    checks = band = None
     if settings.enabled:
+        from .friction_options import apply_band, run_checks, with_extrapolation
+
         psd = surface_psd(spec, fit, q1_per_m=settings.q1_per_m)
-        fr = friction_curve(psd, settings.rubber, settings.v_m_per_s, settings.sigma0_Pa,
-                            settings.T0_C, settings.flash)
+        psd, band = apply_band(psd, settings.q0_per_m, settings.q1_per_m)
+        rubber = with_extrapolation(settings.rubber, settings.extrapolate)
+        fr = friction_curve(psd, rubber, settings.v_m_per_s, settings.sigma0_Pa,
+                            settings.T0_C, settings.flash, settings.nu, settings.contact_gamma)
+        if rubber is not None:
+            T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))
+            checks = run_checks(rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m,
+                                fr.meta["T0_C"], T_max)
 
     summary = summarise(an, fr)
+    if fr is not None:
+        summary["friction"].update(
+            q0_per_m=float(fr.q_per_m[0]), sigma0_Pa=settings.sigma0_Pa, nu=settings.nu,
+            contact_gamma=settings.contact_gamma,
+            area_fraction_range=[float(fr.P[:, -1].min()), float(fr.P[:, -1].max())])
+        if band is not None:
+            summary["friction"]["band"] = band
+        if checks is not None:
+            summary["friction"]["rubber_checks"] = checks
     summary["warnings"] = validate.warnings_list()   # this run so far (they name the file)
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
     figs = []
@@ -133,7 +157,10 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
         fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m"
                + (f", extended to q1 = {q_top:.3g} 1/m" if q_top > hi else ""), qf, fit.model_C(qf))]))
     if fr is not None:
-        report.write_csv(out_dir / "mu.csv", MU_HEADER, [fr.v_m_per_s, fr.mu])
+        cols = [fr.v_m_per_s, fr.mu, fr.P[:, -1]]
+        if fr.T_q_C is not None:
+            cols.append(np.max(fr.T_q_C, axis=1))
+        report.write_csv(out_dir / "mu.csv", MU_HEADER + MU_EXTRA[:len(cols) - 2], cols)
         rub = "thesis rubber" if settings.rubber is None else getattr(settings.rubber, "name", "rubber")
         figs.append(report.plot_mu([(f"{summary['friction']['model']}, {rub}, σ0 = "
                                      f"{settings.sigma0_Pa / 1e6:g} MPa", fr.v_m_per_s, fr.mu)],

@@ -109,12 +109,13 @@ def _numpy_warning_line(caught):
 
 
 def main(argv=None):
+    parser = build_parser()
+    args = parser.parse_args(argv)  # one-line usage errors, exit code 2
+    # heavy modules (numpy, the readers) only now: --help and usage errors stay fast (issue 13)
     from roadscan.io import _common as io_common
 
     from . import validate
 
-    parser = build_parser()
-    args = parser.parse_args(argv)  # one-line usage errors, exit code 2
     cmd = f"roadscan {args.command}"
     debug = bool(getattr(args, "debug", False))
     validate.reset_warnings(prefix=cmd)

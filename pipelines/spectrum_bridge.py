@@ -127,8 +127,9 @@ def default_velocities(lo=1e-8, hi=1e4, per_decade=10):
     return np.logspace(np.log10(lo), np.log10(hi), n)
 
 
-def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None, flash=False):
-    """mu(v) from the shared engine with the defaults of DESIGN.md section 5."""
+def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None, flash=False,
+                   nu=0.5, contact_gamma=None):
+    """mu(v) from the shared engine with the defaults of DESIGN.md section 5 (nu = 0.5, S = 1)."""
     import friction
 
     from .validate import check_mu, check_temperature
@@ -136,9 +137,11 @@ def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None,
     rubber = friction.thesis_rubber() if rubber is None else rubber
     check_temperature(T0_C, rubber)
     v = default_velocities() if v_m_per_s is None else np.asarray(v_m_per_s, float)
-    if flash:
-        res = friction.mu_flash(psd, rubber, v, sigma0_Pa=sigma0_Pa, T0_C=T0_C)
-    else:
-        res = friction.mu_isothermal(psd, rubber, v, sigma0_Pa=sigma0_Pa, T0_C=T0_C)
+    kw = dict(sigma0_Pa=sigma0_Pa, T0_C=T0_C, nu=nu, contact_gamma=contact_gamma)
+    with np.errstate(all="ignore"):
+        if flash:
+            res = friction.mu_flash(psd, rubber, v, **kw)
+        else:
+            res = friction.mu_isothermal(psd, rubber, v, **kw)
     check_mu(res.mu)
     return res

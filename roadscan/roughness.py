@@ -7,10 +7,10 @@ bare (``Ssk``, ``Sku``, ``Sdq``; ``Sdr`` is a fraction, not a percentage).
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import butter, sosfiltfilt
 
 from .heightmap import HeightMap, Profile
 from .level import level
+from .windows import butter2_lowpass, filtfilt2
 
 __all__ = ["area_parameters", "profile_parameters", "mean_profile_depth",
            "mean_profile_depth_area", "segment_depths", "MPD_SETTINGS"]
@@ -180,9 +180,10 @@ def segment_depths(heights_m, dx_m, unmeasured=None, **settings):
     if spike.any():
         zr = _interp_rows(zr, spike)
     # 4. low-pass
-    sos = butter(2, t / cfg["lowpass_cutoff_m"] * 2.0, btype="low", output="sos")
-    if zr.shape[1] > 3 * (2 * sos.shape[0] + 1):
-        zr = sosfiltfilt(sos, zr, axis=1)
+    # (numpy-only equivalent of scipy.signal butter(2, ...) + sosfiltfilt, roadscan.windows)
+    b, a = butter2_lowpass(t / cfg["lowpass_cutoff_m"] * 2.0)
+    if zr.shape[1] > 9:
+        zr = filtfilt2(b, a, zr)
     # 5. segments and slope suppression
     n_seg = min(n_seg, zr.shape[1] // m)
     zs = zr[:, : n_seg * m].reshape(rows, n_seg, m)

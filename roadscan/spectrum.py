@@ -8,7 +8,8 @@ on the FFT lattice q = 2 pi (k_x / L_x, k_y / L_y); <h^2> = sum_m C(q_m) (2 pi)^
 (Parseval, for the windowed heights divided by <w^2>), and for an isotropic surface
 <h^2> = 2 pi int q C(q) dq. Dividing by <w^2> (the mean of w^2 over the grid, 0.7105 for the
 2D Tukey window with alpha = 0.25) restores the power the window removes. The window is the
-outer product of two ``scipy.signal.windows.tukey`` windows (alpha = 0: rectangular,
+outer product of two 1D Tukey windows (``roadscan.windows.tukey``, equal to
+``scipy.signal.windows.tukey``) (alpha = 0: rectangular,
 alpha = 1: Hann). SurfaceTopography's C is (2 pi)^2 times this one.
 
 1D (line profiles), with L = n dx:
@@ -36,11 +37,11 @@ from functools import lru_cache
 
 import numpy as np
 import scipy.fft as sfft
-from scipy.signal.windows import tukey
 from scipy.special import gammaln
 
 from .heightmap import HeightMap, Profile
 from .spectrum_types import Spectrum, Spectrum2D
+from .windows import tukey
 
 __all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",
            "window_2d", "profile_to_area_factor", "NORMALISATION_2D", "NORMALISATION_1D"]

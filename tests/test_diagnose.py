@@ -267,3 +267,107 @@ def test_proof_small_blind_cases_meet_the_goals():
     assert hits / n_eff >= 0.85
     assert np.median(shrink) >= 0.7
     assert fp <= 1
+
+
+# ----------------------------------------------------------------------------- surface level, issue 11
+def test_l_moment_ratios_match_analytic_values():
+    from pipelines.diagnose.blocks import l_moment_ratios
+
+    rng = np.random.default_rng(3)
+    t3, t4 = l_moment_ratios(rng.standard_normal(200_000))
+    assert abs(t3) < 0.005 and t4 == pytest.approx(0.1226, abs=0.005)   # Hosking 1990, table 1
+    t3, t4 = l_moment_ratios(rng.exponential(size=200_000))
+    assert t3 == pytest.approx(1 / 3, abs=0.005) and t4 == pytest.approx(1 / 6, abs=0.005)
+    # location and scale do not change the ratios; a sign flip flips tau3 only
+    x = rng.gamma(2.0, size=20_000)
+    a, b = l_moment_ratios(x), l_moment_ratios(-3 * x + 7)
+    assert b[0] == pytest.approx(-a[0], abs=1e-9) and b[1] == pytest.approx(a[1], abs=1e-9)
+
+
+def test_axis_excess_sees_a_seam_not_a_direction():
+    """A step along a lattice line puts power on the spectrum's axis; a directional (stretched)
+    texture does not raise the axis-over-beside-axis excess much, a seam does."""
+    from scipy.ndimage import zoom
+    from roadscan.heightmap import HeightMap
+    from roadscan.synth import self_affine_surface
+    from pipelines.diagnose import blocks as bl
+
+    big = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=4).heights_m
+    h = big[:128, :128].copy()
+    geo = bl.geometry(HeightMap(h, 5e-5, 5e-5), n_blocks=1)
+    plain = bl.describe(h, geo, rain=False)["seams"][0, 0]
+    seam = h.copy()
+    seam[:, 64:] += 0.5 * h.std()
+    stepped = bl.describe(seam, geo, rain=False)["seams"][0, 0]
+    aniso = zoom(big[:128, :50], (1, 3), order=3)[:, :128]
+    directional = bl.describe(aniso, geo, rain=False)
+    assert stepped > plain + 0.3
+    assert directional["seams"][0, 0] < plain + 0.3
+    assert directional["anisotropy"][0, 0] > 0.3 > bl.describe(h, geo, rain=False)["anisotropy"][0, 0]
+
+
+def test_every_surface_effect_has_a_reachable_no_effect_limit():
+    from pipelines.diagnose.surface_search import _predict
+
+    class Ctx:  # the attributes effects read
+        ring_q = np.geomspace(1e3, 1e5, 40)
+        twin_rings = -12 - 3.6 * np.log10(ring_q / 1e3)
+        twin_mean = dict(height=np.array([0.01, 0.12]), anisotropy=np.array([0.03]), seams=np.array([0.01]),
+                         rain=np.array([-0.1, -0.1, -0.1, 0.2]), spectrum=np.zeros(7))
+        skew_table = dict(s=np.array([-1.0, 0.0, 1.0]), height=np.array([[-0.1, 0.13], [0.01, 0.12], [0.1, 0.13]]),
+                          rain=np.array([[0.1] * 4, [0.0] * 4, [-0.1] * 4]))
+
+        class geo:
+            band_matrix = np.kron(np.eye(8), np.full((1, 5), 0.2))
+
+    ctx = Ctx()
+    base = _predict(ctx, (), [])
+    for e in all_effects("surface"):
+        null = e.null_params(ctx)
+        assert null is not None, e.name
+        for p in e.params:  # the null lies inside the bounds
+            assert p.lo <= null[p.name] <= p.hi, (e.name, p.name)
+        pred = _predict(ctx, (e,), [null])
+        for f in ("spectrum", "height", "anisotropy", "seams", "rain"):
+            assert np.allclose(pred[f], base[f], atol=2e-3), (e.name, f)
+
+
+def test_surface_level_names_anisotropy_with_family_gaps(tmp_path):
+    from scipy.ndimage import zoom
+    from roadscan.heightmap import HeightMap
+    from roadscan.synth import self_affine_surface
+    from pipelines.diagnose.surface import run_surface
+
+    big = self_affine_surface(512, 512, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=21).heights_m
+    h = zoom(big[:256, :90], (1, 3), order=3)[:, :256]
+    d = run_surface(HeightMap(h, 5e-5, 5e-5, name="aniso"), tmp_path)
+    v = d["verdict"]
+    assert v["effect"] == "anisotropy" and v["shrink"] >= 0.5
+    assert d["families"]["anisotropy"]["significant"] and d["families"]["anisotropy"]["gap_baseline"] > 5
+    assert set(d["families"]) == {"spectrum", "height", "anisotropy", "seams", "rain"}
+    lo, hi = v["shrink_interval"]
+    assert lo <= v["shrink"] + 1e-9 and hi >= v["shrink"] - 1e-9
+    assert isinstance(d["at_bound"], list) and d["inconclusive"] == [] and v["inconclusive"] == []
+    e = next(x for x in d["effects"] if x["name"] == "anisotropy")
+    assert e["family_gaps"]["anisotropy"] < 0.3 * d["families"]["anisotropy"]["gap_baseline"]
+    html = (tmp_path / "report.html").read_text()
+    assert "descriptor family" in html and "Shrink interval" in html
+
+
+@pytest.mark.parametrize("kind", ["flat", "tiny", "one_speed"])
+def test_diagnose_refuses_unusable_input_in_one_line(tmp_path, capsys, kind):
+    if kind == "flat":
+        np.save(tmp_path / "s.npy", np.full((100, 100), 1e-3))
+        args = ["--scan", str(tmp_path / "s.npy"), "--spacing", "1e-4"]
+    elif kind == "tiny":
+        np.save(tmp_path / "s.npy", np.random.default_rng(0).random((3, 3)))
+        args = ["--scan", str(tmp_path / "s.npy"), "--spacing", "1e-4"]
+    else:
+        f = _curve_file(tmp_path, np.full(20, 0.01), np.linspace(0.5, 0.7, 20))
+        q = np.geomspace(1e3, 1e5, 30)
+        psd = write_psd_csv(tmp_path / "psd.csv", q, 1e-20 * (q / 1e3) ** -3.6)
+        args = ["--measured", str(f), "--psd", str(psd)]
+    assert cli(["diagnose", *args, "--out", str(tmp_path / "o")]) == 2
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and ("flat" in err[0] or "too small" in err[0] or "distinct speed" in err[0]), err
+    assert not (tmp_path / "o" / "diagnosis.json").exists()

@@ -6,7 +6,6 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-from ..analyse import run_analysis
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
 
@@ -75,6 +74,7 @@ def run(args):
 
 def _analyse_all(args, scans, out, final, many, settings, band, mpd):
     from .. import report
+    from ..analyse import run_analysis
 
     rows = []
     for i, (path, scan, sub) in enumerate(zip(args.files, scans, _unique_dirs(args.files))):

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from roadscan.errors import InputError
 
-from ..compare import run_compare
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
 from .analyse import _unique_dirs
@@ -20,6 +19,8 @@ def add_arguments(p):
 
 
 def run(args):
+    from ..compare import run_compare
+
     if len(args.scans) < 2:
         raise InputError(args.scans[0], "compare needs at least two scans")
     from roadscan.io.atomic import atomic_output_dir, check_output_dir

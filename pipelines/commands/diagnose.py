@@ -1,7 +1,7 @@
 """``roadscan diagnose``: the sim-to-real gap (issue 5).
 
 Friction level: ``roadscan diagnose --measured MU.csv (--scan FILE | --psd FILE)
-[--rubber FILE.toml] [--sigma0 PA] [--temperature C] [--noise RMS] [--validate OTHER.csv] --out DIR``.
+[--rubber FILE.toml] [--sigma0 0.3MPa] [--q0 Q] [--q1 Q] [--contact-gamma G] [--temperature C] [--noise RMS] [--validate OTHER.csv] --out DIR``.
 Surface level: ``roadscan diagnose --scan FILE --out DIR``.
 Writes DIR/diagnosis.json and DIR/report.html (see :mod:`pipelines.diagnose`).
 """
@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import sys
 
-import numpy as np
-
 from roadscan.errors import InputError
 
+from ..friction_options import (PRESSURE_HELP, add_contact_options, apply_band, check_contact_args,
+                                parse_pressure, with_extrapolation)
 from ..scan_input import add_scan_options, load_scan
 
 NAME = "diagnose"
@@ -27,7 +27,7 @@ def add_arguments(p):
     p.add_argument("--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)")
     p.add_argument("--rubber", metavar="FILE.toml", default=None,
                    help="rubber model (default: the thesis's standard linear solid, T_ref = 60 C)")
-    p.add_argument("--sigma0", type=float, default=0.2e6, metavar="PA", help="nominal pressure [Pa] (default 2e5)")
+    p.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
     p.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's reference temperature)")
     p.add_argument("--noise", type=float, default=None, metavar="RMS",
@@ -35,6 +35,7 @@ def add_arguments(p):
     p.add_argument("--validate", metavar="OTHER.csv", default=None,
                    help="a separate measurement predicted by the corrected model without refitting")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_contact_options(p, nu=False)
     add_scan_options(p)
 
 
@@ -43,10 +44,12 @@ def _say(msg):
 
 
 def run(args):
+    import numpy as np
+
     if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):
         raise InputError(None, f"--noise {args.noise!r} must be a positive rms of log10")
-    if not (np.isfinite(args.sigma0) and args.sigma0 > 0):
-        raise InputError(None, f"--sigma0 {args.sigma0!r} must be a positive pressure in Pa")
+    args.sigma0 = parse_pressure(args.sigma0)
+    check_contact_args(args)
     if args.measured is None:
         if args.scan is None:
             raise InputError(None, "give --measured MU.csv with --scan/--psd (friction level) or --scan alone (surface level)")
@@ -58,8 +61,12 @@ def run(args):
 
         check_output_dir(args.out, inputs=[args.scan])
         obj = load_scan(args.scan, args)
-        with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
-            data = run_surface(obj, tmp, log=_say)
+        _check_surface(obj, args.scan)
+        try:
+            with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
+                data = run_surface(obj, tmp, log=_say)
+        except (ValueError, np.linalg.LinAlgError) as exc:
+            raise InputError(args.scan, f"cannot diagnose the scan ({exc})") from None
         _report(data, args.out)
         return 0
     if (args.scan is None) == (args.psd is None):
@@ -84,7 +91,13 @@ def run(args):
             psd, scan, spec, fit = surface_from_scan(obj)
         except ValueError as exc:
             raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
+    psd, _ = apply_band(psd, args.q0, args.q1, log=_say)
+    rubber = with_extrapolation(rubber, args.extrapolate)
     ctx = build_context(curve, psd, rubber=rubber, scan=scan, spectrum=spec, fit=fit)
+    if args.contact_gamma is not None:  # baseline S(q); the contact-correction effect may refit it
+        from dataclasses import replace
+
+        ctx.base = replace(ctx.base, contact_gamma=args.contact_gamma)
     from roadscan.io.atomic import atomic_output_dir
 
     inputs = [f for f in (args.measured, args.scan, args.psd, args.validate) if f]
@@ -92,6 +105,21 @@ def run(args):
         data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say)
     _report(data, args.out)
     return 0
+
+
+def _check_surface(obj, path):
+    """One-line errors for scans the surface level cannot use: too few points, or flat."""
+    import numpy as np
+
+    h = np.asarray(obj.heights_m, float)
+    shape = " x ".join(str(n) for n in h.shape)
+    if h.ndim == 2 and min(h.shape) < 48:
+        raise InputError(path, f"a {shape} grid is too small for the surface level (needs at least 48 x 48 points)")
+    if h.ndim == 1 and h.size < 128:
+        raise InputError(path, f"a profile of {h.size} points is too short for the surface level (needs at least 128)")
+    good = h[np.isfinite(h)]
+    if good.size == 0 or float(np.ptp(good)) <= 1e-12 * max(1.0, float(np.max(np.abs(good)))):
+        raise InputError(path, "the scan is flat (all heights equal): no texture to diagnose")
 
 
 def _report(data, out):

@@ -3,7 +3,6 @@ from __future__ import annotations
 
 from roadscan.errors import InputError
 
-from ..dry_vs_wet import run_dry_vs_wet
 from ..friction_options import add_friction_options, settings_from_args
 from ..scan_input import add_scan_options, load_scan
 from .rainfill import add_water_options, check_water_options
@@ -22,6 +21,8 @@ def add_arguments(p):
 
 def run(args):
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+    from ..dry_vs_wet import run_dry_vs_wet
 
     check_water_options(args)
     check_output_dir(args.out, inputs=[args.scan])

@@ -11,11 +11,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-import numpy as np
-
 from roadscan.errors import InputError
-from roadscan.heightmap import HeightMap
-from roadscan.io.atomic import atomic_save_npy, atomic_write_text
 
 from ..scan_input import add_scan_options, load_scan
 
@@ -44,12 +40,16 @@ def add_water_options(p):
 
 
 def check_water_options(args):
+    import numpy as np
+
     for flag, val in (("--max-depth", args.max_depth), ("--water-film", args.water_film)):
         if val is not None and not (np.isfinite(val) and val >= 0):
             raise InputError(None, f"{flag} {val}: must be a non-negative length in metres")
 
 
 def run(args):
+    from roadscan.heightmap import HeightMap
+    from roadscan.io.atomic import atomic_save_npy, atomic_write_text
     from roadscan.rain import rain_fill
 
     from roadscan.io.atomic import atomic_output_dir, check_output_dir

@@ -18,8 +18,6 @@ import re
 from pathlib import Path
 
 from roadscan.errors import InputError
-from roadscan.heightmap import HeightMap
-from roadscan.io.atomic import atomic_write_text
 
 from ..scan_input import add_scan_options, load_scan
 
@@ -44,6 +42,8 @@ def add_arguments(p):
 
 
 def _load_tile(path, args):
+    from roadscan.heightmap import HeightMap
+
     t = load_scan(path, args)
     if not isinstance(t, HeightMap):
         raise InputError(path, "a tile must be an area scan (height map), not a line profile")
@@ -92,6 +92,7 @@ def overlaps_csv(result):
 
 def run(args):
     from roadscan.io import write
+    from roadscan.io.atomic import atomic_write_text
     from roadscan.stitch import stitch
 
     out = Path(args.out)

@@ -66,13 +66,13 @@ def _float(cell, path, lineno, col):
         raise InputError(path, f"line {lineno}: column {col!r} value {cell!r} is not a number") from None
 
 
-def read_measured(path, sigma0_Pa=0.2e6, T0_C=None, min_points=5):
+def read_measured(path, sigma0_Pa=0.2e6, T0_C=None, min_points=5, min_speeds=4):
     """Read a measured mu(v) CSV (see module docstring) -> :class:`MeasuredCurve`.
 
     ``sigma0_Pa`` and ``T0_C`` are the command-line defaults used where a row gives none
     (``T0_C=None``: the rubber's reference temperature, stored as NaN).
     Raises :class:`InputError` on a missing column, a non-number, v <= 0, mu <= 0, fewer than
-    ``min_points`` rows, or an unknown condition.
+    ``min_points`` rows or ``min_speeds`` distinct speeds, or an unknown condition.
     """
     path = Path(path)
     header, body = read_csv_rows(path, "a header v_m_per_s,mu")
@@ -104,6 +104,10 @@ def read_measured(path, sigma0_Pa=0.2e6, T0_C=None, min_points=5):
         raise InputError(path, "mu must be positive numbers in every row")
     if np.any(s <= 0):
         raise InputError(path, "sigma0_Pa must be positive")
+    n_speeds = np.unique(np.round(np.log10(v), 9)).size
+    if n_speeds < min_speeds:
+        raise InputError(path, f"{v.size} rows at only {n_speeds} distinct speed(s): a diagnosis needs "
+                               f"mu at {min_speeds} or more distinct speeds")
     o = np.argsort(v, kind="stable")
     return MeasuredCurve(v[o].astype(float), mu[o].astype(float), T[o].astype(float),
                          s[o].astype(float), wet[o].astype(bool), has_cond, path.stem)

@@ -11,8 +11,11 @@ reason), an optional ``prepare(context) -> str | None`` (precompute; a returned 
 effect with that reason) and ``modify(spec, params, context) -> spec``. For the friction level
 ``apply(context, params)`` evaluates the modified baseline (mu at the measured rows); an effect
 may instead give ``apply_fn(context, params) -> mu`` directly. Surface-level effects give
-``apply_fn(context, params, C, stats) -> (C, stats)``: the predicted spectrum and statistics of
-the twin (see :mod:`pipelines.diagnose.surface`), so that they compose in pairs. ``cost`` > 1 marks expensive effects (the
+``apply_fn(context, params, pred) -> pred``: ``pred`` maps each descriptor family (and
+``spec_rings``, the ring-level log10 spectrum) to the twin's prediction, the effect returns the
+modified prediction (see :mod:`pipelines.diagnose.surface`), so that effects compose in pairs.
+``null(context) -> params`` gives the parameters at which the effect is no effect (every effect
+has one within its bounds: fits start there and keep it unless the training data improve). ``cost`` > 1 marks expensive effects (the
 search spends fewer evaluations on them).
 """
 from __future__ import annotations
@@ -62,6 +65,12 @@ class Effect:
     prepare: Callable = None
     cost: float = 1.0
     description: str = ""
+    null: Callable = None
+
+    def null_params(self, context):
+        """The parameters at which the effect is no effect (its reachable "no effect" limit), or
+        None when it has none."""
+        return None if self.null is None else self.null(context)
 
     def missing(self, context):
         """Inputs this effect needs that the context lacks (empty when usable)."""
