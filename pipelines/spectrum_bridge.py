@@ -92,7 +92,8 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     detected roll-off, else the lowest wave vector (DESIGN.md section 5). With ``q1_per_m``
     beyond the measured band, the spectrum is continued by the fitted self-affine power law
     (:func:`roadscan.fit.extend_spectrum`) up to q1: roughness below the scan's resolution;
-    with q1 inside the band the spectrum is cut at q1; q1 at or below the lowest measured wave
+    with q1 inside the band the spectrum is cut at its first ring at or above q1 (``apply_band``
+    then cuts at q1 exactly); q1 at or below the lowest measured wave
     vector is refused (:func:`pipelines.validate.check_q1`).
     """
     from friction import TabulatedPSD
@@ -108,8 +109,9 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     q = np.asarray(spectrum.q_per_m, dtype=float)
     C = np.asarray(spectrum.C_m4, dtype=float)
     ok = np.isfinite(C) & (C > 0) & np.isfinite(q) & (q > 0)
-    if q1_per_m is not None:      # q1 inside the measured band: integrate up to q1 only
-        ok &= q <= q1_per_m * (1 + 1e-12)
+    if q1_per_m is not None and np.any(ok & (q >= q1_per_m)):   # q1 inside the measured band:
+        q_end = np.min(q[ok & (q >= q1_per_m)])                  # cut at the first ring >= q1
+        ok &= q <= q_end
     q, C = q[ok], C[ok]
     if q.size < 2:
         from roadscan.errors import InputError
