@@ -10,6 +10,7 @@ sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis rubber at T0 = T_ref, isothermal,
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from roadscan.errors import InputError
@@ -64,7 +65,7 @@ def _self_affine(text):
             kw[keys[k.strip().lower()]] = float(val)
         except ValueError:
             raise InputError(None, f"--self-affine: {k}={val!r} is not a number") from None
-        if not np.isfinite(kw[keys[k.strip().lower()]]):
+        if not math.isfinite(kw[keys[k.strip().lower()]]):
             raise InputError(None, f"--self-affine: {k.strip()}={val.strip()}: must be finite")
     missing = {"hurst", "h0_m", "q0_per_m", "q1_per_m"} - set(kw)
     if missing:
