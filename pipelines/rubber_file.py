@@ -23,7 +23,8 @@ from roadscan.errors import InputError
 
 from .csv_files import read_csv_rows
 
-__all__ = ["load_rubber", "read_master_curve_csv", "read_shift_csv", "rubber_from_csv_files", "orient_shift"]
+__all__ = ["load_rubber", "read_master_curve_csv", "read_shift_csv", "rubber_from_csv_files", "orient_shift",
+           "read_dma_sweeps_csv"]
 
 _UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}
 _F_NAMES = ("f", "freq", "frequency")
@@ -217,3 +218,22 @@ def rubber_from_csv_files(master_csv, shift_csv=None, T_ref_C=None, units=None):
         return friction.rubber_from_dict(d)
     except (ValueError, TypeError) as exc:
         raise InputError(shift_csv or master_csv, str(exc)) from None
+
+
+_SET_NAMES = ("set", "sweep", "segment", "set_id", "sweep_id")
+
+
+def read_dma_sweeps_csv(path):
+    """Raw DMA frequency sweeps -> (f_Hz, E_storage_Pa, E_loss_Pa, T_C, set_id or None).
+
+    Columns: ``f`` [Hz] (or ``omega`` [rad/s]), ``E_stor``, ``E_loss`` (unit from a units line
+    such as ``Hz, MPa, MPa, C, -``, or the header, ``E_stor_MPa``; default Pa), ``T`` [C] (or
+    K) and optionally ``Set`` (the sweep each row belongs to; without it rows are grouped by
+    temperature). The pyvisco layout (BOM, spaces after commas, units line) is one such file.
+    """
+    f, E1, E2 = read_master_curve_csv(path)
+    names, urow, d = _read_table(path)
+    T = _temperature_C(names, urow, d, path)
+    i_s = _col(names, _SET_NAMES, path, "set", required=False)
+    sid = d[:, i_s] if i_s is not None else None
+    return f, E1, E2, T, sid
