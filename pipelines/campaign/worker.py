@@ -8,8 +8,10 @@ input: the failure is a record with status ``error`` and a one-line message.
 """
 from __future__ import annotations
 
+import contextlib
 import csv
 import gc
+import io
 from pathlib import Path
 
 import numpy as np
@@ -42,10 +44,19 @@ def _mu_at(folder):
     return mu_at_speeds(d[:, 0], d[:, 1])
 
 
+def _reset_warnings():
+    """Each scan's ``summary.json`` lists its own warnings, as ``roadscan analyse`` on that one
+    file does (the list is per process, and a worker runs many scans)."""
+    from .. import validate
+
+    validate.reset_warnings(prefix="roadscan batch")
+
+
 def _analyse_one(job, tmp):
     from ..analyse import run_analysis
     from ..scan_input import load_scan
 
+    _reset_warnings()
     scan = load_scan(job.get("path") or job["file"], spacing=job.get("spacing"), units=job.get("units"))
     try:
         summary = run_analysis(scan, tmp, job["settings"], figures=job.get("figures", False),
@@ -67,6 +78,7 @@ def _analyse_sections(job, tmp):
         sub = f"section_{k:05d}"
         extra = {"section": k, "section_start_m": start, "section_length_m": prof.length_m}
         chain = base + start
+        _reset_warnings()
         try:
             summary = run_analysis(prof, tmp / sub, job["settings"], figures=job.get("figures", False),
                                    **job["analysis"])
@@ -111,6 +123,12 @@ def run_job(job):
     if job.get("error"):
         return [error_record(job, job["error"])]
     target = Path(job["out"]) / job["subdir"]
+    # warnings go into each summary.json / campaign.csv, not onto the worker's stderr
+    with contextlib.redirect_stderr(io.StringIO()):
+        return _run_job(job, target)
+
+
+def _run_job(job, target):
     try:
         path = Path(job.get("path") or job["file"])
         if not path.is_file():

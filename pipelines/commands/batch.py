@@ -52,14 +52,17 @@ def _rubber_identity(path):
         return str(path)
 
 
+_NOT_OPTIONS = {"inputs", "out", "workers", "scheduler", "resume", "command", "_run", "debug"}
+
+
 def _fingerprint(args, kw):
+    """Hash of every option that changes a scan's outputs (all of analyse's, --figures,
+    --section-length; the rubber file by content)."""
     from ..campaign.folder import options_fingerprint
 
-    opts = {k: getattr(args, k, None) for k in (
-        "spacing", "units", "sigma0", "temperature", "flash", "velocities", "q1", "no_friction",
-        "figures", "section_length")}
+    opts = {k: v for k, v in vars(args).items() if k not in _NOT_OPTIONS and not k.startswith("_")}
     opts.update(kw)
-    opts["rubber"] = _rubber_identity(args.rubber)
+    opts["rubber"] = _rubber_identity(getattr(args, "rubber", None))
     return options_fingerprint(opts)
 
 
