@@ -125,6 +125,9 @@ def rubber_from_dict(d):
     if model == "sls":
         _unknown(sec, ("E1_Pa", "a1", "tau_s"), "sls")
         kw = {k: _num(sec, k, "sls") for k in sec}
+        missing = [k for k in ("E1_Pa", "a1", "tau_s") if k not in sec]
+        if missing:
+            raise ValueError(f"[sls] is missing {', '.join(missing)} (no defaults are filled in)")
         return StandardLinearSolid(**kw, T_ref_C=T_ref, shift=shift, thermal=thermal)
     if model == "prony":
         _unknown(sec, ("E_inf_Pa", "E_i_Pa", "tau_i_s"), "prony")

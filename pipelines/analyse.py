@@ -96,14 +96,21 @@ def summarise(analysis, fr=None):
 
 
 def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
-                 mpd_settings=None):
-    """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict."""
+                 mpd_settings=None, figures=True):
+    """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict.
+
+    ``figures=False`` (``roadscan batch`` without ``--figures``) skips the PNGs; the numbers,
+    the CSV/JSON files and ``report.html`` (tables only) are the same.
+    """
+    from . import validate
+
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
                          mpd_settings=mpd_settings)
     spec, fit = an.spectrum, an.fit
+    validate.check_fit(fit, an.name)
 
     fr = None
     checks = band = None
@@ -140,12 +147,31 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
             summary["friction"]["band"] = band
         if checks is not None:
             summary["friction"]["rubber_checks"] = checks
+    summary["warnings"] = validate.warnings_list()   # this run so far (they name the file)
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
     figs = []
     if an.is_profile:
         q1d, c1d = an.psd1d
         keep = (q1d > 0) & (c1d > 0)
         report.write_csv(out_dir / "psd1d.csv", PSD1D_HEADER, [q1d[keep], c1d[keep]])
+    if fr is not None:
+        cols = [fr.v_m_per_s, fr.mu, fr.P[:, -1]]
+        if fr.T_q_C is not None:
+            cols.append(np.max(fr.T_q_C, axis=1))
+        report.write_csv(out_dir / "mu.csv", MU_HEADER + MU_EXTRA[:len(cols) - 2], cols)
+    if figures:
+        figs = _figures(out_dir, an, fit, fr, spec, settings, summary)
+    report.write_json(out_dir / "summary.json", summary)
+    _write_report(out_dir, an, summary, figs)
+    return summary
+
+
+def _figures(out_dir, an, fit, fr, spec, settings, summary):
+    """The PNGs of one scan (skipped by ``roadscan batch`` without ``--figures``)."""
+    figs = []
+    if an.is_profile:
+        q1d, c1d = an.psd1d
+        keep = (q1d > 0) & (c1d > 0)
         figs.append(report.plot_profile(an.levelled, out_dir / "profile.png",
                                         title=f"{an.name}: levelled profile"))
         figs.append(_plot_psd1d(q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name))
@@ -163,17 +189,11 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
         fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m"
                + (f", extended to q1 = {q_top:.3g} 1/m" if q_top > hi else ""), qf, fit.model_C(qf))]))
     if fr is not None:
-        cols = [fr.v_m_per_s, fr.mu, fr.P[:, -1]]
-        if fr.T_q_C is not None:
-            cols.append(np.max(fr.T_q_C, axis=1))
-        report.write_csv(out_dir / "mu.csv", MU_HEADER + MU_EXTRA[:len(cols) - 2], cols)
         rub = "thesis rubber" if settings.rubber is None else getattr(settings.rubber, "name", "rubber")
         figs.append(report.plot_mu([(f"{summary['friction']['model']}, {rub}, σ0 = "
                                      f"{settings.sigma0_Pa / 1e6:g} MPa", fr.v_m_per_s, fr.mu)],
                                    out_dir / "mu.png", title=f"{an.name}: friction μ(v)"))
-    report.write_json(out_dir / "summary.json", summary)
-    _write_report(out_dir, an, summary, figs)
-    return summary
+    return figs
 
 
 def _plot_psd1d(q, C1, path, name):
@@ -231,4 +251,6 @@ def _write_report(out_dir, an, summary, figs):
     sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
                 ("Roughness (ISO 25178-2 / 4287; SI units in names)", report.table_html(rough, ["parameter", "value"])),
                 ("Figures", [list(figs)])]
+    if not figs:
+        sections.pop()
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections)

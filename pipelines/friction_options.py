@@ -173,6 +173,14 @@ def settings_from_args(args):
         rubber = load_rubber(args.rubber)
     sigma0 = parse_pressure(args.sigma0)
     v = parse_velocities(args.velocities) if args.velocities else None
+    from .validate import check_temperature, finite_number
+
+    if args.temperature is not None:
+        import friction
+
+        check_temperature(args.temperature, rubber if rubber is not None else friction.thesis_rubber())
+    if args.q1 is not None and not finite_number(args.q1, "--q1") > 0:
+        raise InputError(None, f"--q1 {args.q1:g} 1/m: must be a positive wave vector")
     return FrictionSettings(rubber=rubber, sigma0_Pa=sigma0, T0_C=args.temperature,
                             flash=args.flash, v_m_per_s=v, q1_per_m=args.q1,
                             enabled=not args.no_friction, q0_per_m=args.q0, nu=args.nu,

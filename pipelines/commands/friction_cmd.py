@@ -10,6 +10,7 @@ sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis rubber at T0 = T_ref, isothermal,
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from roadscan.errors import InputError
@@ -65,6 +66,8 @@ def _self_affine(text):
             kw[keys[k.strip().lower()]] = float(val)
         except ValueError:
             raise InputError(None, f"--self-affine: {k}={val!r} is not a number") from None
+        if not math.isfinite(kw[keys[k.strip().lower()]]):
+            raise InputError(None, f"--self-affine: {k.strip()}={val.strip()}: must be finite")
     missing = {"hurst", "h0_m", "q0_per_m", "q1_per_m"} - set(kw)
     if missing:
         raise InputError(None, "--self-affine: missing " + ", ".join(sorted(missing)))
@@ -144,6 +147,9 @@ def run(args):
         raise InputError(None, f"--magnifications {bad}: outside the spectrum's range {zmin:g}..{zmax:g}")
     if zetas and not args.flash:
         raise InputError(None, "--magnifications needs --flash")
+    from ..validate import check_mu, check_temperature
+
+    check_temperature(args.temperature, rubber)
     kw = dict(sigma0_Pa=sigma0, nu=args.nu, T0_C=args.temperature, tol=args.tol,
               contact_gamma=args.contact_gamma)
     try:
@@ -153,6 +159,7 @@ def run(args):
         raise InputError(None, f"friction: {exc}") from None
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
+    check_mu(res.mu)
     out = Path(args.out)
     area = res.P[:, -1]
     header, cols = ["v_m_per_s", "mu", "area_fraction"], [res.v_m_per_s, res.mu, area]
