@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import erf, erfc
 
-__all__ = ["cumulative_G", "contact_P", "p_weights"]
+__all__ = ["cumulative_G", "contact_P", "contact_S", "p_weights"]
 
 _SQPI = np.sqrt(np.pi)
 
@@ -39,6 +39,19 @@ def contact_P(G):
     G = np.asarray(G, dtype=float)
     with np.errstate(divide="ignore"):
         return np.where(G > 0, erf(0.5 / np.sqrt(np.maximum(G, 1e-300))), 1.0)
+
+
+def contact_S(P, gamma=None):
+    """Persson's correction of the dissipation integrand, ``S(q) = gamma + (1 - gamma) P(q)^2``.
+
+    It multiplies ``q^3 C(q) P(q) M(q)`` in mu (and, in the flash model, the heat source):
+    ``mu = 1/2 int q^3 C S P M dq`` (Persson, J. Phys.: Condens. Matter 18 (2006) 7789; Lorenz et
+    al., EPL 103 (2013) 24003, gamma ~ 0.45 to 0.75); G and P are unchanged. ``gamma=None``
+    means S = 1 (the thesis). Returns an array shaped like P (or the scalar 1.0).
+    """
+    if gamma is None:
+        return 1.0
+    return gamma + (1.0 - gamma) * np.asarray(P) ** 2
 
 
 def _F(G):

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .contact import contact_S
 from .grids import phi_table, q_grid, q_nodes_per_decade
 from .isothermal import _breakpoints, _check, contact_state
 from .result import FrictionResult
@@ -219,7 +220,7 @@ def _speeds(v):
 
 def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=3.0,
              asperity_abc=(0.0, 2 * np.sqrt(np.pi), 0.5), tol=1e-3, wlf_form="relative",
-             max_iter=400, beta=0.5, memory=6, heat_scale=1.0):
+             max_iter=400, beta=0.5, memory=6, heat_scale=1.0, contact_gamma=None):
     """Kinetic friction with flash heating, solved self-consistently for T_q at every speed.
 
     Parameters
@@ -236,6 +237,8 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
     heat_scale : float >= 0, multiplies the heat source f (default 1, the model). 0 switches the
         heating off exactly (T_q = T0, mu equals the isothermal model on this q grid); values in
         between give a continuous path to it (e.g. for a fit whose "no effect" must be reachable).
+    contact_gamma : None or gamma of Persson's ``S = gamma + (1 - gamma) P^2``
+        (:func:`friction.contact.contact_S`), applied to mu and to the heat source alike.
 
     Returns
     -------
@@ -248,7 +251,7 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
     map evaluations; its one-line message names the speeds, and says "runs away" when the
     iterates rose more than :data:`T_RISE_MAX_K` above T0 (no solution in the model's range).
     """
-    v = _check(psd, v_m_per_s, sigma0_Pa, nu)
+    v = _check(psd, v_m_per_s, sigma0_Pa, nu, contact_gamma)
     if not (np.isfinite(heat_scale) and heat_scale >= 0):
         raise ValueError(f"heat_scale must be a finite number >= 0, got {heat_scale!r}")
     if not (int(max_iter) >= 1):
@@ -289,7 +292,8 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
         a = 10.0 ** np.clip(log10_shift(rubber, T, wlf_form, T0), -300.0, 300.0)
         m, w = tab(x0[rows] * a)
         G, P, wP, fmu = contact_state(q, h, C, m, w, sigma0_Pa, nu)
-        return m, G, P, wP, fmu
+        S = contact_S(P, contact_gamma)
+        return m * S, G, P, wP, fmu * S
 
     def phi_map(T, rows=slice(None)):
         """Phi(T) on the speeds ``rows`` (T holds those rows only); also R [m] there."""
@@ -307,7 +311,7 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
     m, G, P, wP, fmu = state(T)
     mu = 0.5 * np.sum(wP * fmu, axis=-1)
     meta = dict(model="flash", sigma0_Pa=sigma0_Pa, nu=nu, T0_C=T0, tol=tol, wlf_form=wlf_form,
-                heat_scale=float(heat_scale),
+                heat_scale=float(heat_scale), contact_gamma=contact_gamma,
                 q0_per_m=psd.q0_per_m, zeta_m=zeta_m, q_m_per_m=q_m, asperity_abc=tuple(asperity_abc),
                 R_m=R, q_nodes=q.size, k_nodes=k.size, phi_nodes=tab.phi_nodes,
                 thermal=th)

@@ -87,9 +87,12 @@ class PhiTable:
         lx = np.arange(self.k_lo, self.k_hi + 1) * (np.log(10.0) / per_decade)
         c, wphi = phi_rule(n_gl, panels_per_decade)
         self.phi_nodes = c.size
-        E = rubber.modulus_ref(np.exp(lx)[:, None] * c[None, :])
-        m = (c * E.imag) @ wphi
-        w = (E.real ** 2 + E.imag ** 2) @ wphi
+        with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
+            E = rubber.modulus_ref(np.exp(lx)[:, None] * c[None, :])
+            m = (c * E.imag) @ wphi
+            w = (E.real ** 2 + E.imag ** 2) @ wphi
+        m = np.where(np.isfinite(m), m, 0.0)
+        w = np.where(np.isfinite(w), w, np.finfo(float).max)
         tiny = 1e-300
         from scipy.interpolate import CubicSpline  # on demand: it loads scipy.optimize
 
@@ -111,7 +114,7 @@ class PhiTable:
             y = f(lxc)
             y = np.where(lx < lo, y0 + d0 * (lx - lo), y)
             y = np.where(lx > hi, y1 + d1 * (lx - hi), y)
-            out.append(np.exp(y))
+            out.append(np.exp(np.clip(y, -700.0, 700.0)))  # no overflow far outside the table
         return out[0], out[1]
 
 

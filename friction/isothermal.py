@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .contact import cumulative_G, p_weights
+from .contact import contact_S, cumulative_G, p_weights
 from .grids import phi_table, q_grid, q_nodes_per_decade
 from .result import FrictionResult
 from .rubber import log10_shift
@@ -27,7 +27,7 @@ from .rubber import log10_shift
 __all__ = ["mu_isothermal", "contact_state"]
 
 
-def _check(psd, v, sigma0_Pa, nu):
+def _check(psd, v, sigma0_Pa, nu, contact_gamma=None):
     v = np.atleast_1d(np.asarray(v, dtype=float))
     if v.ndim != 1 or not np.all(np.isfinite(v)) or np.any(v <= 0):
         raise ValueError("velocities must be a 1D array of positive finite speeds [m/s]")
@@ -35,6 +35,8 @@ def _check(psd, v, sigma0_Pa, nu):
         raise ValueError("sigma0_Pa must be positive")
     if not (-1 < nu < 1):
         raise ValueError("nu must lie in (-1, 1)")
+    if contact_gamma is not None and not (np.isfinite(contact_gamma) and 0 <= contact_gamma <= 1):
+        raise ValueError(f"contact_gamma must lie in [0, 1], got {contact_gamma!r}")
     return v
 
 
@@ -76,7 +78,7 @@ def mu_isothermal(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, to
     -------
     FrictionResult (T_q_C None).
     """
-    v = _check(psd, v_m_per_s, sigma0_Pa, nu)
+    v = _check(psd, v_m_per_s, sigma0_Pa, nu, contact_gamma)
     T0 = rubber.T_ref_C if T0_C is None else float(T0_C)
     a = 10.0 ** float(log10_shift(rubber, T0, wlf_form, T0))
     q, h = q_grid(_breakpoints(psd), q_nodes_per_decade(tol))
@@ -85,8 +87,7 @@ def mu_isothermal(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, to
     tab = phi_table(rubber, x.min(), x.max())
     m, w = tab(x)
     G, P, wP, f = contact_state(q, h, C, m, w, sigma0_Pa, nu)
-    if contact_gamma is not None:
-        f = f * (contact_gamma + (1.0 - contact_gamma) * P * P)
+    f = f * contact_S(P, contact_gamma)
     mu = 0.5 * np.sum(wP * f, axis=-1)
     meta = dict(model="isothermal", sigma0_Pa=sigma0_Pa, nu=nu, T0_C=T0, tol=tol,
                 contact_gamma=contact_gamma, wlf_form=wlf_form, q0_per_m=psd.q0_per_m,

@@ -20,7 +20,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 __all__ = ["WLF", "ShiftTable", "Thermal", "StandardLinearSolid", "Prony", "MasterCurve",
-           "thesis_rubber", "log10_shift"]
+           "thesis_rubber", "log10_shift", "EXTRAPOLATE"]
+
+EXTRAPOLATE = ("powerlaw", "hold")  # MasterCurve beyond its measured frequencies
 
 
 # --------------------------------------------------------------------------- shift factors
@@ -234,9 +236,14 @@ class MasterCurve(_Rubber):
     """Measured master curve E'(f), E''(f) [Pa] at ``T_ref_C``, f in Hz (used at omega = 2 pi f).
 
     Interpolation is linear in (log f, log E') and (log f, log E''). Outside the measured range
-    E' is held at its end value (rubbery/glassy plateau) and E'' continues as a power law with
-    the slope of the last decade of data, clipped to [0, 1] at the low end and [-1, 0] at the
-    high end (a Maxwell-like tail: E'' -> 0 as omega -> 0). ``E(0) = E'(f_min)``.
+    (``extrapolate``):
+
+    * ``"powerlaw"`` (default): E' is held at its end value (rubbery/glassy plateau) and E''
+      continues as a power law with the slope of the last decade of data, clipped to [0, 1] at
+      the low end and [-1, 0] at the high end (a Maxwell-like tail: E'' -> 0 as omega -> 0);
+    * ``"hold"``: E' and E'' are both held at their end values.
+
+    ``E(0) = E'(f_min)``. :meth:`f_range_Hz` gives the measured range.
     """
 
     f_Hz: np.ndarray
@@ -245,8 +252,11 @@ class MasterCurve(_Rubber):
     T_ref_C: float = 20.0
     shift: object = None
     thermal: Thermal = field(default_factory=Thermal)
+    extrapolate: str = "powerlaw"
 
     def __post_init__(self):
+        if self.extrapolate not in EXTRAPOLATE:
+            raise ValueError(f"extrapolate must be one of {', '.join(EXTRAPOLATE)}, not {self.extrapolate!r}")
         f = np.asarray(self.f_Hz, dtype=float)
         E1 = np.asarray(self.E_storage_Pa, dtype=float)
         E2 = np.asarray(self.E_loss_Pa, dtype=float)
@@ -266,7 +276,12 @@ class MasterCurve(_Rubber):
         m = max(2, lf.size - int(np.searchsorted(lf, lf[-1] - np.log(10.0))))
         s_lo = np.polyfit(lf[:n], l2[:n], 1)[0] if n > 2 else (l2[1] - l2[0]) / (lf[1] - lf[0])
         s_hi = np.polyfit(lf[-m:], l2[-m:], 1)[0] if m > 2 else (l2[-1] - l2[-2]) / (lf[-1] - lf[-2])
-        object.__setattr__(self, "_slopes", (float(np.clip(s_lo, 0, 1)), float(np.clip(s_hi, -1, 0))))
+        slopes = (float(np.clip(s_lo, 0, 1)), float(np.clip(s_hi, -1, 0)))
+        object.__setattr__(self, "_slopes", slopes if self.extrapolate == "powerlaw" else (0.0, 0.0))
+
+    def f_range_Hz(self):
+        """(lowest, highest) measured frequency [Hz] at ``T_ref_C``."""
+        return float(self.f_Hz[0]), float(self.f_Hz[-1])
 
     def modulus_ref(self, omega_rad_s):
         w = np.asarray(omega_rad_s, dtype=float)

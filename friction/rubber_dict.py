@@ -8,6 +8,7 @@ Format (see RUBBER_TOML.md)::
     [prony]        E_inf_Pa, E_i_Pa = [...], tau_i_s = [...]
     [master_curve] f_Hz = [...], E_storage_Pa = [...], E_loss_Pa = [...]
     [shift]        kind = "wlf": C1, C2_K, T_s_C[, T_g_C]  |   kind = "table": T_C = [...], log10_aT = [...]
+                   (or aT = [...], linear)
                    |  kind = "none"
     [thermal]      rho_kg_m3, c_v_J_kgK, conductivity_W_mK   (all optional)
 
@@ -66,7 +67,14 @@ def _shift(d, model):
         Tg = _num(d, "T_g_C", "shift") if "T_g_C" in d else None
         return WLF(_num(d, "C1", "shift"), _num(d, "C2_K", "shift"), _num(d, "T_s_C", "shift"), Tg)
     if kind == "table":
-        _unknown(d, ("kind", "T_C", "log10_aT", "file"), "shift")
+        _unknown(d, ("kind", "T_C", "log10_aT", "aT", "file"), "shift")
+        if ("aT" in d) == ("log10_aT" in d):
+            raise ValueError("[shift] kind = 'table' needs exactly one of 'log10_aT' or 'aT' (linear)")
+        if "aT" in d:
+            a = _arr(d, "aT", "shift")
+            if np.any(a <= 0):
+                raise ValueError("[shift] 'aT' (linear shift factors) must be positive")
+            return ShiftTable(_arr(d, "T_C", "shift"), np.log10(a))
         return ShiftTable(_arr(d, "T_C", "shift"), _arr(d, "log10_aT", "shift"))
     raise ValueError(f"[shift] kind must be 'wlf', 'table' or 'none', not {kind!r}")
 
@@ -91,6 +99,9 @@ def rubber_from_dict(d):
     if model == "sls":
         _unknown(sec, ("E1_Pa", "a1", "tau_s"), "sls")
         kw = {k: _num(sec, k, "sls") for k in sec}
+        missing = [k for k in ("E1_Pa", "a1", "tau_s") if k not in sec]
+        if missing:
+            raise ValueError(f"[sls] is missing {', '.join(missing)} (no defaults are filled in)")
         return StandardLinearSolid(**kw, T_ref_C=T_ref, shift=shift, thermal=thermal)
     if model == "prony":
         _unknown(sec, ("E_inf_Pa", "E_i_Pa", "tau_i_s"), "prony")

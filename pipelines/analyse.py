@@ -3,7 +3,8 @@
 Outputs (one directory per scan): ``summary.json``, ``psd.csv`` (``q_per_m,C_m4``; for a line
 profile the isotropic 2D estimate, with the profile's own 1D PSD in ``psd1d.csv``,
 ``q_per_m,C1_m3``),
-``mu.csv`` (``v_m_per_s,mu``), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
+``mu.csv`` (``v_m_per_s,mu,area_fraction`` with A/A0 = P(q1); ``T_flash_max_C`` added with
+flash), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
 ``psd2d.png`` (areas), ``mu.png`` and a self-contained ``report.html``.
 """
 from __future__ import annotations
@@ -22,6 +23,7 @@ __all__ = ["FrictionSettings", "summarise", "run_analysis", "nominal_band"]
 
 PSD_HEADER = ["q_per_m", "C_m4"]
 MU_HEADER = ["v_m_per_s", "mu"]
+MU_EXTRA = ["area_fraction", "T_flash_max_C"]   # A/A0 = P(q1); hottest flash temperature
 PSD1D_HEADER = ["q_per_m", "C1_m3"]
 
 
@@ -34,8 +36,12 @@ class FrictionSettings:
     T0_C: float = None             # None -> the rubber's T_ref
     flash: bool = False
     v_m_per_s: np.ndarray = None   # None -> 1e-8..1e4 m/s, 10 per decade
-    q1_per_m: float = None         # extension beyond Nyquist (None: measured band only)
+    q1_per_m: float = None         # upper end; beyond Nyquist the self-affine fit extends C(q)
     enabled: bool = True
+    q0_per_m: float = None         # lower end of the friction integrals (None: lowest ring)
+    nu: float = 0.5
+    contact_gamma: float = None    # Persson's S(q) = gamma + (1 - gamma) P^2 (None: S = 1)
+    extrapolate: str = "powerlaw"  # master curve beyond its data: powerlaw | hold
 
 
 def nominal_band(obj):
@@ -90,28 +96,72 @@ def summarise(analysis, fr=None):
 
 
 def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
-                 mpd_settings=None):
-    """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict."""
+                 mpd_settings=None, figures=True):
+    """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict.
+
+    ``figures=False`` (``roadscan batch`` without ``--figures``) skips the PNGs; the numbers,
+    the CSV/JSON files and ``report.html`` (tables only) are the same.
+    """
+    from . import validate
+
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
                          mpd_settings=mpd_settings)
     spec, fit = an.spectrum, an.fit
+    validate.check_fit(fit, an.name)
 
     fr = None
+    checks = band = None
     if settings.enabled:
+        from .friction_options import apply_band, run_checks, with_extrapolation
+
         psd = surface_psd(spec, fit, q1_per_m=settings.q1_per_m)
-        fr = friction_curve(psd, settings.rubber, settings.v_m_per_s, settings.sigma0_Pa,
-                            settings.T0_C, settings.flash)
+        psd, band = apply_band(psd, settings.q0_per_m, settings.q1_per_m)
+        rubber = with_extrapolation(settings.rubber, settings.extrapolate)
+        fr = friction_curve(psd, rubber, settings.v_m_per_s, settings.sigma0_Pa,
+                            settings.T0_C, settings.flash, settings.nu, settings.contact_gamma)
+        if rubber is not None:
+            T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))
+            checks = run_checks(rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m,
+                                fr.meta["T0_C"], T_max)
 
     summary = summarise(an, fr)
+    if fr is not None:
+        summary["friction"].update(
+            q0_per_m=float(fr.q_per_m[0]), sigma0_Pa=settings.sigma0_Pa, nu=settings.nu,
+            contact_gamma=settings.contact_gamma,
+            area_fraction_range=[float(fr.P[:, -1].min()), float(fr.P[:, -1].max())])
+        if band is not None:
+            summary["friction"]["band"] = band
+        if checks is not None:
+            summary["friction"]["rubber_checks"] = checks
+    summary["warnings"] = validate.warnings_list()   # this run so far (they name the file)
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
     figs = []
     if an.is_profile:
         q1d, c1d = an.psd1d
         keep = (q1d > 0) & (c1d > 0)
         report.write_csv(out_dir / "psd1d.csv", PSD1D_HEADER, [q1d[keep], c1d[keep]])
+    if fr is not None:
+        cols = [fr.v_m_per_s, fr.mu, fr.P[:, -1]]
+        if fr.T_q_C is not None:
+            cols.append(np.max(fr.T_q_C, axis=1))
+        report.write_csv(out_dir / "mu.csv", MU_HEADER + MU_EXTRA[:len(cols) - 2], cols)
+    if figures:
+        figs = _figures(out_dir, an, fit, fr, spec, settings, summary)
+    report.write_json(out_dir / "summary.json", summary)
+    _write_report(out_dir, an, summary, figs)
+    return summary
+
+
+def _figures(out_dir, an, fit, fr, spec, settings, summary):
+    """The PNGs of one scan (skipped by ``roadscan batch`` without ``--figures``)."""
+    figs = []
+    if an.is_profile:
+        q1d, c1d = an.psd1d
+        keep = (q1d > 0) & (c1d > 0)
         figs.append(report.plot_profile(an.levelled, out_dir / "profile.png",
                                         title=f"{an.name}: levelled profile"))
         figs.append(_plot_psd1d(q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name))
@@ -129,14 +179,11 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
         fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m"
                + (f", extended to q1 = {q_top:.3g} 1/m" if q_top > hi else ""), qf, fit.model_C(qf))]))
     if fr is not None:
-        report.write_csv(out_dir / "mu.csv", MU_HEADER, [fr.v_m_per_s, fr.mu])
         rub = "thesis rubber" if settings.rubber is None else getattr(settings.rubber, "name", "rubber")
         figs.append(report.plot_mu([(f"{summary['friction']['model']}, {rub}, σ0 = "
                                      f"{settings.sigma0_Pa / 1e6:g} MPa", fr.v_m_per_s, fr.mu)],
                                    out_dir / "mu.png", title=f"{an.name}: friction μ(v)"))
-    report.write_json(out_dir / "summary.json", summary)
-    _write_report(out_dir, an, summary, figs)
-    return summary
+    return figs
 
 
 def _plot_psd1d(q, C1, path, name):
@@ -194,4 +241,6 @@ def _write_report(out_dir, an, summary, figs):
     sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
                 ("Roughness (ISO 25178-2 / 4287; SI units in names)", report.table_html(rough, ["parameter", "value"])),
                 ("Figures", [list(figs)])]
+    if not figs:
+        sections.pop()
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections)

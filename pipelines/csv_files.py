@@ -40,9 +40,12 @@ def read_psd_csv(path):
     """``psd.csv`` (columns ``q_per_m`` [1/m], ``C_m4`` [m^4], Persson's normalisation, as
     ``roadscan analyse`` writes it) -> :class:`friction.TabulatedPSD`.
 
-    Rows with non-finite or non-positive q or C are dropped; rows are sorted by q. The engine
+    A row with non-finite or non-positive q or C is refused naming the row, and so is a
+    spectrum rising with q (:mod:`pipelines.validate`); rows are sorted by q. The engine
     integrates the table from its lowest to its highest q (DESIGN.md section 5).
     """
+    from .validate import check_psd_rows, check_psd_shape
+
     from friction import TabulatedPSD
 
     head, body = read_csv_rows(path, "a header q_per_m,C_m4")
@@ -53,8 +56,9 @@ def read_psd_csv(path):
         d = np.array([[float(r[iq]), float(r[ic])] for r in body], float).reshape(-1, 2)
     except (ValueError, IndexError):
         raise InputError(path, "non-numeric or missing q_per_m/C_m4 values") from None
-    ok = np.all(np.isfinite(d), axis=1) & (d[:, 0] > 0) & (d[:, 1] > 0)
-    d = d[ok][np.argsort(d[ok][:, 0])]
+    check_psd_rows(d[:, 0], d[:, 1], path)
+    d = d[np.argsort(d[:, 0])]
     if d.shape[0] < 4 or np.any(np.diff(d[:, 0]) <= 0):
         raise InputError(path, "need at least 4 rows with distinct positive q and positive C")
+    check_psd_shape(d[:, 0], d[:, 1], path)
     return TabulatedPSD(d[:, 0], d[:, 1])

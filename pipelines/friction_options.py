@@ -1,9 +1,59 @@
-"""Friction options shared by the commands that compute mu(v) from a scan."""
+"""Friction options shared by the commands that compute mu(v) (analyse, compare, friction,
+diagnose): flags, their parsing with units, and the one-line notes a run prints.
+
+Pressure. ``--sigma0`` is the nominal contact pressure sigma0 (load / nominal area) with a unit:
+``0.3MPa``, ``300kPa``, ``3e5Pa`` or a bare number in Pa (``3e5``). A bare number below 1 kPa
+is refused (it cannot be a tyre or rubber-block pressure; ``0.3`` meant ``0.3MPa``). The engine
+uses the plane-strain pressure ``(1 - nu^2) sigma0`` in P(q), G(q) and M(q) (Persson 2001;
+:func:`friction.isothermal.contact_state`).
+
+Band. ``--q0``/``--q1`` [1/m] set the integration range of Persson's integrals within the
+spectrum (:func:`friction.band.integration_band`): log-log interpolation inside it, the fitted
+power law above its last point (said in one line and in the outputs).
+"""
 from __future__ import annotations
+
+import math
+import re
+import sys
 
 from roadscan.errors import InputError
 
-__all__ = ["add_friction_options", "settings_from_args", "parse_velocities"]
+__all__ = ["add_friction_options", "add_contact_options", "settings_from_args", "parse_velocities",
+           "parse_pressure", "check_contact_args", "apply_band", "coverage_note", "EXTRAPOLATE_CHOICES",
+           "PRESSURE_HELP", "MIN_BARE_PA", "with_extrapolation", "run_checks"]
+
+MIN_BARE_PA = 1e3  # a bare --sigma0 below this is refused (no unit: almost surely MPa meant)
+_PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9, "bar": 1e5, "n/m2": 1.0,
+                   "n/mm2": 1e6}
+_PRESSURE_RE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z/0-9]*)\s*$")
+EXTRAPOLATE_CHOICES = ("powerlaw", "hold")
+PRESSURE_HELP = ("nominal contact pressure sigma0 = load / nominal area, with a unit: 0.3MPa, 300kPa, "
+                 "3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0 in P(q) "
+                 "(default 0.2MPa)")
+
+
+def parse_pressure(text, flag="--sigma0"):
+    """``"0.3MPa"``, ``"300 kPa"``, ``"3e5Pa"``, ``"3e5"`` (Pa) -> pressure [Pa].
+
+    Raises InputError (one line) on a malformed or non-positive value, and on a bare number
+    below :data:`MIN_BARE_PA` with a hint (``--sigma0 0.3`` -> "did you mean 0.3MPa?").
+    """
+    if isinstance(text, (int, float)):
+        text = repr(float(text))
+    m = _PRESSURE_RE.match(str(text))
+    if not m:
+        raise InputError(None, f"{flag} {text!r}: expected a pressure such as 0.3MPa, 300kPa or 3e5 (Pa)")
+    val, unit = float(m.group(1)), m.group(2).lower()
+    if unit and unit not in _PRESSURE_UNITS:
+        raise InputError(None, f"{flag} {text!r}: unknown unit {m.group(2)!r} (Pa, kPa, MPa, GPa, bar)")
+    if not (math.isfinite(val) and val > 0):
+        raise InputError(None, f"{flag} {text!r}: must be a positive pressure")
+    if not unit and val < MIN_BARE_PA:
+        hint = f"{m.group(1)}MPa" if val <= 50 else f"{m.group(1)}kPa"
+        raise InputError(None, f"{flag} {text}: a bare number is Pa and {val:g} Pa is no contact "
+                               f"pressure; did you mean {hint}? (write the unit: 0.3MPa, 300kPa, 3e5Pa)")
+    return val * _PRESSURE_UNITS.get(unit, 1.0)
 
 
 def parse_velocities(text):
@@ -20,19 +70,95 @@ def parse_velocities(text):
     return np.logspace(np.log10(lo), np.log10(hi), n)
 
 
+def add_contact_options(g, q1_help=None, nu=True):
+    """--q0, --q1, --contact-gamma, --nu and --extrapolate on a parser or argument group."""
+    g.add_argument("--q0", type=float, default=None, metavar="PER_M",
+                   help="lower end of the friction integrals [1/m], inside the spectrum "
+                        "(default: its lowest wave vector)")
+    g.add_argument("--q1", type=float, default=None, metavar="PER_M",
+                   help=q1_help or "upper end (cut-off) of the friction integrals [1/m]; above the "
+                                   "spectrum's last point C(q) continues as its fitted power law "
+                                   "(default: the last point)")
+    g.add_argument("--contact-gamma", type=float, default=None, metavar="G",
+                   help="Persson's S(q) = G + (1 - G) P(q)^2 in the dissipation integrand "
+                        "(mu = 1/2 int q^3 C S P M dq); 0 <= G <= 1, e.g. 0.5 (default: off, S = 1)")
+    if nu:
+        g.add_argument("--nu", type=float, default=0.5,
+                       help="Poisson ratio of the rubber, 0 <= nu <= 0.5 (default 0.5)")
+    g.add_argument("--extrapolate", choices=EXTRAPOLATE_CHOICES, default="powerlaw",
+                   help="master curve beyond its measured frequencies: powerlaw (E' held, E'' "
+                        "continues as the power law of its last decade; default) or hold (both held)")
+
+
+def check_contact_args(args):
+    """One-line InputErrors for --q0, --q1, --contact-gamma, --nu."""
+    for flag, val in (("--q0", getattr(args, "q0", None)), ("--q1", getattr(args, "q1", None))):
+        if val is not None and not (math.isfinite(val) and val > 0):
+            raise InputError(None, f"{flag} {val!r}: must be a positive wave vector in 1/m")
+    if args.q0 is not None and args.q1 is not None and not args.q0 < args.q1:
+        raise InputError(None, f"--q0 {args.q0:g} must be below --q1 {args.q1:g}")
+    g = getattr(args, "contact_gamma", None)
+    if g is not None and not (math.isfinite(g) and 0 <= g <= 1):
+        raise InputError(None, f"--contact-gamma {g!r}: must lie in [0, 1] (Persson uses about 0.5 to 0.75)")
+    nu = getattr(args, "nu", 0.5)
+    if not (math.isfinite(nu) and 0 <= nu <= 0.5):
+        raise InputError(None, f"--nu {nu!r}: the Poisson ratio of rubber must lie in [0, 0.5] (about 0.5)")
+
+
+def apply_band(psd, q0, q1, log=None):
+    """The spectrum restricted/extended to [q0, q1] (``friction.band.integration_band``) and its
+    info dict; prints one line when C(q) is extended above the spectrum's last point."""
+    from friction import TabulatedPSD
+    from friction.band import integration_band
+
+    if not isinstance(psd, TabulatedPSD):
+        return psd, None
+    if q0 is None and q1 is None:
+        return psd, None
+    try:
+        out, info = integration_band(psd, q0, q1)
+    except ValueError as exc:
+        raise InputError(None, f"--q0/--q1: {exc}") from None
+    if info["extended_decades"] > 0:
+        info["note"] = (f"q1 = {info['q1_per_m']:.4g} 1/m is above the spectrum's last point "
+                        f"{info['q_table_max_per_m']:.4g} 1/m: C(q) extended {info['extended_decades']:.2f} "
+                        f"decades by the fitted power law C ~ q^{info['tail_exponent']:.3f}")
+        (log or _say)("note: " + info["note"])
+    return out, info
+
+
+def coverage_note(cov, flag_hint=True):
+    """One warning line when a master curve is extrapolated by more than one decade, else None."""
+    if not cov or cov.get("extrapolated_decades") is None or cov["extrapolated_decades"] <= 1.0:
+        return None
+    lo, hi = cov["f_needed_Hz"]
+    a, b = cov["f_curve_Hz"]
+    parts = []
+    if cov["extrapolated_decades_below"] > 1.0:
+        parts.append(f"{cov['extrapolated_decades_below']:.1f} decades below")
+    if cov["extrapolated_decades_above"] > 1.0:
+        parts.append(f"{cov['extrapolated_decades_above']:.1f} decades above")
+    return (f"warning: the speeds need {lo:.2g}..{hi:.2g} Hz on the master curve (shifted to the "
+            f"temperature) but it covers {a:.2g}..{b:.2g} Hz: extrapolated {' and '.join(parts)} "
+            f"(--extrapolate {cov.get('extrapolate', 'powerlaw')})")
+
+
+def _say(msg):
+    print(msg, file=sys.stderr)
+
+
 def add_friction_options(parser):
     g = parser.add_argument_group("friction (Persson's theory; defaults as DESIGN.md section 5)")
     g.add_argument("--rubber", metavar="FILE.toml", default=None,
                    help="rubber model (default: the thesis's standard linear solid, T_ref = 60 C)")
-    g.add_argument("--sigma0", type=float, default=0.2e6, metavar="PA",
-                   help="nominal pressure [Pa] (default 2e5)")
+    g.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
     g.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's reference temperature)")
     g.add_argument("--flash", action="store_true", help="include flash temperature")
     g.add_argument("--velocities", default=None, metavar="LO:HI:N",
                    help="log-spaced sliding speeds [m/s] (default 1e-8:1e4:121)")
-    g.add_argument("--q1", type=float, default=None, metavar="PER_M",
-                   help="extend the fitted spectrum beyond the Nyquist wave vector to q1 [1/m]")
+    add_contact_options(g, q1_help="upper end of the friction integrals [1/m]; beyond the Nyquist "
+                                   "wave vector the spectrum is extended by its self-affine fit")
     g.add_argument("--no-friction", action="store_true", help="skip mu(v)")
 
 
@@ -41,14 +167,55 @@ def settings_from_args(args):
 
     from .analyse import FrictionSettings
 
+    check_contact_args(args)
     rubber = None
     if getattr(args, "rubber", None):
         from .rubber_file import load_rubber
 
         rubber = load_rubber(args.rubber)
-    if args.sigma0 is not None and not (args.sigma0 > 0 and np.isfinite(args.sigma0)):
-        raise InputError(None, f"--sigma0 {args.sigma0!r} must be a positive pressure in Pa")
+    sigma0 = parse_pressure(args.sigma0)
     v = parse_velocities(args.velocities) if args.velocities else None
-    return FrictionSettings(rubber=rubber, sigma0_Pa=args.sigma0, T0_C=args.temperature,
+    from .validate import check_temperature, finite_number
+
+    if args.temperature is not None:
+        import friction
+
+        check_temperature(args.temperature, rubber if rubber is not None else friction.thesis_rubber())
+    if args.q1 is not None and not finite_number(args.q1, "--q1") > 0:
+        raise InputError(None, f"--q1 {args.q1:g} 1/m: must be a positive wave vector")
+    return FrictionSettings(rubber=rubber, sigma0_Pa=sigma0, T0_C=args.temperature,
                             flash=args.flash, v_m_per_s=v, q1_per_m=args.q1,
-                            enabled=not args.no_friction)
+                            enabled=not args.no_friction, q0_per_m=args.q0, nu=args.nu,
+                            contact_gamma=args.contact_gamma, extrapolate=args.extrapolate)
+
+
+def with_extrapolation(rubber, mode):
+    """The rubber with ``--extrapolate`` applied (master curves only; other models unchanged)."""
+    from dataclasses import replace
+
+    from friction import MasterCurve
+
+    if isinstance(rubber, MasterCurve) and mode and rubber.extrapolate != mode:
+        return replace(rubber, extrapolate=mode)
+    return rubber
+
+
+def run_checks(rubber, v, q0, q1, T0_C, T_max_C=None, log=None):
+    """The ``rubber_checks`` of a run: frequency coverage (warned once, in one line, beyond
+    one decade of extrapolation) and the WLF fit of a shift table. Returns a dict for JSON."""
+    import warnings
+
+    from friction.rubber_checks import frequency_coverage, wlf_fit_report
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        cov = frequency_coverage(rubber, v, q0, q1, T0_C, T_max_C)
+    msg = coverage_note(cov)
+    if msg:
+        (log or _say)(msg)
+    cov["warning"] = msg
+    out = {"frequency_coverage": cov}
+    wlf = wlf_fit_report(getattr(rubber, "shift", None))
+    if wlf is not None:
+        out["wlf_fit_to_shift_table"] = wlf
+    return out

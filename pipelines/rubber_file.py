@@ -6,10 +6,11 @@ TOML's folder, and the resulting plain dict goes to :func:`friction.rubber_from_
 friction package reads no files).
 
 Master-curve CSV: columns ``f, E_stor, E_loss`` (frequency [Hz], storage and loss moduli);
-an optional second line of units (``Hz, MPa, MPa``) or ``units = "MPa"`` in the TOML sets the
-modulus unit (Pa, kPa, MPa or GPa; default Pa). Shift CSV: columns ``T, log_aT`` (T [C],
-decimal log of aT), optional units line. A UTF-8 byte-order mark and spaces after commas are
-accepted (as in the pyvisco files of ../shared/data/rubber/).
+an optional second line of units (``Hz, MPa, MPa``), units in the header (``E_stor_MPa``,
+``E_stor [MPa]``) or ``units = "MPa"`` in the TOML set the modulus unit (Pa, kPa, MPa or GPa;
+default Pa). Shift CSV: columns ``T`` [C] and ``log_aT``/``log10_aT`` (decimal log of aT) or
+``aT`` (linear). A UTF-8 byte-order mark and spaces after commas are accepted (as in the
+pyvisco files of ../shared/data/rubber/).
 """
 from __future__ import annotations
 
@@ -22,27 +23,51 @@ from roadscan.errors import InputError
 
 from .csv_files import read_csv_rows
 
-__all__ = ["load_rubber", "read_master_curve_csv", "read_shift_csv"]
+__all__ = ["load_rubber", "read_master_curve_csv", "read_shift_csv", "rubber_from_csv_files", "orient_shift",
+           "read_dma_sweeps_csv"]
 
 _UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}
-_F_NAMES = ("f", "f_hz", "freq", "frequency")
-_E1_NAMES = ("e_stor", "e_storage", "e_storage_pa", "e'", "storage")
-_E2_NAMES = ("e_loss", "e_loss_pa", "e''", "loss")
-_T_NAMES = ("t", "t_c", "temperature")
-_A_NAMES = ("log_at", "log10_at", "log_a_t", "logat")
+_F_NAMES = ("f", "freq", "frequency")
+_OMEGA_NAMES = ("omega", "w", "angular_frequency")
+_E1_NAMES = ("e_stor", "e_storage", "e'", "storage", "e1", "estor", "e_prime", "storage_modulus")
+_E2_NAMES = ("e_loss", "e''", "loss", "e2", "eloss", "e_double_prime", "loss_modulus")
+_T_NAMES = ("t", "temp", "temperature")
+_LOGA_NAMES = ("log_at", "log10_at", "log_a_t", "log10_a_t", "logat", "log10at", "lg_at", "log(at)",
+               "log10(at)", "log_a")
+_LINA_NAMES = ("at", "a_t", "a", "shift_factor")
+_COL_UNITS = ("hz", "rad/s", "rad_s", "c", "k", "pa", "kpa", "mpa", "gpa", "-", "1")
+
+
+def _split_name(cell):
+    """Header cell -> (base name, unit or None): ``E_stor [MPa]``, ``E_stor (MPa)``,
+    ``E_storage_Pa``, ``T_C``, ``f_Hz`` and ``omega_rad_s`` are understood (case-insensitive)."""
+    c = cell.strip().strip('"').lower()
+    for o, e in (("[", "]"), ("(", ")")):
+        if c.endswith(e) and o in c and not c.startswith("log"):
+            i = c.rindex(o)
+            return c[:i].strip().rstrip("_ "), c[i + 1:-1].strip()
+    for u in sorted(_COL_UNITS, key=len, reverse=True):
+        for sep in ("_", " "):
+            if c.endswith(sep + u.replace("/", "_")) and len(c) > len(u) + 1:
+                return c[:-len(u) - 1].rstrip("_ "), u
+    return c, None
 
 
 def _read_table(path):
-    """Rows of a small CSV: (header names, optional units row, float data (n, k))."""
+    """Rows of a small CSV: (base names, units per column (None if unknown), data (n, k)).
+
+    The units come from a second, non-numeric line (``Hz, MPa, MPa``) when there is one, else
+    from the header cells themselves (``E_stor_MPa``, ``T [C]``)."""
     head, body = read_csv_rows(path)
     if not body:
         raise InputError(path, "expected a header line and data rows")
-    head = [h.lower() for h in head]
-    units = None
+    names, units = zip(*(_split_name(h) for h in head))
+    units = list(units)
     try:
         float(body[0][0])
     except (ValueError, IndexError):
-        units, body = [u.lower() for u in body[0]], body[1:]
+        urow, body = [u.strip().lower() for u in body[0]], body[1:]
+        units = [(urow[i] if i < len(urow) and urow[i] else units[i]) for i in range(len(head))]
     try:
         data = np.array([[float(c) for c in r] for r in body], dtype=float)
     except ValueError:
@@ -51,38 +76,102 @@ def _read_table(path):
         raise InputError(path, f"expected {len(head)} numeric columns on every row and >= 2 rows")
     if not np.all(np.isfinite(data)):
         raise InputError(path, "non-finite values in data")
-    return head, units, data
+    return list(names), units, data
 
 
-def _col(head, names, path, what):
-    for i, h in enumerate(head):
-        if h in names:
+def _col(names, choices, path, what, required=True):
+    for i, h in enumerate(names):
+        if h in choices:
             return i
-    raise InputError(path, f"no {what} column (expected one of {', '.join(names)}; header {','.join(head)})")
+    if not required:
+        return None
+    raise InputError(path, f"no {what} column (expected one of {', '.join(choices)}; "
+                           f"header {','.join(names)})")
+
+
+def _modulus_scale(u, path, col):
+    scale = _UNITS.get(str(u).strip().lower())
+    if scale is None:
+        raise InputError(path, f"unknown modulus unit {u!r} for column {col} (Pa, kPa, MPa, GPa)")
+    return scale
 
 
 def read_master_curve_csv(path, units=None):
-    """-> (f_Hz, E_storage_Pa, E_loss_Pa) from a master-curve CSV (see module docstring)."""
-    head, urow, d = _read_table(path)
-    i_f = _col(head, _F_NAMES, path, "frequency")
-    i1 = _col(head, _E1_NAMES, path, "storage modulus")
-    i2 = _col(head, _E2_NAMES, path, "loss modulus")
-    u = units if units is not None else (urow[i1] if urow else "Pa")
-    if urow and urow[i_f] not in ("hz", ""):
-        raise InputError(path, f"frequency unit must be Hz, not {urow[i_f]!r}")
-    scale = _UNITS.get(str(u).strip().lower())
-    if scale is None:
-        raise InputError(path, f"unknown modulus unit {u!r} (Pa, kPa, MPa, GPa)")
-    f, E1, E2 = d[:, i_f], d[:, i1] * scale, d[:, i2] * scale
+    """-> (f_Hz, E_storage_Pa, E_loss_Pa) from a master-curve CSV (see module docstring).
+
+    Frequency: a column ``f`` (Hz) or ``omega`` (rad/s, divided by 2 pi). Moduli: ``E_stor``
+    and ``E_loss`` in the unit of the units line, the header (``E_stor_MPa``, ``E' [MPa]``) or
+    ``units`` (which overrides both); default Pa.
+    """
+    names, urow, d = _read_table(path)
+    i_f = _col(names, _F_NAMES, path, "frequency", required=False)
+    if i_f is None:
+        i_f = _col(names, _OMEGA_NAMES + _F_NAMES, path, "frequency (f [Hz] or omega [rad/s])")
+        f = d[:, i_f] / (2 * np.pi)
+        if urow[i_f] not in (None, "", "rad/s", "rad_s", "1/s"):
+            raise InputError(path, f"angular frequency unit must be rad/s, not {urow[i_f]!r}")
+    else:
+        f = d[:, i_f]
+        if urow[i_f] not in (None, "", "hz"):
+            raise InputError(path, f"frequency unit must be Hz, not {urow[i_f]!r}")
+    i1 = _col(names, _E1_NAMES, path, "storage modulus")
+    i2 = _col(names, _E2_NAMES, path, "loss modulus")
+    s1 = _modulus_scale(units if units is not None else (urow[i1] or "Pa"), path, names[i1])
+    s2 = _modulus_scale(units if units is not None else (urow[i2] or "Pa"), path, names[i2])
+    E1, E2 = d[:, i1] * s1, d[:, i2] * s2
     if np.any(f <= 0) or np.any(E1 <= 0) or np.any(E2 <= 0):
         raise InputError(path, "frequencies and moduli must be positive")
+    if E1.max() < 1e4:
+        raise InputError(path, f"storage modulus at most {E1.max():.3g} Pa: no rubber is that soft; "
+                               "are the moduli in MPa? add a units line (Hz, MPa, MPa), name the "
+                               "columns E_stor_MPa/E_loss_MPa or set units = \"MPa\" in the TOML")
     return f, E1, E2
 
 
+def _temperature_C(names, urow, d, path):
+    i = _col(names, _T_NAMES, path, "temperature")
+    u = (urow[i] or "c").replace("°", "")
+    if u in ("c", "degc", "deg_c", "celsius"):
+        return d[:, i]
+    if u in ("k", "kelvin"):
+        return d[:, i] - 273.15
+    raise InputError(path, f"temperature unit must be C or K, not {urow[i]!r}")
+
+
 def read_shift_csv(path):
-    """-> (T_C, log10_aT) from a shift-factor CSV."""
-    head, _, d = _read_table(path)
-    return d[:, _col(head, _T_NAMES, path, "temperature")], d[:, _col(head, _A_NAMES, path, "log_aT")]
+    """-> (T_C, log10_aT) from a shift-factor CSV.
+
+    Columns: a temperature ``T`` (C, or K when the header or units line says so) and either the
+    decimal log of the shift factor (``log_aT``, ``log10_aT``) or the shift factor itself
+    (``aT``, linear, must be positive; converted with log10). Convention: ``E(omega, T) =
+    E(omega aT(T) / aT(T_ref), T_ref)``, so aT falls as T rises.
+    """
+    names, urow, d = _read_table(path)
+    T = _temperature_C(names, urow, d, path)
+    il = _col(names, _LOGA_NAMES, path, "log_aT", required=False)
+    if il is not None:
+        return T, d[:, il]
+    ia = _col(names, _LINA_NAMES, path, "shift factor", required=False)
+    if ia is None:
+        raise InputError(path, f"no shift-factor column (expected log10_aT/log_aT or linear aT; "
+                               f"header {','.join(names)})")
+    a = d[:, ia]
+    if np.any(a <= 0):
+        raise InputError(path, "linear shift factors aT must be positive (use a log10_aT column for logs)")
+    return T, np.log10(a)
+
+
+def orient_shift(T_C, log10_aT, path, log=None):
+    """aT must fall as T rises (relaxation speeds up when warm). A table rising with T uses the
+    inverse convention (the factor divides omega): it is inverted, with a one-line note."""
+    T, y = np.asarray(T_C, float), np.asarray(log10_aT, float)
+    if T.size >= 2 and np.ptp(T) > 0 and np.polyfit(T, y, 1)[0] > 0:
+        import sys
+        (log or (lambda m: print(m, file=sys.stderr)))(
+            f"note: {path}: aT rises with temperature (inverse convention); using 1/aT so that "
+            "E(omega, T) = E_ref(omega aT(T)/aT(T_ref)) with aT falling as T rises")
+        return T, -y
+    return T, y
 
 
 def load_rubber(path):
@@ -106,9 +195,45 @@ def load_rubber(path):
         d["master_curve"] = {"f_Hz": f, "E_storage_Pa": E1, "E_loss_Pa": E2}
     sh = d.get("shift")
     if isinstance(sh, dict) and "file" in sh:
-        T, a = read_shift_csv(base / str(sh["file"]))
+        T, a = orient_shift(*read_shift_csv(base / str(sh["file"])), base / str(sh["file"]))
         d["shift"] = {"kind": "table", "T_C": T, "log10_aT": a}
     try:
         return friction.rubber_from_dict(d)
     except (ValueError, TypeError) as exc:
         raise InputError(path, str(exc)) from None
+
+
+def rubber_from_csv_files(master_csv, shift_csv=None, T_ref_C=None, units=None):
+    """MasterCurve rubber from a master-curve CSV and an optional shift-table CSV (the
+    ``roadscan friction --master-curve/--shift-table/--reference-temperature`` path)."""
+    import friction
+
+    f, E1, E2 = read_master_curve_csv(master_csv, units)
+    d = {"model": "master_curve", "T_ref_C": float(T_ref_C),
+         "master_curve": {"f_Hz": f, "E_storage_Pa": E1, "E_loss_Pa": E2}}
+    if shift_csv:
+        T, a = orient_shift(*read_shift_csv(shift_csv), shift_csv)
+        d["shift"] = {"kind": "table", "T_C": T, "log10_aT": a}
+    try:
+        return friction.rubber_from_dict(d)
+    except (ValueError, TypeError) as exc:
+        raise InputError(shift_csv or master_csv, str(exc)) from None
+
+
+_SET_NAMES = ("set", "sweep", "segment", "set_id", "sweep_id")
+
+
+def read_dma_sweeps_csv(path):
+    """Raw DMA frequency sweeps -> (f_Hz, E_storage_Pa, E_loss_Pa, T_C, set_id or None).
+
+    Columns: ``f`` [Hz] (or ``omega`` [rad/s]), ``E_stor``, ``E_loss`` (unit from a units line
+    such as ``Hz, MPa, MPa, C, -``, or the header, ``E_stor_MPa``; default Pa), ``T`` [C] (or
+    K) and optionally ``Set`` (the sweep each row belongs to; without it rows are grouped by
+    temperature). The pyvisco layout (BOM, spaces after commas, units line) is one such file.
+    """
+    f, E1, E2 = read_master_curve_csv(path)
+    names, urow, d = _read_table(path)
+    T = _temperature_C(names, urow, d, path)
+    i_s = _col(names, _SET_NAMES, path, "set", required=False)
+    sid = d[:, i_s] if i_s is not None else None
+    return f, E1, E2, T, sid

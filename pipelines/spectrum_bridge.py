@@ -91,11 +91,17 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     wave vector pi/a), with q0 (for the macro-asperity wave vector q_m = zeta_m q0) at the
     detected roll-off, else the lowest wave vector (DESIGN.md section 5). With ``q1_per_m``
     beyond the measured band, the spectrum is continued by the fitted self-affine power law
-    (:func:`roadscan.fit.extend_spectrum`) up to q1: roughness below the scan's resolution.
+    (:func:`roadscan.fit.extend_spectrum`) up to q1: roughness below the scan's resolution;
+    with q1 inside the band the spectrum is cut at its first ring at or above q1 (``apply_band``
+    then cuts at q1 exactly); q1 at or below the lowest measured wave
+    vector is refused (:func:`pipelines.validate.check_q1`).
     """
     from friction import TabulatedPSD
     from roadscan.fit import extend_spectrum
 
+    from .validate import check_q1
+
+    check_q1(q1_per_m, float(np.min(spectrum.q_per_m)))
     if q1_per_m is not None and q1_per_m > spectrum.q_max_per_m:
         if fit is None:
             raise ValueError("extending a spectrum beyond its band needs its self-affine fit")
@@ -103,7 +109,14 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     q = np.asarray(spectrum.q_per_m, dtype=float)
     C = np.asarray(spectrum.C_m4, dtype=float)
     ok = np.isfinite(C) & (C > 0) & np.isfinite(q) & (q > 0)
+    if q1_per_m is not None and np.any(ok & (q >= q1_per_m)):   # q1 inside the measured band:
+        q_end = np.min(q[ok & (q >= q1_per_m)])                  # cut at the first ring >= q1
+        ok &= q <= q_end
     q, C = q[ok], C[ok]
+    if q.size < 2:
+        from roadscan.errors import InputError
+
+        raise InputError(None, f"--q1 {q1_per_m:g} 1/m leaves {q.size} wave vector(s) of the spectrum")
     q0 = None
     if fit is not None and getattr(fit, "q_roll_per_m", None):
         q0 = float(np.clip(fit.q_roll_per_m, q[0], q[-1]))
@@ -116,12 +129,21 @@ def default_velocities(lo=1e-8, hi=1e4, per_decade=10):
     return np.logspace(np.log10(lo), np.log10(hi), n)
 
 
-def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None, flash=False):
-    """mu(v) from the shared engine with the defaults of DESIGN.md section 5."""
+def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None, flash=False,
+                   nu=0.5, contact_gamma=None):
+    """mu(v) from the shared engine with the defaults of DESIGN.md section 5 (nu = 0.5, S = 1)."""
     import friction
 
+    from .validate import check_mu, check_temperature
+
     rubber = friction.thesis_rubber() if rubber is None else rubber
+    check_temperature(T0_C, rubber)
     v = default_velocities() if v_m_per_s is None else np.asarray(v_m_per_s, float)
-    if flash:
-        return friction.mu_flash(psd, rubber, v, sigma0_Pa=sigma0_Pa, T0_C=T0_C)
-    return friction.mu_isothermal(psd, rubber, v, sigma0_Pa=sigma0_Pa, T0_C=T0_C)
+    kw = dict(sigma0_Pa=sigma0_Pa, T0_C=T0_C, nu=nu, contact_gamma=contact_gamma)
+    with np.errstate(all="ignore"):
+        if flash:
+            res = friction.mu_flash(psd, rubber, v, **kw)
+        else:
+            res = friction.mu_isothermal(psd, rubber, v, **kw)
+    check_mu(res.mu)
+    return res

@@ -25,7 +25,8 @@ heights [m]                   all equal (no roughness); any |h - median| above 1
 nominal pressure sigma0 [Pa]  (0, 1e9]
 Poisson ratio nu              [0, 0.5]
 temperature T [C]             below -273.15, or within 5 K above the rubber's WLF pole
-                              (T_ref - C2), or above 1000 C
+                              (T_g - C2, or T_s - C2; -81.5 C for the thesis rubber),
+                              or above 1000 C
 wave vectors q [1/m]          q1 not above the spectrum's q0 / lowest q; non-finite
 PSD C(q) [m^4]                any row with C <= 0 or non-finite (refused naming the row);
                               a log-log slope of the whole spectrum above +1 (rises with q:
@@ -49,7 +50,7 @@ from roadscan.errors import InputError
 __all__ = [
     "warn", "warnings_list", "reset_warnings",
     "check_spacing", "check_heights", "check_scan", "check_pressure", "check_poisson",
-    "check_temperature", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu",
+    "check_temperature", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
     "finite_number",
 ]
 
@@ -142,22 +143,23 @@ def check_poisson(nu, flag="--nu"):
 
 
 def wlf_pole_C(rubber):
-    """The temperature [C] where the rubber's WLF shift diverges (T_ref - C2), or None."""
-    wlf = getattr(rubber, "wlf", None) or getattr(rubber, "shift", None)
-    c2 = getattr(wlf, "C2_K", None) if wlf is not None else None
-    if c2 is None:
-        c2 = getattr(wlf, "C2", None) if wlf is not None else None
-    tref = getattr(wlf, "T_ref_C", None) if wlf is not None else None
-    if tref is None:
-        tref = getattr(rubber, "T_ref_C", None)
-    if c2 is None or tref is None:
+    """The temperature [C] where the rubber's WLF shift diverges, or None (no WLF shift).
+
+    ``log10 aT = -C1 (T - T_s) / (C2 + T - T_d)`` with ``T_d = T_g`` (thesis form) or ``T_s``:
+    the pole is ``T_d - C2`` (-81.5 C for the thesis rubber)."""
+    wlf = getattr(rubber, "shift", None)
+    c2 = getattr(wlf, "C2_K", None)
+    td = getattr(wlf, "T_g_C", None)
+    if td is None:
+        td = getattr(wlf, "T_s_C", None)
+    if c2 is None or td is None:
         return None
-    return float(tref) - float(c2)
+    return float(td) - float(c2)
 
 
 def check_temperature(T_C, rubber=None, flag="--temperature"):
     """Temperature [C]: above absolute zero, below 1000 C, and more than 5 K above the
-    rubber's WLF pole ``T_ref - C2`` (at the pole log a_T diverges; below it WLF is meaningless)."""
+    rubber's WLF pole ``T_d - C2`` (at the pole log a_T diverges; below it WLF is meaningless)."""
     if T_C is None:
         return None
     v = finite_number(T_C, flag)
@@ -168,7 +170,7 @@ def check_temperature(T_C, rubber=None, flag="--temperature"):
     pole = wlf_pole_C(rubber) if rubber is not None else None
     if pole is not None and v <= pole + WLF_POLE_MARGIN_K:
         raise InputError(None, f"{flag} {v:g} C: at or below the rubber's WLF pole "
-                               f"(T_ref - C2 = {pole:.4g} C); the shift factor diverges there")
+                               f"(T_d - C2 = {pole:.4g} C); the shift factor diverges there")
     return v
 
 
@@ -222,16 +224,16 @@ def check_scan(obj, path=None):
 
 
 # ------------------------------------------------------------------------------ spectra
-def check_psd_rows(q, C, path=None, first_row=2):
+def check_psd_rows(q, C, path=None):
     """Every row of a tabulated PSD must have finite q > 0 and finite C > 0; the first bad row
-    is refused by number (``first_row`` is the file line of row 0; 2 after a header)."""
+    is refused by its number among the data rows (1 = first row after the header)."""
     q = np.asarray(q, dtype=float)
     C = np.asarray(C, dtype=float)
     bad = ~(np.isfinite(q) & (q > 0) & np.isfinite(C) & (C > 0))
     if bad.any():
         i = int(np.argmax(bad))
-        raise InputError(path, f"line {first_row + i}: q = {q[i]!r}, C = {C[i]!r}: need finite q > 0 "
-                               f"and C > 0 ({int(bad.sum())} such rows)")
+        raise InputError(path, f"data row {i + 1}: q = {q[i]:g}, C = {C[i]:g}: need finite q > 0 "
+                               f"and C > 0 ({int(bad.sum())} such row{'s' if bad.sum() > 1 else ''})")
 
 
 def check_psd_shape(q, C, path=None):
@@ -260,6 +262,17 @@ def check_q1(q1_per_m, q_lo_per_m, flag="--q1"):
         raise InputError(None, f"{flag} {v:g} 1/m: must exceed the spectrum's lowest wave vector "
                                f"q0 = {q_lo_per_m:.4g} 1/m")
     return v
+
+
+def check_fit(fit, name=""):
+    """Warn when a self-affine fit is outside its meaning: Hurst exponent outside [0, 1]
+    (e.g. a white-noise or a trend-dominated scan) or a non-finite h0."""
+    h = getattr(fit, "hurst", None)
+    if h is None or not np.isfinite(h):
+        raise InputError(name or None, "the self-affine fit failed (Hurst exponent not finite)")
+    if not 0.0 <= h <= 1.0:
+        warn(f"{name + ': ' if name else ''}Hurst exponent {h:.3g} lies outside [0, 1]: the spectrum "
+             f"is not self-affine over the fitted band; H, h0 and mu(v) are not meaningful")
 
 
 def check_mu(mu, what="mu"):

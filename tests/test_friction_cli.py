@@ -23,10 +23,12 @@ def test_cli_self_affine_defaults(tmp_path):
     out = tmp_path / "mu.csv"
     assert main(["friction", "--self-affine", "H=0.85,h0=5e-4,q0=2000,q1=2e5", "--out", str(out)]) == 0
     head, d = _read(out)
-    assert head == ["v_m_per_s", "mu"] and d.shape == (121, 2)
+    assert head == ["v_m_per_s", "mu", "area_fraction"] and d.shape == (121, 3)
     assert d[0, 0] == pytest.approx(1e-8) and d[-1, 0] == pytest.approx(1e4)
-    ref = mu_isothermal(SelfAffinePSD(0.85, 5e-4, 2000.0, 2e5), thesis_rubber(), d[:, 0]).mu
-    np.testing.assert_allclose(d[:, 1], ref, rtol=1e-8)
+    res = mu_isothermal(SelfAffinePSD(0.85, 5e-4, 2000.0, 2e5), thesis_rubber(), d[:, 0])
+    np.testing.assert_allclose(d[:, 1], res.mu, rtol=1e-8)
+    np.testing.assert_allclose(d[:, 2], res.P[:, -1], rtol=1e-8)
+    assert np.all((d[:, 2] > 0) & (d[:, 2] < 1))
     png = out.with_suffix(".png")
     assert png.exists() and png.read_bytes()[:4] == b"\x89PNG"
 
@@ -42,8 +44,12 @@ def test_cli_psd_file_flash_and_rubber(tmp_path):
                "--out", str(out)])
     assert rc == 0
     head, d = _read(out)
-    assert head == ["v_m_per_s", "mu", "T_C_zeta_1", "T_C_zeta_max", "T_C_zeta_3", "T_C_zeta_10"]
-    assert d.shape == (7, 6) and np.all(d[:, 2:] >= 60.0 - 1e-9)
+    assert head == ["v_m_per_s", "mu", "area_fraction", "T_flash_max_C", "T_C_zeta_1", "T_C_zeta_max",
+                    "T_C_zeta_3", "T_C_zeta_10"]
+    assert d.shape == (7, 8) and np.all(d[:, 3:] >= 60.0 - 1e-9)
+    d = np.delete(d, 2, axis=1)  # the columns of the former layout follow T_flash_max_C
+    assert np.all(d[:, 2] >= d[:, 3:].max(axis=1) - 1e-9)  # the hottest over all length scales
+    d = np.delete(d, 2, axis=1)
     assert d[-1, 3] > d[-1, 5] > d[-1, 2] > 60.0  # smaller length scales run hotter at 100 m/s
 
 

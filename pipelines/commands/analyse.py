@@ -16,6 +16,12 @@ HELP = "PSD, self-affine fit, roughness figures and friction mu(v) of height fil
 def add_arguments(p):
     p.add_argument("files", nargs="+", metavar="FILE", help="height files (area scans or line profiles)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_analysis_options(p)
+
+
+def add_analysis_options(p):
+    """Every per-scan option of ``analyse``, friction included (``roadscan batch`` takes the
+    very same)."""
     add_scan_options(p)
     p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
     p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
@@ -49,7 +55,9 @@ def _unique_dirs(paths):
     return out
 
 
-def run(args):
+def analysis_kwargs(args):
+    """Checked keyword arguments of :func:`pipelines.analyse.run_analysis` from the options of
+    :func:`add_analysis_options` (InputError naming the flag when one is out of range)."""
     if not 0 <= args.window_alpha <= 1:
         raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
     band = _fit_band(args.fit_band)
@@ -58,6 +66,12 @@ def run(args):
         if not args.mpd_spike_alpha > 0:
             raise InputError(None, f"--mpd-spike-alpha {args.mpd_spike_alpha}: must be positive")
         mpd = {"spike_alpha": args.mpd_spike_alpha}
+    return {"window_alpha": args.window_alpha, "fit_band": band, "despike": args.despike,
+            "mpd_settings": mpd}
+
+
+def run(args):
+    kw = analysis_kwargs(args)
     settings = settings_from_args(args)
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
@@ -66,13 +80,13 @@ def run(args):
     scans = [load_scan(f, args) for f in args.files]  # every input is checked before any output
     many = len(scans) > 1
     with atomic_output_dir(out, inputs=args.files) as tmp:  # all outputs or none
-        rows = _analyse_all(args, scans, tmp, out, many, settings, band, mpd)
+        rows = _analyse_all(args, scans, tmp, out, many, settings, kw)
     if many:
         print(f"analysed {len(rows)} scans -> {out / 'summary.csv'}, {out / 'report.html'}")
     return 0
 
 
-def _analyse_all(args, scans, out, final, many, settings, band, mpd):
+def _analyse_all(args, scans, out, final, many, settings, kw):
     from .. import report
     from ..analyse import run_analysis
 
@@ -81,9 +95,7 @@ def _analyse_all(args, scans, out, final, many, settings, band, mpd):
         if many:
             print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
         try:
-            summary = run_analysis(scan, out / sub if many else out, settings,
-                                   window_alpha=args.window_alpha, fit_band=band, despike=args.despike,
-                                   mpd_settings=mpd)
+            summary = run_analysis(scan, out / sub if many else out, settings, **kw)
         except ValueError as exc:
             raise InputError(path, str(exc)) from None
         rows.append((sub, summary))

@@ -1,7 +1,7 @@
 """``roadscan diagnose``: the sim-to-real gap (issue 5).
 
 Friction level: ``roadscan diagnose --measured MU.csv (--scan FILE | --psd FILE)
-[--rubber FILE.toml] [--sigma0 PA] [--temperature C] [--noise RMS] [--validate OTHER.csv] --out DIR``.
+[--rubber FILE.toml] [--sigma0 0.3MPa] [--q0 Q] [--q1 Q] [--contact-gamma G] [--temperature C] [--noise RMS] [--validate OTHER.csv] --out DIR``.
 Surface level: ``roadscan diagnose --scan FILE --out DIR``.
 Writes DIR/diagnosis.json and DIR/report.html (see :mod:`pipelines.diagnose`).
 """
@@ -11,6 +11,8 @@ import sys
 
 from roadscan.errors import InputError
 
+from ..friction_options import (PRESSURE_HELP, add_contact_options, apply_band, check_contact_args,
+                                parse_pressure, with_extrapolation)
 from ..scan_input import add_scan_options, load_scan
 
 NAME = "diagnose"
@@ -25,7 +27,7 @@ def add_arguments(p):
     p.add_argument("--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)")
     p.add_argument("--rubber", metavar="FILE.toml", default=None,
                    help="rubber model (default: the thesis's standard linear solid, T_ref = 60 C)")
-    p.add_argument("--sigma0", type=float, default=0.2e6, metavar="PA", help="nominal pressure [Pa] (default 2e5)")
+    p.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
     p.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's reference temperature)")
     p.add_argument("--noise", type=float, default=None, metavar="RMS",
@@ -33,6 +35,7 @@ def add_arguments(p):
     p.add_argument("--validate", metavar="OTHER.csv", default=None,
                    help="a separate measurement predicted by the corrected model without refitting")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    add_contact_options(p, nu=False)
     add_scan_options(p)
 
 
@@ -45,8 +48,8 @@ def run(args):
 
     if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):
         raise InputError(None, f"--noise {args.noise!r} must be a positive rms of log10")
-    if not (np.isfinite(args.sigma0) and args.sigma0 > 0):
-        raise InputError(None, f"--sigma0 {args.sigma0!r} must be a positive pressure in Pa")
+    args.sigma0 = parse_pressure(args.sigma0)
+    check_contact_args(args)
     if args.measured is None:
         if args.scan is None:
             raise InputError(None, "give --measured MU.csv with --scan/--psd (friction level) or --scan alone (surface level)")
@@ -88,7 +91,13 @@ def run(args):
             psd, scan, spec, fit = surface_from_scan(obj)
         except ValueError as exc:
             raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
+    psd, _ = apply_band(psd, args.q0, args.q1, log=_say)
+    rubber = with_extrapolation(rubber, args.extrapolate)
     ctx = build_context(curve, psd, rubber=rubber, scan=scan, spectrum=spec, fit=fit)
+    if args.contact_gamma is not None:  # baseline S(q); the contact-correction effect may refit it
+        from dataclasses import replace
+
+        ctx.base = replace(ctx.base, contact_gamma=args.contact_gamma)
     from roadscan.io.atomic import atomic_output_dir
 
     inputs = [f for f in (args.measured, args.scan, args.psd, args.validate) if f]

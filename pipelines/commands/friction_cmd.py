@@ -1,19 +1,24 @@
 """``roadscan friction``: mu(v) from a spectrum and a rubber (Persson's theory).
 
-Outputs: ``--out mu.csv`` with columns ``v_m_per_s,mu`` (with ``--flash`` also
-``T_C_zeta_1``, ``T_C_zeta_max`` and ``T_C_zeta_<z>`` per ``--magnifications`` value), and a PNG
-plot beside it (same stem). Defaults (DESIGN.md sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis
-rubber at T0 = T_ref, isothermal, speeds 1e-8 to 1e4 m/s at 10 per decade (121 points).
+Outputs: ``--out mu.csv`` with columns ``v_m_per_s,mu,area_fraction`` (A/A0 = P(q1) at each
+speed; with ``--flash`` also ``T_flash_max_C``, the hottest flash temperature over all length
+scales, then ``T_C_zeta_1``, ``T_C_zeta_max`` and ``T_C_zeta_<z>`` per ``--magnifications``
+value), a PNG plot beside it (same stem) and ``<stem>_summary.json`` (inputs, the integration
+band, the master-curve frequency coverage and the WLF fit of a shift table). Defaults (DESIGN.md
+sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis rubber at T0 = T_ref, isothermal, speeds 1e-8 to
+1e4 m/s at 10 per decade (121 points), the spectrum's own band.
 """
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from roadscan.errors import InputError
 
+from ..friction_options import PRESSURE_HELP, add_contact_options
 
 NAME = "friction"
-HELP = "friction coefficient mu(v) from a spectrum (psd.csv or self-affine model) and a rubber"
+HELP = "friction coefficient mu(v) and contact area A/A0 from a spectrum (psd.csv or self-affine model) and a rubber"
 
 
 def add_arguments(p):
@@ -22,19 +27,28 @@ def add_arguments(p):
     src.add_argument("--self-affine", metavar="H=..,h0=..,q0=..,q1=..",
                      help="self-affine model (thesis appendix A): Hurst H, h0 [m], q0, q1 [1/m], "
                           "optional qroll [1/m]")
-    p.add_argument("--rubber", metavar="FILE.toml", default=None,
-                   help="rubber model (friction/RUBBER_TOML.md; default: the thesis SLS, T_ref 60 C)")
-    p.add_argument("--sigma0", type=float, default=0.2e6, metavar="PA", help="nominal pressure [Pa] (2e5)")
-    p.add_argument("--nu", type=float, default=0.5, help="Poisson ratio of the rubber (0.5)")
+    rub = p.add_argument_group("rubber (one of --rubber or --master-curve; default: the thesis SLS, T_ref 60 C)")
+    rub.add_argument("--rubber", metavar="FILE.toml", default=None,
+                     help="rubber model (friction/RUBBER_TOML.md)")
+    rub.add_argument("--master-curve", metavar="FILE.csv", default=None,
+                     help="master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa' or "
+                          "header E_stor_MPa; default Pa) at --reference-temperature")
+    rub.add_argument("--shift-table", metavar="FILE.csv", default=None,
+                     help="with --master-curve: shift factors, columns T_C and aT (linear) or log10_aT")
+    rub.add_argument("--reference-temperature", type=float, default=None, metavar="C",
+                     help="with --master-curve: its reference temperature T_ref [C] (where aT = 1)")
+    p.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
     p.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's T_ref)")
     p.add_argument("--flash", action="store_true", help="flash-temperature model (Persson 2006)")
     p.add_argument("--velocities", default=None, metavar="LO:HI:N",
                    help="N log-spaced sliding speeds [m/s] (default 1e-8:1e4:121)")
+    add_contact_options(p)
     p.add_argument("--magnifications", default="", metavar="Z1,Z2,...",
                    help="with --flash: also report T at these magnifications zeta = q/q0")
     p.add_argument("--tol", type=float, default=1e-3, help="relative accuracy target for mu (1e-3)")
-    p.add_argument("--out", default="mu.csv", metavar="mu.csv", help="output CSV (PNG beside it)")
+    p.add_argument("--out", default="mu.csv", metavar="mu.csv",
+                   help="output CSV (PNG and <stem>_summary.json beside it)")
 
 
 def _self_affine(text):
@@ -51,6 +65,8 @@ def _self_affine(text):
             kw[keys[k.strip().lower()]] = float(val)
         except ValueError:
             raise InputError(None, f"--self-affine: {k}={val!r} is not a number") from None
+        if not math.isfinite(kw[keys[k.strip().lower()]]):
+            raise InputError(None, f"--self-affine: {k.strip()}={val.strip()}: must be finite")
     missing = {"hurst", "h0_m", "q0_per_m", "q1_per_m"} - set(kw)
     if missing:
         raise InputError(None, "--self-affine: missing " + ", ".join(sorted(missing)))
@@ -60,27 +76,62 @@ def _self_affine(text):
         raise InputError(None, f"--self-affine: {exc}") from None
 
 
+def _rubber(args):
+    import friction
+
+    if args.master_curve:
+        if args.rubber:
+            raise InputError(None, "give either --rubber FILE.toml or --master-curve FILE.csv, not both")
+        if args.reference_temperature is None:
+            raise InputError(args.master_curve, "--master-curve needs --reference-temperature C (its T_ref)")
+        from ..rubber_file import rubber_from_csv_files
+        return rubber_from_csv_files(args.master_curve, args.shift_table, args.reference_temperature)
+    if args.shift_table or args.reference_temperature is not None:
+        raise InputError(None, "--shift-table and --reference-temperature go with --master-curve "
+                               "(with --rubber put them in the TOML)")
+    if args.rubber:
+        from ..rubber_file import load_rubber
+        return load_rubber(args.rubber)
+    return friction.thesis_rubber()
+
+
+def _psd(args):
+    from ..csv_files import read_psd_csv
+    from ..friction_options import apply_band
+
+    if args.psd:
+        psd, band = apply_band(read_psd_csv(args.psd), args.q0, args.q1)
+        if band is None:
+            band = dict(q0_per_m=psd.q_min_per_m, q1_per_m=psd.q1_per_m, q_table_min_per_m=psd.q_min_per_m,
+                        q_table_max_per_m=float(psd.q_per_m[-1]), extended_decades=0.0, tail_exponent=None)
+        return psd, band
+    psd = _self_affine(args.self_affine)
+    if args.q0 is not None:
+        raise InputError(None, "--q0 with --self-affine: give q0= (and qroll=) inside --self-affine")
+    if args.q1 is not None:
+        try:
+            psd = psd.with_q1(args.q1)
+        except ValueError as exc:
+            raise InputError(None, f"--q1: {exc}") from None
+    return psd, dict(q0_per_m=psd.q_min_per_m, q1_per_m=psd.q1_per_m, extended_decades=0.0)
+
+
 def run(args):
     import numpy as np
 
     import friction
 
-    from ..csv_files import read_psd_csv
-    from ..friction_options import parse_velocities
-    from ..report import plot_mu, write_csv
+    from ..friction_options import check_contact_args, parse_pressure, parse_velocities, run_checks, with_extrapolation
+    from ..report import plot_mu, write_csv, write_json
     from ..spectrum_bridge import default_velocities
 
+    check_contact_args(args)
+    sigma0 = parse_pressure(args.sigma0)
     v = parse_velocities(args.velocities) if args.velocities else default_velocities()
-    psd = read_psd_csv(args.psd) if args.psd else _self_affine(args.self_affine)
-    if args.rubber:
-        from ..rubber_file import load_rubber
-        rubber = load_rubber(args.rubber)
-    else:
-        rubber = friction.thesis_rubber()
-    if not (np.isfinite(args.sigma0) and args.sigma0 > 0):
-        raise InputError(None, f"--sigma0 {args.sigma0!r}: must be a positive pressure in Pa")
     if not (0 < args.tol < 0.1):
         raise InputError(None, "--tol must lie in (0, 0.1)")
+    psd, band = _psd(args)
+    rubber = with_extrapolation(_rubber(args), args.extrapolate)
     zetas = []
     if args.magnifications:
         try:
@@ -94,27 +145,58 @@ def run(args):
         raise InputError(None, f"--magnifications {bad}: outside the spectrum's range {zmin:g}..{zmax:g}")
     if zetas and not args.flash:
         raise InputError(None, "--magnifications needs --flash")
-    kw = dict(sigma0_Pa=args.sigma0, nu=args.nu, T0_C=args.temperature, tol=args.tol)
+    from ..validate import check_mu, check_temperature
+
+    check_temperature(args.temperature, rubber)
+    kw = dict(sigma0_Pa=sigma0, nu=args.nu, T0_C=args.temperature, tol=args.tol,
+              contact_gamma=args.contact_gamma)
     try:
-        res = (friction.mu_flash if args.flash else friction.mu_isothermal)(psd, rubber, v, **kw)
+        with np.errstate(all="ignore"):
+            res = (friction.mu_flash if args.flash else friction.mu_isothermal)(psd, rubber, v, **kw)
     except RuntimeError as exc:
         raise InputError(None, f"friction: {exc}") from None
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
+    check_mu(res.mu)
     out = Path(args.out)
-    header, cols = ["v_m_per_s", "mu"], [res.v_m_per_s, res.mu]
+    area = res.P[:, -1]
+    header, cols = ["v_m_per_s", "mu", "area_fraction"], [res.v_m_per_s, res.mu, area]
+    T_max = None
     if args.flash:
-        header += ["T_C_zeta_1", "T_C_zeta_max"]
-        cols += [res.temperature_at(1.0), res.temperature_at(zmax)]
+        T_max = np.max(res.T_q_C, axis=1)
+        header += ["T_flash_max_C", "T_C_zeta_1", "T_C_zeta_max"]
+        cols += [T_max, res.temperature_at(1.0), res.temperature_at(zmax)]
         for z in zetas:
             header.append(f"T_C_zeta_{z:g}")
             cols.append(res.temperature_at(z))
+    checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, res.meta["T0_C"],
+                        None if T_max is None else float(T_max.max()))
     write_csv(out, header, cols)
+    mu_max, v_max = res.peak
+    summary = {
+        "model": "flash temperature" if args.flash else "isothermal",
+        "sigma0_Pa": sigma0,
+        "nu": args.nu,
+        "pressure_in_P_Pa": (1 - args.nu ** 2) * sigma0,
+        "pressure_note": "sigma0 is the nominal pressure; P(q), G(q) and M(q) use (1 - nu^2) sigma0",
+        "contact_gamma": args.contact_gamma,
+        "T0_C": res.meta["T0_C"],
+        "rubber": {"T_ref_C": rubber.T_ref_C, "kind": type(rubber).__name__},
+        "band": band,
+        "q_nodes": res.meta.get("q_nodes"),
+        "mu_peak": mu_max,
+        "v_peak_m_per_s": v_max,
+        "area_fraction_range": [float(area.min()), float(area.max())],
+        "rubber_checks": checks,
+    }
+    if T_max is not None:
+        summary["T_flash_max_C"] = float(T_max.max())
+    write_json(out.with_name(out.stem + "_summary.json"), summary)
     title = "mu(v), " + ("flash temperature" if args.flash else "isothermal") + \
-        f", sigma0 = {args.sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} C"
+        f", sigma0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} C"
     plot_mu([("", res.v_m_per_s, res.mu)], out.with_suffix(".png"), title=title,
             ylabel="friction coefficient mu [-]")
-    mu_max, v_max = res.peak
-    print(f"{out}: {v.size} speeds, peak mu {mu_max:.4g} at {v_max:.4g} m/s"
+    print(f"{out}: {v.size} speeds, peak mu {mu_max:.4g} at {v_max:.4g} m/s, "
+          f"q {psd.q_min_per_m:.4g}..{psd.q1_per_m:.4g} 1/m"
           + (f", {res.iterations} iterations, residual {res.residual:.2g} K" if args.flash else ""))
     return 0

@@ -73,6 +73,8 @@ def run(args):
 
 
 def _write(out, args, scan, r):
+    from roadscan.io.atomic import atomic_save_npy, atomic_write_text
+
     atomic_save_npy(out / "wet.npy", r.wet.heights_m)
     atomic_save_npy(out / "depth.npy", r.depth_m)
     summary = {

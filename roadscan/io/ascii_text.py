@@ -30,7 +30,7 @@ import re
 import numpy as np
 
 from ..errors import InputError
-from ._common import (NO_SPACING, make_heightmap, make_profile, parse_units, regular_axis,
+from ._common import (NO_SPACING, check_declared_size, make_heightmap, make_profile, parse_units, regular_axis,
                       resolve_spacing, unit_factor)
 from ._registry import register_reader
 from .text_table import ESRI_KEYS, column_units, read_table, read_text
@@ -117,6 +117,7 @@ def read_text_heights(path, spacing=None, units=None):
 def _esri(path, values, hdr, sp, factor, units, meta):
     nrows = int(_float(hdr["nrows"], path, "nrows"))
     ncols = int(_float(hdr["ncols"], path, "ncols"))
+    check_declared_size(path, (nrows, ncols), 8)
     if values.size != nrows * ncols:
         raise InputError(path, f"header says {nrows} x {ncols} values, file has {values.size}")
     h = values.reshape(nrows, ncols)[::-1].copy()  # first row is the north edge

@@ -13,7 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._common import NO_SPACING, check_file, make_heightmap, parse_units, resolve_spacing, unit_factor
+from ._common import (NO_SPACING, check_declared_size, check_file, make_heightmap, parse_units,
+                      resolve_spacing, unit_factor)
 from ._registry import register_reader
 
 __all__ = ["read_gwy"]
@@ -34,7 +35,8 @@ def read_gwy(path, spacing=None, units=None):
     """Read the first data channel of a Gwyddion ``.gwy`` file."""
     import gwyfile
 
-    check_file(path)
+    p = check_file(path)
+    check_declared_size(path, (p.stat().st_size // 8,), 8)   # a .gwy holds float64 points
     try:
         obj = gwyfile.load(str(path))
     except Exception as exc:  # noqa: BLE001 - gwyfile raises plain ValueError/struct errors
@@ -47,6 +49,11 @@ def read_gwy(path, spacing=None, units=None):
         raise InputError(path, "no data channel in the Gwyddion file")
     ch = channels[0]
     field = obj[f"/{ch}/data"]
+    try:
+        check_declared_size(path, (int(field["yres"]), int(field["xres"])), 8)
+    except (KeyError, TypeError, ValueError) as exc:
+        if isinstance(exc, InputError):
+            raise
     try:
         z = np.asarray(field.data, dtype=np.float64)
     except Exception as exc:  # noqa: BLE001

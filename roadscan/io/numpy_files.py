@@ -10,13 +10,14 @@ Writers store metres (float64, or float32 with ``dtype="float32"``) and NaN at u
 """
 from __future__ import annotations
 
+import os
 import zipfile
 
 import numpy as np
 
 from ..errors import InputError
 from ..heightmap import HeightMap, Profile
-from ._common import NO_SPACING, check_file, make_heightmap, make_profile, resolve_spacing, unit_factor
+from ._common import NO_SPACING, check_compression_ratio, check_declared_size, check_file, make_heightmap, make_profile, resolve_spacing, unit_factor
 from ._registry import register_reader, register_writer
 
 __all__ = ["read_npy", "read_npz", "write_npy", "write_npz"]
@@ -29,10 +30,47 @@ def _load(path, **kw):
         raise InputError(path, f"not a readable NumPy file ({exc.__class__.__name__}: {exc})") from None
 
 
+def _read_header(fh, path, member=None):
+    """(shape, dtype) of a ``.npy`` stream from its header only (nothing allocated)."""
+    where = f" (member {member})" if member else ""
+    try:
+        version = np.lib.format.read_magic(fh)
+        if version == (1, 0):
+            shape, _, dtype = np.lib.format.read_array_header_1_0(fh)
+        elif version == (2, 0):
+            shape, _, dtype = np.lib.format.read_array_header_2_0(fh)
+        else:
+            shape, _, dtype = np.lib.format._read_array_header(fh, version)
+    except (ValueError, OSError, EOFError, SyntaxError, TypeError) as exc:
+        raise InputError(path, f"not a readable NumPy file{where} ({exc.__class__.__name__}: {exc})") from None
+    return shape, dtype
+
+
+def _check_header(path, shape, dtype, stored_bytes=None, member=None):
+    """Refuse before allocating: complex, non-numeric, too large, or a zip bomb."""
+    if dtype.names is not None or dtype.hasobject:
+        raise InputError(path, f"heights are not numbers (dtype {dtype})")
+    if np.issubdtype(dtype, np.complexfloating):
+        raise InputError(path, "heights are complex numbers: save the real heights")
+    if not (np.issubdtype(dtype, np.number) or dtype == bool):
+        raise InputError(path, f"heights are not numbers (dtype {dtype})")
+    n = check_declared_size(path, shape, max(dtype.itemsize, 8))
+    if stored_bytes is not None:
+        check_compression_ratio(path, n * dtype.itemsize, stored_bytes)
+    else:
+        size = os.path.getsize(path)
+        if n * dtype.itemsize > size:
+            raise InputError(path, f"header declares shape {tuple(shape)} ({n * dtype.itemsize} bytes) "
+                                   f"but the file holds {size} bytes: truncated")
+
+
 @register_reader(".npy")
 def read_npy(path, spacing=None, units=None):
     """Read a ``.npy`` height array; ``spacing`` [m] is required."""
     check_file(path)
+    with open(path, "rb") as fh:
+        shape, dtype = _read_header(fh, path)
+    _check_header(path, shape, dtype)
     arr = _load(path)
     factor = unit_factor(units, path)
     sp = resolve_spacing(spacing, path)
@@ -56,6 +94,7 @@ def read_npz(path, spacing=None, units=None):
     check_file(path)
     factor = unit_factor(units, path)
     sp = resolve_spacing(spacing, path)
+    _check_npz_members(path)
     with _load(path) as z:
         keys = set(z.files)
         if "heights" not in keys:
@@ -84,6 +123,22 @@ def read_npz(path, spacing=None, units=None):
     if dx is None or dy is None:
         raise InputError(path, NO_SPACING)
     return make_heightmap(path, h.astype(np.float64) * factor, dx, dy, unmeasured=unmeasured, meta=meta)
+
+
+def _check_npz_members(path):
+    """Check every member's header (size limit, complex, zip-bomb ratio) before loading any."""
+    try:
+        with zipfile.ZipFile(path) as zf:
+            for info in zf.infolist():
+                if not info.filename.endswith(".npy"):
+                    continue
+                with zf.open(info) as fh:
+                    shape, dtype = _read_header(fh, path, info.filename)
+                _check_header(path, shape, dtype, stored_bytes=info.compress_size, member=info.filename)
+    except (zipfile.BadZipFile, OSError, EOFError, ValueError) as exc:
+        if isinstance(exc, InputError):
+            raise
+        raise InputError(path, f"not a readable NumPy .npz file ({exc.__class__.__name__}: {exc})") from None
 
 
 def _float_dtype(dtype):

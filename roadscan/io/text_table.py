@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ._common import check_file
+from ._common import check_file, get_max_pixels, default_max_pixels
 
 __all__ = ["Table", "read_table", "read_text", "column_units"]
 
@@ -35,6 +35,11 @@ class Table:
 def read_text(path):
     """The file's text (UTF-8, with or without BOM; Latin-1 as fallback)."""
     p = check_file(path)
+    size = p.stat().st_size
+    limit = get_max_pixels() or default_max_pixels()
+    if size // 2 > limit:   # a value takes at least 2 characters (digit and separator)
+        raise InputError(path, f"text file of {size / 1e6:.4g} MB may hold up to {size // 2:.3g} values, "
+                               f"above the limit of {limit:.3g} points; raise it with --max-pixels N")
     raw = p.read_bytes()
     if b"\x00" in raw[:4096]:
         raise InputError(path, "binary file, not a text table")

@@ -17,7 +17,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
-from ._common import NO_SPACING, check_file, make_heightmap, resolve_spacing, unit_factor
+from ._common import (NO_SPACING, check_compression_ratio, check_declared_size, check_file,
+                      make_heightmap, resolve_spacing, unit_factor)
 from ._registry import register_reader, register_writer
 
 __all__ = ["read_tiff", "write_tiff"]
@@ -62,6 +63,15 @@ def _spacing_from_tags(tif, page):
     return None
 
 
+def _check_page_size(path, page):
+    """Refuse before decoding: more points than the limit, or a compressed strip/tile set that
+    claims far more data than the file holds (a TIFF zip bomb)."""
+    itemsize = np.dtype(page.dtype).itemsize if page.dtype is not None else 8
+    n = check_declared_size(path, tuple(page.shape), itemsize)
+    stored = sum(int(c) for c in (page.databytecounts or ()))
+    check_compression_ratio(path, n * itemsize, stored)
+
+
 @register_reader(".tif", ".tiff")
 def read_tiff(path, spacing=None, units=None):
     """Read a TIFF height image (see the module notes for the spacing rules)."""
@@ -73,6 +83,7 @@ def read_tiff(path, spacing=None, units=None):
     try:
         with tifffile.TiffFile(path) as tif:
             page = tif.pages.first
+            _check_page_size(path, page)
             arr = page.asarray()
             from_file = _spacing_from_tags(tif, page)
             desc_units = None

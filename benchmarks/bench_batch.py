@@ -1,0 +1,152 @@
+"""``roadscan batch`` speed-up from 1 to 2 local workers, time per scan against single
+``roadscan analyse`` runs, and (``--long N``) memory of a long profile cut into sections.
+
+Usage::
+
+    python benchmarks/bench_batch.py                 # 40 scans of 256 x 256, friction on
+    python benchmarks/bench_batch.py --scans 40 --size 256 --long 10000000
+
+Prints, all measured in this run:
+
+- ``analyse`` in-process per scan (the same work without Dask) and as a shell loop of
+  ``roadscan analyse`` processes (what users did before ``batch``), per scan;
+- ``batch --workers 1`` and ``--workers 2`` wall time (cluster start included) and per scan;
+- speed-up 1 -> 2 workers (aim >= 1.7 on 2 free cores);
+- with ``--long N``: an N-point x,z text profile (0.5 mm spacing) in 10 m sections through the
+  worker function in a fresh process: wall time and peak RSS against the profile's own size.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "tests"))
+
+
+def make_scans(folder, n, size, dx=5e-5):
+    from conftest import fourier_surface
+
+    paths = []
+    for i in range(n):
+        p = folder / f"scan{i:03d}.npy"
+        np.save(p, fourier_surface(size, dx, 0.7 + 0.005 * i, 3e-4, seed=i))
+        paths.append(p)
+    return paths
+
+
+def _env():
+    return dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+
+
+def time_batch(paths, out, workers, dx):
+    cmd = [sys.executable, "-m", "pipelines.cli", "batch", *map(str, paths), "--spacing", str(dx),
+           "--out", str(out), "--workers", str(workers)]
+    t = time.perf_counter()
+    r = subprocess.run(cmd, env=_env(), capture_output=True, text=True)
+    dt = time.perf_counter() - t
+    if r.returncode != 0:
+        raise SystemExit(f"batch failed: {r.stderr}")
+    return dt
+
+
+def time_analyse_inprocess(paths, out, dx):
+    from pipelines.cli import main
+
+    main(["analyse", str(paths[0]), "--spacing", str(dx), "--out", str(out / "warm")])  # imports
+    t = time.perf_counter()
+    for p in paths:
+        main(["analyse", str(p), "--spacing", str(dx), "--out", str(out / p.stem)])
+    return (time.perf_counter() - t) / len(paths)
+
+
+def time_analyse_processes(paths, out, dx):
+    t = time.perf_counter()
+    for p in paths:
+        subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(p), "--spacing", str(dx),
+                        "--out", str(out / p.stem)], env=_env(), check=True, capture_output=True)
+    return (time.perf_counter() - t) / len(paths)
+
+
+_LONG_CHILD = r"""
+import resource, sys, time
+sys.path.insert(0, {root!r})
+from pipelines.analyse import FrictionSettings
+from pipelines.campaign.worker import run_job
+t = time.perf_counter()
+recs = run_job({{"file": {path!r}, "label": "", "chainage_m": 0.0, "subdir": "long", "out": {out!r},
+               "spacing": None, "units": None, "settings": FrictionSettings(enabled=False),
+               "analysis": {{}}, "figures": False, "section_length_m": 10.0, "fingerprint": "x"}})
+dt = time.perf_counter() - t
+ok = sum(r["status"] == "ok" for r in recs)
+print(len(recs), ok, dt, resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)
+"""
+
+
+def long_profile(n, folder):
+    path = folder / "long.txt"
+    rng = np.random.default_rng(0)
+    with open(path, "w") as fh:
+        fh.write("distance (mm), height (mm)\n")
+        step = 1_000_000
+        for i0 in range(0, n, step):
+            m = min(step, n - i0)
+            x = (i0 + np.arange(m)) * 0.5
+            z = np.convolve(rng.normal(size=m + 7), np.ones(8) / 8, mode="valid") * 2.0
+            np.savetxt(fh, np.column_stack([x, z]), fmt="%.3f", delimiter=",")
+    code = _LONG_CHILD.format(root=str(ROOT), path=str(path), out=str(folder / "out"))
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=_env())
+    if r.returncode != 0:
+        raise SystemExit(r.stderr)
+    rows, ok, dt, rss = r.stdout.split()
+    base = subprocess.run([sys.executable, "-c", "import resource, sys; sys.path.insert(0, %r); "
+                           "import pipelines.analyse, pipelines.campaign.worker, friction, scipy.signal; "
+                           "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024)" % str(ROOT)],
+                          capture_output=True, text=True, env=_env())
+    rss0 = int(base.stdout.strip())
+    whole = n * 2 * 8
+    print(f"long profile: {n:,} points ({path.stat().st_size / 1e6:.0f} MB of text, {whole / 1e6:.0f} MB "
+          f"as x,z float64), {rows} sections of 10 m ({ok} ok) in {float(dt):.1f} s")
+    print(f"  peak RSS {int(rss) / 1e6:.0f} MB; after imports alone {rss0 / 1e6:.0f} MB; "
+          f"increase {(int(rss) - rss0) / 1e6:.0f} MB = {(int(rss) - rss0) / whole:.2f} x the profile's size")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--scans", type=int, default=40)
+    ap.add_argument("--size", type=int, default=256)
+    ap.add_argument("--loop", type=int, default=8, help="scans timed as separate analyse processes")
+    ap.add_argument("--long", type=int, default=0, metavar="N", help="also a long profile of N points")
+    a = ap.parse_args()
+    dx = 5e-5
+    with tempfile.TemporaryDirectory() as td:
+        td = Path(td)
+        (td / "scans").mkdir()
+        paths = make_scans(td / "scans", a.scans, a.size, dx)
+        t_in = time_analyse_inprocess(paths[: a.loop], td / "a_in", dx)
+        t_proc = time_analyse_processes(paths[: a.loop], td / "a_proc", dx)
+        t1 = time_batch(paths, td / "b1", 1, dx)
+        t2 = time_batch(paths, td / "b2", 2, dx)
+        n = len(paths)
+        print(f"{n} scans of {a.size} x {a.size}, friction on, {os.cpu_count()} cores")
+        print(f"analyse in-process      : {t_in:6.3f} s per scan")
+        print(f"analyse, one process each: {t_proc:6.3f} s per scan (shell loop)")
+        print(f"batch --workers 1       : {t1:6.2f} s = {t1 / n:6.3f} s per scan "
+              f"({t1 / n / t_proc:.2f} x the shell loop, {t1 / n / t_in:.2f} x in-process)")
+        print(f"batch --workers 2       : {t2:6.2f} s = {t2 / n:6.3f} s per scan "
+              f"({t2 / n / t_proc:.2f} x the shell loop)")
+        print(f"speed-up 1 -> 2 workers : {t1 / t2:.2f} x (aim >= 1.7 on 2 free cores)")
+        if a.long:
+            long_profile(a.long, td)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,382 @@
+"""Master curves from raw DMA frequency sweeps by time-temperature superposition (TTS).
+
+A DMA run measures E'(f) and E''(f) over a few decades of frequency f [Hz] at a series of
+temperatures. For a thermorheologically simple rubber the sweep at temperature T, plotted
+against ``f aT(T)``, falls on the sweep at the reference temperature T_ref (``aT(T_ref) = 1``,
+aT > 1 below T_ref): ``E(f, T) = E_ref(f aT(T))`` (Ferry, *Viscoelastic properties of
+polymers*, 1980, ch. 11; DESIGN.md sec 4, the convention of :mod:`friction.rubber`).
+
+Shift factors (:func:`pair_shift`, :func:`shift_factors`). Each sweep is compared with its
+neighbours in temperature. A pair's relative shift is first estimated at three modulus levels
+spanning the two sweeps' common modulus range (or the gap between them): from E' fitted by a
+power law with an offset, ``E' = c f^b + e`` (smooths scatter, bridges gaps), and from E'' by
+straight lines in log-log; the two are weighted by ``slope^2 / residual^2`` (the inverse
+variance of a horizontal shift: a flat or scattered modulus locates a shift poorly, so the
+glassy plateau leans on E'' and the loss peak on E'). Where the sweeps overlap by a decade or
+more, the shift is refined by overlaying quadratic fits of log E' and log E'' over the common
+window. All pairs then enter one weighted least-squares problem for the shifts, with the sweep
+nearest T_ref fixed; pairs whose standard error exceeds half a decade (both moduli flat within
+their scatter, e.g. on the rubbery plateau) are dropped, and sweeps left unconnected continue
+the linear trend in T of their nearest placed neighbours (reported as such). log10 aT at T_ref
+itself is interpolated and subtracted when T_ref is not a sweep temperature.
+
+Accuracy (tests/test_rubber_master.py): sweeps sampled from pyvisco's published master curve at
+its 21 temperatures and shift factors (0.1-100 Hz, 0.3 % scatter on E', 1 % on E'') give shift
+factors within 0.23-0.32 decade of the published ones over 8 noise seeds (the published curve
+itself has jumps of ~0.1 decade between sweeps), E' within 6 %.
+
+WLF (:func:`friction.fit_wlf`) is fitted to the table with T_s = T_ref; a Prony series
+(:func:`friction.fit_prony`) to the smoothed master curve.
+
+Master curve (:func:`smooth_master`): the shifted points, smoothed by a local linear
+regression of (log f, log E) with Gaussian weights (width ``0.2`` decade) on a log grid.
+
+Units: f in Hz, moduli in Pa, temperatures in C, shift factors as decimal logarithms.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .rubber import WLF, MasterCurve, Prony
+
+TREND_N = 4  # placed sweeps whose linear trend in T places an unconnected sweep
+
+__all__ = ["group_sweeps", "pair_shift", "shift_factors", "smooth_master", "TTSResult", "build_master",
+           "fit_power_offset"]
+
+
+def group_sweeps(T_C, set_id=None, gap_C=2.0):
+    """Indices of the rows of each isothermal sweep, ordered by temperature.
+
+    With ``set_id`` the rows are grouped by it; otherwise rows whose temperatures, sorted, lie
+    within ``gap_C`` of their neighbour form one sweep. Returns (T_mean (n,), list of index arrays).
+    """
+    T = np.asarray(T_C, dtype=float)
+    if set_id is not None:
+        sid = np.asarray(set_id)
+        keys = np.unique(sid)
+        groups = [np.flatnonzero(sid == k) for k in keys]
+    else:
+        o = np.argsort(T, kind="stable")
+        cut = np.flatnonzero(np.diff(T[o]) > gap_C) + 1
+        groups = [np.sort(g) for g in np.split(o, cut)]
+    Tm = np.array([T[g].mean() for g in groups])
+    order = np.argsort(Tm)
+    return Tm[order], [groups[i] for i in order]
+
+
+def fit_power_offset(f, y, b_max=2.0, nb=801):
+    """Least-squares fit ``y = a f^b + e`` (a power law with an offset, in linear modulus).
+
+    For each exponent b on a grid in [-b_max, b_max] the model is linear in (a, e) and solved in
+    closed form; the best grid b is refined with a bounded scalar minimisation. Returns
+    (a, b, e, rms residual).
+    """
+    from scipy.optimize import minimize_scalar
+
+    f, y = np.asarray(f, float), np.asarray(y, float)
+    lf = np.log(f / np.exp(np.mean(np.log(f))))          # centred: a is the value at the mean f
+
+    def solve(b):
+        b = np.atleast_1d(b)
+        X = np.exp(b[:, None] * lf[None, :])             # (nb, n)
+        n = f.size
+        sx, sy, sxx, sxy = X.sum(1), y.sum(), (X * X).sum(1), X @ y
+        den = n * sxx - sx * sx
+        den = np.where(np.abs(den) > 1e-300, den, np.nan)
+        a = (n * sxy - sx * sy) / den
+        e = (sy - a * sx) / n
+        r = y[None, :] - a[:, None] * X - e[:, None]
+        return a, e, np.sqrt(np.mean(r * r, axis=1))
+
+    bs = np.linspace(-b_max, b_max, nb)
+    bs = bs[np.abs(bs) > 1e-9]
+    _, _, rms = solve(bs)
+    i = int(np.nanargmin(rms))
+    db = bs[1] - bs[0]
+    opt = minimize_scalar(lambda b: float(solve(b)[2][0]), bounds=(bs[i] - db, bs[i] + db),
+                          method="bounded", options={"xatol": 1e-6})
+    b = float(opt.x) if opt.fun <= rms[i] else float(bs[i])
+    a, e, r = solve(b)
+    scale = np.exp(-b * np.mean(np.log(f)))               # back to y = a' f^b + e
+    return float(a[0] * scale), b, float(e[0]), float(r[0])
+
+
+def _inverse(y, a, b, e):
+    """f at which ``a f^b + e = y`` (NaN where there is none)."""
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        return ((np.asarray(y, float) - e) / a) ** (1.0 / b)
+
+
+def _loglog_line(x, y):
+    """Straight line y = c + m x in (log f, log E) -> (m, c, rms residual [decades])."""
+    m, c = np.polyfit(x, y, 1)
+    r = y - (c + m * x)
+    return float(m), float(c), float(np.sqrt(np.mean(r * r)))
+
+
+def _levels(ya, yb):
+    """Three levels spanning the common range of two value sets (or the gap between them)."""
+    lo, hi = max(np.min(ya), np.min(yb)), min(np.max(ya), np.max(yb))
+    if lo > hi:
+        lo, hi = hi, lo
+    return np.array([lo, 0.5 * (lo + hi), hi])
+
+
+def _storage_shift(f_a, E_a, f_b, E_b):
+    """Shift from the storage moduli fitted by ``E' = c f^b + e`` (None if not defined)."""
+    pa, pb = fit_power_offset(f_a, E_a), fit_power_offset(f_b, E_b)
+    y = _levels(E_a, E_b)
+    xa, xb = _inverse(y, *pa[:3]), _inverse(y, *pb[:3])
+    ok = np.isfinite(xa) & np.isfinite(xb) & (xa > 0) & (xb > 0)
+    return float(np.mean(np.log10(xa[ok]) - np.log10(xb[ok]))) if np.any(ok) else None
+
+
+def _line_shift(xa, ya, xb, yb):
+    """(shift, weight) from straight log-log lines; weight = slope^2 / residual^2 (inverse
+    variance of the shift; 0 when the slopes differ in sign)."""
+    ma, ca, ra = _loglog_line(xa, ya)
+    mb, cb, rb = _loglog_line(xb, yb)
+    if ma * mb <= 0:
+        return 0.0, 0.0
+    y = _levels(ya, yb)
+    s = float(np.mean((y - ca) / ma - (y - cb) / mb))
+    noise = max(ra, 1e-4) ** 2 + max(rb, 1e-4) ** 2
+    return s, min(ma * ma, mb * mb) / noise
+
+
+def _overlap_shift(xa, Ya, xb, Yb, s0, min_overlap=1.0, span=1.5):
+    """Refine a shift by overlaying quadratic fits of the sweeps in (log f, log E).
+
+    Each modulus k of each sweep is fitted by a quadratic in log f (smooths scatter, keeps the
+    curvature a straight line misses); the shift minimises
+    ``sum_k w_k mean_x (Qa_k(x) - Qb_k(x - s))^2`` over the common log-f window, with
+    ``w_k = 1 / (residual_a^2 + residual_b^2)``. Searched within ``s0 +- span`` decades where
+    the window is at least ``min_overlap`` decades wide. Returns the shift or None (no overlap).
+    """
+    from scipy.optimize import minimize_scalar
+
+    ca = [np.polyfit(xa, y, 2) for y in Ya]
+    cb = [np.polyfit(xb, y, 2) for y in Yb]
+    ra = [np.sqrt(np.mean((np.polyval(c, xa) - y) ** 2)) for c, y in zip(ca, Ya)]
+    rb = [np.sqrt(np.mean((np.polyval(c, xb) - y) ** 2)) for c, y in zip(cb, Yb)]
+    w = [1.0 / (max(a, 1e-3) ** 2 + max(b, 1e-3) ** 2) for a, b in zip(ra, rb)]
+    lo_s = max(s0 - span, xa.min() - xb.max() + min_overlap)
+    hi_s = min(s0 + span, xa.max() - xb.min() - min_overlap)
+    if not lo_s < s0 < hi_s:     # the first estimate leaves too little overlap: keep it
+        return None
+    t = np.linspace(0.0, 1.0, 41)
+
+    def cost(s):
+        lo, hi = max(xa.min(), xb.min() + s), min(xa.max(), xb.max() + s)
+        x = lo + (hi - lo) * t
+        return sum(wk * np.mean((np.polyval(a, x) - np.polyval(b, x - s)) ** 2)
+                   for wk, a, b in zip(w, ca, cb))
+
+    grid = np.linspace(lo_s, hi_s, 61)
+    i = int(np.argmin([cost(g) for g in grid]))
+    d = grid[1] - grid[0]
+    opt = minimize_scalar(cost, bounds=(grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)] + 1e-12 * d),
+                          method="bounded", options={"xatol": 1e-4})
+    return float(opt.x)
+
+
+def pair_shift(f_a, E1_a, E2_a, f_b, E1_b, E2_b):
+    """log10 of the factor by which sweep b's frequencies are multiplied to overlay sweep a.
+
+    Two estimates: from the storage modulus (both sweeps fitted by ``E' = c f^b + e``,
+    :func:`fit_power_offset`; the mean of ``log10 f_a(E') - log10 f_b(E')`` at three levels
+    spanning the sweeps' common E' range, or the gap between their ranges) and from the loss
+    modulus (straight lines in log-log, same three-level rule). They are averaged with weights
+    ``slope^2 / residual^2`` of log-log line fits (the inverse variance of a horizontal shift):
+    where E' is flat (glassy plateau) the loss modulus leads, where E'' is curved or scattered
+    (near its peak, instrument resonances) the storage modulus does.
+
+    Returns (shift, dict with both estimates and weights).
+    """
+    xa, xb = np.log10(f_a), np.log10(f_b)
+    s_line, w1 = _line_shift(xa, np.log10(E1_a), xb, np.log10(E1_b))
+    s1 = _storage_shift(f_a, E1_a, f_b, E1_b) if w1 > 0 else None
+    if s1 is None:
+        s1 = s_line
+    s2, w2 = _line_shift(xa, np.log10(E2_a), xb, np.log10(E2_b))
+    if w1 + w2 == 0:
+        raise ValueError("neither E' nor E'' of two neighbouring sweeps changes with frequency "
+                         "consistently: no shift can be determined")
+    s0 = (w1 * s1 + w2 * s2) / (w1 + w2)
+    s = _overlap_shift(xa, [np.log10(E1_a), np.log10(E2_a)], xb, [np.log10(E1_b), np.log10(E2_b)], s0)
+    return (s0 if s is None else s), dict(storage=s1, loss=s2, w_storage=w1, w_loss=w2, first=s0, overlap=s)
+
+
+def shift_factors(f_Hz, E1_Pa, E2_Pa, T_C, T_ref_C, set_id=None, max_sigma_decades=0.5, reach=2):
+    """log10 aT of every sweep relative to T_ref (see module docstring).
+
+    Every sweep is compared with its ``reach`` nearest neighbours in temperature on each side
+    (:func:`pair_shift` gives ``log10 aT_j - log10 aT_i`` for the pair i, j; beyond the nearest
+    neighbour only where the two sweeps overlap in frequency by a decade). A pair's standard
+    error is estimated as ``1 / sqrt(w_storage + w_loss)`` (the inverse-variance weights); pairs
+    above ``max_sigma_decades`` (both moduli flat within their scatter, e.g. on the rubbery
+    plateau) are dropped. The shifts then solve the weighted least-squares problem
+    ``sum w_ij (s_j - s_i - d_ij)^2`` with the sweep nearest T_ref fixed (redundant pairs damp the
+    random walk of a neighbour-to-neighbour chain). Sweeps not connected to the reference by
+    kept pairs continue the linear trend in T of the four nearest placed sweeps (method
+    "trend"; a global WLF fit extrapolates worse there). Finally log10 aT(T_ref), interpolated,
+    is subtracted.
+
+    Returns (T_sweep (n,), log10_aT (n,), groups, info) with ``log10 aT(T_ref) = 0``; info is a
+    list per sweep of dicts ``method`` ("reference", "overlap" or "trend") and
+    ``sigma_decades`` (standard error from the least squares; NaN for "trend").
+    """
+    f, E1, E2 = (np.asarray(a, dtype=float) for a in (f_Hz, E1_Pa, E2_Pa))
+    Tm, groups = group_sweeps(T_C, set_id)
+    n = len(groups)
+    if n < 2:
+        raise ValueError("need sweeps at two or more temperatures")
+    for g in groups:
+        if g.size < 4 or np.unique(f[g]).size < 4:
+            raise ValueError("every sweep needs at least 4 distinct frequencies")
+    if not (Tm[0] - 1e-9 <= T_ref_C <= Tm[-1] + 1e-9):
+        raise ValueError(f"reference temperature {T_ref_C:g} C lies outside the sweeps' "
+                         f"{Tm[0]:.3g}..{Tm[-1]:.3g} C")
+    k = int(np.argmin(np.abs(Tm - T_ref_C)))
+    rows = []
+    for i in range(n):
+        for j in range(i + 1, min(n, i + 1 + reach)):
+            gi, gj = groups[i], groups[j]
+            try:
+                d, dd = pair_shift(f[gi], E1[gi], E2[gi], f[gj], E1[gj], E2[gj])
+            except ValueError:
+                continue
+            sig = 1.0 / np.sqrt(dd["w_storage"] + dd["w_loss"])
+            if j > i + 1 and dd["overlap"] is None:   # distant pairs only where the sweeps overlap
+                continue
+            if sig <= max_sigma_decades and np.isfinite(d):
+                rows.append((i, j, d, sig))
+    # the sweeps connected to the reference by kept pairs
+    conn = {k}
+    grew = True
+    while grew:
+        grew = False
+        for i, j, _, _ in rows:
+            if (i in conn) != (j in conn):
+                conn |= {i, j}
+                grew = True
+    idx = sorted(conn - {k})
+    la = np.full(n, np.nan)
+    la[k] = 0.0
+    info = [dict(method="trend", sigma_decades=float("nan")) for _ in range(n)]
+    info[k] = dict(method="reference", sigma_decades=0.0)
+    if idx:
+        col = {s: c for c, s in enumerate(idx)}
+        use = [r for r in rows if r[0] in conn and r[1] in conn]
+        A = np.zeros((len(use), len(idx)))
+        b = np.zeros(len(use))
+        for r, (i, j, d, sig) in enumerate(use):
+            if j != k:
+                A[r, col[j]] += 1.0 / sig
+            if i != k:
+                A[r, col[i]] -= 1.0 / sig
+            b[r] = d / sig
+        sol, *_ = np.linalg.lstsq(A, b, rcond=None)
+        cov = np.linalg.pinv(A.T @ A)
+        for s_, c in col.items():
+            la[s_] = sol[c]
+            info[s_] = dict(method="overlap", sigma_decades=float(np.sqrt(max(cov[c, c], 0.0))))
+    # unconnected sweeps, nearest to the placed ones first: the local trend
+    while np.any(np.isnan(la)):
+        known = np.flatnonzero(np.isfinite(la))
+        miss = np.flatnonzero(np.isnan(la))
+        b_ = miss[np.argmin([np.min(np.abs(Tm[known] - Tm[m])) for m in miss])]
+        near = known[np.argsort(np.abs(Tm[known] - Tm[b_]))[:TREND_N]]
+        if near.size >= 2 and np.ptp(Tm[near]) > 0:
+            slope, icpt = np.polyfit(Tm[near], la[near], 1)
+            la[b_] = float(icpt + slope * Tm[b_])
+        else:
+            la[b_] = la[near[0]]
+    la -= np.interp(T_ref_C, Tm, la)
+    return Tm, la, groups, info
+
+
+def smooth_master(f_Hz, E1_Pa, E2_Pa, per_decade=10, width_decades=0.2):
+    """Smoothed master curve on a log grid from scattered shifted points.
+
+    Local linear regression of log10 E on log10 f with Gaussian weights of standard deviation
+    ``width_decades``, evaluated every ``1/per_decade`` decade over the points' range.
+    Returns (f_grid, E1, E2) [Hz, Pa, Pa].
+    """
+    x = np.log10(np.asarray(f_Hz, float))
+    ys = np.log10(np.column_stack([E1_Pa, E2_Pa]))
+    g = np.arange(np.ceil(x.min() * per_decade), np.floor(x.max() * per_decade) + 1) / per_decade
+    d = x[None, :] - g[:, None]                                   # (m, n)
+    w = np.exp(-0.5 * (d / width_decades) ** 2)
+    S0, S1, S2 = w.sum(1), (w * d).sum(1), (w * d * d).sum(1)
+    T0 = w @ ys                                                   # (m, 2)
+    T1 = (w * d) @ ys
+    den = S0 * S2 - S1 * S1
+    ok = (S0 > 1e-3) & (den > 1e-12 * np.maximum(S0 * S2, 1e-300))
+    y = (S2[:, None] * T0 - S1[:, None] * T1) / np.where(ok, den, 1.0)[:, None]
+    return 10.0 ** g[ok], 10.0 ** y[ok, 0], 10.0 ** y[ok, 1]
+
+
+@dataclass(frozen=True, eq=False)
+class TTSResult:
+    """What :func:`build_master` returns.
+
+    T_ref_C : reference temperature [C].  T_sweep_C, log10_aT : the shift table (n,).
+    shifted : dict of the shifted raw points ``f_Hz, E_storage_Pa, E_loss_Pa, T_C, sweep``.
+    master : MasterCurve (smoothed, at T_ref, with the shift table attached).
+    wlf : WLF fitted to the table; wlf_rms_decades, wlf_max_decades: its misfit.
+    prony : Prony series fitted to the smoothed curve; prony_rms : its rms relative misfit of
+    E' and E'' (fractions).  sweep_info : per sweep, how its shift was found and its estimated
+    standard error (:func:`shift_factors`).
+    """
+
+    T_ref_C: float
+    T_sweep_C: np.ndarray
+    log10_aT: np.ndarray
+    shifted: dict
+    master: MasterCurve
+    wlf: WLF
+    wlf_rms_decades: float
+    wlf_max_decades: float
+    prony: Prony
+    prony_rms: float
+    sweep_info: list
+
+
+def build_master(f_Hz, E1_Pa, E2_Pa, T_C, T_ref_C, set_id=None, prony_per_decade=1.5):
+    """Raw sweeps -> shift table, smoothed master curve, WLF fit and Prony series (see module
+    docstring). Raises ValueError with a one-line reason on unusable data."""
+    import warnings
+
+    from .fitting import fit_prony, fit_wlf
+    from .rubber import ShiftTable
+
+    f, E1, E2, T = (np.asarray(a, dtype=float) for a in (f_Hz, E1_Pa, E2_Pa, T_C))
+    if not (f.shape == E1.shape == E2.shape == T.shape and f.ndim == 1):
+        raise ValueError("f, E_stor, E_loss and T must be 1D arrays of equal length")
+    if not (np.all(np.isfinite(np.stack([f, E1, E2, T]))) and np.all(f > 0) and np.all(E1 > 0)
+            and np.all(E2 > 0)):
+        raise ValueError("frequencies and moduli must be positive and finite")
+    Tm, la, groups, info = shift_factors(f, E1, E2, T, T_ref_C, set_id)
+    sweep = np.empty(f.size, int)
+    fs = np.empty(f.size)
+    for i, g in enumerate(groups):
+        sweep[g] = i
+        fs[g] = f[g] * 10 ** la[i]
+    o = np.argsort(fs, kind="stable")
+    shifted = dict(f_Hz=fs[o], E_storage_Pa=E1[o], E_loss_Pa=E2[o], T_C=T[o], sweep=sweep[o])
+    table = ShiftTable(Tm, la)
+    with warnings.catch_warnings(), np.errstate(all="ignore"):
+        warnings.simplefilter("ignore")
+        wlf = fit_wlf(Tm, la, T_s_C=T_ref_C)
+    r = wlf.log10_aT(Tm) - la
+    fg, g1, g2 = smooth_master(fs, E1, E2)
+    master = MasterCurve(fg, g1, g2, T_ref_C=float(T_ref_C), shift=table)
+    prony = fit_prony(master, per_decade=prony_per_decade)
+    Ep = prony.modulus_ref(2 * np.pi * fg)
+    prms = float(np.sqrt(np.mean(np.concatenate([(Ep.real / g1 - 1) ** 2, (Ep.imag / g2 - 1) ** 2]))))
+    return TTSResult(float(T_ref_C), Tm, la, shifted, master, wlf, float(np.sqrt(np.mean(r * r))),
+                     float(np.max(np.abs(r))), prony, prms, info)

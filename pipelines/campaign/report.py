@@ -1,0 +1,154 @@
+"""``report.html`` of a campaign: distributions, values along chainage, outliers, scan table.
+
+Quantities: Hurst exponent H (``hurst``), Sq (``rms_height_m``), MPD (``mpd_m``) and mu at the
+speeds of :data:`.records.REPORT_SPEEDS_M_PER_S` (from each scan's ``mu.csv``).
+
+Outliers: modified z-score of Iglewicz and Hoaglin (1993), ``|0.6745 (x - median) / MAD| >
+3.5`` over the campaign's successful rows, per quantity (needs at least 5 values and a
+non-zero MAD). They are drawn red in every plot and flagged in the table.
+"""
+from __future__ import annotations
+
+import html
+from pathlib import Path
+
+import numpy as np
+
+from .. import report
+
+__all__ = ["QUANTITIES", "outlier_mask", "write_campaign_report"]
+
+Z_OUTLIER = 3.5
+
+
+def QUANTITIES(speeds):
+    """(key, label, scale to display units, getter) for the report's quantities."""
+    q = [("hurst", "Hurst exponent H [-]", 1.0, lambda r: r["values"].get("hurst")),
+         ("rms_height_m", "Sq, rms height [µm]", 1e6, lambda r: r["values"].get("rms_height_m")),
+         ("mpd_m", "MPD (ISO 13473-1) [mm]", 1e3, lambda r: r["values"].get("mpd_m"))]
+    for s in speeds:
+        q.append((f"mu@{s}", f"μ at {s} m/s [-]", 1.0, lambda r, s=s: r["mu_at"].get(s)))
+    return q
+
+
+def outlier_mask(x):
+    """Modified z-score outliers of ``x`` (NaN ignored) -> bool array."""
+    x = np.asarray(x, float)
+    ok = np.isfinite(x)
+    out = np.zeros(x.shape, bool)
+    if ok.sum() < 5:
+        return out
+    med = np.median(x[ok])
+    mad = np.median(np.abs(x[ok] - med))
+    if mad <= 0:
+        return out
+    out[ok] = np.abs(0.6745 * (x[ok] - med) / mad) > Z_OUTLIER
+    return out
+
+
+def _values(records, quantities):
+    vals = {}
+    for key, _, scale, get in quantities:
+        v = np.array([np.nan if (r["status"] != "ok" or get(r) is None) else float(get(r)) * scale
+                      for r in records])
+        vals[key] = v
+    return vals
+
+
+def _plot_grid(path, quantities, vals, chain=None, groups=None):
+    import matplotlib.pyplot as plt
+
+    n = len(quantities)
+    ncol = 3
+    nrow = int(np.ceil(n / ncol))
+    fig, axes = plt.subplots(nrow, ncol, figsize=(11, 3.2 * nrow), squeeze=False)
+    for ax, (key, label, _, _) in zip(axes.flat, quantities):
+        v = vals[key]
+        ok = np.isfinite(v)
+        bad = outlier_mask(v)
+        if chain is None:
+            if ok.any():
+                ax.hist(v[ok & ~bad], bins=min(30, max(5, int(np.sqrt(ok.sum())) + 1)), color="C0",
+                        alpha=0.8, label="scans")
+                if bad.any():
+                    ax.plot(v[bad], np.zeros(bad.sum()), "v", color="red", ms=8, label="outliers")
+                ax.legend(fontsize=7)
+            ax.set_xlabel(label)
+            ax.set_ylabel("count")
+        else:
+            has = ok & np.isfinite(chain)
+            keys = np.asarray(groups)
+            uniq = list(dict.fromkeys(keys[has]))
+            single = len(uniq) == int(has.sum())       # one row per file: one line along the road
+            for gi, g in enumerate([None] if single else uniq):
+                sel = has if g is None else has & (keys == g)
+                order = np.argsort(chain[sel])
+                lab = "scans" if g is None else (Path(g).stem if len(uniq) <= 8 else None)
+                ax.plot(chain[sel][order], v[sel][order], "o-", ms=3, lw=0.8,
+                        color=f"C{gi % 10}" if len(uniq) <= 10 else "C0", label=lab)
+            if (bad & has).any():
+                ax.plot(chain[bad & has], v[bad & has], "o", color="red", ms=6, label="outliers")
+            ax.set_xlabel("chainage [m]")
+            ax.set_ylabel(label)
+            if ax.get_legend_handles_labels()[0]:
+                ax.legend(fontsize=7)
+        if not ok.any():
+            ax.text(0.5, 0.5, "no values", transform=ax.transAxes, ha="center")
+        ax.grid(alpha=0.3)
+    for ax in list(axes.flat)[n:]:
+        ax.axis("off")
+    return report.save_figure(fig, path)
+
+
+def _fmt(x, scale=1.0):
+    return "—" if x is None or not np.isfinite(x) else f"{x:.4g}"
+
+
+def _table(records, quantities, vals, masks):
+    head = ["#", "file", "label", "chainage [m]", "status"] + [q[1] for q in quantities] + ["outlier in", "outputs"]
+    rows = ["<table>", "<tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"]
+    for i, r in enumerate(records):
+        flags = [q[0] for q in quantities if masks[q[0]][i]]
+        cells = [str(i + 1), html.escape(Path(r["file"]).name), html.escape(r["label"] or ""),
+                 _fmt(r["chainage_m"] if r["chainage_m"] is not None else np.nan),
+                 "ok" if r["status"] == "ok" else f"<span style='color:#b00'>error: {html.escape(r['error'])}</span>"]
+        for q in quantities:
+            v = vals[q[0]][i]
+            s = _fmt(v)
+            cells.append(f"<b style='color:#c00'>{s}</b>" if masks[q[0]][i] else s)
+        cells.append(html.escape(", ".join(flags)))
+        if r.get("dir"):
+            d = html.escape(r["dir"])
+            cells.append(f"<a href='{d}/'>{d}/</a> (<a href='{d}/report.html'>report</a>)")
+        else:
+            cells.append("—")
+        style = " style='background:#fee'" if flags else ""
+        rows.append(f"<tr{style}>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
+    rows.append("</table>")
+    return "\n".join(rows)
+
+
+def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campaign"):
+    """Write ``out_dir/report.html`` (figures embedded; PNGs written beside it are removed)."""
+    out_dir = Path(out_dir)
+    quantities = QUANTITIES([f"{s:g}" for s in speeds])
+    vals = _values(records, quantities)
+    masks = {k: outlier_mask(v) for k, v in vals.items()}
+    chain = np.array([np.nan if r["chainage_m"] is None else float(r["chainage_m"]) for r in records])
+    n_ok = sum(r["status"] == "ok" for r in records)
+    pngs = [_plot_grid(out_dir / ".campaign_distributions.png", quantities, vals)]
+    sections = [("Distributions", [pngs[0]])]
+    if np.isfinite(chain).any():
+        pngs.append(_plot_grid(out_dir / ".campaign_chainage.png", quantities, vals, chain,
+                               [r["file"] for r in records]))
+        sections.append(("Along chainage", [pngs[1]]))
+    sections.append(("Scans", _table(records, quantities, vals, masks)))
+    intro = (f"{len(records)} rows, {n_ok} ok, {len(records) - n_ok} failed. Outliers (red): "
+             f"modified z-score |0.6745 (x − median)/MAD| &gt; {Z_OUTLIER} (Iglewicz &amp; Hoaglin). "
+             f"All numbers in <a href='campaign.csv'>campaign.csv</a>.")
+    try:
+        report.write_html(out_dir / "report.html", title, sections, intro=intro)
+    finally:
+        for p in pngs:
+            p.unlink(missing_ok=True)
+    return out_dir / "report.html"

@@ -1,0 +1,198 @@
+"""The client side of a campaign: a local Dask cluster or an existing one, progress, Ctrl-C.
+
+Work is submitted as one task per input (:func:`.worker.run_job`); each returns a few small
+records. Workers read the files and write the outputs themselves, so the files must be
+reachable under the same paths from every worker (one machine, or a shared file system).
+
+One scan per worker at a time: the local cluster has one thread per worker process; on an
+existing cluster start the workers with ``--nthreads 1``, or give them the resource ``scan=1``
+(``dask worker ... --resources scan=1``): when every worker has it, each task asks for one.
+"""
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import sys
+
+from roadscan.errors import InputError
+
+from .folder import read_sidecar, same_input
+from .records import error_record
+from .worker import run_job
+
+__all__ = ["default_workers", "resumed_records", "run_campaign", "Interrupted"]
+
+
+class Interrupted(Exception):
+    """Ctrl-C during a campaign; ``records`` holds what finished (others marked)."""
+
+    def __init__(self, records):
+        super().__init__("interrupted")
+        self.records = records
+
+
+def default_workers():
+    """One worker per core available to this process."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def resumed_records(job):
+    """The records of a finished scan when its outputs exist, the options are the same and the
+    input is unchanged (size and mtime, or SHA-256); else None."""
+    from pathlib import Path
+
+    folder = Path(job["out"]) / job["subdir"]
+    side = read_sidecar(folder)
+    if not side or side.get("options") != job.get("fingerprint"):
+        return None
+    recs = side.get("records") or []
+    if not recs or any(r.get("status") != "ok" for r in recs):
+        return None
+    if not same_input(job.get("path") or job["file"], side.get("input") or {}):
+        return None
+    if not (folder / "summary.json").exists() and not (folder / "sections.csv").exists():
+        return None
+    base = job.get("chainage_m")
+    for r in recs:    # manifest label/chainage may have been edited since: take today's
+        r["file"], r["label"] = job["file"], job.get("label") or ""
+        start = r.get("values", {}).get("section_start_m")
+        r["chainage_m"] = base if start is None else (base or 0.0) + start
+    return recs
+
+
+def _finished_on_worker(job):
+    try:
+        return resumed_records(job)
+    except Exception:  # noqa: BLE001 - a half-visible folder is simply not finished
+        return None
+
+
+@contextlib.contextmanager
+def _client(workers=None, scheduler=None):
+    from distributed import Client, LocalCluster
+
+    if scheduler:
+        _check_reachable(scheduler)
+        try:
+            client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError) as exc:
+            raise InputError(None, f"--scheduler {scheduler}: cannot connect ({exc})") from None
+        try:
+            yield client
+        finally:
+            client.close()
+        return
+    n = workers or default_workers()
+    try:
+        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                               dashboard_address=None, silence_logs=logging.ERROR)
+    except Exception as exc:  # noqa: BLE001 - e.g. a script without the __main__ guard
+        raise InputError(None, f"--workers {n}: cannot start a local Dask cluster "
+                               f"({type(exc).__name__}: {exc})") from None
+    client = Client(cluster)
+    try:
+        yield client
+    finally:
+        with contextlib.suppress(Exception):
+            client.close()
+        with contextlib.suppress(Exception):
+            cluster.close()
+
+
+def _check_reachable(address):
+    """Fail fast (one line) when a ``tcp://HOST:PORT`` scheduler refuses the connection."""
+    import socket
+    from urllib.parse import urlsplit
+
+    if not address.startswith("tcp://"):
+        return
+    try:
+        u = urlsplit(address)
+        host, port = u.hostname, u.port
+    except ValueError:
+        raise InputError(None, f"--scheduler {address}: expected tcp://HOST:PORT") from None
+    if not host or not port:
+        raise InputError(None, f"--scheduler {address}: expected tcp://HOST:PORT")
+    try:
+        socket.create_connection((host, port), timeout=5).close()
+    except OSError as exc:
+        raise InputError(None, f"--scheduler {address}: cannot connect ({exc.strerror or exc})") from None
+
+
+def _scan_resources(client):
+    info = client.scheduler_info().get("workers", {})
+    if info and all("scan" in (w.get("resources") or {}) for w in info.values()):
+        return {"scan": 1}
+    return None
+
+
+def _progress(total, enabled):
+    if not enabled:
+        return None
+    try:
+        from tqdm import tqdm
+    except ImportError:
+        return None
+    return tqdm(total=total, unit="scan", file=sys.stderr, dynamic_ncols=True)
+
+
+def run_campaign(jobs, workers=None, scheduler=None, progress=None):
+    """Run ``jobs`` (dicts for :func:`.worker.run_job`) -> list (per job, input order) of lists
+    of records. Jobs may carry ``"records"`` already (resumed): those are not submitted.
+
+    ``progress`` None: a bar when stderr is a terminal. Raises :class:`Interrupted` on Ctrl-C.
+    """
+    from distributed import as_completed
+
+    results = [job.get("records") for job in jobs]
+    todo = [i for i, r in enumerate(results) if r is None]
+    if progress is None:
+        progress = sys.stderr.isatty()
+    bar = _progress(len(jobs), progress)
+    if bar is not None:
+        bar.update(len(jobs) - len(todo))
+    if not todo:
+        if bar is not None:
+            bar.close()
+        return results
+    try:
+        if not scheduler:     # no idle processes: at most one worker per input to run
+            workers = min(workers or default_workers(), len(todo))
+        with _client(workers, scheduler) as client:
+            res = _scan_resources(client)
+            futures = {}
+            for i in todo:
+                job = {k: v for k, v in jobs[i].items() if k != "records"}
+                fut = client.submit(run_job, job, pure=False, resources=res,
+                                    key=f"roadscan-batch-{i}-{os.getpid()}-{id(jobs)}")
+                futures[fut] = i
+            try:
+                for fut in as_completed(futures):
+                    i = futures[fut]
+                    try:
+                        results[i] = fut.result()
+                    except Exception as exc:  # noqa: BLE001 - a worker died on this input
+                        results[i] = [error_record(jobs[i], f"{jobs[i]['file']}: worker failed: "
+                                                            f"{type(exc).__name__}: {exc}")]
+                    fut.release()
+                    if bar is not None:
+                        bar.update(1)
+            except KeyboardInterrupt:
+                for fut in futures:
+                    fut.cancel()
+                raise
+    except KeyboardInterrupt:
+        # a scan whose folder a worker completed before its result arrived still counts
+        done = [r if r is not None else
+                (_finished_on_worker(job) or
+                 [error_record(job, f"{job['file']}: interrupted before it finished")])
+                for r, job in zip(results, jobs)]
+        raise Interrupted(done) from None
+    finally:
+        if bar is not None:
+            bar.close()
+    return results

@@ -1,0 +1,128 @@
+"""``roadscan batch INPUTS... --out DIR``: a campaign of ``analyse`` runs on a Dask cluster.
+
+See :mod:`pipelines.campaign` and the README section "Campaigns". Exit code 0 when every input
+succeeded, 2 when any failed (every good one is still written), 130 on Ctrl-C (finished scans
+and a ``campaign.csv`` of what finished are kept).
+"""
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+from roadscan.errors import InputError
+
+from ..friction_options import settings_from_args
+from .analyse import add_analysis_options, analysis_kwargs
+
+NAME = "batch"
+HELP = "analyse many scans (files, globs, manifest CSV) on a local or existing Dask cluster"
+
+
+def add_arguments(p):
+    p.add_argument("inputs", nargs="+", metavar="INPUT",
+                   help="height files, glob patterns (quote them) or a manifest CSV with header "
+                        "file[,chainage_m][,label] (paths relative to the manifest)")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="campaign folder: DIR/<stem>/ per input, DIR/campaign.csv, DIR/report.html")
+    add_analysis_options(p)   # the very options of analyse, friction included
+    g = p.add_argument_group("campaign")
+    g.add_argument("--figures", action="store_true", help="also write each scan's PNG figures")
+    g.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="local Dask cluster of N worker processes, one thread each "
+                        "(default: one per core)")
+    g.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                   help="run on an existing dask.distributed cluster instead (files must be "
+                        "readable, and DIR writable, under the same paths on every worker)")
+    g.add_argument("--resume", action="store_true",
+                   help="skip inputs whose outputs exist and whose input and options are unchanged")
+    g.add_argument("--section-length", type=float, default=None, metavar="M",
+                   help="cut long line profiles into sections of M metres along chainage, one "
+                        "row each (MPD per ISO 13473-1, PSD, H, rms per section)")
+
+
+def _rubber_identity(path):
+    if not path:
+        return None
+    from ..campaign.folder import sha256_of
+
+    try:
+        return sha256_of(path)
+    except OSError:
+        return str(path)
+
+
+_NOT_OPTIONS = {"inputs", "out", "workers", "scheduler", "resume", "command", "_run", "debug"}
+
+
+def _fingerprint(args, kw):
+    """Hash of every option that changes a scan's outputs (all of analyse's, --figures,
+    --section-length; the rubber file by content)."""
+    from ..campaign.folder import options_fingerprint
+
+    opts = {k: v for k, v in vars(args).items() if k not in _NOT_OPTIONS and not k.startswith("_")}
+    opts.update(kw)
+    opts["rubber"] = _rubber_identity(getattr(args, "rubber", None))
+    return options_fingerprint(opts)
+
+
+def _say(text, tty):
+    if tty:
+        print(text, file=sys.stderr, flush=True)
+
+
+def run(args):
+    from ..campaign.inputs import expand_inputs
+    from ..campaign.records import REPORT_SPEEDS_M_PER_S
+    from ..campaign.report import write_campaign_report
+    from ..campaign.runner import Interrupted, resumed_records, run_campaign
+    from ..campaign.table import write_campaign_csv, write_campaign_parquet
+
+    kw = analysis_kwargs(args)
+    settings = settings_from_args(args)
+    if args.workers is not None and args.workers < 1:
+        raise InputError(None, f"--workers {args.workers}: need at least 1")
+    if args.workers is not None and args.scheduler:
+        raise InputError(None, "--workers and --scheduler exclude each other (the cluster has its own workers)")
+    if args.section_length is not None and not args.section_length > 0:
+        raise InputError(None, f"--section-length {args.section_length}: must be positive (metres)")
+    out = Path(args.out)
+    if out.exists() and not out.is_dir():
+        raise InputError(out, "--out exists and is not a folder")
+    out.mkdir(parents=True, exist_ok=True)
+    tty = sys.stderr.isatty()
+
+    fingerprint = _fingerprint(args, kw)
+    jobs = []
+    for j in expand_inputs(args.inputs):
+        job = {"file": j.file, "path": os.path.abspath(j.file), "label": j.label,
+               "chainage_m": j.chainage_m, "error": j.error, "subdir": j.subdir,
+               "out": str(out.resolve()), "spacing": args.spacing, "units": args.units,
+               "settings": settings, "analysis": kw, "figures": args.figures,
+               "section_length_m": args.section_length, "fingerprint": fingerprint}
+        if args.resume and not j.error:
+            recs = resumed_records(job)
+            if recs is not None:
+                job["records"] = recs
+        jobs.append(job)
+    skipped = sum("records" in j for j in jobs)
+    if skipped:
+        _say(f"--resume: {skipped} of {len(jobs)} inputs unchanged, skipped", tty)
+
+    interrupted = False
+    try:
+        results = run_campaign(jobs, workers=args.workers, scheduler=args.scheduler, progress=tty)
+    except Interrupted as exc:
+        results, interrupted = exc.records, True
+    records = [r for recs in results for r in recs]
+    write_campaign_csv(out / "campaign.csv", records)
+    write_campaign_parquet(out / "campaign.parquet", records)
+    write_campaign_report(out, records, REPORT_SPEEDS_M_PER_S)
+    failed = [r for r in records if r["status"] != "ok"]
+    if interrupted:
+        raise KeyboardInterrupt
+    for r in failed:
+        print(f"roadscan batch: error: {r['error']}", file=sys.stderr)
+    _say(f"{len(records) - len(failed)} ok, {len(failed)} failed -> {out / 'campaign.csv'}, "
+         f"{out / 'report.html'}", tty)
+    return 2 if failed else 0

@@ -1,0 +1,269 @@
+"""Issue 14: every example of bad input is one line on stderr, exit 2, no output, no traceback."""
+import json
+import zipfile
+
+import numpy as np
+import pytest
+
+from conftest import fourier_surface
+from pipelines import cli
+from pipelines.cli import main
+from roadscan.io import _common
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory):
+    d = tmp_path_factory.mktemp("bad")
+    g = fourier_surface(64, 5e-5, 0.8, 3e-4, seed=1)
+    f = {}
+
+    def save(name, arr):
+        f[name] = d / name
+        np.save(f[name], arr)
+
+    save("good.npy", g)
+    save("grid2.npy", np.array([[1.0, 2.0], [3.0, 4.0]]) * 1e-4)
+    save("flat.npy", np.full((64, 64), 2e-3))
+    two = np.full((128, 128), np.nan)
+    two[3, 4], two[50, 60] = 1e-4, 2e-4
+    save("two.npy", two)
+    save("complex.npy", g.astype(complex))
+    spike = g.copy()
+    spike[10, 10] = 1e300
+    save("spike.npy", spike)
+    f["huge.npy"] = d / "huge.npy"
+    with open(f["huge.npy"], "wb") as fh:
+        np.lib.format.write_array_header_1_0(fh, {"descr": "<f8", "fortran_order": False,
+                                                   "shape": (200000, 200000)})
+        fh.write(b"\0" * 64)
+    q = np.geomspace(1e3, 1e5, 30)
+    f["rise.csv"] = d / "rise.csv"
+    f["rise.csv"].write_text("q_per_m,C_m4\n" + "".join(f"{a},{1e-30 * a**3}\n" for a in q))
+    for name, bad in (("neg.csv", "-1e-20"), ("nan.csv", "nan")):
+        f[name] = d / name
+        f[name].write_text("q_per_m,C_m4\n" + "".join(
+            f"{a},{1e-10 * a**-3 if i != 5 else bad}\n" for i, a in enumerate(q)))
+    f["sls.toml"] = d / "sls.toml"
+    f["sls.toml"].write_text('model = "sls"\n[sls]\nE1_Pa = 1e9\n')
+    f["file.txt"] = d / "file.txt"
+    f["file.txt"].write_text("not a folder\n")
+    return f
+
+
+def _run(capsys, argv):
+    capsys.readouterr()
+    rc = main([str(a) for a in argv])
+    cap = capsys.readouterr()
+    return rc, cap.err
+
+
+def _refused(capsys, argv, *needles):
+    rc, err = _run(capsys, argv)
+    lines = err.strip().splitlines()
+    assert rc == 2, err
+    assert len(lines) == 1, err                      # one line, no traceback, no warnings first
+    assert "error:" in lines[0] and "Traceback" not in err
+    for n in needles:
+        assert n in lines[0], (n, lines[0])
+    return lines[0]
+
+
+SP = ["--spacing", "5e-5"]
+
+
+@pytest.mark.parametrize("name, needle", [
+    ("grid2.npy", "2 x 2"),                 # was ZeroDivisionError in the Tukey window
+    ("flat.npy", "equal"),                  # was H = -3.75, rms 6e-20
+    ("two.npy", "only 2 of 16384"),         # was H = 5.1
+    ("complex.npy", "complex"),             # imaginary part was dropped
+    ("spike.npy", "1e+300"),                # rain fill said 0 % wet
+    ("huge.npy", "--max-pixels"),           # was MemoryError
+])
+def test_bad_scans_refused(files, capsys, tmp_path, name, needle):
+    out = tmp_path / "o"
+    line = _refused(capsys, ["analyse", files[name], *SP, "--out", out], name, needle)
+    assert not out.exists() and list(tmp_path.iterdir()) == [], line
+
+
+def test_spike_refused_by_rain_fill(files, capsys, tmp_path):
+    _refused(capsys, ["rain-fill", files["spike.npy"], *SP, "--out", tmp_path / "o"], "spike.npy")
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("extra, needle", [
+    (["--spacing", "1e-300"], "--spacing 1e-300"),
+    (["--temperature", "-400"], "--temperature -400"),
+    (["--temperature", "-81.5"], "WLF pole"),           # thesis rubber: Tg - C2 = -81.5 C
+    (["--q1", "-5"], "--q1 -5"),
+    (["--q1", "10"], "--q1 10"),                          # below the lowest measured q
+    (["--q1", "nan"], "--q1"),
+    (["--sigma0", "-1"], "--sigma0"),
+])
+def test_bad_numbers_refused(files, capsys, tmp_path, extra, needle):
+    sp = [] if "--spacing" in extra else SP
+    _refused(capsys, ["analyse", files["good.npy"], *sp, *extra, "--out", tmp_path / "o",
+                      "--velocities", "1e-3:1:3"], needle)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_q1_inside_band_cuts_the_spectrum(files, capsys, tmp_path):
+    """--q1 between the lowest q and Nyquist is honoured (not silently ignored): the
+    integral up to q1 gives a lower mu than the whole band at the speed of the peak."""
+    a, b = tmp_path / "a", tmp_path / "b"
+    common = [*SP, "--velocities", "1e-2:1e1:4"]
+    assert main(["analyse", str(files["good.npy"]), *common, "--out", str(a)]) == 0
+    assert main(["analyse", str(files["good.npy"]), *common, "--out", str(b), "--q1", "1e4"]) == 0
+    sa = json.loads((a / "summary.json").read_text())
+    sb = json.loads((b / "summary.json").read_text())
+    assert sb["friction"]["q1_per_m"] == pytest.approx(1e4) and sa["friction"]["q1_per_m"] > 2e4
+    assert sb["friction"]["mu_peak"] < sa["friction"]["mu_peak"]
+
+
+@pytest.mark.parametrize("target", ["file", "below"])
+def test_out_naming_a_file_refused(files, capsys, target):
+    out = files["file.txt"] if target == "file" else files["file.txt"] / "sub"
+    _refused(capsys, ["analyse", files["good.npy"], *SP, "--out", out], "--out")
+    assert files["file.txt"].read_text() == "not a folder\n"
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--psd", "{rise.csv}"], "rises with q"),                     # mu was up to 4e4
+    (["--psd", "{neg.csv}"], "data row 6"),                        # was dropped silently
+    (["--psd", "{nan.csv}"], "data row 6"),
+    (["--self-affine", "H=0.8,h0=inf,q0=1e3,q1=1e6"], "h0=inf"),   # mu was all NaN
+    (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--rubber", "{sls.toml}"], "a1, tau_s"),
+    (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--temperature", "-400"], "-400"),
+    (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--temperature", "-81.5"], "WLF pole"),
+])
+def test_friction_inputs_refused(files, capsys, tmp_path, argv, needle):
+    argv = [files[a[1:-1]] if a.startswith("{") else a for a in argv]
+    out = tmp_path / "mu.csv"
+    _refused(capsys, ["friction", *argv, "--out", out, "--velocities", "1e-3:1:3"], needle)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_bad_choice_is_one_line(capsys, files, tmp_path):
+    capsys.readouterr()
+    with pytest.raises(SystemExit) as ei:
+        main(["analyse", str(files["good.npy"]), "--units", "furlong", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert ei.value.code == 2
+    assert len(err.strip().splitlines()) == 1 and "--units" in err and "furlong" in err
+    with pytest.raises(SystemExit) as ei:
+        main(["no-such-command"])
+    assert ei.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_unexpected_error_is_one_line_and_debug_shows_traceback(monkeypatch, capsys, files, tmp_path):
+    import pipelines.commands.synth as synth
+
+    def boom(args):
+        raise RuntimeError("unexpected\nsecond line")
+
+    parser = cli.build_parser
+
+    def patched():
+        p = parser()
+        for action in p._subparsers._group_actions[0].choices.values():
+            if action.prog.endswith(" synth"):
+                action.set_defaults(_run=boom)
+        return p
+
+    monkeypatch.setattr(cli, "build_parser", patched)
+    rc, err = _run(capsys, ["synth", "--out", tmp_path / "x.npy"])
+    assert rc == 1 and len(err.strip().splitlines()) == 1
+    assert "internal error" in err and "--debug" in err and "Traceback" not in err
+    rc, err = _run(capsys, ["synth", "--out", tmp_path / "x.npy", "--debug"])
+    assert rc == 1 and "Traceback" in err and "RuntimeError" in err
+    assert synth.NAME == "synth"
+
+
+def test_numpy_warnings_become_one_named_line(monkeypatch, capsys, tmp_path):
+    import pipelines.commands.synth as synth
+
+    def noisy(args):
+        np.log(np.zeros(3))
+        np.sqrt(-np.ones(2))
+        return 0
+
+    parser = cli.build_parser
+
+    def patched():
+        p = parser()
+        for action in p._subparsers._group_actions[0].choices.values():
+            if action.prog.endswith(" synth"):
+                action.set_defaults(_run=noisy)
+        return p
+
+    monkeypatch.setattr(cli, "build_parser", patched)
+    rc, err = _run(capsys, ["synth", "--out", tmp_path / "x.npy"])
+    assert rc == 0
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "warning: numpy:" in lines[0] and "+1 more" in lines[0]
+    assert synth.NAME == "synth"
+
+
+def test_max_pixels_flag_before_or_after_command(files, capsys, tmp_path):
+    for argv in (["--max-pixels", "1000", "analyse", files["good.npy"], *SP, "--out", tmp_path / "o"],
+                 ["analyse", files["good.npy"], *SP, "--out", tmp_path / "o", "--max-pixels", "1000"]):
+        _refused(capsys, argv, "64 x 64", "--max-pixels")
+    assert _common.get_max_pixels() is None          # restored after the command
+
+
+def _x3p_bomb(path, nx, ny, payload_mb=1):
+    xml = f"""<?xml version="1.0" encoding="UTF-8"?>
+<p:ISO5436_2 xmlns:p="http://www.opengps.eu/2008/ISO5436_2"><Record1><Revision>ISO25178-72</Revision>
+<FeatureType>SUR</FeatureType><Axes><CX><AxisType>I</AxisType><DataType>D</DataType><Increment>1e-4</Increment>
+</CX><CY><AxisType>I</AxisType><DataType>D</DataType><Increment>1e-4</Increment></CY><CZ><AxisType>A</AxisType>
+<DataType>D</DataType></CZ></Axes></Record1><Record3><MatrixDimension><SizeX>{nx}</SizeX><SizeY>{ny}</SizeY>
+<SizeZ>1</SizeZ></MatrixDimension><DataLink><PointDataLink>bindata/data.bin</PointDataLink></DataLink></Record3>
+</p:ISO5436_2>"""
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_DEFLATED) as z:
+        z.writestr("main.xml", xml)
+        with z.open("bindata/data.bin", "w", force_zip64=True) as fh:
+            for _ in range(payload_mb):
+                fh.write(b"\0" * (1 << 20))
+
+
+def test_x3p_zip_bomb_refused_before_allocating(capsys, tmp_path):
+    bomb = tmp_path / "bomb.x3p"
+    _x3p_bomb(bomb, 20000, 20000)                 # 3.2 GB declared, 1 KB stored
+    _refused(capsys, ["analyse", bomb, "--out", tmp_path / "o", "--max-pixels", "100000000"],
+             "bomb.x3p", "20000 x 20000")
+    _refused(capsys, ["analyse", bomb, "--out", tmp_path / "o", "--max-pixels", "1000000000"],
+             "bomb.x3p", "zip bomb")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bomb.x3p"]
+
+
+def test_npz_and_tiff_declared_sizes_checked(capsys, tmp_path):
+    import tifffile
+
+    g = fourier_surface(64, 5e-5, 0.8, 3e-4, seed=1)
+    np.savez_compressed(tmp_path / "a.npz", heights=g, dx=5e-5)
+    tifffile.imwrite(tmp_path / "a.tif", g.astype(np.float32))
+    for name in ("a.npz", "a.tif"):
+        _refused(capsys, ["analyse", tmp_path / name, *SP, "--out", tmp_path / "o",
+                          "--max-pixels", "4000"], name, "64 x 64")
+    z = np.zeros((3000, 3000))                    # 72 MB of zeros compress ~1000x
+    np.savez_compressed(tmp_path / "zeros.npz", heights=z, dx=5e-5)
+    _refused(capsys, ["analyse", tmp_path / "zeros.npz", "--out", tmp_path / "o"], "zip bomb")
+
+
+def test_text_file_size_checked(capsys, tmp_path):
+    p = tmp_path / "grid.txt"
+    p.write_text("\n".join(" ".join("1e-4" for _ in range(40)) for _ in range(40)))
+    _refused(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--max-pixels", "500"], "grid.txt")
+
+
+def test_warnings_land_in_summary(capsys, tmp_path):
+    """A scan that is still meaningful but odd: the warning is one line and in summary.json."""
+    rng = np.random.default_rng(0)
+    white = rng.normal(0, 1e-4, (64, 64))       # white noise: H outside [0, 1]
+    p = tmp_path / "white.npy"
+    np.save(p, white)
+    rc, err = _run(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--no-friction"])
+    assert rc == 0
+    warn = [line for line in err.splitlines() if "warning:" in line]
+    assert len(warn) == 1 and "Hurst" in warn[0]
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert len(s["warnings"]) == 1 and "Hurst" in s["warnings"][0]

@@ -1,0 +1,281 @@
+"""`roadscan friction` with a real master curve, a linear aT table, q0/q1, nu, sigma0 and gamma
+(issue 10): the command line against an independent direct evaluation of Persson's formulas,
+and the unit handling and warnings of the flags."""
+import csv
+import json
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.special import erf
+
+from pipelines.cli import main
+from pipelines.friction_options import parse_pressure
+from roadscan.errors import InputError
+
+ROOT = Path(__file__).resolve().parents[1]
+RUBBERS = ROOT / "sample_scans" / "rubbers"
+PSD = ROOT / "sample_scans" / "asphalt_psd.csv"
+
+
+def _read(path):
+    with open(path) as fh:
+        rows = list(csv.reader(fh))
+    return rows[0], np.array(rows[1:], float)
+
+
+def _table(path, skip_units=False):
+    with open(path, encoding="utf-8-sig") as fh:
+        rows = [r for r in csv.reader(fh)]
+    return np.array(rows[2 if skip_units else 1:], float)
+
+
+@pytest.fixture(scope="module")
+def rubber_files(tmp_path_factory):
+    """The pyvisco master curve (MPa, T_ref = -5 C) and its shift table written as linear aT."""
+    d = tmp_path_factory.mktemp("rubber")
+    sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)
+    (d / "aT.csv").write_text("T_C,aT\n" + "".join(f"{t:g},{10 ** a:.10e}\n" for t, a in sh))
+    (d / "rubber.toml").write_text(
+        f'model = "master_curve"\nT_ref_C = -5.0\n[master_curve]\nfile = "{RUBBERS / "freq_user_master.csv"}"\n'
+        '[shift]\nkind = "table"\nfile = "aT.csv"\n')
+    return d
+
+
+def persson_direct(q_tab, C_tab, f_Hz, E1, E2, T_tab, log_aT, T_ref, T0, v, sigma0, nu, gamma, q0, q1,
+                   nq=3000, nphi=500):
+    """Persson's formulas evaluated directly, written independently of the engine:
+
+    mu = 1/2 int_{q0}^{q1} q^3 C S P M dq, M = int_0^{2pi} cos(phi) Im E(q v cos phi) dphi / s,
+    G = 1/8 int_{q0}^{q} q^3 C W dq, W = int_0^{2pi} |E|^2 dphi / s^2, s = (1 - nu^2) sigma0,
+    P = erf(1 / (2 sqrt G)), S = gamma + (1 - gamma) P^2; E(omega, T0) = E_ref(omega aT(T0)/aT(T_ref)).
+    C: log-log interpolation, above the table the power law least-squares fitted to its top decade.
+    Plain trapezoids on a grid graded towards q0 (where P drops steeply) and towards phi = pi/2.
+    """
+    lq_t, lC_t = np.log(q_tab), np.log(C_tab)
+    top = lq_t >= lq_t[-1] - np.log(10.0)
+    if top.sum() < 4:
+        top[-4:] = True
+    slope = np.polyfit(lq_t[top], lC_t[top], 1)[0]
+    s_q = np.log(q0) + (np.log(q1) - np.log(q0)) * np.linspace(0, 1, nq) ** 2
+    q = np.exp(s_q)
+    C = np.where(q <= q_tab[-1], np.exp(np.interp(s_q, lq_t, lC_t)), C_tab[-1] * (q / q_tab[-1]) ** slope)
+    u = np.concatenate([[0.0], np.geomspace(1e-10, np.pi / 2, nphi)])   # u = pi/2 - phi
+    cphi = np.sin(u)
+    la = np.interp(T0, T_tab, log_aT) - np.interp(T_ref, T_tab, log_aT)
+    lf = np.log(f_Hz)
+    s = (1 - nu * nu) * sigma0
+    mu, area = [], []
+    for vi in v:
+        f = q[:, None] * vi * cphi[None, :] * 10 ** la / (2 * np.pi)
+        x = np.log(np.maximum(f, 1e-300))
+        Er = np.exp(np.interp(x, lf, np.log(E1)))
+        Ei = np.exp(np.interp(x, lf, np.log(E2))) * (f > 0)
+        M = 4 * np.trapezoid(cphi * Ei, u, axis=1) / s
+        W = 4 * np.trapezoid(Er ** 2 + Ei ** 2, u, axis=1) / s ** 2
+        g = q ** 4 * C * W / 8
+        G = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] + g[:-1]) * np.diff(s_q))])
+        with np.errstate(divide="ignore"):
+            P = np.where(G > 0, erf(0.5 / np.sqrt(G)), 1.0)
+        S = gamma + (1 - gamma) * P ** 2
+        mu.append(0.5 * np.trapezoid(q ** 4 * C * S * P * M, s_q))
+        area.append(P[-1])
+    return np.array(mu), np.array(area)
+
+
+@pytest.mark.parametrize("route", ["toml", "flags"])
+def test_cli_reproduces_direct_persson(route, rubber_files, tmp_path):
+    """Master curve + linear aT table + q0, q1 (beyond the scan), nu, sigma0 with a unit, gamma."""
+    out = tmp_path / "mu.csv"
+    q0, q1, nu, gamma, T0 = 300.0, 1.019e6, 0.45, 0.746, 20.0
+    rubber = (["--rubber", str(rubber_files / "rubber.toml")] if route == "toml" else
+              ["--master-curve", str(RUBBERS / "freq_user_master.csv"), "--shift-table",
+               str(rubber_files / "aT.csv"), "--reference-temperature", "-5"])
+    rc = main(["friction", "--psd", str(PSD), *rubber, "--temperature", str(T0), "--q0", str(q0),
+               "--q1", str(q1), "--nu", str(nu), "--sigma0", "0.3MPa", "--contact-gamma", str(gamma),
+               "--velocities", "1e-8:1e4:7", "--out", str(out)])
+    assert rc == 0
+    head, d = _read(out)
+    assert head[:3] == ["v_m_per_s", "mu", "area_fraction"]
+    psd = _table(PSD)
+    mc = _table(RUBBERS / "freq_user_master.csv", skip_units=True)
+    sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)[::-1]
+    mu, area = persson_direct(psd[:, 0], psd[:, 1], mc[:, 0], mc[:, 1] * 1e6, mc[:, 2] * 1e6,
+                              sh[:, 0], sh[:, 1], -5.0, T0, d[:, 0], 0.3e6, nu, gamma, q0, q1)
+    np.testing.assert_allclose(d[:, 1], mu, rtol=0.003)  # measured: 0.05 %
+    np.testing.assert_allclose(d[:, 2], area, rtol=0.001)  # measured: 1e-4
+    s = json.loads((tmp_path / "mu_summary.json").read_text())
+    assert s["band"]["q0_per_m"] == pytest.approx(q0) and s["band"]["q1_per_m"] == pytest.approx(q1)
+    assert s["band"]["extended_decades"] == pytest.approx(np.log10(q1 / psd[-1, 0]))
+    assert s["pressure_in_P_Pa"] == pytest.approx((1 - nu ** 2) * 0.3e6)
+    assert s["contact_gamma"] == gamma
+
+
+def test_band_changes_the_answer(tmp_path):
+    """q1 above the scan's last point integrates the power-law tail: mu grows, A/A0 shrinks, and a
+    one-line note says so; q0 inside the spectrum drops the long wavelengths."""
+    base = ["friction", "--psd", str(PSD), "--velocities", "1e-2:1e2:3"]
+    assert main(base + ["--out", str(tmp_path / "a.csv")]) == 0
+    assert main(base + ["--q1", "1e6", "--out", str(tmp_path / "b.csv")]) == 0
+    assert main(base + ["--q0", "1e3", "--out", str(tmp_path / "c.csv")]) == 0
+    a, b, c = (_read(tmp_path / f"{k}.csv")[1] for k in "abc")
+    assert np.all(b[:, 1] > a[:, 1] * 1.05) and np.all(b[:, 2] < a[:, 2])
+    assert np.all(c[:, 2] > a[:, 2])  # fewer scales of roughness: more contact
+
+
+def test_q1_note_printed_once(tmp_path, capsys):
+    assert main(["friction", "--psd", str(PSD), "--velocities", "1:10:2", "--q1", "2e5",
+                 "--out", str(tmp_path / "m.csv")]) == 0
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
+    assert len(err) == 1 and "extended" in err[0] and "power law" in err[0]
+
+
+@pytest.mark.parametrize("text,pa", [("0.3MPa", 3e5), ("300kPa", 3e5), ("300 kPa", 3e5), ("3e5", 3e5),
+                                     ("3e5Pa", 3e5), ("2bar", 2e5), ("1.5e3", 1.5e3)])
+def test_parse_pressure_units(text, pa):
+    assert parse_pressure(text) == pytest.approx(pa)
+
+
+@pytest.mark.parametrize("text,msg", [("0.3", "did you mean 0.3MPa"), ("300", "did you mean 300kPa"),
+                                      ("-2MPa", "positive"), ("3 furlongs", "unknown unit"),
+                                      ("abc", "expected a pressure")])
+def test_parse_pressure_refuses(text, msg):
+    with pytest.raises(InputError, match=msg):
+        parse_pressure(text)
+
+
+def test_sigma0_units_same_result(tmp_path):
+    base = ["friction", "--self-affine", "H=0.8,h0=5e-4,q0=2000,q1=2e5", "--velocities", "1e-3:1:4"]
+    outs = []
+    for k, p in enumerate(["0.3MPa", "300kPa", "3e5"]):
+        assert main(base + ["--sigma0", p, "--out", str(tmp_path / f"{k}.csv")]) == 0
+        outs.append(_read(tmp_path / f"{k}.csv")[1])
+    np.testing.assert_array_equal(outs[0], outs[1])
+    np.testing.assert_array_equal(outs[0], outs[2])
+
+
+@pytest.mark.parametrize("argv,msg", [
+    (["--sigma0", "0.3"], "did you mean 0.3MPa"),
+    (["--nu", "0.6"], "--nu"),
+    (["--nu", "-0.1"], "--nu"),
+    (["--contact-gamma", "1.5"], "--contact-gamma"),
+    (["--q0", "10"], "below the spectrum's lowest wave vector"),
+    (["--q0", "1e4", "--q1", "1e3"], "--q0"),
+    (["--q1", "-5"], "--q1"),
+    (["--shift-table", "x.csv"], "--master-curve"),
+])
+def test_bad_flags_one_line_exit_2(argv, msg, tmp_path, capsys):
+    out = tmp_path / "m.csv"
+    assert main(["friction", "--psd", str(PSD), *argv, "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert msg in err and len(err.splitlines()) == 1
+    assert not out.exists()
+
+
+def test_shift_tables_linear_log_and_inverse(tmp_path, capsys):
+    from pipelines.rubber_file import load_rubber
+
+    sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)
+    mc = RUBBERS / "freq_user_master.csv"
+    variants = {"lin.csv": "T_C,aT\n" + "".join(f"{t:g},{10 ** a:.12e}\n" for t, a in sh),
+                "log.csv": "T_C,log10_aT\n" + "".join(f"{t:g},{a:g}\n" for t, a in sh),
+                "kelvin.csv": "T [K],log_aT\n" + "".join(f"{t + 273.15:.2f},{a:g}\n" for t, a in sh),
+                "inverse.csv": "T_C,aT\n" + "".join(f"{t:g},{10 ** -a:.12e}\n" for t, a in sh)}
+    T = np.array([-50.0, -5.0, 10.0, 37.0, 100.0])
+    ref = np.interp(T, sh[::-1, 0], sh[::-1, 1])
+    for name, text in variants.items():
+        (tmp_path / name).write_text(text)
+        (tmp_path / "r.toml").write_text(f'model = "master_curve"\nT_ref_C = -5.0\n[master_curve]\n'
+                                         f'file = "{mc}"\n[shift]\nkind = "table"\nfile = "{name}"\n')
+        r = load_rubber(tmp_path / "r.toml")
+        np.testing.assert_allclose(r.shift.log10_aT(T), ref, atol=1e-9, err_msg=name)
+    assert "inverse convention" in capsys.readouterr().err
+    (tmp_path / "bad.csv").write_text("T_C,aT\n0,1\n10,-1\n")
+    (tmp_path / "r.toml").write_text(f'model = "master_curve"\nT_ref_C = -5.0\n[master_curve]\n'
+                                     f'file = "{mc}"\n[shift]\nkind = "table"\nfile = "bad.csv"\n')
+    with pytest.raises(InputError, match="positive"):
+        load_rubber(tmp_path / "r.toml")
+
+
+def test_inline_linear_aT_and_moduli_unit_guard(tmp_path):
+    import friction
+
+    r = friction.rubber_from_dict({"model": "master_curve", "T_ref_C": 0.0,
+                                   "master_curve": {"f_Hz": [1, 10], "E_storage_Pa": [1e6, 2e6], "E_loss_Pa": [1e5, 2e5]},
+                                   "shift": {"kind": "table", "T_C": [0, 10], "aT": [1.0, 0.01]}})
+    assert r.shift.log10_aT(10.0) == pytest.approx(-2.0)
+    from pipelines.rubber_file import read_master_curve_csv
+
+    p = tmp_path / "mc.csv"
+    p.write_text("f,E_stor,E_loss\n1,5.0,0.5\n10,8.0,1.0\n")   # MPa values without a unit
+    with pytest.raises(InputError, match="MPa"):
+        read_master_curve_csv(p)
+    p.write_text("f_Hz,E_stor_MPa,E_loss_MPa\n1,5.0,0.5\n10,8.0,1.0\n")
+    f, E1, E2 = read_master_curve_csv(p)
+    assert E1[0] == 5e6 and E2[1] == 1e6
+    p.write_text("omega_rad_s,E' [kPa],E'' [kPa]\n6.283185307179586,5000,500\n62.83185307179586,8000,1000\n")
+    f, E1, E2 = read_master_curve_csv(p)
+    np.testing.assert_allclose(f, [1.0, 10.0]) and np.testing.assert_allclose(E1, [5e6, 8e6])
+
+
+def _narrow_curve(tmp_path, lo=1e-2, hi=1e6):
+    mc = _table(RUBBERS / "freq_user_master.csv", skip_units=True)
+    k = (mc[:, 0] >= lo) & (mc[:, 0] <= hi)
+    p = tmp_path / "narrow.csv"
+    p.write_text("f,E_stor,E_loss\nHz,MPa,MPa\n" + "".join(f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in mc[k]))
+    return p
+
+
+def test_extrapolation_warned_once_with_figures(tmp_path, capsys):
+    """A master curve cut to 1e-2..1e6 Hz read far outside: one warning line per run, the figures in
+    the summary, --extrapolate changes the answer; no numpy RuntimeWarning leaks."""
+    curve = _narrow_curve(tmp_path)
+    base = ["friction", "--psd", str(PSD), "--master-curve", str(curve), "--reference-temperature", "-5",
+            "--shift-table", str(RUBBERS / "freq_user_master__shift_factors.csv"),
+            "--velocities", "1e-4:1e2:4", "--q1", "1e6"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        assert main(base + ["--temperature", "-20", "--out", str(tmp_path / "c.csv")]) == 0
+        assert main(base + ["--temperature", "62", "--out", str(tmp_path / "p.csv")]) == 0
+        assert main(base + ["--temperature", "62", "--extrapolate", "hold", "--out", str(tmp_path / "h.csv")]) == 0
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("warning")]
+    assert len(err) == 3 and "decades above" in err[0] and "decades below" in err[1]
+    assert "--extrapolate powerlaw" in err[1] and "--extrapolate hold" in err[2]
+    s = json.loads((tmp_path / "c_summary.json").read_text())["rubber_checks"]["frequency_coverage"]
+    # v_max q1 / 2 pi shifted to -20 C (log aT(-20) - log aT(-5) = 2.58) against the curve's top
+    hi = np.log10(1e2 * 1e6 / (2 * np.pi)) + 2.58
+    assert np.log10(s["f_needed_Hz"][1]) == pytest.approx(hi, abs=1e-6)
+    assert s["extrapolated_decades_above"] == pytest.approx(hi - np.log10(s["f_curve_Hz"][1]), abs=1e-6)
+    s = json.loads((tmp_path / "p_summary.json").read_text())["rubber_checks"]["frequency_coverage"]
+    # v_min q0 / 2 pi at 62 C (log aT = -7.74) against the curve's bottom
+    lo = np.log10(1e-4 * _table(PSD)[0, 0] / (2 * np.pi)) - 7.74
+    assert np.log10(s["f_needed_Hz"][0]) == pytest.approx(lo, abs=1e-6)
+    assert s["extrapolated_decades_below"] == pytest.approx(np.log10(s["f_curve_Hz"][0]) - lo, abs=1e-6)
+    assert s["warning"].startswith("warning")
+    p, h = _read(tmp_path / "p.csv")[1], _read(tmp_path / "h.csv")[1]
+    assert not np.allclose(p[:, 1], h[:, 1], rtol=1e-2)
+
+
+def test_no_warning_inside_curve_and_wlf_report(rubber_files, tmp_path, capsys):
+    assert main(["friction", "--psd", str(PSD), "--rubber", str(rubber_files / "rubber.toml"),
+                 "--temperature", "20", "--velocities", "1e-6:1:3", "--out", str(tmp_path / "m.csv")]) == 0
+    assert "warning" not in capsys.readouterr().err
+    s = json.loads((tmp_path / "m_summary.json").read_text())["rubber_checks"]
+    assert s["frequency_coverage"]["extrapolated_decades"] == 0.0
+    w = s["wlf_fit_to_shift_table"]
+    sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)
+    fit = -w["C1"] * (sh[:, 0] - w["T_s_C"]) / (w["C2_K"] + sh[:, 0] - w["T_s_C"])
+    assert w["rms_decades"] == pytest.approx(np.sqrt(np.mean((fit - sh[:, 1]) ** 2)), rel=1e-6)
+    assert 0 < w["rms_decades"] < 1.0
+
+
+def test_wlf_report_recovers_exact_constants():
+    from friction import ShiftTable
+    from friction.rubber_checks import wlf_fit_report
+
+    T = np.linspace(-30, 90, 13)
+    y = -17.4 * (T - 10) / (51.6 + T - 10)
+    r = wlf_fit_report(ShiftTable(T, y))
+    assert r["C1"] == pytest.approx(17.4, rel=1e-4) and r["C2_K"] == pytest.approx(51.6, rel=1e-4)
+    assert r["T_s_C"] == pytest.approx(10.0) and r["rms_decades"] < 1e-6
