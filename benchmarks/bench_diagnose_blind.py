@@ -40,10 +40,27 @@ effects, fitted here with simple one- or two-parameter versions of this file's o
 v_c, relaxation spread with its centre fixed; water is not refitted), explains the noisy data to within
 ``K_ALT`` x the noise rms. Accuracy is printed unfiltered, with (a) only, and with (a)+(b).
 
+Surface level (issue 11, ``--surface N``: N cases of each kind, seeds from ``--seed``): area scans
+made here from ``roadscan.synth.self_affine_surface`` (cropped from a map twice as large, so not
+periodic; 256 x 256, spacing 40-80 um, H 0.7-0.9), written as ``.npy`` with ``--spacing``:
+
+=====================  =====================================================================
+hidden surface effect   how the scan is made here
+=====================  =====================================================================
+anisotropy              a self-affine map stretched along x by 2-4 (cubic resampling)
+height_skew             heights rank-mapped onto a gamma law of skewness +-(0.8-1.8)
+seams                   stitching: tiles of 3 or 4 per side with random height offsets of
+                        0.2-0.5 rms, or 2-4 straight steps along x or y at random positions
+rolloff                 the synthesis' own roll-off at q_r = (3-6) 2 pi / L (periodic map)
+noise_floor             white measurement noise of 2-6 % rms, or optical smoothing (Gaussian
+                        blur of 1.5-3 points)
+null                    the cropped self-affine map itself
+=====================  =====================================================================
+
 Usage::
 
     .venv/bin/python benchmarks/bench_diagnose_blind.py [--cases 40] [--nulls 10] [--seed 1000]
-                                                        [--jobs 2] [--keep DIR]
+                                                        [--jobs 2] [--keep DIR] [--surface N]
 """
 from __future__ import annotations
 
@@ -445,6 +462,114 @@ def _fmt_params(p):
     return ", ".join(f"{k}={v:.3g}" if isinstance(v, float) else f"{k}={v}" for k, v in p.items())
 
 
+# ----------------------------------------------------------------------------- surface level
+SURFACE_KINDS = ("anisotropy", "height_skew", "seams", "rolloff", "noise_floor", None)
+
+
+def make_surface_heights(kind, seed, n=256):
+    """(heights [m], spacing [m], truth dict) of one surface-level case (see module docstring)."""
+    from scipy import stats
+    from scipy.ndimage import gaussian_filter, zoom
+    from roadscan.synth import self_affine_surface
+
+    rng = np.random.default_rng(seed)
+    dx = rng.uniform(40e-6, 80e-6)
+    H = rng.uniform(0.7, 0.9)
+    rms = rng.uniform(3e-4, 1e-3)
+    L = n * dx
+    truth = dict(H=H, dx_m=dx)
+    if kind == "rolloff":
+        qr = 2 * np.pi / L * rng.uniform(3, 6)
+        truth["q_roll_per_m"] = qr
+        return self_affine_surface(n, dx_m=dx, hurst=H, rms_height_m=rms, q_roll_per_m=qr,
+                                   seed=int(rng.integers(2**31))).heights_m, dx, truth
+    big = self_affine_surface(2 * n, dx_m=dx, hurst=H, rms_height_m=rms, seed=int(rng.integers(2**31))).heights_m
+    h = big[:n, :n].copy()
+    if kind == "anisotropy":
+        r = rng.uniform(2, 4)
+        truth["stretch"] = r
+        h = zoom(big[:n, :int(n / r) + 2], (1, r), order=3)[:, :n]
+    elif kind == "height_skew":
+        sk = rng.uniform(0.8, 1.8) * rng.choice([-1, 1])
+        truth["skewness"] = sk
+        flat = h.ravel()
+        u = (stats.rankdata(flat) - 0.5) / flat.size
+        k = 4 / sk ** 2
+        g = stats.gamma.ppf(u if sk > 0 else 1 - u, k)
+        h = ((g - k) / np.sqrt(k) * np.sign(sk) * flat.std()).reshape(h.shape)
+    elif kind == "seams":
+        if rng.random() < 0.5:
+            nt = int(rng.choice([3, 4]))
+            off = rng.normal(0, rng.uniform(0.2, 0.5) * h.std(), (nt, nt))
+            e = np.linspace(0, n, nt + 1).astype(int)
+            for j in range(nt):
+                for i in range(nt):
+                    h[e[j]:e[j + 1], e[i]:e[i + 1]] += off[j, i]
+            truth["tiles"] = nt
+        else:
+            k = int(rng.integers(2, 5))
+            for _ in range(k):
+                pos = int(rng.integers(n // 8, 7 * n // 8))
+                step = rng.normal(0, rng.uniform(0.2, 0.5) * h.std())
+                if rng.random() < 0.5:
+                    h[:, pos:] += step
+                else:
+                    h[pos:, :] += step
+            truth["steps"] = k
+    elif kind == "noise_floor":
+        if rng.random() < 0.5:
+            a = rng.uniform(0.02, 0.06)
+            h = h + rng.normal(0, a * h.std(), h.shape)
+            truth["white_noise_rel"] = a
+        else:
+            b = rng.uniform(1.5, 3)
+            h = gaussian_filter(h, b)
+            truth["blur_points"] = b
+    return h, dx, truth
+
+
+def run_surface_case(kind, seed, root):
+    h, dx, truth = make_surface_heights(kind, seed)
+    d = Path(root) / f"surface_{seed}_{kind or 'null'}"
+    d.mkdir(parents=True, exist_ok=True)
+    np.save(d / "scan.npy", h)
+    cmd = [sys.executable, "-m", "pipelines.cli", "diagnose", "--scan", str(d / "scan.npy"),
+           "--spacing", f"{dx:.10g}", "--out", str(d / "out")]
+    t = time.perf_counter()
+    pr = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
+    dt = time.perf_counter() - t
+    if pr.returncode != 0:
+        return dict(kind=kind or "null", seed=seed, error=pr.stderr.strip()[-300:], seconds=dt, truth=truth)
+    diag = json.loads((d / "out" / "diagnosis.json").read_text())
+    names = verdict_names(diag)
+    return dict(kind=kind or "null", seed=seed, called="+".join(names) or "null",
+                right=(names == [kind]) if kind else not names,
+                shrink=(diag.get("verdict") or {}).get("shrink"), seconds=dt, truth=truth,
+                inconclusive=(diag.get("verdict") or {}).get("inconclusive"),
+                families={k: round(v["gap_baseline"], 2) for k, v in (diag.get("families") or {}).items()})
+
+
+def surface_report(rows):
+    print("\n== surface level (k-fold over blocks) ==")
+    for k in SURFACE_KINDS:
+        sel = [r for r in rows if r["kind"] == (k or "null")]
+        if sel:
+            print(f"  {k or 'null':12s} {sum(r.get('right', False) for r in sel)}/{len(sel)}  called: "
+                  + ", ".join(r.get("called", "ERROR") for r in sel))
+    eff = [r for r in rows if r["kind"] != "null"]
+    nul = [r for r in rows if r["kind"] == "null"]
+    ok = sum(r.get("right", False) for r in eff)
+    sh = [r["shrink"] for r in eff if r.get("right") and r.get("shrink") is not None]
+    print(f"  effect cases named right: {ok}/{len(eff)} = {100 * ok / max(1, len(eff)):.0f} %; "
+          f"false positives on nulls: {sum(not r.get('right', False) for r in nul)}/{len(nul)}; "
+          f"median shrink (right verdicts) {np.median(sh) if sh else float('nan'):.2f}; "
+          f"median time {np.median([r['seconds'] for r in rows]):.1f} s")
+    for r in rows:
+        if not r.get("right"):
+            print(f"  miss: {r['kind']} seed {r['seed']} -> {r.get('called')} {r.get('error', '')} "
+                  f"truth {r['truth']} families {r.get('families')}")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--cases", type=int, default=40, help="effect cases (default 40)")
@@ -453,7 +578,18 @@ def main(argv=None):
     ap.add_argument("--jobs", type=int, default=2, help="diagnoses run in parallel")
     ap.add_argument("--keep", default=None, help="keep case files here")
     ap.add_argument("--json", default=None, help="write per-case results here")
+    ap.add_argument("--surface", type=int, default=0, help="surface-level cases per kind (0: none)")
     a = ap.parse_args(argv)
+    if a.surface:
+        root = Path(a.keep) if a.keep else Path(tempfile.mkdtemp(prefix="blind_surf_"))
+        specs = [(k, a.seed + 7919 * i + 17 * j) for j, k in enumerate(SURFACE_KINDS) for i in range(a.surface)]
+        with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+            rows = list(ex.map(lambda kv: run_surface_case(kv[0], kv[1], root), specs))
+        surface_report(rows)
+        if not a.keep:
+            shutil.rmtree(root, ignore_errors=True)
+        if a.cases == 0:
+            return 0
 
     root = Path(a.keep) if a.keep else Path(tempfile.mkdtemp(prefix="blind_diag_"))
     specs = [(a.seed + i, EFFECTS[i % len(EFFECTS)]) for i in range(a.cases)]

@@ -371,3 +371,78 @@ def test_diagnose_refuses_unusable_input_in_one_line(tmp_path, capsys, kind):
     err = [ln for ln in capsys.readouterr().err.splitlines() if ln.strip()]
     assert len(err) == 1 and ("flat" in err[0] or "too small" in err[0] or "distinct speed" in err[0]), err
     assert not (tmp_path / "o" / "diagnosis.json").exists()
+
+
+# ----------------------------------------------------------------------------- friction level, issue 11
+def _ctx_for(v, psd=PSD):
+    from pipelines.diagnose.measured import MeasuredCurve
+
+    n = v.size
+    curve = MeasuredCurve(v, np.ones(n), np.full(n, np.nan), np.full(n, 0.2e6), np.zeros(n, bool), False, "t")
+    return build_context(curve, psd)
+
+
+def test_every_friction_effect_reaches_no_effect():
+    """At its null parameters every effect gives the baseline mu (flash heating included)."""
+    v = np.logspace(-4, 0.5, 8)
+    ctx = _ctx_for(v)
+    base = simulate(ctx.base, ctx)
+    for e in all_effects("friction"):
+        if e.missing(ctx) or (e.prepare is not None and e.prepare(ctx)):
+            continue
+        null = e.null_params(ctx)
+        assert null is not None, e.name
+        for p in e.params:
+            assert p.lo <= null[p.name] <= p.hi, (e.name, p.name)
+        mu = e.apply(ctx, null)
+        assert np.max(np.abs(np.log(mu / base))) < 5e-3, (e.name, np.max(np.abs(np.log(mu / base))))
+
+
+def test_few_points_are_cross_validated_and_fits_never_beat_by_no_effect():
+    v = np.logspace(-5, 0, 9)
+    ctx = _ctx_for(v)
+    truth = simulate(ctx.base.with_(T0_shift_C=-12.0), ctx)
+    rng = np.random.default_rng(2)
+    mu = truth * np.exp(0.01 * rng.standard_normal(v.size))
+    # the one-parameter effects (flash and adhesion are slower to fit; their no-effect limits are
+    # checked above)
+    effs = [e for e in all_effects("friction") if e.cost <= 1 and len(e.params) == 1]
+    d = diagnose_friction(ctx, mu, noise=0.005, effects=effs, pairs=False)
+    assert "fold" in d.heldout and d.train.all()
+    assert d.verdict["effect"] == "temperature_offset"
+    lo, hi = d.verdict["shrink_interval"]
+    assert lo <= d.verdict["shrink"] <= hi and d.verdict["shrink"] > 0.7
+    # leave-one-out: every point was predicted by a fit that did not see it, so the held-out
+    # gap is at least the training gap of the fit on every point (up to the fit's tolerance)
+    for c in d.candidates:
+        assert c.r_held.size == v.size
+        assert c.gap_train <= d.baseline_gap * (1 + 1e-9), c.name   # never worse than no effect
+    best = d.best
+    assert best.gap_heldout >= best.gap_train * 0.9
+    assert best.params[0]["dT_C"] == pytest.approx(-12.0, abs=1.0)
+
+
+def test_at_bound_lists_a_parameter_pushed_onto_its_range():
+    from pipelines.diagnose.search import at_bound
+    from pipelines.diagnose.effects import get
+
+    ctx = _ctx_for(np.logspace(-4, 0, 6))
+    e = get("temperature_offset")
+    assert at_bound(ctx, (e,), [{"dT_C": 30.0}]) == ["dT_C"]
+    assert at_bound(ctx, (e,), [{"dT_C": 7.0}]) == []
+    f = get("flash_temperature")  # the no-effect value at a bound is not "at bound"
+    assert at_bound(ctx, (f,), [{"zeta_m": 3.0, "heat_scale": 1e-3}]) == []
+    assert at_bound(ctx, (f,), [{"zeta_m": 8.0, "heat_scale": 1.0}]) == ["zeta_m"]
+
+
+def test_cutoff_sensitivity_matches_the_integrand_at_q1():
+    """d mu / d ln q1 = (d mu / d ln q) at q = q1 (Leibniz: P(q) below q1 does not depend on q1),
+    an independent check of band_map's finite difference."""
+    spec = SimSpec(psd=PSD, rubber=friction.thesis_rubber())
+    bands = [(1e-3, 1e-2), (1.0, 10.0)]
+    bm, (q, f, vc) = band_map(spec, bands)
+    res = friction.mu_isothermal(PSD, spec.rubber, vc, sigma0_Pa=0.2e6)
+    for i, b in enumerate(bm):
+        leibniz = f[i, -1] / res.mu[i]
+        assert b["dlnmu_dlnq1"] == pytest.approx(leibniz, rel=0.25, abs=0.02)
+        assert b["carried_by_cutoff"] == (b["dlnmu_dlnq1"] > 0.3 or b["q_peak_per_m"] >= q[-2])

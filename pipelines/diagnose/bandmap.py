@@ -7,12 +7,22 @@ contribution is ``dmu/dln q = 1/2 q^4 C(q) P(q) M(q)`` with
 from the engine. For each band the map reports the wave-vector range holding the central
 80 % of the integrand at the band's geometric-mean speed, its peak, the length scales 2 pi / q
 and the excitation frequencies omega = q v over the band's speeds.
+
+Cut-off sensitivity: ``dlnmu_dlnq1`` = d ln mu / d ln q1 at the band's centre speed, by a
+one-sided difference with the spectrum cut at q1 / 1.25 (q1: the spectrum's highest wave
+vector). A value near 0 means the measured band holds the friction; a large value (above
+``CUTOFF_FLAG``, or the integrand peaking at the last wave vector) means mu is carried by the
+spectrum's cut-off: it depends on where the spectrum is cut, not only on the measured texture
+(``carried_by_cutoff``; the report says so).
 """
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["integrand", "band_map"]
+__all__ = ["integrand", "band_map", "CUTOFF_FLAG"]
+
+CUTOFF_FLAG = 0.3
+CUT_STEP = 1.25
 
 
 def integrand(result, psd, rubber, sigma0_Pa, T0_C=None, nu=0.5, n_phi=48):
@@ -40,6 +50,10 @@ def band_map(spec, bands, sigma0_Pa=0.2e6, T0_C=None, share=0.8):
     res = friction.mu_isothermal(spec.psd, spec.rubber, v_c, sigma0_Pa=sigma0_Pa, T0_C=T0_C,
                                  tol=spec.tol)
     T = spec.rubber.T_ref_C if T0_C is None else T0_C
+    q1 = spec.psd.q1_per_m
+    cut = friction.mu_isothermal(spec.psd.with_q1(q1 / CUT_STEP), spec.rubber, v_c, sigma0_Pa=sigma0_Pa,
+                                 T0_C=T0_C, tol=spec.tol)
+    sens = np.log(np.asarray(res.mu) / np.asarray(cut.mu)) / np.log(CUT_STEP)
     f = integrand(res, spec.psd, spec.rubber, sigma0_Pa, T)
     lq = np.log(res.q_per_m)
     out = []
@@ -49,9 +63,11 @@ def band_map(spec, bands, sigma0_Pa=0.2e6, T0_C=None, share=0.8):
         tot = cum[-1] if cum[-1] > 0 else 1.0
         lo_q = float(np.exp(np.interp((1 - share) / 2 * tot, cum, lq)))
         hi_q = float(np.exp(np.interp((1 + share) / 2 * tot, cum, lq)))
-        pk = float(res.q_per_m[int(np.argmax(fi))])
+        ipk = int(np.argmax(fi))
+        pk = float(res.q_per_m[ipk])
         out.append(dict(v_min_m_per_s=a, v_max_m_per_s=b, q_min_per_m=lo_q, q_max_per_m=hi_q,
                         q_peak_per_m=pk, length_min_m=2 * np.pi / hi_q, length_max_m=2 * np.pi / lo_q,
                         omega_min_rad_s=lo_q * a, omega_max_rad_s=hi_q * b,
-                        mu_at_centre=float(res.mu[i])))
+                        mu_at_centre=float(res.mu[i]), dlnmu_dlnq1=float(sens[i]),
+                        carried_by_cutoff=bool(sens[i] > CUTOFF_FLAG or ipk >= fi.size - 2)))
     return out, (res.q_per_m, f, v_c)

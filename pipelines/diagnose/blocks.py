@@ -274,8 +274,15 @@ def l_moment_ratios(x):
 
 
 def spectrum_shape(band_log):
-    """Band values minus their mean (last axis)."""
-    return band_log - np.mean(band_log, axis=-1, keepdims=True)
+    """The spectrum's shape at its two ends: (lowest band, highest band) minus the mean of the
+    bands between them (last axis). A block's overall level is no diagnostic, nor (with a
+    fitted power law as the model) its mid-band slope; roll-offs, noise floors and smoothing
+    bend the ends, and two entries keep their deviation from being averaged away."""
+    b = np.asarray(band_log)
+    if b.shape[-1] < 3:
+        return b - np.mean(b, axis=-1, keepdims=True)
+    mid = np.mean(b[..., 1:-1], axis=-1)
+    return np.stack([b[..., 0] - mid, b[..., -1] - mid], axis=-1)
 
 
 def block_descriptors(h, geo, rain=True, raw=None):
@@ -286,7 +293,8 @@ def block_descriptors(h, geo, rain=True, raw=None):
     P = _psd_map(h, geo)
     rings = _ring_log(P, geo)
     hv = (h if raw is None else raw).ravel()
-    out = dict(spec_rings=rings, spectrum=spectrum_shape(geo.band_matrix @ rings),
+    bands = geo.band_matrix @ rings
+    out = dict(spec_rings=rings, bands=bands, spectrum=spectrum_shape(bands),
                height=np.array(l_moment_ratios(hv)),
                moments=np.array([float(stats.skew(hv)), float(stats.kurtosis(hv))]))
     if not geo.is_profile:

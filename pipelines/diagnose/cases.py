@@ -37,7 +37,7 @@ def _logu(rng, a, b):
 
 #: realistic ranges of the hidden effects' parameters (generator side)
 RANGES = {
-    "flash_temperature": lambda r: dict(zeta_m=_u(r, 2.0, 5.0), R_scale=_logu(r, 0.5, 2.0)),
+    "flash_temperature": lambda r: dict(zeta_m=_u(r, 2.0, 5.0), heat_scale=_logu(r, 0.5, 2.0)),
     "relaxation_spectrum": lambda r: dict(width_decades=_logu(r, 0.2, 1.5)),
     "temperature_offset": lambda r: dict(dT_C=float(r.choice([-1, 1])) * _u(r, 3.0, 20.0)),
     "fine_roughness": lambda r: dict(q1_factor=_logu(r, 2.0, 30.0)),

@@ -28,14 +28,20 @@ def friction_json(d, where, bandmap, validate=None):
         noise_source="given (--noise)" if d.noise_given else "estimated from the data (smoothing spline, modified GCV)",
         p_value=d.p_value,
         gap_definition="rms over points of log10(measured/simulated)",
-        heldout="every third point (indices 1, 4, 7, ...), never used in a fit",
+        heldout=d.heldout,
         ranking="held-out rms x (1 + k / n_train), k = number of fitted parameters",
         where=[{k: w[k] for k in ("v_min_m_per_s", "v_max_m_per_s", "gap", "n", "mean_log_ratio",
                                   "p_value", "significant")} for w in where],
         band_map=bandmap,
         effects=[c.as_dict() for c in d.candidates],
         skipped=d.skipped,
+        inconclusive=d.verdict["inconclusive"],
+        at_bound=d.verdict["at_bound"],
         verdict=dict(effect=d.verdict["effect"], shrink=_r(d.verdict["shrink"]),
+                     shrink_interval=(None if d.verdict["shrink_interval"] is None else
+                                      [_r(x) for x in d.verdict["shrink_interval"]]),
+                     inconclusive=d.verdict["inconclusive"], at_bound=d.verdict["at_bound"],
+                     confidence=d.verdict["confidence"],
                      gap_validate=None if validate is None else _r(validate["gap_after"]),
                      gap_validate_baseline=None if validate is None else _r(validate["gap_before"]),
                      reason=d.verdict["reason"]),
@@ -105,34 +111,48 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
     with tempfile.TemporaryDirectory() as t:
         figs = _plots_friction(Path(t), curve, d, where, bm_curves, validate)
         v = data["verdict"]
-        name = v["effect"] if not isinstance(v["effect"], list) else " + ".join(v["effect"])
-        verdict = (f"<p><b>Verdict:</b> {html.escape(str(name)) if name else 'no effect named (null)'}. "
-                   f"{html.escape(v['reason'])}.</p>")
+        verdict = _verdict_html(v)
+        cut = [b for b in data["band_map"] if b.get("carried_by_cutoff")]
+        if cut:
+            verdict += ("<p><b>Warning: μ is carried by the spectrum's cut-off</b> in "
+                        + ", ".join(f"{b['v_min_m_per_s']:.3g}–{b['v_max_m_per_s']:.3g} m/s "
+                                    f"(d ln μ / d ln q1 = {b['dlnmu_dlnq1']:.2f})" for b in cut)
+                        + ": the integrand peaks at the highest wave vector, so μ there depends on where "
+                          "the spectrum is cut, not only on the measured texture.</p>")
         summary = rep.table_html({
             "baseline gap (rms log10, all points)": data["baseline_gap"],
             "baseline gap, held-out points": data["baseline_gap_heldout"],
             "noise (rms log10)": data["noise"], "noise source": data["noise_source"],
             "chi-square p-value of the baseline gap": data["p_value"],
             "held-out shrink of the verdict": v["shrink"],
+            "shrink interval (5-95 % bootstrap)": (None if not v.get("shrink_interval") else
+                                                   f"{v['shrink_interval'][0]} – {v['shrink_interval'][1]}"),
+            "held out": data["heldout"],
+            "inconclusive between": ", ".join(v.get("inconclusive") or []) or "no",
+            "parameters at a bound": ", ".join(v.get("at_bound") or []) or "none",
             "validation gap (baseline → corrected)": (f"{v['gap_validate_baseline']} → {v['gap_validate']}"
                                                       if v["gap_validate"] is not None else None),
             "run time [s]": data["seconds"]})
         eff = rep.table_html([(e["name"], ", ".join(f"{k}={val:.4g}" for k, val in e["params"].items()),
-                               e["gap_train"], e["gap_heldout"], e["shrink"], e["score"])
+                               e["gap_train"], e["gap_heldout"], e["shrink"],
+                               "" if not e.get("shrink_interval") or e["shrink_interval"][0] is None else
+                               f"{e['shrink_interval'][0]:.2f}–{e['shrink_interval'][1]:.2f}",
+                               ", ".join(e.get("at_bound") or []), e["score"])
                               for e in data["effects"]],
                              header=["effect", "fitted parameters", "gap train", "gap held-out",
-                                     "shrink (held-out)", "score"])
+                                     "shrink (held-out)", "shrink 5–95 %", "at bound", "score"])
         skipped = rep.table_html([(s["name"], s["reason"]) for s in data["skipped"]],
                                  header=["skipped effect", "reason"]) if data["skipped"] else "<p>none</p>"
         bands = rep.table_html([(f"{w['v_min_m_per_s']:.3g}–{w['v_max_m_per_s']:.3g}", w["n"], w["gap"],
                                  "yes" if w["significant"] else "no",
                                  f"{b['q_min_per_m']:.3g}–{b['q_max_per_m']:.3g}",
                                  f"{b['length_min_m'] * 1e6:.3g}–{b['length_max_m'] * 1e6:.3g}",
-                                 f"{b['omega_min_rad_s']:.3g}–{b['omega_max_rad_s']:.3g}")
+                                 f"{b['omega_min_rad_s']:.3g}–{b['omega_max_rad_s']:.3g}",
+                                 f"{b['dlnmu_dlnq1']:.2f}" + (" (cut-off!)" if b.get("carried_by_cutoff") else ""))
                                 for w, b in zip(data["where"], data["band_map"])],
                                header=["speed band [m/s]", "points", "gap", "significant",
                                        "q carrying 80 % of μ [1/m]", "length scales [µm]",
-                                       "frequencies ω = q v [rad/s]"])
+                                       "frequencies ω = q v [rad/s]", "d ln μ / d ln q1"])
         rep.write_html(out_dir / "report.html", f"Sim-to-real gap diagnosis: {curve.name}", [
             ("Verdict", [verdict, summary]),
             ("Measured, simulated and corrected friction", [figs[0]]),

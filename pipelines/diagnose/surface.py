@@ -48,6 +48,7 @@ class SurfaceContext:
     twin_mean: dict             # family -> (n_entries,) twin prediction
     sigma: dict                 # family -> (n_entries,) per-block noise
     twin_rings: np.ndarray      # twin's ring-level log10 spectrum (mean over twin blocks)
+    twin_bands: np.ndarray      # twin's band log10 spectrum (mean over twin blocks)
     ring_q: np.ndarray          # ring mean |q| [1/m]
     fit: object
     is_profile: bool
@@ -79,7 +80,7 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
     tw_h = [twin_heights(lev, an.fit, seed + 1000 * i) for i in range(n_twins)]
     tw = [bl.describe(h, geo) for h in tw_h]
     fams = geo.families()
-    twin_all = {f: np.concatenate([d[f] for d in tw]) for f in list(fams) + ["spec_rings", "moments"]}
+    twin_all = {f: np.concatenate([d[f] for d in tw]) for f in list(fams) + ["spec_rings", "moments", "bands"]}
     twin_mean = {f: twin_all[f].mean(axis=0) for f in fams}
     n_t = twin_all[fams[0]].shape[0]
     sigma, infl = {}, {}
@@ -108,6 +109,7 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
         f"{n_twins} twins: {time.perf_counter() - t:.1f} s")
     inputs = {"spectrum"} | (set() if an.is_profile else {"area"})
     return SurfaceContext(geo, fams, meas, twin_mean, sigma, twin_all["spec_rings"].mean(axis=0),
+                          twin_all["bands"].mean(axis=0),
                           geo.rings[1], an.fit, an.is_profile, inputs, skew_table,
                           dict(measured=meas["moments"].mean(axis=0).tolist(),
                                twin=twin_all["moments"].mean(axis=0).tolist()), infl)
@@ -146,6 +148,17 @@ def run_surface(obj, out_dir, log=None, seed=0):
     ctx = descriptors(an, seed=seed, log=say)
     res = surface_search(ctx)
     verdict, best = res["verdict"], res["best"]
+    from .surface_whole import MIN_SHRINK_WHOLE, whole_spectrum_check
+
+    whole = whole_spectrum_check(an)
+    verdict["evidence"] = "blocks (k-fold)" if verdict["effect"] else None
+    if verdict["effect"] is None and not verdict["inconclusive"] and whole["significant"]:
+        w = whole["candidates"][0]
+        if w["shrink"] >= MIN_SHRINK_WHOLE:
+            verdict.update(effect=w["name"], shrink=w["shrink"], shrink_interval=None, confidence="medium",
+                           evidence="whole-scan spectrum (every third ring held out)",
+                           reason=(f"the blocks name nothing, but {w['name']} closes {w['shrink']:.0%} of the whole "
+                                   f"scan's spectral gap on held-out rings (the blocks lose the lowest wave vectors)"))
     spec = an.spectrum
     ok = np.isfinite(spec.C_m4) & (spec.C_m4 > 0)
     q, C = spec.q_per_m[ok], spec.C_m4[ok]
@@ -193,7 +206,7 @@ def run_surface(obj, out_dir, log=None, seed=0):
                                         "wetted_fraction"] if f == "rain" else
                                        ["anisotropy_index"] if f == "anisotropy" else
                                        ["log10_axis_excess"] if f == "seams" else
-                                       [f"log10_C_band_{i}" for i in range(ctx.sigma[f].size)]),
+                                       ["log10_C_lowest_band_minus_mid", "log10_C_highest_band_minus_mid"]),
                               measured=ctx.meas[f].mean(axis=0).tolist(), twin=ctx.twin_mean[f].tolist(),
                               noise_per_block=ctx.sigma[f].tolist(),
                               measured_scatter_ratio=ctx.noise_inflation[f])
@@ -207,6 +220,7 @@ def run_surface(obj, out_dir, log=None, seed=0):
         where=where,
         mu_gap=float(np.sqrt(np.mean(np.log10(mu_real / mu_twin) ** 2))),
         effects=effects, skipped=res["skipped"], verdict=verdict,
+        whole_spectrum={k: (r6(v) if isinstance(v, float) else v) for k, v in whole.items()},
         inconclusive=verdict["inconclusive"], at_bound=verdict["at_bound"],
         seconds=round(time.perf_counter() - t0, 2))
     out_dir = Path(out_dir)
@@ -215,11 +229,11 @@ def run_surface(obj, out_dir, log=None, seed=0):
     with tempfile.TemporaryDirectory() as t:
         t = Path(t)
         bq = geo.band_q
-        curves = [("measured blocks (mean)", bq, 10 ** ctx.meas["spectrum"].mean(axis=0)),
-                  ("self-affine twins (mean)", bq, 10 ** ctx.twin_mean["spectrum"])]
+        curves = [("measured blocks (mean)", bq, 10 ** ctx.meas["bands"].mean(axis=0)),
+                  ("self-affine twins (mean)", bq, 10 ** ctx.twin_bands)]
         if best is not None:
             pr = _predict(ctx, best["_effs"], best["_params"])
-            curves.append((f"twin + {best['name']}", bq, 10 ** pr["spectrum"]))
+            curves.append((f"twin + {best['name']}", bq, 10 ** (geo.band_matrix @ pr["spec_rings"])))
         figs = [rep.plot_psd(curves, t / "psd.png", title="block spectra (off-axis rings): measured, twin, corrected")]
         fig, ax = plt.subplots(figsize=rep.FIGSIZE)
         h = an.levelled.heights_m

@@ -178,7 +178,8 @@ def surface_search(ctx, rng_seed=0):
                 flat[key] = p[pp.name]
                 u = pp.to_unit(p[pp.name])
                 null = (e.null_params(ctx) or {}).get(pp.name)
-                if (u <= AT_BOUND_TOL or u >= 1 - AT_BOUND_TOL) and not (null is not None and np.isclose(p[pp.name], null)):
+                if (u <= AT_BOUND_TOL or u >= 1 - AT_BOUND_TOL) and not (
+                        null is not None and abs(u - pp.to_unit(null)) <= AT_BOUND_TOL):
                     at_bound.append(key)
         gtr = float(np.sqrt(np.mean([np.sum(f["_train"] ** 2) for f in folds]) / len(fams)))
         bs = []
@@ -218,7 +219,10 @@ def surface_search(ctx, rng_seed=0):
         if pairs:
             bp = min(pairs, key=lambda c: c["score"])
             left = _left_significant(s1, nent, B)
-            if left and bp["score"] < PAIR_GAIN * s1["score"] and bp["shrink"] > s1["shrink"] + PAIR_MIN_GAIN:
+            # a pair must beat the single clearly; when no single reaches MIN_SHRINK, a pair that
+            # does only needs a lower score
+            gain = PAIR_GAIN if s1["shrink"] >= MIN_SHRINK else 1.0
+            if left and bp["score"] < gain * s1["score"] and bp["shrink"] > s1["shrink"] + PAIR_MIN_GAIN:
                 best = bp
         if not (best["shrink"] >= MIN_SHRINK):
             verdict["reason"] = (f"no effect shrinks the systematic held-out gap by {MIN_SHRINK:.0%} "

@@ -9,5 +9,6 @@ EFFECT = register(Effect(
     name="contact_correction", level="friction",
     params=(Param("contact_gamma", 0.02, 1.0, 0.5, "lin"),),
     modify=lambda spec, p, ctx: spec.with_(contact_gamma=p["contact_gamma"]),
+    null=lambda ctx: {"contact_gamma": 1.0},
     description="S(q) = gamma + (1 - gamma) P^2 factor in mu",
 ))

@@ -16,6 +16,6 @@ def _modify(spec, p, ctx):
 EFFECT = register(Effect(
     name="fine_roughness", level="friction",
     params=(Param("q1_factor", 1.0, 100.0, 3.0, "log"),),
-    modify=_modify,
+    modify=_modify, null=lambda ctx: {"q1_factor": 1.0},
     description="upper wave vector q1 multiplied by a factor (power-law continuation)",
 ))

@@ -9,5 +9,6 @@ EFFECT = register(Effect(
     name="load", level="friction",
     params=(Param("sigma0_scale", 0.2, 5.0, 1.0, "log"),),
     modify=lambda spec, p, ctx: spec.with_(sigma0_scale=spec.sigma0_scale * p["sigma0_scale"]),
+    null=lambda ctx: {"sigma0_scale": 1.0},
     description="nominal pressure scale factor",
 ))

@@ -1,5 +1,5 @@
 """``relaxation_spectrum``: the rubber has a spread of relaxation times, not one (the thesis's
-main recommendation).
+main recommendation). A width of 0.01 decade is the rubber itself (no effect).
 
 Each Prony term (the standard linear solid is a one-term Prony series, DESIGN.md sec 4) of
 strength E_i and relaxation time tau_i is replaced by ``n_terms`` terms with log10 tau normally
@@ -41,8 +41,8 @@ def _prepare(ctx):
 
 EFFECT = register(Effect(
     name="relaxation_spectrum", level="friction",
-    params=(Param("width_decades", 0.1, 4.0, 1.0, "log"),),
+    params=(Param("width_decades", 0.01, 4.0, 1.0, "log"),),
     modify=lambda spec, p, ctx: spec.with_(rubber=lognormal_prony(spec.rubber, p["width_decades"])),
-    prepare=_prepare,
+    prepare=_prepare, null=lambda ctx: {"width_decades": 0.01},
     description="log-normal spread of relaxation times around the rubber's own",
 ))

@@ -9,5 +9,6 @@ EFFECT = register(Effect(
     name="temperature_offset", level="friction",
     params=(Param("dT_C", -30.0, 30.0, 0.0, "lin"),),
     modify=lambda spec, p, ctx: spec.with_(T0_shift_C=spec.T0_shift_C + p["dT_C"]),
+    null=lambda ctx: {"dT_C": 0.0},
     description="background temperature offset dT [K] (WLF shift along the speed axis)",
 ))

@@ -4,13 +4,15 @@ Sliding rubber seals the cavities and "feels" the rain-filled surface: the wet r
 spectrum of the rain-filled scan with a limited water film w = ``fill_fraction`` x the full
 capacity of the depressions (``roadscan.rain.rain_fill``, 4-connectivity). Needs the scan.
 Wet spectra are precomputed at a few fill fractions; between them log C is interpolated
-linearly in log(fraction).
+linearly in log(fraction), down to the dry spectrum at ``DRY_FRACTION`` (no effect).
 """
 import numpy as np
 
 from . import Effect, Param, register
 
-FRACTIONS = (0.03, 0.1, 0.25, 0.5, 0.75, 1.0)
+FRACTIONS = (0.01, 0.03, 0.1, 0.25, 0.5, 0.75, 1.0)
+#: below this fill fraction the wet spectrum is the dry one (no effect, reachable)
+DRY_FRACTION = 1e-3
 
 
 def _prepare(ctx):
@@ -43,11 +45,12 @@ def wet_psd(ctx, psd, fraction):
     from friction.psd import TabulatedPSD
 
     c = ctx.cache["water"]
-    lf = np.log(FRACTIONS)
+    lf = np.log((DRY_FRACTION,) + FRACTIONS)
+    table = np.vstack([np.zeros_like(c["log_ratio"][0]), c["log_ratio"]])
     x = np.clip(np.log(fraction), lf[0], lf[-1])
     i = int(np.clip(np.searchsorted(lf, x) - 1, 0, lf.size - 2))
     t = (x - lf[i]) / (lf[i + 1] - lf[i])
-    lr = (1 - t) * c["log_ratio"][i] + t * c["log_ratio"][i + 1]
+    lr = (1 - t) * table[i] + t * table[i + 1]
     q = c["q"]
     C = psd.C(q) * np.exp(lr)
     return TabulatedPSD(q, C, q0_per_m=psd.q0_per_m, q1_per_m=psd.q1_per_m)
@@ -55,7 +58,8 @@ def wet_psd(ctx, psd, fraction):
 
 EFFECT = register(Effect(
     name="water", level="friction",
-    params=(Param("fill_fraction", FRACTIONS[0], 1.0, 0.3, "log"),),
+    params=(Param("fill_fraction", DRY_FRACTION, 1.0, 0.3, "log"),),
+    null=lambda ctx: {"fill_fraction": DRY_FRACTION},
     modify=lambda spec, p, ctx: spec.with_(wet_psd=wet_psd(ctx, spec.psd, p["fill_fraction"])),
     requires=frozenset({"scan"}), prepare=_prepare,
     description="cavities filled with a water film (fraction of the depressions' capacity)",
