@@ -24,7 +24,7 @@ from roadscan.errors import InputError
 from .csv_files import read_csv_rows
 
 __all__ = ["load_rubber", "read_master_curve_csv", "read_shift_csv", "rubber_from_csv_files", "orient_shift",
-           "read_dma_sweeps_csv"]
+           "read_dma_sweeps_csv", "read_wlf_csv"]
 
 _UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}
 _F_NAMES = ("f", "freq", "frequency")
@@ -216,8 +216,12 @@ def rubber_from_csv_files(master_csv, shift_csv=None, T_ref_C=None, units=None):
     if T_ref_C is not None:
         d["T_ref_C"] = float(T_ref_C)
     if shift_csv:
-        T, a = orient_shift(*read_shift_csv(shift_csv), shift_csv)
-        d["shift"] = {"kind": "table", "T_C": T, "log10_aT": a}
+        wlf = read_wlf_csv(shift_csv)
+        if wlf is not None:
+            d["shift"] = {"kind": "wlf", **wlf}
+        else:
+            T, a = orient_shift(*read_shift_csv(shift_csv), shift_csv)
+            d["shift"] = {"kind": "table", "T_C": T, "log10_aT": a}
     try:
         return friction.rubber_from_dict(d)
     except (ValueError, TypeError) as exc:
@@ -241,3 +245,32 @@ def read_dma_sweeps_csv(path):
     i_s = _col(names, _SET_NAMES, path, "set", required=False)
     sid = d[:, i_s] if i_s is not None else None
     return f, E1, E2, T, sid
+
+
+def read_wlf_csv(path):
+    """WLF constants from a one-row CSV ``C1,C2_K,T_s_C[,T_g_C]`` (``C2`` and ``T_s``/``T_ref``
+    are accepted as names) -> dict for ``[shift] kind = "wlf"``; None when the file is a table."""
+    head, body = read_csv_rows(path)
+    names = [h.strip().lower() for h in head]
+    if "c1" not in names:
+        return None
+    alias = {"c1": "C1", "c2": "C2_K", "c2_k": "C2_K", "t_s_c": "T_s_C", "t_s": "T_s_C", "ts": "T_s_C",
+             "t_ref_c": "T_s_C", "t_ref": "T_s_C", "t_g_c": "T_g_C", "tg": "T_g_C", "t_g": "T_g_C"}
+    rows = [r for r in body if r and r[0].strip()]
+    try:
+        float(rows[0][0])
+    except (ValueError, IndexError):
+        rows = rows[1:]                                   # a units line
+    if len(rows) != 1:
+        raise InputError(path, "WLF constants: expected one data row C1,C2_K,T_s_C")
+    out = {}
+    for n, v in zip(names, rows[0]):
+        if n in alias:
+            try:
+                out[alias[n]] = float(v)
+            except ValueError:
+                raise InputError(path, f"WLF constant {n} = {v!r} is not a number") from None
+    missing = {"C1", "C2_K", "T_s_C"} - set(out)
+    if missing:
+        raise InputError(path, "WLF constants: missing " + ", ".join(sorted(missing)))
+    return out

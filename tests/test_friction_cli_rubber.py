@@ -347,3 +347,15 @@ def test_master_curve_reference_temperature_defaults_to_unit_shift(tmp_path):
                  "--shift-table", str(RUBBERS / "freq_user_master__shift_factors.csv"), "--temperature", "20",
                  "--velocities", "1:10:2", "--out", str(out)]) == 0
     assert json.loads((tmp_path / "m_summary.json").read_text())["rubber"]["T_ref_C"] == -5.0
+
+
+def test_shift_table_file_with_wlf_constants(tmp_path):
+    from pipelines.rubber_file import rubber_from_csv_files
+
+    (tmp_path / "wlf.csv").write_text("C1,C2_K,T_s_C\n24.9024,138.470,-5\n")
+    r = rubber_from_csv_files(RUBBERS / "freq_user_master.csv", tmp_path / "wlf.csv")
+    assert r.T_ref_C == -5.0
+    assert r.shift.log10_aT(20.0) == pytest.approx(-24.9024 * 25 / (138.470 + 25))
+    (tmp_path / "bad.csv").write_text("C1,C2_K\n24.9,138\n")
+    with pytest.raises(InputError, match="T_s_C"):
+        rubber_from_csv_files(RUBBERS / "freq_user_master.csv", tmp_path / "bad.csv")

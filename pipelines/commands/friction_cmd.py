@@ -34,7 +34,8 @@ def add_arguments(p):
                      help="master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa' or "
                           "header E_stor_MPa; default Pa) at --reference-temperature")
     rub.add_argument("--shift-table", metavar="FILE.csv", default=None,
-                     help="with --master-curve: shift factors, columns T_C and aT (linear) or log10_aT")
+                     help="with --master-curve: shift factors, columns T_C and aT (linear) or log10_aT; "
+                          "or one row of WLF constants C1,C2_K,T_s_C")
     rub.add_argument("--reference-temperature", type=float, default=None, metavar="C",
                      help="with --master-curve: the temperature of the master curve T_ref [C] "
                           "(default: where the shift table has aT = 1)")
