@@ -271,8 +271,9 @@ def check_fit(fit, name=""):
     if h is None or not np.isfinite(h):
         raise InputError(name or None, "the self-affine fit failed (Hurst exponent not finite)")
     if not 0.0 <= h <= 1.0:
+        undefined = " (h0 is undefined for H <= 0: null in summary.json)" if h <= 0 else ""
         warn(f"{name + ': ' if name else ''}Hurst exponent {h:.3g} lies outside [0, 1]: the spectrum "
-             f"is not self-affine over the fitted band; H, h0 and mu(v) are not meaningful")
+             f"is not self-affine over the fitted band; H, h0 and mu(v) are not meaningful{undefined}")
 
 
 def check_mu(mu, what="mu"):

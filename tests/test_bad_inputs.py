@@ -267,3 +267,22 @@ def test_warnings_land_in_summary(capsys, tmp_path):
     assert len(warn) == 1 and "Hurst" in warn[0]
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert len(s["warnings"]) == 1 and "Hurst" in s["warnings"][0]
+
+
+def test_undefined_h0_is_null_with_a_warning_not_a_nan(monkeypatch, capsys, tmp_path):
+    """Fuzz finding: a scan whose spectrum falls no faster than white noise (H <= 0) had its
+    undefined h0 computed as NaN and written as null without saying so. Now h0 is None on
+    purpose and the Hurst warning says that h0 is undefined."""
+    from pipelines import report
+
+    written = []
+    orig = report.write_json
+    monkeypatch.setattr(report, "write_json", lambda path, data: (written.append(data), orig(path, data))[1])
+    rng = np.random.default_rng(0)
+    p = tmp_path / "white.npy"
+    np.save(p, rng.normal(0, 1e-4, (64, 64)))
+    rc, err = _run(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--no-friction"])
+    assert rc == 0
+    s = written[-1]
+    assert s["hurst"] < 0 and s["h0_m"] is None          # not float("nan")
+    assert "h0 is undefined" in err and "h0 is undefined" in s["warnings"][0]
