@@ -32,7 +32,8 @@ def area_parameters(hm, level_degree=1):
     Sv = -min z, Sz = Sp + Sv (over the whole map). Gradients: on each grid cell whose four
     corners are measured, dz/dx and dz/dy are the means of the cell's two edge differences;
     Sdq = <|grad z|^2>^(1/2), Sdr = <sqrt(1 + |grad z|^2)> - 1 (developed interfacial area
-    ratio, as a fraction).
+    ratio, as a fraction). Sdq and Sdr are None (undefined, not NaN) when no grid cell has its
+    four corners measured (e.g. every other row missing).
 
     Returns
     -------
@@ -48,8 +49,8 @@ def area_parameters(hm, level_degree=1):
     gy = 0.5 * (d_y[:, :-1] + d_y[:, 1:])
     g2 = gx**2 + gy**2
     g2 = g2[np.isfinite(g2)]
-    sdq = float(np.sqrt(np.mean(g2))) if g2.size else float("nan")
-    sdr = float(np.mean(np.sqrt(1.0 + g2)) - 1.0) if g2.size else float("nan")
+    sdq = float(np.sqrt(np.mean(g2))) if g2.size else None
+    sdr = float(np.mean(np.sqrt(1.0 + g2)) - 1.0) if g2.size else None
     return {"Sa_m": m["a"], "Sq_m": m["q"], "Ssk": m["sk"], "Sku": m["ku"], "Sp_m": m["p"],
             "Sv_m": m["v"], "Sz_m": m["p"] + m["v"], "Sdq": sdq, "Sdr": sdr}
 
@@ -57,7 +58,8 @@ def area_parameters(hm, level_degree=1):
 def profile_parameters(profile, level_degree=1):
     """ISO 4287-style parameters of a profile's levelled, measured heights (no filtering:
     over the whole evaluation length). Ra, Rq, Rsk, Rku, Rp, Rv, Rt = Rp + Rv and
-    Rdq = rms slope (finite differences between measured neighbours).
+    Rdq = rms slope (finite differences between measured neighbours; None, undefined, when no
+    two neighbours are measured).
 
     Returns
     -------
@@ -71,7 +73,7 @@ def profile_parameters(profile, level_degree=1):
     s = s[np.isfinite(s)]
     return {"Ra_m": m["a"], "Rq_m": m["q"], "Rsk": m["sk"], "Rku": m["ku"], "Rp_m": m["p"],
             "Rv_m": m["v"], "Rt_m": m["p"] + m["v"],
-            "Rdq": float(np.sqrt(np.mean(s**2))) if s.size else float("nan")}
+            "Rdq": float(np.sqrt(np.mean(s**2))) if s.size else None}
 
 
 # --------------------------------------------------------------------------- ISO 13473-1

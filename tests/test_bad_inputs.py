@@ -303,3 +303,25 @@ def test_real_master_curve_runs_without_numpy_warnings(capsys, tmp_path, flash):
     rc, err = _run(capsys, ["friction", "--psd", psd, "--rubber", rub, "--temperature", "20",
                             "--out", tmp_path / "mu.csv", *(["--flash"] if flash else [])])
     assert rc == 0 and "warning" not in err, err
+
+
+def test_undefined_slopes_are_null_with_a_warning(monkeypatch, capsys, tmp_path):
+    """Fuzz finding: with every other row unmeasured no grid cell has four measured corners, so
+    Sdq and Sdr are undefined; they were NaN written as null without a word. Now None on
+    purpose, with one warning line that also lands in summary.json."""
+    from pipelines import report
+
+    written = []
+    orig = report.write_json
+    monkeypatch.setattr(report, "write_json", lambda path, data: (written.append(data), orig(path, data))[1])
+    g = fourier_surface(64, 5e-5, 0.8, 3e-4, seed=1)
+    g[::2] = np.nan
+    p = tmp_path / "rows.npy"
+    np.save(p, g)
+    rc, err = _run(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--no-friction"])
+    assert rc == 0, err
+    s = written[-1]
+    assert s["roughness"]["Sdq"] is None and s["roughness"]["Sdr"] is None
+    assert np.isfinite(s["roughness"]["Sq_m"])
+    assert any("Sdq, Sdr undefined" in w for w in s["warnings"])
+    assert "Sdq, Sdr undefined" in err
