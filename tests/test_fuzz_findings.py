@@ -1,0 +1,70 @@
+"""Regression tests for what the fuzz suite (tests/test_fuzz.py, benchmarks/fuzz_long.py) found,
+each the smallest case of its class (issue 14)."""
+import signal
+
+import numpy as np
+import pytest
+
+from conftest import fourier_surface
+from pipelines.cli import main
+from roadscan.errors import InputError
+
+
+@pytest.fixture
+def no_hang():
+    """Fail (instead of hanging the suite) if a call takes over 20 s."""
+    def boom(signum, frame):
+        raise TimeoutError("hung")
+
+    old = signal.signal(signal.SIGALRM, boom)
+    signal.alarm(20)
+    yield
+    signal.alarm(0)
+    signal.signal(signal.SIGALRM, old)
+
+
+def _gwy_bytes(tmp_path):
+    from gwyfile.objects import GwyContainer, GwyDataField
+
+    c = GwyContainer()
+    c["/0/data"] = GwyDataField(np.arange(12.0).reshape(3, 4) * 1e-6, xreal=4e-4, yreal=3e-4,
+                                si_unit_xy="m", si_unit_z="m")
+    c["/0/data/title"] = "Height"
+    p = tmp_path / "ok.gwy"
+    c.tofile(str(p))
+    return p.read_bytes()
+
+
+@pytest.mark.parametrize("cut", ["flip_last", "truncate", "huge_size", "nested_size"])
+def test_corrupt_gwy_refused_not_hanging(tmp_path, no_hang, cut):
+    """gwyfile loops forever on a string whose NUL terminator is lost (a .gwy with its last
+    byte flipped hung the reader); the serialisation is now checked first."""
+    from roadscan.io import read
+
+    data = bytearray(_gwy_bytes(tmp_path))
+    if cut == "flip_last":
+        data[-1] ^= 1
+    elif cut == "truncate":
+        data = data[: len(data) - 9]
+    elif cut == "huge_size":      # the top object's size field (after "GWYP" + "GwyContainer\0")
+        i = data.index(b"\0", 4) + 1
+        data[i:i + 4] = (2**31).to_bytes(4, "little")
+    else:                         # the data field's size field
+        i = data.index(b"GwyDataField\0") + len(b"GwyDataField\0")
+        data[i:i + 4] = (len(data)).to_bytes(4, "little")
+    p = tmp_path / "bad.gwy"
+    p.write_bytes(bytes(data))
+    with pytest.raises(InputError, match="bad.gwy: corrupt Gwyddion file"):
+        read(p, spacing=1e-4)
+
+
+def test_valid_gwy_passes_the_structure_check(tmp_path):
+    from roadscan.io import read
+    from roadscan.io.gwy import check_gwy_structure
+
+    p = tmp_path / "ok.gwy"
+    p.write_bytes(_gwy_bytes(tmp_path))
+    check_gwy_structure(p)
+    hm = read(p)
+    assert hm.shape == (3, 4) and hm.dx_m == pytest.approx(1e-4)
+    assert np.array_equal(hm.heights_m, np.arange(12.0).reshape(3, 4) * 1e-6)
