@@ -68,3 +68,25 @@ def test_valid_gwy_passes_the_structure_check(tmp_path):
     hm = read(p)
     assert hm.shape == (3, 4) and hm.dx_m == pytest.approx(1e-4)
     assert np.array_equal(hm.heights_m, np.arange(12.0).reshape(3, 4) * 1e-6)
+
+
+def _one_line_refusal(capsys, argv, *needles):
+    capsys.readouterr()
+    rc = main([str(a) for a in argv])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and "error:" in err[0], err
+    for n in needles:
+        assert n in err[0], (n, err[0])
+
+
+@pytest.mark.parametrize("extra, needles", [
+    (["--rms", "1e300"], ["--rms 1e+300 m"]),          # was OverflowError through the last resort
+    (["--rms", "1e-300"], ["--rms 1e-300 m"]),         # wrote a grid of zeros, exit 0
+    (["--spacing", "1e300"], ["--spacing 1e+300 m"]),  # was accepted
+    (["--seed", "-1"], ["--seed -1"]),                 # numpy's "expected non-negative integer"
+    (["--nx", "4000", "--max-pixels", "1000000"], ["--nx/--ny", "4000 x 4000", "--max-pixels"]),
+])
+def test_synth_numbers_checked(capsys, tmp_path, extra, needles):
+    out = tmp_path / "s.npy"
+    _one_line_refusal(capsys, ["synth", "--nx", "32", "--out", out, *extra], *needles)
+    assert list(tmp_path.iterdir()) == []
