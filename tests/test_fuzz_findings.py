@@ -90,3 +90,14 @@ def test_synth_numbers_checked(capsys, tmp_path, extra, needles):
     out = tmp_path / "s.npy"
     _one_line_refusal(capsys, ["synth", "--nx", "32", "--out", out, *extra], *needles)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_stitch_negative_max_shift_refused(capsys, tmp_path):
+    """--max-shift -1 reached numpy as a broadcast ValueError (the CLI's last resort)."""
+    wide = fourier_surface(96, 5e-5, 0.8, 3e-4, seed=3)[:40]
+    np.save(tmp_path / "a.npy", wide[:, :56])
+    np.save(tmp_path / "b.npy", wide[:, 40:])
+    _one_line_refusal(capsys, ["stitch", tmp_path / "a.npy", tmp_path / "b.npy", "--grid", "1x2",
+                               "--overlap", "0.286", "--spacing", "5e-5", "--max-shift", "-1",
+                               "--out", tmp_path / "st.npy"], "--max-shift -1")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a.npy", "b.npy"]

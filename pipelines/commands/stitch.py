@@ -98,6 +98,8 @@ def run(args):
     out = Path(args.out)
     if not out.suffix:
         out = out.with_suffix(".x3p")
+    if args.max_shift < 0:
+        raise InputError(None, f"--max-shift {args.max_shift}: must be 0 or more samples")
     tiles, positions = _tiles_and_positions(args)
     if len(tiles) < 2:
         raise InputError(args.inputs[0], "need at least two tiles to stitch")
