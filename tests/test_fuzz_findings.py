@@ -54,7 +54,7 @@ def test_corrupt_gwy_refused_not_hanging(tmp_path, no_hang, cut):
         data[i:i + 4] = (len(data)).to_bytes(4, "little")
     p = tmp_path / "bad.gwy"
     p.write_bytes(bytes(data))
-    with pytest.raises(InputError, match="bad.gwy: corrupt Gwyddion file"):
+    with pytest.raises(InputError, match=r"bad.gwy: not a readable Gwyddion file \(corrupt: "):
         read(p, spacing=1e-4)
 
 

@@ -38,7 +38,7 @@ _MAX_DEPTH = 64
 
 
 def _corrupt(path, what):
-    return InputError(path, f"corrupt Gwyddion file ({what})")
+    return InputError(path, f"not a readable Gwyddion file (corrupt: {what})")
 
 
 def _cstring_end(buf, pos, stop, path, what):
@@ -100,7 +100,7 @@ def check_gwy_structure(path):
     with open(path, "rb") as fh:
         buf = fh.read()
     if buf[:4] != b"GWYP":
-        raise InputError(path, "not a Gwyddion file (no GWYP header)")
+        raise InputError(path, "not a readable Gwyddion file (no GWYP header)")
     _check_object(buf, 4, len(buf), path)
 
 
