@@ -79,13 +79,30 @@ def test_real_file_matches_expected(name, maps, expected):
             assert abs(h[row, col] - value) <= 1e-6 * span, (row, col, h[row, col], value)
 
 
-def test_orientation_is_not_transposed_by_accident(maps, expected):
-    """The square-pixel files are not square: a transposed read would fail the shape, and a
-    flipped one the samples; check the samples tell the axes apart (row 0 vs last row)."""
-    e = expected["plu-1.plu"]
-    first = [s for s in e["samples"] if s[0] == 0]
-    last = [s for s in e["samples"] if s[0] == e["shape"][0] - 1 or s[0] == max(x[0] for x in e["samples"])]
-    assert first and last and first[0][2] != last[0][2]
+def test_orientation_agrees_with_an_independent_array(tmp_path):
+    """SurfaceTopography indexes heights [x, y]; roadscan [y, x]. A non-square masked array
+    written by SurfaceTopography as NetCDF (read through it) and as X3P (read by roadscan's own
+    x3pio reader, despite the checksum SurfaceTopography's writer puts in the wrong place) comes
+    back as its transpose, in metres, with the masked point unmeasured."""
+    _need_vendor()
+    from SurfaceTopography import Topography
+
+    a = np.random.default_rng(0).normal(size=(7, 5))          # [x, y]: nx = 7, ny = 5
+    am = np.ma.masked_array(a, mask=np.zeros(a.shape, bool))
+    am.mask[2, 3] = True
+    t = Topography(am, physical_sizes=(7 * 0.5, 5 * 0.25), unit="nm",
+                   info={"instrument": {"name": "Foo", "vendor": "Bar"}})
+    want = np.where(am.mask, np.nan, a).T * 1e-9
+    t.to_netcdf(str(tmp_path / "s.nc"))
+    t.to_x3p(str(tmp_path / "s.x3p"))
+    for name in ("s.nc", "s.x3p"):
+        m = read(tmp_path / name)
+        assert m.shape == (5, 7) and m.unmeasured[3, 2] and m.unmeasured.sum() == 1
+        np.testing.assert_allclose(m.heights_m, want, rtol=1e-12, atol=0)
+        assert (m.dx_m, m.dy_m) == pytest.approx((0.5e-9, 0.25e-9), rel=1e-12)
+    nc = read(tmp_path / "s.nc").meta["instrument"]
+    assert (nc["name"], nc["vendor"], nc["units"]) == ("Foo", "Bar", "nm")
+    assert "checksum_note" in read(tmp_path / "s.x3p").meta
 
 
 def test_metadata_of_real_files(maps):
@@ -311,3 +328,56 @@ def test_instrument_block_units_and_json():
                  "tip_radius_m": pytest.approx(2e-8), "units": "nm", "undefined_points": 3,
                  "reader": "R", "channel": "c"}
     json.dumps(b)
+
+
+def _plane_rms(m):
+    """rms of the defined heights about their least-squares plane (independent of roadscan)."""
+    yy, xx = np.nonzero(~m.unmeasured)
+    a = np.column_stack([np.ones(xx.size), xx * m.dx_m, yy * m.dy_m])
+    z = m.heights_m[yy, xx]
+    coef, *_ = np.linalg.lstsq(a, z, rcond=None)
+    r = z - a @ coef
+    return float(np.sqrt(np.mean(r ** 2)))
+
+
+@pytest.mark.parametrize("name", FILES)
+def test_analyse_end_to_end(name, formats_dir, maps, tmp_path, capsys):
+    """``roadscan analyse`` on each real file: H, rms, PSD, report; the rms in summary.json is
+    the file's levelled rms, the instrument block reaches summary.json and the report header."""
+    from pipelines.cli import main
+
+    out = tmp_path / "out"
+    assert main(["analyse", str(formats_dir / name), "--no-friction", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    m = maps[name]
+    assert s["shape"] == list(m.shape) and s["spacing_m"] == [m.dx_m, m.dy_m]
+    assert s["rms_height_m"] == pytest.approx(_plane_rms(m), rel=1e-6)
+    assert np.isfinite(s["hurst"]) and s["filled_fraction"] == pytest.approx(m.unmeasured.mean())
+    assert s["instrument"] == m.meta["instrument"]
+    psd = np.loadtxt(out / "psd.csv", delimiter=",", skiprows=1)
+    assert psd.shape[0] > 10 and (psd[:, 0] > 0).all() and (psd[:, 1] > 0).all()
+    report = (out / "report.html").read_text()
+    assert "<b>Instrument</b>" in report and m.meta["instrument"]["reader"] in report
+    if "vendor" in m.meta["instrument"]:
+        assert m.meta["instrument"]["vendor"] in report
+
+
+def test_x3p_with_misplaced_checksum_but_damaged_data_is_refused(tmp_path):
+    """The tolerance above holds only while the point data match their own checksum."""
+    _need_vendor()
+    import zipfile
+
+    from SurfaceTopography import Topography
+
+    Topography(np.arange(35.0).reshape(7, 5), physical_sizes=(1.0, 1.0), unit="µm").to_x3p(
+        str(tmp_path / "a.x3p"))
+    with zipfile.ZipFile(tmp_path / "a.x3p") as src, \
+            zipfile.ZipFile(tmp_path / "b.x3p", "w") as dst:
+        for info in src.infolist():
+            data = src.read(info)
+            if info.filename == "bindata/data.bin":
+                data = data[:-8] + np.float64(1.0).tobytes()
+            dst.writestr(info, data)
+    assert read(tmp_path / "a.x3p").heights_m[0, 1] == pytest.approx(5e-6)   # a[x=1, y=0]
+    with pytest.raises(InputError, match=r"b\.x3p: not a readable X3P file \(X3pChecksumError"):
+        read(tmp_path / "b.x3p")

@@ -279,7 +279,9 @@ def read_vendor(path, spacing=None, units=None, formats=None):
         return _read_open(reader, path, version, sp, units)
     finally:
         try:
-            reader.close()
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")   # e.g. scipy's netcdf mmap note on close
+                reader.close()
         except Exception:  # noqa: BLE001
             pass
 
