@@ -80,6 +80,8 @@ def summarise(analysis, fr=None):
     }
     if "trim_note" in src.meta:
         out["trim_note"] = src.meta["trim_note"]
+    if isinstance(src.meta.get("instrument"), dict):   # what the reader found (JSON-safe)
+        out["instrument"] = src.meta["instrument"]
     if analysis.is_profile:
         out["psd_conversion"] = analysis.spectrum.meta.get("conversion")
     if analysis.anisotropy is not None:
@@ -254,4 +256,5 @@ def _write_report(out_dir, an, summary, figs):
                 ("Figures", [list(figs)])]
     if not figs:
         sections.pop()
-    report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections)
+    report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,
+                      intro=report.instrument_html(summary.get("instrument")))

@@ -249,6 +249,27 @@ img{max-width:100%;margin:.4em 0}.grid{display:flex;flex-wrap:wrap;gap:8px}
 .grid img{max-width:540px}p.note{color:#555;font-size:.9em}"""
 
 
+#: labels of the instrument block (``HeightMap.meta["instrument"]``) in a report's header
+_INSTRUMENT_LABELS = (
+    ("vendor", "vendor"), ("name", "instrument"), ("serial", "serial"), ("software", "software"),
+    ("acquired", "acquired"), ("objective", "objective"), ("magnification", "magnification"),
+    ("lateral_resolution_m", "lateral resolution [m]"), ("tip_radius_m", "tip radius [m]"),
+    ("format", "file format"), ("units", "file units"), ("undefined_points", "undefined points"),
+    ("channel", "channel"), ("reader", "read by"), ("comment", "comment"),
+)
+
+
+def instrument_html(block):
+    """One escaped line for a report's header from a scan's ``meta["instrument"]`` block
+    (instrument, date, objective, units, undefined points, reader); None when there is none."""
+    if not isinstance(block, dict) or not block:
+        return None
+    parts = [f"{label}: {block[key]:.4g}" if isinstance(block[key], float) else
+             f"{label}: {block[key]}" for key, label in _INSTRUMENT_LABELS
+             if block.get(key) not in (None, "")]
+    return "<b>Instrument</b> — " + html.escape(" · ".join(parts)) if parts else None
+
+
 def write_html(path, title, sections, intro=None):
     """Write a self-contained report.
 
