@@ -58,14 +58,26 @@ def parse_pressure(text, flag="--sigma0"):
 
 
 def parse_velocities(text):
-    """``"LO:HI:N"`` -> N log-spaced speeds [m/s] from LO to HI (InputError when malformed)."""
+    """``"LO:HI:N"`` -> N log-spaced speeds [m/s] from LO to HI; ``"V1,V2,..."`` -> those speeds
+    (a tabulated grid, e.g. another program's), sorted. InputError when malformed."""
     import numpy as np
 
+    if "," in text or ":" not in text:
+        try:
+            v = np.array([float(t) for t in text.split(",") if t.strip()])
+        except ValueError:
+            raise InputError(None, f"--velocities {text!r}: expected LO:HI:N (e.g. 1e-8:1e4:121) or "
+                                   "a list V1,V2,... [m/s]") from None
+        if v.size == 0 or not np.all(np.isfinite(v) & (v > 0)):
+            raise InputError(None, f"--velocities {text!r}: speeds must be positive numbers [m/s]")
+        v = np.unique(v)
+        return v
     try:
         lo, hi, n = text.split(":")
         lo, hi, n = float(lo), float(hi), int(n)
     except ValueError:
-        raise InputError(None, f"--velocities {text!r}: expected LO:HI:N, e.g. 1e-8:1e4:121") from None
+        raise InputError(None, f"--velocities {text!r}: expected LO:HI:N, e.g. 1e-8:1e4:121, "
+                               "or a list V1,V2,...") from None
     if not (0 < lo < hi < np.inf) or n < 2:
         raise InputError(None, f"--velocities {text!r}: need 0 < LO < HI and N >= 2")
     return np.logspace(np.log10(lo), np.log10(hi), n)
@@ -192,8 +204,9 @@ def add_friction_options(parser):
     g.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's reference temperature)")
     g.add_argument("--flash", action="store_true", help="include flash temperature")
-    g.add_argument("--velocities", default=None, metavar="LO:HI:N",
-                   help="log-spaced sliding speeds [m/s] (default 1e-8:1e4:121)")
+    g.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
+                   help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
+                        "(default 1e-8:1e4:121)")
     add_contact_options(g, q1_help="upper end of the friction integrals [1/m]; beyond the Nyquist "
                                    "wave vector the spectrum is extended by its self-affine fit")
     g.add_argument("--no-friction", action="store_true", help="skip mu(v)")

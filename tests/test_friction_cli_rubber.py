@@ -92,12 +92,16 @@ def test_cli_reproduces_direct_persson(route, rubber_files, tmp_path):
     rubber = (["--rubber", str(rubber_files / "rubber.toml")] if route == "toml" else
               ["--master-curve", str(RUBBERS / "freq_user_master.csv"), "--shift-table",
                str(rubber_files / "aT.csv"), "--reference-temperature", "-5"])
+    # the flags route takes a tabulated speed list (another program's grid), the TOML route a range
+    speeds = "1e-8:1e4:7" if route == "toml" else "3.7e-7,1e-8,2.2e-3,0.05,1.3,47,1e4"
     rc = main(["friction", "--psd", str(PSD), *rubber, "--temperature", str(T0), "--q0", str(q0),
                "--q1", str(q1), "--nu", str(nu), "--sigma0", "0.3MPa", "--contact-gamma", str(gamma),
-               "--velocities", "1e-8:1e4:7", "--out", str(out)])
+               "--velocities", speeds, "--out", str(out)])
     assert rc == 0
     head, d = _read(out)
-    assert head[:3] == ["v_m_per_s", "mu", "area_fraction"]
+    assert head[:3] == ["v_m_per_s", "mu", "area_fraction"] and d.shape[0] == 7
+    if route == "flags":
+        np.testing.assert_allclose(d[:, 0], [1e-8, 3.7e-7, 2.2e-3, 0.05, 1.3, 47, 1e4], rtol=1e-9)
     psd = _table(PSD)
     mc = _table(RUBBERS / "freq_user_master.csv", skip_units=True)
     sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)[::-1]
@@ -411,3 +415,16 @@ def test_diagnose_master_curve_flags_band_and_coverage(tmp_path, capsys):
     assert main(["diagnose", "--measured", str(tmp_path / "mu.csv"), "--psd", str(PSD), "--nu", "0.7",
                  "--out", str(tmp_path / "e")]) == 2
     assert "--nu" in capsys.readouterr().err
+
+
+def test_master_curve_log_columns_and_aliases(tmp_path):
+    """Master curves tabulated as decimal logs (log10 omega, log10 E) or with ReE/ImE headers."""
+    from pipelines.rubber_file import read_master_curve_csv
+
+    (tmp_path / "a.csv").write_text("log10_omega_rad_s,log10_E_stor_Pa,log10(E_loss) [Pa]\n0,6,5\n1,6.5,5.5\n2,7,6\n")
+    f, E1, E2 = read_master_curve_csv(tmp_path / "a.csv")
+    np.testing.assert_allclose(f, np.array([1, 10, 100]) / (2 * np.pi))
+    np.testing.assert_allclose(E1, [1e6, 10 ** 6.5, 1e7]) and np.testing.assert_allclose(E2, [1e5, 10 ** 5.5, 1e6])
+    (tmp_path / "b.csv").write_text("log f,ReE,ImE\nHz,MPa,MPa\n0,1,0.1\n1,2,0.2\n")
+    f, E1, E2 = read_master_curve_csv(tmp_path / "b.csv")
+    np.testing.assert_allclose(f, [1, 10]) and np.testing.assert_allclose(E2, [1e5, 2e5])

@@ -35,8 +35,9 @@ def add_arguments(p):
     p.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's T_ref)")
     p.add_argument("--flash", action="store_true", help="flash-temperature model (Persson 2006)")
-    p.add_argument("--velocities", default=None, metavar="LO:HI:N",
-                   help="N log-spaced sliding speeds [m/s] (default 1e-8:1e4:121)")
+    p.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
+                   help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
+                        "(e.g. another program's table; default 1e-8:1e4:121)")
     add_contact_options(p)
     p.add_argument("--magnifications", default="", metavar="Z1,Z2,...",
                    help="with --flash: also report T at these magnifications zeta = q/q0")
