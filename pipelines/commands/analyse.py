@@ -16,6 +16,9 @@ HELP = "PSD, self-affine fit, roughness figures and friction mu(v) of height fil
 def add_arguments(p):
     p.add_argument("files", nargs="+", metavar="FILE", help="height files (area scans or line profiles)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--no-figures", action="store_true",
+                   help="skip the PNG figures (every CSV/JSON output is the same; report.html "
+                        "keeps its tables)")
     add_analysis_options(p)
 
 
@@ -95,7 +98,8 @@ def _analyse_all(args, scans, out, final, many, settings, kw):
         if many:
             print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
         try:
-            summary = run_analysis(scan, out / sub if many else out, settings, **kw)
+            summary = run_analysis(scan, out / sub if many else out, settings,
+                                   figures=not getattr(args, "no_figures", False), **kw)
         except ValueError as exc:
             raise InputError(path, str(exc)) from None
         rows.append((sub, summary))
