@@ -185,6 +185,11 @@ def plot_psd(curves, path, title="power spectral density", fits=()):
     ax.set_xlabel("wave vector q [1/m]")
     ax.set_ylabel("C(q) [m⁴]")
     plain_log_ticks(ax)
+    lo, hi = ax.get_ylim()
+    if lo > 0 and hi / lo > 1e5:    # many decades: minor ticks and lines only on the q axis
+        from matplotlib.ticker import NullLocator
+
+        ax.yaxis.set_minor_locator(NullLocator())
     set_title(ax, title)
     ax.grid(which="both", alpha=0.25)
     ax.legend(fontsize=8, loc="best")

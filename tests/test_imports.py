@@ -48,6 +48,22 @@ def test_package_imports_stay_light(code):
     assert not _heavy(mods), f"{code!r} imported {_heavy(mods)}"
 
 
+#: modules whose purpose is what they import: friction.fitting fits Prony series and WLF
+#: constants with scipy.optimize (imported only by ``roadscan rubber`` and the fitting API)
+OPTIMIZE_BY_DESIGN = {"friction.fitting"}
+
+
+def test_every_module_of_both_packages_stays_light():
+    # all of roadscan and friction at once, submodules included (stitch, rain, io readers, ...)
+    code = ("import importlib, pkgutil, roadscan, friction\n"
+            "for pkg in (roadscan, friction):\n"
+            "    for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + '.'):\n"
+            f"        if m.name not in {sorted(OPTIMIZE_BY_DESIGN)!r}:\n"
+            "            importlib.import_module(m.name)\n")
+    mods = _loaded_after(code)
+    assert not _heavy(mods), f"importing every module imported {_heavy(mods)}"
+
+
 def test_lazy_names_resolve():
     import friction
     import roadscan
