@@ -219,13 +219,12 @@ def _plot_psd2d(spec2d, path, name, zoom=4):
 
     qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
     qlim = min(np.abs(qx).max(), np.abs(qy).max()) / zoom
-    ix, iy = np.abs(qx) <= qlim, np.abs(qy) <= qlim
-    C = np.asarray(spec2d.C_m4)[np.ix_(iy, ix)]
+    qxs, qys, C = spec2d.central(qlim)          # only this part of the map is built
     pos = C[C > 0]
     lo = np.percentile(pos, 2) if pos.size else 1e-30
     fig, ax = plt.subplots(figsize=report.FIGSIZE)
     im = ax.imshow(np.log10(np.maximum(C, lo)), origin="lower", cmap="magma",
-                   extent=(qx[ix][0], qx[ix][-1], qy[iy][0], qy[iy][-1]), aspect="equal")
+                   extent=(qxs[0], qxs[-1], qys[0], qys[-1]), aspect="equal")
     ax.set_xlabel("wave vector qx [1/m]")
     ax.set_ylabel("wave vector qy [1/m]")
     report.set_title(ax, f"{name}: 2D PSD, |q| < {qlim:.3g} 1/m (anisotropy)")

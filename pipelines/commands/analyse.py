@@ -105,7 +105,7 @@ def _analyse_all(args, scans, out, final, many, settings, kw):
         rows.append((sub, summary))
         if not many:
             print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
-                  f"rms height = {summary['rms_height_m'] * 1e6:.1f} um -> {final / 'report.html'}")
+                  f"rms height = {summary['rms_height_m'] * 1e6:.3g} um -> {final / 'report.html'}")
     if many:
         header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak"]
         table = [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],
