@@ -98,6 +98,9 @@ def run(args):
 
     if not (np.isfinite(args.prony_per_decade) and 0.2 <= args.prony_per_decade <= 5):
         raise InputError(None, "--prony-per-decade must lie in [0.2, 5]")
+    out = Path(args.out)
+    if out.suffix.lower() != ".toml":
+        raise InputError(out, "--out must name a .toml file")
     f, E1, E2, T, sid = read_dma_sweeps_csv(args.raw)
     try:
         with np.errstate(all="ignore"):
@@ -105,9 +108,6 @@ def run(args):
                                prony_per_decade=args.prony_per_decade)
     except ValueError as exc:
         raise InputError(args.raw, str(exc)) from None
-    out = Path(args.out)
-    if out.suffix.lower() != ".toml":
-        raise InputError(out, "--out must name a .toml file")
     out.parent.mkdir(parents=True, exist_ok=True)
     stem = out.stem
     mc_name, sh_name = f"{stem}_master.csv", f"{stem}_shift.csv"
@@ -150,6 +150,9 @@ def run(args):
     print(f"{out}: master curve at {res.T_ref_C:g} C from {len(res.T_sweep_C)} sweeps, "
           f"{m.f_Hz[0]:.3g}..{m.f_Hz[-1]:.3g} Hz; WLF C1 {w.C1:.4g}, C2 {w.C2_K:.4g} K, "
           f"rms {res.wlf_rms_decades:.2f} decades; Prony {p.E_i_Pa.size} terms")
+    if res.wlf_rms_decades > 0.5:
+        print(f"note: WLF describes this shift table poorly (rms {res.wlf_rms_decades:.2f} decades, max "
+              f"{res.wlf_max_decades:.2f}); runs use the table itself, not the WLF fit", file=sys.stderr)
     if trend:
         print(f"note: {trend} sweep(s) too flat to shift by overlap (plateau); their shift continues "
               f"the trend of their neighbours (see {stem}_master.json)", file=sys.stderr)

@@ -4,9 +4,10 @@ The first data channel (lowest channel number, ``/N/data``) is read; its title i
 ``meta``. Spacing = ``xreal / xres`` and ``yreal / yres`` in the lateral unit of the field
 (``si_unit_xy``, normally "m"), heights in ``si_unit_z`` (normally "m"); a field without a
 height unit uses ``units`` (default m), one without a lateral unit needs ``spacing``.
-NaN heights are unmeasured. Gwyddion marks invalid points of imported data with a mask
-(``/N/mask``), but masks are also used for grains and other selections, so the mask is not
-applied: its covered fraction is reported in ``meta["gwy_mask_fraction"]``.
+NaN heights are unmeasured, and so are the points of the channel's mask (``/N/mask`` > 0.5):
+Gwyddion's importers mark an instrument's invalid points with that mask, and SurfaceTopography
+reads it the same way. A mask drawn by hand for grains or a selection is thus also taken as
+unmeasured; its covered fraction is reported in ``meta["gwy_mask_fraction"]``.
 """
 from __future__ import annotations
 
@@ -146,9 +147,14 @@ def read_gwy(path, spacing=None, units=None):
     mask = obj.get(f"/{ch}/mask")
     if mask is not None:
         try:
-            meta["gwy_mask_fraction"] = float(np.mean(np.asarray(mask.data) > 0.5))
+            masked = np.asarray(mask.data, dtype=np.float64) > 0.5
         except Exception:  # noqa: BLE001
-            pass
+            raise InputError(path, f"channel {ch} has an unreadable mask") from None
+        if masked.shape != z.shape:
+            raise InputError(path, f"channel {ch}'s mask is {masked.shape[1]} x "
+                             f"{masked.shape[0]}, its data {z.shape[1]} x {z.shape[0]}")
+        meta["gwy_mask_fraction"] = float(np.mean(masked))
+        z = np.where(masked, np.nan, z)
     sp = resolve_spacing(spacing, path)
     if sp is None:
         xyu = _unit(field, "si_unit_xy")
