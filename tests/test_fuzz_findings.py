@@ -101,3 +101,47 @@ def test_stitch_negative_max_shift_refused(capsys, tmp_path):
                                "--overlap", "0.286", "--spacing", "5e-5", "--max-shift", "-1",
                                "--out", tmp_path / "st.npy"], "--max-shift -1")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.npy", "b.npy"]
+
+
+def test_atomic_file_set_all_or_none(tmp_path):
+    """The sibling-file sets (friction's mu.csv + summary + plot, stitch's map + overlaps,
+    rubber master's TOML + data) appear together or not at all."""
+    from roadscan.io.atomic import atomic_file_set
+
+    target = tmp_path / "new" / "deeper" / "mu.csv"
+    with pytest.raises(RuntimeError):
+        with atomic_file_set(target) as d:
+            (d / "mu.csv").write_text("1\n")
+            raise RuntimeError("plot failed")
+    assert list(tmp_path.iterdir()) == []               # created folders removed too
+    (tmp_path / "keep.txt").write_text("other\n")
+    (tmp_path / "mu.csv").write_text("old\n")
+    with atomic_file_set(tmp_path / "mu.csv") as d:
+        (d / "mu.csv").write_text("new\n")
+        (d / "mu.png").write_bytes(b"png")
+        assert sorted(p.name for p in tmp_path.iterdir() if not p.name.startswith(".")) == ["keep.txt", "mu.csv"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["keep.txt", "mu.csv", "mu.png"]
+    assert (tmp_path / "mu.csv").read_text() == "new\n"
+    (tmp_path / "box").mkdir()
+    with pytest.raises(InputError, match="is a folder"):
+        with atomic_file_set(tmp_path / "box"):
+            pass
+    with pytest.raises(InputError, match="below the file"):
+        with atomic_file_set(tmp_path / "keep.txt" / "mu.csv"):
+            pass
+
+
+def test_friction_failure_after_first_file_leaves_nothing(monkeypatch, capsys, tmp_path):
+    """Fuzz finding: friction wrote mu.csv and mu_summary.json, then failed drawing the plot and
+    left them behind (exit 1 with a partial set)."""
+    from conftest import ROOT
+    from pipelines import report
+
+    def broken(*a, **k):
+        raise RuntimeError("plot failed")
+
+    monkeypatch.setattr(report, "plot_mu", broken)
+    rc = main(["friction", "--psd", str(ROOT / "sample_scans" / "asphalt_psd.csv"), "--velocities", "1e-3:1:3",
+               "--out", str(tmp_path / "sub" / "mu.csv")])
+    assert rc == 1 and "internal error" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
