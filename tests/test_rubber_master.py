@@ -67,6 +67,37 @@ def test_shift_factors_within_03_decade(synthetic_run):
     assert np.max(np.abs(err)) < 0.3, np.round(err, 2)
 
 
+def _sampled_sweeps(seed):
+    """The synthetic_run sweeps as arrays (same recipe, another noise seed)."""
+    mc, sh = _published()
+    rng = np.random.default_rng(seed)
+    fr = np.logspace(-1, 2, 10)
+    cols = [[], [], [], [], []]
+    for i, (T, la) in enumerate(sh):
+        cols[0] += list(fr)
+        cols[1] += list(_interp_loglog(fr * 10 ** la, mc, 1) * 1e6 * (1 + 0.003 * rng.standard_normal(fr.size)))
+        cols[2] += list(_interp_loglog(fr * 10 ** la, mc, 2) * 1e6 * (1 + 0.01 * rng.standard_normal(fr.size)))
+        cols[3] += list(T + 0.2 * rng.standard_normal(fr.size))
+        cols[4] += [i] * fr.size
+    return [np.array(c) for c in cols], sh
+
+
+def test_shift_accuracy_over_noise_seeds():
+    """Not one lucky seed: over 6 noise seeds, the sweeps placed by overlap agree with pyvisco's
+    shifts within 0.2 decade (measured <= 0.19); all sweeps, the plateau ones continued by the trend
+    of their neighbours included, within 0.4 (measured 0.23-0.36: 0.3 is met by about 6 seeds in 10)."""
+    from friction.mastercurve import build_master
+
+    for seed in range(6):
+        (f, e1, e2, T, sid), sh = _sampled_sweeps(seed)
+        r = build_master(f, e1, e2, T, -5.0, sid)
+        err = np.abs(r.log10_aT - sh[:, 1])
+        placed = np.array([i["method"] in ("overlap", "reference") and i["sigma_decades"] < 0.3
+                           for i in r.sweep_info])
+        assert placed.sum() >= 10
+        assert err[placed].max() < 0.2 and err.max() < 0.4, (seed, np.round(err, 2))
+
+
 def test_master_curve_within_10_percent(synthetic_run):
     mc, _ = _published()
     r = load_rubber(synthetic_run / "syn.toml")                            # loadable by --rubber
