@@ -94,12 +94,18 @@ def display_image(data, points=DISPLAY_POINTS):
     k = max(1, max(data.shape) // int(points))
     if k == 1 or data.ndim != 2:
         return data
-    ok = np.isfinite(data)
-    rows, cols = np.arange(0, data.shape[0], k), np.arange(0, data.shape[1], k)
-    total = np.add.reduceat(np.add.reduceat(np.where(ok, data, 0.0), rows, axis=0), cols, axis=1)
-    count = np.add.reduceat(np.add.reduceat(ok.astype(np.int32), rows, axis=0), cols, axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    cols = np.arange(0, data.shape[1], k)
+    step = k * max(1, (1 << 22) // (8 * data.shape[1] * k))  # whole blocks, about 4 MiB a band:
+    parts = []                                             # the memory used is a band's (issue 14)
+    for r in range(0, data.shape[0], step):
+        band = data[r:r + step]
+        ok = np.isfinite(band)
+        rows = np.arange(0, band.shape[0], k)
+        total = np.add.reduceat(np.add.reduceat(np.where(ok, band, 0.0), rows, axis=0), cols, axis=1)
+        count = np.add.reduceat(np.add.reduceat(ok.astype(np.int32), rows, axis=0), cols, axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            parts.append(np.where(count > 0, total / np.maximum(count, 1), np.nan))
+    return np.concatenate(parts, axis=0)
 
 
 def set_title(ax, text, width=58):
@@ -144,14 +150,16 @@ def plot_heightmap(hm, path, title=None, depth_m=None):
     import matplotlib
 
     fig, ax = plt.subplots(figsize=FIGSIZE)
-    data = hm.heights_m * 1e6 if depth_m is None else depth_m * 1e3
+    data, unit = (hm.heights_m, 1e6) if depth_m is None else (depth_m, 1e3)   # scaled when shown
     lx, ly = hm.size_m
     cmap = matplotlib.colormaps["viridis" if depth_m is None else "Blues"].with_extremes(bad="0.6")
-    finite = data[np.isfinite(data)]
-    vmin, vmax = (np.percentile(finite, [0.5, 99.5]) if finite.size else (0, 1))
+    finite = data[np.isfinite(data)]             # one copy of the measured points, sorted in place
+    vmin, vmax = (np.percentile(finite, [0.5, 99.5], overwrite_input=True) * unit
+                  if finite.size else (0, 1))
+    del finite
     if depth_m is not None:
         vmin = 0.0
-    shown = display_image(data)   # colour limits from every point, the picture from block means
+    shown = display_image(data) * unit   # colour limits from every point, the picture from block means
     im = ax.imshow(np.ma.masked_invalid(shown), origin="lower", extent=(0, lx * 1e3, 0, ly * 1e3),
                    cmap=cmap, vmin=vmin, vmax=max(vmax, vmin + 1e-12), interpolation="nearest")
     ax.set_xlabel("x [mm]")

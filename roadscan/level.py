@@ -45,13 +45,26 @@ class PolynomialForm:
 
     def __init__(self, C, U, V):
         self.C, self.U, self.V = C, U, V              # C[j, i]; U (nx, d+1); V (ny, d+1)
+        self.U = np.asfortranarray(U)                 # columns u^i contiguous
 
-    def rows(self, sl):
-        """The form on rows ``sl`` (a slice), shape (rows, nx) [m]."""
-        return (self.V[sl] @ self.C) @ self.U.T
+    def rows(self, sl, out=None, minus=None):
+        """The form on rows ``sl`` (a slice), shape (rows, nx) [m]; with ``minus`` (heights
+        of those rows) the difference ``minus - form`` instead, into ``out`` if given."""
+        # broadcasting, not a matmul with an inner dimension of d + 1: the BLAS call costs
+        # more than the arithmetic, and its threads fight the FFT's on a small machine
+        a = np.einsum("rj,ji->ri", self.V[sl], self.C)          # coefficient of u^i per row
+        if minus is None:
+            out = np.multiply(np.ones(self.U.shape[0]), a[:, :1], out=out)   # u^0 = 1
+            for i in range(1, a.shape[1]):
+                out += a[:, i, None] * self.U[:, i]
+            return out
+        out = np.subtract(minus, a[:, :1], out=out)
+        for i in range(1, a.shape[1]):
+            out -= a[:, i, None] * self.U[:, i]
+        return out
 
     def full(self):
-        return self.V @ self.C @ self.U.T
+        return self.rows(slice(None))
 
 
 def fit_polynomial(heights_m, unmeasured, degree=1):
@@ -79,16 +92,18 @@ def fit_polynomial(heights_m, unmeasured, degree=1):
     Vd = V[:, : degree + 1]
     S = np.zeros((2 * degree + 1, 2 * degree + 1))
     R = np.zeros((degree + 1, degree + 1))
-    # (grid @ narrow) first: a transposed narrow matrix on the left takes a slow matmul path
     for sl in row_chunks(ny, nx):
         b = bad[sl]
         if b.any():
             hz = np.where(b, 0.0, h[sl])
-            S += V[sl].T @ ((~b).astype(np.float64) @ U)     # S[j, i] = sum m v^j u^i
+            m = (~b).astype(np.float64)
+            mu = np.stack([m.dot(U[:, i]) for i in range(U.shape[1])], axis=1)
+            S += np.einsum("rj,ri->ji", V[sl], mu)             # S[j, i] = sum m v^j u^i
         else:
             hz = h[sl]
             S += np.outer(V[sl].sum(axis=0), U.sum(axis=0))
-        R += Vd[sl].T @ (hz @ Ud)                           # R[j, i] = sum m h v^j u^i
+        rs = np.stack([hz.dot(Ud[:, i]) for i in range(degree + 1)], axis=1)
+        R += np.einsum("rj,ri->ji", Vd[sl], rs)              # R[j, i] = sum m h v^j u^i
     terms = [(i, j) for i in range(degree + 1) for j in range(degree + 1)
              if i + j <= degree and (not one_d or j == 0)]
     G = np.array([[S[j + l, i + k] for (k, l) in terms] for (i, j) in terms])
@@ -157,7 +172,7 @@ def level(obj, degree=1):
     out = np.empty(h2.shape)
     consistent = True                                 # NaN exactly where unmeasured
     for sl in row_chunks(*h2.shape):
-        np.subtract(h2[sl], form.rows(sl), out=out[sl])
+        form.rows(sl, out=out[sl], minus=h2[sl])
         consistent = consistent and np.array_equal(np.isfinite(out[sl]), ~bad2[sl])
     out = out.reshape(h.shape)
     if not consistent:                                # e.g. an overflow: let the constructor mark it

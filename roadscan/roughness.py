@@ -51,7 +51,7 @@ def area_parameters(hm, level_degree=1):
     zmax, zmin = -np.inf, np.inf
     for sl in row_chunks(ny, nx):
         ext = slice(sl.start, min(sl.stop + 1, ny))        # one more row for the gradients
-        z = h[ext] - form.rows(ext) if form is not None else h[ext]
+        z = form.rows(ext, minus=h[ext]) if form is not None else h[ext]
         zb = z[: sl.stop - sl.start]
         zm = zb[~bad[sl]]
         if zm.size:

@@ -169,15 +169,20 @@ def _taper_ranges(w):
     return int(one[0]), int(one[-1]) + 1
 
 
+#: bands of rows of the FFT step (a map up to this size is transformed in one rfft2 call)
+_FFT_BAND_BYTES = 1 << 20
+
+
 def _half_psd(hm, window_alpha, fill_values=None):
     """|FFT2(w h)|^2 on the rfft2 half lattice (unscaled), the factor that makes it C [m^4]
     and <w^2>.
 
-    The heights are read band by band of rows (about 2 MiB each): a band is copied, its
+    The heights are read band by band of rows (about 1 MiB each): a band is copied, its
     unmeasured points set from ``fill_values`` (raster order) when given, multiplied by the
     window where the window is not 1 (its tapered margins; each point by its row's and its
     column's weight, which equals h w to float64 round-off) and transformed along x (rfft);
-    then one in-place complex FFT along y. The same transform as ``scipy.fft.rfft2`` (same
+    then one in-place complex FFT along y (a map of one band: ``rfft2`` of it). The same
+    transform as ``scipy.fft.rfft2`` (same
     pocketfft, same workers), without a windowed copy of the whole map: the work memory is
     the complex half spectrum plus a band, then |F|^2 (float64, half the heights' size).
     """
@@ -186,9 +191,10 @@ def _half_psd(hm, window_alpha, fill_values=None):
     wy, wx = _tukey(ny, float(window_alpha)), _tukey(nx, float(window_alpha))
     ry, rx = _taper_ranges(wy), _taper_ranges(wx)
     h, bad = hm.heights_m, hm.unmeasured
-    F = np.empty((ny, nx // 2 + 1), dtype=np.complex128)
+    bands = row_chunks(ny, nx, _FFT_BAND_BYTES)
+    F = np.empty((ny, nx // 2 + 1), dtype=np.complex128) if len(bands) > 1 else None
     k = 0
-    for sl in row_chunks(ny, nx):
+    for sl in bands:
         x = h[sl].copy()
         if fill_values is not None:
             b = bad[sl]
@@ -206,9 +212,13 @@ def _half_psd(hm, window_alpha, fill_values=None):
                 x[:, : rx[0]] *= wx[: rx[0]]
             if rx[1] < nx:
                 x[:, rx[1]:] *= wx[rx[1]:]
-        F[sl] = sfft.rfft(x, axis=1, workers=_WORKERS)
+        if F is None:                                  # one band: the map itself
+            F = sfft.rfft2(x, workers=_WORKERS)
+        else:
+            F[sl] = sfft.rfft(x, axis=1, workers=_WORKERS)
     del x
-    sfft.fft(F, axis=0, overwrite_x=True, workers=_WORKERS)      # in place
+    if len(bands) > 1:
+        sfft.fft(F, axis=0, overwrite_x=True, workers=_WORKERS)      # in place
     P = np.empty(F.shape)
     for sl in row_chunks(*F.shape):
         f = F[sl]
