@@ -1,49 +1,73 @@
-"""Benchmark of the whole spectrum step (level, window, FFT, angular average) on the thesis's
-grid, 1088 x 978 points, as a ratio to a bare floor run in the same process: numpy rfft2 of the
-raw heights plus a ring average by np.bincount (no levelling, no window, no 2D map).
-Goal: ratio <= 1.5. If SurfaceTopography is importable, also the ratio to its
-power_spectrum_from_area (goal: faster).
+"""Benchmark of the spectrum step, ``psd_area`` (window, FFT, |F|^2, angular average), against
+the same-FFT floor at 512^2, 1024^2, 2048^2 and 4096^2 (issue 13: at most 1.2x at every size).
 
-Run: .venv/bin/python benchmarks/bench_psd.py
+The floor is the least any implementation of this step can do with the same transform, run in
+the same process on the same levelled heights, interleaved with roadscan (best of N each):
+
+    F = scipy.fft.rfft2(h * W, workers=W_)          # the same pocketfft, threads and dtype
+    P = F.real**2 + F.imag**2
+    C_ring = np.bincount(RING, weights=P.ravel())   # RING: cached ring index of every point
+
+with the 2D window ``W`` and the ring index ``RING`` (int64, out-of-range points in a spare bin)
+computed once, outside the timing; it does not even weight the points whose mirror image the
+half lattice omits, so it is a strict lower bound. roadscan's ``psd_area`` returns the same
+angular average (checked here to 1e-10) plus the Spectrum2D (the half lattice; the full
+fftshifted map is built only when read).
+
+Also printed: ``level`` (plane fit and subtraction, a separate step) in milliseconds and as a
+fraction of the floor, and, if SurfaceTopography is importable, its
+``power_spectrum_from_area`` on the same heights (goal: slower than roadscan).
+
+Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_psd.py [--sizes 512,1024,2048,4096]
 """
+from __future__ import annotations
+
+import argparse
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
+import scipy.fft as sfft
 
-from roadscan.level import level
-from roadscan.spectrum import psd_area
-from roadscan.synth import self_affine_surface
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-NY, NX, A_M = 1088, 978, 55.4e-6
-REPEAT = 15
+from roadscan import spectrum as sp  # noqa: E402
+from roadscan.level import level  # noqa: E402
+from roadscan.synth import self_affine_surface  # noqa: E402
+
+A_M = 55.4e-6
+GOAL = 1.2
+REPEATS = {512: 40, 1024: 20, 2048: 9, 4096: 5}
 
 
-def floor_step(h, dx, dy, rings_per_decade=20):
-    ny, nx = h.shape
-    F = np.fft.rfft2(h)
-    P = (F.real**2 + F.imag**2) * (dx * dy) ** 2 / ((2 * np.pi) ** 2 * nx * dx * ny * dy)
-    qx = 2 * np.pi * np.fft.rfftfreq(nx, dx)
-    qy = 2 * np.pi * np.fft.fftfreq(ny, dy)
-    q = np.hypot(qx[None, :], qy[:, None])
+def make_floor(hm, window_alpha=0.25, rings_per_decade=20):
+    """The floor for this grid: window and ring index precomputed; returns a callable."""
+    ny, nx = hm.shape
+    dx, dy = hm.dx_m, hm.dy_m
+    W, w2 = sp.window_2d(ny, nx, window_alpha)
+    qx = 2 * np.pi * sfft.rfftfreq(nx, dx)
+    qy = 2 * np.pi * sfft.fftfreq(ny, dy)
     q_min, q_max = 2 * np.pi / max(nx * dx, ny * dy), np.pi / max(dx, dy)
-    n = int(np.ceil(rings_per_decade * np.log10(q_max / q_min)))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r = np.floor(np.log(q / q_min) / np.log(q_max / q_min) * n).astype(np.int64).ravel()
-    ok = (r >= 0) & (r < n)
-    cnt = np.bincount(r[ok], minlength=n)
-    csum = np.bincount(r[ok], weights=P.ravel()[ok], minlength=n)
-    keep = cnt > 0
-    return csum[keep] / cnt[keep]
+    edges = sp._ring_edges(q_min, q_max, rings_per_decade)
+    n = edges.size - 1
+    ring = sp._ring_index(np.hypot(qx[None, :], qy[:, None]).ravel(), q_min, q_max, n)
+    ring[ring < 0] = n                                  # the spare bin
+    scale = (dx * dy) ** 2 / ((2 * np.pi) ** 2 * nx * dx * ny * dy * w2)
+    h = hm.heights_m
+
+    def floor():
+        F = sfft.rfft2(h * W, workers=sp._WORKERS)
+        P = F.real**2 + F.imag**2
+        return np.bincount(ring, weights=P.ravel(), minlength=n + 1)[:n] * scale
+
+    return floor
 
 
-def ours(hm):
-    return psd_area(level(hm, 1))
-
-
-def best_times(fns, repeat=REPEAT):
-    """Run the candidates interleaved (so background load hits them alike); best and median."""
+def best_times(fns, repeat):
+    """Interleaved runs (background load hits every candidate alike): best and median [s]."""
     for fn in fns:
-        fn()                                        # warm up (plans, caches)
+        fn()                                            # warm up: FFT plans, ring caches
     times = [[] for _ in fns]
     for _ in range(repeat):
         for fn, ts in zip(fns, times):
@@ -53,25 +77,55 @@ def best_times(fns, repeat=REPEAT):
     return [(min(ts), float(np.median(ts))) for ts in times]
 
 
-def main():
-    hm = self_affine_surface(NX, NY, dx_m=A_M, hurst=0.86, rms_height_m=0.5e-3, seed=0)
-    h = hm.heights_m + 1e-4                          # an offset: ours levels it, the floor not
-    hm = hm.with_heights(h)
-    (t_floor, m_floor), (t_ours, m_ours) = best_times(
-        [lambda: floor_step(h, A_M, A_M), lambda: ours(hm)])
-    print(f"grid {NY} x {NX}; best of {REPEAT} (median in brackets)")
-    print(f"floor  numpy rfft2 + bincount ring average : {t_floor * 1e3:7.1f} ms ({m_floor * 1e3:.1f})")
-    print(f"roadscan level + psd_area (window, 2D map): {t_ours * 1e3:7.1f} ms ({m_ours * 1e3:.1f})")
-    print(f"ratio roadscan / floor = {t_ours / t_floor:.2f} (goal <= 1.5)")
+def check_same(hm):
+    """psd_area's angular average against the full-lattice one of psd_2d (independent path)."""
+    s, _ = sp.psd_area(hm)
+    a = sp.angular_average(sp.psd_2d(hm))
+    assert np.array_equal(s.count, a.count) and np.allclose(s.C_m4, a.C_m4, rtol=1e-10)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--sizes", default="512,1024,2048,4096")
+    args = ap.parse_args(argv)
+    sizes = [int(s) for s in args.sizes.split(",")]
+    print(f"psd_area against the same-FFT floor (scipy.fft workers={sp._WORKERS}, float64, "
+          "window and ring index cached); best of N interleaved, median in brackets")
+    print(f"{'size':>6} {'N':>3} {'floor ms':>16} {'psd_area ms':>16} {'ratio':>6} "
+          f"{'level ms':>14} {'level/floor':>11}")
+    rows = []
+    for n in sizes:
+        raw = self_affine_surface(n, dx_m=A_M, hurst=0.86, rms_height_m=0.5e-3, seed=0)
+        x = np.linspace(0.0, 1.0, n)
+        raw = raw.with_heights(raw.heights_m + 1e-4 + 2e-4 * x[None, :])   # offset and tilt
+        hm = level(raw)
+        if n <= 1024:
+            check_same(hm)
+        floor = make_floor(hm)
+        rep = REPEATS.get(n, 3)
+        (tf, mf), (tp, mp), (tl, ml) = best_times(
+            [floor, lambda: sp.psd_area(hm), lambda: level(raw)], rep)
+        ratio = tp / tf
+        rows.append((n, ratio, tl / tf))
+        print(f"{n:>6} {rep:>3} {tf * 1e3:8.1f} ({mf * 1e3:5.1f}) {tp * 1e3:8.1f} ({mp * 1e3:5.1f}) "
+              f"{ratio:6.2f} {tl * 1e3:6.1f} ({ml * 1e3:5.1f}) {tl / tf:11.2f}")
+    for n, ratio, lvl in rows:
+        print(f"RATIO | psd_area / same-FFT floor, {n}^2 | {ratio:.2f} | <= {GOAL} | "
+              f"{'PASS' if ratio <= GOAL else 'FAIL'} | level adds {lvl:.2f}x the floor")
     try:
         from SurfaceTopography import Topography
     except ImportError:
         print("SurfaceTopography not installed: no comparison with power_spectrum_from_area")
         return
-    topo = Topography(h, physical_sizes=(NY * A_M, NX * A_M))
-    (t_st, m_st), = best_times([lambda: topo.power_spectrum_from_area()])
-    print(f"SurfaceTopography power_spectrum_from_area : {t_st * 1e3:7.1f} ms ({m_st * 1e3:.1f})")
-    print(f"ratio roadscan / SurfaceTopography = {t_ours / t_st:.2f} (goal < 1)")
+    n = min(max(sizes), 2048)
+    hm = level(self_affine_surface(n, dx_m=A_M, hurst=0.86, rms_height_m=0.5e-3, seed=0))
+    topo = Topography(hm.heights_m, physical_sizes=(n * A_M, n * A_M))
+    (tp, _), (ts, _) = best_times([lambda: sp.psd_area(hm), lambda: topo.power_spectrum_from_area()],
+                                  REPEATS.get(n, 3))
+    print(f"SurfaceTopography power_spectrum_from_area at {n}^2: {ts * 1e3:.1f} ms, roadscan "
+          f"{tp * 1e3:.1f} ms")
+    print(f"RATIO | psd_area / SurfaceTopography, {n}^2 | {tp / ts:.2f} | < 1 | "
+          f"{'PASS' if tp < ts else 'FAIL'} | power_spectrum_from_area on the same heights")
 
 
 if __name__ == "__main__":

@@ -73,6 +73,74 @@ def q_grid(breakpoints_per_m, nodes_per_decade, grade=8):
     return np.exp(s), np.diff(s)
 
 
+class _NotAKnotSpline:
+    """Cubic interpolating spline with not-a-knot end conditions (the same spline as
+    ``scipy.interpolate.CubicSpline``'s default, equal to it to rounding; written here because
+    importing ``scipy.interpolate`` costs 0.1 s, which every ``roadscan`` run would pay,
+    issue 13).
+
+    The slopes s_i at the nodes x_0 < ... < x_{n-1} solve the tridiagonal system of C2
+    continuity, for i = 1..n-2 (h_i = x_{i+1} - x_i, d_i = (y_{i+1} - y_i) / h_i)
+
+        h_i s_{i-1} + 2 (h_{i-1} + h_i) s_i + h_{i-1} s_{i+1} = 3 (h_i d_{i-1} + h_{i-1} d_i),
+
+    closed by continuity of the third derivative at x_1 and x_{n-2} (de Boor, *A Practical
+    Guide to Splines*, 2001, ch. IV):
+
+        h_1 s_0 + (h_0 + h_1) s_1 = ((h_0 + 2 (h_0 + h_1)) h_1 d_0 + h_0^2 d_1) / (h_0 + h_1)
+
+    and its mirror image at the right end. Each interval is the cubic Hermite polynomial of
+    its end values and slopes. Needs n >= 4 nodes.
+    """
+
+    def __init__(self, x, y):
+        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        n = x.size
+        if n < 4:
+            raise ValueError("the not-a-knot spline needs at least 4 nodes")
+        h = np.diff(x)
+        d = np.diff(y) / h
+        lower = np.empty(n)          # A[i, i-1]
+        diag = np.empty(n)           # A[i, i]
+        upper = np.empty(n)          # A[i, i+1]
+        rhs = np.empty(n)
+        lower[1:-1], diag[1:-1], upper[1:-1] = h[1:], 2 * (h[:-1] + h[1:]), h[:-1]
+        rhs[1:-1] = 3 * (h[1:] * d[:-1] + h[:-1] * d[1:])
+        w0 = x[2] - x[0]
+        diag[0], upper[0] = h[1], w0
+        rhs[0] = ((h[0] + 2 * w0) * h[1] * d[0] + h[0] ** 2 * d[1]) / w0
+        w1 = x[-1] - x[-3]
+        diag[-1], lower[-1] = h[-2], w1
+        rhs[-1] = (h[-1] ** 2 * d[-2] + (2 * w1 + h[-1]) * h[-2] * d[-1]) / w1
+        # Thomas algorithm (the system is diagonally dominant but for its first and last rows,
+        # whose eliminations do not pivot in LAPACK's banded LU either)
+        diag, upper, rhs, lower = diag.tolist(), upper.tolist(), rhs.tolist(), lower.tolist()
+        for i in range(1, n):
+            f = lower[i] / diag[i - 1]
+            diag[i] -= f * upper[i - 1]
+            rhs[i] -= f * rhs[i - 1]
+        slope = [0.0] * n
+        slope[-1] = rhs[-1] / diag[-1]
+        for i in range(n - 2, -1, -1):
+            slope[i] = (rhs[i] - upper[i] * slope[i + 1]) / diag[i]
+        s = np.array(slope)
+        t = (s[:-1] + s[1:] - 2 * d) / h
+        self.x, self.slope = x, s
+        self.c = np.stack([t / h, (d - s[:-1]) / h - t, s[:-1], y[:-1]])   # c0 u^3 + ... + c3
+
+    def __call__(self, xi):
+        """Spline values at ``xi`` (inside [x_0, x_{n-1}]; the end cubics continue outside)."""
+        xi = np.asarray(xi, dtype=float)
+        i = np.clip(np.searchsorted(self.x, xi, side="right") - 1, 0, self.x.size - 2)
+        u = xi - self.x[i]
+        c = self.c[:, i]
+        return ((c[0] * u + c[1]) * u + c[2]) * u + c[3]
+
+    def ends(self):
+        """(value, slope) at the first node, then at the last node."""
+        return (self.c[3, 0], self.slope[0], float(self(self.x[-1])), self.slope[-1])
+
+
 class PhiTable:
     """Spline tables of ``m(x)`` and ``w(x)`` (see module docstring) over ``[x_lo, x_hi]``.
 
@@ -94,12 +162,10 @@ class PhiTable:
         m = np.where(np.isfinite(m), m, 0.0)
         w = np.where(np.isfinite(w), w, np.finfo(float).max)
         tiny = 1e-300
-        from scipy.interpolate import CubicSpline  # on demand: it loads scipy.optimize
-
         self._lx = lx
-        self._lm = CubicSpline(lx, np.log(np.maximum(m, tiny)))
-        self._lw = CubicSpline(lx, np.log(np.maximum(w, tiny)))
-        self._ends = [(f(lx[0]), f(lx[0], 1), f(lx[-1]), f(lx[-1], 1)) for f in (self._lm, self._lw)]
+        self._lm = _NotAKnotSpline(lx, np.log(np.maximum(m, tiny)))
+        self._lw = _NotAKnotSpline(lx, np.log(np.maximum(w, tiny)))
+        self._ends = [f.ends() for f in (self._lm, self._lw)]
 
     def covers(self, k_lo, k_hi):
         return self.k_lo <= k_lo and k_hi <= self.k_hi

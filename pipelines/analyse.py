@@ -66,7 +66,9 @@ def summarise(analysis, fr=None):
         "hurst_stderr": fit.hurst_stderr,
         "rms_height_m": analysis.roughness.get("Sq_m", analysis.roughness.get("Rq_m")),
         "band_rms_m": fit.band_rms_m,
-        "h0_m": fit.h0_m,
+        # h0 of the thesis form is undefined for H <= 0 (C falls no faster than white noise):
+        # null, and validate.check_fit's warning says why (never a NaN written as null)
+        "h0_m": fit.h0_m if np.isfinite(fit.h0_m) else None,
         "q_min_per_m": qmin,
         "q_max_per_m": qmax,
         "fit_band_per_m": [float(b) for b in fit.fit_band_per_m],
@@ -80,6 +82,8 @@ def summarise(analysis, fr=None):
     }
     if "trim_note" in src.meta:
         out["trim_note"] = src.meta["trim_note"]
+    if isinstance(src.meta.get("instrument"), dict):   # what the reader found (JSON-safe)
+        out["instrument"] = src.meta["instrument"]
     if analysis.is_profile:
         out["psd_conversion"] = analysis.spectrum.meta.get("conversion")
     if analysis.anisotropy is not None:
@@ -198,38 +202,38 @@ def _figures(out_dir, an, fit, fr, spec, settings, summary):
 
 def _plot_psd1d(q, C1, path, name):
     """The line profile's own 1D PSD C1(q) [m^3] (<h^2> = 2 integral C1 dq)."""
-    import matplotlib.pyplot as plt
+    plt = report.pyplot()
 
     fig, ax = plt.subplots(figsize=report.FIGSIZE)
     ax.loglog(q, C1, lw=0.8, color="C2", label="1D PSD of the profile")
     ax.set_xlabel("wave vector q [1/m]")
-    ax.set_ylabel("C$_1$(q) [m$^3$]")
+    ax.set_ylabel("C₁(q) [m³]")
+    report.plain_log_ticks(ax)
     report.set_title(ax, f"{name}: 1D PSD (<h²> = 2 ∫ C1 dq)")
     ax.grid(which="both", alpha=0.25)
     ax.legend(fontsize=8)
-    return report.save_figure(fig, path)
+    return report.save_figure(fig, path, report.fixed_margins(ax))
 
 
 def _plot_psd2d(spec2d, path, name, zoom=4):
     """log10 C(qx, qy) around the origin (|q| up to Nyquist / zoom, where anisotropy shows)."""
-    import matplotlib.pyplot as plt
+    plt = report.pyplot()
 
     qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
     qlim = min(np.abs(qx).max(), np.abs(qy).max()) / zoom
-    ix, iy = np.abs(qx) <= qlim, np.abs(qy) <= qlim
-    C = np.asarray(spec2d.C_m4)[np.ix_(iy, ix)]
+    qxs, qys, C = spec2d.central(qlim)          # only this part of the map is built
     pos = C[C > 0]
     lo = np.percentile(pos, 2) if pos.size else 1e-30
     fig, ax = plt.subplots(figsize=report.FIGSIZE)
     im = ax.imshow(np.log10(np.maximum(C, lo)), origin="lower", cmap="magma",
-                   extent=(qx[ix][0], qx[ix][-1], qy[iy][0], qy[iy][-1]), aspect="equal")
-    ax.set_xlabel("q$_x$ [1/m]")
-    ax.set_ylabel("q$_y$ [1/m]")
+                   extent=(qxs[0], qxs[-1], qys[0], qys[-1]), aspect="equal")
+    ax.set_xlabel("wave vector qx [1/m]")
+    ax.set_ylabel("wave vector qy [1/m]")
     report.set_title(ax, f"{name}: 2D PSD, |q| < {qlim:.3g} 1/m (anisotropy)")
     cb = fig.colorbar(im, ax=ax)
-    cb.set_label("log$_{10}$ C [m$^4$]")
+    cb.set_label("log₁₀ C [m⁴]")
     ax.ticklabel_format(style="sci", scilimits=(-2, 3))
-    return report.save_figure(fig, path)
+    return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))
 
 
 def _write_report(out_dir, an, summary, figs):
@@ -253,4 +257,5 @@ def _write_report(out_dir, an, summary, figs):
                 ("Figures", [list(figs)])]
     if not figs:
         sections.pop()
-    report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections)
+    report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,
+                      intro=report.instrument_html(summary.get("instrument")))

@@ -21,7 +21,8 @@ from roadscan.errors import InputError
 
 __all__ = ["add_friction_options", "add_contact_options", "settings_from_args", "parse_velocities",
            "parse_pressure", "check_contact_args", "apply_band", "coverage_note", "EXTRAPOLATE_CHOICES",
-           "PRESSURE_HELP", "MIN_BARE_PA", "with_extrapolation", "run_checks"]
+           "PRESSURE_HELP", "MIN_BARE_PA", "with_extrapolation", "run_checks", "add_master_curve_options",
+           "rubber_from_args"]
 
 MIN_BARE_PA = 1e3  # a bare --sigma0 below this is refused (no unit: almost surely MPa meant)
 _PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9, "bar": 1e5, "n/m2": 1.0,
@@ -57,14 +58,26 @@ def parse_pressure(text, flag="--sigma0"):
 
 
 def parse_velocities(text):
-    """``"LO:HI:N"`` -> N log-spaced speeds [m/s] from LO to HI (InputError when malformed)."""
+    """``"LO:HI:N"`` -> N log-spaced speeds [m/s] from LO to HI; ``"V1,V2,..."`` -> those speeds
+    (a tabulated grid, e.g. another program's), sorted. InputError when malformed."""
     import numpy as np
 
+    if "," in text or ":" not in text:
+        try:
+            v = np.array([float(t) for t in text.split(",") if t.strip()])
+        except ValueError:
+            raise InputError(None, f"--velocities {text!r}: expected LO:HI:N (e.g. 1e-8:1e4:121) or "
+                                   "a list V1,V2,... [m/s]") from None
+        if v.size == 0 or not np.all(np.isfinite(v) & (v > 0)):
+            raise InputError(None, f"--velocities {text!r}: speeds must be positive numbers [m/s]")
+        v = np.unique(v)
+        return v
     try:
         lo, hi, n = text.split(":")
         lo, hi, n = float(lo), float(hi), int(n)
     except ValueError:
-        raise InputError(None, f"--velocities {text!r}: expected LO:HI:N, e.g. 1e-8:1e4:121") from None
+        raise InputError(None, f"--velocities {text!r}: expected LO:HI:N, e.g. 1e-8:1e4:121, "
+                               "or a list V1,V2,...") from None
     if not (0 < lo < hi < np.inf) or n < 2:
         raise InputError(None, f"--velocities {text!r}: need 0 < LO < HI and N >= 2")
     return np.logspace(np.log10(lo), np.log10(hi), n)
@@ -88,6 +101,42 @@ def add_contact_options(g, q1_help=None, nu=True):
     g.add_argument("--extrapolate", choices=EXTRAPOLATE_CHOICES, default="powerlaw",
                    help="master curve beyond its measured frequencies: powerlaw (E' held, E'' "
                         "continues as the power law of its last decade; default) or hold (both held)")
+
+
+def add_master_curve_options(g):
+    """--master-curve, --shift-table, --reference-temperature (a measured rubber without a TOML)."""
+    g.add_argument("--master-curve", metavar="FILE.csv", default=None,
+                   help="master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa' or "
+                        "header E_stor_MPa; default Pa) at --reference-temperature")
+    g.add_argument("--shift-table", metavar="FILE.csv", default=None,
+                   help="with --master-curve: shift factors, columns T_C and aT (linear) or log10_aT; "
+                        "or one row of WLF constants C1,C2_K,T_s_C")
+    g.add_argument("--reference-temperature", type=float, default=None, metavar="C",
+                   help="with --master-curve: the temperature of the master curve T_ref [C] "
+                        "(default: where the shift table has aT = 1)")
+
+
+def rubber_from_args(args):
+    """The rubber of ``--rubber FILE.toml`` or ``--master-curve/--shift-table/--reference-temperature``;
+    None when neither is given (the caller's default). One-line InputErrors on bad combinations."""
+    mc = getattr(args, "master_curve", None)
+    shift = getattr(args, "shift_table", None)
+    t_ref = getattr(args, "reference_temperature", None)
+    if mc:
+        if args.rubber:
+            raise InputError(None, "give either --rubber FILE.toml or --master-curve FILE.csv, not both")
+        if t_ref is None and not shift:
+            raise InputError(mc, "--master-curve needs --reference-temperature C (its T_ref) "
+                                 "or a --shift-table with aT = 1 at T_ref")
+        from .rubber_file import rubber_from_csv_files
+        return rubber_from_csv_files(mc, shift, t_ref)
+    if shift or t_ref is not None:
+        raise InputError(None, "--shift-table and --reference-temperature go with --master-curve "
+                               "(with --rubber put them in the TOML)")
+    if args.rubber:
+        from .rubber_file import load_rubber
+        return load_rubber(args.rubber)
+    return None
 
 
 def check_contact_args(args):
@@ -155,8 +204,9 @@ def add_friction_options(parser):
     g.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's reference temperature)")
     g.add_argument("--flash", action="store_true", help="include flash temperature")
-    g.add_argument("--velocities", default=None, metavar="LO:HI:N",
-                   help="log-spaced sliding speeds [m/s] (default 1e-8:1e4:121)")
+    g.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
+                   help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
+                        "(default 1e-8:1e4:121)")
     add_contact_options(g, q1_help="upper end of the friction integrals [1/m]; beyond the Nyquist "
                                    "wave vector the spectrum is extended by its self-affine fit")
     g.add_argument("--no-friction", action="store_true", help="skip mu(v)")

@@ -9,22 +9,103 @@ import base64
 import html
 import io
 import json
+import os
+import re
+import sys
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from roadscan.io.atomic import atomic_path, atomic_write_text
 
-from roadscan.io.atomic import atomic_path, atomic_write_text  # noqa: E402
+# Figures are files, never windows: the Agg backend. matplotlib itself (0.3 to 1 s to import)
+# is loaded only when a figure is drawn (issue 13: --no-figures, CSV/JSON-only runs and --help
+# do without it); until then the backend is chosen through the environment.
+if "matplotlib" in sys.modules:
+    sys.modules["matplotlib"].use("Agg")
+else:
+    os.environ["MPLBACKEND"] = "Agg"
 
 __all__ = [
-    "save_figure", "plot_heightmap", "plot_profile", "plot_psd", "plot_mu", "write_html",
+    "pyplot", "save_figure", "fixed_margins", "plot_heightmap", "plot_profile", "plot_psd", "plot_mu", "write_html",
     "write_json", "write_csv", "table_html",
 ]
 
 FIGSIZE = (6.4, 4.4)
+DPI = 120
+#: zlib level of the PNGs: 3 writes them in half the time of the default 6, 5 % larger
+PNG_COMPRESSION = 3
+#: a height map is shown as block means with at least this many points along its longer side
+#: (more than the axes have pixels at ``FIGSIZE`` and ``DPI``); the data are not changed
+DISPLAY_POINTS = 500
+
+
+def pyplot():
+    """``matplotlib.pyplot`` on the Agg backend, imported on first use."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+_SUPERSCRIPT = str.maketrans("0123456789-+", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻⁺")
+_MATH = re.compile(r"^\$\\mathdefault\{(.*)\}\$$")
+
+
+def _plain_log_label(text):
+    """matplotlib's log-axis label ``$\\mathdefault{10^{-5}}$`` as plain Unicode ``10⁻⁵``."""
+    m = _MATH.match(text)
+    if not m:
+        return text
+    body = m.group(1).replace("\\times", "×")
+    return re.sub(r"\^\{([^}]*)\}", lambda g: g.group(1).translate(_SUPERSCRIPT), body)
+
+
+def plain_log_ticks(ax):
+    """Label the log axes of ``ax`` with Unicode exponents (``10⁻⁵``) instead of mathtext.
+
+    The tick labels read the same; mathtext's parser costs 0.3 s or more the first time a
+    process draws a log axis (issue 13). Call it after the axis scales are set."""
+    from matplotlib.ticker import LogFormatterSciNotation
+
+    global _PlainLogFormatter
+    if _PlainLogFormatter is None:
+        class _PlainLogFormatter(LogFormatterSciNotation):
+            def __call__(self, x, pos=None):
+                return _plain_log_label(super().__call__(x, pos))
+
+    for axis in (ax.xaxis, ax.yaxis):
+        for fmt in (axis.get_major_formatter(), axis.get_minor_formatter()):
+            if type(fmt) is LogFormatterSciNotation:   # the log scale's own: same settings
+                fmt.__class__ = _PlainLogFormatter
+
+
+_PlainLogFormatter = None
+
+
+def display_image(data, points=DISPLAY_POINTS):
+    """``data`` (2D, NaN where unmeasured) reduced for display by ``k x k`` block means,
+    ``k = max(1, max(shape) // points)``; a block without finite values stays NaN. The
+    picture keeps at least ``points`` pixels along its longer side, more than a figure shows,
+    so it looks the same as the full map; drawing and saving it is several times faster."""
+    data = np.asarray(data, dtype=float)
+    k = max(1, max(data.shape) // int(points))
+    if k == 1 or data.ndim != 2:
+        return data
+    cols = np.arange(0, data.shape[1], k)
+    step = k * max(1, (1 << 22) // (8 * data.shape[1] * k))  # whole blocks, about 4 MiB a band:
+    parts = []                                             # the memory used is a band's (issue 14)
+    for r in range(0, data.shape[0], step):
+        band = data[r:r + step]
+        ok = np.isfinite(band)
+        rows = np.arange(0, band.shape[0], k)
+        total = np.add.reduceat(np.add.reduceat(np.where(ok, band, 0.0), rows, axis=0), cols, axis=1)
+        count = np.add.reduceat(np.add.reduceat(ok.astype(np.int32), rows, axis=0), cols, axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            parts.append(np.where(count > 0, total / np.maximum(count, 1), np.nan))
+    return np.concatenate(parts, axis=0)
 
 
 def set_title(ax, text, width=58):
@@ -34,49 +115,75 @@ def set_title(ax, text, width=58):
     ax.set_title("\n".join(textwrap.wrap(str(text), width)) or "", fontsize=10)
 
 
-def save_figure(fig, path):
-    """Save ``fig`` as PNG atomically and close it."""
-    fig.tight_layout()
+def fixed_margins(ax, left=0.95, right=0.25, bottom=0.62, top=0.18):
+    """Figure margins [inches] for one axes with tick labels and axis labels on the left and
+    bottom, plus room for its title (0.19 in a line, see :func:`set_title`) above ``top``.
+
+    Passed to :func:`save_figure` instead of ``tight_layout``, which draws every figure a
+    second time to measure its texts (0.05 s a figure; issue 13)."""
+    title = ax.get_title()
+    lines = title.count("\n") + 1 if title else 0
+    return {"left": left, "right": right, "bottom": bottom, "top": top + 0.19 * lines}
+
+
+def save_figure(fig, path, margins=None):
+    """Save ``fig`` as PNG atomically and close it.
+
+    ``margins``: ``{"left", "right", "bottom", "top"}`` in inches (:func:`fixed_margins`);
+    None lays the figure out with ``tight_layout``."""
+    plt = pyplot()
+    if margins is None:
+        fig.tight_layout()
+    else:
+        w, h = fig.get_size_inches()
+        fig.subplots_adjust(left=margins["left"] / w, right=1 - margins["right"] / w,
+                            bottom=margins["bottom"] / h, top=1 - margins["top"] / h)
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=120, format="png")
+        fig.savefig(tmp, dpi=DPI, format="png", pil_kwargs={"compress_level": PNG_COMPRESSION})
     plt.close(fig)
     return Path(path)
 
 
 def plot_heightmap(hm, path, title=None, depth_m=None):
     """Height map image: x, y in mm, heights in um, unmeasured points grey."""
+    plt = pyplot()
+    import matplotlib
+
     fig, ax = plt.subplots(figsize=FIGSIZE)
-    data = hm.heights_m * 1e6 if depth_m is None else depth_m * 1e3
+    data, unit = (hm.heights_m, 1e6) if depth_m is None else (depth_m, 1e3)   # scaled when shown
     lx, ly = hm.size_m
     cmap = matplotlib.colormaps["viridis" if depth_m is None else "Blues"].with_extremes(bad="0.6")
-    finite = data[np.isfinite(data)]
-    vmin, vmax = (np.percentile(finite, [0.5, 99.5]) if finite.size else (0, 1))
+    finite = data[np.isfinite(data)]             # one copy of the measured points, sorted in place
+    vmin, vmax = (np.percentile(finite, [0.5, 99.5], overwrite_input=True) * unit
+                  if finite.size else (0, 1))
+    del finite
     if depth_m is not None:
         vmin = 0.0
-    im = ax.imshow(np.ma.masked_invalid(data), origin="lower", extent=(0, lx * 1e3, 0, ly * 1e3),
+    shown = display_image(data) * unit   # colour limits from every point, the picture from block means
+    im = ax.imshow(np.ma.masked_invalid(shown), origin="lower", extent=(0, lx * 1e3, 0, ly * 1e3),
                    cmap=cmap, vmin=vmin, vmax=max(vmax, vmin + 1e-12), interpolation="nearest")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     cb = fig.colorbar(im, ax=ax, shrink=0.9)
     cb.set_label("height [µm]" if depth_m is None else "water depth [mm]")
     set_title(ax, title or ("height map" if depth_m is None else "water depth"))
-    return save_figure(fig, path)
+    return save_figure(fig, path, fixed_margins(ax, right=1.1))
 
 
 def plot_profile(profile, path, title=None):
     """Line profile: distance in mm, height in mm."""
-    fig, ax = plt.subplots(figsize=(7.5, 3.4))
+    fig, ax = pyplot().subplots(figsize=(7.5, 3.4))
     ax.plot(profile.x_m() * 1e3, profile.heights_m * 1e3, lw=0.5, color="C0")
     ax.set_xlabel("distance [mm]")
     ax.set_ylabel("height [mm]")
     set_title(ax, title or "profile")
     ax.grid(alpha=0.3)
-    return save_figure(fig, path)
+    return save_figure(fig, path, fixed_margins(ax))
 
 
 def plot_psd(curves, path, title="power spectral density", fits=()):
     """Log-log C(q). ``curves``: iterable of (label, q_per_m, C_m4); ``fits`` the same, dashed."""
-    fig, ax = plt.subplots(figsize=FIGSIZE)
+    fig, ax = pyplot().subplots(figsize=FIGSIZE)
     for i, (label, q, C) in enumerate(curves):
         ok = np.asarray(C) > 0
         ax.loglog(np.asarray(q)[ok], np.asarray(C)[ok], "-", lw=1.4, color=f"C{i}", label=label)
@@ -84,18 +191,24 @@ def plot_psd(curves, path, title="power spectral density", fits=()):
         ok = np.asarray(C) > 0
         ax.loglog(np.asarray(q)[ok], np.asarray(C)[ok], "--", lw=1.2, color=f"C{i + 3}", label=label)
     ax.set_xlabel("wave vector q [1/m]")
-    ax.set_ylabel("C(q) [m$^4$]")
+    ax.set_ylabel("C(q) [m⁴]")
+    plain_log_ticks(ax)
+    lo, hi = ax.get_ylim()
+    if lo > 0 and hi / lo > 1e5:    # many decades: minor ticks and lines only on the q axis
+        from matplotlib.ticker import NullLocator
+
+        ax.yaxis.set_minor_locator(NullLocator())
     set_title(ax, title)
     ax.grid(which="both", alpha=0.25)
     ax.legend(fontsize=8, loc="best")
-    return save_figure(fig, path)
+    return save_figure(fig, path, fixed_margins(ax))
 
 
 def plot_mu(curves, path, title="friction coefficient", ylabel="friction coefficient μ [-]",
             logy=False):
     """mu(v) on a log speed axis. ``curves``: iterable of (label, v_m_per_s, mu) or with a 4th
     element, a matplotlib style string."""
-    fig, ax = plt.subplots(figsize=FIGSIZE)
+    fig, ax = pyplot().subplots(figsize=FIGSIZE)
     for i, curve in enumerate(curves):
         label, v, mu = curve[:3]
         style = curve[3] if len(curve) > 3 else "-"
@@ -105,11 +218,12 @@ def plot_mu(curves, path, title="friction coefficient", ylabel="friction coeffic
         ax.set_yscale("log")
     ax.set_xlabel("sliding speed v [m/s]")
     ax.set_ylabel(ylabel)
+    plain_log_ticks(ax)
     set_title(ax, title)
     ax.grid(which="both", alpha=0.25)
     if len(curves) > 1 or (curves and curves[0][0]):
         ax.legend(fontsize=8)
-    return save_figure(fig, path)
+    return save_figure(fig, path, fixed_margins(ax))
 
 
 def _fmt(x):
@@ -146,6 +260,27 @@ table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #ccc;padding
 text-align:right;font-size:.9em}th{background:#f0f0f0}td:first-child{text-align:left}
 img{max-width:100%;margin:.4em 0}.grid{display:flex;flex-wrap:wrap;gap:8px}
 .grid img{max-width:540px}p.note{color:#555;font-size:.9em}"""
+
+
+#: labels of the instrument block (``HeightMap.meta["instrument"]``) in a report's header
+_INSTRUMENT_LABELS = (
+    ("vendor", "vendor"), ("name", "instrument"), ("serial", "serial"), ("software", "software"),
+    ("acquired", "acquired"), ("objective", "objective"), ("magnification", "magnification"),
+    ("lateral_resolution_m", "lateral resolution [m]"), ("tip_radius_m", "tip radius [m]"),
+    ("format", "file format"), ("units", "file units"), ("undefined_points", "undefined points"),
+    ("channel", "channel"), ("reader", "read by"), ("comment", "comment"),
+)
+
+
+def instrument_html(block):
+    """One escaped line for a report's header from a scan's ``meta["instrument"]`` block
+    (instrument, date, objective, units, undefined points, reader); None when there is none."""
+    if not isinstance(block, dict) or not block:
+        return None
+    parts = [f"{label}: {block[key]:.4g}" if isinstance(block[key], float) else
+             f"{label}: {block[key]}" for key, label in _INSTRUMENT_LABELS
+             if block.get(key) not in (None, "")]
+    return "<b>Instrument</b> — " + html.escape(" · ".join(parts)) if parts else None
 
 
 def write_html(path, title, sections, intro=None):

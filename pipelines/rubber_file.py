@@ -14,6 +14,7 @@ pyvisco files of ../shared/data/rubber/).
 """
 from __future__ import annotations
 
+import re
 import tomllib
 from pathlib import Path
 
@@ -29,8 +30,10 @@ __all__ = ["load_rubber", "read_master_curve_csv", "read_shift_csv", "rubber_fro
 _UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9}
 _F_NAMES = ("f", "freq", "frequency")
 _OMEGA_NAMES = ("omega", "w", "angular_frequency")
-_E1_NAMES = ("e_stor", "e_storage", "e'", "storage", "e1", "estor", "e_prime", "storage_modulus")
-_E2_NAMES = ("e_loss", "e''", "loss", "e2", "eloss", "e_double_prime", "loss_modulus")
+_E1_NAMES = ("e_stor", "e_storage", "e'", "storage", "e1", "estor", "e_prime", "storage_modulus",
+             "re_e", "ree", "e_re", "e_real", "real_e", "storage modulus")
+_E2_NAMES = ("e_loss", "e''", "loss", "e2", "eloss", "e_double_prime", "loss_modulus",
+             "im_e", "ime", "e_im", "e_imag", "imag_e", "loss modulus")
 _T_NAMES = ("t", "temp", "temperature")
 _LOGA_NAMES = ("log_at", "log10_at", "log_a_t", "log10_a_t", "logat", "log10at", "lg_at", "log(at)",
                "log10(at)", "log_a")
@@ -99,14 +102,42 @@ def _modulus_scale(u, path, col):
     return scale
 
 
+_LOG_CALL = re.compile(r"^(?:log10|log|lg)\s*\(\s*([^)]*?)\s*\)\s*(.*)$")   # log10(E') [Pa]
+_LOG_PREFIX = re.compile(r"^(?:log10|log|lg)[_ ]+(.+)$")                      # log10_E_stor_Pa
+
+
+def _unlog(names, urow, d, known):
+    """Columns of decimal logarithms (``log10_f``, ``log_omega``, ``log10(E_stor) [Pa]``,
+    ``lg_E_loss_MPa``) of a known quantity -> that quantity (10**value, its unit kept)."""
+    for i, n in enumerate(names):
+        m = _LOG_CALL.match(n)
+        if m:
+            inner, unit = _split_name(m.group(1))
+            rest = m.group(2).strip().strip("[]()").strip()
+            unit = rest or unit
+        else:
+            m = _LOG_PREFIX.match(n)
+            if not m:
+                continue
+            inner, unit = _split_name(m.group(1))
+        if inner in known:
+            names[i] = inner
+            urow[i] = urow[i] or unit
+            with np.errstate(over="ignore"):
+                d[:, i] = 10.0 ** d[:, i]
+    return names, urow, d
+
+
 def read_master_curve_csv(path, units=None):
     """-> (f_Hz, E_storage_Pa, E_loss_Pa) from a master-curve CSV (see module docstring).
 
     Frequency: a column ``f`` (Hz) or ``omega`` (rad/s, divided by 2 pi). Moduli: ``E_stor``
-    and ``E_loss`` in the unit of the units line, the header (``E_stor_MPa``, ``E' [MPa]``) or
-    ``units`` (which overrides both); default Pa.
+    and ``E_loss`` (or ``E'``/``E''``, ``ReE``/``ImE``, ``E_real``/``E_imag``) in the unit of
+    the units line, the header (``E_stor_MPa``, ``E' [MPa]``) or ``units`` (which overrides
+    both); default Pa. Any of them may be given as its decimal logarithm (``log10_omega``,
+    ``log10_E_stor_Pa``, ``log(E'') [MPa]``).
     """
-    names, urow, d = _read_table(path)
+    names, urow, d = _unlog(*_read_table(path), _F_NAMES + _OMEGA_NAMES + _E1_NAMES + _E2_NAMES)
     i_f = _col(names, _F_NAMES, path, "frequency", required=False)
     if i_f is None:
         i_f = _col(names, _OMEGA_NAMES + _F_NAMES, path, "frequency (f [Hz] or omega [rad/s])")

@@ -18,11 +18,16 @@ __all__ = ["SurfaceAnalysis", "analyse_surface", "surface_psd", "default_velocit
 
 @dataclass(eq=False)
 class SurfaceAnalysis:
-    """Everything derived from one scan (area or line profile)."""
+    """Everything derived from one scan (area or line profile).
+
+    ``filled`` (levelled and inpainted: what the FFT saw) is rebuilt from ``levelled`` and
+    the filled values when first read, so that a big scan is not held three times over.
+    """
 
     source: object            # HeightMap or Profile as read
     levelled: object          # levelled, unmeasured points still unmeasured
-    filled: object            # levelled and inpainted (what the FFT sees)
+    fill: tuple               # (values at the unmeasured points in raster order, meta) or
+                              # (the filled HeightMap/Profile, None)
     filled_fraction: float
     spectrum: object          # roadscan.Spectrum: isotropic 2D C(q) [m^4]
     spec2d: object = None     # roadscan.Spectrum2D for areas, None for profiles
@@ -32,6 +37,19 @@ class SurfaceAnalysis:
     mpd_m: float = None
     mpd_note: str = ""
     anisotropy: dict = None
+
+    @property
+    def filled(self):
+        """The levelled map with its unmeasured points filled (a HeightMap or Profile)."""
+        values, meta = self.fill
+        if meta is None:
+            return values
+        lev = self.levelled
+        h = lev.heights_m.copy()
+        h[lev.unmeasured] = values
+        filled = lev._adopt(h, unmeasured=np.zeros_like(lev.unmeasured), meta=dict(meta))
+        self.fill = (filled, None)
+        return filled
 
     @property
     def is_profile(self):
@@ -76,11 +94,29 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     else:
         rough = roughness.area_parameters(levelled)
         mpd_m, mpd_note = roughness.mean_profile_depth_area(obj, **(mpd_settings or {}))
-    filled, filled_fraction = inpaint.fill_unmeasured(levelled)
-    spec, spec2d, psd1d = spectrum_of(filled, window_alpha)
+    undefined = [k for k in ("Sdq", "Sdr", "Rdq") if k in rough and rough[k] is None]
+    if undefined:
+        from .validate import warn
+
+        warn(f"{obj.name}: {', '.join(undefined)} undefined (no measured neighbours to take a slope "
+             f"from): null in the outputs")
+    if isinstance(obj, Profile):
+        filled, filled_fraction = inpaint.fill_unmeasured(levelled)
+        fill = (filled, None)
+        spec, spec2d, psd1d = spectrum_of(filled, window_alpha)
+    else:
+        # a big scan is not copied for the fill: the FFT step reads the levelled map with the
+        # filled values put in band by band (issue 14); ``filled`` is rebuilt when asked for
+        from roadscan.spectrum import psd_area
+
+        values = inpaint.unmeasured_fill(levelled)
+        filled_fraction = float(levelled.unmeasured.mean())
+        fill = (values, dict(levelled.meta, fill_method="biharmonic", filled_fraction=filled_fraction))
+        spec, spec2d = psd_area(levelled, window_alpha=window_alpha, fill_values=values)
+        psd1d = None
     fit = fitmod.fit_self_affine(spec, band=fit_band)
     aniso = anisotropy(spec2d) if spec2d is not None else None
-    return SurfaceAnalysis(obj, levelled, filled, float(filled_fraction), spec, spec2d, psd1d,
+    return SurfaceAnalysis(obj, levelled, fill, float(filled_fraction), spec, spec2d, psd1d,
                            fit, rough, mpd_m, mpd_note, aniso)
 
 

@@ -36,6 +36,22 @@ class _Measured:
             unmeasured = self.unmeasured
         return replace(self, heights_m=heights_m, unmeasured=unmeasured, **changes)
 
+    def _adopt(self, heights_m, unmeasured=None, meta=None):
+        """A copy that takes ``heights_m`` as is: no copy, no scan for non-finite values.
+
+        For roadscan's own steps that build a fresh float64 array of this shape with NaN
+        exactly where ``unmeasured`` is True (the caller guarantees it); ``unmeasured``
+        defaults to this object's mask, shared, not copied. Saves the constructor's copy and
+        its full passes over the map (issue 14: big scans).
+        """
+        new = object.__new__(type(self))
+        new.__dict__.update(self.__dict__)
+        object.__setattr__(new, "heights_m", heights_m)
+        object.__setattr__(new, "unmeasured", self.unmeasured if unmeasured is None else unmeasured)
+        if meta is not None:
+            object.__setattr__(new, "meta", meta)
+        return new
+
 
 def _check_spacing(*spacings):
     for s in spacings:

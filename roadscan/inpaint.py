@@ -12,8 +12,9 @@ from __future__ import annotations
 import numpy as np
 
 from .heightmap import HeightMap, Profile
+from .level import row_chunks
 
-__all__ = ["fill_unmeasured", "METHODS"]
+__all__ = ["fill_unmeasured", "unmeasured_fill", "METHODS"]
 
 METHODS = ("biharmonic", "ns")
 
@@ -23,22 +24,157 @@ def _fill_profile(h, bad):
     return np.where(bad, np.interp(x, x[~bad], h[~bad]), h)
 
 
-def _fill_map(h, bad, method):
+#: rows per band of the banded biharmonic fill (bands grow to hold whole dropout clusters)
+_BAND_ROWS = 256
+
+
+def _measured_stats(h, bad):
+    """Mean, min and max of the measured heights, read band by band (float64)."""
+    total, n, lo, hi = 0.0, 0, np.inf, -np.inf
+    for sl in row_chunks(*h.shape):
+        v = h[sl][~bad[sl]]
+        if v.size:
+            total += v.sum()
+            n += v.size
+            lo, hi = min(lo, v.min()), max(hi, v.max())
+    return total / n, lo, hi
+
+
+def _bands(bad):
+    """Groups of dropout clusters, each a band of rows solved on its own.
+
+    Two unmeasured points are coupled by the biharmonic stencil (13 points, radius 2) when
+    |dx| + |dy| <= 2; clusters are the connected components of the mask dilated by one
+    point (4-neighbourhood) and then 8-connected, which joins every coupled pair (as
+    scikit-image's ``split_into_regions``). Clusters are grouped by their first row into bands
+    of about ``_BAND_ROWS`` rows; a band reaches down to its lowest cluster's last row.
+
+    Returns
+    -------
+    labels : int32 array (the clusters), list of (first row, end row, first label, last label)
+    """
+    from scipy import ndimage
+
+    grown = bad.copy()                                  # dilation by the 4-neighbourhood
+    grown[1:] |= bad[:-1]
+    grown[:-1] |= bad[1:]
+    grown[:, 1:] |= bad[:, :-1]
+    grown[:, :-1] |= bad[:, 1:]
+    labels, n = ndimage.label(grown, structure=np.ones((3, 3), dtype=bool))
+    del grown
+    boxes = ndimage.find_objects(labels)
+    starts = np.array([b[0].start for b in boxes])
+    stops = np.array([b[0].stop for b in boxes])
+    order = np.argsort(starts, kind="stable")
+    groups, cur = [], None
+    for k in order:
+        if cur is not None and starts[k] < cur[0] + _BAND_ROWS:
+            cur[1] = max(cur[1], stops[k])
+            cur[2].append(k + 1)
+        else:
+            cur = [starts[k], stops[k], [k + 1]]
+            groups.append(cur)
+    return labels, n, groups
+
+
+def _two_free_points(mask, reach):
+    """Two points of ``mask``'s grid out of reach (|dx| + |dy| > 2) of every True point, or
+    None. A whole row (or column) 2 away from any masked row does; else a dilation decides."""
+    for axis in (1, 0):
+        c = np.concatenate([[0], np.cumsum(mask.any(axis=axis))])
+        i = np.arange(c.size - 1)
+        busy = c[np.minimum(i + 3, c.size - 1)] - c[np.maximum(i - 2, 0)]   # masked lines within 2
+        idle = np.flatnonzero(busy == 0)
+        if idle.size and mask.shape[axis] >= 2:
+            i = int(idle[0])
+            return ((i, 0), (i, 1)) if axis == 1 else ((0, i), (1, i))
+    from scipy import ndimage
+
+    free = np.argwhere(~ndimage.binary_dilation(mask, structure=reach))
+    return (tuple(free[0]), tuple(free[1])) if len(free) >= 2 else None
+
+
+def _biharmonic_banded(h, bad, values):
+    """scikit-image biharmonic inpainting, solved band by band; the filled heights go to
+    ``values`` (one per unmeasured point, raster order). False if it cannot be banded.
+
+    The result equals one global ``inpaint_biharmonic(np.where(bad, ref, h) - ref, bad) + ref``
+    (ref the mean of the measured heights) to the round-off of the sparse solves: the global
+    system is block-diagonal over the clusters of :func:`_bands`; each band is solved on its
+    rows plus a margin of 2 (so no cluster point sees an artificial edge), the whole width
+    (so the map's own edges are the same), and with the global clip range: scikit-image clips
+    the result to the range of the known values it is given, so two points of the band out
+    of reach of the band's clusters carry the global minimum and maximum. Memory: the cluster
+    labels (int32) plus one band; float64 throughout.
+    """
+    from scipy import ndimage
+    from skimage.restoration import inpaint_biharmonic
+
+    ny, nx = h.shape
+    ref, lo, hi = _measured_stats(h, bad)
+    lo, hi = lo - ref, hi - ref
+    labels, n, groups = _bands(bad)
+    where = np.flatnonzero(bad)                         # raster positions of the values
+    reach = ndimage.generate_binary_structure(2, 1)
+    reach = ndimage.iterate_structure(reach, 2)          # |dx| + |dy| <= 2
+    member = np.zeros(n + 1, dtype=bool)
+    for r0, r1, labs in groups:
+        a, b = max(r0 - 2, 0), min(r1 + 2, ny)
+        member[labs] = True
+        mask = member[labels[a:b]] & bad[a:b]
+        member[labs] = False
+        crop = h[a:b] - ref
+        crop[bad[a:b]] = 0.0
+        free = _two_free_points(mask, reach)
+        if free is None:                                 # no room for the clip range: one solve
+            return False
+        crop[free[0]], crop[free[1]] = lo, hi
+        filled = inpaint_biharmonic(crop, mask)
+        values[np.searchsorted(where, a * nx + np.flatnonzero(mask))] = filled[mask] + ref
+    return True
+
+
+def _map_values(h, bad, method):
+    """The filled heights at ``bad`` (raster order) of a map; ``h`` is not changed."""
+    if method not in METHODS:
+        raise ValueError(f"unknown fill method {method!r}; choose one of {METHODS}")
     if method == "biharmonic":
+        values = np.empty(int(np.count_nonzero(bad)))
+        if _biharmonic_banded(h, bad, values):
+            return values
         from skimage.restoration import inpaint_biharmonic
 
         ref = np.nanmean(h)
         filled = inpaint_biharmonic(np.where(bad, ref, h) - ref, bad) + ref
-    elif method == "ns":
+    else:
         import cv2
 
         ref = np.nanmean(h)
         scale = np.nanstd(h) or 1.0
         work = np.where(bad, 0.0, (h - ref) / scale).astype(np.float32)
         filled = cv2.inpaint(work, bad.astype(np.uint8), 3, cv2.INPAINT_NS).astype(np.float64) * scale + ref
-    else:
-        raise ValueError(f"unknown fill method {method!r}; choose one of {METHODS}")
-    return np.where(bad, filled, h)
+    return filled[bad]
+
+
+def unmeasured_fill(obj, method="biharmonic"):
+    """The values :func:`fill_unmeasured` puts at the unmeasured points, without the filled copy.
+
+    Returns
+    -------
+    values : (n_unmeasured,) float64 array
+        Heights [m] for the points where ``obj.unmeasured`` is True, in raster (C) order:
+        ``h[obj.unmeasured] = values`` fills the map (and :func:`roadscan.spectrum.psd_area`
+        takes them as ``fill_values``). The biharmonic fill works band by band of rows
+        (float64); its memory is a band plus the cluster labels (int32), not the map.
+    """
+    if not isinstance(obj, (HeightMap, Profile)):
+        raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
+    bad = obj.unmeasured
+    if not bad.any():
+        return np.empty(0)
+    if isinstance(obj, Profile):
+        return _fill_profile(obj.heights_m, bad)[bad]
+    return _map_values(obj.heights_m, bad, method)
 
 
 def fill_unmeasured(obj, method="biharmonic"):
@@ -64,11 +200,20 @@ def fill_unmeasured(obj, method="biharmonic"):
     bad = obj.unmeasured
     frac = float(bad.mean())
     meta = dict(obj.meta)
-    if isinstance(obj, Profile):
-        filled = _fill_profile(obj.heights_m, bad) if frac else obj.heights_m
-        meta["fill_method"] = "linear"
-    else:
-        filled = _fill_map(obj.heights_m, bad, method) if frac else obj.heights_m
-        meta["fill_method"] = method
+    if isinstance(obj, HeightMap) and method not in METHODS:
+        raise ValueError(f"unknown fill method {method!r}; choose one of {METHODS}")
+    meta["fill_method"] = "linear" if isinstance(obj, Profile) else method
+    filled = obj.heights_m
+    if frac:
+        filled = filled.copy()
+        filled[bad] = unmeasured_fill(obj, method)
     meta["filled_fraction"] = frac
-    return obj.with_heights(filled, unmeasured=np.zeros_like(bad), meta=meta), frac
+    none = np.zeros_like(bad)
+    if not frac or _all_finite(filled):      # nothing to fill (shared), or a fresh array: no copy
+        return obj._adopt(filled, unmeasured=none, meta=meta), frac
+    return obj.with_heights(filled, unmeasured=none, meta=meta), frac
+
+
+def _all_finite(a):
+    a2 = a.reshape(1, -1) if a.ndim == 1 else a
+    return all(np.isfinite(a2[sl]).all() for sl in row_chunks(*a2.shape))

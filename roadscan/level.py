@@ -11,7 +11,8 @@ from scipy import ndimage
 
 from .heightmap import HeightMap, Profile
 
-__all__ = ["level", "remove_spikes", "polynomial_form"]
+__all__ = ["level", "remove_spikes", "polynomial_form", "fit_polynomial", "PolynomialForm",
+           "row_chunks"]
 
 
 def _unit_coords(n):
@@ -24,6 +25,94 @@ def _unit_coords(n):
 def _powers(u, p_max):
     """Columns u**0 ... u**p_max, shape (len(u), p_max + 1)."""
     return u[:, None] ** np.arange(p_max + 1)[None, :]
+
+
+#: rows per chunk of the grid-sized passes: about 2 MiB of float64 per chunk, so temporaries
+#: stay in cache and the peak memory does not grow with the map (issue 14)
+_CHUNK_BYTES = 1 << 21
+
+
+def row_chunks(ny, nx, chunk_bytes=_CHUNK_BYTES):
+    """Slices of consecutive rows, each about ``chunk_bytes`` of float64."""
+    step = max(1, chunk_bytes // (8 * max(nx, 1)))
+    return [slice(r, min(r + step, ny)) for r in range(0, ny, step)]
+
+
+class PolynomialForm:
+    """A fitted polynomial form z(x, y) = sum_{i + j <= d} c_ij u^i v^j on a grid (u, v the
+    column and row coordinates mapped to [-1, 1]); :meth:`rows` evaluates it on a band of
+    rows, so callers never need the whole form in memory."""
+
+    def __init__(self, C, U, V):
+        self.C, self.U, self.V = C, U, V              # C[j, i]; U (nx, d+1); V (ny, d+1)
+        self.U = np.asfortranarray(U)                 # columns u^i contiguous
+
+    def rows(self, sl, out=None, minus=None):
+        """The form on rows ``sl`` (a slice), shape (rows, nx) [m]; with ``minus`` (heights
+        of those rows) the difference ``minus - form`` instead, into ``out`` if given."""
+        # broadcasting, not a matmul with an inner dimension of d + 1: the BLAS call costs
+        # more than the arithmetic, and its threads fight the FFT's on a small machine
+        a = np.einsum("rj,ji->ri", self.V[sl], self.C)          # coefficient of u^i per row
+        if minus is None:
+            out = np.multiply(np.ones(self.U.shape[0]), a[:, :1], out=out)   # u^0 = 1
+            for i in range(1, a.shape[1]):
+                out += a[:, i, None] * self.U[:, i]
+            return out
+        out = np.subtract(minus, a[:, :1], out=out)
+        for i in range(1, a.shape[1]):
+            out -= a[:, i, None] * self.U[:, i]
+        return out
+
+    def full(self):
+        return self.rows(slice(None))
+
+
+def fit_polynomial(heights_m, unmeasured, degree=1):
+    """Least-squares polynomial form of total degree ``degree`` fitted to measured points.
+
+    Same fit as :func:`polynomial_form` (which see), returned as a :class:`PolynomialForm`.
+    The moment sums S[j, i] = sum m v^j u^i and R[j, i] = sum m h v^j u^i (m the measured
+    indicator) are accumulated over bands of rows (float64 throughout), so the memory used
+    is a few rows whatever the size of the map; the normal equations are then solved once.
+    """
+    if degree < 0:
+        raise ValueError(f"degree must be >= 0, got {degree}")
+    h = np.asarray(heights_m, dtype=np.float64)
+    one_d = h.ndim == 1
+    bad = np.asarray(unmeasured, dtype=bool)
+    if one_d:
+        h, bad = h[None, :], bad[None, :]
+    ny, nx = h.shape
+    U = _powers(_unit_coords(nx), 2 * degree)        # (nx, 2d+1)
+    V = _powers(_unit_coords(ny), 2 * degree)        # (ny, 2d+1)
+    if one_d:
+        V = np.zeros((1, 2 * degree + 1))
+        V[0, 0] = 1.0
+    Ud = np.ascontiguousarray(U[:, : degree + 1])
+    Vd = V[:, : degree + 1]
+    S = np.zeros((2 * degree + 1, 2 * degree + 1))
+    R = np.zeros((degree + 1, degree + 1))
+    for sl in row_chunks(ny, nx):
+        b = bad[sl]
+        if b.any():
+            hz = np.where(b, 0.0, h[sl])
+            m = (~b).astype(np.float64)
+            mu = np.stack([m.dot(U[:, i]) for i in range(U.shape[1])], axis=1)
+            S += np.einsum("rj,ri->ji", V[sl], mu)             # S[j, i] = sum m v^j u^i
+        else:
+            hz = h[sl]
+            S += np.outer(V[sl].sum(axis=0), U.sum(axis=0))
+        rs = np.stack([hz.dot(Ud[:, i]) for i in range(degree + 1)], axis=1)
+        R += np.einsum("rj,ri->ji", Vd[sl], rs)              # R[j, i] = sum m h v^j u^i
+    terms = [(i, j) for i in range(degree + 1) for j in range(degree + 1)
+             if i + j <= degree and (not one_d or j == 0)]
+    G = np.array([[S[j + l, i + k] for (k, l) in terms] for (i, j) in terms])
+    rhs = np.array([R[j, i] for (i, j) in terms])
+    c = np.linalg.lstsq(G, rhs, rcond=None)[0]
+    C = np.zeros((degree + 1, degree + 1))           # C[j, i]
+    for (i, j), cij in zip(terms, c):
+        C[j, i] = cij
+    return PolynomialForm(C, Ud, np.ascontiguousarray(Vd))
 
 
 def polynomial_form(heights_m, unmeasured, degree=1):
@@ -48,45 +137,16 @@ def polynomial_form(heights_m, unmeasured, degree=1):
     form : array of the heights' shape
         The fitted polynomial evaluated on the whole grid [m].
     """
-    if degree < 0:
-        raise ValueError(f"degree must be >= 0, got {degree}")
-    h = np.asarray(heights_m, dtype=np.float64)
-    one_d = h.ndim == 1
-    if one_d:
-        h = h[None, :]
-        unmeasured = np.asarray(unmeasured)[None, :]
-    ny, nx = h.shape
-    bad = np.asarray(unmeasured, dtype=bool)
-    any_bad = bool(bad.any())
-    U = _powers(_unit_coords(nx), 2 * degree)        # (nx, 2d+1)
-    V = _powers(_unit_coords(ny), 2 * degree)        # (ny, 2d+1)
-    if one_d:
-        V = np.zeros((1, 2 * degree + 1))
-        V[0, 0] = 1.0
-    # (grid @ narrow) first: a transposed narrow matrix on the left takes a slow matmul path
-    if any_bad:
-        meas = (~bad).astype(np.float64)
-        hz = np.where(bad, 0.0, h)
-        S = V.T @ (meas @ U)                         # S[j, i] = sum m v^j u^i
-    else:
-        hz = h
-        S = np.outer(V.sum(axis=0), U.sum(axis=0))
-    Ud = np.ascontiguousarray(U[:, : degree + 1])
-    R = V[:, : degree + 1].T @ (hz @ Ud)             # R[j, i] = sum m h v^j u^i
-    terms = [(i, j) for i in range(degree + 1) for j in range(degree + 1)
-             if i + j <= degree and (not one_d or j == 0)]
-    G = np.array([[S[j + l, i + k] for (k, l) in terms] for (i, j) in terms])
-    b = np.array([R[j, i] for (i, j) in terms])
-    c = np.linalg.lstsq(G, b, rcond=None)[0]
-    C = np.zeros((degree + 1, degree + 1))           # C[j, i]
-    for (i, j), cij in zip(terms, c):
-        C[j, i] = cij
-    form = V[:, : degree + 1] @ C @ U[:, : degree + 1].T
-    return form[0] if one_d else form
+    form = fit_polynomial(heights_m, unmeasured, degree).full()
+    return form[0] if np.ndim(heights_m) == 1 else form
 
 
 def level(obj, degree=1):
     """Remove the least-squares polynomial form (mean, tilt, ...) fitted to measured points.
+
+    The form is fitted by :func:`fit_polynomial` and subtracted band by band of rows into one
+    new float64 array (the input is not changed): the memory used is the result plus a few
+    rows, and the precision is float64 throughout.
 
     Parameters
     ----------
@@ -103,10 +163,21 @@ def level(obj, degree=1):
     """
     if not isinstance(obj, (HeightMap, Profile)):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
-    form = polynomial_form(obj.heights_m, obj.unmeasured, degree)
+    h, bad = obj.heights_m, obj.unmeasured
+    form = fit_polynomial(h, bad, degree)
     meta = dict(obj.meta)
     meta["levelled_degree"] = int(degree)
-    return obj.with_heights(obj.heights_m - form, meta=meta)
+    h2 = h[None, :] if h.ndim == 1 else h
+    bad2 = bad[None, :] if bad.ndim == 1 else bad
+    out = np.empty(h2.shape)
+    consistent = True                                 # NaN exactly where unmeasured
+    for sl in row_chunks(*h2.shape):
+        form.rows(sl, out=out[sl], minus=h2[sl])
+        consistent = consistent and np.array_equal(np.isfinite(out[sl]), ~bad2[sl])
+    out = out.reshape(h.shape)
+    if not consistent:                                # e.g. an overflow: let the constructor mark it
+        return obj.with_heights(out, meta=meta)
+    return obj._adopt(out, meta=meta)
 
 
 def _nearest_filled(h, bad):

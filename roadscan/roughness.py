@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from .heightmap import HeightMap, Profile
-from .level import level
+from .level import fit_polynomial, level, row_chunks
 from .windows import butter2_lowpass, filtfilt2
 
 __all__ = ["area_parameters", "profile_parameters", "mean_profile_depth",
@@ -32,24 +32,50 @@ def area_parameters(hm, level_degree=1):
     Sv = -min z, Sz = Sp + Sv (over the whole map). Gradients: on each grid cell whose four
     corners are measured, dz/dx and dz/dy are the means of the cell's two edge differences;
     Sdq = <|grad z|^2>^(1/2), Sdr = <sqrt(1 + |grad z|^2)> - 1 (developed interfacial area
-    ratio, as a fraction).
+    ratio, as a fraction). Sdq and Sdr are None (undefined, not NaN) when no grid cell has its
+    four corners measured (e.g. every other row missing).
+
+    The map is read band by band of rows (z evaluated on the fly, plane included), with the
+    sums accumulated in float64: the memory used is a few rows whatever the map's size, and
+    the result equals the whole-map formulas to float64 round-off.
 
     Returns
     -------
     dict with keys Sa_m, Sq_m, Ssk, Sku, Sp_m, Sv_m, Sz_m, Sdq, Sdr.
     """
-    if level_degree is not None:
-        hm = level(hm, level_degree)
-    z = hm.heights_m
-    m = _moments(z[~hm.unmeasured])
-    d_x = np.diff(z, axis=1) / hm.dx_m            # (ny, nx-1), NaN where a point is missing
-    d_y = np.diff(z, axis=0) / hm.dy_m            # (ny-1, nx)
-    gx = 0.5 * (d_x[:-1, :] + d_x[1:, :])
-    gy = 0.5 * (d_y[:, :-1] + d_y[:, 1:])
-    g2 = gx**2 + gy**2
-    g2 = g2[np.isfinite(g2)]
-    sdq = float(np.sqrt(np.mean(g2))) if g2.size else float("nan")
-    sdr = float(np.mean(np.sqrt(1.0 + g2)) - 1.0) if g2.size else float("nan")
+    h, bad = hm.heights_m, hm.unmeasured
+    ny, nx = h.shape
+    form = fit_polynomial(h, bad, level_degree) if level_degree is not None else None
+    acc = np.zeros(7)        # n, sum|z|, sum z^2, z^3, z^4, n_g, sum g^2
+    sdr_sum = 0.0
+    zmax, zmin = -np.inf, np.inf
+    for sl in row_chunks(ny, nx):
+        ext = slice(sl.start, min(sl.stop + 1, ny))        # one more row for the gradients
+        z = form.rows(ext, minus=h[ext]) if form is not None else h[ext]
+        zb = z[: sl.stop - sl.start]
+        zm = zb[~bad[sl]]
+        if zm.size:
+            z2 = zm * zm
+            acc[:5] += (zm.size, np.abs(zm).sum(), z2.sum(), (z2 * zm).sum(), (z2 * z2).sum())
+            zmax, zmin = max(zmax, zm.max()), min(zmin, zm.min())
+        if z.shape[0] < 2:
+            continue
+        d_x = np.diff(z, axis=1) / hm.dx_m            # NaN where a point is missing
+        d_y = np.diff(z, axis=0) / hm.dy_m
+        gx = 0.5 * (d_x[:-1, :] + d_x[1:, :])
+        gy = 0.5 * (d_y[:, :-1] + d_y[:, 1:])
+        g2 = gx * gx + gy * gy
+        g2 = g2[np.isfinite(g2)]
+        acc[5:] += (g2.size, g2.sum())
+        sdr_sum += np.sqrt(1.0 + g2).sum()
+    n, sa, s2, s3, s4, ng, sg2 = acc
+    sq = float(np.sqrt(s2 / n))
+    m = {"a": float(sa / n), "q": sq,
+         "sk": float(s3 / n / sq**3) if sq > 0 else 0.0,
+         "ku": float(s4 / n / sq**4) if sq > 0 else 0.0,
+         "p": float(zmax), "v": float(-zmin)}
+    sdq = float(np.sqrt(sg2 / ng)) if ng else None
+    sdr = float(sdr_sum / ng - 1.0) if ng else None
     return {"Sa_m": m["a"], "Sq_m": m["q"], "Ssk": m["sk"], "Sku": m["ku"], "Sp_m": m["p"],
             "Sv_m": m["v"], "Sz_m": m["p"] + m["v"], "Sdq": sdq, "Sdr": sdr}
 
@@ -57,7 +83,8 @@ def area_parameters(hm, level_degree=1):
 def profile_parameters(profile, level_degree=1):
     """ISO 4287-style parameters of a profile's levelled, measured heights (no filtering:
     over the whole evaluation length). Ra, Rq, Rsk, Rku, Rp, Rv, Rt = Rp + Rv and
-    Rdq = rms slope (finite differences between measured neighbours).
+    Rdq = rms slope (finite differences between measured neighbours; None, undefined, when no
+    two neighbours are measured).
 
     Returns
     -------
@@ -71,7 +98,7 @@ def profile_parameters(profile, level_degree=1):
     s = s[np.isfinite(s)]
     return {"Ra_m": m["a"], "Rq_m": m["q"], "Rsk": m["sk"], "Rku": m["ku"], "Rp_m": m["p"],
             "Rv_m": m["v"], "Rt_m": m["p"] + m["v"],
-            "Rdq": float(np.sqrt(np.mean(s**2))) if s.size else float("nan")}
+            "Rdq": float(np.sqrt(np.mean(s**2))) if s.size else None}
 
 
 # --------------------------------------------------------------------------- ISO 13473-1
@@ -252,7 +279,20 @@ def mean_profile_depth_area(hm, **settings):
         return None, (f"no MPD: rows are {L * 1e3:.1f} mm long, shorter than the "
                       f"{seg * 1e3:.0f} mm baseline of ISO 13473-1")
     try:
-        res = segment_depths(hm.heights_m, hm.dx_m, hm.unmeasured, **settings)
+        res = _segment_depths_by_bands(hm, settings)
     except ValueError as err:
         return None, f"no MPD: {err}"
     return _summarise(res, f"{hm.ny} rows of {L * 1e3:.0f} mm")
+
+
+def _segment_depths_by_bands(hm, settings):
+    """:func:`segment_depths` of every row, run on bands of rows (each row is processed on
+    its own, so the result is the same as one call on the whole map; the memory used is a
+    band's, not the map's)."""
+    parts = [segment_depths(hm.heights_m[sl], hm.dx_m, hm.unmeasured[sl], **settings)
+             for sl in row_chunks(hm.ny, hm.nx, 1 << 23)]
+    res = dict(parts[0])
+    for key in ("msd_m", "valid", "dropout_fraction", "spike_fraction"):
+        res[key] = np.concatenate([p[key] for p in parts], axis=0)
+    res["n_spikes"] = sum(p["n_spikes"] for p in parts)
+    return res

@@ -40,7 +40,8 @@ import scipy.fft as sfft
 from scipy.special import gammaln
 
 from .heightmap import HeightMap, Profile
-from .spectrum_types import Spectrum, Spectrum2D
+from .level import row_chunks
+from .spectrum_types import HalfLattice, Spectrum, Spectrum2D, _full_from_half  # noqa: F401
 from .windows import tukey
 
 __all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",
@@ -61,10 +62,21 @@ def _tukey(n, alpha):
 def window_2d(ny, nx, alpha=0.25):
     """The 2D Tukey window (outer product of two 1D Tukey windows) and its mean square <w^2>."""
     wy, wx = _tukey(ny, float(alpha)), _tukey(nx, float(alpha))
-    return np.outer(wy, wx), float(np.mean(wy**2) * np.mean(wx**2))
+    return np.outer(wy, wx), _window_mean_square(ny, nx, alpha)
 
 
-def _require_filled(obj):
+def _window_mean_square(ny, nx, alpha):
+    """<w^2> of :func:`window_2d` without building the window."""
+    wy, wx = _tukey(ny, float(alpha)), _tukey(nx, float(alpha))
+    return float(np.mean(wy**2) * np.mean(wx**2))
+
+
+def _require_filled(obj, fill_values=None):
+    if fill_values is not None:
+        n = int(np.count_nonzero(obj.unmeasured))
+        if np.shape(fill_values) != (n,) or not np.isfinite(fill_values).all():
+            raise ValueError(f"fill_values must be {n} finite heights (one per unmeasured point)")
+        return
     if obj.unmeasured.any():
         raise ValueError(f"{obj.name or type(obj).__name__}: {int(obj.unmeasured.sum())} unmeasured "
                          "points; fill them first (roadscan.inpaint.fill_unmeasured)")
@@ -86,56 +98,149 @@ def _ring_index(q, q_min, q_max, n_rings):
     return r
 
 
+def _half_qx(nx, dx):
+    """qx [1/m] of the rfft half lattice's columns as they sit on the full lattice: the
+    Nyquist column of an even nx is q_x = -pi/dx there (numpy's fftfreq), the others >= 0."""
+    return 2 * np.pi * sfft.fftfreq(nx, dx)[: nx // 2 + 1]
+
+
+def _mirror_columns(nx):
+    """Columns of the rfft half lattice stored once on the full lattice (q_x = 0 and, for an
+    even nx, the Nyquist column); every other column stands for itself and its mirror -q."""
+    return (0, nx // 2) if nx % 2 == 0 and nx > 1 else (0,)
+
+
 @lru_cache(maxsize=8)
-def _half_rings(ny, nx, dx, dy, q_min, q_max, n_rings):
-    """Ring bookkeeping on the rfft2 half lattice (cached per grid): flat indices of points
-    inside the range, their ring, the weight of each (2 for a column whose mirror image is
-    not stored, else 1), the weighted count per ring and the weighted mean |q| per ring."""
+def _ring_runs(ny, nx, dx, dy, q_min, q_max, n_rings):
+    """Ring bookkeeping on the rfft2 half lattice (cached per grid; a few MB whatever the size).
+
+    Along a row of the half lattice |q| grows with q_x, so the ring number is constant on
+    runs of consecutive points: ``starts`` are the flat indices where a run begins and
+    ``ring`` its ring (-1 outside [q_min, q_max]), so that ring sums are one
+    ``np.add.reduceat`` pass. ``edges`` are (column, rings of its points) of the columns
+    stored once (:func:`_mirror_columns`); ``count`` and ``qsum`` are the number of full-
+    lattice points per ring and the sum of their |q|.
+    """
     qx = 2 * np.pi * sfft.rfftfreq(nx, dx)
     qy = 2 * np.pi * sfft.fftfreq(ny, dy)
-    q = np.hypot(qx[None, :], qy[:, None]).ravel()
-    ring = _ring_index(q, q_min, q_max, n_rings)
-    wcol = np.full(qx.size, 2.0)
-    wcol[0] = 1.0
-    if nx % 2 == 0:
-        wcol[-1] = 1.0
-    wt = np.broadcast_to(wcol[None, :], (ny, qx.size)).ravel()
-    sel = np.flatnonzero(ring >= 0)
-    ring, wt = ring[sel], wt[sel]
-    count = np.bincount(ring, weights=wt, minlength=n_rings)
-    qsum = np.bincount(ring, weights=wt * q[sel], minlength=n_rings)
-    for a in (sel, ring, wt, count, qsum):
+    nxr = qx.size
+    wcol = np.full(nxr, 2.0)
+    wcol[list(_mirror_columns(nx))] = 1.0
+    starts, rings = [], []
+    count = np.zeros(n_rings)
+    qsum = np.zeros(n_rings)
+    edge_rings = {c: np.empty(ny, dtype=np.int64) for c in _mirror_columns(nx)}
+    for sl in row_chunks(ny, nxr):
+        q = np.hypot(qx[None, :], qy[sl, None])
+        ring = _ring_index(q.ravel(), q_min, q_max, n_rings).reshape(q.shape)
+        for c, er in edge_rings.items():
+            er[sl] = ring[:, c]
+        flat = ring.ravel()
+        st = np.flatnonzero(np.concatenate([[True], flat[1:] != flat[:-1]]))
+        starts.append(st + sl.start * nxr)
+        rings.append(flat[st])
+        ok = ring >= 0
+        wt = np.broadcast_to(wcol, ring.shape)[ok]
+        count += np.bincount(ring[ok], weights=wt, minlength=n_rings)
+        qsum += np.bincount(ring[ok], weights=wt * q[ok], minlength=n_rings)
+    out = (np.concatenate(starts), np.concatenate(rings), tuple(edge_rings.items()), count, qsum)
+    for a in (out[0], out[1], out[3], out[4], *edge_rings.values()):
         a.setflags(write=False)
-    return sel, ring, wt, count, qsum
+    return out
 
 
-def _half_psd(hm, window_alpha):
+def _ring_sums(P, runs, n_rings):
+    """Sum over the full lattice of P in each ring, from the rfft half lattice ``P``."""
+    starts, ring, edges = runs[0], runs[1], runs[2]
+    part = np.add.reduceat(P.ravel(), starts)
+    ok = ring >= 0
+    csum = 2.0 * np.bincount(ring[ok], weights=part[ok], minlength=n_rings)
+    for c, er in edges:
+        sel = er >= 0
+        csum -= np.bincount(er[sel], weights=P[:, c][sel], minlength=n_rings)
+    return csum
+
+
+def _taper_ranges(w):
+    """(k0, k1) with w == 1 exactly on [k0, k1) and nowhere else, or None."""
+    one = np.flatnonzero(w == 1.0)
+    if one.size == 0 or one[-1] - one[0] + 1 != one.size:
+        return None
+    return int(one[0]), int(one[-1]) + 1
+
+
+#: bands of rows of the FFT step (a map up to this size is transformed in one rfft2 call)
+_FFT_BAND_BYTES = 1 << 20
+
+
+def _half_psd(hm, window_alpha, fill_values=None):
+    """|FFT2(w h)|^2 on the rfft2 half lattice (unscaled), the factor that makes it C [m^4]
+    and <w^2>.
+
+    The heights are read band by band of rows (about 1 MiB each): a band is copied, its
+    unmeasured points set from ``fill_values`` (raster order) when given, multiplied by the
+    window where the window is not 1 (its tapered margins; each point by its row's and its
+    column's weight, which equals h w to float64 round-off) and transformed along x (rfft);
+    then one in-place complex FFT along y (a map of one band: ``rfft2`` of it). The same
+    transform as ``scipy.fft.rfft2`` (same
+    pocketfft, same workers), without a windowed copy of the whole map: the work memory is
+    the complex half spectrum plus a band, then |F|^2 (float64, half the heights' size).
+    """
     ny, nx = hm.shape
-    w, w2 = window_2d(ny, nx, window_alpha)
-    F = sfft.rfft2(hm.heights_m * w, workers=_WORKERS)
+    w2 = _window_mean_square(ny, nx, window_alpha)
+    wy, wx = _tukey(ny, float(window_alpha)), _tukey(nx, float(window_alpha))
+    ry, rx = _taper_ranges(wy), _taper_ranges(wx)
+    h, bad = hm.heights_m, hm.unmeasured
+    bands = row_chunks(ny, nx, _FFT_BAND_BYTES)
+    F = np.empty((ny, nx // 2 + 1), dtype=np.complex128) if len(bands) > 1 else None
+    k = 0
+    for sl in bands:
+        x = h[sl].copy()
+        if fill_values is not None:
+            b = bad[sl]
+            m = int(np.count_nonzero(b))
+            if m:
+                x[b] = fill_values[k:k + m]
+                k += m
+        if ry is None or rx is None:                   # e.g. the Hann window: every point
+            x *= wy[sl, None]
+            x *= wx
+        else:
+            if sl.start < ry[0] or sl.stop > ry[1]:
+                x *= wy[sl, None]
+            if rx[0] > 0:
+                x[:, : rx[0]] *= wx[: rx[0]]
+            if rx[1] < nx:
+                x[:, rx[1]:] *= wx[rx[1]:]
+        if F is None:                                  # one band: the map itself
+            F = sfft.rfft2(x, workers=_WORKERS)
+        else:
+            F[sl] = sfft.rfft(x, axis=1, workers=_WORKERS)
+    del x
+    if len(bands) > 1:
+        sfft.fft(F, axis=0, overwrite_x=True, workers=_WORKERS)      # in place
+    P = np.empty(F.shape)
+    for sl in row_chunks(*F.shape):
+        f = F[sl]
+        np.multiply(f.real, f.real, out=P[sl])
+        P[sl] += f.imag * f.imag
+    del F
     area = nx * hm.dx_m * ny * hm.dy_m
-    P = F.real**2 + F.imag**2
-    P *= (hm.dx_m * hm.dy_m) ** 2 / ((2 * np.pi) ** 2 * area * w2)
-    return P, w2
-
-
-def _full_from_half(P, nx):
-    """The full (ny, nx) lattice from the rfft2 half (C(-q) = C(q) for real heights),
-    fftshifted so that q = 0 is at the centre."""
-    ny, nxr = P.shape
-    full = np.empty((ny, nx))
-    full[:, :nxr] = P
-    if nx > nxr:
-        rows = (-np.arange(ny)) % ny
-        cols = nx - np.arange(nxr, nx)
-        full[:, nxr:] = P[rows][:, cols]
-    return sfft.fftshift(full)
+    scale = (hm.dx_m * hm.dy_m) ** 2 / ((2 * np.pi) ** 2 * area * w2)
+    return P, scale, w2
 
 
 def _meta_2d(hm, alpha, w2):
     return {"window": "tukey2d", "window_alpha": float(alpha), "window_mean_square": w2,
             "dx_m": hm.dx_m, "dy_m": hm.dy_m, "nx": hm.nx, "ny": hm.ny,
             "normalisation": NORMALISATION_2D, "name": hm.name}
+
+
+def _spectrum2d(hm, P, scale, window_alpha, w2):
+    qx = sfft.fftshift(2 * np.pi * sfft.fftfreq(hm.nx, hm.dx_m))
+    qy = sfft.fftshift(2 * np.pi * sfft.fftfreq(hm.ny, hm.dy_m))
+    return Spectrum2D(qx, qy, meta=_meta_2d(hm, window_alpha, w2),
+                      half=HalfLattice(P, scale, hm.nx))
 
 
 def psd_2d(hm, window_alpha=0.25):
@@ -149,13 +254,12 @@ def psd_2d(hm, window_alpha=0.25):
     -------
     Spectrum2D
         fftshifted lattice wave vectors ``qx_per_m`` (nx,), ``qy_per_m`` (ny,) [1/m] and the
-        map ``C_m4`` (ny, nx); ``meta`` holds the window, <w^2> and the normalisation.
+        map ``C_m4`` (ny, nx), built from the rfft2 half lattice when first read;
+        ``meta`` holds the window, <w^2> and the normalisation.
     """
     _require_filled(hm)
-    P, w2 = _half_psd(hm, window_alpha)
-    qx = sfft.fftshift(2 * np.pi * sfft.fftfreq(hm.nx, hm.dx_m))
-    qy = sfft.fftshift(2 * np.pi * sfft.fftfreq(hm.ny, hm.dy_m))
-    return Spectrum2D(qx, qy, _full_from_half(P, hm.nx), meta=_meta_2d(hm, window_alpha, w2))
+    P, scale, w2 = _half_psd(hm, window_alpha)
+    return _spectrum2d(hm, P, scale, window_alpha, w2)
 
 
 def _default_range(Lx, Ly, dx, dy, q_min, q_max):
@@ -214,32 +318,42 @@ def angular_average(spec2d, rings_per_decade=20, q_min=None, q_max=None):
     return _spectrum_from_rings(csum, count, qsum, edges, meta)
 
 
-def psd_area(hm, window_alpha=0.25, rings_per_decade=20, q_min=None, q_max=None):
+def psd_area(hm, window_alpha=0.25, rings_per_decade=20, q_min=None, q_max=None,
+             fill_values=None):
     """The whole spectrum step of a levelled, filled height map: window, FFT, angular average.
 
     Same normalisation and rings as :func:`psd_2d` and :func:`angular_average` (the ring
     average is taken on the rfft half lattice, each point whose mirror image is not stored
     counted twice, which equals the average over the full lattice).
 
+    ``fill_values``: values for the unmeasured points of ``hm`` in raster order (as
+    :func:`roadscan.inpaint.unmeasured_fill` gives them); the map is then transformed as if
+    filled, without a filled copy of it.
+
+    Precision and memory: float64 throughout (heights, window, FFT, |F|^2, ring sums). The
+    work memory is the complex half spectrum (the size of the heights) plus a band of rows,
+    then |F|^2 on the half lattice (half the heights' size), which the returned Spectrum2D
+    keeps; its fftshifted full map is only built when ``C_m4`` is read
+    (:meth:`Spectrum2D.central` gives a part without it). The ring sums are one pass over
+    |F|^2 along runs of equal ring (cached per grid).
+
     Returns
     -------
     (Spectrum, Spectrum2D)
     """
-    _require_filled(hm)
+    _require_filled(hm, fill_values)
     ny, nx = hm.shape
-    P, w2 = _half_psd(hm, window_alpha)
+    P, scale, w2 = _half_psd(hm, window_alpha, fill_values)
     q_min, q_max = _default_range(nx * hm.dx_m, ny * hm.dy_m, hm.dx_m, hm.dy_m, q_min, q_max)
     edges = _ring_edges(q_min, q_max, rings_per_decade)
-    sel, ring, wt, count, qsum = _half_rings(ny, nx, hm.dx_m, hm.dy_m, q_min, q_max,
-                                             edges.size - 1)
-    csum = np.bincount(ring, weights=P.ravel()[sel] * wt, minlength=edges.size - 1)
-    meta = _meta_2d(hm, window_alpha, w2)
-    qxs = sfft.fftshift(2 * np.pi * sfft.fftfreq(nx, hm.dx_m))
-    qys = sfft.fftshift(2 * np.pi * sfft.fftfreq(ny, hm.dy_m))
-    spec2d = Spectrum2D(qxs, qys, _full_from_half(P, nx), meta=dict(meta))
+    n = edges.size - 1
+    runs = _ring_runs(ny, nx, hm.dx_m, hm.dy_m, q_min, q_max, n)
+    csum = _ring_sums(P, runs, n) * scale
+    spec2d = _spectrum2d(hm, P, scale, window_alpha, w2)
+    meta = dict(spec2d.meta)
     meta.update(rings_per_decade=rings_per_decade, ring_edges_per_m=edges.tolist(),
                 q_range_per_m=(q_min, q_max))
-    return _spectrum_from_rings(csum, count.copy(), qsum.copy(), edges, meta), spec2d
+    return _spectrum_from_rings(csum, runs[3].copy(), runs[4].copy(), edges, meta), spec2d
 
 
 # ----------------------------------------------------------------------------- profiles
@@ -364,6 +478,9 @@ def anisotropy(spec2d, q_min=None, q_max=None, rings_per_decade=10, n_sectors=36
     qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
     Lx, Ly, dx, dy = _grid_of(spec2d)
     q_min, q_max = _default_range(Lx, Ly, dx, dy, q_min, q_max)
+    half = getattr(spec2d, "half", None)
+    if half is not None and getattr(spec2d, "_C", None) is None:
+        return _anisotropy_half(half, qy.size, dx, dy, q_min, q_max, rings_per_decade, n_sectors)
     QX, QY = np.meshgrid(qx, qy)
     q = np.hypot(QX, QY).ravel()
     n = _ring_edges(q_min, q_max, rings_per_decade).size - 1
@@ -386,6 +503,78 @@ def anisotropy(spec2d, q_min=None, q_max=None, rings_per_decade=10, n_sectors=36
     ang = np.degrees(np.arctan2(uy, ux)) % 180.0
     sec = np.minimum((ang / 180.0 * n_sectors).astype(int), n_sectors - 1)
     sp = np.bincount(sec, weights=w, minlength=n_sectors)
+    return {"power_ratio_x_to_y": float(M[0, 0] / M[1, 1]),
+            "dominant_direction_deg": float(theta),
+            "anisotropy_index": float((evals[1] - evals[0]) / (evals[1] + evals[0])),
+            "sector_angle_deg": ((np.arange(n_sectors) + 0.5) * 180.0 / n_sectors).tolist(),
+            "sector_power_fraction": (sp / sp.sum()).tolist(),
+            "q_range_per_m": (q_min, q_max)}
+
+
+@lru_cache(maxsize=4)
+def _sector_runs(ny, nx, dx, dy, q_min, q_max, n_rings, n_sectors):
+    """Runs of equal (ring, sector) along the rows of the rfft half lattice, per band of rows
+    (cached per grid): ring of 10-per-decade rings as in :func:`anisotropy`, sector of the
+    wave-vector direction in [0, 180) degrees; key = ring * n_sectors + sector, -1 outside
+    [q_min, q_max]. Also the number of full-lattice points per key."""
+    qx, qy = _half_qx(nx, dx), 2 * np.pi * sfft.fftfreq(ny, dy)
+    nxr = qx.size
+    wcol = np.full(nxr, 2.0)
+    wcol[list(_mirror_columns(nx))] = 1.0
+    bands, count = [], np.zeros(n_rings * n_sectors)
+    for sl in row_chunks(ny, nxr):
+        QX, QY = np.broadcast_arrays(qx[None, :], qy[sl, None])
+        q = np.hypot(QX, QY)
+        ring = _ring_index(q.ravel(), q_min, q_max, n_rings).reshape(q.shape)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ang = np.degrees(np.arctan2(QY / q, QX / q)) % 180.0
+        sec = np.minimum(np.nan_to_num(ang / 180.0 * n_sectors).astype(np.int64), n_sectors - 1)
+        key = np.where(ring >= 0, ring * n_sectors + sec, -1)
+        flat = key.ravel()
+        st = np.flatnonzero(np.concatenate([[True], flat[1:] != flat[:-1]]))
+        ok = key >= 0
+        count += np.bincount(key[ok], weights=np.broadcast_to(wcol, key.shape)[ok],
+                             minlength=count.size)
+        edges = tuple((c, key[:, c].copy()) for c in _mirror_columns(nx))
+        bands.append((sl, st, flat[st], edges))
+    return bands, count
+
+
+def _anisotropy_half(half, ny, dx, dy, q_min, q_max, rings_per_decade, n_sectors):
+    """:func:`anisotropy` on the rfft half lattice (each stored point and its mirror -q have
+    the same |q|, ring, direction modulo 180 degrees and q^ q^T): sums of C, C qx^2/q^2,
+    C qy^2/q^2 and C qx qy/q^2 per (ring, sector), read band by band; float64."""
+    nx = half.nx
+    n = _ring_edges(q_min, q_max, rings_per_decade).size - 1
+    bands, cnt = _sector_runs(ny, nx, dx, dy, q_min, q_max, n, n_sectors)
+    qx, qy = _half_qx(nx, dx), 2 * np.pi * sfft.fftfreq(ny, dy)
+    nk = n * n_sectors
+    sums = np.zeros((4, nk))
+    P = half.P
+    for sl, st, key, edges in bands:
+        p = P[sl]
+        q = np.hypot(qx[None, :], qy[sl, None])
+        q[q == 0] = np.inf
+        ux, uy = qx[None, :] / q, qy[sl, None] / q
+        ok = key >= 0
+        for i, a in enumerate((p, p * ux * ux, p * uy * uy, p * ux * uy)):
+            part = np.add.reduceat(a.ravel(), st)[ok]
+            sums[i] += 2.0 * np.bincount(key[ok], weights=part, minlength=nk)
+            for c, kc in edges:                       # columns stored once count once
+                sel = kc >= 0
+                sums[i] -= np.bincount(kc[sel], weights=a[:, c][sel], minlength=nk)
+    cnt_r = cnt.reshape(n, n_sectors).sum(axis=1)
+    csum_r = sums[0].reshape(n, n_sectors).sum(axis=1)
+    ok = (cnt_r > 0) & (csum_r > 0)
+    inv = np.where(ok, cnt_r / np.where(ok, csum_r, 1.0), 0.0)      # 1 / mean C of the ring
+    wk = sums * np.repeat(inv, n_sectors)[None, :]                  # weights C / mean C
+    total = wk[0].sum()
+    Mxx, Myy, Mxy = wk[1].sum() / total, wk[2].sum() / total, wk[3].sum() / total
+    M = np.array([[Mxx, Mxy], [Mxy, Myy]])
+    evals, evecs = np.linalg.eigh(M)
+    v = evecs[:, 1]
+    theta = np.degrees(np.arctan2(v[1], v[0])) % 180.0
+    sp = wk[0].reshape(n, n_sectors).sum(axis=0)
     return {"power_ratio_x_to_y": float(M[0, 0] / M[1, 1]),
             "dominant_direction_deg": float(theta),
             "anisotropy_index": float((evals[1] - evals[0]) / (evals[1] + evals[0])),

@@ -1,4 +1,5 @@
-"""Small containers for power spectral densities (no computation here).
+"""Small containers for power spectral densities (no computation here beyond rebuilding the
+full 2D map from its rfft half lattice).
 
 PSD convention (Persson's, DESIGN.md section 2): for an isotropic surface
 ``<h^2> = integral d^2q C(q) = 2 pi integral q C(q) dq``; C [m^4]. A 1D (profile) PSD C1 [m^3]
@@ -10,7 +11,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Spectrum", "Spectrum2D"]
+__all__ = ["Spectrum", "Spectrum2D", "HalfLattice"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,14 +56,84 @@ class Spectrum:
         return float(self.q_per_m[-1])
 
 
+def _full_from_half(P, nx):
+    """The full (ny, nx) lattice from the rfft2 half (C(-q) = C(q) for real heights),
+    fftshifted so that q = 0 is at the centre."""
+    ny, nxr = P.shape
+    full = np.empty((ny, nx))
+    full[:, :nxr] = P
+    if nx > nxr:
+        rows = (-np.arange(ny)) % ny
+        cols = nx - np.arange(nxr, nx)
+        full[:, nxr:] = P[rows][:, cols]
+    return np.fft.fftshift(full)
+
+
 @dataclass(frozen=True, eq=False)
+class HalfLattice:
+    """A 2D PSD stored on the rfft2 half lattice: ``C = scale * P`` at the unshifted lattice
+    points with q_x >= 0 (columns 0 .. nx // 2), the rest following from C(-q) = C(q).
+    Half the memory of the full map, which is built only when asked for."""
+
+    P: np.ndarray          # (ny, nx // 2 + 1), unscaled |FFT2(w h)|^2
+    scale: float           # C [m^4] = scale * P
+    nx: int                # columns of the full lattice
+
+    def full(self):
+        """The fftshifted (ny, nx) map C [m^4]."""
+        C = _full_from_half(self.P, self.nx)
+        C *= self.scale
+        return C
+
+    def block(self, rows, cols):
+        """C [m^4] at the fftshifted row and column indices ``rows`` x ``cols`` (1D integer
+        arrays), read from the half lattice (the same values as ``full()[np.ix_(rows, cols)]``)."""
+        ny, nxr = self.P.shape
+        uy = (np.asarray(rows) - ny // 2) % ny                  # unshifted indices
+        ux = (np.asarray(cols) - self.nx // 2) % self.nx
+        mirrored = ux >= nxr
+        r = np.where(mirrored[None, :], ((-uy) % ny)[:, None], uy[:, None])
+        c = np.where(mirrored, self.nx - ux, ux)[None, :]
+        return self.P[r, c] * self.scale
+
+
 class Spectrum2D:
     """The full 2D PSD map C(qx, qy) [m^4] on the FFT lattice (fftshifted, zero at centre).
 
     ``qx_per_m`` (nx,) and ``qy_per_m`` (ny,) are the shifted lattice wave vectors [1/m].
+    ``C_m4`` is either given, or (from :func:`roadscan.spectrum.psd_area` and ``psd_2d``)
+    built from the rfft2 half lattice ``half`` the first time it is read and then kept;
+    :meth:`central` reads the part around q = 0 without building the whole map.
     """
 
-    qx_per_m: np.ndarray
-    qy_per_m: np.ndarray
-    C_m4: np.ndarray
-    meta: dict = field(default_factory=dict)
+    __slots__ = ("qx_per_m", "qy_per_m", "meta", "half", "_C")
+
+    def __init__(self, qx_per_m, qy_per_m, C_m4=None, meta=None, *, half=None):
+        if C_m4 is None and half is None:
+            raise ValueError("Spectrum2D needs C_m4 or its half lattice")
+        self.qx_per_m = qx_per_m
+        self.qy_per_m = qy_per_m
+        self.meta = {} if meta is None else meta
+        self.half = half
+        self._C = C_m4
+
+    @property
+    def C_m4(self):
+        if self._C is None:
+            self._C = self.half.full()
+        return self._C
+
+    def central(self, q_limit_per_m):
+        """(qx, qy, C) on the lattice points with |qx| and |qy| <= ``q_limit_per_m`` [1/m]."""
+        qx, qy = np.asarray(self.qx_per_m), np.asarray(self.qy_per_m)
+        ix = np.flatnonzero(np.abs(qx) <= q_limit_per_m)
+        iy = np.flatnonzero(np.abs(qy) <= q_limit_per_m)
+        if self._C is not None or self.half is None:
+            C = np.asarray(self._C)[np.ix_(iy, ix)]
+        else:
+            C = self.half.block(iy, ix)
+        return qx[ix], qy[iy], C
+
+    def __repr__(self):
+        return (f"Spectrum2D({np.size(self.qy_per_m)} x {np.size(self.qx_per_m)}, "
+                f"{'map' if self._C is not None else 'half lattice'})")

@@ -45,12 +45,12 @@ import numpy as np
 from scipy import ndimage
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
-from scipy.signal.windows import tukey
 from skimage.registration import phase_cross_correlation
 
 from .errors import InputError
 from .heightmap import HeightMap
 from .level import polynomial_form
+from .windows import tukey   # scipy.signal's, without importing scipy.signal (issue 13)
 
 __all__ = ["StitchResult", "stitch", "read_manifest", "grid_positions"]
 

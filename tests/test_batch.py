@@ -236,3 +236,36 @@ def test_ctrl_c_keeps_finished_scans_and_resume_completes(tmp_path):
     assert all((out / k / "summary.json").stat().st_mtime_ns == t for k, t in before.items())
     assert len([d for d in out.iterdir() if d.is_dir() and not d.name.startswith(".")]) == n
     assert not [d for d in out.iterdir() if "tmp-" in d.name]
+
+
+def test_progress_bar_on_a_terminal_without_tqdm(tmp_path):
+    """stderr a terminal (a pty): a progress bar, the built-in one when tqdm is not installed
+    (tqdm is no dependency), ending at n/n; stdout stays empty."""
+    import pty
+
+    f = tmp_path / "a.npy"
+    np.save(f, fourier_surface(64, DX, 0.8, 2e-4, seed=1))
+    block = tmp_path / "block" / "tqdm"
+    block.mkdir(parents=True)
+    (block / "__init__.py").write_text("raise ImportError('tqdm hidden by the test')\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(block.parent), str(ROOT)]))
+    master, slave = pty.openpty()
+    r = subprocess.Popen([sys.executable, "-m", "pipelines.cli", "batch", str(f), str(f),
+                          "--spacing", str(DX), "--out", str(tmp_path / "o"), "--workers", "1",
+                          "--no-friction"], stdout=subprocess.PIPE, stderr=slave, env=env)
+    os.close(slave)
+    chunks = []
+    while True:
+        try:
+            b = os.read(master, 4096)
+        except OSError:
+            break
+        if not b:
+            break
+        chunks.append(b)
+    out, _ = r.communicate(timeout=120)
+    os.close(master)
+    text = b"".join(chunks).decode(errors="replace")
+    assert r.returncode == 0 and out == b""
+    assert "0/2 scans" in text and "2/2 scans" in text and "Traceback" not in text
+    assert "2 ok, 0 failed" in text

@@ -92,12 +92,16 @@ def test_cli_reproduces_direct_persson(route, rubber_files, tmp_path):
     rubber = (["--rubber", str(rubber_files / "rubber.toml")] if route == "toml" else
               ["--master-curve", str(RUBBERS / "freq_user_master.csv"), "--shift-table",
                str(rubber_files / "aT.csv"), "--reference-temperature", "-5"])
+    # the flags route takes a tabulated speed list (another program's grid), the TOML route a range
+    speeds = "1e-8:1e4:7" if route == "toml" else "3.7e-7,1e-8,2.2e-3,0.05,1.3,47,1e4"
     rc = main(["friction", "--psd", str(PSD), *rubber, "--temperature", str(T0), "--q0", str(q0),
                "--q1", str(q1), "--nu", str(nu), "--sigma0", "0.3MPa", "--contact-gamma", str(gamma),
-               "--velocities", "1e-8:1e4:7", "--out", str(out)])
+               "--velocities", speeds, "--out", str(out)])
     assert rc == 0
     head, d = _read(out)
-    assert head[:3] == ["v_m_per_s", "mu", "area_fraction"]
+    assert head[:3] == ["v_m_per_s", "mu", "area_fraction"] and d.shape[0] == 7
+    if route == "flags":
+        np.testing.assert_allclose(d[:, 0], [1e-8, 3.7e-7, 2.2e-3, 0.05, 1.3, 47, 1e4], rtol=1e-9)
     psd = _table(PSD)
     mc = _table(RUBBERS / "freq_user_master.csv", skip_units=True)
     sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)[::-1]
@@ -359,3 +363,68 @@ def test_shift_table_file_with_wlf_constants(tmp_path):
     (tmp_path / "bad.csv").write_text("C1,C2_K\n24.9,138\n")
     with pytest.raises(InputError, match="T_s_C"):
         rubber_from_csv_files(RUBBERS / "freq_user_master.csv", tmp_path / "bad.csv")
+
+
+def test_diagnose_engine_receives_nu_and_gamma():
+    """diagnose's model passes nu and gamma to both engines (the flash branch too) and the band map."""
+    from friction import SelfAffinePSD, mu_flash, mu_isothermal, thesis_rubber
+    from pipelines.diagnose.bandmap import band_map
+    from pipelines.diagnose.model import FrictionContext, SimSpec, simulate
+
+    psd, r = SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5), thesis_rubber()
+    v = np.logspace(-3, 1, 4)
+    ctx = FrictionContext(v, np.full(4, np.nan), np.full(4, 3e5), np.zeros(4, bool), None)
+    spec = SimSpec(psd=psd, rubber=r, nu=0.3, contact_gamma=0.6)
+    np.testing.assert_allclose(simulate(spec, ctx),
+                               mu_isothermal(psd, r, v, sigma0_Pa=3e5, nu=0.3, contact_gamma=0.6).mu, rtol=1e-12)
+    fl = spec.with_(flash={"zeta_m": 3.0})
+    np.testing.assert_allclose(simulate(fl, ctx),
+                               mu_flash(psd, r, v, sigma0_Pa=3e5, nu=0.3, contact_gamma=0.6).mu, rtol=1e-12)
+    bm, _ = band_map(spec, [(1e-3, 1e-2), (1.0, 10.0)], sigma0_Pa=3e5)
+    vc = np.sqrt([1e-5, 10.0])
+    ref = mu_isothermal(psd, r, vc, sigma0_Pa=3e5, nu=0.3, contact_gamma=0.6).mu
+    np.testing.assert_allclose([b["mu_at_centre"] for b in bm], ref, rtol=1e-12)
+
+
+def test_diagnose_master_curve_flags_band_and_coverage(tmp_path, capsys):
+    """diagnose takes --master-curve/--shift-table (linear aT), --nu, --q0/--q1, --contact-gamma and
+    --extrapolate like friction: one warning line beyond a decade, the figures in diagnosis.json."""
+    curve = _narrow_curve(tmp_path)
+    sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)
+    (tmp_path / "aT.csv").write_text("T_C,aT\n" + "".join(f"{t:g},{10 ** a:.10e}\n" for t, a in sh))
+    v = np.logspace(-4, 0, 6)
+    (tmp_path / "mu.csv").write_text("v_m_per_s,mu,T0_C\n" + "".join(f"{x:g},{0.3 + 0.02 * i},{62 if i < 3 else 70}\n"
+                                                                     for i, x in enumerate(v)))
+    out = tmp_path / "d"
+    assert main(["diagnose", "--measured", str(tmp_path / "mu.csv"), "--psd", str(PSD), "--master-curve", str(curve),
+                 "--shift-table", str(tmp_path / "aT.csv"), "--reference-temperature", "-5", "--nu", "0.4",
+                 "--sigma0", "0.3MPa", "--q0", "300", "--q1", "1e6", "--contact-gamma", "0.7",
+                 "--extrapolate", "hold", "--out", str(out)]) == 0
+    err = [ln for ln in capsys.readouterr().err.splitlines() if ln.startswith("warning")]
+    assert len(err) == 1 and "decades below" in err[0] and "--extrapolate hold" in err[0]
+    s = json.loads((out / "diagnosis.json").read_text())["engine_settings"]
+    assert s["nu"] == 0.4 and s["contact_gamma"] == 0.7 and s["rubber"]["T_ref_C"] == -5.0
+    assert s["band"]["q0_per_m"] == pytest.approx(300) and s["band"]["q1_per_m"] == pytest.approx(1e6)
+    cov = s["rubber_checks"]["frequency_coverage"]
+    # lowest: v_min q0 / 2 pi at the hottest row (70 C, log aT = -8.46) against the curve's bottom
+    lo = np.log10(1e-4 * 300 / (2 * np.pi)) - 8.46
+    assert np.log10(cov["f_needed_Hz"][0]) == pytest.approx(lo, abs=1e-6)
+    assert cov["f_curve_Hz"][0] >= 1e-2
+    assert cov["extrapolated_decades_below"] == pytest.approx(np.log10(cov["f_curve_Hz"][0]) - lo, abs=1e-6)
+    assert s["rubber_checks"]["wlf_fit_to_shift_table"]["rms_decades"] > 0
+    assert main(["diagnose", "--measured", str(tmp_path / "mu.csv"), "--psd", str(PSD), "--nu", "0.7",
+                 "--out", str(tmp_path / "e")]) == 2
+    assert "--nu" in capsys.readouterr().err
+
+
+def test_master_curve_log_columns_and_aliases(tmp_path):
+    """Master curves tabulated as decimal logs (log10 omega, log10 E) or with ReE/ImE headers."""
+    from pipelines.rubber_file import read_master_curve_csv
+
+    (tmp_path / "a.csv").write_text("log10_omega_rad_s,log10_E_stor_Pa,log10(E_loss) [Pa]\n0,6,5\n1,6.5,5.5\n2,7,6\n")
+    f, E1, E2 = read_master_curve_csv(tmp_path / "a.csv")
+    np.testing.assert_allclose(f, np.array([1, 10, 100]) / (2 * np.pi))
+    np.testing.assert_allclose(E1, [1e6, 10 ** 6.5, 1e7]) and np.testing.assert_allclose(E2, [1e5, 10 ** 5.5, 1e6])
+    (tmp_path / "b.csv").write_text("log f,ReE,ImE\nHz,MPa,MPa\n0,1,0.1\n1,2,0.2\n")
+    f, E1, E2 = read_master_curve_csv(tmp_path / "b.csv")
+    np.testing.assert_allclose(f, [1, 10]) and np.testing.assert_allclose(E2, [1e5, 2e5])

@@ -48,6 +48,22 @@ def test_package_imports_stay_light(code):
     assert not _heavy(mods), f"{code!r} imported {_heavy(mods)}"
 
 
+#: modules whose purpose is what they import: friction.fitting fits Prony series and WLF
+#: constants with scipy.optimize (imported only by ``roadscan rubber`` and the fitting API)
+OPTIMIZE_BY_DESIGN = {"friction.fitting"}
+
+
+def test_every_module_of_both_packages_stays_light():
+    # all of roadscan and friction at once, submodules included (stitch, rain, io readers, ...)
+    code = ("import importlib, pkgutil, roadscan, friction\n"
+            "for pkg in (roadscan, friction):\n"
+            "    for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + '.'):\n"
+            f"        if m.name not in {sorted(OPTIMIZE_BY_DESIGN)!r}:\n"
+            "            importlib.import_module(m.name)\n")
+    mods = _loaded_after(code)
+    assert not _heavy(mods), f"importing every module imported {_heavy(mods)}"
+
+
 def test_lazy_names_resolve():
     import friction
     import roadscan
@@ -60,8 +76,49 @@ def test_lazy_names_resolve():
         roadscan.no_such_name  # noqa: B018
 
 
-def test_help_runs_without_heavy_imports():
+def _command_names():
+    from pipelines.cli import _load_commands
+
+    return [m.NAME for m in _load_commands()]
+
+
+@pytest.mark.parametrize("argv", [["--help"]] + [[name, "--help"] for name in _command_names()])
+def test_help_runs_without_heavy_imports(argv):
+    # every command `roadscan --help` lists (issue 13: each --help within 0.15 s, timed by
+    # benchmarks/bench_startup.py): argparse only, no numpy nor scipy nor matplotlib
     code = ("import sys\nfrom pipelines.cli import main\n"
-            "try:\n    main(['analyse', '--help'])\nexcept SystemExit:\n    pass\n")
+            f"try:\n    main({argv!r})\nexcept SystemExit:\n    pass\n")
     mods = _loaded_after(code)
-    assert not mods, sorted(mods)[:8]
+    assert not mods, f"roadscan {' '.join(argv)} imported {sorted(mods)[:8]}"
+
+
+def test_every_listed_command_is_checked():
+    from pipelines.cli import COMMAND_MODULES
+
+    names = _command_names()
+    assert len(names) >= len(COMMAND_MODULES) - 1 and "analyse" in names and "friction" in names
+
+
+def test_reports_and_friction_engine_load_matplotlib_only_to_draw(tmp_path):
+    # the analysis modules and a friction run pull in no plotting (figures import it on demand),
+    # and the engine's phi table needs no scipy.interpolate (0.1 s of every run)
+    code = ("import numpy as np\nimport pipelines.report, pipelines.analyse, pipelines.compare, "
+            "pipelines.dry_vs_wet\nimport friction\n"
+            "psd = friction.SelfAffinePSD(hurst=0.8, h0_m=5e-4, q0_per_m=2e3, q1_per_m=2e5)\n"
+            "friction.mu_isothermal(psd, friction.thesis_rubber(), np.logspace(-6, 2, 9))\n")
+    mods = _loaded_after(code)
+    assert not {m for m in mods if m.split(".")[0] == "matplotlib"}, sorted(mods)
+    assert "scipy.interpolate" not in mods
+
+
+def test_analyse_without_figures_never_imports_matplotlib(tmp_path):
+    import numpy as np
+
+    h = np.random.default_rng(0).normal(size=(64, 64)) * 1e-4
+    np.save(tmp_path / "s.npy", h)
+    code = ("from pipelines.cli import main\n"
+            f"assert main(['analyse', {str(tmp_path / 's.npy')!r}, '--spacing', '1e-4', '--no-figures', "
+            f"'--out', {str(tmp_path / 'out')!r}]) == 0\n")
+    mods = _loaded_after(code)
+    assert not {m for m in mods if m.split(".")[0] == "matplotlib"}, sorted(mods)
+    assert (tmp_path / "out" / "summary.json").exists() and not list((tmp_path / "out").glob("*.png"))

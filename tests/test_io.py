@@ -1,6 +1,8 @@
 """Reading and writing height files: round trips, units, text layouts, gwy, errors."""
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import pytest
 
@@ -287,6 +289,33 @@ def test_gwy_written_by_gwyfile(tmp_path):
         read(tmp_path / "b.gwy")
     b = read(tmp_path / "b.gwy", spacing=1e-5, units="um")
     np.testing.assert_allclose(b.heights_m, h, rtol=1e-12)
+
+
+def test_gwy_mask_is_unmeasured_like_surfacetopography(tmp_path):
+    """An instrument export marks invalid points (filled with 0) by /0/mask: they are unmeasured,
+    as SurfaceTopography (the independent reader) reads them; rows stay along y."""
+    from gwyfile.objects import GwyContainer, GwyDataField
+
+    rng = np.random.default_rng(9)
+    h = rng.normal(scale=1e-6, size=(9, 14))
+    bad = rng.random(h.shape) < 0.1
+    h[bad] = 0.0
+    c = GwyContainer()
+    c["/0/data"] = GwyDataField(h, xreal=14 * 1e-6, yreal=9 * 2e-6, si_unit_xy="m", si_unit_z="m")
+    c["/0/mask"] = GwyDataField(bad.astype(float), xreal=14 * 1e-6, yreal=9 * 2e-6)
+    c.tofile(str(tmp_path / "m.gwy"))
+    m = read(tmp_path / "m.gwy")
+    np.testing.assert_array_equal(m.unmeasured, bad)
+    np.testing.assert_array_equal(m.heights_m[~bad], h[~bad])
+    assert m.meta["gwy_mask_fraction"] == pytest.approx(bad.mean())
+    if os.environ.get("CI") != "true":
+        pytest.importorskip("SurfaceTopography")
+    from SurfaceTopography import open_topography
+
+    t = open_topography(str(tmp_path / "m.gwy")).topography()
+    st = np.ma.filled(t.heights().astype(float), np.nan).T        # ST indexes [x, y]
+    np.testing.assert_array_equal(np.isnan(st), bad)
+    np.testing.assert_allclose(st[~bad], h[~bad], rtol=1e-12)
 
 
 # ---------------------------------------------------------------- errors

@@ -96,3 +96,41 @@ def test_fill_nothing_to_do():
     hm = HeightMap(np.ones((5, 5)), 1e-4, 1e-4)
     filled, frac = fill_unmeasured(hm)
     assert frac == 0 and np.array_equal(filled.heights_m, hm.heights_m)
+
+
+def _global_biharmonic(h, bad):
+    """The reference: one scikit-image solve over the whole map (as fill_unmeasured did)."""
+    from skimage.restoration import inpaint_biharmonic
+
+    ref = np.nanmean(np.where(bad, np.nan, h))
+    return np.where(bad, inpaint_biharmonic(np.where(bad, ref, h) - ref, bad) + ref, h)
+
+
+def test_banded_fill_equals_one_global_solve():
+    """fill_unmeasured solves the biharmonic system band by band (issue 14: memory); it must
+    equal one global solve: clusters crossing bands, dropouts on every edge, and a bowl whose
+    filled bottom lies below every measured height of its band but above the map's minimum
+    (the global clip range must be used, not the band's)."""
+    ny, nx = 700, 48
+    y, x = np.mgrid[0:ny, 0:nx].astype(float)
+    h = 1e-6 * np.sin(x / 7.0) * np.cos(y / 11.0)
+    h[20:30, 10:20] -= 1e-3                                 # the global minimum, top band
+    bowl = ((x - 24) ** 2 + (y - 600) ** 2) * 1e-6
+    h += np.where(np.hypot(x - 24, y - 600) < 12, bowl - 1.44e-4, 0.0)
+    bad = np.hypot(x - 24, y - 600) < 4                      # the bowl's bottom is missing
+    bad[100:520, 30] = True                                  # one cluster across two bands
+    bad[0, 5:9] = bad[-1, 40:44] = bad[300:304, 0] = bad[350:353, -1] = True
+    rng = np.random.default_rng(5)
+    bad |= rng.random(h.shape) < 0.01
+    hm = HeightMap(h, 1e-4, 1e-4, unmeasured=bad)
+    filled, _ = fill_unmeasured(hm)
+    ref = _global_biharmonic(h, bad)
+    assert filled.heights_m[bad][np.argmin(np.abs(np.hypot(x - 24, y - 600)[bad]))] < \
+        h[300:700][~bad[300:700]].min()                      # the bowl case is exercised
+    assert np.allclose(filled.heights_m, ref, rtol=0, atol=1e-12 * np.ptp(h))
+    # a mask too dense for two free points in a band: the global solve is used
+    dense = np.zeros((60, 40), bool)
+    dense[:, ::2] = True                                     # every point next to a dropout
+    g = h[:60, :40]
+    f2, _ = fill_unmeasured(HeightMap(g, 1e-4, 1e-4, unmeasured=dense))
+    assert np.allclose(f2.heights_m, _global_biharmonic(g, dense), rtol=0, atol=1e-12 * np.ptp(g))

@@ -124,7 +124,7 @@ def test_flood_all_nan_border_and_huge_values():
 def test_real_instrument_scan(shared_data):
     """Real instrument scans (shared/data/formats): a Digital Surf file with undefined points
     and a Sensofar confocal scan (the thesis's make)."""
-    pytest.importorskip("surfalize")
+    pytest.importorskip("SurfaceTopography")
     from roadscan.io import read
 
     h = read(shared_data / "formats" / "sur-2.sur").heights_m

@@ -67,6 +67,37 @@ def test_shift_factors_within_03_decade(synthetic_run):
     assert np.max(np.abs(err)) < 0.3, np.round(err, 2)
 
 
+def _sampled_sweeps(seed):
+    """The synthetic_run sweeps as arrays (same recipe, another noise seed)."""
+    mc, sh = _published()
+    rng = np.random.default_rng(seed)
+    fr = np.logspace(-1, 2, 10)
+    cols = [[], [], [], [], []]
+    for i, (T, la) in enumerate(sh):
+        cols[0] += list(fr)
+        cols[1] += list(_interp_loglog(fr * 10 ** la, mc, 1) * 1e6 * (1 + 0.003 * rng.standard_normal(fr.size)))
+        cols[2] += list(_interp_loglog(fr * 10 ** la, mc, 2) * 1e6 * (1 + 0.01 * rng.standard_normal(fr.size)))
+        cols[3] += list(T + 0.2 * rng.standard_normal(fr.size))
+        cols[4] += [i] * fr.size
+    return [np.array(c) for c in cols], sh
+
+
+def test_shift_accuracy_over_noise_seeds():
+    """Not one lucky seed: over 6 noise seeds, the sweeps placed by overlap agree with pyvisco's
+    shifts within 0.2 decade (measured <= 0.19); all sweeps, the plateau ones continued by the trend
+    of their neighbours included, within 0.4 (measured 0.23-0.36: 0.3 is met by about 6 seeds in 10)."""
+    from friction.mastercurve import build_master
+
+    for seed in range(6):
+        (f, e1, e2, T, sid), sh = _sampled_sweeps(seed)
+        r = build_master(f, e1, e2, T, -5.0, sid)
+        err = np.abs(r.log10_aT - sh[:, 1])
+        placed = np.array([i["method"] in ("overlap", "reference") and i["sigma_decades"] < 0.3
+                           for i in r.sweep_info])
+        assert placed.sum() >= 10
+        assert err[placed].max() < 0.2 and err.max() < 0.4, (seed, np.round(err, 2))
+
+
 def test_master_curve_within_10_percent(synthetic_run):
     mc, _ = _published()
     r = load_rubber(synthetic_run / "syn.toml")                            # loadable by --rubber
@@ -133,6 +164,37 @@ def test_published_files_are_not_one_material():
     la = sh[raw[:, 4].astype(int), 1]
     ratio = raw[:, 1] / _interp_loglog(raw[:, 0] * 10 ** la, mc, 1)
     assert ratio.max() > 10
+    # No shift can mend it: E'' as a function of E' (the Cole-Cole curve) does not depend on the
+    # shift factors, and the raw sweeps' E'' is 2-4x below the published curve's at the same E'.
+    for E in (3000.0, 5000.0, 7000.0):
+        pub = np.median(mc[np.abs(np.log(mc[:, 1] / E)) < 0.05, 2])
+        got = np.median(raw[np.abs(np.log(raw[:, 1] / E)) < 0.05, 2])
+        assert got < 0.65 * pub, (E, got, pub)
+
+
+def test_published_shifts_do_not_superpose_the_raw_sweeps(tmp_path):
+    """Neighbouring raw sweeps shifted by pyvisco's published factors disagree by up to ~17 % in E'
+    where they overlap; shifted by ours, by at most a few %."""
+    raw = _table(RAW)
+    _, sh = _published()
+    assert main(["rubber", "master", str(RAW), "--reference-temperature", "-5", "--out",
+                 str(tmp_path / "r.toml")]) == 0
+    ours = _table(tmp_path / "r_shift.csv", skip=1)[:, 1]
+
+    def worst_mismatch(la):
+        worst = 0.0
+        for s in range(20):
+            a, b = raw[raw[:, 4] == s], raw[raw[:, 4] == s + 1]
+            xa, xb = np.log10(a[:, 0]) + la[s], np.log10(b[:, 0]) + la[s + 1]
+            lo, hi = max(xa.min(), xb.min()), min(xa.max(), xb.max())
+            if hi - lo < 0.3:
+                continue
+            x = np.linspace(lo, hi, 20)
+            d = np.interp(x, xa, np.log(a[:, 1])) - np.interp(x, xb, np.log(b[:, 1]))
+            worst = max(worst, float(np.sqrt(np.mean(d * d))))
+        return worst
+
+    assert worst_mismatch(sh[:, 1]) > 0.12 and worst_mismatch(ours) < 0.03
 
 
 def test_pair_shift_exact_power_law():

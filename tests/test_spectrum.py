@@ -161,3 +161,43 @@ def test_anisotropy(gauss512):
     assert a["power_ratio_x_to_y"] > 5 and a["anisotropy_index"] > 0.5
     assert min(a["dominant_direction_deg"], 180 - a["dominant_direction_deg"]) < 1.0
     assert sum(a["sector_power_fraction"]) == pytest.approx(1.0)
+
+
+@pytest.mark.parametrize("shape", [(80, 96), (77, 101)])
+def test_half_lattice_map_central_part_and_anisotropy(shape):
+    """psd_area keeps the rfft half lattice (issue 13/14): the full map built on demand, its
+    central part read without it, and the anisotropy from the half lattice all equal the
+    same quantities computed on the full fftshifted map."""
+    ny, nx = shape
+    g = self_affine_surface(nx, ny, dx_m=40e-6, dy_m=30e-6, hurst=0.6, rms_height_m=1e-3, seed=2)
+    ridges = g.with_heights(np.tile(g.heights_m[0], (ny, 1)) + 0.1 * g.heights_m)
+    _, s2 = psd_area(ridges)
+    full = Spectrum2D(s2.qx_per_m, s2.qy_per_m, s2.C_m4.copy(), meta=s2.meta)
+    _, lazy = psd_area(ridges)
+    qlim = 0.3 * np.abs(s2.qx_per_m).max()
+    qx, qy, C = lazy.central(qlim)
+    ix, iy = np.abs(s2.qx_per_m) <= qlim, np.abs(s2.qy_per_m) <= qlim
+    assert np.array_equal(C, full.C_m4[np.ix_(iy, ix)])
+    assert np.array_equal(qx, s2.qx_per_m[ix]) and np.array_equal(qy, s2.qy_per_m[iy])
+    a, b = anisotropy(lazy), anisotropy(full)
+    assert a["power_ratio_x_to_y"] > 2                       # the ridges are seen
+    for k in ("power_ratio_x_to_y", "dominant_direction_deg", "anisotropy_index"):
+        assert a[k] == pytest.approx(b[k], rel=1e-10, abs=1e-12)
+    assert np.allclose(a["sector_power_fraction"], b["sector_power_fraction"], rtol=0, atol=1e-12)
+
+
+def test_psd_area_with_fill_values_equals_filled_map():
+    """psd_area(levelled, fill_values=...) reads the map as filled without a filled copy."""
+    from roadscan.inpaint import fill_unmeasured, unmeasured_fill
+
+    g = self_affine_surface(128, 96, dx_m=A_M, hurst=0.7, rms_height_m=1e-3, seed=3)
+    bad = np.zeros(g.shape, bool)
+    bad[10:14, 20:30] = bad[60, :] = bad[90:, 5] = True
+    hm = level(HeightMap(g.heights_m, A_M, A_M, unmeasured=bad))
+    s_ref, m_ref = psd_area(fill_unmeasured(hm)[0])
+    s, m = psd_area(hm, fill_values=unmeasured_fill(hm))
+    assert np.array_equal(s.count, s_ref.count)
+    assert np.allclose(s.C_m4, s_ref.C_m4, rtol=1e-12)
+    assert np.allclose(m.C_m4, m_ref.C_m4, rtol=1e-12, atol=0)
+    with pytest.raises(ValueError, match="fill_values"):
+        psd_area(hm, fill_values=np.zeros(3))

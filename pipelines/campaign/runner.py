@@ -130,13 +130,36 @@ def _scan_resources(client):
     return None
 
 
+class _TextBar:
+    """A one-line progress bar on stderr for terminals without tqdm (not a dependency)."""
+
+    def __init__(self, total, stream=None, width=30):
+        self.total, self.n, self.width = max(int(total), 1), 0, width
+        self.stream = stream or sys.stderr
+        self._draw()
+
+    def _draw(self):
+        k = int(round(self.width * self.n / self.total))
+        self.stream.write(f"\r[{'#' * k}{'.' * (self.width - k)}] {self.n}/{self.total} scans")
+        self.stream.flush()
+
+    def update(self, n=1):
+        self.n = min(self.total, self.n + n)
+        self._draw()
+
+    def close(self):
+        self.stream.write("\n")
+        self.stream.flush()
+
+
 def _progress(total, enabled):
+    """tqdm's bar when tqdm is installed, else :class:`_TextBar`; None when not ``enabled``."""
     if not enabled:
         return None
     try:
         from tqdm import tqdm
     except ImportError:
-        return None
+        return _TextBar(total)
     return tqdm(total=total, unit="scan", file=sys.stderr, dynamic_ncols=True)
 
 

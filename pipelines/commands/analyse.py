@@ -16,6 +16,9 @@ HELP = "PSD, self-affine fit, roughness figures and friction mu(v) of height fil
 def add_arguments(p):
     p.add_argument("files", nargs="+", metavar="FILE", help="height files (area scans or line profiles)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--no-figures", action="store_true",
+                   help="skip the PNG figures (every CSV/JSON output is the same; report.html "
+                        "keeps its tables)")
     add_analysis_options(p)
 
 
@@ -95,13 +98,14 @@ def _analyse_all(args, scans, out, final, many, settings, kw):
         if many:
             print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
         try:
-            summary = run_analysis(scan, out / sub if many else out, settings, **kw)
+            summary = run_analysis(scan, out / sub if many else out, settings,
+                                   figures=not getattr(args, "no_figures", False), **kw)
         except ValueError as exc:
             raise InputError(path, str(exc)) from None
         rows.append((sub, summary))
         if not many:
             print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
-                  f"rms height = {summary['rms_height_m'] * 1e6:.1f} um -> {final / 'report.html'}")
+                  f"rms height = {summary['rms_height_m'] * 1e6:.3g} um -> {final / 'report.html'}")
     if many:
         header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak"]
         table = [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],

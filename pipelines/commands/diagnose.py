@@ -1,7 +1,11 @@
 """``roadscan diagnose``: the sim-to-real gap (issue 5).
 
 Friction level: ``roadscan diagnose --measured MU.csv (--scan FILE | --psd FILE)
-[--rubber FILE.toml] [--sigma0 0.3MPa] [--q0 Q] [--q1 Q] [--contact-gamma G] [--temperature C] [--noise RMS] [--validate OTHER.csv] --out DIR``.
+[--rubber FILE.toml | --master-curve MC.csv --shift-table aT.csv [--reference-temperature C]]
+[--sigma0 0.3MPa] [--nu NU] [--q0 Q] [--q1 Q] [--contact-gamma G] [--extrapolate hold|powerlaw]
+[--temperature C] [--noise RMS] [--validate OTHER.csv] --out DIR``. The band, nu, the pressure
+that enters P(q), the master curve's frequency coverage (one warning line beyond a decade of
+extrapolation) and the WLF fit of a shift table go into diagnosis.json as in ``roadscan friction``.
 Surface level: ``roadscan diagnose --scan FILE --out DIR``.
 Writes DIR/diagnosis.json and DIR/report.html (see :mod:`pipelines.diagnose`).
 """
@@ -11,8 +15,9 @@ import sys
 
 from roadscan.errors import InputError
 
-from ..friction_options import (PRESSURE_HELP, add_contact_options, apply_band, check_contact_args,
-                                parse_pressure, with_extrapolation)
+from ..friction_options import (PRESSURE_HELP, add_contact_options, add_master_curve_options, apply_band,
+                                check_contact_args, parse_pressure, rubber_from_args, run_checks,
+                                with_extrapolation)
 from ..scan_input import add_scan_options, load_scan
 
 NAME = "diagnose"
@@ -25,8 +30,10 @@ def add_arguments(p):
                         "without it the scan itself is diagnosed (surface level)")
     p.add_argument("--scan", metavar="FILE", default=None, help="height file (area scan or line profile)")
     p.add_argument("--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)")
-    p.add_argument("--rubber", metavar="FILE.toml", default=None,
-                   help="rubber model (default: the thesis's standard linear solid, T_ref = 60 C)")
+    rub = p.add_argument_group("rubber (one of --rubber or --master-curve; default: the thesis SLS, T_ref 60 C)")
+    rub.add_argument("--rubber", metavar="FILE.toml", default=None,
+                     help="rubber model (friction/RUBBER_TOML.md)")
+    add_master_curve_options(rub)
     p.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
     p.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's reference temperature)")
@@ -35,7 +42,7 @@ def add_arguments(p):
     p.add_argument("--validate", metavar="OTHER.csv", default=None,
                    help="a separate measurement predicted by the corrected model without refitting")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    add_contact_options(p, nu=False)
+    add_contact_options(p)
     add_scan_options(p)
 
 
@@ -78,11 +85,7 @@ def run(args):
     curve = read_measured(args.measured, sigma0_Pa=args.sigma0, T0_C=args.temperature)
     other = (read_measured(args.validate, sigma0_Pa=args.sigma0, T0_C=args.temperature)
              if args.validate else None)
-    rubber = None
-    if args.rubber:
-        from ..rubber_file import load_rubber
-
-        rubber = load_rubber(args.rubber)
+    rubber = rubber_from_args(args)
     if args.psd:
         psd, scan, spec, fit = read_psd_csv(args.psd), None, None, None
     else:
@@ -91,20 +94,41 @@ def run(args):
             psd, scan, spec, fit = surface_from_scan(obj)
         except ValueError as exc:
             raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
-    psd, _ = apply_band(psd, args.q0, args.q1, log=_say)
+    psd, band = apply_band(psd, args.q0, args.q1, log=_say)
     rubber = with_extrapolation(rubber, args.extrapolate)
     ctx = build_context(curve, psd, rubber=rubber, scan=scan, spectrum=spec, fit=fit)
-    if args.contact_gamma is not None:  # baseline S(q); the contact-correction effect may refit it
-        from dataclasses import replace
+    from dataclasses import replace
 
-        ctx.base = replace(ctx.base, contact_gamma=args.contact_gamma)
+    # baseline S(q) and nu; the contact-correction effect may refit gamma
+    ctx.base = replace(ctx.base, contact_gamma=args.contact_gamma, nu=args.nu)
+    extra = _settings(args, curve, other, psd, band, ctx.base.rubber)
     from roadscan.io.atomic import atomic_output_dir
 
     inputs = [f for f in (args.measured, args.scan, args.psd, args.validate) if f]
     with atomic_output_dir(args.out, inputs=inputs) as tmp:
-        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say)
+        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say, extra=extra)
     _report(data, args.out)
     return 0
+
+
+def _settings(args, curve, other, psd, band, rubber):
+    """The engine settings of a friction-level run for diagnosis.json, with the master curve's
+    frequency coverage over the measured speeds and temperatures (warned once, in one line,
+    beyond one decade of extrapolation) and the WLF fit of a shift table."""
+    import numpy as np
+
+    v = np.concatenate([curve.v_m_per_s] + ([other.v_m_per_s] if other is not None else []))
+    T = np.concatenate([curve.T0_C] + ([other.T0_C] if other is not None else []))
+    T = np.where(np.isfinite(T), T, rubber.T_ref_C)
+    lo, hi = float(T.min()), float(T.max())
+    checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, lo, hi if hi > lo else None, log=_say)
+    if band is None:
+        band = dict(q0_per_m=psd.q_min_per_m, q1_per_m=psd.q1_per_m, extended_decades=0.0)
+    return {"engine_settings": {
+        "nu": args.nu, "contact_gamma": args.contact_gamma, "extrapolate": args.extrapolate,
+        "pressure_note": "sigma0 is the nominal pressure; P(q), G(q) and M(q) use (1 - nu^2) sigma0",
+        "band": band, "rubber": {"T_ref_C": rubber.T_ref_C, "kind": type(rubber).__name__},
+        "rubber_checks": checks}}
 
 
 def _check_surface(obj, path):

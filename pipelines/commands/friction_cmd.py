@@ -15,7 +15,7 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-from ..friction_options import PRESSURE_HELP, add_contact_options
+from ..friction_options import PRESSURE_HELP, add_contact_options, add_master_curve_options
 
 NAME = "friction"
 HELP = "friction coefficient mu(v) and contact area A/A0 from a spectrum (psd.csv or self-affine model) and a rubber"
@@ -30,21 +30,14 @@ def add_arguments(p):
     rub = p.add_argument_group("rubber (one of --rubber or --master-curve; default: the thesis SLS, T_ref 60 C)")
     rub.add_argument("--rubber", metavar="FILE.toml", default=None,
                      help="rubber model (friction/RUBBER_TOML.md)")
-    rub.add_argument("--master-curve", metavar="FILE.csv", default=None,
-                     help="master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa' or "
-                          "header E_stor_MPa; default Pa) at --reference-temperature")
-    rub.add_argument("--shift-table", metavar="FILE.csv", default=None,
-                     help="with --master-curve: shift factors, columns T_C and aT (linear) or log10_aT; "
-                          "or one row of WLF constants C1,C2_K,T_s_C")
-    rub.add_argument("--reference-temperature", type=float, default=None, metavar="C",
-                     help="with --master-curve: the temperature of the master curve T_ref [C] "
-                          "(default: where the shift table has aT = 1)")
+    add_master_curve_options(rub)
     p.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
     p.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's T_ref)")
     p.add_argument("--flash", action="store_true", help="flash-temperature model (Persson 2006)")
-    p.add_argument("--velocities", default=None, metavar="LO:HI:N",
-                   help="N log-spaced sliding speeds [m/s] (default 1e-8:1e4:121)")
+    p.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
+                   help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
+                        "(e.g. another program's table; default 1e-8:1e4:121)")
     add_contact_options(p)
     p.add_argument("--magnifications", default="", metavar="Z1,Z2,...",
                    help="with --flash: also report T at these magnifications zeta = q/q0")
@@ -81,21 +74,10 @@ def _self_affine(text):
 def _rubber(args):
     import friction
 
-    if args.master_curve:
-        if args.rubber:
-            raise InputError(None, "give either --rubber FILE.toml or --master-curve FILE.csv, not both")
-        if args.reference_temperature is None and not args.shift_table:
-            raise InputError(args.master_curve, "--master-curve needs --reference-temperature C (its T_ref) "
-                                                "or a --shift-table with aT = 1 at T_ref")
-        from ..rubber_file import rubber_from_csv_files
-        return rubber_from_csv_files(args.master_curve, args.shift_table, args.reference_temperature)
-    if args.shift_table or args.reference_temperature is not None:
-        raise InputError(None, "--shift-table and --reference-temperature go with --master-curve "
-                               "(with --rubber put them in the TOML)")
-    if args.rubber:
-        from ..rubber_file import load_rubber
-        return load_rubber(args.rubber)
-    return friction.thesis_rubber()
+    from ..friction_options import rubber_from_args
+
+    rubber = rubber_from_args(args)
+    return friction.thesis_rubber() if rubber is None else rubber
 
 
 def _psd(args):
@@ -125,7 +107,6 @@ def run(args):
     import friction
 
     from ..friction_options import check_contact_args, parse_pressure, parse_velocities, run_checks, with_extrapolation
-    from ..report import plot_mu, write_csv, write_json
     from ..spectrum_bridge import default_velocities
 
     check_contact_args(args)
@@ -162,6 +143,8 @@ def run(args):
         raise InputError(None, str(exc)) from None
     check_mu(res.mu)
     out = Path(args.out)
+    if out.suffix.lower() == ".png":
+        raise InputError(None, f"--out {out}: name the CSV (the plot is written beside it as {out.stem}.png)")
     area = res.P[:, -1]
     header, cols = ["v_m_per_s", "mu", "area_fraction"], [res.v_m_per_s, res.mu, area]
     T_max = None
@@ -174,7 +157,21 @@ def run(args):
             cols.append(res.temperature_at(z))
     checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, res.meta["T0_C"],
                         None if T_max is None else float(T_max.max()), result=res)
-    write_csv(out, header, cols)
+    from roadscan.io.atomic import atomic_file_set
+
+    with atomic_file_set(out) as tmp:      # mu.csv, its summary and plot: all or none
+        _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max)
+    mu_max, v_max = res.peak
+    print(f"{out}: {v.size} speeds, peak mu {mu_max:.4g} at {v_max:.4g} m/s, "
+          f"q {psd.q_min_per_m:.4g}..{psd.q1_per_m:.4g} 1/m"
+          + (f", {res.iterations} iterations, residual {res.residual:.2g} K" if args.flash else ""))
+    return 0
+
+
+def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max):
+    from ..report import plot_mu, write_csv, write_json
+
+    write_csv(tmp / out.name, header, cols)
     mu_max, v_max = res.peak
     summary = {
         "model": "flash temperature" if args.flash else "isothermal",
@@ -194,12 +191,8 @@ def run(args):
     }
     if T_max is not None:
         summary["T_flash_max_C"] = float(T_max.max())
-    write_json(out.with_name(out.stem + "_summary.json"), summary)
+    write_json(tmp / (out.stem + "_summary.json"), summary)
     title = "mu(v), " + ("flash temperature" if args.flash else "isothermal") + \
         f", sigma0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} C"
-    plot_mu([("", res.v_m_per_s, res.mu)], out.with_suffix(".png"), title=title,
+    plot_mu([("", res.v_m_per_s, res.mu)], tmp / (out.stem + ".png"), title=title,
             ylabel="friction coefficient mu [-]")
-    print(f"{out}: {v.size} speeds, peak mu {mu_max:.4g} at {v_max:.4g} m/s, "
-          f"q {psd.q_min_per_m:.4g}..{psd.q1_per_m:.4g} 1/m"
-          + (f", {res.iterations} iterations, residual {res.residual:.2g} K" if args.flash else ""))
-    return 0

@@ -47,14 +47,17 @@ def band_map(spec, bands, sigma0_Pa=0.2e6, T0_C=None, share=0.8):
     import friction
 
     v_c = np.array([np.sqrt(a * b) for a, b, *_ in bands])
-    res = friction.mu_isothermal(spec.psd, spec.rubber, v_c, sigma0_Pa=sigma0_Pa, T0_C=T0_C,
-                                 tol=spec.tol)
+    kw = dict(sigma0_Pa=sigma0_Pa, nu=spec.nu, T0_C=T0_C, tol=spec.tol, contact_gamma=spec.contact_gamma)
+    res = friction.mu_isothermal(spec.psd, spec.rubber, v_c, **kw)
     T = spec.rubber.T_ref_C if T0_C is None else T0_C
     q1 = spec.psd.q1_per_m
-    cut = friction.mu_isothermal(spec.psd.with_q1(q1 / CUT_STEP), spec.rubber, v_c, sigma0_Pa=sigma0_Pa,
-                                 T0_C=T0_C, tol=spec.tol)
+    cut = friction.mu_isothermal(spec.psd.with_q1(q1 / CUT_STEP), spec.rubber, v_c, **kw)
     sens = np.log(np.asarray(res.mu) / np.asarray(cut.mu)) / np.log(CUT_STEP)
-    f = integrand(res, spec.psd, spec.rubber, sigma0_Pa, T)
+    f = integrand(res, spec.psd, spec.rubber, sigma0_Pa, T, nu=spec.nu)
+    if spec.contact_gamma is not None:   # Persson's S(q) multiplies the integrand as in the engine
+        from friction.contact import contact_S
+
+        f = f * contact_S(res.P, spec.contact_gamma)
     lq = np.log(res.q_per_m)
     out = []
     for i, (a, b, *_) in enumerate(bands):

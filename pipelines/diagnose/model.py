@@ -36,6 +36,7 @@ class SimSpec:
     sigma0_scale : multiplies every row's nominal pressure [-]
     flash : None (isothermal) or a dict of keyword arguments for ``friction.mu_flash``
     contact_gamma : None or Persson's gamma in S = gamma + (1 - gamma) P^2
+    nu : Poisson ratio; the engine uses (1 - nu^2) sigma0 in P(q), G(q) and M(q)
     wet_psd : None, or the spectrum "felt" on wet rows (cavities filled with water)
     additive : tuple of callables ``f(v_m_per_s) -> mu`` added to the engine's mu
     tol : engine accuracy target
@@ -47,6 +48,7 @@ class SimSpec:
     sigma0_scale: float = 1.0
     flash: dict | None = None
     contact_gamma: float | None = None
+    nu: float = 0.5
     wet_psd: object = None
     additive: tuple = ()
     tol: float = 1e-3
@@ -118,9 +120,10 @@ def simulate(spec, ctx, full=False):
         psd = spec.wet_psd if wet else spec.psd
         v = ctx.v_m_per_s[rows]
         if spec.flash is not None:
-            res = fr.mu_flash(psd, spec.rubber, v, sigma0_Pa=s0, T0_C=T0, **spec.flash)
+            res = fr.mu_flash(psd, spec.rubber, v, sigma0_Pa=s0, nu=spec.nu, T0_C=T0,
+                              contact_gamma=spec.contact_gamma, **spec.flash)
         else:
-            res = fr.mu_isothermal(psd, spec.rubber, v, sigma0_Pa=s0, T0_C=T0, tol=spec.tol,
+            res = fr.mu_isothermal(psd, spec.rubber, v, sigma0_Pa=s0, nu=spec.nu, T0_C=T0, tol=spec.tol,
                                    contact_gamma=spec.contact_gamma)
         m = np.asarray(res.mu, float)
         for f in spec.additive:

@@ -28,8 +28,10 @@ def validate(ctx, d, other_curve):
                 v=other_curve.v_m_per_s, mu=other_curve.mu, pred=pred)
 
 
-def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=True):
+def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=True, extra=None):
     """Diagnose ``curve`` (MeasuredCurve) on ``ctx``; write DIR/diagnosis.json and report.html.
+
+    ``extra``: a dict of run settings added to the JSON (the command's band, nu, rubber checks).
 
     Returns the JSON dict.
     """
@@ -44,6 +46,7 @@ def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=T
                              T0_C=float(np.median(T0)) if T0.size else None)
     val = validate(ctx, d, other) if other is not None else None
     data = friction_json(d, where, bm, val)
+    data.update(extra or {})
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     rep.write_json(out_dir / "diagnosis.json", data)

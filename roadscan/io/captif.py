@@ -19,7 +19,7 @@ Layout (CAPTIF Road Research Centre, captif-slp project)::
 - The header fields are kept in ``meta["header"]``; ``units`` is ignored (the file says mm).
 
 A ``.dat`` file without the ``*****DATA*****`` marker is handed to the vendor reader
-(surfalize), which knows some instrument ``.dat`` formats.
+(SurfaceTopography: Zygo MetroPro ``.dat`` and its plain-text reader).
 """
 from __future__ import annotations
 
@@ -46,9 +46,9 @@ def read_dat(path, spacing=None, units=None):
     check_file(path)
     if is_captif(path):
         return read_captif(path, spacing=spacing, units=units)
-    from .vendor import read_vendor, surfalize_available
+    from .vendor import read_vendor, vendor_available
 
-    if not surfalize_available():
+    if not vendor_available():
         raise InputError(path, "no '*****DATA*****' line: not a CAPTIF profile (other .dat "
                                "formats need the optional extra: pip install 'roadscan[vendor]')")
     try:

@@ -11,6 +11,10 @@ required.
 
 Writing: float64 (or float32 on request, ``write(path, hmap, dtype="float32")``); metres, NaN unmeasured, resolution
 tags in pixels per centimetre and a JSON description with ``dx_m``, ``dy_m``.
+
+A Park Systems TIFF (private tag 50432, its magic) keeps its heights in a private tag while the
+image is a coloured preview: it is handed to SurfaceTopography's Park Systems reader
+(:mod:`roadscan.io.vendor`), never read as a picture.
 """
 from __future__ import annotations
 
@@ -24,6 +28,8 @@ from ._registry import register_reader, register_writer
 __all__ = ["read_tiff", "write_tiff"]
 
 _DEFAULT_DPI = {72.0, 96.0, 150.0, 300.0, 600.0}
+#: Park Systems' magic tag: the heights are in private tags, the image is a preview
+_PARK_SYSTEMS_TAG = 50432
 
 
 def _ratio(value):
@@ -83,20 +89,26 @@ def read_tiff(path, spacing=None, units=None):
     try:
         with tifffile.TiffFile(path) as tif:
             page = tif.pages.first
-            _check_page_size(path, page)
-            arr = page.asarray()
-            from_file = _spacing_from_tags(tif, page)
-            desc_units = None
-            try:
-                m = tif.shaped_metadata
-                if m and "units" in m[0]:
-                    desc_units = str(m[0]["units"])
-            except Exception:  # noqa: BLE001
-                pass
+            park = _PARK_SYSTEMS_TAG in page.tags
+            if not park:
+                _check_page_size(path, page)
+                arr = page.asarray()
+                from_file = _spacing_from_tags(tif, page)
+                desc_units = None
+                try:
+                    m = tif.shaped_metadata
+                    if m and "units" in m[0]:
+                        desc_units = str(m[0]["units"])
+                except Exception:  # noqa: BLE001
+                    pass
     except InputError:
         raise
     except Exception as exc:  # noqa: BLE001 - tifffile raises many types for broken files
         raise InputError(path, f"not a readable TIFF ({exc.__class__.__name__}: {exc})") from None
+    if park:
+        from .vendor import read_vendor
+
+        return read_vendor(path, spacing=spacing, units=units, formats=("ps",))
     arr = np.squeeze(arr)
     if arr.ndim != 2:
         raise InputError(path, f"expected one 2D height image, got shape {arr.shape}")

@@ -75,6 +75,27 @@ def precheck_x3p(path):
         check_compression_ratio(path, n * itemsize, infos[link].compress_size)
 
 
+def _point_data_checksum_ok(path):
+    """True if the point data file matches main.xml's ``MD5ChecksumPointData``, False if not,
+    None if main.xml names no such checksum."""
+    import hashlib
+    import xml.etree.ElementTree as ET
+    import zipfile
+
+    with zipfile.ZipFile(path) as zf:
+        root = ET.fromstring(zf.read("main.xml"))
+        fields = {_local(el.tag): (el.text or "").strip() for el in root.iter()
+                  if _local(el.tag) in ("PointDataLink", "MD5ChecksumPointData")}
+        link, want = fields.get("PointDataLink"), fields.get("MD5ChecksumPointData")
+        if not link or not want or link not in zf.namelist():
+            return None
+        digest = hashlib.md5()
+        with zf.open(link) as fh:
+            for chunk in iter(lambda: fh.read(1 << 20), b""):
+                digest.update(chunk)
+    return digest.hexdigest().lower() == want.lower()
+
+
 @register_reader(".x3p")
 def read_x3p(path, spacing=None, units=None):
     """Read an X3P profile or surface (first layer); the declared size is checked first
@@ -83,8 +104,18 @@ def read_x3p(path, spacing=None, units=None):
 
     check_file(path)
     precheck_x3p(path)
+    checksum_note = None
     try:
-        f = x3pio.read(str(path))
+        try:
+            f = x3pio.read(str(path))
+        except x3pio.X3pChecksumError as exc:
+            # some writers put the point data's checksum in md5checksum.hex, where the
+            # standard wants main.xml's: accepted only if the point data's own checksum matches
+            if "main.xml" not in str(exc) or _point_data_checksum_ok(path) is not True:
+                raise
+            f = x3pio.read(str(path), verify=False)
+            checksum_note = ("md5checksum.hex does not match main.xml (a writer's fault); the "
+                             "point data match their MD5ChecksumPointData")
     except x3pio.X3pError as exc:
         raise InputError(path, f"not a readable X3P file ({exc.__class__.__name__}: {exc})") from None
     except Exception as exc:  # noqa: BLE001 - zip/xml errors of broken files
@@ -96,10 +127,10 @@ def read_x3p(path, spacing=None, units=None):
         raise InputError(path, f"X3P {kind.lower()} on an irregular grid: not supported")
     layer = f.layers[0]
     meta = {"format": "x3p", "units": "m", "layers": len(f.layers), "feature": kind}
+    if checksum_note:
+        meta["checksum_note"] = checksum_note
     md = f.metadata
     if md is not None:
-        inst = md.instrument
-        meta["instrument"] = " ".join(s for s in (inst.manufacturer, inst.model, inst.version) if s)
         if md.date is not None:
             meta["date"] = md.date.isoformat()
         if md.comment:
@@ -108,6 +139,8 @@ def read_x3p(path, spacing=None, units=None):
         meta["units_ignored"] = units
     sp = resolve_spacing(spacing, path)
     z = np.array(layer.z, dtype=np.float64)
+    if md is not None:
+        meta["instrument"] = _instrument_from_record2(md, int(np.count_nonzero(np.isnan(z))))
     if kind == "Profile":
         dx = f.header.x.increment if sp is None else sp[0]
         return make_profile(path, z.ravel(), dx, meta=meta)
@@ -115,20 +148,123 @@ def read_x3p(path, spacing=None, units=None):
     return make_heightmap(path, z, dx, dy, meta=meta)
 
 
+def _instrument_from_record2(md, undefined_points):
+    """The JSON-safe ``meta["instrument"]`` block (as :func:`roadscan.io.vendor.instrument_block`)
+    from an X3P Record2: manufacturer -> vendor, model -> name, serial, version -> software,
+    date -> acquired, probing system (its identification is the objective of a non-contacting
+    instrument, else the probe), comment."""
+    import x3pio
+
+    inst = md.instrument
+    out = {}
+    for key, value in (("name", inst.model), ("vendor", inst.manufacturer), ("serial", inst.serial),
+                       ("software", inst.version)):
+        text = " ".join(str(value or "").split())
+        if text and text.lower() not in ("not available", "n/a", "none", "unknown"):
+            out[key] = text[:200]
+    if md.date is not None and _DATE_UNKNOWN not in (md.comment or ""):
+        out["acquired"] = md.date.isoformat()
+    ps = md.probing_system
+    if ps is not None and ps.type is not None:
+        out["probing"] = ps.type.value
+        if ps.identification and ps.identification.strip():
+            key = "objective" if ps.type == x3pio.ProbingType.NON_CONTACTING else "probe"
+            out[key] = " ".join(ps.identification.split())[:200]
+    if md.comment:
+        out["comment"] = " ".join(md.comment.split())[:400]
+    out.update({"format": "X3P (ISO 25178-72)", "units": "m", "undefined_points": undefined_points,
+                "reader": f"x3pio {getattr(x3pio, '__version__', '')}".strip()})
+    return out
+
+
+#: SurfaceTopography format ids by probing system (``meta["format"]`` of vendor files): optical
+#: instruments (confocal, interferometer, focus variation, chromatic) and stylus or scanning-probe
+#: ones; other formats (Digital Surf, SDF, HDF5, text...) come from either kind
+_NON_CONTACTING = {"plu", "plux", "opd", "al3d", "datx", "metropro", "vk", "zon", "lext", "oir",
+                   "poir", "nms", "frt", "zmg"}
+_CONTACTING = {"di", "ibw", "mi", "ezd", "jpk", "wsxm", "mdt", "bcr", "ps", "opdx", "mitutoyo",
+               "qep"}
+
+
+#: said in the comment of a record whose date is the conversion's, not the acquisition's
+_DATE_UNKNOWN = "acquisition date unknown: the record's date is the conversion's"
+
+
+def _date(text):
+    from datetime import datetime, timezone
+
+    if text:
+        try:
+            return datetime.fromisoformat(str(text)), True
+        except ValueError:
+            pass
+    return datetime.now(timezone.utc), False
+
+
+def x3p_metadata(meta, comment=None):
+    """X3P Record2 (:class:`x3pio.Metadata`) from a scan's ``meta``, or None (x3pio's default
+    record of software-made data) when ``meta`` has no ``instrument`` block and no ``comment``
+    is given.
+
+    The block's vendor, name, serial and software become the instrument's manufacturer, model,
+    serial and version; ``acquired`` the record's date (the current time, said in the comment,
+    when the file recorded none); the objective or probe the probing system's identification,
+    its kind from the source format (optical formats non-contacting, stylus and scanning-probe
+    formats contacting; other formats ``Software`` with "unknown" in the identification).
+    """
+    import x3pio
+
+    inst = meta.get("instrument") if isinstance(meta, dict) else None
+    if not isinstance(inst, dict):
+        if comment is None:
+            return None
+        from .. import __version__
+
+        md = x3pio.Metadata.for_software("roadscan", __version__)
+        md.comment = comment
+        return md
+    when, known = _date(inst.get("acquired"))
+    fmt = str(meta.get("format", ""))
+    ident = inst.get("objective") or inst.get("probe") or ""
+    kinds = {k.value: k for k in x3pio.ProbingType}
+    if inst.get("probing") in kinds:
+        kind = kinds[inst["probing"]]
+    elif fmt in _NON_CONTACTING:
+        kind = x3pio.ProbingType.NON_CONTACTING
+    elif fmt in _CONTACTING:
+        kind = x3pio.ProbingType.CONTACTING
+    else:
+        kind = x3pio.ProbingType.SOFTWARE
+        ident = f"unknown probing system{': ' + ident if ident else ''} (from {inst.get('format', fmt) or 'a file'})"
+    notes = [c for c in (inst.get("comment"), comment) if c]
+    if not known:
+        notes.append(_DATE_UNKNOWN)
+    return x3pio.Metadata(
+        date=when,
+        instrument=x3pio.Instrument(manufacturer=str(inst.get("vendor", "")), model=str(inst.get("name", "")),
+                                    serial=str(inst.get("serial", "")), version=str(inst.get("software", ""))),
+        probing_system=x3pio.ProbingSystem(kind, str(ident)),
+        comment="; ".join(notes) or None,
+    )
+
+
 @register_writer(".x3p")
-def write_x3p(path, obj, dtype="float64"):
+def write_x3p(path, obj, dtype="float64", comment=None):
     """Write a height map (surface) or profile as X3P: metres, NaN unmeasured, float64 (exact)
-    or ``dtype="float32"`` (half the size)."""
+    or ``dtype="float32"`` (half the size). Record2 comes from ``obj.meta["instrument"]`` when
+    present (:func:`x3p_metadata`; instrument, acquisition date, objective, ``comment``)."""
     import x3pio
 
     dtype = np.dtype(dtype)
     z_types = {np.dtype(np.float64): x3pio.DataType.FLOAT64, np.dtype(np.float32): x3pio.DataType.FLOAT32}
     if dtype not in z_types:
         raise ValueError(f"X3P heights are written as float32 or float64, not {dtype}")
-    h = obj.heights_m.astype(dtype, copy=False)
-    if isinstance(obj, HeightMap):
-        x3pio.write(str(path), h, x_scale=obj.dx_m, y_scale=obj.dy_m, z_type=z_types[dtype])
-    elif isinstance(obj, Profile):
-        x3pio.write(str(path), h, x_scale=obj.dx_m, z_type=z_types[dtype])
-    else:
+    if not isinstance(obj, (HeightMap, Profile)):
         raise TypeError(f"cannot write {type(obj).__name__} as X3P")
+    h = obj.heights_m.astype(dtype, copy=False)
+    md = x3p_metadata(obj.meta, comment)
+    extra = {} if md is None else {"metadata": md}
+    if isinstance(obj, HeightMap):
+        x3pio.write(str(path), h, x_scale=obj.dx_m, y_scale=obj.dy_m, z_type=z_types[dtype], **extra)
+    else:
+        x3pio.write(str(path), h, x_scale=obj.dx_m, z_type=z_types[dtype], **extra)
