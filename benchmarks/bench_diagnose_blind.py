@@ -40,34 +40,44 @@ effects, fitted here with simple one- or two-parameter versions of this file's o
 v_c, relaxation spread with its centre fixed; water is not refitted), explains the noisy data to within
 ``K_ALT`` x the noise rms. Accuracy is printed unfiltered, with (a) only, and with (a)+(b).
 
-Surface level (issue 11, ``--surface N``: N cases of each kind, seeds from ``--seed``): area scans
+Surface level (issue 11, ``--surface N``: N cases of each kind per seed set): area scans
 made here from ``roadscan.synth.self_affine_surface`` (cropped from a map twice as large, so not
 periodic; 256 x 256, spacing 40-80 um, H 0.7-0.9), written as ``.npy`` with ``--spacing``:
 
 =====================  =====================================================================
 hidden surface effect   how the scan is made here
 =====================  =====================================================================
-anisotropy              a self-affine map stretched along x by 2-4 (cubic resampling)
-height_skew             heights rank-mapped onto a gamma law of skewness +-(0.8-1.8)
+anisotropy              a self-affine map stretched along x by 2-4 (cubic resampling); a third
+                        of the cases: stretched, then turned by 15-75 degrees
+height_skew             heights rank-mapped onto a gamma law of skewness +-(0.8-1.8); a third:
+                        an exponential map (log-normal law) of skewness +-(0.8-1.8)
 seams                   stitching: tiles of 3 or 4 per side with random height offsets of
-                        0.2-0.5 rms, or 2-4 straight steps along x or y at random positions
-rolloff                 the synthesis' own roll-off at q_r = (3-6) 2 pi / L (periodic map)
+                        0.2-0.5 rms, or 2-4 straight steps along x or y at random positions; a
+                        third: 3 x 3 or 4 x 4 tiles each with its own offset and tilt residue
+rolloff                 the synthesis' own roll-off at q_r = (3-6) 2 pi / L (periodic map); a
+                        third: a map twice as large with the roll-off, cropped
 noise_floor             white measurement noise of 2-6 % rms, or optical smoothing (Gaussian
                         blur of 1.5-3 points)
 null                    the cropped self-affine map itself
 =====================  =====================================================================
 
+The variants draw from their own random stream, so a seed's main recipe does not change.
+Several seed sets (``--seeds``, default 1000,2000,3000) give the per-kind table over all of them
+at the end; ``--quick`` runs one seed set small (2 surface cases per kind, 8 friction cases and 3
+nulls). The generator imports ``friction``, ``roadscan`` and ``pipelines.spectrum_bridge`` (the
+metrology chain, for the scan surfaces' PSD), never ``pipelines.diagnose``.
+
 Usage::
 
-    .venv/bin/python benchmarks/bench_diagnose_blind.py [--cases 40] [--nulls 10] [--seed 1000]
-                                                        [--jobs 2] [--keep DIR] [--surface N]
+    .venv/bin/python benchmarks/bench_diagnose_blind.py [--seeds 1000,2000,3000] [--surface 5]
+        [--cases 40] [--nulls 10] [--level both|surface|friction] [--quick] [--jobs 2]
+        [--keep DIR] [--json FILE]
 """
 from __future__ import annotations
 
 import argparse
 import collections
 import json
-import os
 import shutil
 import subprocess
 import sys
@@ -525,7 +535,53 @@ def make_surface_heights(kind, seed, n=256):
             b = rng.uniform(1.5, 3)
             h = gaussian_filter(h, b)
             truth["blur_points"] = b
+    # a third of the cases of four kinds are made another way (own stream of random numbers, so
+    # the draws above do not change): the blind check must not depend on one recipe per effect
+    alt = np.random.default_rng([seed, 7])
+    if kind in ("anisotropy", "height_skew", "seams", "rolloff") and alt.random() < 1 / 3:
+        h, truth = _surface_variant(kind, alt, n, dx, H, rms, truth)
     return h, dx, truth
+
+
+def _surface_variant(kind, rng, n, dx, H, rms, truth):
+    """The other recipe of a surface effect (see the module docstring)."""
+    from scipy import optimize
+    from scipy.ndimage import rotate, zoom
+    from roadscan.synth import self_affine_surface
+
+    truth = dict(H=truth["H"], dx_m=truth["dx_m"], variant=True)
+    if kind == "rolloff":
+        # roll-off on a map twice as large, cropped (not periodic)
+        qr = 2 * np.pi / (n * dx) * rng.uniform(3, 6)
+        big = self_affine_surface(2 * n, dx_m=dx, hurst=H, rms_height_m=rms, q_roll_per_m=qr,
+                                  seed=int(rng.integers(2**31))).heights_m
+        return big[:n, :n].copy(), dict(truth, q_roll_per_m=qr, cropped=True)
+    big = self_affine_surface(3 * n, dx_m=dx, hurst=H, rms_height_m=rms, seed=int(rng.integers(2**31))).heights_m
+    if kind == "anisotropy":
+        # stretched by 2-4 along x, then turned by 15-75 degrees (cubic), centre cut out
+        r, ang = rng.uniform(2, 4), rng.uniform(15, 75) * rng.choice([-1, 1])
+        st = zoom(big[:, :int(3 * n / r) + 2], (1, r), order=3)[:, :3 * n]
+        h = rotate(st, ang, reshape=False, order=3)[n:2 * n, n:2 * n]
+        return h.copy(), dict(truth, stretch=r, angle_deg=ang)
+    h = big[:n, :n].copy()
+    if kind == "height_skew":
+        # exponential map of the Gaussian heights (log-normal law), sign random
+        sk = rng.uniform(0.8, 1.8)
+        s2 = optimize.brentq(lambda x: (np.exp(x) + 2) * np.sqrt(np.exp(x) - 1) - sk, 1e-6, 3.0)
+        z = (h - h.mean()) / h.std()
+        sign = rng.choice([-1, 1])
+        g = sign * np.exp(np.sqrt(s2) * z)
+        return (g - g.mean()) / g.std() * h.std(), dict(truth, skewness=float(sign * sk), law="lognormal")
+    # seams: 3 x 3 or 4 x 4 tiles each with its own plane (offset and tilt residue)
+    nt = int(rng.choice([3, 4]))
+    e = np.linspace(0, n, nt + 1).astype(int)
+    amp = rng.uniform(0.2, 0.5) * h.std()
+    for j in range(nt):
+        for i in range(nt):
+            yy, xx = np.mgrid[e[j]:e[j + 1], e[i]:e[i + 1]]
+            sy, sx = rng.normal(0, amp, 2) / (n / nt)
+            h[e[j]:e[j + 1], e[i]:e[i + 1]] += rng.normal(0, amp) + sx * (xx - xx.mean()) + sy * (yy - yy.mean())
+    return h, dict(truth, tiles=nt, tilt=True)
 
 
 def run_surface_case(kind, seed, root):
@@ -570,45 +626,35 @@ def surface_report(rows):
                   f"truth {r['truth']} families {r.get('families')}")
 
 
-def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--cases", type=int, default=40, help="effect cases (default 40)")
-    ap.add_argument("--nulls", type=int, default=10, help="null cases (default 10)")
-    ap.add_argument("--seed", type=int, default=1000)
-    ap.add_argument("--jobs", type=int, default=2, help="diagnoses run in parallel")
-    ap.add_argument("--keep", default=None, help="keep case files here")
-    ap.add_argument("--json", default=None, help="write per-case results here")
-    ap.add_argument("--surface", type=int, default=0, help="surface-level cases per kind (0: none)")
-    a = ap.parse_args(argv)
-    if a.surface:
-        root = Path(a.keep) if a.keep else Path(tempfile.mkdtemp(prefix="blind_surf_"))
-        specs = [(k, a.seed + 7919 * i + 17 * j) for j, k in enumerate(SURFACE_KINDS) for i in range(a.surface)]
-        with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
-            rows = list(ex.map(lambda kv: run_surface_case(kv[0], kv[1], root), specs))
-        surface_report(rows)
-        if not a.keep:
-            shutil.rmtree(root, ignore_errors=True)
-        if a.cases == 0:
-            return 0
+def run_surface_level(seed, per_kind, jobs, keep=None):
+    """``per_kind`` surface cases of each kind from ``seed``; returns the rows."""
+    root = Path(keep) if keep else Path(tempfile.mkdtemp(prefix="blind_surf_"))
+    specs = [(k, seed + 7919 * i + 17 * j) for j, k in enumerate(SURFACE_KINDS) for i in range(per_kind)]
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
+        rows = list(ex.map(lambda kv: run_surface_case(kv[0], kv[1], root), specs))
+    if not keep:
+        shutil.rmtree(root, ignore_errors=True)
+    for r in rows:
+        r["seed_set"] = seed
+    return rows
 
-    root = Path(a.keep) if a.keep else Path(tempfile.mkdtemp(prefix="blind_diag_"))
-    specs = [(a.seed + i, EFFECTS[i % len(EFFECTS)]) for i in range(a.cases)]
-    specs += [(a.seed + 100000 + i, None) for i in range(a.nulls)]
+
+def run_friction_level(seed, n_cases, n_nulls, jobs, keep=None):
+    """``n_cases`` friction-level effect cases and ``n_nulls`` nulls from ``seed``; returns the rows."""
+    root = Path(keep) if keep else Path(tempfile.mkdtemp(prefix="blind_diag_"))
+    specs = [(seed + i, EFFECTS[i % len(EFFECTS)]) for i in range(n_cases)]
+    specs += [(seed + 100000 + i, None) for i in range(n_nulls)]
     t0 = time.perf_counter()
-    cases = []
-    for s, e in specs:
-        cases.append(make_case(s, e, root / f"case_{s}_{e or 'null'}"))
+    cases = [make_case(s, e, root / f"case_{s}_{e or 'null'}") for s, e in specs]
     t_gen = time.perf_counter() - t0
     print(f"generated {len(cases)} cases in {t_gen:.1f} s under {root}", flush=True)
-
-    with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
         results = list(ex.map(run_diagnose, cases))
-
     rows = []
     for c, (diag, dt) in zip(cases, results):
         strict, lenient, label = score(c, diag)
         ver = diag.get("verdict") or {}
-        rows.append(dict(seed=c.seed, effect=c.effect or "null", called=label, strict=strict,
+        rows.append(dict(seed=c.seed, seed_set=seed, effect=c.effect or "null", called=label, strict=strict,
                          lenient=lenient, strong=c.strong, unambiguous=c.unambiguous,
                          signal_gap=c.signal_gap, noise_log10=c.noise_log10,
                          alt=c.alt, seconds=dt, kind=c.surface.kind + c.surface.info.get("file", ""),
@@ -617,14 +663,96 @@ def main(argv=None):
                          validate_cond=(c.validate or {}).get("cond"),
                          baseline_gap=diag.get("baseline_gap"), noise_est=diag.get("noise"),
                          params=c.params, v_range=[float(c.v[0]), float(c.v[-1]), int(c.v.size)],
-                         error=diag.get("error"),
+                         error=diag.get("error"), inconclusive=ver.get("inconclusive"),
                          top=[(e.get("name"), e.get("gap_heldout")) for e in
                               (diag.get("effects") or [])[:3]]))
-    report(rows, t_gen)
-    if a.json:
-        Path(a.json).write_text(json.dumps(rows, indent=1, default=str))
-    if not a.keep:
+    if not keep:
         shutil.rmtree(root, ignore_errors=True)
+    return rows, t_gen
+
+
+def summary_tables(surf, fric):
+    """The per-kind table over every seed set (the issue's 'Done when' figures)."""
+    out = []
+    if surf:
+        seeds = sorted({r["seed_set"] for r in surf})
+        out.append("\n== surface level, all seed sets ==")
+        out.append("  kind          " + "  ".join(f"seed {s:>6}" for s in seeds) + "   total")
+        for k in SURFACE_KINDS:
+            name = k or "null"
+            cells, tot, n = [], 0, 0
+            for s in seeds:
+                sel = [r for r in surf if r["kind"] == name and r["seed_set"] == s]
+                ok = sum(r.get("right", False) for r in sel)
+                cells.append(f"{ok:>5}/{len(sel):<5}")
+                tot, n = tot + ok, n + len(sel)
+            out.append(f"  {name:12s}  " + "  ".join(cells) + f"   {tot}/{n}")
+        eff = [r for r in surf if r["kind"] != "null"]
+        nul = [r for r in surf if r["kind"] == "null"]
+        ok = sum(r.get("right", False) for r in eff)
+        sh = [r["shrink"] for r in eff if r.get("right") and r.get("shrink") is not None]
+        out.append(f"  effect cases named right {ok}/{len(eff)} = {100 * ok / max(1, len(eff)):.0f} % (target >= 80 %, "
+                   f">= 3/5 per kind); false positives {sum(not r.get('right', False) for r in nul)}/{len(nul)} "
+                   f"(<= 10 %); median held-out shrink of right verdicts {np.median(sh) if sh else float('nan'):.2f} "
+                   f"(>= 0.5); median time per diagnosis {np.median([r['seconds'] for r in surf]):.1f} s")
+    if fric:
+        seeds = sorted({r["seed_set"] for r in fric})
+        out.append("\n== friction level, all seed sets (counted: signal > 3 x noise, no own alternative within 1.5 x) ==")
+        for s in seeds + [None]:
+            sel = [r for r in fric if s is None or r["seed_set"] == s]
+            eff = [r for r in sel if r["effect"] != "null" and r["strong"] and r["unambiguous"]]
+            nul = [r for r in sel if r["effect"] == "null"]
+            ok = sum(r["strict"] for r in eff)
+            sh = [r["shrink"] for r in eff if r["strict"] and r["shrink"] is not None]
+            allc = [r for r in sel if r["effect"] != "null"]
+            out.append(f"  {'all' if s is None else 'seed ' + str(s):10s} counted {ok}/{len(eff)} = "
+                       f"{100 * ok / max(1, len(eff)):.1f} % (unfiltered {sum(r['strict'] for r in allc)}/{len(allc)}); "
+                       f"false positives {sum(r['called'] != 'null' for r in nul)}/{len(nul)}; median shrink "
+                       f"{np.median(sh) if sh else float('nan'):.3f}")
+        per = collections.defaultdict(lambda: [0, 0])
+        for r in fric:
+            if r["effect"] != "null" and r["strong"] and r["unambiguous"]:
+                per[r["effect"]][0] += r["strict"]
+                per[r["effect"]][1] += 1
+        out.append("  per effect (counted): " + ", ".join(f"{e} {a}/{b}" for e, (a, b) in sorted(per.items())))
+    return "\n".join(out)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--cases", type=int, default=40, help="friction-level effect cases per seed set (default 40)")
+    ap.add_argument("--nulls", type=int, default=10, help="friction-level null cases per seed set (default 10)")
+    ap.add_argument("--seed", type=int, default=None, help="one seed set (same as --seeds N)")
+    ap.add_argument("--seeds", default="1000,2000,3000", help="comma-separated seed sets (default 1000,2000,3000)")
+    ap.add_argument("--jobs", type=int, default=2, help="diagnoses run in parallel")
+    ap.add_argument("--keep", default=None, help="keep case files here")
+    ap.add_argument("--json", default=None, help="write per-case results (both levels) here")
+    ap.add_argument("--surface", type=int, default=5, help="surface-level cases per kind and seed set (default 5; 0: none)")
+    ap.add_argument("--level", choices=("both", "surface", "friction"), default="both")
+    ap.add_argument("--quick", action="store_true",
+                    help="one seed set, 2 surface cases per kind, 8 friction cases and 3 nulls (about 5 min on 2 cores)")
+    a = ap.parse_args(argv)
+    seeds = [a.seed] if a.seed is not None else [int(x) for x in a.seeds.split(",") if x.strip()]
+    if a.quick:
+        seeds, a.surface, a.cases, a.nulls = seeds[:1], 2, 8, 3
+    t_all = time.perf_counter()
+    surf, fric = [], []
+    for s in seeds:
+        keep = None if a.keep is None else str(Path(a.keep) / f"seed_{s}")
+        if a.level in ("both", "surface") and a.surface:
+            rows = run_surface_level(s, a.surface, a.jobs, keep and keep + "_surface")
+            print(f"\n#### seed set {s}")
+            surface_report(rows)
+            surf += rows
+        if a.level in ("both", "friction") and (a.cases or a.nulls):
+            rows, t_gen = run_friction_level(s, a.cases, a.nulls, a.jobs, keep and keep + "_friction")
+            print(f"\n#### seed set {s}")
+            report(rows, t_gen)
+            fric += rows
+    print(summary_tables(surf, fric))
+    print(f"\ntotal wall time {time.perf_counter() - t_all:.0f} s ({a.jobs} jobs)")
+    if a.json:
+        Path(a.json).write_text(json.dumps(dict(surface=surf, friction=fric), indent=1, default=str))
     return 0
 
 

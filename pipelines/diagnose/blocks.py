@@ -290,25 +290,30 @@ def anisotropy_components(h, geo):
     return np.array([float(np.sum(wt * (ux * ux - uy * uy))), float(np.sum(wt * 2.0 * ux * uy))])
 
 
+def line_score(a):
+    """log10(max / median) over the lines (rows) of ``a`` of the line score: the second
+    difference across each line, cut into ``SEAM_SEGMENTS`` segments, t = mean / (std / sqrt(n))
+    per segment, median of t^2 over the segments (see the module docstring, ``seams``).
+    None when ``a`` is too small."""
+    if a.shape[0] < 8:
+        return None
+    K = a[2:] - 2.0 * a[1:-1] + a[:-2]
+    S = K.shape[1] // SEAM_SEGMENTS
+    if S < 4:
+        return None
+    seg = K[:, :SEAM_SEGMENTS * S].reshape(K.shape[0], SEAM_SEGMENTS, S)
+    m = seg.mean(axis=-1)
+    sd = seg.std(axis=-1, ddof=1)
+    t2 = np.where(sd > 0, (m / np.where(sd > 0, sd, 1.0)) ** 2 * S, 0.0)
+    score = np.median(t2, axis=1)
+    med = float(np.median(score))
+    return float(np.log10(score.max() / med)) if med > 0 else None
+
+
 def seam_score(h):
-    """log10(max / median) of the line scores of a detrended block, rows and columns (see the
-    module docstring, ``seams``)."""
-    out = []
-    for a in (h, h.T):
-        if a.shape[0] < 8:
-            continue
-        K = a[2:] - 2.0 * a[1:-1] + a[:-2]
-        S = K.shape[1] // SEAM_SEGMENTS
-        if S < 4:
-            continue
-        seg = K[:, :SEAM_SEGMENTS * S].reshape(K.shape[0], SEAM_SEGMENTS, S)
-        m = seg.mean(axis=-1)
-        sd = seg.std(axis=-1, ddof=1)
-        t2 = np.where(sd > 0, (m / np.where(sd > 0, sd, 1.0)) ** 2 * S, 0.0)
-        score = np.median(t2, axis=1)
-        med = float(np.median(score))
-        if med > 0:
-            out.append(float(np.log10(score.max() / med)))
+    """The larger line score (:func:`line_score`) of the rows and of the columns of a detrended
+    block."""
+    out = [x for x in (line_score(h), line_score(h.T)) if x is not None]
     return max(out) if out else 0.0
 
 

@@ -183,14 +183,34 @@ def _verdict_html(v):
     return f"<p><b>Verdict:</b> {head}. {html.escape(v.get('reason', ''))}.{extra}</p>"
 
 
+def _fmt(x):
+    return "" if x is None or not np.isfinite(x) else f"{x:.3g}"
+
+
 def write_surface_report(out_dir, name, data, figs):
     """Write ``report.html`` for a surface-level diagnosis."""
     v = data["verdict"]
     verdict = _verdict_html(v)
     summary = rep.table_html({"baseline gap, held out (noise units)": data["baseline_gap"],
                               "blocks (k-fold)": data["heldout"],
+                              "evidence of the verdict": v.get("evidence") or "none",
                               "inconclusive between": ", ".join(data.get("inconclusive") or []) or "no",
                               "parameters at a bound": ", ".join(data.get("at_bound") or []) or "none"})
+    checks = []
+    ws = data.get("whole_spectrum") or {}
+    for c in ws.get("candidates") or []:
+        checks.append((f"spectrum (every third ring held out): {c['name']}", _fmt(c.get("p_value")),
+                       _fmt(c.get("shrink")), ", ".join(f"{k}={x:.4g}" for k, x in c["params"].items())))
+    wh = data.get("whole_height")
+    if wh:
+        checks.append(("height law (curvature lags 1, 4 held out): height_skew", _fmt(wh.get("p_value")),
+                       _fmt(wh.get("shrink")), f"skewness={wh['skewness']:.3g}"))
+    wsm = data.get("whole_seams")
+    if wsm:
+        checks.append(("line scores (two-fold over halves): seams", _fmt(wsm.get("p_value")), _fmt(wsm.get("shrink")),
+                       "excess log10 rows/columns = " + ", ".join(f"{x:.2f}" for x in wsm["excess_log10"])))
+    whole_tab = rep.table_html(checks, header=["whole-scan check", "p-value", "held-out shrink", "fitted"]) \
+        if checks else "<p>none</p>"
     fam = rep.table_html([(f, d["gap_baseline"], d["gap_after"], d["shrink"], "yes" if d["significant"] else "no",
                            d["n_entries"]) for f, d in data["families"].items()],
                          header=["descriptor family", "held-out gap, twin (noise units)", "after the verdict",
@@ -213,6 +233,7 @@ def write_surface_report(out_dir, name, data, figs):
     rep.write_html(Path(out_dir) / "report.html", f"Surface-level gap diagnosis: {name}", [
         ("Verdict", [verdict, summary]),
         ("Gap per descriptor family (held out in space)", [fam]),
+        ("Whole-scan checks (used when the blocks name nothing)", [whole_tab]),
         ("Spectrum: measured against the fitted self-affine surface", [figs[0], where]),
         ("Height distribution, rain fill and friction", [list(figs[1:]), stats]),
         ("Candidate effects (best first)", [eff]),

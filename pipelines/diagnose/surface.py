@@ -58,6 +58,7 @@ class SurfaceContext:
     moments: dict = None        # moment skewness / excess kurtosis: measured and twin block means
     noise_inflation: dict = field(default_factory=dict)
     whole_twins: np.ndarray = None  # (n_twins, n_rings) log10 C of the twins' whole-scan spectra
+    whole_height: dict = None       # whole-scan height-law statistics: measured, twins, skewed-twin table
     cache: dict = field(default_factory=dict)
 
     @property
@@ -113,6 +114,18 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
         r_tab = np.array([np.mean([dd["rain"].mean(axis=0) for dd in d[:2]], axis=0) for d in sk])
         r_tab = r_tab - r_tab[SKEW_GRID.index(0.0)]
     skew_table = dict(s=np.array(SKEW_GRID), height=h_tab, rain=r_tab)
+    # the same law on the whole scan (:func:`.surface_whole.whole_height_check`)
+    from .surface_whole import whole_height_stats
+
+    wt = np.array([whole_height_stats(h) for h in tw_h])
+    ws = np.array([np.mean([whole_height_stats(skewed(h, s)) - whole_height_stats(h) for h in tw_h[:N_SKEW_TWINS]],
+                           axis=0) for s in SKEW_GRID])
+    whole_height = dict(measured=whole_height_stats(lev.heights_m), twins=wt, skew_s=np.array(SKEW_GRID), skew_tab=ws)
+    if not an.is_profile:
+        from .surface_whole import whole_seam_stats
+
+        whole_height["seams_measured"] = whole_seam_stats(lev.heights_m)
+        whole_height["seams_twins"] = np.array([whole_seam_stats(h) for h in tw_h])
     say(f"surface descriptors of {geo.n_blocks if hasattr(geo, 'n_blocks') else len(geo.starts)} blocks, "
         f"{n_twins} twins: {time.perf_counter() - t:.1f} s")
     inputs = {"spectrum"} | (set() if an.is_profile else {"area"})
@@ -121,7 +134,7 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
                           geo.rings[1], an.fit, an.is_profile, inputs, skew_table,
                           dict(measured=meas["moments"].mean(axis=0).tolist(),
                                twin=twin_all["moments"].mean(axis=0).tolist()), infl,
-                          twin_whole_spectra(an, tw_h))
+                          twin_whole_spectra(an, tw_h), whole_height)
 
 
 def _off_axis_rings(spec2d, edges):
@@ -233,17 +246,39 @@ def run_surface(obj, out_dir, log=None, seed=0):
     ctx = descriptors(an, seed=seed, log=say)
     res = surface_search(ctx)
     verdict, best = res["verdict"], res["best"]
-    from .surface_whole import MIN_SHRINK_WHOLE, whole_spectrum_check
+    from .surface_whole import MIN_SHRINK_WHOLE, whole_height_check, whole_seams_check, whole_spectrum_check
 
     whole = whole_spectrum_check(an, ctx.whole_twins)
+    wh = ctx.whole_height
+    whole_h = whole_height_check(wh["measured"], wh["twins"], wh["skew_s"], wh["skew_tab"])
+    whole_s = whole_seams_check(wh["seams_measured"], wh["seams_twins"]) if "seams_measured" in wh else None
     verdict["evidence"] = "blocks (k-fold)" if verdict["effect"] else None
-    if verdict["effect"] is None and not verdict["inconclusive"] and whole["significant"]:
-        w = next(c for c in whole["candidates"] if c["p_value"] < 1e-3)
-        if w["shrink"] >= MIN_SHRINK_WHOLE:
-            verdict.update(effect=w["name"], shrink=w["shrink"], shrink_interval=None, confidence="medium",
-                           evidence="whole-scan spectrum (every third ring held out)",
-                           reason=(f"the blocks name nothing, but {w['name']} closes {w['shrink']:.0%} of the whole "
-                                   f"scan's spectral gap on held-out rings (the blocks lose the lowest wave vectors)"))
+    if verdict["effect"] is None and not verdict["inconclusive"]:
+        # the whole-scan checks, for what the blocks cannot see: of those that are significant
+        # and reach MIN_SHRINK_WHOLE, the one whose descriptor family carries the largest gap in
+        # the blocks (a smoothed texture also raises the line scores a little; its spectrum gap
+        # is far larger), then the largest held-out shrink
+        fam_gap = {f: d["gap_baseline"] for f, d in res["families"].items()}
+        opts = []
+        if whole["significant"]:
+            w = next(c for c in whole["candidates"] if c["p_value"] < 1e-3)
+            opts.append((fam_gap.get("spectrum", 0.0), w["shrink"], w["name"], "whole-scan spectrum (every third ring held out)",
+                         f"{w['name']} closes {w['shrink']:.0%} of the whole scan's spectral gap on held-out "
+                         "rings (the blocks lose the lowest wave vectors)"))
+        if whole_h["significant"]:
+            opts.append((fam_gap.get("height", 0.0), whole_h["shrink"], "height_skew", "whole-scan height law (curvature at lags 1 and 4 held out)",
+                         f"a height law of skewness {whole_h['skewness']:.2f} (fitted to the whole scan's L-skewness "
+                         f"of heights and curvature) closes {whole_h['shrink']:.0%} of the gap of the held-out "
+                         "curvature lags (the height law shows unevenly from block to block)"))
+        if whole_s is not None and whole_s["significant"]:
+            opts.append((fam_gap.get("seams", 0.0), whole_s["shrink"], "seams", "whole-scan line scores (two-fold over halves along the lines)",
+                         f"straight line discontinuities: the line-score excess of one half of the scan predicts "
+                         f"the other's and closes {whole_s['shrink']:.0%} of the gap (a seam crosses only some blocks)"))
+        opts = [o for o in opts if o[1] >= MIN_SHRINK_WHOLE]
+        if opts:
+            _, sh, name, ev, why = max(opts)
+            verdict.update(effect=name, shrink=sh, shrink_interval=None, confidence="medium", evidence=ev,
+                           reason="the blocks name nothing, but " + why)
     spec = an.spectrum
     ok = np.isfinite(spec.C_m4) & (spec.C_m4 > 0)
     q, C = spec.q_per_m[ok], spec.C_m4[ok]
@@ -306,6 +341,8 @@ def run_surface(obj, out_dir, log=None, seed=0):
         mu_gap=float(np.sqrt(np.mean(np.log10(mu_real / mu_twin) ** 2))),
         effects=effects, skipped=res["skipped"], verdict=verdict,
         whole_spectrum={k: (r6(v) if isinstance(v, float) else v) for k, v in whole.items()},
+        whole_height={k: (r6(v) if isinstance(v, float) else v) for k, v in whole_h.items()},
+        whole_seams=None if whole_s is None else {k: (r6(v) if isinstance(v, float) else v) for k, v in whole_s.items()},
         inconclusive=verdict["inconclusive"], at_bound=verdict["at_bound"],
         seconds=round(time.perf_counter() - t0, 2))
     out_dir = Path(out_dir)

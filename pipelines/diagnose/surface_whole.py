@@ -23,9 +23,15 @@ from types import SimpleNamespace
 import numpy as np
 
 
-__all__ = ["whole_spectrum_check", "SPECTRAL", "MIN_SHRINK_WHOLE"]
+__all__ = ["whole_spectrum_check", "whole_height_stats", "whole_height_check", "SPECTRAL", "MIN_SHRINK_WHOLE",
+           "HEIGHT_STATS", "HEIGHT_HELD", "whole_seam_stats", "whole_seams_check"]
 
 SPECTRAL = ("rolloff", "noise_floor")
+# whole-scan height-law statistics: L-skewness of the heights and of the curvature at lags of
+# 1, 2, 4 and 8 points; the lags 1 and 4 are held out (fit on the others, predict them)
+HEIGHT_STATS = ("l_skewness_tau3", "curvature_l_skewness_lag1", "curvature_l_skewness_lag2",
+                "curvature_l_skewness_lag4", "curvature_l_skewness_lag8")
+HEIGHT_HELD = (False, True, False, True, False)
 MIN_SHRINK_WHOLE = 0.4
 LOG10E = float(np.log10(np.e))
 
@@ -101,3 +107,97 @@ def whole_spectrum_check(an, twins=None):
                 reference="twins" if twins is not None and np.shape(twins)[0] >= 3 else "power law",
                 baseline_heldout_noise_units=g0,
                 heldout="every third ring of the whole scan's spectrum", candidates=out)
+
+
+def whole_height_stats(h):
+    """The whole scan's height-law statistics (:data:`HEIGHT_STATS`) of a levelled height array."""
+    from .blocks import curvature_l_skewness, l_moment_ratios
+
+    h = np.asarray(h, float)
+    return np.array([l_moment_ratios(h)[0]] + [curvature_l_skewness(h, k) for k in (1, 2, 4, 8)])
+
+
+def whole_height_check(measured, twins, skew_s, skew_tab):
+    """``height_skew`` on the whole scan, held out in scale.
+
+    Blocks see a height law only where the scan's long waves put the tails of its distribution:
+    a skewed law made by a monotone map of a long-wave dominated surface shows strongly in one
+    block and weakly in the next, and the block k-fold cannot predict one block from the others.
+    The whole scan's statistics (:func:`whole_height_stats`) are compared with the Gaussian
+    twins' (reference: their mean; noise: their scatter, sigma^2 = var (1 + 1 / n)), and the
+    effect's skewness is fitted to the L-skewness of the heights and of the curvature at lags 2
+    and 8 through the skewed twins' table (``skew_s`` grid, ``skew_tab`` (n_grid, 5) statistics
+    of the skewed twins minus their unskewed value); the curvature at lags 1 and 4 is held out.
+    Significance: likelihood ratio of the fit on the training statistics, chi-square(1),
+    p < 1e-3. Returns a dict (z of each statistic, fitted skewness, held-out gaps, shrink)."""
+    from scipy import optimize, stats
+
+    tw = np.asarray(twins, float)
+    ref = tw.mean(axis=0)
+    sig = np.sqrt(np.maximum(tw.var(axis=0, ddof=1), 1e-12) * (1.0 + 1.0 / tw.shape[0]))
+    m = np.asarray(measured, float)
+    held = np.array(HEIGHT_HELD)
+    z0 = (m - ref) / sig
+
+    def z(sk):
+        pred = ref + np.array([np.interp(sk, skew_s, skew_tab[:, j]) for j in range(m.size)])
+        return (m - pred) / sig
+
+    sol = optimize.minimize_scalar(lambda sk: float(np.sum(z(sk)[~held] ** 2)), bounds=(skew_s[0], skew_s[-1]),
+                                   method="bounded")
+    grid = np.linspace(skew_s[0], skew_s[-1], 25)
+    best = min([sol.x] + list(grid), key=lambda sk: float(np.sum(z(sk)[~held] ** 2)))
+    c0 = float(np.sum(z0[~held] ** 2))
+    c1 = float(np.sum(z(best)[~held] ** 2))
+    drop = max(c0 - c1, 0.0)
+    g0 = float(np.sqrt(np.mean(z0[held] ** 2)))
+    g1 = float(np.sqrt(np.mean(z(best)[held] ** 2)))
+    return dict(statistics=list(HEIGHT_STATS), measured=m.tolist(), twin_mean=ref.tolist(), twin_noise=sig.tolist(),
+                z=z0.tolist(), held_out=[n for n, h in zip(HEIGHT_STATS, HEIGHT_HELD) if h],
+                skewness=float(best), chi2_drop=drop, p_value=float(stats.chi2.sf(drop, 1)),
+                gap_heldout_before=g0, gap_heldout_after=g1,
+                shrink=1.0 - g1 / g0 if g0 > 0 else float("nan"),
+                significant=bool(stats.chi2.sf(drop, 1) < 1e-3))
+
+
+def whole_seam_stats(h):
+    """Line scores (:func:`.blocks.line_score`) of the whole scan by halves: the rows of its left
+    and right halves, the columns of its top and bottom halves. A straight seam along x crosses
+    both the left and the right half, so the halves that share it see it twice."""
+    from .blocks import line_score
+
+    h = np.asarray(h, float)
+    ny, nx = h.shape
+    parts = (h[:, :nx // 2], h[:, nx // 2:], h[:ny // 2, :].T, h[ny // 2:, :].T)
+    return np.array([line_score(p) or 0.0 for p in parts])
+
+
+def whole_seams_check(measured, twins):
+    """``seams`` on the whole scan, held out in space along the seams.
+
+    A stitching seam or step is a straight line across the scan; the blocks see it only in the
+    tiles it crosses, and a seam-free tile cannot be predicted from the others. Here the line
+    scores of the rows are taken on the left and right halves of the scan, those of the
+    columns on the top and bottom halves (:func:`whole_seam_stats`); the seams effect's excess
+    (log10 line-score ratio, per direction) is fitted on one half and predicts the other
+    (two-fold). Reference and noise: the Gaussian twins' mean and scatter (sigma^2 = var
+    (1 + 1 / n)). Significant when the four statistics' chi-square against the twins has
+    p < 1e-3. Returns a dict (z, excess per direction, held-out gaps, shrink)."""
+    from scipy import stats
+
+    tw = np.asarray(twins, float)
+    ref = tw.mean(axis=0)
+    sig = np.sqrt(np.maximum(tw.var(axis=0, ddof=1), 1e-12) * (1.0 + 1.0 / tw.shape[0]))
+    m = np.asarray(measured, float)
+    z0 = (m - ref) / sig
+    d = m - ref
+    pred = np.array([d[1], d[0], d[3], d[2]])       # the other half's excess, no clipping below 0
+    z1 = (d - np.maximum(pred, 0.0)) / sig
+    g0 = float(np.sqrt(np.mean(z0 ** 2)))
+    g1 = float(np.sqrt(np.mean(z1 ** 2)))
+    p = float(stats.chi2.sf(float(np.sum(z0 ** 2)), m.size))
+    return dict(statistics=["rows_left_half", "rows_right_half", "columns_top_half", "columns_bottom_half"],
+                measured=m.tolist(), twin_mean=ref.tolist(), twin_noise=sig.tolist(), z=z0.tolist(),
+                excess_log10=[float(max(0.5 * (d[0] + d[1]), 0.0)), float(max(0.5 * (d[2] + d[3]), 0.0))],
+                gap_heldout_before=g0, gap_heldout_after=g1, shrink=1.0 - g1 / g0 if g0 > 0 else float("nan"),
+                p_value=p, significant=bool(p < 1e-3 and g0 > 1.5))
