@@ -457,12 +457,21 @@ def verdict_names(diag):
     return list(e)
 
 
+def _label(diag, names):
+    """The called label: effect names, "inconclusive(a|b)" or "null" (no effect)."""
+    inc = (diag.get("verdict") or {}).get("inconclusive")
+    if not names and inc:
+        return "inconclusive(" + "|".join(inc) + ")"
+    return "+".join(names) if names else "null"
+
+
 def score(case, diag):
-    """(strict hit, lenient hit, called label)."""
+    """(strict hit, lenient hit, called label). On a null case, an inconclusive verdict is a
+    miss (it is not "no effect")."""
     names = verdict_names(diag) if "error" not in diag else ["<error>"]
-    label = "+".join(names) if names else "null"
+    label = _label(diag, names)
     if case.effect is None:
-        return (not names), (not names), label
+        return label == "null", label == "null", label
     strict = names == [case.effect]
     lenient = case.effect in names
     return strict, lenient, label
@@ -598,8 +607,9 @@ def run_surface_case(kind, seed, root):
         return dict(kind=kind or "null", seed=seed, error=pr.stderr.strip()[-300:], seconds=dt, truth=truth)
     diag = json.loads((d / "out" / "diagnosis.json").read_text())
     names = verdict_names(diag)
-    return dict(kind=kind or "null", seed=seed, called="+".join(names) or "null",
-                right=(names == [kind]) if kind else not names,
+    label = _label(diag, names)
+    return dict(kind=kind or "null", seed=seed, called=label,
+                right=(names == [kind]) if kind else label == "null",
                 shrink=(diag.get("verdict") or {}).get("shrink"), seconds=dt, truth=truth,
                 inconclusive=(diag.get("verdict") or {}).get("inconclusive"),
                 families={k: round(v["gap_baseline"], 2) for k, v in (diag.get("families") or {}).items()})

@@ -73,7 +73,7 @@ def _power_law(fit, q):
 def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
     """Build the :class:`SurfaceContext` of a :class:`spectrum_bridge.SurfaceAnalysis`."""
     from . import blocks as bl
-    from .twin import skewed, twin_heights
+    from .twin import skewed_set, twin_heights
 
     say = log or (lambda *_: None)
     t = time.perf_counter()
@@ -103,9 +103,10 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
         infl[f] = lam
         sigma[f] = np.sqrt(vt * lam * (1.0 + 1.0 / n_t))
     # the skewed twins: height family (and rain response) against the moment skewness of the law
+    sk_h = skewed_set(tw_h[:N_SKEW_TWINS], SKEW_GRID)
     sk = []
     for s in SKEW_GRID:
-        d = [bl.describe(skewed(h, s), geo, rain="rain" in fams and i < 2) for i, h in enumerate(tw_h[:N_SKEW_TWINS])]
+        d = [bl.describe(h, geo, rain="rain" in fams and i < 2) for i, h in enumerate(sk_h[s])]
         sk.append(d)
     h_tab = np.array([np.mean([dd["height"].mean(axis=0) for dd in d], axis=0) for d in sk])
     h_tab = h_tab - h_tab[SKEW_GRID.index(0.0)] + twin_mean["height"]
@@ -118,8 +119,7 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
     from .surface_whole import whole_height_stats
 
     wt = np.array([whole_height_stats(h) for h in tw_h])
-    ws = np.array([np.mean([whole_height_stats(skewed(h, s)) - whole_height_stats(h) for h in tw_h[:N_SKEW_TWINS]],
-                           axis=0) for s in SKEW_GRID])
+    ws = np.array([np.mean([whole_height_stats(hs) - w0 for hs, w0 in zip(sk_h[s], wt)], axis=0) for s in SKEW_GRID])
     whole_height = dict(measured=whole_height_stats(lev.heights_m), twins=wt, skew_s=np.array(SKEW_GRID), skew_tab=ws)
     if not an.is_profile:
         from .surface_whole import whole_seam_stats
