@@ -145,3 +145,16 @@ def test_friction_failure_after_first_file_leaves_nothing(monkeypatch, capsys, t
                "--out", str(tmp_path / "sub" / "mu.csv")])
     assert rc == 1 and "internal error" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("ext", [".npy", ".npz", ".x3p", ".tif"])
+def test_float32_overflow_refused(capsys, tmp_path, ext):
+    """Fuzz finding: convert --float32 of a height beyond float32's range wrote infinity (read
+    back as an unmeasured point) with only a numpy warning line."""
+    a = fourier_surface(16, 5e-5, 0.8, 3e-4, seed=1)
+    a[3, 3] = 1e300
+    np.save(tmp_path / "big.npy", a)
+    _one_line_refusal(capsys, ["convert", tmp_path / "big.npy", tmp_path / f"o{ext}", "--spacing", "5e-5",
+                               "--float32"], "does not fit float32")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.npy"]
+    assert main(["convert", str(tmp_path / "big.npy"), str(tmp_path / f"o{ext}"), "--spacing", "5e-5"]) == 0
