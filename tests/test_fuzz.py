@@ -125,6 +125,7 @@ ANALYSIS = {
     "mpd_spike_alpha": F(["3", "6"], ["0", "1e-300", "1e300"], 5),
     "despike": F([False, False, True], (), 0),
     "no_friction": F([False, False, False, True], (), 0),
+    "max_pixels": F(["100000000", "4000"], ["0", "-1", "abc", "1e300", "1", "inf", "nan", "2.5"], 6),
 }
 
 
@@ -148,7 +149,7 @@ SPACING_ARG = st.one_of(st.none(), st.sampled_from([5e-5, 1e-4, (5e-5, 6e-5), 0.
                                                     "5e-5", "5e-5,6e-5", "abc", "", (1.0, 2.0, 3.0), 5e-324]))
 
 
-@given(spec=ff.any_height_file(), spacing=SPACING_ARG, units=st.sampled_from([None, None, "m", "mm", "um", "nm",
+@given(spec=st.one_of(ff.any_height_file(), ff.analysable_height_file()), spacing=SPACING_ARG, units=st.sampled_from([None, None, "m", "mm", "um", "nm",
                                                                               "furlong", ""]))
 @fuzz_settings(260)
 def test_readers_never_crash(base, spec, spacing, units):
