@@ -141,9 +141,13 @@ def rubber_from_args(args):
 
 def check_contact_args(args):
     """One-line InputErrors for --q0, --q1, --contact-gamma, --nu."""
+    from .validate import check_wave_vector
+
     for flag, val in (("--q0", getattr(args, "q0", None)), ("--q1", getattr(args, "q1", None))):
         if val is not None and not (math.isfinite(val) and val > 0):
             raise InputError(None, f"{flag} {val!r}: must be a positive wave vector in 1/m")
+        if val is not None:
+            check_wave_vector(val, flag)
     if args.q0 is not None and args.q1 is not None and not args.q0 < args.q1:
         raise InputError(None, f"--q0 {args.q0:g} must be below --q1 {args.q1:g}")
     g = getattr(args, "contact_gamma", None)

@@ -187,3 +187,35 @@ def test_synth_tiny_roll_off_without_numpy_warning(capsys, tmp_path):
     assert main(["synth", "--nx", "32", "--q-roll", "1e-300", "--q0", "1e-300", "--out", str(tmp_path / "s.npy")]) == 0
     assert "warning" not in capsys.readouterr().err
     assert np.all(np.isfinite(np.load(tmp_path / "s.npy")))
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["analyse", "{scan}", "--spacing", "5e-5", "--q1", "1e300", "--flash"], "--q1 1e+300 1/m"),
+    (["dry-vs-wet", "{scan}", "--spacing", "5e-5", "--q1", "1e30"], "--q1 1e+30 1/m"),
+    (["friction", "--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e30"], "--self-affine q1=1e+30 1/m"),
+    (["friction", "--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--q1", "1e12"], "--q1 1e+12 1/m"),
+])
+def test_wave_vectors_beyond_the_atomic_scale_refused(capsys, tmp_path, argv, needle):
+    """Fuzz finding: --q1 1e300 went to the flash solver (FlashConvergenceError as an internal
+    error, exit 1); 1e30 1/m gave a number. Wave vectors above 1e11 1/m are refused."""
+    scan = tmp_path / "g.npy"
+    np.save(scan, fourier_surface(32, 5e-5, 0.8, 3e-4, seed=1))
+    argv = [str(scan) if a == "{scan}" else a for a in argv]
+    _one_line_refusal(capsys, [*argv, "--velocities", "1e-3:1:3", "--out", tmp_path / "out"], needle)
+
+
+def test_flash_failure_in_analyse_is_an_input_error(monkeypatch, capsys, tmp_path):
+    """A flash solution that truly cannot be found is one error line with exit 2 in analyse
+    (as in friction), not an internal error."""
+    import friction
+    from friction.flash import FlashConvergenceError
+
+    def fails(*a, **k):
+        raise FlashConvergenceError("flash temperature: the heat balance is not finite at v = 1 m/s")
+
+    monkeypatch.setattr(friction, "mu_flash", fails)
+    scan = tmp_path / "g.npy"
+    np.save(scan, fourier_surface(32, 5e-5, 0.8, 3e-4, seed=1))
+    _one_line_refusal(capsys, ["analyse", scan, "--spacing", "5e-5", "--flash", "--velocities", "1e-3:1:3",
+                               "--out", tmp_path / "out"], "friction: flash temperature")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["g.npy"]
