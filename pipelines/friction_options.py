@@ -129,6 +129,9 @@ def rubber_from_args(args):
             raise InputError(mc, "--master-curve needs --reference-temperature C (its T_ref) "
                                  "or a --shift-table with aT = 1 at T_ref")
         from .rubber_file import rubber_from_csv_files
+        from .validate import check_temperature
+
+        check_temperature(t_ref, flag="--reference-temperature")   # absolute zero .. 1000 C
         return rubber_from_csv_files(mc, shift, t_ref)
     if shift or t_ref is not None:
         raise InputError(None, "--shift-table and --reference-temperature go with --master-curve "

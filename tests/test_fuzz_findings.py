@@ -219,3 +219,40 @@ def test_flash_failure_in_analyse_is_an_input_error(monkeypatch, capsys, tmp_pat
     _one_line_refusal(capsys, ["analyse", scan, "--spacing", "5e-5", "--flash", "--velocities", "1e-3:1:3",
                                "--out", tmp_path / "out"], "friction: flash temperature")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["g.npy"]
+
+
+def test_reference_temperature_checked(capsys, tmp_path):
+    """--reference-temperature 1e300 was an OverflowError through the last resort."""
+    from conftest import ROOT
+
+    r = ROOT / "sample_scans" / "rubbers"
+    _one_line_refusal(capsys, ["friction", "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
+                               "--master-curve", r / "freq_user_master.csv", "--shift-table",
+                               r / "freq_user_master__shift_factors.csv", "--reference-temperature", "1e300",
+                               "--velocities", "1e-3:1:3", "--out", tmp_path / "mu.csv"],
+                      "--reference-temperature 1e+300 C")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_diagnosis_never_prefers_unusable_parameters():
+    """Fuzz finding: with T0 5.5 K above the thesis rubber's WLF pole the baseline misfit is
+    over 10 decades, and the fit preferred temperature offsets past the pole (NaN model, cost
+    10 decades a point) to the no-effect point: gaps NaN, written as null. A NaN model now
+    costs 1e3 decades a point, so the fit keeps a finite one."""
+    from pipelines.diagnose.effects import all_effects
+    from pipelines.diagnose.measured import MeasuredCurve
+
+    v = np.geomspace(1e-4, 1e1, 8)
+    mu = 0.3 + 0.5 * np.exp(-np.log10(v / 1e-2) ** 2)
+    curve = MeasuredCurve(v, mu, np.full(v.size, -76.0), np.full(v.size, 2e5), np.zeros(v.size, bool), False, "t")
+    from pipelines.diagnose.inputs import build_context
+    from pipelines.diagnose.search import diagnose_friction
+
+    import friction
+
+    ctx = build_context(curve, friction.SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5))
+    eff = [e for e in all_effects("friction") if e.name == "temperature_offset"]
+    d = diagnose_friction(ctx, mu, noise=0.01, effects=eff, pairs=False)
+    c = d.candidates[0]
+    assert np.isfinite(c.gap_train) and np.isfinite(c.gap_heldout) and np.all(np.isfinite(c.pred))
+    assert c.gap_train <= d.baseline_gap_train + 1e-9
