@@ -66,7 +66,9 @@ def summarise(analysis, fr=None):
         "hurst_stderr": fit.hurst_stderr,
         "rms_height_m": analysis.roughness.get("Sq_m", analysis.roughness.get("Rq_m")),
         "band_rms_m": fit.band_rms_m,
-        "h0_m": fit.h0_m,
+        # h0 of the thesis form is undefined for H <= 0 (C falls no faster than white noise):
+        # null, and validate.check_fit's warning says why (never a NaN written as null)
+        "h0_m": fit.h0_m if np.isfinite(fit.h0_m) else None,
         "q_min_per_m": qmin,
         "q_max_per_m": qmax,
         "fit_band_per_m": [float(b) for b in fit.fit_band_per_m],

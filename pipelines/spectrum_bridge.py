@@ -94,6 +94,12 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     else:
         rough = roughness.area_parameters(levelled)
         mpd_m, mpd_note = roughness.mean_profile_depth_area(obj, **(mpd_settings or {}))
+    undefined = [k for k in ("Sdq", "Sdr", "Rdq") if k in rough and rough[k] is None]
+    if undefined:
+        from .validate import warn
+
+        warn(f"{obj.name}: {', '.join(undefined)} undefined (no measured neighbours to take a slope "
+             f"from): null in the outputs")
     if isinstance(obj, Profile):
         filled, filled_fraction = inpaint.fill_unmeasured(levelled)
         fill = (filled, None)

@@ -19,6 +19,7 @@ quantity                      refused outside (warned outside)
 grid spacing [m]              [1e-9, 1] (warned outside [1e-7, 1e-2])
 grid size                     fewer than 8 points along a side of an area, or fewer than
                               16 measured points, or under 1 % of the points measured
+rms height [m] (synth)        outside [1e-12, 1e3] (not representable / not a road)
 heights [m]                   all equal (no roughness); any |h - median| above 1e4 x the
                               robust spread (a spike of another scale; refused naming the
                               value, unless it is under 1 m); |h| >= 1e3 m
@@ -49,8 +50,8 @@ from roadscan.errors import InputError
 
 __all__ = [
     "warn", "warnings_list", "reset_warnings",
-    "check_spacing", "check_heights", "check_scan", "check_pressure", "check_poisson",
-    "check_temperature", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
+    "check_spacing", "check_spacing_option", "check_heights", "check_scan", "check_pressure", "check_poisson",
+    "check_temperature", "check_rms_height", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
     "finite_number",
 ]
 
@@ -62,6 +63,7 @@ MIN_MEASURED = 16
 MIN_MEASURED_FRACTION = 0.01
 SPIKE_FACTOR = 1e4
 MAX_ABS_HEIGHT_M = 1e3
+MIN_RMS_HEIGHT_M = 1e-12
 PRESSURE_RANGE_PA = (0.0, 1e9)
 POISSON_RANGE = (0.0, 0.5)
 WLF_POLE_MARGIN_K = 5.0
@@ -122,6 +124,29 @@ def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
         if not ulo <= v <= uhi:
             warn(f"{path + ': ' if path else ''}spacing {v:g} m is unusual for a road scan "
                  f"({ulo:g}..{uhi:g} m)")
+
+
+def check_spacing_option(text, flag="--spacing"):
+    """The CLI's ``--spacing DX[,DY]`` [m]: parsed by :func:`roadscan.io.resolve_spacing` and
+    checked by :func:`check_spacing`; every refusal names the flag and the value given."""
+    from roadscan.io import resolve_spacing
+
+    try:
+        dx, dy = resolve_spacing(text, None)
+    except InputError as exc:
+        raise InputError(None, f"{flag} {text!r}: {exc.problem}") from None
+    check_spacing(dx, dy, flag=flag)
+    return dx, dy
+
+
+def check_rms_height(rms_m, flag="--rms"):
+    """An rms height [m] asked for (``roadscan synth``): within [1e-12, 1e3] m. Below a
+    picometre the heights underflow to zeros on rescaling; above MAX_ABS_HEIGHT_M no road."""
+    v = finite_number(rms_m, flag)
+    if not MIN_RMS_HEIGHT_M <= v <= MAX_ABS_HEIGHT_M:
+        raise InputError(None, f"{flag} {v:g} m: implausible rms height (expected "
+                               f"{MIN_RMS_HEIGHT_M:g}..{MAX_ABS_HEIGHT_M:g} m; is the unit metres?)")
+    return v
 
 
 def check_pressure(sigma0_Pa, flag="--sigma0"):
@@ -271,8 +296,9 @@ def check_fit(fit, name=""):
     if h is None or not np.isfinite(h):
         raise InputError(name or None, "the self-affine fit failed (Hurst exponent not finite)")
     if not 0.0 <= h <= 1.0:
+        undefined = " (h0 is undefined for H <= 0: null in summary.json)" if h <= 0 else ""
         warn(f"{name + ': ' if name else ''}Hurst exponent {h:.3g} lies outside [0, 1]: the spectrum "
-             f"is not self-affine over the fitted band; H, h0 and mu(v) are not meaningful")
+             f"is not self-affine over the fitted band; H, h0 and mu(v) are not meaningful{undefined}")
 
 
 def check_mu(mu, what="mu"):

@@ -32,7 +32,8 @@ def area_parameters(hm, level_degree=1):
     Sv = -min z, Sz = Sp + Sv (over the whole map). Gradients: on each grid cell whose four
     corners are measured, dz/dx and dz/dy are the means of the cell's two edge differences;
     Sdq = <|grad z|^2>^(1/2), Sdr = <sqrt(1 + |grad z|^2)> - 1 (developed interfacial area
-    ratio, as a fraction).
+    ratio, as a fraction). Sdq and Sdr are None (undefined, not NaN) when no grid cell has its
+    four corners measured (e.g. every other row missing).
 
     The map is read band by band of rows (z evaluated on the fly, plane included), with the
     sums accumulated in float64: the memory used is a few rows whatever the map's size, and
@@ -73,8 +74,8 @@ def area_parameters(hm, level_degree=1):
          "sk": float(s3 / n / sq**3) if sq > 0 else 0.0,
          "ku": float(s4 / n / sq**4) if sq > 0 else 0.0,
          "p": float(zmax), "v": float(-zmin)}
-    sdq = float(np.sqrt(sg2 / ng)) if ng else float("nan")
-    sdr = float(sdr_sum / ng - 1.0) if ng else float("nan")
+    sdq = float(np.sqrt(sg2 / ng)) if ng else None
+    sdr = float(sdr_sum / ng - 1.0) if ng else None
     return {"Sa_m": m["a"], "Sq_m": m["q"], "Ssk": m["sk"], "Sku": m["ku"], "Sp_m": m["p"],
             "Sv_m": m["v"], "Sz_m": m["p"] + m["v"], "Sdq": sdq, "Sdr": sdr}
 
@@ -82,7 +83,8 @@ def area_parameters(hm, level_degree=1):
 def profile_parameters(profile, level_degree=1):
     """ISO 4287-style parameters of a profile's levelled, measured heights (no filtering:
     over the whole evaluation length). Ra, Rq, Rsk, Rku, Rp, Rv, Rt = Rp + Rv and
-    Rdq = rms slope (finite differences between measured neighbours).
+    Rdq = rms slope (finite differences between measured neighbours; None, undefined, when no
+    two neighbours are measured).
 
     Returns
     -------
@@ -96,7 +98,7 @@ def profile_parameters(profile, level_degree=1):
     s = s[np.isfinite(s)]
     return {"Ra_m": m["a"], "Rq_m": m["q"], "Rsk": m["sk"], "Rku": m["ku"], "Rp_m": m["p"],
             "Rv_m": m["v"], "Rt_m": m["p"] + m["v"],
-            "Rdq": float(np.sqrt(np.mean(s**2))) if s.size else float("nan")}
+            "Rdq": float(np.sqrt(np.mean(s**2))) if s.size else None}
 
 
 # --------------------------------------------------------------------------- ISO 13473-1

@@ -98,6 +98,8 @@ def test_spike_refused_by_rain_fill(files, capsys, tmp_path):
     (["--q1", "10"], "--q1 10"),                          # below the lowest measured q
     (["--q1", "nan"], "--q1"),
     (["--sigma0", "-1"], "--sigma0"),
+    (["--sigma0", "0.3"], "did you mean 0.3MPa"),          # was taken as 0.3 Pa
+    (["--nu", "0.7"], "--nu 0.7"),                        # was accepted
 ])
 def test_bad_numbers_refused(files, capsys, tmp_path, extra, needle):
     sp = [] if "--spacing" in extra else SP
@@ -134,6 +136,7 @@ def test_out_naming_a_file_refused(files, capsys, target):
     (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--rubber", "{sls.toml}"], "a1, tau_s"),
     (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--temperature", "-400"], "-400"),
     (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--temperature", "-81.5"], "WLF pole"),
+    (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--nu", "0.7"], "--nu 0.7"),
 ])
 def test_friction_inputs_refused(files, capsys, tmp_path, argv, needle):
     argv = [files[a[1:-1]] if a.startswith("{") else a for a in argv]
@@ -267,3 +270,58 @@ def test_warnings_land_in_summary(capsys, tmp_path):
     assert len(warn) == 1 and "Hurst" in warn[0]
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert len(s["warnings"]) == 1 and "Hurst" in s["warnings"][0]
+
+
+def test_undefined_h0_is_null_with_a_warning_not_a_nan(monkeypatch, capsys, tmp_path):
+    """Fuzz finding: a scan whose spectrum falls no faster than white noise (H <= 0) had its
+    undefined h0 computed as NaN and written as null without saying so. Now h0 is None on
+    purpose and the Hurst warning says that h0 is undefined."""
+    from pipelines import report
+
+    written = []
+    orig = report.write_json
+    monkeypatch.setattr(report, "write_json", lambda path, data: (written.append(data), orig(path, data))[1])
+    rng = np.random.default_rng(0)
+    p = tmp_path / "white.npy"
+    np.save(p, rng.normal(0, 1e-4, (64, 64)))
+    rc, err = _run(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--no-friction"])
+    assert rc == 0
+    s = written[-1]
+    assert s["hurst"] < 0 and s["h0_m"] is None          # not float("nan")
+    assert "h0 is undefined" in err and "h0 is undefined" in s["warnings"][0]
+
+
+@pytest.mark.parametrize("flash", [False, True])
+def test_real_master_curve_runs_without_numpy_warnings(capsys, tmp_path, flash):
+    """Noise example of issue 14: friction/grids.py printed RuntimeWarnings on a real master
+    curve. The measured pyvisco curve over the default 121 speeds (1e-8..1e4 m/s): no warning
+    line at all, numpy's included (the CLI would print one as 'warning: numpy: ...')."""
+    from conftest import ROOT
+
+    rub = ROOT / "sample_scans" / "rubbers" / "pyvisco_master_wlf.toml"
+    psd = ROOT / "sample_scans" / "asphalt_psd.csv"
+    rc, err = _run(capsys, ["friction", "--psd", psd, "--rubber", rub, "--temperature", "20",
+                            "--out", tmp_path / "mu.csv", *(["--flash"] if flash else [])])
+    assert rc == 0 and "warning" not in err, err
+
+
+def test_undefined_slopes_are_null_with_a_warning(monkeypatch, capsys, tmp_path):
+    """Fuzz finding: with every other row unmeasured no grid cell has four measured corners, so
+    Sdq and Sdr are undefined; they were NaN written as null without a word. Now None on
+    purpose, with one warning line that also lands in summary.json."""
+    from pipelines import report
+
+    written = []
+    orig = report.write_json
+    monkeypatch.setattr(report, "write_json", lambda path, data: (written.append(data), orig(path, data))[1])
+    g = fourier_surface(64, 5e-5, 0.8, 3e-4, seed=1)
+    g[::2] = np.nan
+    p = tmp_path / "rows.npy"
+    np.save(p, g)
+    rc, err = _run(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--no-friction"])
+    assert rc == 0, err
+    s = written[-1]
+    assert s["roughness"]["Sdq"] is None and s["roughness"]["Sdr"] is None
+    assert np.isfinite(s["roughness"]["Sq_m"])
+    assert any("Sdq, Sdr undefined" in w for w in s["warnings"])
+    assert "Sdq, Sdr undefined" in err

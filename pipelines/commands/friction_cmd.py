@@ -107,7 +107,6 @@ def run(args):
     import friction
 
     from ..friction_options import check_contact_args, parse_pressure, parse_velocities, run_checks, with_extrapolation
-    from ..report import plot_mu, write_csv, write_json
     from ..spectrum_bridge import default_velocities
 
     check_contact_args(args)
@@ -144,6 +143,8 @@ def run(args):
         raise InputError(None, str(exc)) from None
     check_mu(res.mu)
     out = Path(args.out)
+    if out.suffix.lower() == ".png":
+        raise InputError(None, f"--out {out}: name the CSV (the plot is written beside it as {out.stem}.png)")
     area = res.P[:, -1]
     header, cols = ["v_m_per_s", "mu", "area_fraction"], [res.v_m_per_s, res.mu, area]
     T_max = None
@@ -156,7 +157,21 @@ def run(args):
             cols.append(res.temperature_at(z))
     checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, res.meta["T0_C"],
                         None if T_max is None else float(T_max.max()), result=res)
-    write_csv(out, header, cols)
+    from roadscan.io.atomic import atomic_file_set
+
+    with atomic_file_set(out) as tmp:      # mu.csv, its summary and plot: all or none
+        _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max)
+    mu_max, v_max = res.peak
+    print(f"{out}: {v.size} speeds, peak mu {mu_max:.4g} at {v_max:.4g} m/s, "
+          f"q {psd.q_min_per_m:.4g}..{psd.q1_per_m:.4g} 1/m"
+          + (f", {res.iterations} iterations, residual {res.residual:.2g} K" if args.flash else ""))
+    return 0
+
+
+def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max):
+    from ..report import plot_mu, write_csv, write_json
+
+    write_csv(tmp / out.name, header, cols)
     mu_max, v_max = res.peak
     summary = {
         "model": "flash temperature" if args.flash else "isothermal",
@@ -176,12 +191,8 @@ def run(args):
     }
     if T_max is not None:
         summary["T_flash_max_C"] = float(T_max.max())
-    write_json(out.with_name(out.stem + "_summary.json"), summary)
+    write_json(tmp / (out.stem + "_summary.json"), summary)
     title = "mu(v), " + ("flash temperature" if args.flash else "isothermal") + \
         f", sigma0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} C"
-    plot_mu([("", res.v_m_per_s, res.mu)], out.with_suffix(".png"), title=title,
+    plot_mu([("", res.v_m_per_s, res.mu)], tmp / (out.stem + ".png"), title=title,
             ylabel="friction coefficient mu [-]")
-    print(f"{out}: {v.size} speeds, peak mu {mu_max:.4g} at {v_max:.4g} m/s, "
-          f"q {psd.q_min_per_m:.4g}..{psd.q1_per_m:.4g} 1/m"
-          + (f", {res.iterations} iterations, residual {res.residual:.2g} K" if args.flash else ""))
-    return 0

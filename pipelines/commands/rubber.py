@@ -94,7 +94,7 @@ def run(args):
 
     from ..report import write_csv, write_json
     from ..rubber_file import load_rubber, read_dma_sweeps_csv
-    from roadscan.io.atomic import atomic_write_text
+    from roadscan.io.atomic import atomic_file_set, atomic_write_text
 
     if not (np.isfinite(args.prony_per_decade) and 0.2 <= args.prony_per_decade <= 5):
         raise InputError(None, "--prony-per-decade must lie in [0.2, 5]")
@@ -108,44 +108,44 @@ def run(args):
                                prony_per_decade=args.prony_per_decade)
     except ValueError as exc:
         raise InputError(args.raw, str(exc)) from None
-    out.parent.mkdir(parents=True, exist_ok=True)
-    stem = out.stem
-    mc_name, sh_name = f"{stem}_master.csv", f"{stem}_shift.csv"
-    m = res.master
-    write_csv(out.parent / mc_name, ["f_Hz", "E_storage_Pa", "E_loss_Pa"], [m.f_Hz, m.E_storage_Pa, m.E_loss_Pa])
-    write_csv(out.parent / sh_name, ["T_C", "log10_aT"], [res.T_sweep_C, res.log10_aT])
-    s = res.shifted
-    write_csv(out.parent / f"{stem}_shifted.csv", ["f_Hz", "E_storage_Pa", "E_loss_Pa", "T_C", "sweep"],
-              [s["f_Hz"], s["E_storage_Pa"], s["E_loss_Pa"], s["T_C"], s["sweep"]])
-    w, p = res.wlf, res.prony
-    toml = (f"# Master curve at T_ref = {res.T_ref_C:g} C from the raw DMA sweeps {Path(args.raw).name}\n"
-            f"# by time-temperature superposition (roadscan rubber master; friction/mastercurve.py).\n"
-            f"# WLF fit to the shift table: C1 = {w.C1:.6g}, C2_K = {w.C2_K:.6g}, T_s_C = {w.T_s_C:g}\n"
-            f"# (rms {res.wlf_rms_decades:.3f} decades, max {res.wlf_max_decades:.3f}); to use it, replace\n"
-            f"# [shift] by kind = \"wlf\" with those constants. The Prony series below fits the master\n"
-            f"# curve (rms relative misfit {res.prony_rms:.3f}); to use it, set model = \"prony\".\n"
-            f"model = \"master_curve\"\nT_ref_C = {res.T_ref_C!r}\n"
-            f"source = \"roadscan rubber master {Path(args.raw).name} --reference-temperature {res.T_ref_C:g}\"\n\n"
-            f"[master_curve]\nfile = \"{mc_name}\"   # f_Hz, E_storage_Pa, E_loss_Pa (smoothed)\n\n"
-            f"[shift]\nkind = \"table\"\nfile = \"{sh_name}\"   # T_C, log10_aT\n\n"
-            f"[prony]\nE_inf_Pa = {p.E_inf_Pa:.10g}\nE_i_Pa = {_toml_list(p.E_i_Pa)}\n"
-            f"tau_i_s = {_toml_list(p.tau_i_s)}\n")
-    atomic_write_text(out, toml)
-    check = load_rubber(out)            # the TOML must load as --rubber does
-    assert isinstance(check, friction.MasterCurve)
-    summary = {
-        "raw": str(args.raw), "T_ref_C": res.T_ref_C, "sweeps": len(res.T_sweep_C),
-        "shift_table": [{"T_C": float(t), "log10_aT": float(a), **i}
-                        for t, a, i in zip(res.T_sweep_C, res.log10_aT, res.sweep_info)],
-        "wlf_fit": {"C1": w.C1, "C2_K": w.C2_K, "T_s_C": w.T_s_C, "rms_decades": res.wlf_rms_decades,
-                    "max_abs_decades": res.wlf_max_decades},
-        "master_curve_f_Hz": [float(m.f_Hz[0]), float(m.f_Hz[-1])],
-        "prony": {"terms": int(p.E_i_Pa.size), "rms_relative_misfit": res.prony_rms},
-        "files": {"toml": out.name, "master": mc_name, "shift": sh_name,
-                  "shifted": f"{stem}_shifted.csv", "plot": f"{stem}_master.png"},
-    }
-    write_json(out.parent / f"{stem}_master.json", summary)
-    _plot(res, (f, E1, E2, T), out.parent / f"{stem}_master.png")
+    with atomic_file_set(out) as d:        # the TOML and its data files: all or none
+        stem = out.stem
+        mc_name, sh_name = f"{stem}_master.csv", f"{stem}_shift.csv"
+        m = res.master
+        write_csv(d / mc_name, ["f_Hz", "E_storage_Pa", "E_loss_Pa"], [m.f_Hz, m.E_storage_Pa, m.E_loss_Pa])
+        write_csv(d / sh_name, ["T_C", "log10_aT"], [res.T_sweep_C, res.log10_aT])
+        s = res.shifted
+        write_csv(d / f"{stem}_shifted.csv", ["f_Hz", "E_storage_Pa", "E_loss_Pa", "T_C", "sweep"],
+                  [s["f_Hz"], s["E_storage_Pa"], s["E_loss_Pa"], s["T_C"], s["sweep"]])
+        w, p = res.wlf, res.prony
+        toml = (f"# Master curve at T_ref = {res.T_ref_C:g} C from the raw DMA sweeps {Path(args.raw).name}\n"
+                f"# by time-temperature superposition (roadscan rubber master; friction/mastercurve.py).\n"
+                f"# WLF fit to the shift table: C1 = {w.C1:.6g}, C2_K = {w.C2_K:.6g}, T_s_C = {w.T_s_C:g}\n"
+                f"# (rms {res.wlf_rms_decades:.3f} decades, max {res.wlf_max_decades:.3f}); to use it, replace\n"
+                f"# [shift] by kind = \"wlf\" with those constants. The Prony series below fits the master\n"
+                f"# curve (rms relative misfit {res.prony_rms:.3f}); to use it, set model = \"prony\".\n"
+                f"model = \"master_curve\"\nT_ref_C = {res.T_ref_C!r}\n"
+                f"source = \"roadscan rubber master {Path(args.raw).name} --reference-temperature {res.T_ref_C:g}\"\n\n"
+                f"[master_curve]\nfile = \"{mc_name}\"   # f_Hz, E_storage_Pa, E_loss_Pa (smoothed)\n\n"
+                f"[shift]\nkind = \"table\"\nfile = \"{sh_name}\"   # T_C, log10_aT\n\n"
+                f"[prony]\nE_inf_Pa = {p.E_inf_Pa:.10g}\nE_i_Pa = {_toml_list(p.E_i_Pa)}\n"
+                f"tau_i_s = {_toml_list(p.tau_i_s)}\n")
+        atomic_write_text(d / out.name, toml)
+        check = load_rubber(d / out.name)   # the TOML must load as --rubber does
+        assert isinstance(check, friction.MasterCurve)
+        summary = {
+            "raw": str(args.raw), "T_ref_C": res.T_ref_C, "sweeps": len(res.T_sweep_C),
+            "shift_table": [{"T_C": float(t), "log10_aT": float(a), **i}
+                            for t, a, i in zip(res.T_sweep_C, res.log10_aT, res.sweep_info)],
+            "wlf_fit": {"C1": w.C1, "C2_K": w.C2_K, "T_s_C": w.T_s_C, "rms_decades": res.wlf_rms_decades,
+                        "max_abs_decades": res.wlf_max_decades},
+            "master_curve_f_Hz": [float(m.f_Hz[0]), float(m.f_Hz[-1])],
+            "prony": {"terms": int(p.E_i_Pa.size), "rms_relative_misfit": res.prony_rms},
+            "files": {"toml": out.name, "master": mc_name, "shift": sh_name,
+                      "shifted": f"{stem}_shifted.csv", "plot": f"{stem}_master.png"},
+        }
+        write_json(d / f"{stem}_master.json", summary)
+        _plot(res, (f, E1, E2, T), d / f"{stem}_master.png")
     trend = sum(i["method"] == "trend" for i in res.sweep_info)
     print(f"{out}: master curve at {res.T_ref_C:g} C from {len(res.T_sweep_C)} sweeps, "
           f"{m.f_Hz[0]:.3g}..{m.f_Hz[-1]:.3g} Hz; WLF C1 {w.C1:.4g}, C2 {w.C2_K:.4g} K, "

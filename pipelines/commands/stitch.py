@@ -92,20 +92,22 @@ def overlaps_csv(result):
 
 def run(args):
     from roadscan.io import write
-    from roadscan.io.atomic import atomic_write_text
+    from roadscan.io.atomic import atomic_file_set, atomic_write_text
     from roadscan.stitch import stitch
 
     out = Path(args.out)
     if not out.suffix:
         out = out.with_suffix(".x3p")
+    if args.max_shift < 0:
+        raise InputError(None, f"--max-shift {args.max_shift}: must be 0 or more samples")
     tiles, positions = _tiles_and_positions(args)
     if len(tiles) < 2:
         raise InputError(args.inputs[0], "need at least two tiles to stitch")
     res = stitch(tiles, positions, max_shift_px=args.max_shift, blend=args.blend)
     hm = res.heightmap
-    write(out, hm)
-    table = overlaps_csv(res)
-    atomic_write_text(out.with_name(out.stem + "_overlaps.csv"), table)
+    with atomic_file_set(out) as d:        # the map and its overlaps table: both or neither
+        write(d / out.name, hm)
+        atomic_write_text(d / (out.stem + "_overlaps.csv"), overlaps_csv(res))
     names = res.meta["tile_names"]
     print(f"{'tile i':>24} {'tile j':>24} {'points':>8} {'rms mismatch [um]':>18} {'shift [px]':>16}")
     for o in res.overlaps:

@@ -30,9 +30,15 @@ def run(args):
         raise InputError(None, f"--hurst {args.hurst}: must be within (0, 1)")
     if args.nx < 8 or (args.ny is not None and args.ny < 8):
         raise InputError(None, "--nx/--ny: need at least 8 points")
-    for flag, val in (("--spacing", args.spacing), ("--rms", args.rms)):
-        if not val > 0:
-            raise InputError(None, f"{flag} {val}: must be positive")
+    from roadscan.io._common import check_declared_size
+
+    from ..validate import check_rms_height, check_spacing
+
+    check_declared_size("--nx/--ny", (args.ny or args.nx, args.nx))   # before allocating
+    check_spacing(args.spacing, flag="--spacing")
+    check_rms_height(args.rms, flag="--rms")
+    if args.seed < 0:
+        raise InputError(None, f"--seed {args.seed}: must be a non-negative whole number")
     try:
         hm = self_affine_surface(args.nx, args.ny, dx_m=args.spacing, hurst=args.hurst,
                                  rms_height_m=args.rms, q_roll_per_m=args.q_roll,

@@ -31,7 +31,7 @@ from pathlib import Path
 from ..errors import InputError
 
 __all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_save_npy",
-           "atomic_output_dir", "check_output_dir", "file_mode", "TMP_TAG", "OLD_TAG"]
+           "atomic_output_dir", "atomic_file_set", "check_output_dir", "file_mode", "TMP_TAG", "OLD_TAG"]
 
 #: marker in the names of temporary output folders (``.<target>.roadscan-tmp-XXXX``)
 TMP_TAG = ".roadscan-tmp-"
@@ -236,3 +236,63 @@ def _swap_in(tmp, target):
     os.rename(target, old)
     os.rename(tmp, target)
     shutil.rmtree(old, ignore_errors=True)
+
+
+@contextlib.contextmanager
+def atomic_file_set(target, flag="--out"):
+    """Write a set of sibling files (``mu.csv`` with ``mu_summary.json`` and ``mu.png``; a
+    stitched map with its overlaps table; a rubber TOML with its data files) all or none.
+
+    Parameters
+    ----------
+    target : str or Path
+        The set's main file; the set lives in its folder.
+    flag : str
+        The option naming it, for error messages.
+
+    Yields
+    ------
+    Path
+        A hidden temporary folder beside the files (``.<name>.roadscan-tmp-XXXX``): write every
+        file of the set there under its final name (relative references between them work).
+
+    On success each file is renamed into the target's folder (replacing files of the same
+    names; other files there are left alone), after checking that none of the names is a
+    folder. On an exception (``KeyboardInterrupt`` included) the temporary folder is deleted,
+    folders created for the set are removed and nothing else changes. A killed run leaves only
+    the hidden folder, which the next run on the same target removes.
+    """
+    target = Path(target)
+    folder = target.parent
+    if target.is_dir():
+        raise InputError(None, f"{flag} {target}: is a folder, need a file name")
+    for parent in [folder, *folder.parents]:
+        if parent.exists() and not parent.is_dir():
+            raise InputError(None, f"{flag} {target}: is below the file {parent}, need a folder")
+    created = [p for p in [folder, *folder.parents] if not p.exists()]
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(None, f"{flag} {target}: cannot create the folder ({exc.strerror or exc})") from None
+    for old in _leftovers(target, TMP_TAG):
+        shutil.rmtree(old, ignore_errors=True)
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=folder))
+    except OSError as exc:
+        raise InputError(None, f"{flag} {target}: cannot write there ({exc.strerror or exc})") from None
+    try:
+        os.chmod(tmp, _dir_mode())
+        yield tmp
+        files = sorted(tmp.iterdir())
+        busy = [p.name for p in files if (folder / p.name).is_dir()]
+        if busy:
+            raise InputError(None, f"{flag} {target}: {folder / busy[0]} is a folder, cannot write the file")
+        for p in files:
+            os.replace(p, folder / p.name)
+        os.rmdir(tmp)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        for d in created:                       # deepest first
+            with contextlib.suppress(OSError):
+                d.rmdir()
+        raise

@@ -11,6 +11,8 @@ unmeasured; its covered fraction is reported in ``meta["gwy_mask_fraction"]``.
 """
 from __future__ import annotations
 
+import struct
+
 import numpy as np
 
 from ..errors import InputError
@@ -31,6 +33,78 @@ def _unit(field, key):
         return ""
 
 
+_SCALAR_BYTES = {"b": 1, "c": 1, "i": 4, "q": 8, "d": 8}
+_ARRAY_BYTES = {"I": 4, "Q": 8, "D": 8}
+_MAX_DEPTH = 64
+
+
+def _corrupt(path, what):
+    return InputError(path, f"not a readable Gwyddion file (corrupt: {what})")
+
+
+def _cstring_end(buf, pos, stop, path, what):
+    j = buf.find(b"\0", pos, stop)
+    if j < 0:
+        raise _corrupt(path, f"unterminated {what} at byte {pos}")
+    return j + 1
+
+
+def _check_object(buf, pos, stop, path, depth=0):
+    """End of the serialised GwyObject at ``pos`` after checking that its name, size and every
+    component (scalars, strings, nested objects, arrays) lie within ``[pos, stop)``."""
+    if depth > _MAX_DEPTH:
+        raise _corrupt(path, "objects nested too deep")
+    pos = _cstring_end(buf, pos, stop, path, "object name")
+    if pos + 4 > stop:
+        raise _corrupt(path, f"object size beyond the end at byte {pos}")
+    end = pos + 4 + struct.unpack_from("<I", buf, pos)[0]
+    if end > stop:
+        raise _corrupt(path, f"object at byte {pos} declares more bytes than the file holds")
+    pos += 4
+    while pos < end:
+        pos = _cstring_end(buf, pos, end, path, "component name")
+        if pos >= end:
+            raise _corrupt(path, f"component without a type at byte {pos}")
+        t = chr(buf[pos])
+        pos += 1
+        if t in _SCALAR_BYTES:
+            pos += _SCALAR_BYTES[t]
+        elif t == "s":
+            pos = _cstring_end(buf, pos, end, path, "string")
+        elif t == "o":
+            pos = _check_object(buf, pos, end, path, depth + 1)
+        elif t in "IQDSOC":
+            if pos + 4 > end:
+                raise _corrupt(path, f"array length beyond the end at byte {pos}")
+            n = struct.unpack_from("<I", buf, pos)[0]
+            pos += 4
+            if t in _ARRAY_BYTES:
+                pos += n * _ARRAY_BYTES[t]
+            elif t == "C" and n:   # gwyfile reads char arrays as zero-width items
+                raise InputError(path, "Gwyddion char-array components are not supported")
+            elif t in "SO":
+                if n > end - pos:
+                    raise _corrupt(path, f"array of {n} items in {end - pos} bytes")
+                for _ in range(n):
+                    pos = (_cstring_end(buf, pos, end, path, "string") if t == "S"
+                           else _check_object(buf, pos, end, path, depth + 1))
+        else:
+            raise _corrupt(path, f"unknown component type {t!r} at byte {pos - 1}")
+        if pos > end:
+            raise _corrupt(path, f"component runs past its object's end (byte {end})")
+    return end
+
+
+def check_gwy_structure(path):
+    """Check the GWY serialisation of ``path`` before gwyfile parses it: every length and
+    terminator within bounds (gwyfile loops forever on an unterminated string)."""
+    with open(path, "rb") as fh:
+        buf = fh.read()
+    if buf[:4] != b"GWYP":
+        raise InputError(path, "not a readable Gwyddion file (no GWYP header)")
+    _check_object(buf, 4, len(buf), path)
+
+
 @register_reader(".gwy")
 def read_gwy(path, spacing=None, units=None):
     """Read the first data channel of a Gwyddion ``.gwy`` file."""
@@ -38,6 +112,7 @@ def read_gwy(path, spacing=None, units=None):
 
     p = check_file(path)
     check_declared_size(path, (p.stat().st_size // 8,), 8)   # a .gwy holds float64 points
+    check_gwy_structure(path)
     try:
         obj = gwyfile.load(str(path))
     except Exception as exc:  # noqa: BLE001 - gwyfile raises plain ValueError/struct errors
