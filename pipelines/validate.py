@@ -50,7 +50,7 @@ from roadscan.errors import InputError
 
 __all__ = [
     "warn", "warnings_list", "reset_warnings",
-    "check_spacing", "check_heights", "check_scan", "check_pressure", "check_poisson",
+    "check_spacing", "check_spacing_option", "check_heights", "check_scan", "check_pressure", "check_poisson",
     "check_temperature", "check_rms_height", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
     "finite_number",
 ]
@@ -124,6 +124,19 @@ def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
         if not ulo <= v <= uhi:
             warn(f"{path + ': ' if path else ''}spacing {v:g} m is unusual for a road scan "
                  f"({ulo:g}..{uhi:g} m)")
+
+
+def check_spacing_option(text, flag="--spacing"):
+    """The CLI's ``--spacing DX[,DY]`` [m]: parsed by :func:`roadscan.io.resolve_spacing` and
+    checked by :func:`check_spacing`; every refusal names the flag and the value given."""
+    from roadscan.io import resolve_spacing
+
+    try:
+        dx, dy = resolve_spacing(text, None)
+    except InputError as exc:
+        raise InputError(None, f"{flag} {text!r}: {exc.problem}") from None
+    check_spacing(dx, dy, flag=flag)
+    return dx, dy
 
 
 def check_rms_height(rms_m, flag="--rms"):

@@ -284,9 +284,10 @@ def test_l_moment_ratios_match_analytic_values():
     assert b[0] == pytest.approx(-a[0], abs=1e-9) and b[1] == pytest.approx(a[1], abs=1e-9)
 
 
-def test_axis_excess_sees_a_seam_not_a_direction():
-    """A step along a lattice line puts power on the spectrum's axis; a directional (stretched)
-    texture does not raise the axis-over-beside-axis excess much, a seam does."""
+def test_seam_score_sees_a_seam_not_a_direction():
+    """A step along a lattice line makes one line of the block jump together (line score ratio
+    of 10^2 and more); a directional (stretched) texture hardly moves it but moves the signed
+    anisotropy components, which stay near 0 for the isotropic texture."""
     from scipy.ndimage import zoom
     from roadscan.heightmap import HeightMap
     from roadscan.synth import self_affine_surface
@@ -295,15 +296,32 @@ def test_axis_excess_sees_a_seam_not_a_direction():
     big = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=4).heights_m
     h = big[:128, :128].copy()
     geo = bl.geometry(HeightMap(h, 5e-5, 5e-5), n_blocks=1)
-    plain = bl.describe(h, geo, rain=False)["seams"][0, 0]
+    plain = bl.describe(h, geo, rain=False)
     seam = h.copy()
-    seam[:, 64:] += 0.5 * h.std()
+    seam[:, 64:] += 0.2 * h.std()
     stepped = bl.describe(seam, geo, rain=False)["seams"][0, 0]
     aniso = zoom(big[:128, :50], (1, 3), order=3)[:, :128]
     directional = bl.describe(aniso, geo, rain=False)
-    assert stepped > plain + 0.3
-    assert directional["seams"][0, 0] < plain + 0.3
-    assert directional["anisotropy"][0, 0] > 0.3 > bl.describe(h, geo, rain=False)["anisotropy"][0, 0]
+    assert stepped > plain["seams"][0, 0] + 1.5
+    assert directional["seams"][0, 0] < plain["seams"][0, 0] + 0.6 < stepped
+    assert np.hypot(*directional["anisotropy"][0]) > 0.5 > 0.05 > np.hypot(*plain["anisotropy"][0])
+    # stretched along x: power at small q_x, so M_yy > M_xx (a < 0)
+    assert directional["anisotropy"][0, 0] < -0.5
+
+
+def test_curvature_skewness_sees_the_height_law_not_linear_filters():
+    """The L-skewness of the curvature is ~0 for a Gaussian field, smoothed or not, and takes the
+    sign of g'' for a monotone map h -> g(h) (here exp: convex, sharp peaks)."""
+    from scipy.ndimage import gaussian_filter
+    from roadscan.synth import self_affine_surface
+    from pipelines.diagnose.blocks import curvature_l_skewness
+
+    h = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=8).heights_m
+    z = h / h.std()
+    assert abs(curvature_l_skewness(z)) < 0.01
+    assert abs(curvature_l_skewness(gaussian_filter(z, 2.0))) < 0.02
+    peaks = curvature_l_skewness(np.exp(0.8 * z))
+    assert peaks < -0.02 and curvature_l_skewness(-np.exp(0.8 * z)) == pytest.approx(-peaks)
 
 
 def test_every_surface_effect_has_a_reachable_no_effect_limit():
@@ -312,10 +330,14 @@ def test_every_surface_effect_has_a_reachable_no_effect_limit():
     class Ctx:  # the attributes effects read
         ring_q = np.geomspace(1e3, 1e5, 40)
         twin_rings = -12 - 3.6 * np.log10(ring_q / 1e3)
-        twin_mean = dict(height=np.array([0.01, 0.12]), anisotropy=np.array([0.03]), seams=np.array([0.01]),
+        twin_mean = dict(height=np.array([0.0, 0.12, 0.0]), anisotropy=np.array([0.0, 0.0]), seams=np.array([0.9]),
                          rain=np.array([-0.1, -0.1, -0.1, 0.2]), spectrum=np.zeros(7))
-        skew_table = dict(s=np.array([-1.0, 0.0, 1.0]), height=np.array([[-0.1, 0.13], [0.01, 0.12], [0.1, 0.13]]),
+        skew_table = dict(s=np.array([-1.0, 0.0, 1.0]),
+                          height=np.array([[-0.1, 0.13, 0.03], [0.0, 0.12, 0.0], [0.1, 0.13, -0.03]]),
                           rain=np.array([[0.1] * 4, [0.0] * 4, [-0.1] * 4]))
+
+        class fit:
+            hurst = 0.8
 
         class geo:
             band_matrix = np.kron(np.eye(8), np.full((1, 5), 0.2))

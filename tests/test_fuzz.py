@@ -403,6 +403,19 @@ def test_rubber_master(base, goods, data, kw):
         run_cli("rubber-master", ["rubber", "master", raw, "--out", d / out, *_flags(**kw)], d, watch=[goods])
 
 
+@given(data=st.data(), spec=st.one_of(ff.analysable_height_file(), ff.any_height_file()),
+       kw=ff.flagset({"spacing": F(["5e-5"], ODD_SPACING, 1), "units": SCAN["units"],
+                      "float32": F([False, False, True], (), 0)}, odd_counts=(0, 0, 1)))
+@fuzz_settings(24)
+def test_convert(base, data, spec, kw):
+    """Any height file to each writable format (float32 too: huge heights must not become inf)."""
+    with workdir(base) as d:
+        p = spec.write(d)
+        out = data.draw(st.sampled_from(["o.x3p", "o.npy", "o.npz", "o.tif", "o.tiff", "o.txt", "o", "sub/o.npy",
+                                         p.name]), label="out")
+        run_cli("convert", ["convert", p, d / out, *_flags(**kw)], d, desc=repr(spec))
+
+
 # ------------------------------------------------------------------------------ outputs, subprocesses, figures
 @given(data=st.data())
 @fuzz_settings(12)

@@ -145,3 +145,45 @@ def test_friction_failure_after_first_file_leaves_nothing(monkeypatch, capsys, t
                "--out", str(tmp_path / "sub" / "mu.csv")])
     assert rc == 1 and "internal error" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("ext", [".npy", ".npz", ".x3p", ".tif"])
+def test_float32_overflow_refused(capsys, tmp_path, ext):
+    """Fuzz finding: convert --float32 of a height beyond float32's range wrote infinity (read
+    back as an unmeasured point) with only a numpy warning line."""
+    a = fourier_surface(16, 5e-5, 0.8, 3e-4, seed=1)
+    a[3, 3] = 1e300
+    np.save(tmp_path / "big.npy", a)
+    _one_line_refusal(capsys, ["convert", tmp_path / "big.npy", tmp_path / f"o{ext}", "--spacing", "5e-5",
+                               "--float32"], "does not fit float32")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.npy"]
+    assert main(["convert", str(tmp_path / "big.npy"), str(tmp_path / f"o{ext}"), "--spacing", "5e-5"]) == 0
+
+
+@pytest.mark.parametrize("where, needle", [
+    ("flag", "--temperature -400"),       # was OverflowError through the last resort
+    ("row", "measured.csv: T0_C -400"),
+    ("pole", "WLF pole"),
+    ("pressure", "measured.csv: sigma0_Pa 1e+300 Pa"),
+])
+def test_diagnose_conditions_checked(capsys, tmp_path, where, needle):
+    from conftest import ROOT
+
+    v = np.geomspace(1e-4, 1e1, 12)
+    mu = 0.3 + 0.5 * np.exp(-np.log10(v / 1e-2) ** 2)
+    T = {"row": -400.0, "pole": -81.5}.get(where, 20.0)
+    s = 1e300 if where == "pressure" else 2e5
+    p = tmp_path / "measured.csv"
+    p.write_text("v_m_per_s,mu,T0_C,sigma0_Pa\n" + "".join(f"{a},{b},{T},{s}\n" for a, b in zip(v, mu)))
+    extra = ["--temperature", "-400"] if where == "flag" else []
+    _one_line_refusal(capsys, ["diagnose", "--measured", p, "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
+                               "--out", tmp_path / "out", *extra], needle)
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["measured.csv"]
+
+
+def test_synth_tiny_roll_off_without_numpy_warning(capsys, tmp_path):
+    """--q-roll 1e-300 overflowed 1e-300^-3.6 at q = 0 (a point set to zero anyway): a numpy
+    warning line on a correct result."""
+    assert main(["synth", "--nx", "32", "--q-roll", "1e-300", "--q0", "1e-300", "--out", str(tmp_path / "s.npy")]) == 0
+    assert "warning" not in capsys.readouterr().err
+    assert np.all(np.isfinite(np.load(tmp_path / "s.npy")))

@@ -8,22 +8,39 @@ five descriptor families:
     the shape of the spectrum: log10 of the ring-averaged 2D PSD (Persson's normalisation, Tukey window alpha = 0.25,
     :func:`roadscan.spectrum.psd_2d`) in log-spaced rings (``RINGS_PER_DECADE``) from
     2 pi / L_block to the Nyquist wave vector, *excluding the two lattice axes* (qx = 0 or
-    qy = 0, where seams put their power); averaged into bands of ``RINGS_PER_BAND`` rings, minus
+    qy = 0, where seams put their power, :func:`near_axes`); averaged into bands of ``RINGS_PER_BAND`` rings, minus
     the mean over the bands (a block's overall level is no diagnostic: the shape is).
     Profiles: log10 of the 1D PSD C1 of the section in the same rings.
 ``height``
     the L-skewness tau3 and L-kurtosis tau4 of the block's heights (Hosking 1990, J. R. Stat.
     Soc. B 52, 105: ratios of L-moments, linear in the order statistics; robust where the
     moment skewness and kurtosis of a block are dominated by a few deep valleys; Gaussian
-    heights: tau3 = 0, tau4 = 0.1226).
+    heights: tau3 = 0, tau4 = 0.1226), and the L-skewness of the block's curvature, the
+    Laplacian at a lag of ``CURV_LAG`` points (second difference for a profile). Any linear
+    filter of a Gaussian field is Gaussian, so this is 0 for the twin whatever its spectrum,
+    direction, smoothing or white noise; a non-Gaussian height law h -> g(h) gives
+    Lap g = g' Lap h + g'' |grad h|^2, whose skewness has the sign of g'' (sharp peaks and
+    broad valleys, or worn plateaus). The curvature is short-correlated, so unlike the
+    skewness of a block's heights, which a few long waves dominate, it is precise on a small
+    block and much the same in every block.
 ``anisotropy`` (areas)
-    the index (l1 - l2) / (l1 + l2) of the direction tensor M = sum w q^ q^T, w = C / (ring mean
-    of C), over the off-axis lattice points (as :func:`roadscan.spectrum.anisotropy`, axes left out).
+    the signed components (a, b) = (M_xx - M_yy, 2 M_xy) / (M_xx + M_yy) of the direction tensor
+    M = sum w q^ q^T, w = C / (ring mean of C), over the lattice points off the axes (more than
+    ``AXIS_EXCLUDE`` steps from them) and from ``ANISO_MIN_K`` lattice steps up, of the
+    prewhitened block (5-point Laplacian before a Tukey window, alpha = 0.5): the Laplacian takes
+    the steep self-affine fall-off out of the spectrum, so window leakage from the long waves
+    (strong along the axes) cannot fake a direction. Index = hypot(a, b), direction
+    = atan2(b, a) / 2 from the x axis. Both are 0 for an isotropic texture (no positive bias,
+    unlike the index).
 ``seams`` (areas)
-    the lattice-axis excess: the mean over rings (radius >= ``AXIS_MIN_K`` lattice steps) of
-    log10( mean C on the axes / mean C on the lattice lines one and two steps beside them ).
-    About 0 for a seamless surface, directional or not (C is smooth across the axis), > 0 when
-    steps, seams or stitching residue put power exactly on the axes.
+    straight discontinuities along the lattice axes (stitching seams, steps, tilt residue): the
+    second difference across each line of the block (K_j = h_{j+1} - 2 h_j + h_{j-1}, rows and
+    columns in turn) is cut into ``SEAM_SEGMENTS`` segments along the line; t = mean / (std /
+    sqrt(n)) of a segment is large where the whole segment jumps together, and a line's score is
+    the median over its segments of t^2. The entry is log10(max score / median score) over the
+    lines, the larger of rows and columns: about 0.9 for a seamless block (the maximum of ~100
+    scores), 2 to 4 for a step of a fraction of the rms height. Self-normalised per segment, it
+    does not move with the texture's direction, height law, smoothing or noise level.
 ``rain`` (areas)
     the rain-fill response (:func:`roadscan.rain.rain_fill`, 4-connected): the mean log10
     wet/dry ring spectrum in three equal log-q thirds of the block's band, and the wetted
@@ -44,7 +61,10 @@ __all__ = ["Geometry", "geometry", "split", "block_descriptors", "FAMILIES"]
 
 RINGS_PER_DECADE = 20
 RINGS_PER_BAND = 6
-AXIS_MIN_K = 8
+AXIS_EXCLUDE = 3
+ANISO_MIN_K = 4
+SEAM_SEGMENTS = 4
+CURV_LAG = 2
 FAMILIES = ("spectrum", "height", "anisotropy", "seams", "rain")
 
 
@@ -92,10 +112,32 @@ class Geometry:
         r = np.searchsorted(e, Q.ravel(), side="right").reshape(Q.shape) - 1
         r[(Q > e[-1] * (1 + 1e-12)) | (Q < e[0] * (1 - 1e-12)) | (Q == 0)] = -1
         r = np.clip(r, -1, e.size - 2)
-        m = np.minimum(np.abs(KX), np.abs(KY))
+        return dict(q=Q, ring=r, axis=near_axes(KX, KY))
+
+    @cached_property
+    def lap_lattice(self):
+        """Lattice of the prewhitened (Laplacian) block, (ny - 2) x (nx - 2): the points used by
+        the anisotropy components, their ring, and the unit vectors of their physical q."""
+        ny, nx = self.shape[0] - 2, self.shape[1] - 2
+        kx = np.fft.fftshift(np.fft.fftfreq(nx) * nx).round().astype(int)
+        ky = np.fft.fftshift(np.fft.fftfreq(ny) * ny).round().astype(int)
+        KX, KY = np.meshgrid(kx, ky)
+        QX = 2 * np.pi * KX / (nx * self.dx_m)
+        QY = 2 * np.pi * KY / (ny * self.dy_m)
+        Q = np.hypot(QX, QY)
         kr = np.hypot(KX, KY)
-        return dict(q=Q, ring=r, axis=(m == 0), beside=(m >= 1) & (m <= 2), kr=kr,
-                    ux=np.where(Q > 0, QX / np.where(Q > 0, Q, 1), 0), uy=np.where(Q > 0, QY / np.where(Q > 0, Q, 1), 0))
+        kmax = min(nx, ny) // 2
+        sel = (np.minimum(np.abs(KX), np.abs(KY)) > AXIS_EXCLUDE) & (kr >= ANISO_MIN_K) & (kr <= kmax)
+        edges = np.geomspace(ANISO_MIN_K, kmax + 1e-9, 13)
+        ring = np.clip(np.searchsorted(edges, kr[sel], side="right") - 1, 0, edges.size - 2)
+        return dict(shape=(ny, nx), sel=sel, ring=ring, n_rings=edges.size - 1,
+                    ux=QX[sel] / Q[sel], uy=QY[sel] / Q[sel])
+
+    @property
+    def symmetric(self):
+        """Square block of square pixels: the lattice has the symmetry of an isotropic texture, so
+        the anisotropy components of a twin have expectation 0 exactly."""
+        return (not self.is_profile) and self.shape[0] == self.shape[1] and np.isclose(self.dx_m, self.dy_m)
 
     @cached_property
     def rings(self):
@@ -129,6 +171,14 @@ class Geometry:
 
     def families(self):
         return ("spectrum", "height") if self.is_profile else (FAMILIES if self.rain else FAMILIES[:4])
+
+
+def near_axes(KX, KY):
+    """Lattice points (integer indices) on the axes (kx = 0 or ky = 0), where straight steps and
+    seams put their power. (Sectors beside the axes, where the window spreads part of it, were
+    tried too: a texture stretched by interpolation has no power at high q across its direction,
+    and leaving sectors out then bends its ring-averaged spectrum.)"""
+    return (KX == 0) | (KY == 0)
 
 
 def geometry(obj, n_blocks=None, rain=True):
@@ -213,35 +263,68 @@ def _ring_log(P, geo, exclude_axis=True):
     return np.log10(np.maximum(s / np.maximum(cnt, 1), 1e-300))
 
 
-def _anisotropy_index(P, geo):
-    lat = geo.lattice
-    sel = (lat["ring"] >= 0) & ~lat["axis"]
-    r = lat["ring"][sel]
-    C = P[sel]
-    nr = geo.ring_edges.size - 1
-    cnt = np.bincount(r, minlength=nr)
-    mean_c = np.bincount(r, C, minlength=nr) / np.maximum(cnt, 1)
-    w = C / np.where(mean_c[r] > 0, mean_c[r], 1.0)
-    w = w / w.sum()
-    ux, uy = lat["ux"][sel], lat["uy"][sel]
-    M = np.array([[np.sum(w * ux * ux), np.sum(w * ux * uy)], [np.sum(w * ux * uy), np.sum(w * uy * uy)]])
-    ev = np.linalg.eigvalsh(M)
-    return float((ev[1] - ev[0]) / (ev[1] + ev[0]))
+def _laplacian(h):
+    """5-point discrete Laplacian of the interior of a 2D array (no spacing factor: it only
+    prewhitens)."""
+    return h[1:-1, 2:] + h[1:-1, :-2] + h[2:, 1:-1] + h[:-2, 1:-1] - 4.0 * h[1:-1, 1:-1]
 
 
-def _axis_excess(P, geo):
-    lat = geo.lattice
-    nr = geo.ring_edges.size - 1
-    ok = (lat["ring"] >= 0) & (lat["kr"] >= AXIS_MIN_K)
-    on, bes = ok & lat["axis"], ok & lat["beside"]
-    c_on = np.bincount(lat["ring"][on], P[on], minlength=nr)
-    n_on = np.bincount(lat["ring"][on], minlength=nr)
-    c_b = np.bincount(lat["ring"][bes], P[bes], minlength=nr)
-    n_b = np.bincount(lat["ring"][bes], minlength=nr)
-    m = (n_on > 0) & (n_b > 0) & (c_b > 0)
-    if not m.any():
-        return 0.0
-    return float(np.mean(np.log10((c_on[m] / n_on[m]) / (c_b[m] / n_b[m]))))
+def anisotropy_components(h, geo):
+    """(a, b) of a detrended block (see the module docstring, ``anisotropy``)."""
+    from scipy.signal.windows import tukey
+
+    lat = geo.lap_lattice
+    L = _laplacian(h)
+    w = np.outer(tukey(L.shape[0], 0.5), tukey(L.shape[1], 0.5))
+    F = np.fft.fftshift(np.fft.fft2((L - L.mean()) * w))
+    C = (F.real ** 2 + F.imag ** 2)[lat["sel"]]
+    r = lat["ring"]
+    cnt = np.bincount(r, minlength=lat["n_rings"])
+    mean_c = np.bincount(r, C, minlength=lat["n_rings"]) / np.maximum(cnt, 1)
+    wt = C / np.where(mean_c[r] > 0, mean_c[r], 1.0)
+    s = wt.sum()
+    if not s > 0:
+        return np.zeros(2)
+    wt = wt / s
+    ux, uy = lat["ux"], lat["uy"]
+    return np.array([float(np.sum(wt * (ux * ux - uy * uy))), float(np.sum(wt * 2.0 * ux * uy))])
+
+
+def seam_score(h):
+    """log10(max / median) of the line scores of a detrended block, rows and columns (see the
+    module docstring, ``seams``)."""
+    out = []
+    for a in (h, h.T):
+        if a.shape[0] < 8:
+            continue
+        K = a[2:] - 2.0 * a[1:-1] + a[:-2]
+        S = K.shape[1] // SEAM_SEGMENTS
+        if S < 4:
+            continue
+        seg = K[:, :SEAM_SEGMENTS * S].reshape(K.shape[0], SEAM_SEGMENTS, S)
+        m = seg.mean(axis=-1)
+        sd = seg.std(axis=-1, ddof=1)
+        t2 = np.where(sd > 0, (m / np.where(sd > 0, sd, 1.0)) ** 2 * S, 0.0)
+        score = np.median(t2, axis=1)
+        med = float(np.median(score))
+        if med > 0:
+            out.append(float(np.log10(score.max() / med)))
+    return max(out) if out else 0.0
+
+
+def curvature_l_skewness(h, lag=CURV_LAG):
+    """L-skewness tau3 of the lag-``lag`` Laplacian of a block (second difference of a profile):
+    0 in expectation for any Gaussian field (see the module docstring, ``height``)."""
+    k = lag
+    if h.ndim == 1:
+        if h.size <= 2 * k + 4:
+            return 0.0
+        c = h[2 * k:] + h[:-2 * k] - 2.0 * h[k:-k]
+    else:
+        if min(h.shape) <= 2 * k + 4:
+            return 0.0
+        c = h[k:-k, 2 * k:] + h[k:-k, :-2 * k] + h[2 * k:, k:-k] + h[:-2 * k, k:-k] - 4.0 * h[k:-k, k:-k]
+    return l_moment_ratios(c)[0]
 
 
 def _rain(h, geo, P=None):
@@ -295,11 +378,11 @@ def block_descriptors(h, geo, rain=True, raw=None):
     hv = (h if raw is None else raw).ravel()
     bands = geo.band_matrix @ rings
     out = dict(spec_rings=rings, bands=bands, spectrum=spectrum_shape(bands),
-               height=np.array(l_moment_ratios(hv)),
+               height=np.array(l_moment_ratios(hv) + (curvature_l_skewness(h),)),
                moments=np.array([float(stats.skew(hv)), float(stats.kurtosis(hv))]))
     if not geo.is_profile:
-        out["anisotropy"] = np.array([_anisotropy_index(P, geo)])
-        out["seams"] = np.array([_axis_excess(P, geo)])
+        out["anisotropy"] = anisotropy_components(h, geo)
+        out["seams"] = np.array([seam_score(h)])
         if rain and geo.rain:
             out["rain"] = _rain(h, geo, P)
     return out

@@ -6,8 +6,8 @@ pure power law C(q) = C(q0) (q/q0)^(-2(H+1)) of the scan's self-affine fit, isot
 
 The scan and ``N_TWINS`` twins are split into the same blocks (:mod:`.blocks`: tiles of an area,
 sections of a profile) and every block gives five descriptor families: spectrum bands,
-height distribution (skewness, excess kurtosis), anisotropy index, lattice-axis excess (seams)
-and rain-fill response (areas only for the last three). The twin's prediction of an entry is
+height distribution (L-skewness, L-kurtosis, curvature L-skewness), anisotropy components,
+straight line discontinuities (seams) and rain-fill response (areas only for the last three). The twin's prediction of an entry is
 its mean over the twins' blocks; its per-block noise sigma^2 = var_twin x max(1, lambda_f) x
 (1 + 1 / n_twin_blocks), var_twin the variance over the twins' blocks (the null hypothesis's own
 scatter) and lambda_f the family's median ratio of the measured blocks' variance to it (the
@@ -34,7 +34,8 @@ from . import gap as gapmod
 __all__ = ["SurfaceContext", "descriptors", "run_surface"]
 
 LOG10E = float(np.log10(np.e))
-N_TWINS = 3
+N_TWINS = 8
+N_SKEW_TWINS = 4
 SKEW_GRID = (-3.0, -2.0, -1.2, -0.6, 0.0, 0.6, 1.2, 2.0, 3.0)
 
 
@@ -56,6 +57,7 @@ class SurfaceContext:
     skew_table: dict = None     # skewness grid -> height family, d rain family (height_skew)
     moments: dict = None        # moment skewness / excess kurtosis: measured and twin block means
     noise_inflation: dict = field(default_factory=dict)
+    whole_twins: np.ndarray = None  # (n_twins, n_rings) log10 C of the twins' whole-scan spectra
     cache: dict = field(default_factory=dict)
 
     @property
@@ -82,6 +84,12 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
     fams = geo.families()
     twin_all = {f: np.concatenate([d[f] for d in tw]) for f in list(fams) + ["spec_rings", "moments", "bands"]}
     twin_mean = {f: twin_all[f].mean(axis=0) for f in fams}
+    # entries whose expectation under the Gaussian isotropic twin is 0 by symmetry (h -> -h:
+    # L-skewness of the heights and of the curvature; an isotropic texture on a symmetric lattice: the
+    # anisotropy components) take that exact value; the twins' mean would only add their noise
+    twin_mean["height"][[0, 2]] = 0.0
+    if geo.symmetric:
+        twin_mean["anisotropy"][:] = 0.0
     n_t = twin_all[fams[0]].shape[0]
     sigma, infl = {}, {}
     for f in fams:
@@ -96,13 +104,13 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
     # the skewed twins: height family (and rain response) against the moment skewness of the law
     sk = []
     for s in SKEW_GRID:
-        d = [bl.describe(skewed(h, s), geo, rain="rain" in fams and i == 0) for i, h in enumerate(tw_h[:2])]
+        d = [bl.describe(skewed(h, s), geo, rain="rain" in fams and i < 2) for i, h in enumerate(tw_h[:N_SKEW_TWINS])]
         sk.append(d)
     h_tab = np.array([np.mean([dd["height"].mean(axis=0) for dd in d], axis=0) for d in sk])
     h_tab = h_tab - h_tab[SKEW_GRID.index(0.0)] + twin_mean["height"]
     r_tab = None
     if "rain" in fams:
-        r_tab = np.array([d[0]["rain"].mean(axis=0) for d in sk])
+        r_tab = np.array([np.mean([dd["rain"].mean(axis=0) for dd in d[:2]], axis=0) for d in sk])
         r_tab = r_tab - r_tab[SKEW_GRID.index(0.0)]
     skew_table = dict(s=np.array(SKEW_GRID), height=h_tab, rain=r_tab)
     say(f"surface descriptors of {geo.n_blocks if hasattr(geo, 'n_blocks') else len(geo.starts)} blocks, "
@@ -112,7 +120,84 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
                           twin_all["bands"].mean(axis=0),
                           geo.rings[1], an.fit, an.is_profile, inputs, skew_table,
                           dict(measured=meas["moments"].mean(axis=0).tolist(),
-                               twin=twin_all["moments"].mean(axis=0).tolist()), infl)
+                               twin=twin_all["moments"].mean(axis=0).tolist()), infl,
+                          twin_whole_spectra(an, tw_h))
+
+
+def _off_axis_rings(spec2d, edges):
+    """(mean |q|, mean C, count) of a 2D PSD map over the rings ``edges``, lattice axes left out."""
+    from .blocks import near_axes
+
+    qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
+    kx = np.fft.fftshift(np.fft.fftfreq(qx.size) * qx.size).round()
+    ky = np.fft.fftshift(np.fft.fftfreq(qy.size) * qy.size).round()
+    KX, KY = np.meshgrid(kx, ky)
+    q = np.hypot(qx[None, :], qy[:, None])
+    edges = np.asarray(edges, float)
+    n = edges.size - 1
+    ring = np.searchsorted(edges, q, side="right") - 1
+    ring[q == edges[-1]] = n - 1
+    sel = (ring >= 0) & (ring < n) & ~near_axes(KX, KY) & (q > 0)
+    r = ring[sel]
+    cnt = np.bincount(r, minlength=n).astype(float)
+    keep = cnt > 0
+    C = np.bincount(r, np.asarray(spec2d.C_m4)[sel], minlength=n)[keep] / cnt[keep]
+    qm = np.bincount(r, q[sel], minlength=n)[keep] / cnt[keep]
+    return qm, C, cnt[keep]
+
+
+def off_axis(an):
+    """``an`` with its ring-averaged spectrum and self-affine fit taken off the lattice axes.
+
+    Seams, steps and stitching put their power on the axes of the 2D spectrum: a fit to the full
+    ring average would take a seamed scan's spectrum as flatter than its texture, and the twins
+    (and the blocks' spectrum family, which leaves the axes out) would disagree for that reason
+    alone. The rings and the fit band are the scan's own; the lattice points on the axes are left
+    out (:func:`.blocks.near_axes`). Profiles are returned as they are.
+    """
+    import dataclasses
+
+    from roadscan import fit as fitmod
+    from roadscan.spectrum_types import Spectrum
+
+    edges = (an.spectrum.meta or {}).get("ring_edges_per_m")
+    if an.spec2d is None or edges is None:
+        return an
+    qm, C, cnt = _off_axis_rings(an.spec2d, edges)
+    if qm.size < 4:
+        return an
+    spec = Spectrum(qm, C, count=np.rint(cnt).astype(np.int64), kind="area",
+                    meta=dict(an.spectrum.meta, off_axis=True))
+    try:
+        fit = fitmod.fit_self_affine(spec, band=an.fit.fit_band_per_m)
+    except (ValueError, np.linalg.LinAlgError):
+        return an
+    if not (np.isfinite(fit.hurst) and fit.C_at_q0_m4 > 0):
+        return an
+    return dataclasses.replace(an, spectrum=spec, fit=fit)
+
+
+def twin_whole_spectra(an, twins):
+    """log10 C of each twin's whole-scan spectrum on the scan's rings (same window, rings and,
+    for areas, axes left out): the reference and the noise of the whole-scan check
+    (:mod:`.surface_whole`). Returns (n_twins, n_rings)."""
+    from roadscan.heightmap import HeightMap, Profile
+
+    from ..spectrum_bridge import spectrum_of
+
+    q = np.asarray(an.spectrum.q_per_m, float)
+    edges = (an.spectrum.meta or {}).get("ring_edges_per_m")
+    out = []
+    for h in twins:
+        if an.is_profile:
+            sp, _, _ = spectrum_of(Profile(h, an.filled.dx_m, name="twin"))
+            qt, Ct = np.asarray(sp.q_per_m, float), np.asarray(sp.C_m4, float)
+        else:
+            _, s2, _ = spectrum_of(HeightMap(h, an.filled.dx_m, an.filled.dy_m, name="twin"))
+            qt, Ct, _ = _off_axis_rings(s2, edges)
+        ok = np.isfinite(Ct) & (Ct > 0)
+        out.append(np.interp(np.log(q), np.log(qt[ok]), np.log10(Ct[ok])))
+    return np.array(out)
 
 
 def _mu_gap(an, q, C_pl):
@@ -144,16 +229,16 @@ def run_surface(obj, out_dir, log=None, seed=0):
 
     t0 = time.perf_counter()
     say = log or (lambda *_: None)
-    an = analyse_surface(obj)
+    an = off_axis(analyse_surface(obj))
     ctx = descriptors(an, seed=seed, log=say)
     res = surface_search(ctx)
     verdict, best = res["verdict"], res["best"]
     from .surface_whole import MIN_SHRINK_WHOLE, whole_spectrum_check
 
-    whole = whole_spectrum_check(an)
+    whole = whole_spectrum_check(an, ctx.whole_twins)
     verdict["evidence"] = "blocks (k-fold)" if verdict["effect"] else None
     if verdict["effect"] is None and not verdict["inconclusive"] and whole["significant"]:
-        w = whole["candidates"][0]
+        w = next(c for c in whole["candidates"] if c["p_value"] < 1e-3)
         if w["shrink"] >= MIN_SHRINK_WHOLE:
             verdict.update(effect=w["name"], shrink=w["shrink"], shrink_interval=None, confidence="medium",
                            evidence="whole-scan spectrum (every third ring held out)",
@@ -201,11 +286,11 @@ def run_surface(obj, out_dir, log=None, seed=0):
                  "scored on the held-out block"),
         blocks=dict(n=ctx.n_blocks, shape=list(geo.shape), twins=N_TWINS),
         families=res["families"],
-        family_noise={f: dict(entries=(["l_skewness_tau3", "l_kurtosis_tau4"] if f == "height" else
+        family_noise={f: dict(entries=(["l_skewness_tau3", "l_kurtosis_tau4", "curvature_l_skewness"] if f == "height" else
                                        ["rain_log_ratio_low_q", "rain_log_ratio_mid_q", "rain_log_ratio_high_q",
                                         "wetted_fraction"] if f == "rain" else
-                                       ["anisotropy_index"] if f == "anisotropy" else
-                                       ["log10_axis_excess"] if f == "seams" else
+                                       ["anisotropy_a_xx_minus_yy", "anisotropy_b_xy"] if f == "anisotropy" else
+                                       ["log10_max_over_median_line_score"] if f == "seams" else
                                        ["log10_C_lowest_band_minus_mid", "log10_C_highest_band_minus_mid"]),
                               measured=ctx.meas[f].mean(axis=0).tolist(), twin=ctx.twin_mean[f].tolist(),
                               noise_per_block=ctx.sigma[f].tolist(),

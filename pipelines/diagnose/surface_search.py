@@ -16,7 +16,7 @@ over folds; ``shrink_raw`` = 1 - G_after / G_before on the total gaps.
 
 Verdict. "No effect" when no family's baseline gap is significant (chi-square over its
 held-out z, p < 1e-3, and g_f > 1.5) or no candidate shrinks the systematic gap by
-``MIN_SHRINK``. A pair replaces the best single when the single leaves a significant family
+``MIN_SHRINK``. Every pair of single effects is fitted (started from the two single fits). A pair replaces the best single when the single leaves a significant family
 and the pair's score is lower by ``PAIR_GAIN`` and its shrink higher by ``PAIR_MIN_GAIN``. "Inconclusive" (no effect named, the competitors
 listed) when another single explains the gap as well within the fold-to-fold scatter.
 """
@@ -199,9 +199,11 @@ def surface_search(ctx, rng_seed=0):
     singles = sorted((candidate((e,)) for e in usable), key=lambda c: c["score"])
     cands = list(singles)
     if singles and any(fam_sig):
-        b = singles[0]
-        for o in singles[1:]:
-            cands.append(candidate(b["_effs"] + o["_effs"], np.concatenate([b["_u"], o["_u"]])))
+        # every pair (not only the best single's): when two families are off, the best single
+        # alone may be no better than the others, and a greedy pair would start from noise
+        for i, a in enumerate(singles):
+            for b in singles[i + 1:]:
+                cands.append(candidate(a["_effs"] + b["_effs"], np.concatenate([a["_u"], b["_u"]])))
     cands.sort(key=lambda c: c["score"])
 
     verdict = dict(effect=None, shrink=None, shrink_interval=None, gap_validate=None, reason="",
