@@ -64,12 +64,16 @@ def main(argv=None):
             total[k] += v
         print(f"{g:<16}" + "".join(f"{v:>14}" for v in row))
     print(f"{'total':<16}" + "".join(f"{total[k]:>14}" for k in keys))
+    broken = [ln for ln in proc.stdout.splitlines() if ln.startswith(("FAILED ", "ERROR "))
+              and "test_cases_were_counted" not in ln]
+    for ln in broken:       # a test that stopped for another reason than a judged case
+        print(f"pytest: {ln}")
     for f in failures:
         print(f"\nFAILED {f['group']}: {'; '.join(f['problems'])}\n  case: {f['case'][:600]}\n"
               f"  stderr: {f['stderr_tail'][-400:]}")
     if not args.report:
         report.unlink()
-    return 1 if failures else 0
+    return 1 if failures or broken else 0
 
 
 if __name__ == "__main__":

@@ -108,6 +108,8 @@ def main(argv=None):
     ap.add_argument("--only", default="", help="comma-separated script names (e.g. bench_startup)")
     ap.add_argument("--timeout", type=float, default=3600, help="seconds per script")
     a = ap.parse_args(argv)
+    if a.readme and a.only:
+        ap.error("--readme writes the whole table: run every script (no --only)")
     only = {s if s.endswith(".py") else s + ".py" for s in a.only.split(",") if s}
     started = _dt.datetime.now().astimezone()
     loads = [os.getloadavg()[0]]

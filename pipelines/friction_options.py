@@ -129,6 +129,9 @@ def rubber_from_args(args):
             raise InputError(mc, "--master-curve needs --reference-temperature C (its T_ref) "
                                  "or a --shift-table with aT = 1 at T_ref")
         from .rubber_file import rubber_from_csv_files
+        from .validate import check_temperature
+
+        check_temperature(t_ref, flag="--reference-temperature")   # absolute zero .. 1000 C
         return rubber_from_csv_files(mc, shift, t_ref)
     if shift or t_ref is not None:
         raise InputError(None, "--shift-table and --reference-temperature go with --master-curve "
@@ -141,9 +144,13 @@ def rubber_from_args(args):
 
 def check_contact_args(args):
     """One-line InputErrors for --q0, --q1, --contact-gamma, --nu."""
+    from .validate import check_wave_vector
+
     for flag, val in (("--q0", getattr(args, "q0", None)), ("--q1", getattr(args, "q1", None))):
         if val is not None and not (math.isfinite(val) and val > 0):
             raise InputError(None, f"{flag} {val!r}: must be a positive wave vector in 1/m")
+        if val is not None:
+            check_wave_vector(val, flag)
     if args.q0 is not None and args.q1 is not None and not args.q0 < args.q1:
         raise InputError(None, f"--q0 {args.q0:g} must be below --q1 {args.q1:g}")
     g = getattr(args, "contact_gamma", None)

@@ -40,11 +40,9 @@ def load_scan(path, args=None, spacing=None, units=None):
     if path.is_dir():
         raise InputError(path, "is a directory, expected a height file")
     if spacing is not None:
-        from roadscan.io import resolve_spacing
+        from .validate import check_spacing_option
 
-        from .validate import check_spacing
-
-        check_spacing(*resolve_spacing(spacing, None), flag="--spacing")
+        check_spacing_option(spacing)
     try:
         obj = read(path, spacing=spacing, units=units)
     except InputError:

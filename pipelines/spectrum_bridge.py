@@ -176,10 +176,16 @@ def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None,
     check_temperature(T0_C, rubber)
     v = default_velocities() if v_m_per_s is None else np.asarray(v_m_per_s, float)
     kw = dict(sigma0_Pa=sigma0_Pa, T0_C=T0_C, nu=nu, contact_gamma=contact_gamma)
-    with np.errstate(all="ignore"):
-        if flash:
-            res = friction.mu_flash(psd, rubber, v, **kw)
-        else:
-            res = friction.mu_isothermal(psd, rubber, v, **kw)
+    from friction.flash import FlashConvergenceError
+    from roadscan.errors import InputError
+
+    try:
+        with np.errstate(all="ignore"):
+            if flash:
+                res = friction.mu_flash(psd, rubber, v, **kw)
+            else:
+                res = friction.mu_isothermal(psd, rubber, v, **kw)
+    except FlashConvergenceError as exc:      # one line naming the speeds (as `friction` says)
+        raise InputError(None, f"friction: {exc}") from None
     check_mu(res.mu)
     return res

@@ -28,7 +28,8 @@ Poisson ratio nu              [0, 0.5]
 temperature T [C]             below -273.15, or within 5 K above the rubber's WLF pole
                               (T_g - C2, or T_s - C2; -81.5 C for the thesis rubber),
                               or above 1000 C
-wave vectors q [1/m]          q1 not above the spectrum's q0 / lowest q; non-finite
+wave vectors q [1/m]          q1 not above the spectrum's q0 / lowest q; non-finite; any q above
+                              1e11 1/m (a wavelength below 0.1 nm, shorter than an atom)
 PSD C(q) [m^4]                any row with C <= 0 or non-finite (refused naming the row);
                               a log-log slope of the whole spectrum above +1 (rises with q:
                               not a surface; self-affine surfaces fall as q^-2(1+H))
@@ -50,8 +51,8 @@ from roadscan.errors import InputError
 
 __all__ = [
     "warn", "warnings_list", "reset_warnings",
-    "check_spacing", "check_heights", "check_scan", "check_pressure", "check_poisson",
-    "check_temperature", "check_rms_height", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
+    "check_spacing", "check_spacing_option", "check_heights", "check_scan", "check_pressure", "check_poisson",
+    "check_temperature", "check_rms_height", "check_wave_vector", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
     "finite_number",
 ]
 
@@ -64,6 +65,7 @@ MIN_MEASURED_FRACTION = 0.01
 SPIKE_FACTOR = 1e4
 MAX_ABS_HEIGHT_M = 1e3
 MIN_RMS_HEIGHT_M = 1e-12
+Q_MAX_PER_M = 1e11
 PRESSURE_RANGE_PA = (0.0, 1e9)
 POISSON_RANGE = (0.0, 0.5)
 WLF_POLE_MARGIN_K = 5.0
@@ -124,6 +126,19 @@ def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
         if not ulo <= v <= uhi:
             warn(f"{path + ': ' if path else ''}spacing {v:g} m is unusual for a road scan "
                  f"({ulo:g}..{uhi:g} m)")
+
+
+def check_spacing_option(text, flag="--spacing"):
+    """The CLI's ``--spacing DX[,DY]`` [m]: parsed by :func:`roadscan.io.resolve_spacing` and
+    checked by :func:`check_spacing`; every refusal names the flag and the value given."""
+    from roadscan.io import resolve_spacing
+
+    try:
+        dx, dy = resolve_spacing(text, None)
+    except InputError as exc:
+        raise InputError(None, f"{flag} {text!r}: {exc.problem}") from None
+    check_spacing(dx, dy, flag=flag)
+    return dx, dy
 
 
 def check_rms_height(rms_m, flag="--rms"):
@@ -263,6 +278,16 @@ def check_psd_shape(q, C, path=None):
     if slope > MAX_PSD_SLOPE:
         raise InputError(path, f"the PSD rises with q (log-log slope {slope:+.2f}): not the "
                                f"spectrum of a surface, which falls as q^-2(1+H)")
+
+
+def check_wave_vector(q_per_m, flag):
+    """A wave vector [1/m] given by a flag: finite, positive and at most 1e11 1/m (2 pi / q
+    above 0.06 nm: Persson's cut-offs stop at the atomic scale, about 1e10 1/m)."""
+    v = finite_number(q_per_m, flag)
+    if not 0 < v <= Q_MAX_PER_M:
+        raise InputError(None, f"{flag}{'' if flag.endswith('=') else ' '}{v:g} 1/m: must be a positive wave vector up to "
+                               f"{Q_MAX_PER_M:g} 1/m (a wavelength of 0.06 nm)")
+    return v
 
 
 def check_q1(q1_per_m, q_lo_per_m, flag="--q1"):

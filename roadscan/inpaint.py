@@ -51,7 +51,8 @@ def _bands(bad):
 
     Returns
     -------
-    labels : int32 array (the clusters), list of (first row, end row, first label, last label)
+    labels : int32 array of the clusters; n : their number;
+    groups : list of [first row, end row, labels of its clusters]
     """
     from scipy import ndimage
 

@@ -184,8 +184,11 @@ def _nearest_filled(h, bad):
     """Heights with each unmeasured point replaced by its nearest measured neighbour."""
     if not bad.any():
         return h
-    idx = ndimage.distance_transform_edt(bad, return_distances=False, return_indices=True)
-    return h[tuple(idx)]
+    idx = np.empty((bad.ndim,) + bad.shape, dtype=np.int32)        # scipy's own index type
+    ndimage.distance_transform_edt(bad, return_distances=False, return_indices=True, indices=idx)
+    out = h.copy()
+    out[bad] = h[tuple(i[bad] for i in idx)]
+    return out
 
 
 def remove_spikes(obj, threshold=6.0, size=3):
@@ -214,12 +217,16 @@ def remove_spikes(obj, threshold=6.0, size=3):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
     h, bad = obj.heights_m, obj.unmeasured
     hf = _nearest_filled(h, bad)
-    med = ndimage.median_filter(hf, size=size, mode="nearest")
-    dev = hf - med
+    dev = ndimage.median_filter(hf, size=size, mode="nearest")
+    np.subtract(hf, dev, out=dev)                                   # h - local median
+    del hf
     d_meas = dev[~bad]
-    sigma = 1.4826 * np.median(np.abs(d_meas - np.median(d_meas)))
+    spread = np.abs(d_meas - np.median(d_meas))
+    sigma = 1.4826 * np.median(spread, overwrite_input=True)
+    del spread
     if sigma == 0:
         sigma = np.std(d_meas)
+    del d_meas
     spikes = (~bad) & (np.abs(dev) > threshold * sigma) if sigma > 0 else np.zeros_like(bad)
     n = int(spikes.sum())
     if n and spikes.sum() >= (~bad).sum():

@@ -32,7 +32,9 @@ def model_psd(q_per_m, hurst, prefactor_m4=1.0, q0_per_m=0.0, q1_per_m=np.inf, q
     """
     q = np.asarray(q_per_m, dtype=np.float64)
     qr = q0_per_m if q_roll_per_m is None else q_roll_per_m
-    with np.errstate(divide="ignore"):
+    # q = 0 (and a tiny q_roll below the lattice) give 0^-x or overflow: those points lie
+    # outside [q0, q1] or are replaced by q itself, and are set to 0 below
+    with np.errstate(divide="ignore", over="ignore"):
         c = np.where(q >= qr, q, qr) ** (-2.0 * (hurst + 1.0))
     inside = (q >= q0_per_m) & (q <= q1_per_m) & (q > 0)
     return np.where(inside, prefactor_m4 * c, 0.0)

@@ -290,11 +290,17 @@ def judge(rc, out, err, before, after, root, nonfinite_json=(), batch=False):
             problems.append(f"{len(errors)} error lines")
     if rc == 0 and errors:
         problems.append("an error line with exit 0")
+    if any("warning: numpy:" in ln for ln in lines):
+        # the CLI's net for numpy floating-point warnings: the edge case was not prevented
+        problems.append("a numpy warning line (a floating-point edge case not prevented)")
     if rc == 2 and lines and "cannot process this input (" in lines[-1]:
         # the CLI's last resort for arithmetic errors: one line, but the input was not checked
         problems.append("unanticipated error (the CLI's last-resort handler, not a check naming the input)")
     changed = sorted(k for k, v in after.items() if before.get(k) != v)
-    hidden = [k for k in changed if any(part.startswith(".") for part in Path(k.rstrip("/")).parts)]
+    from pipelines.campaign.folder import SIDECAR   # batch's resume record: hidden by design
+
+    hidden = [k for k in changed if any(part.startswith(".") and part != SIDECAR
+                                        for part in Path(k.rstrip("/")).parts)]
     if hidden:
         problems.append(f"hidden temporary files left: {hidden[:3]}")
     if rc == 0:

@@ -125,6 +125,7 @@ ANALYSIS = {
     "mpd_spike_alpha": F(["3", "6"], ["0", "1e-300", "1e300"], 5),
     "despike": F([False, False, True], (), 0),
     "no_friction": F([False, False, False, True], (), 0),
+    "max_pixels": F(["100000000", "4000"], ["0", "-1", "abc", "1e300", "1", "inf", "nan", "2.5"], 6),
 }
 
 
@@ -148,7 +149,7 @@ SPACING_ARG = st.one_of(st.none(), st.sampled_from([5e-5, 1e-4, (5e-5, 6e-5), 0.
                                                     "5e-5", "5e-5,6e-5", "abc", "", (1.0, 2.0, 3.0), 5e-324]))
 
 
-@given(spec=ff.any_height_file(), spacing=SPACING_ARG, units=st.sampled_from([None, None, "m", "mm", "um", "nm",
+@given(spec=st.one_of(ff.any_height_file(), ff.analysable_height_file()), spacing=SPACING_ARG, units=st.sampled_from([None, None, "m", "mm", "um", "nm",
                                                                               "furlong", ""]))
 @fuzz_settings(260)
 def test_readers_never_crash(base, spec, spacing, units):
@@ -401,6 +402,19 @@ def test_rubber_master(base, goods, data, kw):
                else data.draw(ff.raw_dma_files(), label="raw.csv").write(d))
         out = data.draw(st.sampled_from(["r.toml", "r.toml", "sub/r.toml", "r.txt", "r"]), label="out")
         run_cli("rubber-master", ["rubber", "master", raw, "--out", d / out, *_flags(**kw)], d, watch=[goods])
+
+
+@given(data=st.data(), spec=st.one_of(ff.analysable_height_file(), ff.any_height_file()),
+       kw=ff.flagset({"spacing": F(["5e-5"], ODD_SPACING, 1), "units": SCAN["units"],
+                      "float32": F([False, False, True], (), 0)}, odd_counts=(0, 0, 1)))
+@fuzz_settings(24)
+def test_convert(base, data, spec, kw):
+    """Any height file to each writable format (float32 too: huge heights must not become inf)."""
+    with workdir(base) as d:
+        p = spec.write(d)
+        out = data.draw(st.sampled_from(["o.x3p", "o.npy", "o.npz", "o.tif", "o.tiff", "o.txt", "o", "sub/o.npy",
+                                         p.name]), label="out")
+        run_cli("convert", ["convert", p, d / out, *_flags(**kw)], d, desc=repr(spec))
 
 
 # ------------------------------------------------------------------------------ outputs, subprocesses, figures

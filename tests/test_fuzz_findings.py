@@ -145,3 +145,114 @@ def test_friction_failure_after_first_file_leaves_nothing(monkeypatch, capsys, t
                "--out", str(tmp_path / "sub" / "mu.csv")])
     assert rc == 1 and "internal error" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("ext", [".npy", ".npz", ".x3p", ".tif"])
+def test_float32_overflow_refused(capsys, tmp_path, ext):
+    """Fuzz finding: convert --float32 of a height beyond float32's range wrote infinity (read
+    back as an unmeasured point) with only a numpy warning line."""
+    a = fourier_surface(16, 5e-5, 0.8, 3e-4, seed=1)
+    a[3, 3] = 1e300
+    np.save(tmp_path / "big.npy", a)
+    _one_line_refusal(capsys, ["convert", tmp_path / "big.npy", tmp_path / f"o{ext}", "--spacing", "5e-5",
+                               "--float32"], "does not fit float32")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["big.npy"]
+    assert main(["convert", str(tmp_path / "big.npy"), str(tmp_path / f"o{ext}"), "--spacing", "5e-5"]) == 0
+
+
+@pytest.mark.parametrize("where, needle", [
+    ("flag", "--temperature -400"),       # was OverflowError through the last resort
+    ("row", "measured.csv: T0_C -400"),
+    ("pole", "WLF pole"),
+    ("pressure", "measured.csv: sigma0_Pa 1e+300 Pa"),
+])
+def test_diagnose_conditions_checked(capsys, tmp_path, where, needle):
+    from conftest import ROOT
+
+    v = np.geomspace(1e-4, 1e1, 12)
+    mu = 0.3 + 0.5 * np.exp(-np.log10(v / 1e-2) ** 2)
+    T = {"row": -400.0, "pole": -81.5}.get(where, 20.0)
+    s = 1e300 if where == "pressure" else 2e5
+    p = tmp_path / "measured.csv"
+    p.write_text("v_m_per_s,mu,T0_C,sigma0_Pa\n" + "".join(f"{a},{b},{T},{s}\n" for a, b in zip(v, mu)))
+    extra = ["--temperature", "-400"] if where == "flag" else []
+    _one_line_refusal(capsys, ["diagnose", "--measured", p, "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
+                               "--out", tmp_path / "out", *extra], needle)
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["measured.csv"]
+
+
+def test_synth_tiny_roll_off_without_numpy_warning(capsys, tmp_path):
+    """--q-roll 1e-300 overflowed 1e-300^-3.6 at q = 0 (a point set to zero anyway): a numpy
+    warning line on a correct result."""
+    assert main(["synth", "--nx", "32", "--q-roll", "1e-300", "--q0", "1e-300", "--out", str(tmp_path / "s.npy")]) == 0
+    assert "warning" not in capsys.readouterr().err
+    assert np.all(np.isfinite(np.load(tmp_path / "s.npy")))
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["analyse", "{scan}", "--spacing", "5e-5", "--q1", "1e300", "--flash"], "--q1 1e+300 1/m"),
+    (["dry-vs-wet", "{scan}", "--spacing", "5e-5", "--q1", "1e30"], "--q1 1e+30 1/m"),
+    (["friction", "--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e30"], "--self-affine q1=1e+30 1/m"),
+    (["friction", "--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--q1", "1e12"], "--q1 1e+12 1/m"),
+])
+def test_wave_vectors_beyond_the_atomic_scale_refused(capsys, tmp_path, argv, needle):
+    """Fuzz finding: --q1 1e300 went to the flash solver (FlashConvergenceError as an internal
+    error, exit 1); 1e30 1/m gave a number. Wave vectors above 1e11 1/m are refused."""
+    scan = tmp_path / "g.npy"
+    np.save(scan, fourier_surface(32, 5e-5, 0.8, 3e-4, seed=1))
+    argv = [str(scan) if a == "{scan}" else a for a in argv]
+    _one_line_refusal(capsys, [*argv, "--velocities", "1e-3:1:3", "--out", tmp_path / "out"], needle)
+
+
+def test_flash_failure_in_analyse_is_an_input_error(monkeypatch, capsys, tmp_path):
+    """A flash solution that truly cannot be found is one error line with exit 2 in analyse
+    (as in friction), not an internal error."""
+    import friction
+    from friction.flash import FlashConvergenceError
+
+    def fails(*a, **k):
+        raise FlashConvergenceError("flash temperature: the heat balance is not finite at v = 1 m/s")
+
+    monkeypatch.setattr(friction, "mu_flash", fails)
+    scan = tmp_path / "g.npy"
+    np.save(scan, fourier_surface(32, 5e-5, 0.8, 3e-4, seed=1))
+    _one_line_refusal(capsys, ["analyse", scan, "--spacing", "5e-5", "--flash", "--velocities", "1e-3:1:3",
+                               "--out", tmp_path / "out"], "friction: flash temperature")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["g.npy"]
+
+
+def test_reference_temperature_checked(capsys, tmp_path):
+    """--reference-temperature 1e300 was an OverflowError through the last resort."""
+    from conftest import ROOT
+
+    r = ROOT / "sample_scans" / "rubbers"
+    _one_line_refusal(capsys, ["friction", "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
+                               "--master-curve", r / "freq_user_master.csv", "--shift-table",
+                               r / "freq_user_master__shift_factors.csv", "--reference-temperature", "1e300",
+                               "--velocities", "1e-3:1:3", "--out", tmp_path / "mu.csv"],
+                      "--reference-temperature 1e+300 C")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_diagnosis_never_prefers_unusable_parameters():
+    """Fuzz finding: with T0 5.5 K above the thesis rubber's WLF pole the baseline misfit is
+    over 10 decades, and the fit preferred temperature offsets past the pole (NaN model, cost
+    10 decades a point) to the no-effect point: gaps NaN, written as null. A NaN model now
+    costs 1e3 decades a point, so the fit keeps a finite one."""
+    from pipelines.diagnose.effects import all_effects
+    from pipelines.diagnose.measured import MeasuredCurve
+
+    v = np.geomspace(1e-4, 1e1, 8)
+    mu = 0.3 + 0.5 * np.exp(-np.log10(v / 1e-2) ** 2)
+    curve = MeasuredCurve(v, mu, np.full(v.size, -76.0), np.full(v.size, 2e5), np.zeros(v.size, bool), False, "t")
+    from pipelines.diagnose.inputs import build_context
+    from pipelines.diagnose.search import diagnose_friction
+
+    import friction
+
+    ctx = build_context(curve, friction.SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5))
+    eff = [e for e in all_effects("friction") if e.name == "temperature_offset"]
+    d = diagnose_friction(ctx, mu, noise=0.01, effects=eff, pairs=False)
+    c = d.candidates[0]
+    assert np.isfinite(c.gap_train) and np.isfinite(c.gap_heldout) and np.all(np.isfinite(c.pred))
+    assert c.gap_train <= d.baseline_gap_train + 1e-9

@@ -65,7 +65,7 @@ def _source_note(inp, scan):
 
 def run(args):
     from roadscan.heightmap import HeightMap
-    from roadscan.io import read, resolve_spacing, write
+    from roadscan.io import read, write
 
     inp, out = Path(args.input), Path(args.output)
     if not inp.exists():
@@ -74,9 +74,9 @@ def run(args):
         raise InputError(inp, "is a directory, expected a height file")
     _check_output(inp, out)
     if args.spacing is not None:
-        from ..validate import check_spacing
+        from ..validate import check_spacing_option
 
-        check_spacing(*resolve_spacing(args.spacing, None), flag="--spacing")
+        check_spacing_option(args.spacing)
     scan = read(inp, spacing=args.spacing, units=args.units)
     ext = out.suffix.lower()
     if ext in (".tif", ".tiff") and not isinstance(scan, HeightMap):

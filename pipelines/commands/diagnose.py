@@ -86,6 +86,7 @@ def run(args):
     other = (read_measured(args.validate, sigma0_Pa=args.sigma0, T0_C=args.temperature)
              if args.validate else None)
     rubber = rubber_from_args(args)
+    _check_conditions(args, rubber, curve, other)
     if args.psd:
         psd, scan, spec, fit = read_psd_csv(args.psd), None, None, None
     else:
@@ -152,3 +153,26 @@ def _report(data, out):
     print(f"{data['level']} level: baseline gap {data['baseline_gap']:.4g}, noise {data['noise']:.4g}; "
           f"verdict: {eff or 'null'}" + (f" (held-out shrink {v['shrink']:.0%})" if v.get("shrink") is not None else ""))
     print(f"wrote {out}/diagnosis.json and {out}/report.html")
+
+
+def _check_conditions(args, rubber, curve, other):
+    """--temperature and every row's T0_C against the rubber's WLF pole, every row's sigma0_Pa
+    as a pressure (:mod:`pipelines.validate`), before any fit (``--temperature -400`` reached
+    the shift factor as an OverflowError)."""
+    from pathlib import Path
+
+    import numpy as np
+
+    import friction
+
+    from ..validate import check_pressure, check_temperature
+
+    rub = rubber if rubber is not None else friction.thesis_rubber()
+    check_temperature(args.temperature, rub)
+    for c, path in ((curve, args.measured), (other, args.validate)):
+        if c is None:
+            continue
+        for t in np.unique(c.T0_C[np.isfinite(c.T0_C)]):
+            check_temperature(float(t), rub, flag=f"{Path(path).name}: T0_C")
+        for p in np.unique(c.sigma0_Pa):
+            check_pressure(float(p), flag=f"{Path(path).name}: sigma0_Pa")

@@ -65,6 +65,11 @@ def _self_affine(text):
     missing = {"hurst", "h0_m", "q0_per_m", "q1_per_m"} - set(kw)
     if missing:
         raise InputError(None, "--self-affine: missing " + ", ".join(sorted(missing)))
+    from ..validate import check_wave_vector
+
+    for key in ("q0_per_m", "q1_per_m", "q_roll_per_m"):
+        if key in kw:
+            check_wave_vector(kw[key], f"--self-affine {key.split('_')[0] if key != 'q_roll_per_m' else 'qroll'}=")
     try:
         return SelfAffinePSD(**kw)
     except ValueError as exc:

@@ -171,8 +171,10 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None):
         return cache[key]
 
     def resid(u):
+        # an unusable point must cost more than any finite one: 1e3 decades (a misfit of
+        # 10 decades is possible far from the pole of the WLF shift: --temperature -76)
         r = (y - model(u))[train]
-        return np.where(np.isfinite(r), r, 10.0)
+        return np.where(np.isfinite(r), r, 1e3)
 
     step = 0.02
 

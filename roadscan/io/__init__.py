@@ -101,6 +101,23 @@ def write(path, heightmap, **options):
                                f"writable: {', '.join(sorted(WRITERS))}")
     if not isinstance(heightmap, (HeightMap, Profile)):
         raise TypeError(f"write() takes a HeightMap or Profile, got {type(heightmap).__name__}")
+    _check_float32_range(p, heightmap, options.get("dtype"))
     with atomic_path(p) as tmp:
         writer(tmp, heightmap, **options)
     return p
+
+
+def _check_float32_range(path, obj, dtype):
+    """Refuse float32 storage of heights beyond float32's range (|h| > 3.4e38 m would be
+    stored as infinity and read back as unmeasured)."""
+    import numpy as np
+
+    if dtype is None or np.dtype(dtype) != np.float32:
+        return
+    h = obj.heights_m
+    ok = np.isfinite(h)
+    top = float(np.max(np.abs(h[ok]))) if ok.any() else 0.0
+    big = float(np.finfo(np.float32).max)
+    if top > big:
+        raise InputError(path, f"height {top:.3g} m does not fit float32 (largest {big:.3g}); "
+                               f"write float64 (without --float32)")
