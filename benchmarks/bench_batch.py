@@ -166,6 +166,13 @@ def main():
         t2 = time_batch(paths, td / "b2", 2, dx)
         t1f = time_batch(paths, td / "b1f", 1, dx, figures=True)
         t2f = time_batch(paths, td / "b2f", 2, dx, figures=True)
+        # the campaign's fixed cost (cluster start, worker imports, campaign.csv and report.html):
+        # the same command on 2 scans; the difference is the time of the other n - 2 scans
+        k = min(2, len(paths))
+        f1 = time_batch(paths[:k], td / "f1", 1, dx)
+        f2 = time_batch(paths[:k], td / "f2", 2, dx)
+        f1f = time_batch(paths[:k], td / "f1f", 1, dx, figures=True)
+        f2f = time_batch(paths[:k], td / "f2f", 2, dx, figures=True)
         load1 = os.getloadavg()
         n = len(paths)
         print(f"{n} scans of {a.size} x {a.size}, friction on, {os.cpu_count()} cores; load average "
@@ -184,6 +191,12 @@ def main():
         print(f"speed-up 1 -> 2 workers : {t1 / t2:.2f} x without figures, {t1f / t2f:.2f} x with figures "
               f"(aim >= 1.7 on 2 free cores; without figures a scan takes ~0.1 s, so the cluster's "
               f"start and the workers' imports, a few seconds paid once, weigh on 40 scans)")
+        if n > k:
+            print(f"fixed cost ({k} scans)  : {f1:.2f} s with 1 worker, {f2:.2f} s with 2 (cluster start, "
+                  f"imports, campaign.csv, report.html); {f1f:.2f} / {f2f:.2f} s with --figures")
+            print(f"speed-up on the scans   : {(t1 - f1) / max(t2 - f2, 1e-9):.2f} x without figures, "
+                  f"{(t1f - f1f) / max(t2f - f2f, 1e-9):.2f} x with figures (the other {n - k} scans: "
+                  f"whole run minus the fixed cost; aim >= 1.7)")
         if max(load0[0], load1[0]) > 0.5 and _autogroup():
             print("  note: the kernel shares CPU between sessions (sched_autogroup), not processes: "
                   "while other sessions keep the cores busy, this one gets the same share with 1 or 2 "

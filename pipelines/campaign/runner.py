@@ -71,8 +71,20 @@ def _finished_on_worker(job):
         return None
 
 
+#: Dask's nannies start workers with MALLOC_TRIM_THRESHOLD_=65536 (``distributed.nanny.
+#: pre-spawn-environ``). Setting it turns off glibc's dynamic mmap threshold, so every array
+#: above 128 KiB is a fresh mmap, page-faulted in and unmapped again: measured on 1024^2
+#: scans, run_job took 0.23 s per scan with it and 0.10 s without (the same in one process).
+#: A local cluster's workers are started without it (a value the user set is kept); the
+#: memory a worker holds stays bounded by one scan's peak, arrays above 32 MiB are always
+#: returned to the system. Workers of an existing cluster (``--scheduler``) keep their own.
+_TRIM_ENV = "MALLOC_TRIM_THRESHOLD_"
+_TRIM_KEY = "distributed.nanny.pre-spawn-environ." + _TRIM_ENV
+
+
 @contextlib.contextmanager
 def _client(workers=None, scheduler=None):
+    import dask
     from distributed import Client, LocalCluster
 
     if scheduler:
@@ -88,8 +100,9 @@ def _client(workers=None, scheduler=None):
         return
     n = workers or default_workers()
     try:
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                               dashboard_address=None, silence_logs=logging.ERROR)
+        with dask.config.set({_TRIM_KEY: None}) if _TRIM_ENV not in os.environ else contextlib.nullcontext():
+            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                   dashboard_address=None, silence_logs=logging.ERROR)
     except Exception as exc:  # noqa: BLE001 - e.g. a script without the __main__ guard
         raise InputError(None, f"--workers {n}: cannot start a local Dask cluster "
                                f"({type(exc).__name__}: {exc})") from None
