@@ -100,19 +100,39 @@ def summarise(analysis, fr=None):
 
 
 def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
-                 mpd_settings=None, figures=True):
+                 mpd_settings=None, figures=True, drawer=None):
     """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict.
 
     ``figures=False`` (``roadscan batch`` without ``--figures``) skips the PNGs; the numbers,
-    the CSV/JSON files and ``report.html`` (tables only) are the same.
+    the CSV/JSON files and ``report.html`` (tables only) are the same. ``drawer``: where the
+    figures are drawn (:mod:`pipelines.figure_process`; default in this process).
     """
-    from . import validate
+    from .figure_process import InProcess
 
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    drawer = drawer if drawer is not None else InProcess()
+    drawer.discard()                      # nothing of an earlier scan is taken for this one's
+    try:
+        return _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_settings,
+                             figures, drawer)
+    except BaseException:
+        drawer.discard()                  # a failed scan's figures are not drawn again here
+        raise
+
+
+def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_settings, figures,
+                  drawer):
+    from . import validate
+
+    def draw_map(levelled):               # the height map is drawn while the spectrum is made
+        if figures and not isinstance(levelled, Profile):
+            drawer.submit(report.draw_heightmap, report.heightmap_picture(levelled),
+                          out_dir / "heightmap.png", title=f"{obj.name}: levelled heights")
+
     an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
-                         mpd_settings=mpd_settings)
+                         mpd_settings=mpd_settings, on_levelled=draw_map)
     spec, fit = an.spectrum, an.fit
     validate.check_fit(fit, an.name)
 
@@ -164,40 +184,38 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
             cols.append(np.max(fr.T_q_C, axis=1))
         report.write_csv(out_dir / "mu.csv", MU_HEADER + MU_EXTRA[:len(cols) - 2], cols)
     if figures:
-        figs = _figures(out_dir, an, fit, fr, spec, settings, summary)
+        _figures(drawer, out_dir, an, fit, fr, spec, settings, summary)
+        figs = drawer.collect()
     report.write_json(out_dir / "summary.json", summary)
     _write_report(out_dir, an, summary, figs)
     return summary
 
 
-def _figures(out_dir, an, fit, fr, spec, settings, summary):
-    """The PNGs of one scan (skipped by ``roadscan batch`` without ``--figures``)."""
-    figs = []
+def _figures(drawer, out_dir, an, fit, fr, spec, settings, summary):
+    """The PNGs of one scan after its height map (skipped by ``roadscan batch`` without
+    ``--figures``), submitted to ``drawer`` in the report's order."""
     if an.is_profile:
         q1d, c1d = an.psd1d
         keep = (q1d > 0) & (c1d > 0)
-        figs.append(report.plot_profile(an.levelled, out_dir / "profile.png",
-                                        title=f"{an.name}: levelled profile"))
-        figs.append(_plot_psd1d(q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name))
+        drawer.submit(report.plot_profile, an.levelled, out_dir / "profile.png",
+                      title=f"{an.name}: levelled profile")
+        drawer.submit(_plot_psd1d, q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name)
     else:
-        figs.append(report.plot_heightmap(an.levelled, out_dir / "heightmap.png",
-                                          title=f"{an.name}: levelled heights"))
-        figs.append(_plot_psd2d(an.spec2d, out_dir / "psd2d.png", an.name))
+        drawer.submit(draw_psd2d, psd2d_picture(an.spec2d), out_dir / "psd2d.png", an.name)
     lo, hi = fit.fit_band_per_m
     q_top = max(hi, settings.q1_per_m or 0.0) if settings.enabled else hi
     qf = np.geomspace(lo, q_top, 60)
     curves = [("measured (angular average)" if not an.is_profile else
                "2D estimate from the profile's 1D PSD", spec.q_per_m, spec.C_m4)]
-    figs.append(report.plot_psd(
-        curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {fit.hurst:.3f} ± {fit.hurst_stderr:.3f}",
-        fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m"
-               + (f", extended to q1 = {q_top:.3g} 1/m" if q_top > hi else ""), qf, fit.model_C(qf))]))
+    drawer.submit(report.plot_psd,
+                  curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {fit.hurst:.3f} ± {fit.hurst_stderr:.3f}",
+                  fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m"
+                         + (f", extended to q1 = {q_top:.3g} 1/m" if q_top > hi else ""), qf, fit.model_C(qf))])
     if fr is not None:
         rub = "thesis rubber" if settings.rubber is None else getattr(settings.rubber, "name", "rubber")
-        figs.append(report.plot_mu([(f"{summary['friction']['model']}, {rub}, σ0 = "
-                                     f"{settings.sigma0_Pa / 1e6:g} MPa", fr.v_m_per_s, fr.mu)],
-                                   out_dir / "mu.png", title=f"{an.name}: friction μ(v)"))
-    return figs
+        drawer.submit(report.plot_mu, [(f"{summary['friction']['model']}, {rub}, σ0 = "
+                                        f"{settings.sigma0_Pa / 1e6:g} MPa", fr.v_m_per_s, fr.mu)],
+                      out_dir / "mu.png", title=f"{an.name}: friction μ(v)")
 
 
 def _plot_psd1d(q, C1, path, name):
@@ -215,13 +233,20 @@ def _plot_psd1d(q, C1, path, name):
     return report.save_figure(fig, path, report.fixed_margins(ax))
 
 
-def _plot_psd2d(spec2d, path, name, zoom=4):
-    """log10 C(qx, qy) around the origin (|q| up to Nyquist / zoom, where anisotropy shows)."""
-    plt = report.pyplot()
-
+def psd2d_picture(spec2d, zoom=4):
+    """The part of the 2D PSD :func:`draw_psd2d` shows: |q| up to Nyquist / ``zoom``, where
+    anisotropy shows (only this part of the map is built) -> (qx, qy, C, qlim)."""
     qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
     qlim = min(np.abs(qx).max(), np.abs(qy).max()) / zoom
-    qxs, qys, C = spec2d.central(qlim)          # only this part of the map is built
+    qxs, qys, C = spec2d.central(qlim)
+    return qxs, qys, C, qlim
+
+
+def draw_psd2d(picture, path, name):
+    """log10 C(qx, qy) around the origin, from :func:`psd2d_picture`."""
+    plt = report.pyplot()
+
+    qxs, qys, C, qlim = picture
     pos = C[C > 0]
     lo = np.percentile(pos, 2) if pos.size else 1e-30
     fig, ax = plt.subplots(figsize=report.FIGSIZE)
@@ -234,6 +259,11 @@ def _plot_psd2d(spec2d, path, name, zoom=4):
     cb.set_label("log₁₀ C [m⁴]")
     ax.ticklabel_format(style="sci", scilimits=(-2, 3))
     return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))
+
+
+def _plot_psd2d(spec2d, path, name, zoom=4):
+    """log10 C(qx, qy) around the origin (|q| up to Nyquist / zoom, where anisotropy shows)."""
+    return draw_psd2d(psd2d_picture(spec2d, zoom), path, name)
 
 
 def _write_report(out_dir, an, summary, figs):

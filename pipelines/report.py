@@ -144,15 +144,12 @@ def save_figure(fig, path, margins=None):
     return Path(path)
 
 
-def plot_heightmap(hm, path, title=None, depth_m=None):
-    """Height map image: x, y in mm, heights in um, unmeasured points grey."""
-    plt = pyplot()
-    import matplotlib
-
-    fig, ax = plt.subplots(figsize=FIGSIZE)
+def heightmap_picture(hm, depth_m=None):
+    """What :func:`draw_heightmap` shows of a height map (or of a water depth map over it),
+    computed without matplotlib: the display image (:func:`display_image`, in um or mm), its
+    colour limits from every measured point (0.5 and 99.5 percentiles), the extent in mm."""
     data, unit = (hm.heights_m, 1e6) if depth_m is None else (depth_m, 1e3)   # scaled when shown
     lx, ly = hm.size_m
-    cmap = matplotlib.colormaps["viridis" if depth_m is None else "Blues"].with_extremes(bad="0.6")
     finite = data[np.isfinite(data)]             # one copy of the measured points, sorted in place
     vmin, vmax = (np.percentile(finite, [0.5, 99.5], overwrite_input=True) * unit
                   if finite.size else (0, 1))
@@ -160,14 +157,32 @@ def plot_heightmap(hm, path, title=None, depth_m=None):
     if depth_m is not None:
         vmin = 0.0
     shown = display_image(data) * unit   # colour limits from every point, the picture from block means
-    im = ax.imshow(np.ma.masked_invalid(shown), origin="lower", extent=(0, lx * 1e3, 0, ly * 1e3),
-                   cmap=cmap, vmin=vmin, vmax=max(vmax, vmin + 1e-12), interpolation="nearest")
+    return {"image": shown, "vmin": float(vmin), "vmax": float(max(vmax, vmin + 1e-12)),
+            "extent_mm": (0.0, lx * 1e3, 0.0, ly * 1e3), "depth": depth_m is not None}
+
+
+def draw_heightmap(picture, path, title=None):
+    """Draw a :func:`heightmap_picture`: x, y in mm, heights in um (depths in mm), unmeasured
+    points grey."""
+    plt = pyplot()
+    import matplotlib
+
+    depth = picture["depth"]
+    fig, ax = plt.subplots(figsize=FIGSIZE)
+    cmap = matplotlib.colormaps["Blues" if depth else "viridis"].with_extremes(bad="0.6")
+    im = ax.imshow(np.ma.masked_invalid(picture["image"]), origin="lower", extent=picture["extent_mm"],
+                   cmap=cmap, vmin=picture["vmin"], vmax=picture["vmax"], interpolation="nearest")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     cb = fig.colorbar(im, ax=ax, shrink=0.9)
-    cb.set_label("height [µm]" if depth_m is None else "water depth [mm]")
-    set_title(ax, title or ("height map" if depth_m is None else "water depth"))
+    cb.set_label("water depth [mm]" if depth else "height [µm]")
+    set_title(ax, title or ("water depth" if depth else "height map"))
     return save_figure(fig, path, fixed_margins(ax, right=1.1))
+
+
+def plot_heightmap(hm, path, title=None, depth_m=None):
+    """Height map image: x, y in mm, heights in um, unmeasured points grey."""
+    return draw_heightmap(heightmap_picture(hm, depth_m), path, title)
 
 
 def plot_profile(profile, path, title=None):

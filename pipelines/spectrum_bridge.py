@@ -72,10 +72,12 @@ def spectrum_of(obj, window_alpha=0.25):
 
 
 def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_band=None,
-                    mpd_settings=None):
+                    mpd_settings=None, on_levelled=None):
     """Run the metrology chain on a HeightMap or Profile (see module docstring).
 
     ``mpd_settings`` overrides :data:`roadscan.roughness.MPD_SETTINGS` (e.g. ``spike_alpha``).
+    ``on_levelled(levelled)``, when given, is called as soon as the levelled scan exists, before
+    the spectrum (``roadscan analyse`` hands the height map to its figure process there).
     """
     from roadscan import fit as fitmod
     from roadscan import inpaint, level, roughness
@@ -88,6 +90,8 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
         obj = road_section(obj)  # a profiler's reference plates are not road
     work = level.remove_spikes(obj) if despike else obj
     levelled = level.level(work, degree=level_degree)
+    if on_levelled is not None:
+        on_levelled(levelled)
     if isinstance(obj, Profile):
         rough = roughness.profile_parameters(levelled)
         mpd_m, mpd_note = roughness.mean_profile_depth(obj, **(mpd_settings or {}))

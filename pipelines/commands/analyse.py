@@ -78,18 +78,22 @@ def run(args):
     settings = settings_from_args(args)
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
+    from ..figure_process import figure_drawer
+
     out = Path(args.out)
     check_output_dir(out, inputs=args.files)
-    scans = [load_scan(f, args) for f in args.files]  # every input is checked before any output
-    many = len(scans) > 1
-    with atomic_output_dir(out, inputs=args.files) as tmp:  # all outputs or none
-        rows = _analyse_all(args, scans, tmp, out, many, settings, kw)
+    # matplotlib is imported by a helper process while the scans are read and analysed
+    with figure_drawer(not getattr(args, "no_figures", False)) as drawer:
+        scans = [load_scan(f, args) for f in args.files]  # every input is checked before any output
+        many = len(scans) > 1
+        with atomic_output_dir(out, inputs=args.files) as tmp:  # all outputs or none
+            rows = _analyse_all(args, scans, tmp, out, many, settings, kw, drawer)
     if many:
         print(f"analysed {len(rows)} scans -> {out / 'summary.csv'}, {out / 'report.html'}")
     return 0
 
 
-def _analyse_all(args, scans, out, final, many, settings, kw):
+def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
     from .. import report
     from ..analyse import run_analysis
 
@@ -99,7 +103,7 @@ def _analyse_all(args, scans, out, final, many, settings, kw):
             print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
         try:
             summary = run_analysis(scan, out / sub if many else out, settings,
-                                   figures=not getattr(args, "no_figures", False), **kw)
+                                   figures=not getattr(args, "no_figures", False), drawer=drawer, **kw)
         except ValueError as exc:
             raise InputError(path, str(exc)) from None
         rows.append((sub, summary))

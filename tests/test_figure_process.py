@@ -1,0 +1,75 @@
+"""The figure helper process of ``roadscan analyse`` (issue 13): same PNGs, drawn elsewhere,
+and every failure of the helper ends in the figure being drawn (or failing) here."""
+import math
+import os
+import subprocess
+import sys
+
+import pytest
+
+from conftest import ROOT
+from pipelines.figure_process import FigureProcess, InProcess, figure_drawer
+
+SAMPLE = ROOT / "sample_scans" / "asphalt.x3p"
+PNGS = ("heightmap.png", "psd2d.png", "psd.png", "mu.png")
+
+CHILD = """
+import sys
+from pipelines.cli import main
+rc = main(["analyse", {sample!r}, "--out", {out!r}])
+print("matplotlib in parent:", "matplotlib" in sys.modules, "rc:", rc)
+"""
+
+
+def _analyse(out, switch):
+    env = dict(os.environ, PYTHONPATH=str(ROOT), ROADSCAN_FIGURE_PROCESS=switch)
+    r = subprocess.run([sys.executable, "-c", CHILD.format(sample=str(SAMPLE), out=str(out))],
+                       env=env, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the helper runs only with two cores or more")
+def test_analyse_draws_in_a_helper_with_identical_pngs(tmp_path):
+    helped = _analyse(tmp_path / "helper", "1")
+    local = _analyse(tmp_path / "local", "0")
+    assert "matplotlib in parent: False rc: 0" in helped       # the parent never drew
+    assert "matplotlib in parent: True rc: 0" in local
+    for name in PNGS + ("summary.json", "mu.csv", "psd.csv"):
+        assert (tmp_path / "helper" / name).read_bytes() == (tmp_path / "local" / name).read_bytes(), name
+    html = (tmp_path / "helper" / "report.html").read_text()
+    assert html == (tmp_path / "local" / "report.html").read_text()
+
+
+def test_results_in_order_and_a_dead_helper_falls_back():
+    with FigureProcess() as d:
+        d.submit(math.hypot, 3, 4)
+        d.submit(math.hypot, 5, 12)
+        assert d.collect() == [5.0, 13.0]
+        d.submit(math.hypot, 8, 15)
+        d._proc.kill()
+        d._proc.wait()
+        d.submit(math.hypot, 6, 8)          # cannot be sent: drawn here, after the pending one
+        assert d.collect() == [17.0, 10.0]
+
+
+def test_a_failure_in_the_helper_is_raised_here_as_itself():
+    with FigureProcess() as d:
+        d.submit(math.sqrt, -1.0)
+        with pytest.raises(ValueError, match="math domain error"):
+            d.collect()
+
+
+def test_discard_waits_and_forgets():
+    with FigureProcess() as d:
+        d.submit(math.hypot, 3, 4)
+        d.discard()
+        d.submit(math.hypot, 1, 0)
+        assert d.collect() == [1.0]
+
+
+def test_drawer_choice(monkeypatch):
+    monkeypatch.setenv("ROADSCAN_FIGURE_PROCESS", "0")
+    assert type(figure_drawer(True)) is InProcess
+    monkeypatch.setenv("ROADSCAN_FIGURE_PROCESS", "1")
+    assert type(figure_drawer(False)) is InProcess
