@@ -20,9 +20,9 @@ grid spacing [m]              [1e-9, 1] (warned outside [1e-7, 1e-2])
 grid size                     fewer than 8 points along a side of an area, or fewer than
                               16 measured points, or under 1 % of the points measured
 rms height [m] (synth)        outside [1e-12, 1e3] (not representable / not a road)
-heights [m]                   all equal (no roughness); any |h - median| above 1e4 x the
-                              robust spread (a spike of another scale; refused naming the
-                              value, unless it is under 1 m); |h| >= 1e3 m
+heights [m]                   all equal, to 12 digits (no roughness); any |h - median|
+                              above 1e4 x the robust spread (a spike of another scale;
+                              refused naming the value, unless it is under 1 m); |h| >= 1e3 m
 nominal pressure sigma0 [Pa]  (0, 1e9]
 Poisson ratio nu              [0, 0.5]
 temperature T [C]             below -273.15, or within 5 K above the rubber's WLF pole
@@ -212,29 +212,52 @@ def check_heights(heights_m, path=None, unmeasured=None, area=True):
                                f"(need at least {MIN_SIDE} points along each side)")
     if not area and h.size < 2 * MIN_SIDE:
         raise InputError(path, f"profile of {h.size} points is too short (need {2 * MIN_SIDE})")
-    ok = np.isfinite(h)
-    if unmeasured is not None:
-        ok &= ~np.asarray(unmeasured, dtype=bool)
-    n_ok = int(np.count_nonzero(ok))
+    n_ok, lo, hi = _measured_range(h, unmeasured)
     if n_ok < MIN_MEASURED or n_ok < MIN_MEASURED_FRACTION * h.size:
         raise InputError(path, f"only {n_ok} of {h.size} points are measured (need at least "
                                f"{max(MIN_MEASURED, int(np.ceil(MIN_MEASURED_FRACTION * h.size)))})")
-    vals = h[ok]
-    top = float(np.max(np.abs(vals)))
+    top = max(abs(lo), abs(hi))
     if top >= MAX_ABS_HEIGHT_M:
         raise InputError(path, f"height {top:.3g} m is implausible for a road scan (units? spike?)")
-    med = float(np.median(vals))
-    mad = float(np.median(np.abs(vals - med)))
-    if mad == 0.0:
-        spread = float(np.max(vals) - np.min(vals))
-        if spread <= 1e-12 * max(abs(med), 1e-300) or spread == 0.0:
-            raise InputError(path, f"all measured heights are equal ({med:.6g}): a flat grid has no "
-                                   f"roughness")
+    spread = hi - lo
+    if spread == 0.0 or spread <= 1e-12 * top:
+        raise InputError(path, f"all measured heights are equal ({0.5 * (lo + hi):.6g}): a flat grid "
+                               f"has no roughness")
+    if spread <= 1.0:     # no point can lie more than 1 m from the median: no spike to look for
         return
-    far = float(np.max(np.abs(vals - med)))
-    if far > SPIKE_FACTOR * 1.4826 * mad and far > 1.0:
-        raise InputError(path, f"height {med + far:.3g} m lies {far / (1.4826 * mad):.3g} robust "
-                               f"spreads from the median: an implausible spike (mark it unmeasured)")
+    ok = np.isfinite(h)
+    if unmeasured is not None:
+        ok &= ~np.asarray(unmeasured, dtype=bool)
+    vals = h[ok]
+    med = float(np.median(vals))
+    dev = np.abs(vals - med)
+    mad = float(np.median(dev))
+    far = float(np.max(dev))
+    if far > 1.0 and far > SPIKE_FACTOR * 1.4826 * mad:
+        spreads = f"{far / (1.4826 * mad):.3g} robust spreads" if mad else \
+            f"{far:.3g} m (most heights are equal)"
+        raise InputError(path, f"height {med + far:.3g} m lies {spreads} from the median: an "
+                               f"implausible spike (mark it unmeasured)")
+
+
+def _measured_range(h, unmeasured=None, chunk_bytes=4 << 20):
+    """(number, min, max) of the finite heights not marked ``unmeasured``, band by band of rows
+    (no copy of the measured points: the memory is one band's)."""
+    h2 = h.reshape(1, -1) if h.ndim == 1 else h.reshape(h.shape[0], -1)
+    m2 = None if unmeasured is None else np.asarray(unmeasured, dtype=bool).reshape(h2.shape)
+    step = max(1, chunk_bytes // (8 * max(h2.shape[1], 1)))
+    n, lo, hi = 0, np.inf, -np.inf
+    for r in range(0, h2.shape[0], step):
+        band = h2[r:r + step]
+        ok = np.isfinite(band)
+        if m2 is not None:
+            ok &= ~m2[r:r + step]
+        k = int(np.count_nonzero(ok))
+        if k:
+            n += k
+            lo = min(lo, float(np.min(band, where=ok, initial=np.inf)))
+            hi = max(hi, float(np.max(band, where=ok, initial=-np.inf)))
+    return n, lo, hi
 
 
 def check_scan(obj, path=None):

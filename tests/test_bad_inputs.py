@@ -325,3 +325,32 @@ def test_undefined_slopes_are_null_with_a_warning(monkeypatch, capsys, tmp_path)
     assert np.isfinite(s["roughness"]["Sq_m"])
     assert any("Sdq, Sdr undefined" in w for w in s["warnings"])
     assert "Sdq, Sdr undefined" in err
+
+
+def test_check_heights_flat_and_spike_rules_without_copying():
+    """The plausibility rules of check_heights (issue 14), now read band by band: a grid equal
+    to 12 digits is flat; a 1.5 m spike on a grid whose heights are mostly equal is refused
+    (its robust spread is 0); an ordinary rough grid passes; unmeasured points are ignored."""
+    from pipelines.validate import _measured_range, check_heights
+    from roadscan.errors import InputError
+
+    rng = np.random.default_rng(3)
+    rough = rng.normal(0, 1e-4, (300, 200))
+    check_heights(rough)
+    with pytest.raises(InputError, match="flat grid"):
+        check_heights(np.full((64, 64), 0.25) + 1e-15 * rng.random((64, 64)))
+    spiky = np.zeros((64, 64))
+    spiky[10, 10] = 1.5
+    with pytest.raises(InputError, match="implausible spike"):
+        check_heights(spiky)
+    masked = np.zeros((64, 64), dtype=bool)
+    masked[10, 10] = True
+    spiky[20:30] = rng.normal(0, 1e-4, (10, 64))
+    check_heights(spiky, unmeasured=masked)                 # the spike is marked unmeasured
+    h = rough.copy()
+    h[5, 7], h[9, 9] = np.nan, 7.0
+    m = np.zeros(h.shape, dtype=bool)
+    m[9, 9] = True
+    n, lo, hi = _measured_range(h, m, chunk_bytes=8 * 200 * 7)          # bands of 7 rows
+    ref = h[np.isfinite(h) & ~m]
+    assert (n, lo, hi) == (ref.size, ref.min(), ref.max())
