@@ -413,3 +413,18 @@ def test_xyz_units_apply_to_heights_only(tmp_path):
     assert (m.dx_m, m.dy_m) == pytest.approx((2e-4, 3e-4))
     assert (ref.dx_m, ref.dy_m) == pytest.approx((2e-4, 3e-4))
     np.testing.assert_allclose(m.heights_m, ref.heights_m * 1e-6)
+
+
+def test_npy_units_scaled_without_changing_the_file(tmp_path):
+    """read_npy scales in place (one array, issue 14): float and integer files, any unit."""
+    from roadscan.io import read
+
+    f64 = np.arange(120.0).reshape(10, 12) - 30.5
+    i16 = (np.arange(120) - 60).astype(np.int16).reshape(10, 12)
+    for name, a in (("f.npy", f64), ("i.npy", i16)):
+        np.save(tmp_path / name, a)
+        for units, k in (("um", 1e-6), ("mm", 1e-3), ("m", 1.0)):
+            hm = read(tmp_path / name, spacing=1e-5, units=units)
+            assert hm.heights_m.dtype == np.float64
+            np.testing.assert_array_equal(hm.heights_m, a.astype(np.float64) * k)
+        np.testing.assert_array_equal(np.load(tmp_path / name), a)

@@ -84,8 +84,19 @@ def read_npy(path, spacing=None, units=None):
         raise InputError(path, f"expected a 2D height array, got shape {arr.shape}")
     if sp is None:
         raise InputError(path, NO_SPACING)
-    return make_heightmap(path, arr.astype(np.float64) * factor, sp[0], sp[1],
+    return make_heightmap(path, _scaled_float64(arr, factor), sp[0], sp[1],
                           meta={"format": "npy", "units": units or "m"})
+
+
+def _scaled_float64(arr, factor):
+    """``arr`` (freshly loaded, owned here) as float64 heights [m] times ``factor``, in place
+    where it can be: one array of the scan's size, not three (issue 14)."""
+    h = arr.astype(np.float64, copy=False)
+    if factor != 1.0:
+        if h is arr and not arr.flags.writeable:
+            return h * factor
+        h *= factor
+    return h
 
 
 @register_reader(".npz")
@@ -122,7 +133,7 @@ def read_npz(path, spacing=None, units=None):
         dy = dx
     if dx is None or dy is None:
         raise InputError(path, NO_SPACING)
-    return make_heightmap(path, h.astype(np.float64) * factor, dx, dy, unmeasured=unmeasured, meta=meta)
+    return make_heightmap(path, _scaled_float64(h, factor), dx, dy, unmeasured=unmeasured, meta=meta)
 
 
 def _check_npz_members(path):
