@@ -5,7 +5,8 @@ waits for it (issue 13): at most 1.5 s with its four PNGs and report.html, at mo
 Each case runs the installed entry point's code (``from pipelines.cli import main``) in a fresh
 interpreter, interleaved with a ``python -c 'import numpy'`` reference so that background load
 hits them alike; printed: best wall time of N, best CPU time (user + system of the child, which
-load inflates less than wall time), and the machine's load average. ``--phases`` adds where the
+load inflates less than wall time; with figures, the figure helper process that the command
+starts and does not wait for is not counted), and the machine's load average. ``--phases`` adds where the
 time goes, measured in one fresh process step by step: imports, reading, the metrology chain,
 friction, each figure.
 
@@ -90,6 +91,8 @@ def main(argv=None):
         print(f"roadscan analyse {SAMPLE.name} (1088 x 978), fresh interpreter each, best of {n}")
         print(f"machine: {os.cpu_count()} CPUs, load average {load0[0]:.2f} before, {load1[0]:.2f} after "
               f"(wall times grow with load; CPU times much less)")
+        print("(cpu s: the command's own process; the PNGs are drawn by a helper process it does "
+              "not wait for, whose CPU time is not counted)")
         print(f"{'case':14s} {'wall s':>8s} {'cpu s':>8s} {'goal s':>7s}")
         for name, ts in times.items():
             wall, cpu = min(t[0] for t in ts), min(t[1] for t in ts)

@@ -131,8 +131,12 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
             drawer.submit(report.draw_heightmap, report.heightmap_picture(levelled),
                           out_dir / "heightmap.png", title=f"{obj.name}: levelled heights")
 
+    def draw_psd2d(spec2d):               # and the 2D spectrum while the fit is made
+        if figures:
+            drawer.submit(draw_psd2d_figure, psd2d_picture(spec2d), out_dir / "psd2d.png", obj.name)
+
     an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
-                         mpd_settings=mpd_settings, on_levelled=draw_map)
+                         mpd_settings=mpd_settings, on_levelled=draw_map, on_spectrum2d=draw_psd2d)
     spec, fit = an.spectrum, an.fit
     validate.check_fit(fit, an.name)
 
@@ -192,16 +196,14 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
 
 
 def _figures(drawer, out_dir, an, fit, fr, spec, settings, summary):
-    """The PNGs of one scan after its height map (skipped by ``roadscan batch`` without
-    ``--figures``), submitted to ``drawer`` in the report's order."""
+    """The PNGs of one scan after its height map and 2D spectrum (skipped by ``roadscan batch``
+    without ``--figures``), submitted to ``drawer`` in the report's order."""
     if an.is_profile:
         q1d, c1d = an.psd1d
         keep = (q1d > 0) & (c1d > 0)
         drawer.submit(report.plot_profile, an.levelled, out_dir / "profile.png",
                       title=f"{an.name}: levelled profile")
         drawer.submit(_plot_psd1d, q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name)
-    else:
-        drawer.submit(draw_psd2d, psd2d_picture(an.spec2d), out_dir / "psd2d.png", an.name)
     lo, hi = fit.fit_band_per_m
     q_top = max(hi, settings.q1_per_m or 0.0) if settings.enabled else hi
     qf = np.geomspace(lo, q_top, 60)
@@ -234,7 +236,7 @@ def _plot_psd1d(q, C1, path, name):
 
 
 def psd2d_picture(spec2d, zoom=4):
-    """The part of the 2D PSD :func:`draw_psd2d` shows: |q| up to Nyquist / ``zoom``, where
+    """The part of the 2D PSD :func:`draw_psd2d_figure` shows: |q| up to Nyquist / ``zoom``, where
     anisotropy shows (only this part of the map is built) -> (qx, qy, C, qlim)."""
     qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
     qlim = min(np.abs(qx).max(), np.abs(qy).max()) / zoom
@@ -242,7 +244,7 @@ def psd2d_picture(spec2d, zoom=4):
     return qxs, qys, C, qlim
 
 
-def draw_psd2d(picture, path, name):
+def draw_psd2d_figure(picture, path, name):
     """log10 C(qx, qy) around the origin, from :func:`psd2d_picture`."""
     plt = report.pyplot()
 
@@ -263,7 +265,7 @@ def draw_psd2d(picture, path, name):
 
 def _plot_psd2d(spec2d, path, name, zoom=4):
     """log10 C(qx, qy) around the origin (|q| up to Nyquist / zoom, where anisotropy shows)."""
-    return draw_psd2d(psd2d_picture(spec2d, zoom), path, name)
+    return draw_psd2d_figure(psd2d_picture(spec2d, zoom), path, name)
 
 
 def _write_report(out_dir, an, summary, figs):

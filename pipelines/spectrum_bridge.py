@@ -72,12 +72,14 @@ def spectrum_of(obj, window_alpha=0.25):
 
 
 def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_band=None,
-                    mpd_settings=None, on_levelled=None):
+                    mpd_settings=None, on_levelled=None, on_spectrum2d=None):
     """Run the metrology chain on a HeightMap or Profile (see module docstring).
 
     ``mpd_settings`` overrides :data:`roadscan.roughness.MPD_SETTINGS` (e.g. ``spike_alpha``).
     ``on_levelled(levelled)``, when given, is called as soon as the levelled scan exists, before
-    the spectrum (``roadscan analyse`` hands the height map to its figure process there).
+    the spectrum (``roadscan analyse`` hands the height map to its figure process there), and
+    ``on_spectrum2d(spec2d)`` as soon as a map's 2D spectrum exists (before the fit and the
+    anisotropy).
     """
     from roadscan import fit as fitmod
     from roadscan import inpaint, level, roughness
@@ -118,6 +120,8 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
         fill = (values, dict(levelled.meta, fill_method="biharmonic", filled_fraction=filled_fraction))
         spec, spec2d = psd_area(levelled, window_alpha=window_alpha, fill_values=values)
         psd1d = None
+        if on_spectrum2d is not None:
+            on_spectrum2d(spec2d)
     fit = fitmod.fit_self_affine(spec, band=fit_band)
     aniso = anisotropy(spec2d) if spec2d is not None else None
     return SurfaceAnalysis(obj, levelled, fill, float(filled_fraction), spec, spec2d, psd1d,
