@@ -142,12 +142,21 @@ class FigureProcess(InProcess):
         super().close()
 
 
+_started = []       # helpers started by this process
+
+
 def figure_drawer(figures=True):
-    """A :class:`FigureProcess` where it pays (figures wanted, two cores or more, matplotlib
-    not yet imported here, not switched off by ``ROADSCAN_FIGURE_PROCESS=0``), else
-    :class:`InProcess`."""
+    """A :class:`FigureProcess` where it pays, else :class:`InProcess`.
+
+    It pays for a one-shot command: figures wanted, two cores or more, matplotlib not yet
+    imported here, no helper started before by this process (a program that runs ``roadscan``
+    commands one after another through :func:`pipelines.cli.main` pays matplotlib's import once,
+    on its second command, instead of a new helper each time), and not switched off by
+    ``ROADSCAN_FIGURE_PROCESS=0``.
+    """
     if (figures and (os.cpu_count() or 1) >= 2 and "matplotlib.pyplot" not in sys.modules
-            and os.environ.get(ENV_SWITCH, "1") != "0"):
+            and not _started and os.environ.get(ENV_SWITCH, "1") != "0"):
+        _started.append(os.getpid())
         return FigureProcess()
     return InProcess()
 

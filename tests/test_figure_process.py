@@ -73,3 +73,19 @@ def test_drawer_choice(monkeypatch):
     assert type(figure_drawer(True)) is InProcess
     monkeypatch.setenv("ROADSCAN_FIGURE_PROCESS", "1")
     assert type(figure_drawer(False)) is InProcess
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the helper runs only with two cores or more")
+def test_one_helper_per_process(monkeypatch):
+    """Commands run one after another in one process start at most one helper."""
+    import pipelines.figure_process as fp
+
+    monkeypatch.setenv("ROADSCAN_FIGURE_PROCESS", "1")
+    monkeypatch.setattr(fp, "_started", [])
+    monkeypatch.delitem(sys.modules, "matplotlib.pyplot", raising=False)
+    first = fp.figure_drawer(True)
+    try:
+        assert type(first) is FigureProcess
+        assert type(fp.figure_drawer(True)) is InProcess
+    finally:
+        first.close()
