@@ -6,6 +6,11 @@ scikit-image ``inpaint_biharmonic`` (one global sparse solve, ``split_into_regio
 OpenCV Navier-Stokes ``cv2.inpaint(..., INPAINT_NS)`` 0.04 s, rms error 0.053; OpenCV Telea
 0.2 s with errors as large as the surface's rms on float32 data, so it is not offered.
 Biharmonic is the default; ``"ns"`` is the fast alternative. Profiles are filled by linear interpolation (ends held at the nearest measured value).
+
+The biharmonic system is scikit-image's. Maps of up to :data:`DIRECT_MAX_POINTS` points solve it
+with :mod:`roadscan._biharmonic` (numpy dense blocks per dropout cluster; no scipy import, which
+took a third of ``roadscan analyse``'s time on the sample), larger maps with scikit-image's
+sparse solve band by band; both equal one global ``inpaint_biharmonic`` to round-off (tests).
 """
 from __future__ import annotations
 
@@ -26,6 +31,10 @@ def _fill_profile(h, bad):
 
 #: rows per band of the banded biharmonic fill (bands grow to hold whole dropout clusters)
 _BAND_ROWS = 256
+#: maps up to this many points are filled by :mod:`roadscan._biharmonic` (numpy only, the same
+#: system as scikit-image's to 1e-13); larger ones by scikit-image band by band, whose sparse
+#: solve scales better with many large dropout clusters
+DIRECT_MAX_POINTS = 1 << 22
 
 
 def _measured_stats(h, bad):
@@ -140,6 +149,10 @@ def _map_values(h, bad, method):
     if method not in METHODS:
         raise ValueError(f"unknown fill method {method!r}; choose one of {METHODS}")
     if method == "biharmonic":
+        if h.size <= DIRECT_MAX_POINTS:
+            from ._biharmonic import biharmonic_fill_values
+
+            return biharmonic_fill_values(h, bad, _measured_stats(h, bad))
         values = np.empty(int(np.count_nonzero(bad)))
         if _biharmonic_banded(h, bad, values):
             return values

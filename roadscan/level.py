@@ -7,7 +7,6 @@ unmeasured in the result.
 from __future__ import annotations
 
 import numpy as np
-from scipy import ndimage
 
 from .heightmap import HeightMap, Profile
 
@@ -184,6 +183,8 @@ def _nearest_filled(h, bad):
     """Heights with each unmeasured point replaced by its nearest measured neighbour."""
     if not bad.any():
         return h
+    from scipy import ndimage
+
     idx = np.empty((bad.ndim,) + bad.shape, dtype=np.int32)        # scipy's own index type
     ndimage.distance_transform_edt(bad, return_distances=False, return_indices=True, indices=idx)
     out = h.copy()
@@ -216,6 +217,8 @@ def remove_spikes(obj, threshold=6.0, size=3):
     if not isinstance(obj, (HeightMap, Profile)):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
     h, bad = obj.heights_m, obj.unmeasured
+    from scipy import ndimage
+
     hf = _nearest_filled(h, bad)
     dev = ndimage.median_filter(hf, size=size, mode="nearest")
     np.subtract(hf, dev, out=dev)                                   # h - local median

@@ -106,11 +106,16 @@ def _global_biharmonic(h, bad):
     return np.where(bad, inpaint_biharmonic(np.where(bad, ref, h) - ref, bad) + ref, h)
 
 
-def test_banded_fill_equals_one_global_solve():
-    """fill_unmeasured solves the biharmonic system band by band (issue 14: memory); it must
-    equal one global solve: clusters crossing bands, dropouts on every edge, and a bowl whose
+@pytest.mark.parametrize("direct_max", [1 << 22, 0], ids=["numpy-direct", "skimage-banded"])
+def test_banded_fill_equals_one_global_solve(direct_max, monkeypatch):
+    """fill_unmeasured solves the biharmonic system per dropout cluster with numpy (maps up to
+    4 Mpx) or with scikit-image band by band (issue 14: memory); both must equal one global
+    scikit-image solve: clusters crossing bands, dropouts on every edge, and a bowl whose
     filled bottom lies below every measured height of its band but above the map's minimum
     (the global clip range must be used, not the band's)."""
+    import roadscan.inpaint as inpaint_mod
+
+    monkeypatch.setattr(inpaint_mod, "DIRECT_MAX_POINTS", direct_max)
     ny, nx = 700, 48
     y, x = np.mgrid[0:ny, 0:nx].astype(float)
     h = 1e-6 * np.sin(x / 7.0) * np.cos(y / 11.0)
@@ -134,3 +139,27 @@ def test_banded_fill_equals_one_global_solve():
     g = h[:60, :40]
     f2, _ = fill_unmeasured(HeightMap(g, 1e-4, 1e-4, unmeasured=dense))
     assert np.allclose(f2.heights_m, _global_biharmonic(g, dense), rtol=0, atol=1e-12 * np.ptp(g))
+
+
+def test_direct_biharmonic_equals_scikit_image_on_random_masks():
+    """roadscan._biharmonic against one global scikit-image solve on random maps: scattered
+    dropouts, blocks, rows with gaps inside a cluster, points at every edge and corner, and
+    clusters above and below the batched-solve size."""
+    from roadscan._biharmonic import SMALL, _clusters, biharmonic_fill_values
+
+    rng = np.random.default_rng(11)
+    sizes = []
+    for _ in range(25):
+        ny, nx = (int(v) for v in rng.integers(12, 90, 2))
+        g = rng.normal(size=(ny, nx)).cumsum(0).cumsum(1) * 1e-4
+        m = rng.random((ny, nx)) < rng.uniform(0.01, 0.3)
+        m[rng.integers(0, ny, 3)[:, None], np.arange(nx)[None, :5]] = True
+        m[:2, rng.integers(0, nx)] = True
+        m[-1, -1] = m[0, 0] = True
+        y0, x0 = rng.integers(0, ny - 8), rng.integers(0, nx - 9)
+        m[y0:y0 + rng.integers(2, 8), x0:x0 + rng.integers(2, 9)] = True
+        m[y0 + 1, :] |= rng.random(nx) < 0.5
+        sizes.append(np.bincount(_clusters(m)).max())       # the largest cluster
+        mine = biharmonic_fill_values(np.where(m, np.nan, g), m)
+        assert np.allclose(mine, _global_biharmonic(g, m)[m], rtol=0, atol=1e-12 * np.ptp(g[~m]))
+    assert min(sizes) <= SMALL < max(sizes)                 # both solvers exercised
