@@ -28,7 +28,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-import scipy.fft as sfft
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
@@ -46,8 +45,8 @@ def make_floor(hm, window_alpha=0.25, rings_per_decade=20):
     ny, nx = hm.shape
     dx, dy = hm.dx_m, hm.dy_m
     W, w2 = sp.window_2d(ny, nx, window_alpha)
-    qx = 2 * np.pi * sfft.rfftfreq(nx, dx)
-    qy = 2 * np.pi * sfft.fftfreq(ny, dy)
+    qx = 2 * np.pi * np.fft.rfftfreq(nx, dx)
+    qy = 2 * np.pi * np.fft.fftfreq(ny, dy)
     q_min, q_max = 2 * np.pi / max(nx * dx, ny * dy), np.pi / max(dx, dy)
     edges = sp._ring_edges(q_min, q_max, rings_per_decade)
     n = edges.size - 1
@@ -55,9 +54,10 @@ def make_floor(hm, window_alpha=0.25, rings_per_decade=20):
     ring[ring < 0] = n                                  # the spare bin
     scale = (dx * dy) ** 2 / ((2 * np.pi) ** 2 * nx * dx * ny * dy * w2)
     h = hm.heights_m
+    fft = sp.fft_backend(h.size)                       # the FFT psd_area uses for this size
 
     def floor():
-        F = sfft.rfft2(h * W, workers=sp._WORKERS)
+        F = fft.rfft2(h * W)
         P = F.real**2 + F.imag**2
         return np.bincount(ring, weights=P.ravel(), minlength=n + 1)[:n] * scale
 
@@ -89,7 +89,8 @@ def main(argv=None):
     ap.add_argument("--sizes", default="512,1024,2048,4096")
     args = ap.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",")]
-    print(f"psd_area against the same-FFT floor (scipy.fft workers={sp._WORKERS}, float64, "
+    print(f"psd_area against the same-FFT floor (psd_area's own FFT for each size: numpy.fft up to "
+          f"{sp.NUMPY_FFT_MAX_POINTS} points, scipy.fft workers={sp._WORKERS} above; float64, "
           "window and ring index cached); best of N interleaved, median in brackets")
     print(f"{'size':>6} {'N':>3} {'floor ms':>16} {'psd_area ms':>16} {'ratio':>6} "
           f"{'level ms':>14} {'level/floor':>11}")

@@ -35,9 +35,9 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+import math
+
 import numpy as np
-import scipy.fft as sfft
-from scipy.special import gammaln
 
 from .heightmap import HeightMap, Profile
 from .level import row_chunks
@@ -50,6 +50,60 @@ __all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",
 NORMALISATION_2D = "C = (dx dy)^2 |FFT2(w h)|^2 / ((2 pi)^2 A <w^2>) [m^4] (Persson; DESIGN.md sec 2)"
 NORMALISATION_1D = "C1 = dx^2 |FFT(w h)|^2 / (2 pi L <w^2>) [m^3]; <h^2> = 2 int_0^inf C1 dq"
 _WORKERS = -1
+#: maps of up to this many points are transformed with numpy's FFT (pocketfft, one thread):
+#: importing ``scipy.fft`` took 0.28 s (scipy 1.17), more than the whole FFT of such a map;
+#: larger maps use ``scipy.fft`` (the same pocketfft) on every core
+NUMPY_FFT_MAX_POINTS = 1 << 22
+
+
+class _NumpyFFT:
+    """numpy.fft for small maps (no scipy import)."""
+
+    name = "numpy.fft"
+
+    @staticmethod
+    def rfft(x, axis=-1):
+        return np.fft.rfft(x, axis=axis)
+
+    @staticmethod
+    def fft(F, axis):
+        return np.fft.fft(F, axis=axis)
+
+    @staticmethod
+    def rfft2(x):
+        return np.fft.rfft2(x)
+
+
+class _ScipyFFT:
+    """scipy.fft with every core (``workers=-1``) for large maps."""
+
+    name = f"scipy.fft (workers={_WORKERS})"
+
+    @staticmethod
+    def rfft(x, axis=-1):
+        import scipy.fft as sfft
+
+        return sfft.rfft(x, axis=axis, workers=_WORKERS)
+
+    @staticmethod
+    def fft(F, axis):
+        import scipy.fft as sfft
+
+        return sfft.fft(F, axis=axis, overwrite_x=True, workers=_WORKERS)   # in place
+
+    @staticmethod
+    def rfft2(x):
+        import scipy.fft as sfft
+
+        return sfft.rfft2(x, workers=_WORKERS)
+
+
+def fft_backend(npoints):
+    """The FFT used for ``npoints`` samples: numpy's up to :data:`NUMPY_FFT_MAX_POINTS`,
+    scipy's with every core above (``.rfft(x, axis)``, ``.rfft2(x)``, ``.fft(F, axis)``, in place
+    for scipy);
+    :mod:`benchmarks.bench_psd` takes its floor from the same one."""
+    return _NumpyFFT if npoints <= NUMPY_FFT_MAX_POINTS else _ScipyFFT
 
 
 @lru_cache(maxsize=16)
@@ -101,7 +155,7 @@ def _ring_index(q, q_min, q_max, n_rings):
 def _half_qx(nx, dx):
     """qx [1/m] of the rfft half lattice's columns as they sit on the full lattice: the
     Nyquist column of an even nx is q_x = -pi/dx there (numpy's fftfreq), the others >= 0."""
-    return 2 * np.pi * sfft.fftfreq(nx, dx)[: nx // 2 + 1]
+    return 2 * np.pi * np.fft.fftfreq(nx, dx)[: nx // 2 + 1]
 
 
 def _mirror_columns(nx):
@@ -121,8 +175,8 @@ def _ring_runs(ny, nx, dx, dy, q_min, q_max, n_rings):
     stored once (:func:`_mirror_columns`); ``count`` and ``qsum`` are the number of full-
     lattice points per ring and the sum of their |q|.
     """
-    qx = 2 * np.pi * sfft.rfftfreq(nx, dx)
-    qy = 2 * np.pi * sfft.fftfreq(ny, dy)
+    qx = 2 * np.pi * np.fft.rfftfreq(nx, dx)
+    qy = 2 * np.pi * np.fft.fftfreq(ny, dy)
     nxr = qx.size
     wcol = np.full(nxr, 2.0)
     wcol[list(_mirror_columns(nx))] = 1.0
@@ -182,8 +236,8 @@ def _half_psd(hm, window_alpha, fill_values=None):
     window where the window is not 1 (its tapered margins; each point by its row's and its
     column's weight, which equals h w to float64 round-off) and transformed along x (rfft);
     then one in-place complex FFT along y (a map of one band: ``rfft2`` of it). The same
-    transform as ``scipy.fft.rfft2`` (same
-    pocketfft, same workers), without a windowed copy of the whole map: the work memory is
+    transform as ``rfft2`` of :func:`fft_backend` (numpy's, or scipy's on every core for
+    large maps), without a windowed copy of the whole map: the work memory is
     the complex half spectrum plus a band, then |F|^2 (float64, half the heights' size).
     """
     ny, nx = hm.shape
@@ -192,6 +246,7 @@ def _half_psd(hm, window_alpha, fill_values=None):
     ry, rx = _taper_ranges(wy), _taper_ranges(wx)
     h, bad = hm.heights_m, hm.unmeasured
     bands = row_chunks(ny, nx, _FFT_BAND_BYTES)
+    fft = fft_backend(ny * nx)
     F = np.empty((ny, nx // 2 + 1), dtype=np.complex128) if len(bands) > 1 else None
     k = 0
     for sl in bands:
@@ -213,12 +268,12 @@ def _half_psd(hm, window_alpha, fill_values=None):
             if rx[1] < nx:
                 x[:, rx[1]:] *= wx[rx[1]:]
         if F is None:                                  # one band: the map itself
-            F = sfft.rfft2(x, workers=_WORKERS)
+            F = fft.rfft2(x)
         else:
-            F[sl] = sfft.rfft(x, axis=1, workers=_WORKERS)
+            F[sl] = fft.rfft(x, axis=1)
     del x
     if len(bands) > 1:
-        sfft.fft(F, axis=0, overwrite_x=True, workers=_WORKERS)      # in place
+        F = fft.fft(F, axis=0)
     P = np.empty(F.shape)
     for sl in row_chunks(*F.shape):
         f = F[sl]
@@ -237,8 +292,8 @@ def _meta_2d(hm, alpha, w2):
 
 
 def _spectrum2d(hm, P, scale, window_alpha, w2):
-    qx = sfft.fftshift(2 * np.pi * sfft.fftfreq(hm.nx, hm.dx_m))
-    qy = sfft.fftshift(2 * np.pi * sfft.fftfreq(hm.ny, hm.dy_m))
+    qx = np.fft.fftshift(2 * np.pi * np.fft.fftfreq(hm.nx, hm.dx_m))
+    qy = np.fft.fftshift(2 * np.pi * np.fft.fftfreq(hm.ny, hm.dy_m))
     return Spectrum2D(qx, qy, meta=_meta_2d(hm, window_alpha, w2),
                       half=HalfLattice(P, scale, hm.nx))
 
@@ -358,9 +413,14 @@ def psd_area(hm, window_alpha=0.25, rings_per_decade=20, q_min=None, q_max=None,
 
 # ----------------------------------------------------------------------------- profiles
 
+_lgamma = np.vectorize(math.lgamma, otypes=[float])
+
+
 def profile_to_area_factor(hurst):
     """Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)): C(q) = C1(q) / q times this (power law)."""
-    return np.exp(gammaln(1.0 + hurst) - gammaln(hurst + 0.5)) / np.sqrt(np.pi)
+    h = np.asarray(hurst, dtype=float)
+    out = np.exp(_lgamma(1.0 + h) - _lgamma(h + 0.5)) / np.sqrt(np.pi)
+    return float(out) if out.ndim == 0 else out
 
 
 def _profiles_array(profiles):
@@ -423,7 +483,7 @@ def psd_profile(profiles, window_alpha=0.25, hurst=None, rings_per_decade=20, de
     w = _tukey(n, float(window_alpha))
     w2 = float(np.mean(w**2))
     L = n * dx
-    F = sfft.rfft(h * w[None, :], axis=1, workers=_WORKERS)[:, 1:]
+    F = fft_backend(h.size).rfft(h * w[None, :], axis=1)[:, 1:]
     C1 = (np.abs(F) ** 2).mean(axis=0) * dx**2 / (2 * np.pi * L * w2)
     q = 2 * np.pi * np.arange(1, C1.size + 1) / L
     q_min, q_max = 2 * np.pi / L, np.pi / dx
@@ -517,7 +577,7 @@ def _sector_runs(ny, nx, dx, dy, q_min, q_max, n_rings, n_sectors):
     (cached per grid): ring of 10-per-decade rings as in :func:`anisotropy`, sector of the
     wave-vector direction in [0, 180) degrees; key = ring * n_sectors + sector, -1 outside
     [q_min, q_max]. Also the number of full-lattice points per key."""
-    qx, qy = _half_qx(nx, dx), 2 * np.pi * sfft.fftfreq(ny, dy)
+    qx, qy = _half_qx(nx, dx), 2 * np.pi * np.fft.fftfreq(ny, dy)
     nxr = qx.size
     wcol = np.full(nxr, 2.0)
     wcol[list(_mirror_columns(nx))] = 1.0
@@ -547,7 +607,7 @@ def _anisotropy_half(half, ny, dx, dy, q_min, q_max, rings_per_decade, n_sectors
     nx = half.nx
     n = _ring_edges(q_min, q_max, rings_per_decade).size - 1
     bands, cnt = _sector_runs(ny, nx, dx, dy, q_min, q_max, n, n_sectors)
-    qx, qy = _half_qx(nx, dx), 2 * np.pi * sfft.fftfreq(ny, dy)
+    qx, qy = _half_qx(nx, dx), 2 * np.pi * np.fft.fftfreq(ny, dy)
     nk = n * n_sectors
     sums = np.zeros((4, nk))
     P = half.P

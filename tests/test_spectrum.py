@@ -201,3 +201,25 @@ def test_psd_area_with_fill_values_equals_filled_map():
     assert np.allclose(m.C_m4, m_ref.C_m4, rtol=1e-12, atol=0)
     with pytest.raises(ValueError, match="fill_values"):
         psd_area(hm, fill_values=np.zeros(3))
+
+
+def test_numpy_and_scipy_fft_paths_agree(monkeypatch):
+    """psd_area and psd_profile use numpy's FFT for small data (no scipy import) and
+    scipy's on every core above NUMPY_FFT_MAX_POINTS: the same spectra to round-off, through
+    one band and through several (the in-place column FFT of scipy's path)."""
+    import roadscan.spectrum as sp
+    from roadscan.synth import self_affine_surface
+
+    hm = self_affine_surface(300, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=4)
+    assert sp.fft_backend(10).name == "numpy.fft" and "scipy" in sp.fft_backend(1 << 23).name
+    results = {}
+    for limit in (1 << 22, 0):
+        monkeypatch.setattr(sp, "NUMPY_FFT_MAX_POINTS", limit)
+        for band in (1 << 30, 1 << 14):                       # one band; 1 row ... bands
+            monkeypatch.setattr(sp, "_FFT_BAND_BYTES", band)
+            s, s2 = sp.psd_area(hm)
+            results[limit, band] = (s.C_m4, s2.half.P)
+    ref_C, ref_P = results[1 << 22, 1 << 30]
+    for C, P in results.values():
+        assert np.allclose(C, ref_C, rtol=1e-12, atol=0)
+        assert np.allclose(P, ref_P, rtol=1e-10, atol=1e-12 * ref_P.max())
