@@ -4,7 +4,8 @@ the same-FFT floor at 512^2, 1024^2, 2048^2 and 4096^2 (issue 13: at most 1.2x a
 The floor is the least any implementation of this step can do with the same transform, run in
 the same process on the same levelled heights, interleaved with roadscan (best of N each):
 
-    F = scipy.fft.rfft2(h * W, workers=W_)          # the same pocketfft, threads and dtype
+    F = rfft2(h * W)      # psd_area's own FFT for this size: numpy's up to 4 Mpx, scipy's
+                          # with every core above (the same pocketfft, threads and dtype)
     P = F.real**2 + F.imag**2
     C_ring = np.bincount(RING, weights=P.ravel())   # RING: cached ring index of every point
 
@@ -18,7 +19,17 @@ Also printed: ``level`` (plane fit and subtraction, a separate step) in millisec
 fraction of the floor, and, if SurfaceTopography is importable, its
 ``power_spectrum_from_area`` on the same heights (goal: slower than roadscan).
 
+Allocator: both sides allocate and free arrays of 1 to 130 MB on every call. glibc serves
+these from fresh ``mmap`` pages or from its heap depending on the history of earlier frees
+(its dynamic mmap and trim thresholds), so a candidate can pay 0.5 to 1 ms of page faults per
+call that the other, by the luck of its allocation order, does not (measured at 512^2:
+floor 3.2 ms, psd_area 4.3 ms; with the thresholds fixed, 1.9 and 2.0 ms). The benchmark
+therefore fixes them for the whole process (``mallopt``: mmap threshold 256 MiB, trim
+threshold 512 MiB) before measuring, the same for both; ``--default-malloc`` keeps glibc's
+defaults.
+
 Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_psd.py [--sizes 512,1024,2048,4096]
+[--default-malloc]
 """
 from __future__ import annotations
 
@@ -84,11 +95,29 @@ def check_same(hm):
     assert np.array_equal(s.count, a.count) and np.allclose(s.C_m4, a.C_m4, rtol=1e-10)
 
 
+def _fix_malloc():
+    """Fixed glibc mmap/trim thresholds for this process (see the module docstring)."""
+    import ctypes
+    import ctypes.util
+
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3
+        ok = libc.mallopt(M_MMAP_THRESHOLD, 256 << 20) and libc.mallopt(M_TRIM_THRESHOLD, 512 << 20)
+    except (OSError, AttributeError):
+        ok = 0
+    return ("glibc mmap threshold 256 MiB, trim threshold 512 MiB (same for floor and psd_area)"
+            if ok else "mallopt not available: the platform's defaults")
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="512,1024,2048,4096")
+    ap.add_argument("--default-malloc", action="store_true",
+                    help="keep glibc's dynamic mmap/trim thresholds (see the module docstring)")
     args = ap.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",")]
+    print("allocator:", "glibc defaults" if args.default_malloc else _fix_malloc())
     print(f"psd_area against the same-FFT floor (psd_area's own FFT for each size: numpy.fft up to "
           f"{sp.NUMPY_FFT_MAX_POINTS} points, scipy.fft workers={sp._WORKERS} above; float64, "
           "window and ring index cached); best of N interleaved, median in brackets")

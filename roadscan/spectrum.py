@@ -245,24 +245,27 @@ def _half_psd(hm, window_alpha, fill_values=None):
     wy, wx = _tukey(ny, float(window_alpha)), _tukey(nx, float(window_alpha))
     ry, rx = _taper_ranges(wy), _taper_ranges(wx)
     h, bad = hm.heights_m, hm.unmeasured
-    bands = row_chunks(ny, nx, _FFT_BAND_BYTES)
     fft = fft_backend(ny * nx)
+    # maps on numpy's FFT (up to 4 Mpx, 32 MiB) are done in one band: one rfft2, no copies
+    # of band spectra; larger maps band by band (the memory of issue 14)
+    bands = [slice(0, ny)] if fft is _NumpyFFT else row_chunks(ny, nx, _FFT_BAND_BYTES)
     F = np.empty((ny, nx // 2 + 1), dtype=np.complex128) if len(bands) > 1 else None
     k = 0
     for sl in bands:
-        x = h[sl].copy()
-        if fill_values is not None:
+        rows_tapered = ry is None or rx is None or sl.start < ry[0] or sl.stop > ry[1]
+        filled = fill_values is not None and bool(np.any(bad[sl]))
+        # the band's copy, times its rows' weights in the same pass when it can be
+        x = h[sl] * wy[sl, None] if rows_tapered and not filled else h[sl].copy()
+        if filled:
             b = bad[sl]
             m = int(np.count_nonzero(b))
-            if m:
-                x[b] = fill_values[k:k + m]
-                k += m
+            x[b] = fill_values[k:k + m]
+            k += m
+            if rows_tapered:
+                x *= wy[sl, None]
         if ry is None or rx is None:                   # e.g. the Hann window: every point
-            x *= wy[sl, None]
             x *= wx
         else:
-            if sl.start < ry[0] or sl.stop > ry[1]:
-                x *= wy[sl, None]
             if rx[0] > 0:
                 x[:, : rx[0]] *= wx[: rx[0]]
             if rx[1] < nx:
