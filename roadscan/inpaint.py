@@ -152,7 +152,10 @@ def _map_values(h, bad, method):
         if h.size <= DIRECT_MAX_POINTS:
             from ._biharmonic import biharmonic_fill_values
 
-            return biharmonic_fill_values(h, bad, _measured_stats(h, bad))
+            try:
+                return biharmonic_fill_values(h, bad, _measured_stats(h, bad))
+            except np.linalg.LinAlgError:     # a singular block: scikit-image's sparse LU
+                pass
         values = np.empty(int(np.count_nonzero(bad)))
         if _biharmonic_banded(h, bad, values):
             return values

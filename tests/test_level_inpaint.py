@@ -163,3 +163,20 @@ def test_direct_biharmonic_equals_scikit_image_on_random_masks():
         mine = biharmonic_fill_values(np.where(m, np.nan, g), m)
         assert np.allclose(mine, _global_biharmonic(g, m)[m], rtol=0, atol=1e-12 * np.ptp(g[~m]))
     assert min(sizes) <= SMALL < max(sizes)                 # both solvers exercised
+
+
+def test_direct_fill_falls_back_to_scikit_image_on_a_singular_block(monkeypatch):
+    import roadscan._biharmonic as bh
+
+    def singular(*a, **k):
+        raise np.linalg.LinAlgError("Singular matrix")
+
+    rng = np.random.default_rng(2)
+    h = rng.normal(size=(40, 50)).cumsum(0).cumsum(1) * 1e-5
+    bad = rng.random(h.shape) < 0.05
+    hm = HeightMap(h, 1e-4, 1e-4, unmeasured=bad)
+    direct, _ = fill_unmeasured(hm)
+    monkeypatch.setattr(bh, "biharmonic_fill_values", singular)
+    fallback, _ = fill_unmeasured(hm)
+    assert np.allclose(fallback.heights_m, direct.heights_m, rtol=0, atol=1e-12 * np.ptp(h))
+    assert np.allclose(fallback.heights_m, _global_biharmonic(h, bad), rtol=0, atol=1e-12 * np.ptp(h))
