@@ -28,8 +28,9 @@ Poisson ratio nu              [0, 0.5]
 temperature T [C]             below -273.15, or within 5 K above the rubber's WLF pole
                               (T_g - C2, or T_s - C2; -81.5 C for the thesis rubber),
                               or above 1000 C
-wave vectors q [1/m]          q1 not above the spectrum's q0 / lowest q; non-finite; any q above
-                              1e11 1/m (a wavelength below 0.1 nm, shorter than an atom)
+wave vectors q [1/m]          q1 not above the spectrum's q0 / lowest q; non-finite; any q
+                              (flag or PSD row) above 1e11 1/m (a wavelength below 0.1 nm,
+                              shorter than an atom) or below 1e-4 1/m (above 63 km)
 PSD C(q) [m^4]                any row with C <= 0 or non-finite (refused naming the row);
                               a log-log slope of the whole spectrum above +1 (rises with q:
                               not a surface; self-affine surfaces fall as q^-2(1+H))
@@ -66,6 +67,8 @@ SPIKE_FACTOR = 1e4
 MAX_ABS_HEIGHT_M = 1e3
 MIN_RMS_HEIGHT_M = 1e-12
 Q_MAX_PER_M = 1e11
+#: the longest wavelength a surface spectrum may reach: 2 pi / 1e-4 = 63 km (a survey line)
+Q_MIN_PER_M = 1e-4
 PRESSURE_RANGE_PA = (0.0, 1e9)
 POISSON_RANGE = (0.0, 0.5)
 WLF_POLE_MARGIN_K = 5.0
@@ -284,6 +287,11 @@ def check_psd_rows(q, C, path=None):
         i = int(np.argmax(bad))
         raise InputError(path, f"data row {i + 1}: q = {q[i]:g}, C = {C[i]:g}: need finite q > 0 "
                                f"and C > 0 ({int(bad.sum())} such row{'s' if bad.sum() > 1 else ''})")
+    out = (q < Q_MIN_PER_M) | (q > Q_MAX_PER_M)
+    if out.any():
+        i = int(np.argmax(out))
+        raise InputError(path, f"data row {i + 1}: q = {q[i]:g} 1/m is outside {Q_MIN_PER_M:g} .. "
+                               f"{Q_MAX_PER_M:g} 1/m (wavelengths 63 km .. 0.06 nm): units?")
 
 
 def check_psd_shape(q, C, path=None):
@@ -304,12 +312,14 @@ def check_psd_shape(q, C, path=None):
 
 
 def check_wave_vector(q_per_m, flag):
-    """A wave vector [1/m] given by a flag: finite, positive and at most 1e11 1/m (2 pi / q
-    above 0.06 nm: Persson's cut-offs stop at the atomic scale, about 1e10 1/m)."""
+    """A wave vector [1/m] given by a flag: finite, from 1e-4 1/m (2 pi / q = 63 km, longer
+    than any surveyed line) to 1e11 1/m (0.06 nm: Persson's cut-offs stop at the atomic scale,
+    about 1e10 1/m). Below, the self-affine C(q0) overflows (a fuzz finding: q0 = 2.2e-308)."""
     v = finite_number(q_per_m, flag)
-    if not 0 < v <= Q_MAX_PER_M:
-        raise InputError(None, f"{flag}{'' if flag.endswith('=') else ' '}{v:g} 1/m: must be a positive wave vector up to "
-                               f"{Q_MAX_PER_M:g} 1/m (a wavelength of 0.06 nm)")
+    if not Q_MIN_PER_M <= v <= Q_MAX_PER_M:
+        raise InputError(None, f"{flag}{'' if flag.endswith('=') else ' '}{v:g} 1/m: must be a wave vector from "
+                               f"{Q_MIN_PER_M:g} 1/m (a wavelength of 63 km) to {Q_MAX_PER_M:g} 1/m "
+                               f"(a wavelength of 0.06 nm)")
     return v
 
 

@@ -256,3 +256,20 @@ def test_diagnosis_never_prefers_unusable_parameters():
     c = d.candidates[0]
     assert np.isfinite(c.gap_train) and np.isfinite(c.gap_heldout) and np.all(np.isfinite(c.pred))
     assert c.gap_train <= d.baseline_gap_train + 1e-9
+
+
+def test_wave_vectors_far_below_any_surface_refused(tmp_path, capsys):
+    """fuzz_long finding: --self-affine q0=2.2e-308 was an OverflowError in the flash grid;
+    wave vectors below 1e-4 1/m (wavelengths above 63 km) are refused, in flags and PSD rows."""
+    from pipelines.cli import main
+
+    rc = main(["friction", "--self-affine", "H=0.5,h0=1e-5,q0=2.2e-308,q1=1e7", "--flash",
+               "--velocities", "1e-3:1:3", "--out", str(tmp_path / "mu.csv")])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and "q0=2.2e-308 1/m" in err and "\n" not in err
+    psd = tmp_path / "psd.csv"
+    psd.write_text("q_per_m,C_m4\n1e-9,1e-10\n1e3,1e-20\n1e4,1e-23\n")
+    rc = main(["friction", "--psd", str(psd), "--out", str(tmp_path / "mu2.csv")])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and "data row 1" in err and "\n" not in err
+    assert not (tmp_path / "mu.csv").exists() and not (tmp_path / "mu2.csv").exists()
