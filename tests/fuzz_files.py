@@ -610,8 +610,9 @@ def _edit_rows(draw, table, rng):
     col = int(rng.integers(1, len(t[0]))) if n and len(t[0]) > 1 else 0
     if not n:
         return t, edit
-    if edit == "negative":
-        t[i][col] = -abs(t[i][col])
+    if edit == "negative":                        # a cell may already be text (a generator's)
+        v = t[i][col]
+        t[i][col] = -abs(v) if isinstance(v, (int, float)) else f"-{v}"
     elif edit == "nan":
         t[i][col] = float("nan")
     elif edit == "zero":
