@@ -163,13 +163,24 @@ def read_master_curve_csv(path, units=None):
 
 
 def _temperature_C(names, urow, d, path):
+    """The temperature column [C] (C or K in the file); every value above absolute zero and at
+    most 1000 C (:data:`pipelines.validate.T_MAX_C`), else a one-line refusal naming the row."""
+    from .validate import KELVIN, T_MAX_C
+
     i = _col(names, _T_NAMES, path, "temperature")
     u = (urow[i] or "c").replace("°", "")
     if u in ("c", "degc", "deg_c", "celsius"):
-        return d[:, i]
-    if u in ("k", "kelvin"):
-        return d[:, i] - 273.15
-    raise InputError(path, f"temperature unit must be C or K, not {urow[i]!r}")
+        T = d[:, i]
+    elif u in ("k", "kelvin"):
+        T = d[:, i] - 273.15
+    else:
+        raise InputError(path, f"temperature unit must be C or K, not {urow[i]!r}")
+    bad = ~(np.isfinite(T) & (T > -KELVIN) & (T <= T_MAX_C))
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise InputError(path, f"data row {k + 1}: temperature {T[k]:g} C is not physical for a "
+                               f"rubber test (above absolute zero, at most {T_MAX_C:g} C)")
+    return T
 
 
 def read_shift_csv(path):

@@ -273,3 +273,20 @@ def test_wave_vectors_far_below_any_surface_refused(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert rc == 2 and "data row 1" in err and "\n" not in err
     assert not (tmp_path / "mu.csv").exists() and not (tmp_path / "mu2.csv").exists()
+
+
+def test_raw_sweep_temperatures_must_be_physical(tmp_path, capsys):
+    """fuzz_long finding: a raw DMA file with a sweep at 6.7e16 C was accepted (numpy overflow
+    warnings in the WLF fit); temperatures outside (-273.15, 1000] C are refused by row."""
+    from pipelines.cli import main
+
+    rows = ["f_Hz,E_stor_Pa,E_loss_Pa,T_C"]
+    for T in (0.0, 20.0, 6.7e16):
+        rows += [f"{f:g},{1e6 * (1 + f):g},{1e5 * (1 + f):g},{T:g}" for f in (0.1, 0.3, 1, 3, 10)]
+    raw = tmp_path / "raw.csv"
+    raw.write_text("\n".join(rows) + "\n")
+    rc = main(["rubber", "master", str(raw), "--reference-temperature", "20",
+               "--out", str(tmp_path / "r.toml")])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and "data row 11" in err and "6.7e+16 C" in err and "\n" not in err
+    assert not (tmp_path / "r.toml").exists()
