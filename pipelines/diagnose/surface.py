@@ -246,7 +246,8 @@ def run_surface(obj, out_dir, log=None, seed=0):
     ctx = descriptors(an, seed=seed, log=say)
     res = surface_search(ctx)
     verdict, best = res["verdict"], res["best"]
-    from .surface_whole import MIN_SHRINK_WHOLE, whole_height_check, whole_seams_check, whole_spectrum_check
+    from .surface_whole import (MIN_SHRINK_WHOLE, STRONG_P_WHOLE, whole_height_check, whole_seams_check,
+                                whole_spectrum_check)
 
     whole = whole_spectrum_check(an, ctx.whole_twins)
     wh = ctx.whole_height
@@ -274,7 +275,12 @@ def run_surface(obj, out_dir, log=None, seed=0):
             opts.append((fam_gap.get("seams", 0.0), whole_s["shrink"], "seams", "whole-scan line scores (two-fold over halves along the lines)",
                          f"straight line discontinuities: the line-score excess of one half of the scan predicts "
                          f"the other's and closes {whole_s['shrink']:.0%} of the gap (a seam crosses only some blocks)"))
-        opts = [o for o in opts if o[1] >= MIN_SHRINK_WHOLE]
+        # a spectral bend at the lowest rings (a roll-off within a few 2 pi / L) touches few of
+        # the held-out rings, so its held-out shrink is diluted by rings with nothing to explain:
+        # with a training likelihood ratio at p < STRONG_P_WHOLE, any held-out improvement counts
+        strong = (whole["significant"] and opts and opts[0][3].startswith("whole-scan spectrum")
+                  and w["p_value"] < STRONG_P_WHOLE and w["shrink"] > 0)
+        opts = [o for i, o in enumerate(opts) if o[1] >= MIN_SHRINK_WHOLE or (i == 0 and strong)]
         if opts:
             _, sh, name, ev, why = max(opts)
             verdict.update(effect=name, shrink=sh, shrink_interval=None, confidence="medium", evidence=ev,
