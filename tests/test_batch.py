@@ -282,3 +282,20 @@ def test_local_workers_keep_glibc_dynamic_mmap_threshold(monkeypatch):
         seen = list(client.run(os.environ.get, _TRIM_ENV).values())
     assert seen == [None]
     assert _TRIM_ENV not in os.environ       # nor leaked into this process by the nanny
+
+
+def test_event_loop_errors_are_not_printed_during_a_campaign(capfd):
+    """Dask logs errors of its own event-loop callbacks on 'tornado.application' (a NameError
+    traceback from distributed's sync cancel path on Ctrl-C at the wrong moment); a campaign
+    keeps them off stderr, and the level is restored afterwards."""
+    import logging
+
+    import distributed  # noqa: F401 - sets up Dask's logging (tornado.application: error)
+    from pipelines.campaign.runner import _quiet_event_loop
+
+    log = logging.getLogger("tornado.application")
+    before = log.level
+    with _quiet_event_loop():
+        log.error("Exception in callback: Traceback (most recent call last): NameError")
+    assert "NameError" not in capfd.readouterr().err
+    assert log.level == before

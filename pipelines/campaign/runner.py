@@ -83,6 +83,21 @@ _TRIM_KEY = "distributed.nanny.pre-spawn-environ." + _TRIM_ENV
 
 
 @contextlib.contextmanager
+def _quiet_event_loop():
+    """Errors that Dask's event loop logs from its own callbacks (``tornado.application``) are
+    not printed while a campaign runs: every scan's failure reaches us through its future, and
+    Ctrl-C at the wrong moment made distributed 2026.x log a NameError traceback from its
+    ``sync`` cancel path before our one-line "interrupted"."""
+    log = logging.getLogger("tornado.application")
+    level = log.level
+    log.setLevel(logging.CRITICAL)
+    try:
+        yield
+    finally:
+        log.setLevel(level)
+
+
+@contextlib.contextmanager
 def _client(workers=None, scheduler=None):
     import dask
     from distributed import Client, LocalCluster
@@ -198,7 +213,7 @@ def run_campaign(jobs, workers=None, scheduler=None, progress=None):
     try:
         if not scheduler:     # no idle processes: at most one worker per input to run
             workers = min(workers or default_workers(), len(todo))
-        with _client(workers, scheduler) as client:
+        with _quiet_event_loop(), _client(workers, scheduler) as client:
             res = _scan_resources(client)
             futures = {}
             for i in todo:
