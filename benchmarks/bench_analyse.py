@@ -48,7 +48,7 @@ from pipelines import analyse as A, report
 out = Path(sys.argv[2])
 report.pyplot(); mark("import matplotlib (first figure only)")
 report.plot_heightmap(an.levelled, out / "heightmap.png", title="levelled heights"); mark("heightmap.png")
-A._plot_psd2d(an.spec2d, out / "psd2d.png", "x"); mark("psd2d.png")
+A.draw_psd2d_figure(A.psd2d_picture(an.spec2d), out / "psd2d.png", "x"); mark("psd2d.png")
 report.plot_psd([("m", an.spectrum.q_per_m, an.spectrum.C_m4)], out / "psd.png"); mark("psd.png")
 report.plot_mu([("m", fr.v_m_per_s, fr.mu)], out / "mu.png"); mark("mu.png")
 """

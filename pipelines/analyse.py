@@ -263,11 +263,6 @@ def draw_psd2d_figure(picture, path, name):
     return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))
 
 
-def _plot_psd2d(spec2d, path, name, zoom=4):
-    """log10 C(qx, qy) around the origin (|q| up to Nyquist / zoom, where anisotropy shows)."""
-    return draw_psd2d_figure(psd2d_picture(spec2d, zoom), path, name)
-
-
 def _write_report(out_dir, an, summary, figs):
     rough = {k: v for k, v in summary["roughness"].items()}
     key = {

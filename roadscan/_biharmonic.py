@@ -56,16 +56,22 @@ def _edge_stencil(shape, center):
     return _edge_cache[key]
 
 
-def _clusters(bad):
-    """Cluster label (1..n) of every unmeasured point, raster order."""
-    import cv2
-
-    grown = bad.copy()                                  # dilation by the 4-neighbourhood
+def grow4(bad):
+    """``bad`` dilated by its 4-neighbourhood: two unmeasured points coupled by the stencil
+    (|dx| + |dy| <= 2) are then 8-connected (scikit-image's ``split_into_regions`` grouping)."""
+    grown = bad.copy()
     grown[1:] |= bad[:-1]
     grown[:-1] |= bad[1:]
     grown[:, 1:] |= bad[:, :-1]
     grown[:, :-1] |= bad[:, 1:]
-    _, labels = cv2.connectedComponents(grown.view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
+    return grown
+
+
+def _clusters(bad):
+    """Cluster label (1..n) of every unmeasured point, raster order."""
+    import cv2
+
+    _, labels = cv2.connectedComponents(grow4(bad).view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
     return labels[bad]
 
 
@@ -208,9 +214,9 @@ def biharmonic_fill_values(h, bad, stats=None):
     if pts.size == 0:
         return np.empty(0)
     if stats is None:
-        measured = h[~bad]
-        stats = (measured.mean(), measured.min(), measured.max())
-        del measured
+        from .inpaint import _measured_stats
+
+        stats = _measured_stats(h, bad)
     ref = float(stats[0])
     lo, hi = float(stats[1]) - ref, float(stats[2]) - ref
     lab = _clusters(bad)

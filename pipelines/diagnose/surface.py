@@ -260,27 +260,26 @@ def run_surface(obj, out_dir, log=None, seed=0):
         # the blocks (a smoothed texture also raises the line scores a little; its spectrum gap
         # is far larger), then the largest held-out shrink
         fam_gap = {f: d["gap_baseline"] for f, d in res["families"].items()}
-        opts = []
+        opts = []      # (family gap, held-out shrink, effect, evidence, why) of accepted checks
         if whole["significant"]:
             w = next(c for c in whole["candidates"] if c["p_value"] < 1e-3)
-            opts.append((fam_gap.get("spectrum", 0.0), w["shrink"], w["name"], "whole-scan spectrum (every third ring held out)",
-                         f"{w['name']} closes {w['shrink']:.0%} of the whole scan's spectral gap on held-out "
-                         "rings (the blocks lose the lowest wave vectors)"))
-        if whole_h["significant"]:
+            # a spectral bend at the lowest rings (a roll-off within a few 2 pi / L) touches few
+            # of the held-out rings, so its held-out shrink is diluted by rings with nothing to
+            # explain: with a training likelihood ratio at p < STRONG_P_WHOLE, any held-out
+            # improvement counts
+            if w["shrink"] >= MIN_SHRINK_WHOLE or (w["p_value"] < STRONG_P_WHOLE and w["shrink"] > 0):
+                opts.append((fam_gap.get("spectrum", 0.0), w["shrink"], w["name"], "whole-scan spectrum (every third ring held out)",
+                             f"{w['name']} closes {w['shrink']:.0%} of the whole scan's spectral gap on held-out "
+                             "rings (the blocks lose the lowest wave vectors)"))
+        if whole_h["significant"] and whole_h["shrink"] >= MIN_SHRINK_WHOLE:
             opts.append((fam_gap.get("height", 0.0), whole_h["shrink"], "height_skew", "whole-scan height law (curvature at lags 1 and 4 held out)",
                          f"a height law of skewness {whole_h['skewness']:.2f} (fitted to the whole scan's L-skewness "
                          f"of heights and curvature) closes {whole_h['shrink']:.0%} of the gap of the held-out "
                          "curvature lags (the height law shows unevenly from block to block)"))
-        if whole_s is not None and whole_s["significant"]:
+        if whole_s is not None and whole_s["significant"] and whole_s["shrink"] >= MIN_SHRINK_WHOLE:
             opts.append((fam_gap.get("seams", 0.0), whole_s["shrink"], "seams", "whole-scan line scores (two-fold over halves along the lines)",
                          f"straight line discontinuities: the line-score excess of one half of the scan predicts "
                          f"the other's and closes {whole_s['shrink']:.0%} of the gap (a seam crosses only some blocks)"))
-        # a spectral bend at the lowest rings (a roll-off within a few 2 pi / L) touches few of
-        # the held-out rings, so its held-out shrink is diluted by rings with nothing to explain:
-        # with a training likelihood ratio at p < STRONG_P_WHOLE, any held-out improvement counts
-        strong = (whole["significant"] and opts and opts[0][3].startswith("whole-scan spectrum")
-                  and w["p_value"] < STRONG_P_WHOLE and w["shrink"] > 0)
-        opts = [o for i, o in enumerate(opts) if o[1] >= MIN_SHRINK_WHOLE or (i == 0 and strong)]
         if opts:
             _, sh, name, ev, why = max(opts)
             verdict.update(effect=name, shrink=sh, shrink_interval=None, confidence="medium", evidence=ev,
