@@ -1,0 +1,164 @@
+"""The house rules of ARCHITECTURE.md, checked from the source (issue 23).
+
+* ``roadscan`` (metrology) and ``friction`` (the friction engine) import neither each other nor
+  ``pipelines``; ``pipelines`` may import both.
+* No import circle between modules of the three packages, ``benchmarks`` and ``sample_scans``
+  (imports inside functions count: a circle deferred to run time is still a circle in the design).
+* No module longer than 450 lines.
+
+The graph is built from the abstract syntax tree of every module, so the check needs no import
+and runs in a fraction of a second.
+"""
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("roadscan", "friction", "pipelines", "benchmarks", "sample_scans")
+FOUNDATIONS = ("roadscan", "friction")
+MAX_LINES = 450
+
+
+def _module_files(root=ROOT):
+    """Map dotted module name -> path for every module of the checked packages."""
+    found = {}
+    for top in PACKAGES:
+        for path in sorted((root / top).rglob("*.py")):
+            parts = path.relative_to(root).with_suffix("").parts
+            if any(p.startswith(".") or p == "__pycache__" for p in parts):
+                continue
+            if parts[-1] == "__init__":
+                parts = parts[:-1]
+            found[".".join(parts)] = path
+    return found
+
+
+def _resolve(name, modules):
+    """The longest known module that ``name`` (a module or an attribute of one) lies in."""
+    while name and name not in modules:
+        name = name.rpartition(".")[0]
+    return name or None
+
+
+def import_graph(modules):
+    """Directed graph {module: set of modules it imports}, relative imports resolved."""
+    graph = {}
+    for name, path in modules.items():
+        is_package = path.name == "__init__.py"
+        package = name if is_package else name.rpartition(".")[0]
+        targets = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Import):
+                wanted = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                if node.level:
+                    anchor = package.split(".")
+                    anchor = anchor[:len(anchor) - (node.level - 1)]
+                    base = ".".join(anchor + ([node.module] if node.module else []))
+                else:
+                    base = node.module or ""
+                wanted = [base] + [f"{base}.{alias.name}" for alias in node.names]
+            else:
+                continue
+            for w in wanted:
+                target = _resolve(w, modules)
+                # a package importing its own submodules, or a module its parent package,
+                # is the package's own structure, not an edge between concepts
+                if target and target != name and not target.startswith(name + ".") \
+                        and not name.startswith(target + "."):
+                    targets.add(target)
+        graph[name] = targets
+    return graph
+
+
+def strongly_connected(graph):
+    """Tarjan's algorithm, iterative: components with more than one module (the circles)."""
+    index, low, on_stack, stack, circles = {}, {}, set(), [], []
+    counter = 0
+    for start in graph:
+        if start in index:
+            continue
+        work = [(start, iter(sorted(graph[start])))]
+        index[start] = low[start] = counter
+        counter += 1
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            node, children = work[-1]
+            for child in children:
+                if child not in index:
+                    index[child] = low[child] = counter
+                    counter += 1
+                    stack.append(child)
+                    on_stack.add(child)
+                    work.append((child, iter(sorted(graph.get(child, ())))))
+                    break
+                if child in on_stack:
+                    low[node] = min(low[node], index[child])
+            else:
+                work.pop()
+                if work:
+                    parent = work[-1][0]
+                    low[parent] = min(low[parent], low[node])
+                if low[node] == index[node]:
+                    component = []
+                    while True:
+                        member = stack.pop()
+                        on_stack.discard(member)
+                        component.append(member)
+                        if member == node:
+                            break
+                    if len(component) > 1:
+                        circles.append(sorted(component))
+    return circles
+
+
+def layer_violations(graph):
+    """Edges from a foundation package into the other foundation or into pipelines."""
+    bad = []
+    for source, targets in graph.items():
+        top = source.split(".")[0]
+        if top not in FOUNDATIONS:
+            continue
+        for target in sorted(targets):
+            other = target.split(".")[0]
+            if other != top and other in FOUNDATIONS + ("pipelines",):
+                bad.append(f"{source} imports {target}")
+    return sorted(bad)
+
+
+@pytest.fixture(scope="module")
+def graph():
+    return import_graph(_module_files())
+
+
+def test_no_import_circle(graph):
+    assert strongly_connected(graph) == []
+
+
+def test_foundations_import_neither_each_other_nor_pipelines(graph):
+    assert layer_violations(graph) == []
+
+
+def test_no_module_over_450_lines():
+    long = {name: n for name, path in _module_files().items()
+            if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_LINES}
+    assert long == {}
+
+
+def test_the_checks_catch_what_they_guard_against(tmp_path):
+    # the checker itself on a small tree that breaks every rule once
+    (tmp_path / "roadscan").mkdir()
+    (tmp_path / "friction").mkdir()
+    (tmp_path / "pipelines").mkdir()
+    for pkg in ("roadscan", "friction", "pipelines"):
+        (tmp_path / pkg / "__init__.py").write_text("")
+    (tmp_path / "roadscan" / "a.py").write_text("from . import b\nimport friction.c\n")
+    (tmp_path / "roadscan" / "b.py").write_text("def f():\n    from .a import x\n")
+    (tmp_path / "friction" / "c.py").write_text("from pipelines import d\n")
+    (tmp_path / "pipelines" / "d.py").write_text("import numpy\n")
+    g = import_graph(_module_files(tmp_path))
+    assert strongly_connected(g) == [["roadscan.a", "roadscan.b"]]
+    assert layer_violations(g) == ["friction.c imports pipelines.d",
+                                   "roadscan.a imports friction.c"]
