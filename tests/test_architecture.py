@@ -58,7 +58,9 @@ def import_graph(modules):
                     base = ".".join(anchor + ([node.module] if node.module else []))
                 else:
                     base = node.module or ""
-                wanted = [base] + [f"{base}.{alias.name}" for alias in node.names]
+                # `from pkg import mod` is an edge to pkg.mod; `from mod import name` to mod
+                wanted = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
+                          for alias in node.names]
             else:
                 continue
             for w in wanted:
