@@ -25,6 +25,37 @@ def shared_data():
     return d / "data"
 
 
+IN_CI = os.environ.get("CI", "").lower() == "true"
+
+
+def need_vendor():
+    """SurfaceTopography for vendor formats: required in CI (the extra is installed there),
+    a skip elsewhere."""
+    if IN_CI:
+        import SurfaceTopography  # noqa: F401  (CI installs the extra: an ImportError fails)
+        return
+    pytest.importorskip("SurfaceTopography")
+
+
+@pytest.fixture(scope="session")
+def formats_dir():
+    """``shared/data/formats``: real instrument files with their ``expected.json``."""
+    need_vendor()
+    for cand in (SHARED, ROOT / "shared", Path("/work/shared")):
+        d = cand / "data" / "formats"
+        if (d / "expected.json").is_file():
+            return d
+    if IN_CI:
+        pytest.fail("shared/data/formats not found beside the checkout")
+    pytest.skip("shared/data/formats not found beside the checkout")
+
+
+def unit_fourier_surface(n, hurst=0.8, seed=0):
+    """Random-phase self-affine surface on an n x n grid of unit spacing, rms 1, mean 0."""
+    h = fourier_surface(n, 1.0, hurst, 1.0, seed=seed)
+    return h - h.mean()
+
+
 def fourier_surface(n, dx, hurst, rms, seed=0, q_roll=None):
     """A small independent random-phase self-affine surface for pipeline tests (not roadscan.synth)."""
     rng = np.random.default_rng(seed)

@@ -18,20 +18,6 @@ IN_CI = os.environ.get("CI", "").lower() == "true"
 FILES = ["plu-1.plu", "opd-1.opd", "sur-2.sur", "al3d-1.al3d"]
 
 
-@pytest.fixture(scope="module")
-def formats_dir():
-    if IN_CI:
-        import SurfaceTopography  # noqa: F401  (CI installs the vendor extra: no skip there)
-    else:
-        pytest.importorskip("SurfaceTopography")
-    for cand in (ROOT.parent / "shared", ROOT / "shared", Path("/work/shared")):
-        d = cand / "data" / "formats"
-        if (d / "expected.json").is_file():
-            return d
-    if IN_CI:
-        pytest.fail("shared/data/formats not found beside the checkout")
-    pytest.skip("shared/data/formats not found beside the checkout")
-
 
 @pytest.fixture(scope="module")
 def originals(formats_dir):

@@ -25,28 +25,14 @@ import pytest
 from roadscan.errors import InputError
 from roadscan.io import read
 
+from conftest import need_vendor
+
 ROOT = Path(__file__).resolve().parents[1]
 IN_CI = os.environ.get("CI", "").lower() == "true"
 FILES = ["plu-1.plu", "opd-1.opd", "sur-2.sur", "al3d-1.al3d"]
 
 
-def _need_vendor():
-    if IN_CI:
-        import SurfaceTopography  # noqa: F401  (CI installs the extra: an ImportError fails)
-        return
-    pytest.importorskip("SurfaceTopography")
 
-
-@pytest.fixture(scope="module")
-def formats_dir():
-    _need_vendor()
-    for cand in (ROOT.parent / "shared", ROOT / "shared", Path("/work/shared")):
-        d = cand / "data" / "formats"
-        if (d / "expected.json").is_file():
-            return d
-    if IN_CI:
-        pytest.fail("shared/data/formats not found beside the checkout")
-    pytest.skip("shared/data/formats not found beside the checkout")
 
 
 @pytest.fixture(scope="module")
@@ -84,7 +70,7 @@ def test_orientation_agrees_with_an_independent_array(tmp_path):
     written by SurfaceTopography as NetCDF (read through it) and as X3P (read by roadscan's own
     x3pio reader, despite the checksum SurfaceTopography's writer puts in the wrong place) comes
     back as its transpose, in metres, with the masked point unmeasured."""
-    _need_vendor()
+    need_vendor()
     from SurfaceTopography import Topography
 
     a = np.random.default_rng(0).normal(size=(7, 5))          # [x, y]: nx = 7, ny = 5
@@ -143,11 +129,11 @@ def test_spacing_and_units_options(formats_dir, maps):
 
 
 def test_size_limit_refuses_before_reading(formats_dir, monkeypatch):
-    from roadscan.io import _common, vendor
+    from roadscan.io import _common, vendor_channel
 
     monkeypatch.setattr(_common, "_MAX_PIXELS", 1000)
     called = []
-    monkeypatch.setattr(vendor, "_check_values", lambda *a: called.append(a))
+    monkeypatch.setattr(vendor_channel, "_check_values", lambda *a: called.append(a))
     with pytest.raises(InputError, match=r"declares 576 x 768 = .*--max-pixels") as ei:
         read(formats_dir / "plu-1.plu")
     assert "\n" not in str(ei.value) and not called
@@ -155,7 +141,7 @@ def test_size_limit_refuses_before_reading(formats_dir, monkeypatch):
 
 def test_extension_table_matches_installed_package():
     """Every extension SurfaceTopography reads is routed to it, except roadscan's own."""
-    _need_vendor()
+    need_vendor()
     import SurfaceTopography.IO as stio
 
     from roadscan.io import READERS, vendor
@@ -215,7 +201,7 @@ def _text_dat(path, rows):
 def test_text_dat_through_the_plain_text_reader(tmp_path):
     """A non-CAPTIF ``.dat`` goes to SurfaceTopography; a text matrix states no unit nor size,
     so both are asked for, then rows are y and columns x as in the file."""
-    _need_vendor()
+    need_vendor()
     rows = [[1, 2, 3, 4, 5], [6, 7, 8, 9, 10], [11, 12, 13, 14, 15]]
     p = _text_dat(tmp_path / "m.dat", rows)
     with pytest.raises(InputError, match=r"states no length unit: pass --units"):
@@ -233,7 +219,7 @@ def test_text_dat_through_the_plain_text_reader(tmp_path):
     ("3e15", r"heights reach 3e\+15 m: an unmasked invalid-point marker"),
 ])
 def test_values_no_instrument_writes_are_refused(tmp_path, bad, message):
-    _need_vendor()
+    need_vendor()
     p = _text_dat(tmp_path / "v.dat", [[1, 2, 3, 4], [5, bad, 7, 8], [9, 10, 11, 12]])
     with pytest.raises(InputError, match=message) as ei:
         read(p, spacing=1e-6, units="m")
@@ -241,7 +227,7 @@ def test_values_no_instrument_writes_are_refused(tmp_path, bad, message):
 
 
 def test_nan_in_text_is_undefined(tmp_path):
-    _need_vendor()
+    need_vendor()
     p = _text_dat(tmp_path / "n.dat", [[1, 2, 3, 4], [5, "nan", 7, 8], [9, 10, 11, 12]])
     m = read(p, spacing=1e-6, units="nm")
     assert m.unmeasured.sum() == 1 and m.unmeasured[1, 1]
@@ -249,7 +235,7 @@ def test_nan_in_text_is_undefined(tmp_path):
 
 
 def test_garbage_files_one_line(tmp_path):
-    _need_vendor()
+    need_vendor()
     cases = {"g.plu": b"garbage" * 40, "z.datx": b"\x89HDF garbage" * 10, "k.vk4": b"\x00" * 300,
              "s.sur": b"DIGITAL SURF" + b"\xff" * 600, "o.opd": b"\x01\x00" * 200}
     for name, data in cases.items():
@@ -274,7 +260,7 @@ def test_truncated_real_file_is_refused(formats_dir, tmp_path):
 def test_park_systems_tiff_is_not_read_as_a_picture(tmp_path):
     """A TIFF with Park Systems' magic tag goes to SurfaceTopography's reader, which refuses
     this fake one, instead of the preview image being read as heights."""
-    _need_vendor()
+    need_vendor()
     import tifffile
 
     p = tmp_path / "park.tif"
@@ -286,7 +272,7 @@ def test_park_systems_tiff_is_not_read_as_a_picture(tmp_path):
 
 def test_channel_choice():
     """Default channel when it holds heights, else the first height channel."""
-    from roadscan.io.vendor import _pick_channel
+    from roadscan.io.vendor_channel import _pick_channel
 
     a = SimpleNamespace(name="phase", is_height_channel=False)
     b = SimpleNamespace(name="height", is_height_channel=True)
@@ -300,7 +286,7 @@ def test_channel_choice():
 
 
 def test_line_scan_and_nonuniform_channels_are_refused():
-    from roadscan.io.vendor import _declared_grid
+    from roadscan.io.vendor_channel import _declared_grid
 
     line = SimpleNamespace(name="p", dim=1, nb_grid_pts=(500,), is_uniform=True)
     with pytest.raises(InputError, match=r"is a line scan of 500 points"):
@@ -364,7 +350,7 @@ def test_analyse_end_to_end(name, formats_dir, maps, tmp_path, capsys):
 
 def test_x3p_with_misplaced_checksum_but_damaged_data_is_refused(tmp_path):
     """The tolerance above holds only while the point data match their own checksum."""
-    _need_vendor()
+    need_vendor()
     import zipfile
 
     from SurfaceTopography import Topography

@@ -10,19 +10,9 @@ from skimage.morphology import reconstruction
 
 from roadscan.heightmap import HeightMap
 from roadscan.rain import footprint, full_fill, rain_fill
+from conftest import unit_fourier_surface
 
 
-def fourier_surface(n, hurst=0.8, seed=0):
-    """Small random-phase self-affine surface (private test generator), rms 1."""
-    rng = np.random.default_rng(seed)
-    qx = np.fft.fftfreq(n)[None, :]
-    qy = np.fft.fftfreq(n)[:, None]
-    q = np.hypot(qx, qy)
-    q[0, 0] = 1.0
-    amp = q ** (-(hurst + 1.0))
-    amp[0, 0] = 0.0
-    h = np.fft.ifft2(amp * np.exp(2j * np.pi * rng.random((n, n)))).real
-    return (h - h.mean()) / h.std()
 
 
 def priority_flood(h, connectivity):
@@ -64,7 +54,7 @@ def hm_of(h, dx=1e-4):
 @pytest.mark.parametrize("connectivity", [4, 8])
 @pytest.mark.parametrize("seed", [0, 1])
 def test_full_fill_identical_to_skimage_and_priority_flood(connectivity, seed):
-    h = 1e-3 * fourier_surface(64, seed=seed)
+    h = 1e-3 * unit_fourier_surface(64, seed=seed)
     h += 1e-5 * np.random.default_rng(seed).standard_normal(h.shape)  # many small pits
     filled = full_fill(h, connectivity)
     np.testing.assert_array_equal(filled, skimage_fill(h, connectivity))
@@ -202,7 +192,7 @@ def test_cli_rain_fill(tmp_path, capsys):
     from pipelines.cli import main
     from roadscan.level import level
 
-    h = 1e-3 * fourier_surface(48, seed=3)
+    h = 1e-3 * unit_fourier_surface(48, seed=3)
     h[10:12, 20:23] = np.nan                          # a dropout
     f = tmp_path / "scan.npy"
     np.save(f, h * 1e3)                               # millimetres, no spacing in the file

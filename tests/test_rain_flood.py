@@ -12,6 +12,7 @@ from skimage.morphology import reconstruction
 import roadscan.rain as rain
 from roadscan.heightmap import HeightMap
 from roadscan.rain import footprint, full_fill, rain_fill
+from conftest import unit_fourier_surface
 
 pytest.importorskip("numba")
 
@@ -23,14 +24,6 @@ def skimage_fill(h, connectivity):
     return reconstruction(seed, h, method="erosion", footprint=footprint(connectivity))
 
 
-def fourier_surface(n, hurst=0.8, seed=0):
-    rng = np.random.default_rng(seed)
-    q = np.hypot(np.fft.fftfreq(n)[None, :], np.fft.fftfreq(n)[:, None])
-    q[0, 0] = 1.0
-    amp = q ** (-(hurst + 1.0))
-    amp[0, 0] = 0.0
-    h = np.fft.ifft2(amp * np.exp(2j * np.pi * rng.random((n, n)))).real
-    return (h - h.mean()) / h.std()
 
 
 def drains_everywhere(f, connectivity):
@@ -62,13 +55,13 @@ def drains_everywhere(f, connectivity):
 def test_flood_identical_to_reconstruction(connectivity, kind):
     rng = np.random.default_rng(7)
     if kind == "self_affine_noisy":
-        h = 1e-3 * fourier_surface(200, seed=3) + 1e-5 * rng.standard_normal((200, 200))
+        h = 1e-3 * unit_fourier_surface(200, seed=3) + 1e-5 * rng.standard_normal((200, 200))
     elif kind == "white_noise":
         h = rng.standard_normal((151, 173))
     elif kind == "integer_ties":      # many flats and equal spill levels
         h = rng.integers(0, 4, (120, 90)).astype(float)
     else:                             # a strong tilt: water leaves over the low edge
-        h = 1e-3 * fourier_surface(128, seed=1) + np.linspace(0, 5, 128)[None, :]
+        h = 1e-3 * unit_fourier_surface(128, seed=1) + np.linspace(0, 5, 128)[None, :]
     f = full_fill(h, connectivity, method="flood")
     ref = skimage_fill(h, connectivity)
     np.testing.assert_array_equal(f, ref)
@@ -79,7 +72,7 @@ def test_flood_identical_to_reconstruction(connectivity, kind):
 @pytest.mark.parametrize("connectivity", [4, 8])
 def test_flood_with_dropouts_matches_the_reconstruction_path(connectivity):
     rng = np.random.default_rng(11)
-    h = 1e-3 * fourier_surface(160, seed=5) + 1e-5 * rng.standard_normal((160, 160))
+    h = 1e-3 * unit_fourier_surface(160, seed=5) + 1e-5 * rng.standard_normal((160, 160))
     h[rng.random(h.shape) < 0.05] = np.nan          # scattered dropouts
     h[40:60, 70:75] = np.nan                        # a hole
     h[0, 10:30] = np.nan                            # on the border
@@ -142,7 +135,7 @@ def test_real_instrument_scan(shared_data):
 
 
 def test_auto_threshold_and_fallback(monkeypatch):
-    h = 1e-3 * fourier_surface(64, seed=2)
+    h = 1e-3 * unit_fourier_surface(64, seed=2)
     calls = []
     real = rain._flood_kernel
 
