@@ -157,22 +157,27 @@ def test_bad_choice_is_one_line(capsys, files, tmp_path):
     assert ei.value.code == 2 and len(capsys.readouterr().err.strip().splitlines()) == 1
 
 
-def test_unexpected_error_is_one_line_and_debug_shows_traceback(monkeypatch, capsys, files, tmp_path):
-    import pipelines.commands.synth as synth
-
-    def boom(args):
-        raise RuntimeError("unexpected\nsecond line")
-
+def _replace_synth_run(monkeypatch, run):
+    """Make ``roadscan synth`` call ``run(args)`` instead of its own job."""
     parser = cli.build_parser
 
     def patched():
         p = parser()
         for action in p._subparsers._group_actions[0].choices.values():
             if action.prog.endswith(" synth"):
-                action.set_defaults(_run=boom)
+                action.set_defaults(_run=run)
         return p
 
     monkeypatch.setattr(cli, "build_parser", patched)
+
+
+def test_unexpected_error_is_one_line_and_debug_shows_traceback(monkeypatch, capsys, files, tmp_path):
+    import pipelines.commands.synth as synth
+
+    def boom(args):
+        raise RuntimeError("unexpected\nsecond line")
+
+    _replace_synth_run(monkeypatch, boom)
     rc, err = _run(capsys, ["synth", "--out", tmp_path / "x.npy"])
     assert rc == 1 and len(err.strip().splitlines()) == 1
     assert "internal error" in err and "--debug" in err and "Traceback" not in err
@@ -189,16 +194,7 @@ def test_numpy_warnings_become_one_named_line(monkeypatch, capsys, tmp_path):
         np.sqrt(-np.ones(2))
         return 0
 
-    parser = cli.build_parser
-
-    def patched():
-        p = parser()
-        for action in p._subparsers._group_actions[0].choices.values():
-            if action.prog.endswith(" synth"):
-                action.set_defaults(_run=noisy)
-        return p
-
-    monkeypatch.setattr(cli, "build_parser", patched)
+    _replace_synth_run(monkeypatch, noisy)
     rc, err = _run(capsys, ["synth", "--out", tmp_path / "x.npy"])
     assert rc == 0
     lines = err.strip().splitlines()
