@@ -245,22 +245,10 @@ def check_heights(heights_m, path=None, unmeasured=None, area=True):
 
 def _measured_range(h, unmeasured=None, chunk_bytes=4 << 20):
     """(number, min, max) of the finite heights not marked ``unmeasured``, band by band of rows
-    (no copy of the measured points: the memory is one band's)."""
-    from roadscan.level import row_chunks
+    (no copy of the measured points: the memory is one band's; :func:`roadscan.bands.measured_stats`)."""
+    from roadscan.bands import measured_stats
 
-    h2 = h.reshape(1, -1) if h.ndim == 1 else h.reshape(h.shape[0], -1)
-    m2 = None if unmeasured is None else np.asarray(unmeasured, dtype=bool).reshape(h2.shape)
-    n, lo, hi = 0, np.inf, -np.inf
-    for sl in row_chunks(*h2.shape, chunk_bytes=chunk_bytes):
-        band = h2[sl]
-        ok = np.isfinite(band)
-        if m2 is not None:
-            ok &= ~m2[sl]
-        k = int(np.count_nonzero(ok))
-        if k:
-            n += k
-            lo = min(lo, float(np.min(band, where=ok, initial=np.inf)))
-            hi = max(hi, float(np.max(band, where=ok, initial=-np.inf)))
+    n, lo, hi, _ = measured_stats(h, unmeasured, chunk_bytes=chunk_bytes)
     return n, lo, hi
 
 

@@ -27,6 +27,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .bands import measured_mean_range
+
 __all__ = ["biharmonic_fill_values", "SMALL"]
 
 #: clusters of at most this many unknowns go to the batched dense solve
@@ -214,9 +216,7 @@ def biharmonic_fill_values(h, bad, stats=None):
     if pts.size == 0:
         return np.empty(0)
     if stats is None:
-        from .inpaint import _measured_stats
-
-        stats = _measured_stats(h, bad)
+        stats = measured_mean_range(h, bad)
     ref = float(stats[0])
     lo, hi = float(stats[1]) - ref, float(stats[2]) - ref
     lab = _clusters(bad)

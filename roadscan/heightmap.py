@@ -10,7 +10,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-__all__ = ["HeightMap", "Profile"]
+__all__ = ["HeightMap", "Profile", "require_filled"]
 
 
 def _clean(heights, unmeasured):
@@ -165,3 +165,19 @@ class Profile(_Measured):
 
     def x_m(self):
         return np.arange(self.n) * self.dx_m
+
+
+def require_filled(obj, fill_values=None):
+    """Refuse a map or profile with unmeasured points before an FFT (ValueError, one line).
+
+    With ``fill_values`` (one finite height per unmeasured point, raster order, as
+    :func:`roadscan.inpaint.unmeasured_fill` gives them) the map counts as filled.
+    """
+    if fill_values is not None:
+        n = int(np.count_nonzero(obj.unmeasured))
+        if np.shape(fill_values) != (n,) or not np.isfinite(fill_values).all():
+            raise ValueError(f"fill_values must be {n} finite heights (one per unmeasured point)")
+        return
+    if obj.unmeasured.any():
+        raise ValueError(f"{obj.name or type(obj).__name__}: {int(obj.unmeasured.sum())} unmeasured "
+                         "points; fill them first (roadscan.inpaint.fill_unmeasured)")

@@ -16,8 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .bands import measured_mean_range, row_chunks
 from .heightmap import HeightMap, Profile
-from .level import row_chunks
 
 __all__ = ["fill_unmeasured", "unmeasured_fill", "METHODS"]
 
@@ -35,18 +35,6 @@ _BAND_ROWS = 256
 #: system as scikit-image's to 1e-13); larger ones by scikit-image band by band, whose sparse
 #: solve scales better with many large dropout clusters
 DIRECT_MAX_POINTS = 1 << 22
-
-
-def _measured_stats(h, bad):
-    """Mean, min and max of the measured heights, read band by band (float64)."""
-    total, n, lo, hi = 0.0, 0, np.inf, -np.inf
-    for sl in row_chunks(*h.shape):
-        v = h[sl][~bad[sl]]
-        if v.size:
-            total += v.sum()
-            n += v.size
-            lo, hi = min(lo, v.min()), max(hi, v.max())
-    return total / n, lo, hi
 
 
 def _bands(bad):
@@ -119,7 +107,7 @@ def _biharmonic_banded(h, bad, values):
     from skimage.restoration import inpaint_biharmonic
 
     ny, nx = h.shape
-    ref, lo, hi = _measured_stats(h, bad)
+    ref, lo, hi = measured_mean_range(h, bad)
     lo, hi = lo - ref, hi - ref
     labels, n, groups = _bands(bad)
     where = np.flatnonzero(bad)                         # raster positions of the values
@@ -151,7 +139,7 @@ def _map_values(h, bad, method):
             from ._biharmonic import biharmonic_fill_values
 
             try:
-                return biharmonic_fill_values(h, bad, _measured_stats(h, bad))
+                return biharmonic_fill_values(h, bad, measured_mean_range(h, bad))
             except np.linalg.LinAlgError:     # a singular block: scikit-image's sparse LU
                 pass
         values = np.empty(int(np.count_nonzero(bad)))

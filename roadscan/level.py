@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .bands import row_chunks  # noqa: F401  (re-exported: its home is roadscan.bands)
 from .heightmap import HeightMap, Profile
 
-__all__ = ["level", "remove_spikes", "polynomial_form", "fit_polynomial", "PolynomialForm",
-           "row_chunks"]
+__all__ = ["level", "remove_spikes", "polynomial_form", "fit_polynomial", "PolynomialForm"]
 
 
 def _unit_coords(n):
@@ -24,17 +24,6 @@ def _unit_coords(n):
 def _powers(u, p_max):
     """Columns u**0 ... u**p_max, shape (len(u), p_max + 1)."""
     return u[:, None] ** np.arange(p_max + 1)[None, :]
-
-
-#: rows per chunk of the grid-sized passes: about 2 MiB of float64 per chunk, so temporaries
-#: stay in cache and the peak memory does not grow with the map (issue 14)
-_CHUNK_BYTES = 1 << 21
-
-
-def row_chunks(ny, nx, chunk_bytes=_CHUNK_BYTES):
-    """Slices of consecutive rows, each about ``chunk_bytes`` of float64."""
-    step = max(1, chunk_bytes // (8 * max(nx, 1)))
-    return [slice(r, min(r + step, ny)) for r in range(0, ny, step)]
 
 
 class PolynomialForm:

@@ -8,8 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from .bands import row_chunks
 from .heightmap import HeightMap, Profile
-from .level import fit_polynomial, level, row_chunks
+from .level import fit_polynomial, level
 from .windows import butter2_lowpass, filtfilt2
 
 __all__ = ["area_parameters", "profile_parameters", "mean_profile_depth",

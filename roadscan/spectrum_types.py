@@ -11,7 +11,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Spectrum", "Spectrum2D", "HalfLattice"]
+__all__ = ["Spectrum", "Spectrum2D", "HalfLattice", "NORMALISATION_2D", "NORMALISATION_1D"]
+
+#: the normalisations written into every spectrum's ``meta`` (:mod:`roadscan.spectrum`,
+#: :mod:`roadscan.profile_spectrum`)
+NORMALISATION_2D = "C = (dx dy)^2 |FFT2(w h)|^2 / ((2 pi)^2 A <w^2>) [m^4] (Persson; DESIGN.md sec 2)"
+NORMALISATION_1D = "C1 = dx^2 |FFT(w h)|^2 / (2 pi L <w^2>) [m^3]; <h^2> = 2 int_0^inf C1 dq"
 
 
 @dataclass(frozen=True, eq=False)

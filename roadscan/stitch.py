@@ -36,25 +36,19 @@ x runs along columns (dx), y along rows (dy). All tiles must share the same spac
 """
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 from scipy import ndimage
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
-from skimage.registration import phase_cross_correlation
 
 from .errors import InputError
 from .heightmap import HeightMap
-from .level import polynomial_form
-from .windows import tukey   # scipy.signal's, without importing scipy.signal (issue 13)
+from .tile_layout import MANIFEST_HEADER, grid_positions, read_manifest  # noqa: F401 (re-exported)
+from .tile_registration import (check_connected, highpass, overlap_rect, plane_removed,
+                                register_pair)
 
 __all__ = ["StitchResult", "stitch", "read_manifest", "grid_positions"]
-
-MANIFEST_HEADER = ["file", "x_m", "y_m"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -91,162 +85,11 @@ class StitchResult:
     meta: dict = field(default_factory=dict)
 
 
-def grid_positions(n_rows, n_cols, tile_shape, dx_m, dy_m, overlap_fraction):
-    """Nominal positions of a ROWS x COLS grid of tiles, row-major (row 0 first).
-
-    Parameters
-    ----------
-    n_rows, n_cols : int
-    tile_shape : (ny, nx)
-        Tile size in samples.
-    dx_m, dy_m : float
-        Spacing [m].
-    overlap_fraction : float
-        Nominal fraction of a tile shared with its neighbour, 0 <= f < 1. The step is
-        ``(1 - f) * nx * dx`` along x and ``(1 - f) * ny * dy`` along y.
-
-    Returns
-    -------
-    list of (x_m, y_m)
-        Position of each tile's first sample; tile ``r * n_cols + c`` is at row r, column c.
-    """
-    if n_rows < 1 or n_cols < 1:
-        raise ValueError(f"grid must have at least one row and column, got {n_rows}x{n_cols}")
-    if not 0 <= overlap_fraction < 1:
-        raise ValueError(f"overlap fraction must be in [0, 1), got {overlap_fraction!r}")
-    ny, nx = tile_shape
-    sx = (1.0 - overlap_fraction) * nx * dx_m
-    sy = (1.0 - overlap_fraction) * ny * dy_m
-    return [(c * sx, r * sy) for r in range(n_rows) for c in range(n_cols)]
-
-
-def read_manifest(path):
-    """Read a tile manifest: CSV with header exactly ``file,x_m,y_m``.
-
-    Each row names a tile file (relative to the manifest's folder, or absolute) and the
-    nominal position [m] of its first sample (row 0, column 0; x along columns, y along rows).
-
-    Returns
-    -------
-    list of (Path, float, float)
-
-    Raises
-    ------
-    InputError
-        Bad header, malformed row, non-finite position, missing tile file or empty manifest.
-    """
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError(path, "manifest not found") from None
-    except (IsADirectoryError, UnicodeDecodeError) as exc:
-        raise InputError(path, f"cannot read manifest: {exc}") from None
-    rows = [r for r in csv.reader(text.splitlines()) if any(c.strip() for c in r)]
-    if not rows:
-        raise InputError(path, "empty manifest (expected header file,x_m,y_m)")
-    header = [c.strip() for c in rows[0]]
-    if header != MANIFEST_HEADER:
-        raise InputError(path, f"manifest header must be exactly 'file,x_m,y_m', got {','.join(rows[0])!r}")
-    out = []
-    for n, row in enumerate(rows[1:], start=2):
-        if len(row) != 3:
-            raise InputError(path, f"line {n}: expected 3 fields (file,x_m,y_m), got {len(row)}")
-        name, xs, ys = (c.strip() for c in row)
-        try:
-            x, y = float(xs), float(ys)
-        except ValueError:
-            raise InputError(path, f"line {n}: positions must be numbers, got {xs!r}, {ys!r}") from None
-        if not (math.isfinite(x) and math.isfinite(y)):
-            raise InputError(path, f"line {n}: positions must be finite")
-        if not name:
-            raise InputError(path, f"line {n}: empty file name")
-        f = Path(name)
-        if not f.is_absolute():
-            f = path.parent / f
-        if not f.is_file():
-            raise InputError(path, f"line {n}: tile file {name!r} not found (relative to the manifest)")
-        out.append((f, x, y))
-    if not out:
-        raise InputError(path, "manifest lists no tiles")
-    return out
-
-
 # --- helpers ---------------------------------------------------------------------------------
 
 def _tile_label(hm, k):
     src = hm.meta.get("path") or hm.meta.get("source") or hm.name
     return str(src) if src else f"#{k}"
-
-
-def _plane_removed(z, ok):
-    """z minus its least-squares plane over the points ``ok``; unmeasured -> 0."""
-    if np.count_nonzero(ok) < 3:
-        return np.zeros_like(z)
-    return np.where(ok, z - polynomial_form(z, ~ok, degree=1), 0.0)
-
-
-def _highpass(z, ok, sigma=2.0):
-    """z minus its Gaussian-smoothed version (normalised convolution over measured points).
-
-    A plane passes through the smoothing unchanged, so relative tilts vanish and the
-    correlation peak of a self-affine surface (otherwise very broad) becomes sharp.
-    """
-    okf = ok.astype(float)
-    num = ndimage.gaussian_filter(np.where(ok, z, 0.0), sigma, mode="constant")
-    den = ndimage.gaussian_filter(okf, sigma, mode="constant")
-    with np.errstate(invalid="ignore", divide="ignore"):
-        smooth = np.where(den > 1e-6, num / den, 0.0)
-    return np.where(ok, z - smooth, 0.0)
-
-
-def _overlap_rect(shape_i, shape_j, t):
-    """Overlap of tile i (origin 0) and tile j at integer offset t=(dr, dc), in i's coordinates."""
-    r0, c0 = max(0, t[0]), max(0, t[1])
-    r1, c1 = min(shape_i[0], t[0] + shape_j[0]), min(shape_i[1], t[1] + shape_j[1])
-    return r0, r1, c0, c1
-
-
-def _register_pair(zi, oki, zj, okj, t0, m, hpi, hpj):
-    """Offset T (float row, col) of tile j relative to tile i, starting from integer t0.
-
-    ``zi, zj`` are plane-levelled tiles, ``hpi, hpj`` their high-passed versions (used for
-    the integer search). Returns (T, registered).
-    """
-    r0, r1, c0, c1 = _overlap_rect(zi.shape, zj.shape, t0)
-    R0, R1 = max(0, r0 - m), min(zi.shape[0], r1 + m)
-    C0, C1 = max(0, c0 - m), min(zi.shape[1], c1 + m)
-    ref = hpi[R0:R1, C0:C1]
-    ref_ok = oki[R0:R1, C0:C1]
-    mov = np.zeros_like(ref)
-    mov_ok = np.zeros_like(ref_ok)
-    sl = (slice(r0 - R0, r1 - R0), slice(c0 - C0, c1 - C0))
-    sj = (slice(r0 - t0[0], r1 - t0[0]), slice(c0 - t0[1], c1 - t0[1]))
-    mov[sl] = hpj[sj]
-    mov_ok[sl] = okj[sj]
-    # masked normalised cross-correlation: ref[c] = mov[c - s]  =>  T = t0 + s
-    s = phase_cross_correlation(ref, mov, reference_mask=ref_ok, moving_mask=mov_ok,
-                                overlap_ratio=0.5)
-    s = np.rint(np.asarray(s[0] if isinstance(s, tuple) else s, dtype=float)).astype(int)
-    if np.any(np.abs(s) > m):
-        return np.asarray(t0, float), False
-    t = (int(t0[0] + s[0]), int(t0[1] + s[1]))
-    # subpixel refinement on the exactly overlapping windows
-    r0, r1, c0, c1 = _overlap_rect(zi.shape, zj.shape, t)
-    if r1 - r0 < 4 or c1 - c0 < 4:
-        return np.asarray(t, float), True
-    a = zi[r0:r1, c0:c1]
-    b = zj[r0 - t[0]:r1 - t[0], c0 - t[1]:c1 - t[1]]
-    ok = oki[r0:r1, c0:c1] & okj[r0 - t[0]:r1 - t[0], c0 - t[1]:c1 - t[1]]
-    if ok.sum() < 16:
-        return np.asarray(t, float), True
-    w = np.outer(tukey(a.shape[0], 0.5), tukey(a.shape[1], 0.5))
-    a = _plane_removed(a, ok) * w
-    b = _plane_removed(b, ok) * w
-    d = phase_cross_correlation(a, b, upsample_factor=20)[0]
-    if np.all(np.abs(d) < 1.0):
-        return np.asarray(t, float) + d, True
-    return np.asarray(t, float), True
 
 
 def _place(z, ok, frac, snap_px):
@@ -317,23 +160,23 @@ def stitch(tiles, nominal_xy_m, max_shift_px=20, blend="feather", min_overlap_px
     for i in range(n):
         for j in range(i + 1, n):
             t0 = tuple(int(v) for v in np.rint(P0[j] - P0[i]))
-            r0, r1, c0, c1 = _overlap_rect(tiles[i].shape, tiles[j].shape, t0)
+            r0, r1, c0, c1 = overlap_rect(tiles[i].shape, tiles[j].shape, t0)
             if r1 - r0 >= min_overlap_px and c1 - c0 >= min_overlap_px:
                 pairs.append((i, j, t0))
     if n > 1:
-        _check_connected(n, pairs, labels)
+        check_connected(n, pairs, labels)
 
     # 1. registration (on plane-levelled tiles)
     ok = [~t.unmeasured for t in tiles]
-    lev = [_plane_removed(t.heights_m, o) for t, o in zip(tiles, ok)]
-    hp = [_highpass(z, o) for z, o in zip(lev, ok)]
+    lev = [plane_removed(t.heights_m, o) for t, o in zip(tiles, ok)]
+    hp = [highpass(z, o) for z, o in zip(lev, ok)]
     reg = []
     for i, j, t0 in pairs:
-        T, good = _register_pair(lev[i], ok[i], lev[j], ok[j], t0, m, hp[i], hp[j])
-        r0, r1, c0, c1 = _overlap_rect(tiles[i].shape, tiles[j].shape, tuple(np.rint(T).astype(int)))
+        T, good = register_pair(lev[i], ok[i], lev[j], ok[j], t0, m, hp[i], hp[j])
+        r0, r1, c0, c1 = overlap_rect(tiles[i].shape, tiles[j].shape, tuple(np.rint(T).astype(int)))
         reg.append((i, j, T, good, max(1, (r1 - r0) * (c1 - c0)), P0[j] - P0[i]))
     if n > 1:   # a nominal overlap whose textures do not match is no overlap
-        _check_connected(n, [(i, j, None) for i, j, _, good, *_ in reg if good], labels,
+        check_connected(n, [(i, j, None) for i, j, _, good, *_ in reg if good], labels,
                          how=" whose texture matches (no correlation peak within max_shift_px "
                              "of the nominal position: check the positions)")
 
@@ -437,28 +280,3 @@ def _common(Ni, shape_i, Nj, shape_j):
     si = (slice(r0 - Ni[0], r1 - Ni[0]), slice(c0 - Ni[1], c1 - Ni[1]))
     sj = (slice(r0 - Nj[0], r1 - Nj[0]), slice(c0 - Nj[1], c1 - Nj[1]))
     return sl, si, sj
-
-
-def _check_connected(n, pairs, labels, how=""):
-    """Raise InputError naming a tile cut off from tile 0 in the overlap graph (``how`` is
-    appended to the message)."""
-    if pairs:
-        ii = [p[0] for p in pairs]
-        jj = [p[1] for p in pairs]
-        g = coo_matrix((np.ones(len(pairs)), (ii, jj)), shape=(n, n))
-        _, comp = connected_components(g, directed=False)
-    else:
-        comp = np.arange(n)
-    if np.all(comp == comp[0]):
-        return
-    degree = np.zeros(n, int)
-    for i, j, _ in pairs:
-        degree[i] += 1
-        degree[j] += 1
-    isolated = np.nonzero(degree == 0)[0]
-    if isolated.size:
-        k = int(isolated[0])
-        raise InputError(labels[k], f"tile {labels[k]} does not overlap any other tile{how}")
-    k = int(np.nonzero(comp != comp[0])[0][0])
-    raise InputError(labels[k], f"tile {labels[k]} and its neighbours do not overlap the "
-                     f"tiles connected to {labels[0]}{how}")

@@ -6,9 +6,11 @@ Each function reproduces the scipy.signal function named in its docstring to flo
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
-__all__ = ["tukey", "butter2_lowpass", "filtfilt2"]
+__all__ = ["tukey", "tukey_cached", "butter2_lowpass", "filtfilt2"]
 
 
 def tukey(n, alpha=0.5):
@@ -30,6 +32,15 @@ def tukey(n, alpha=0.5):
     w = np.ones(n)
     w[: width + 1] = 0.5 * (1 + np.cos(np.pi * (-1 + 2.0 * k1 / alpha / (n - 1))))
     w[n - width - 1:] = 0.5 * (1 + np.cos(np.pi * (-2.0 / alpha + 1 + 2.0 * k3 / alpha / (n - 1))))
+    return w
+
+
+@lru_cache(maxsize=16)
+def tukey_cached(n, alpha):
+    """:func:`tukey` (``alpha`` <= 0: rectangular), cached and read-only: the spectra window
+    the same grid sizes again and again."""
+    w = tukey(n, alpha) if alpha > 0 else np.ones(n)
+    w.setflags(write=False)
     return w
 
 

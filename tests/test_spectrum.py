@@ -207,6 +207,7 @@ def test_numpy_and_scipy_fft_paths_agree(monkeypatch):
     """psd_area and psd_profile use numpy's FFT for small data (no scipy import) and
     scipy's on every core above NUMPY_FFT_MAX_POINTS: the same spectra to round-off, through
     one band and through several (the in-place column FFT of scipy's path)."""
+    import roadscan.fft_backends as fb
     import roadscan.spectrum as sp
     from roadscan.synth import self_affine_surface
 
@@ -214,7 +215,7 @@ def test_numpy_and_scipy_fft_paths_agree(monkeypatch):
     assert sp.fft_backend(10).name == "numpy.fft" and "scipy" in sp.fft_backend(1 << 23).name
     results = {}
     for limit in (1 << 22, 0):
-        monkeypatch.setattr(sp, "NUMPY_FFT_MAX_POINTS", limit)
+        monkeypatch.setattr(fb, "NUMPY_FFT_MAX_POINTS", limit)      # its home (issue 23)
         for band in (1 << 30, 1 << 14):                       # one band; 1 row ... bands
             monkeypatch.setattr(sp, "_FFT_BAND_BYTES", band)
             s, s2 = sp.psd_area(hm)

@@ -1,0 +1,89 @@
+"""Band-wise reading of large maps: bands of consecutive rows, and the measured heights' range.
+
+Every grid-sized pass of roadscan (levelling, the FFT step, ring bookkeeping, roughness sums,
+the fill's statistics, the input checks of ``pipelines.validate``) reads a map in bands of
+rows of about :data:`CHUNK_BYTES` of float64, so its temporaries stay in cache and its peak
+memory is a band's, not the map's (issue 14). This module is their one home (issue 23).
+
+Reference: the memory measurements of issue 14 (README, "Big scans").
+"""
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+__all__ = ["row_chunks", "measured_stats", "measured_mean_range", "MeasuredStats", "CHUNK_BYTES"]
+
+#: rows per chunk of the grid-sized passes: about 2 MiB of float64 per chunk, so temporaries
+#: stay in cache and the peak memory does not grow with the map (issue 14)
+CHUNK_BYTES = 1 << 21
+
+
+def row_chunks(ny, nx, chunk_bytes=CHUNK_BYTES):
+    """Slices of consecutive rows, each about ``chunk_bytes`` of float64.
+
+    A band holds ``max(1, chunk_bytes // (8 nx))`` rows of an (ny, nx) grid; the last one
+    may be shorter.
+    """
+    step = max(1, chunk_bytes // (8 * max(nx, 1)))
+    return [slice(r, min(r + step, ny)) for r in range(0, ny, step)]
+
+
+class MeasuredStats(NamedTuple):
+    """Number, minimum, maximum [m] and (when asked for) sum [m] of the measured heights."""
+
+    count: int
+    min: float
+    max: float
+    sum: float | None = None
+
+    @property
+    def mean(self):
+        """sum / count [m] (needs ``with_sum=True``)."""
+        return self.sum / self.count
+
+
+def measured_stats(h, unmeasured=None, chunk_bytes=CHUNK_BYTES, with_sum=False):
+    """Count, min, max (and sum) of the finite heights not marked ``unmeasured``, band by band.
+
+    Parameters
+    ----------
+    h : array [m]
+        A map (ny, nx), a profile (n,) or any array (read as rows of its first axis).
+    unmeasured : bool array of ``h``'s shape, optional
+        Points to leave out besides the non-finite ones.
+    chunk_bytes : int
+        Size of a band of rows (:func:`row_chunks`).
+    with_sum : bool
+        Also the sum (float64, each band's measured points summed as a copy, then the
+        bands in order); min and max never copy the band.
+
+    Returns
+    -------
+    MeasuredStats
+        ``count`` 0 with min +inf and max -inf when nothing is measured.
+    """
+    h2 = h.reshape(1, -1) if h.ndim == 1 else h.reshape(h.shape[0], -1)
+    m2 = None if unmeasured is None else np.asarray(unmeasured, dtype=bool).reshape(h2.shape)
+    n, lo, hi, total = 0, np.inf, -np.inf, 0.0
+    for sl in row_chunks(*h2.shape, chunk_bytes=chunk_bytes):
+        band = h2[sl]
+        ok = np.isfinite(band)
+        if m2 is not None:
+            ok &= ~m2[sl]
+        k = int(np.count_nonzero(ok))
+        if k:
+            n += k
+            lo = min(lo, float(np.min(band, where=ok, initial=np.inf)))
+            hi = max(hi, float(np.max(band, where=ok, initial=-np.inf)))
+            if with_sum:
+                total += band[ok].sum()
+    return MeasuredStats(n, lo, hi, total if with_sum else None)
+
+
+def measured_mean_range(h, unmeasured):
+    """(mean, min, max) [m] of the measured heights of a map, read band by band (float64):
+    the reference and the clip range of the biharmonic fill (:mod:`roadscan.inpaint`)."""
+    s = measured_stats(h, unmeasured, with_sum=True)
+    return s.mean, s.min, s.max
