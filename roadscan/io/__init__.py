@@ -6,7 +6,7 @@
 >>> write("scan.x3p", hmap)                            # doctest: +SKIP
 
 The reader is chosen by the file's extension (``READERS``; one small module per format);
-see ``roadscan/io/FORMATS.md`` for the table of formats and how each is tested.
+see ``FORMATS.md`` at the repository root for the table of formats and how each is tested.
 Every problem with an input raises :class:`roadscan.errors.InputError` naming the file.
 """
 from __future__ import annotations

@@ -20,6 +20,8 @@ content (see :mod:`roadscan.io.text_table` for the table syntax):
 - **4 or more columns**: a matrix of heights, rows along y, columns along x; ``spacing``
   required (unless a Gwyddion or ESRI header gives it).
 
+Decimal commas: :func:`roadscan.io.text_table.decimal_mark` (one rule, FORMATS.md).
+
 ``spacing=`` always overrides a spacing found in the file. Heights without stated units are
 metres unless ``units`` says otherwise.
 """
@@ -71,6 +73,15 @@ def _gwy_header(header, path):
     return res
 
 
+def _decimal_comma_header(line):
+    """A Gwyddion or ESRI header line of a decimal-comma file with its commas as points
+    (``# Width: 5,00 mm`` -> ``# Width: 5.00 mm``); other header lines unchanged."""
+    toks = line.split()
+    if _GWY_LINE.match(line) or (len(toks) == 2 and toks[0].lower() in ESRI_KEYS):
+        return re.sub(r"(\d),(\d)", r"\1.\2", line)
+    return line
+
+
 def _float(value, path, key):
     try:
         return float(value)
@@ -87,6 +98,9 @@ def read_text_heights(path, spacing=None, units=None):
     factor = unit_factor(units, path)
     values, header = table.values, table.header
     meta = {"format": "text"}
+    if table.decimal == ",":
+        header = [_decimal_comma_header(h) for h in header]
+        meta["decimal_mark"] = ","
 
     esri = _esri_header(header)
     if esri is not None:

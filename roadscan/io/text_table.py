@@ -4,6 +4,14 @@ A table is a block of lines of numbers separated by commas, semicolons, tabs or 
 (``nan``/``NaN`` allowed), after any header lines. Header lines are everything before the first
 all-numeric line; lines starting with ``#`` are comments anywhere. Every data line must have the
 same number of values.
+
+Decimal mark (one rule, :func:`decimal_mark`; FORMATS.md "Text files"): a comma is a decimal
+mark when the data's fields are separated by semicolons or tabs (``1,234;2,5``), or by spaces
+with no comma acting as a separator (``1,5 2,5``); otherwise commas separate fields and the dot
+is the decimal mark (``1.5,2.5``, ``1.5, 2.5``). Refused in one line: a field with two marks
+(``1.234,5``, ``1,234.5``, ``1,234,567``: thousands separators), digits grouped by spaces inside
+a semicolon-separated field, both marks used as decimals in one file, and commas that both
+separate fields and sit between digits (``1,5, 2,5``: ambiguous).
 """
 from __future__ import annotations
 
@@ -16,7 +24,7 @@ import numpy as np
 from ..errors import InputError
 from ._common import check_file, get_max_pixels, default_max_pixels
 
-__all__ = ["Table", "read_table", "read_text", "column_units"]
+__all__ = ["Table", "read_table", "read_text", "column_units", "decimal_mark"]
 
 ESRI_KEYS = {"ncols", "nrows", "xllcorner", "yllcorner", "xllcenter", "yllcenter", "cellsize",
              "dx", "dy", "nodata_value"}
@@ -30,6 +38,7 @@ class Table:
     values: np.ndarray                      # (rows, columns) float64
     header: list = field(default_factory=list)   # header lines (stripped), comments included
     first_line: int = 1                     # 1-based line number of the first data row
+    decimal: str = "."                      # decimal mark of the data ("." or ",")
 
 
 def read_text(path):
@@ -67,6 +76,51 @@ def _is_numeric(tokens):
     return True
 
 
+_TWO_MARKS = re.compile(r"\d*[.,]\d*[.,]\d[\d.,]*")          # 1.234,5  1,234.5  1,234,567
+_SPACED_DIGITS = re.compile(r"\d[ \u00a0\u202f]+\d")    # 1 234,5 inside a ';' field
+_COMMA_SEP = re.compile(r",[ \t]|[ \t],|,$|^,|,,", re.MULTILINE)  # a comma separating fields
+_COMMA_IN_NUMBER = re.compile(r"\d,\d")
+_SPACE_BETWEEN = re.compile(r"[\d.][ \t]+[-+.\dnN]")
+
+
+def decimal_mark(path, block):
+    """The decimal mark (``"."`` or ``","``) of the data lines ``block`` (one string).
+
+    The rule (module notes): commas are decimal marks when the fields are separated by
+    semicolons or tabs, or by spaces with no comma separating fields; else they separate
+    fields. Thousands separators, mixed marks and ambiguous commas raise :class:`InputError`.
+    """
+    if "," not in block:
+        return "."
+    if ";" in block or "\t" in block:
+        sep = "semicolon" if ";" in block else "tab"
+        where = "separated by semicolons" if sep == "semicolon" else "separated by tabs"
+    elif _SPACE_BETWEEN.search(block) and not _COMMA_SEP.search(block):
+        where = "separated by spaces"
+    else:
+        if _COMMA_IN_NUMBER.search(block) and re.search(r",[ \t]|[ \t],", block):
+            raise InputError(path, "ambiguous commas: they both separate fields and sit between "
+                                   "digits (decimal commas?); separate fields with ';' or tabs")
+        return "."   # comma-separated fields, dot decimals
+    m = _TWO_MARKS.search(block)
+    if m:
+        raise InputError(path, f"{m.group(0)!r} has a thousands separator (fields {where}, "
+                               f"commas are decimal marks); write numbers without grouping")
+    if where.endswith("semicolons"):
+        m = _SPACED_DIGITS.search(block)
+        if m:
+            raise InputError(path, f"{m.group(0)!r}: digits grouped by spaces in a field "
+                                   f"(thousands separator?); write numbers without grouping")
+    if re.search(r"\d\.\d", block):
+        raise InputError(path, f"both '.' and ',' are used as decimal marks (fields {where}); "
+                               f"use one")
+    bad = re.search(r"(?<!\d),|,(?!\d)", block)
+    if bad:
+        raise InputError(path, f"a comma not between digits in fields {where} (commas are "
+                               f"decimal marks there)")
+    return ","
+
+
 def read_table(path, text=None):
     """Parse ``path`` into a :class:`Table`; raises :class:`InputError` for ragged or non-numeric
     rows, or when there is no numeric row at all."""
@@ -85,6 +139,12 @@ def read_table(path, text=None):
         break
     if start is None:
         raise InputError(path, "no numeric data found")
+    rows = [i for i in range(start, len(lines)) if not lines[i].lstrip().startswith("#")]
+    decimal = decimal_mark(path, "\n".join(lines[i].strip() for i in rows))
+    if decimal == ",":
+        lines = list(lines)
+        for i in rows:
+            lines[i] = lines[i].replace(",", ".")
     first = lines[start].strip()
     ncol0 = len(_tokens(first))
     for h in header:
@@ -103,7 +163,7 @@ def read_table(path, text=None):
     except ValueError:
         fast = None
     if fast is not None and fast.shape[1] == ncol:
-        return Table(fast, header, start + 1)
+        return Table(fast, header, start + 1, decimal)
     data_lines, numbers = [], []
     for i in range(start, len(lines)):
         s = lines[i].strip()
@@ -132,7 +192,7 @@ def read_table(path, text=None):
                 word = next(t for t in _tokens(s) if not _is_numeric([t]))
                 raise InputError(path, f"non-numeric value {word!r} on line {data_lines[k] + 1}") from None
         raise InputError(path, "non-numeric values") from None
-    return Table(values.reshape(len(numbers), ncol), header, data_lines[0] + 1)
+    return Table(values.reshape(len(numbers), ncol), header, data_lines[0] + 1, decimal)
 
 
 _UNIT_IN_NAME = re.compile(r"[\(\[]\s*(m|mm|um|µm|μm|nm)\s*[\)\]]", re.IGNORECASE)
