@@ -15,17 +15,18 @@ from .errors import InputError
 __all__ = ["InputError", "HeightMap", "Profile", "Spectrum", "Spectrum2D"]
 __version__ = "0.1.0"
 
-_LAZY = {"HeightMap": ".heightmap", "Profile": ".heightmap",
-         "Spectrum": ".spectrum_types", "Spectrum2D": ".spectrum_types"}
+#: public name -> the submodule that defines it, loaded on first use (PEP 562)
+_HOMES = {".heightmap": ("HeightMap", "Profile"), ".spectrum_types": ("Spectrum", "Spectrum2D")}
+_LAZY = {name: home for home, names in _HOMES.items() for name in names}
 
 
 def __getattr__(name):
-    if name in _LAZY:
-        value = getattr(import_module(_LAZY[name], __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    home = _LAZY.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value = getattr(import_module(home, __name__), name)   # once only
+    return value
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted([*globals(), *_LAZY])

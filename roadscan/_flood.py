@@ -27,17 +27,48 @@ __all__ = ["priority_flood_fill"]
 
 
 @njit(cache=True, nogil=True)
-def _grow_f8(a, n):
+def _grow(a, n):
+    """``a`` (its first ``n`` entries) in an array twice as long (compiled per dtype)."""
     b = np.empty(2 * a.size, dtype=a.dtype)
     b[:n] = a[:n]
     return b
 
 
-@njit(cache=True, nogil=True)
-def _grow_i4(a, n):
-    b = np.empty(2 * a.size, dtype=a.dtype)
-    b[:n] = a[:n]
-    return b
+@njit(cache=True, nogil=True, inline="always")
+def _push(hk, hi, hn, z, i):
+    """Put cell ``i`` at level ``z`` on the binary min-heap (keys ``hk``, cells ``hi``, ``hn``
+    entries; grown when full): sift up from the end. Returns (hk, hi, hn + 1)."""
+    if hn == hk.size:
+        hk = _grow(hk, hn)
+        hi = _grow(hi, hn)
+    j = hn
+    while j > 0:
+        p = (j - 1) >> 1
+        if hk[p] <= z:
+            break
+        hk[j] = hk[p]
+        hi[j] = hi[p]
+        j = p
+    hk[j] = z
+    hi[j] = i
+    return hk, hi, hn + 1
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _pop(hk, hi, hn):
+    """Drop the root of the heap of ``hn`` entries: its last entry sifts down from the root,
+    each step swapping with the lower child. Returns hn - 1."""
+    hn -= 1
+    z, zi = hk[hn], hi[hn]
+    j, ch = 0, 1
+    while ch < hn:
+        ch += 1 if ch + 1 < hn and hk[ch + 1] < hk[ch] else 0
+        if hk[ch] >= z:
+            break
+        hk[j], hi[j] = hk[ch], hi[ch]
+        j, ch = ch, 2 * ch + 1
+    hk[j], hi[j] = z, zi
+    return hn
 
 
 @njit(cache=True, nogil=True)
@@ -69,21 +100,7 @@ def _flood(h, low, conn8, out):
             if not np.isfinite(z):
                 z = low
             out[i] = z
-            if hn == hk.size:
-                hk = _grow_f8(hk, hn)
-                hi = _grow_i4(hi, hn)
-            # sift up
-            j = hn
-            hn += 1
-            while j > 0:
-                p = (j - 1) >> 1
-                if hk[p] <= z:
-                    break
-                hk[j] = hk[p]
-                hi[j] = hi[p]
-                j = p
-            hk[j] = z
-            hi[j] = i
+            hk, hi, hn = _push(hk, hi, hn, z, i)
             c += step
 
     while hn > 0 or sn > 0:
@@ -94,25 +111,7 @@ def _flood(h, low, conn8, out):
         else:
             ci = hi[0]
             lev = hk[0]
-            # pop: move the last element down from the root
-            hn -= 1
-            if hn > 0:
-                z = hk[hn]
-                zi = hi[hn]
-                j = 0
-                while True:
-                    ch = 2 * j + 1
-                    if ch >= hn:
-                        break
-                    if ch + 1 < hn and hk[ch + 1] < hk[ch]:
-                        ch += 1
-                    if hk[ch] >= z:
-                        break
-                    hk[j] = hk[ch]
-                    hi[j] = hi[ch]
-                    j = ch
-                hk[j] = z
-                hi[j] = zi
+            hn = _pop(hk, hi, hn)
         r = ci // nx
         c = ci - r * nx
         for k in range(nnb):
@@ -129,25 +128,12 @@ def _flood(h, low, conn8, out):
             if z <= lev:
                 out[ni] = lev
                 if sn == st.size:
-                    st = _grow_i4(st, sn)
+                    st = _grow(st, sn)
                 st[sn] = ni
                 sn += 1
             else:
                 out[ni] = z
-                if hn == hk.size:
-                    hk = _grow_f8(hk, hn)
-                    hi = _grow_i4(hi, hn)
-                j = hn
-                hn += 1
-                while j > 0:
-                    p = (j - 1) >> 1
-                    if hk[p] <= z:
-                        break
-                    hk[j] = hk[p]
-                    hi[j] = hi[p]
-                    j = p
-                hk[j] = z
-                hi[j] = ni
+                hk, hi, hn = _push(hk, hi, hn, z, ni)
 
 
 def priority_flood_fill(h, low, connectivity):

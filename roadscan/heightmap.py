@@ -30,6 +30,25 @@ class _Measured:
         """Fraction of points the instrument measured."""
         return float(1.0 - self.unmeasured.mean())
 
+    def _settle(self, what, ndim, spacings, too_small):
+        """The constructors' common part: heights copied to float64 with NaN exactly where
+        unmeasured; checked in turn: the dimension, the size (``too_small(h)``: a complaint
+        or None), the spacings [m] and at least one measured point."""
+        h, bad = _clean(self.heights_m, self.unmeasured)
+        if h.ndim != ndim:
+            raise ValueError(f"{what} must be {ndim}D, got shape {h.shape}")
+        small = too_small(h)
+        if small:
+            raise ValueError(f"{what} {small}")
+        values = [getattr(self, k) for k in spacings]
+        _check_spacing(*values)
+        if bad.all():
+            raise ValueError(f"{what} has no measured points")
+        object.__setattr__(self, "heights_m", h)
+        object.__setattr__(self, "unmeasured", bad)
+        for k, v in zip(spacings, values):
+            object.__setattr__(self, k, float(v))
+
     def with_heights(self, heights_m, unmeasured=None, **changes):
         """A copy with new heights (same spacing, name, meta unless changed)."""
         if unmeasured is None:
@@ -85,18 +104,8 @@ class HeightMap(_Measured):
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
-        h, bad = _clean(self.heights_m, self.unmeasured)
-        if h.ndim != 2:
-            raise ValueError(f"height map must be 2D, got shape {h.shape}")
-        if h.shape[0] < 2 or h.shape[1] < 2:
-            raise ValueError(f"height map too small: shape {h.shape}")
-        _check_spacing(self.dx_m, self.dy_m)
-        if bad.all():
-            raise ValueError("height map has no measured points")
-        object.__setattr__(self, "heights_m", h)
-        object.__setattr__(self, "unmeasured", bad)
-        object.__setattr__(self, "dx_m", float(self.dx_m))
-        object.__setattr__(self, "dy_m", float(self.dy_m))
+        self._settle("height map", 2, ("dx_m", "dy_m"),
+                     lambda h: f"too small: shape {h.shape}" if min(h.shape) < 2 else None)
 
     @property
     def shape(self):
@@ -143,17 +152,8 @@ class Profile(_Measured):
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
-        h, bad = _clean(self.heights_m, self.unmeasured)
-        if h.ndim != 1:
-            raise ValueError(f"profile must be 1D, got shape {h.shape}")
-        if h.size < 4:
-            raise ValueError(f"profile too short: {h.size} points")
-        _check_spacing(self.dx_m)
-        if bad.all():
-            raise ValueError("profile has no measured points")
-        object.__setattr__(self, "heights_m", h)
-        object.__setattr__(self, "unmeasured", bad)
-        object.__setattr__(self, "dx_m", float(self.dx_m))
+        self._settle("profile", 1, ("dx_m",),
+                     lambda h: f"too short: {h.size} points" if h.size < 4 else None)
 
     @property
     def n(self):
