@@ -9,7 +9,6 @@ flash), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -17,6 +16,7 @@ import numpy as np
 from roadscan.heightmap import Profile
 
 from . import report
+from .friction_options import FrictionSettings  # its one home; re-exported here
 from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
 
 __all__ = ["FrictionSettings", "summarise", "run_analysis", "nominal_band"]
@@ -25,23 +25,6 @@ PSD_HEADER = ["q_per_m", "C_m4"]
 MU_HEADER = ["v_m_per_s", "mu"]
 MU_EXTRA = ["area_fraction", "T_flash_max_C"]   # A/A0 = P(q1); hottest flash temperature
 PSD1D_HEADER = ["q_per_m", "C1_m3"]
-
-
-@dataclass
-class FrictionSettings:
-    """How mu(v) is computed (defaults: DESIGN.md section 5)."""
-
-    rubber: object = None          # friction rubber; None -> thesis rubber
-    sigma0_Pa: float = 0.2e6
-    T0_C: float = None             # None -> the rubber's T_ref
-    flash: bool = False
-    v_m_per_s: np.ndarray = None   # None -> 1e-8..1e4 m/s, 10 per decade
-    q1_per_m: float = None         # upper end; beyond Nyquist the self-affine fit extends C(q)
-    enabled: bool = True
-    q0_per_m: float = None         # lower end of the friction integrals (None: lowest ring)
-    nu: float = 0.5
-    contact_gamma: float = None    # Persson's S(q) = gamma + (1 - gamma) P^2 (None: S = 1)
-    extrapolate: str = "powerlaw"  # master curve beyond its data: powerlaw | hold
 
 
 def nominal_band(obj):

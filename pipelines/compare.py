@@ -10,8 +10,9 @@ from pathlib import Path
 import numpy as np
 
 from . import report
-from .analyse import FrictionSettings, summarise
+from .analyse import summarise
 from .dry_vs_wet import mu_by_speed, speed_table
+from .friction_options import FrictionSettings
 from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
 
 __all__ = ["run_compare", "spectrum_difference", "friction_difference"]

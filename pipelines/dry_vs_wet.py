@@ -17,7 +17,8 @@ from roadscan.heightmap import HeightMap
 from roadscan.io.atomic import atomic_save_npy
 
 from . import report
-from .analyse import FrictionSettings, nominal_band
+from .analyse import nominal_band
+from .friction_options import FrictionSettings
 from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
 
 __all__ = ["run_dry_vs_wet", "speed_table", "mu_by_speed"]

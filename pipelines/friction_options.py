@@ -10,16 +10,22 @@ uses the plane-strain pressure ``(1 - nu^2) sigma0`` in P(q), G(q) and M(q) (Per
 Band. ``--q0``/``--q1`` [1/m] set the integration range of Persson's integrals within the
 spectrum (:func:`friction.band.integration_band`): log-log interpolation inside it, the fitted
 power law above its last point (said in one line and in the outputs).
+
+One parser. :func:`add_friction_options` puts the friction flags on every command that takes
+them (analyse, batch, compare, dry-vs-wet; friction and diagnose with ``--master-curve``) and
+:func:`settings_from_args` turns them into one :class:`FrictionSettings`. A new friction flag
+goes into both, here.
 """
 from __future__ import annotations
 
 import math
 import re
 import sys
+from dataclasses import dataclass
 
 from roadscan.errors import InputError
 
-__all__ = ["add_friction_options", "add_contact_options", "settings_from_args", "parse_velocities",
+__all__ = ["FrictionSettings", "add_friction_options", "add_contact_options", "settings_from_args", "parse_velocities",
            "parse_pressure", "check_contact_args", "apply_band", "coverage_note", "EXTRAPOLATE_CHOICES",
            "PRESSURE_HELP", "MIN_BARE_PA", "with_extrapolation", "run_checks", "add_master_curve_options",
            "rubber_from_args"]
@@ -32,6 +38,29 @@ EXTRAPOLATE_CHOICES = ("powerlaw", "hold")
 PRESSURE_HELP = ("nominal contact pressure sigma0 = load / nominal area, with a unit: 0.3MPa, 300kPa, "
                  "3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0 in P(q) "
                  "(default 0.2MPa)")
+FRICTION_GROUP = "friction (Persson's theory; defaults as DESIGN.md section 5)"
+RUBBER_GROUP = "rubber (one of --rubber or --master-curve; default: the thesis SLS, T_ref 60 C)"
+SCAN_Q1_HELP = ("upper end of the friction integrals [1/m]; beyond the Nyquist wave vector the "
+                "spectrum is extended by its self-affine fit")
+
+
+@dataclass
+class FrictionSettings:
+    """How mu(v) is computed (defaults: DESIGN.md section 5); built from the flags by
+    :func:`settings_from_args`. SI units: pressure [Pa], temperature [C], speeds [m/s], wave
+    vectors [1/m]."""
+
+    rubber: object = None          # friction rubber; None -> thesis rubber
+    sigma0_Pa: float = 0.2e6
+    T0_C: float = None             # None -> the rubber's T_ref
+    flash: bool = False
+    v_m_per_s: "np.ndarray" = None   # None -> 1e-8..1e4 m/s, 10 per decade
+    q1_per_m: float = None         # upper end; beyond Nyquist the self-affine fit extends C(q)
+    enabled: bool = True
+    q0_per_m: float = None         # lower end of the friction integrals (None: lowest ring)
+    nu: float = 0.5
+    contact_gamma: float = None    # Persson's S(q) = gamma + (1 - gamma) P^2 (None: S = 1)
+    extrapolate: str = "powerlaw"  # master curve beyond its data: powerlaw | hold
 
 
 def parse_pressure(text, flag="--sigma0"):
@@ -203,33 +232,47 @@ def _say(msg):
     print(msg, file=sys.stderr)
 
 
-def add_friction_options(parser):
-    g = parser.add_argument_group("friction (Persson's theory; defaults as DESIGN.md section 5)")
-    g.add_argument("--rubber", metavar="FILE.toml", default=None,
-                   help="rubber model (default: the thesis's standard linear solid, T_ref = 60 C)")
+def add_friction_options(p, master_curve=False, sliding=True, optional=True, q1_help=SCAN_Q1_HELP):
+    """The friction flags, the one definition every command that computes mu(v) uses.
+
+    Defaults (analyse, batch, compare, dry-vs-wet): one argument group with --rubber, --sigma0,
+    --temperature, --flash, --velocities, the contact options (:func:`add_contact_options`) and
+    --no-friction. ``master_curve=True`` (friction, diagnose): --rubber and the master-curve
+    flags in a "rubber" group, the rest on ``p``; ``sliding=False`` drops --flash and
+    --velocities (diagnose takes the measured speeds), ``optional=False`` drops --no-friction,
+    ``q1_help=None`` the spectrum's (not the scan's) meaning of --q1.
+    """
+    if master_curve:
+        rub, g = p.add_argument_group(RUBBER_GROUP), p
+    else:
+        rub = g = p.add_argument_group(FRICTION_GROUP)
+    rub.add_argument("--rubber", metavar="FILE.toml", default=None,
+                     help="rubber model, friction/RUBBER_TOML.md (default: the thesis's standard "
+                          "linear solid, T_ref = 60 C)")
+    if master_curve:
+        add_master_curve_options(rub)
     g.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
     g.add_argument("--temperature", type=float, default=None, metavar="C",
                    help="background temperature T0 [C] (default: the rubber's reference temperature)")
-    g.add_argument("--flash", action="store_true", help="include flash temperature")
-    g.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
-                   help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
-                        "(default 1e-8:1e4:121)")
-    add_contact_options(g, q1_help="upper end of the friction integrals [1/m]; beyond the Nyquist "
-                                   "wave vector the spectrum is extended by its self-affine fit")
-    g.add_argument("--no-friction", action="store_true", help="skip mu(v)")
+    if sliding:
+        g.add_argument("--flash", action="store_true", help="flash-temperature model (Persson 2006)")
+        g.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
+                       help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
+                            "(e.g. another program's table; default 1e-8:1e4:121)")
+    add_contact_options(g, q1_help=q1_help)
+    if optional:
+        g.add_argument("--no-friction", action="store_true", help="skip mu(v)")
 
 
 def settings_from_args(args):
-    from .analyse import FrictionSettings
-
+    """The flags of :func:`add_friction_options` -> :class:`FrictionSettings` [SI], checked:
+    one-line InputErrors naming the flag (contact options, rubber files, pressure, speeds,
+    temperature against the rubber's WLF pole). A flag the command lacks takes its default."""
     check_contact_args(args)
-    rubber = None
-    if getattr(args, "rubber", None):
-        from .rubber_file import load_rubber
-
-        rubber = load_rubber(args.rubber)
+    rubber = rubber_from_args(args)
     sigma0 = parse_pressure(args.sigma0)
-    v = parse_velocities(args.velocities) if args.velocities else None
+    velocities = getattr(args, "velocities", None)
+    v = parse_velocities(velocities) if velocities else None
     from .validate import check_temperature, finite_number
 
     if args.temperature is not None:
@@ -239,9 +282,9 @@ def settings_from_args(args):
     if args.q1 is not None and not finite_number(args.q1, "--q1") > 0:
         raise InputError(None, f"--q1 {args.q1:g} 1/m: must be a positive wave vector")
     return FrictionSettings(rubber=rubber, sigma0_Pa=sigma0, T0_C=args.temperature,
-                            flash=args.flash, v_m_per_s=v, q1_per_m=args.q1,
-                            enabled=not args.no_friction, q0_per_m=args.q0, nu=args.nu,
-                            contact_gamma=args.contact_gamma, extrapolate=args.extrapolate)
+                            flash=getattr(args, "flash", False), v_m_per_s=v, q1_per_m=args.q1,
+                            enabled=not getattr(args, "no_friction", False), q0_per_m=args.q0,
+                            nu=args.nu, contact_gamma=args.contact_gamma, extrapolate=args.extrapolate)
 
 
 def with_extrapolation(rubber, mode):

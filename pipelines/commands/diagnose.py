@@ -15,9 +15,8 @@ import sys
 
 from roadscan.errors import InputError
 
-from ..friction_options import (PRESSURE_HELP, add_contact_options, add_master_curve_options, apply_band,
-                                check_contact_args, parse_pressure, rubber_from_args, run_checks,
-                                with_extrapolation)
+from ..friction_options import (add_friction_options, apply_band, check_contact_args, parse_pressure,
+                                rubber_from_args, run_checks, with_extrapolation)
 from ..scan_input import add_scan_options, load_scan
 
 NAME = "diagnose"
@@ -30,19 +29,12 @@ def add_arguments(p):
                         "without it the scan itself is diagnosed (surface level)")
     p.add_argument("--scan", metavar="FILE", default=None, help="height file (area scan or line profile)")
     p.add_argument("--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)")
-    rub = p.add_argument_group("rubber (one of --rubber or --master-curve; default: the thesis SLS, T_ref 60 C)")
-    rub.add_argument("--rubber", metavar="FILE.toml", default=None,
-                     help="rubber model (friction/RUBBER_TOML.md)")
-    add_master_curve_options(rub)
-    p.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
-    p.add_argument("--temperature", type=float, default=None, metavar="C",
-                   help="background temperature T0 [C] (default: the rubber's reference temperature)")
+    add_friction_options(p, master_curve=True, sliding=False, optional=False, q1_help=None)
     p.add_argument("--noise", type=float, default=None, metavar="RMS",
                    help="measurement noise as rms of log10 (default: estimated from the data)")
     p.add_argument("--validate", metavar="OTHER.csv", default=None,
                    help="a separate measurement predicted by the corrected model without refitting")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    add_contact_options(p)
     add_scan_options(p)
 
 

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-from ..friction_options import PRESSURE_HELP, add_contact_options, add_master_curve_options
+from ..friction_options import add_friction_options
 
 NAME = "friction"
 HELP = "friction coefficient mu(v) and contact area A/A0 from a spectrum (psd.csv or self-affine model) and a rubber"
@@ -27,18 +27,7 @@ def add_arguments(p):
     src.add_argument("--self-affine", metavar="H=..,h0=..,q0=..,q1=..",
                      help="self-affine model (thesis appendix A): Hurst H, h0 [m], q0, q1 [1/m], "
                           "optional qroll [1/m]")
-    rub = p.add_argument_group("rubber (one of --rubber or --master-curve; default: the thesis SLS, T_ref 60 C)")
-    rub.add_argument("--rubber", metavar="FILE.toml", default=None,
-                     help="rubber model (friction/RUBBER_TOML.md)")
-    add_master_curve_options(rub)
-    p.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
-    p.add_argument("--temperature", type=float, default=None, metavar="C",
-                   help="background temperature T0 [C] (default: the rubber's T_ref)")
-    p.add_argument("--flash", action="store_true", help="flash-temperature model (Persson 2006)")
-    p.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
-                   help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
-                        "(e.g. another program's table; default 1e-8:1e4:121)")
-    add_contact_options(p)
+    add_friction_options(p, master_curve=True, optional=False, q1_help=None)
     p.add_argument("--magnifications", default="", metavar="Z1,Z2,...",
                    help="with --flash: also report T at these magnifications zeta = q/q0")
     p.add_argument("--tol", type=float, default=1e-3, help="relative accuracy target for mu (1e-3)")
@@ -76,15 +65,6 @@ def _self_affine(text):
         raise InputError(None, f"--self-affine: {exc}") from None
 
 
-def _rubber(args):
-    import friction
-
-    from ..friction_options import rubber_from_args
-
-    rubber = rubber_from_args(args)
-    return friction.thesis_rubber() if rubber is None else rubber
-
-
 def _psd(args):
     from ..csv_files import read_psd_csv
     from ..friction_options import apply_band
@@ -111,16 +91,17 @@ def run(args):
 
     import friction
 
-    from ..friction_options import check_contact_args, parse_pressure, parse_velocities, run_checks, with_extrapolation
+    from ..friction_options import run_checks, settings_from_args, with_extrapolation
     from ..spectrum_bridge import default_velocities
 
-    check_contact_args(args)
-    sigma0 = parse_pressure(args.sigma0)
-    v = parse_velocities(args.velocities) if args.velocities else default_velocities()
+    settings = settings_from_args(args)   # checked: contact options, rubber, pressure, T0
+    sigma0 = settings.sigma0_Pa
+    v = settings.v_m_per_s if settings.v_m_per_s is not None else default_velocities()
     if not (0 < args.tol < 0.1):
         raise InputError(None, "--tol must lie in (0, 0.1)")
     psd, band = _psd(args)
-    rubber = with_extrapolation(_rubber(args), args.extrapolate)
+    rubber = with_extrapolation(settings.rubber if settings.rubber is not None else friction.thesis_rubber(),
+                                args.extrapolate)
     zetas = []
     if args.magnifications:
         try:
@@ -134,9 +115,8 @@ def run(args):
         raise InputError(None, f"--magnifications {bad}: outside the spectrum's range {zmin:g}..{zmax:g}")
     if zetas and not args.flash:
         raise InputError(None, "--magnifications needs --flash")
-    from ..validate import check_mu, check_temperature
+    from ..validate import check_mu
 
-    check_temperature(args.temperature, rubber)
     kw = dict(sigma0_Pa=sigma0, nu=args.nu, T0_C=args.temperature, tol=args.tol,
               contact_gamma=args.contact_gamma)
     try:
