@@ -1,0 +1,138 @@
+"""Figures road engineers derive from the mean profile depth: ETD (ISO 13473-1), the IFI speed
+constant and F60 (ASTM E1960), and a labelled short-baseline segment depth for scans shorter
+than the 100 mm MPD baseline (not an ISO figure).
+
+Lengths in metres inside; the ASTM formulas take MPD in millimetres and speeds in km/h, as
+the standard writes them.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .heightmap import HeightMap, Profile
+
+__all__ = ["estimated_texture_depth", "ifi_speed_constant", "ifi_f60", "short_segment_depth",
+           "spike_alpha_to_pass", "SHORT_MIN_BASELINE_M"]
+
+#: Shortest baseline a short-scan segment depth is given for [m].
+SHORT_MIN_BASELINE_M = 10e-3
+
+
+def estimated_texture_depth(mpd_m):
+    """Estimated texture depth [m], ISO 13473-1:2019 eq. (1): ETD = 0.2 mm + 0.8 MPD.
+
+    ETD estimates the volumetric (sand patch, ISO 10844 / EN 13036-1) mean texture depth from
+    the MPD. None when ``mpd_m`` is None.
+    """
+    if mpd_m is None:
+        return None
+    return 0.2e-3 + 0.8 * float(mpd_m)
+
+
+def ifi_speed_constant(mpd_m):
+    """IFI speed constant Sp [km/h], ASTM E1960-07: Sp = 14.2 + 89.7 MPD, MPD in mm.
+
+    None when ``mpd_m`` is None.
+    """
+    if mpd_m is None:
+        return None
+    return 14.2 + 89.7 * float(mpd_m) * 1e3
+
+
+def ifi_f60(friction, slip_speed_kmh, mpd_m, A, B, C=0.0):
+    """International Friction Index F60 of ASTM E1960-07.
+
+    FR60 = FRS exp((S - 60) / Sp), F60 = A + B FR60 + C TX, with FRS the friction measured at
+    slip speed S [km/h], Sp = 14.2 + 89.7 MPD[mm] (:func:`ifi_speed_constant`), A, B, C the
+    measuring device's calibration constants and TX the texture measure, here MPD in mm
+    (C = 0 for devices calibrated without it).
+
+    Returns
+    -------
+    (F60, Sp_kmh, FR60), or None when ``mpd_m`` is None.
+    """
+    sp = ifi_speed_constant(mpd_m)
+    if sp is None:
+        return None
+    fr60 = float(friction) * np.exp((float(slip_speed_kmh) - 60.0) / sp)
+    return float(A + B * fr60 + C * float(mpd_m) * 1e3), sp, float(fr60)
+
+
+def _longest_baseline(obj, resample_m=0.5e-3):
+    """Longest whole-millimetre baseline [m] that fits the scan's lines along x."""
+    L = (obj.n if isinstance(obj, Profile) else obj.nx) * obj.dx_m
+    base = np.floor(L * 1e3 * (1 + 1e-9)) * 1e-3
+    return float(base) if base >= SHORT_MIN_BASELINE_M else None
+
+
+def short_segment_depth(obj, **settings):
+    """Mean segment depth over the longest baseline that fits a scan shorter than 100 mm.
+
+    NOT an ISO 13473-1 MPD: the standard's segments are 100 mm long, and a shorter baseline
+    reads less depth on a coarse texture (the longest texture wavelengths are cut). The same
+    steps as :func:`roadscan.roughness.segment_depths` (dropouts, resampling, spikes, 2.4 mm
+    low-pass, slope suppression, peak of each half minus the mean) with the baseline B =
+    the scan's length along x rounded down to whole millimetres (at least 10 mm); an area's
+    rows are averaged like the MPD's.
+
+    Returns
+    -------
+    (msd_short_m or None, baseline_m or None, note)
+    """
+    from . import roughness
+
+    base = _longest_baseline(obj)
+    if base is None:
+        return None, None, "no short-baseline segment depth: the scan is shorter than 10 mm"
+    cfg = dict(settings, segment_m=base)
+    if isinstance(obj, HeightMap):
+        msd, note = roughness.mean_profile_depth_area(obj, **cfg)
+    else:
+        msd, note = roughness.mean_profile_depth(obj, **cfg)
+    note = note.replace("ISO 13473-1 MPD", "short-baseline mean segment depth (not ISO 13473-1)")
+    note = note.replace("100 mm segments", f"{base * 1e3:g} mm segments")
+    return msd, (base if msd is not None else None), note
+
+
+def _valid_counts(obj, alpha, settings):
+    from . import roughness
+
+    cfg = dict(settings, spike_alpha=alpha)
+    if isinstance(obj, HeightMap):
+        res = roughness._segment_depths_by_bands(obj, cfg)
+    else:
+        res = roughness.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **cfg)
+    return int(res["valid"].sum()), int(res["valid"].size)
+
+
+def spike_alpha_to_pass(obj, settings=None, upper=50.0, step=0.1):
+    """Smallest spike threshold alpha (ISO 13473-1 Annex E: a spike where |dh| >= alpha x the
+    resampled interval) at which the MPD exists, rounded up to ``step``.
+
+    Bisection on alpha = k x ``step`` (the number of valid segments grows with alpha); aims first at an MPD
+    valid per ISO 13473-1 (at least half the segments valid), else at any valid segment.
+
+    Returns
+    -------
+    (alpha or None, iso_valid): None when even ``upper`` leaves no valid segment (the
+    segments fail on dropouts, not spikes).
+    """
+    from .roughness import MPD_SETTINGS
+
+    settings = dict(settings or {})
+    lo = float(settings.get("spike_alpha", MPD_SETTINGS["spike_alpha"]))
+    need_frac = settings.get("min_valid_fraction", MPD_SETTINGS["min_valid_fraction"])
+    nv, nt = _valid_counts(obj, upper, settings)
+    if nv == 0:
+        return None, False
+    iso = nv >= need_frac * nt
+    need = int(np.ceil(need_frac * nt)) if iso else 1
+    k_lo, k_hi = int(np.floor(lo / step + 1e-9)), int(np.ceil(upper / step - 1e-9))
+    while k_hi - k_lo > 1:                 # alpha = k step: k_lo fails, k_hi passes
+        k = (k_lo + k_hi) // 2
+        if _valid_counts(obj, k * step, settings)[0] >= need:
+            k_hi = k
+        else:
+            k_lo = k
+    alpha = k_hi * step
+    return round(alpha, 6), iso
