@@ -1,0 +1,251 @@
+"""The reliable band of a measured spectrum: the wave vectors [lo, hi] whose C(q) the scan
+measures without bias, and why each end is where it is.
+
+**lo** (long wavelengths) is the larger of
+
+- the *field of view*: the Tukey window (alpha 0.25) and the levelling leak power of the
+  modes longer than the scan into the lowest rings. For a spectrum falling as q^-beta the
+  bias of C stays under about 10 % only from k(beta) x 2 pi / L on, with k = 4, 6, 12, 14 at
+  beta = 2.6, 3.0, 3.6, 4.0 (interpolated, clipped to [4, 15]; measured on non-periodic
+  crops of synthetic surfaces, ``tests/test_reliable_band.py``). beta is the fitted slope of
+  the windowed spectrum itself (2 + 2H for an area's C, 1 + 2H for a profile's C1); L is the
+  shorter side of an area (the leakage comes from the side with the fewest modes);
+- except where a *roll-off* is detected (:func:`roadscan.rolloff.detect_roll_off`): below it
+  the spectrum is flat and leaks little, so lo = max(q_r, 4 x 2 pi / L) when that is lower.
+
+**hi** (short wavelengths) is the smallest of
+
+- *Nyquist*: :data:`NYQUIST_FRACTION` x pi / a (a the coarser spacing): above it the power of
+  wavelengths shorter than 2 a, folded back by the sampling, adds over 10 % to C for a
+  spectrum falling as q^-3.6 (((2 - f) / f)^-3.6 = 0.11 at f = 0.7);
+- the *lateral resolution* r (the wavelength passed at 50 % amplitude, from the file's
+  metadata or given): modelled as a Gaussian low-pass, amplitude response
+  T(q) = exp(-ln 2 (q r / 2 pi)^2); the band ends where T = :data:`RESPONSE_MIN` (0.8, i.e.
+  C attenuated by at most 36 %), at q = 2 pi / r x sqrt(ln(1 / 0.8) / ln 2) = 0.57 x 2 pi / r;
+- the *noise floor* detected in the spectrum: the first ring from which C stays more than
+  :data:`NOISE_EXCESS` (25 %) above the self-affine line fitted below it, or from which C comes
+  within a factor :data:`WHITE_SHARE` (10) of a white floor (the top rings' level when they are
+  flatter than q^-1, which no surface with H > -0.5 is).
+
+Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 3-4
+(windows, leakage, reliability); Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014
+(2022) (reliability cut-off of instruments); ISO 25178-3 (lateral period limit, 50 %).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .rolloff import detect_roll_off
+
+__all__ = ["ReliableBand", "reliable_band", "leakage_factor", "resolution_limit",
+           "gaussian_response", "noise_limit", "NYQUIST_FRACTION", "RESPONSE_MIN"]
+
+NYQUIST_FRACTION = 0.7
+RESPONSE_MIN = 0.8
+NOISE_EXCESS = 1.25
+WHITE_SHARE = 10.0
+#: (slope beta of the windowed spectrum, k such that C is within ~10 % from k x 2 pi / L)
+_LEAKAGE_TABLE = ((2.6, 4.0), (3.0, 6.0), (3.6, 12.0), (4.0, 14.0))
+_K_MIN, _K_MAX = 4.0, 15.0
+_ROLL_K_MIN = 4.0
+
+
+@dataclass(frozen=True)
+class ReliableBand:
+    """Result of :func:`reliable_band` (wave vectors in 1/m).
+
+    ``limits`` holds every candidate end (``field_of_view``, ``roll_off``, ``nyquist``,
+    ``resolution``, ``noise_floor``; None when absent), ``reasons`` one line for each end.
+    """
+
+    lo_per_m: float
+    hi_per_m: float
+    lo_reason: str
+    hi_reason: str
+    limits: dict = field(default_factory=dict)
+    slope: float = float("nan")        # fitted log-log slope of the spectrum analysed
+    q_roll_per_m: float = None
+    noise_floor: float = None          # white level of the spectrum analysed (its units)
+
+    @property
+    def band(self):
+        return [float(self.lo_per_m), float(self.hi_per_m)]
+
+    @property
+    def reasons(self):
+        return {"lo": self.lo_reason, "hi": self.hi_reason}
+
+    @property
+    def valid(self):
+        """At least a factor 2 wide."""
+        return bool(self.hi_per_m >= 2.0 * self.lo_per_m)
+
+    def as_dict(self):
+        return {"reliable_band_per_m": self.band, "reliable_band_reasons": self.reasons,
+                "limits_per_m": dict(self.limits), "q_roll_per_m": self.q_roll_per_m}
+
+
+def leakage_factor(beta):
+    """k(beta): C is within about 10 % of the truth from k x 2 pi / L on (see module doc)."""
+    xs, ks = zip(*_LEAKAGE_TABLE)
+    return float(np.clip(np.interp(beta, xs, ks), _K_MIN, _K_MAX))
+
+
+def gaussian_response(q_per_m, resolution_m):
+    """Amplitude response T(q) = exp(-ln 2 (q r / 2 pi)^2) of a lateral resolution r [m]
+    (T = 0.5 at the wavelength r); C is attenuated by T^2."""
+    return np.exp(-np.log(2.0) * (np.asarray(q_per_m, float) * resolution_m / (2 * np.pi)) ** 2)
+
+
+def resolution_limit(resolution_m, response_min=RESPONSE_MIN):
+    """Wave vector [1/m] where :func:`gaussian_response` falls to ``response_min``."""
+    return 2 * np.pi / resolution_m * np.sqrt(np.log(1.0 / response_min) / np.log(2.0))
+
+
+def _line_fit(x, y, w):
+    w = w / w.sum()
+    xm, ym = np.sum(w * x), np.sum(w * y)
+    sxx = np.sum(w * (x - xm) ** 2)
+    slope = np.sum(w * (x - xm) * (y - ym)) / sxx if sxx > 0 else 0.0
+    return float(slope), float(ym - slope * xm)
+
+
+def noise_limit(q, C, slope, intercept, q_from):
+    """Where the noise floor begins to bias C: (q_end [1/m] or None, white level or None, why).
+
+    The band ends before the first ring of the final run above ``q_from`` where C exceeds the
+    line ``10**(intercept + slope log10 q)`` by :data:`NOISE_EXCESS`, or before the first ring
+    (from the bottom) where C is within :data:`WHITE_SHARE` of the white level (median C of the
+    top 0.2 decade when its local slope is above -1), whichever comes first.
+    """
+    from .fit import local_slopes
+
+    x = np.log10(q)
+    excess = C / 10 ** (intercept + slope * x)
+    above = q > q_from
+    cands, level = [], None
+    high = (excess > NOISE_EXCESS) & above
+    # the final run of rings above the line (the noise floor lasts to the top)
+    if high[-1]:
+        i = q.size - 1
+        while i > 0 and high[i - 1]:
+            i -= 1
+        if q.size - i >= 2:                             # two rings at least
+            cands.append((i, f"C (noise or aliasing) exceeds the self-affine line by over "
+                             f"{100 * (NOISE_EXCESS - 1):.0f} % from {_wl(q[i])} wavelength up"))
+    top = x >= x[-1] - 0.2
+    if top.sum() >= 3:
+        s = local_slopes(q, C, 0.3)
+        if np.nanmedian(s[top]) > -1.0:
+            level = float(np.median(C[top]))
+            low = C < WHITE_SHARE * level       # from the bottom: noise may fill most decades
+            low[0] = False
+            if low.any():
+                i = int(np.argmax(low))
+                cands.append((i, f"white noise floor C = {level:.3g} reached within a factor "
+                                 f"{WHITE_SHARE:g} from {_wl(q[i])} wavelength up"))
+    if not cands:
+        return None, level, ""
+    i, why = min(cands, key=lambda c: c[0])
+    if i == 0:
+        return None, level, ""
+    return float(q[i - 1]), level, why
+
+
+def _wl(q):
+    """A wavelength 2 pi / q in mm or um, 3 significant digits."""
+    lam = 2 * np.pi / q
+    return f"{lam * 1e3:.3g} mm" if lam >= 1e-3 else f"{lam * 1e6:.3g} um"
+
+
+def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min_count=1):
+    """The reliable band of a spectrum (see module docstring).
+
+    Parameters
+    ----------
+    q_per_m, C : arrays
+        The windowed spectrum as measured: an area's angular average C [m^4] or a profile's
+        1D C1 [m^3] (binned), increasing q.
+    count : array or None
+        Lattice points per ring (weights; None: equal).
+    length_m : float
+        Field of view L [m] (an area's shorter side, a profile's length).
+    spacing_m : float
+        Sampling interval a [m] (an area's coarser spacing).
+    resolution_m : float, optional
+        Lateral resolution r [m] (wavelength passed at 50 % amplitude).
+
+    Returns
+    -------
+    ReliableBand
+    """
+    q = np.asarray(q_per_m, float)
+    C = np.asarray(C, float)
+    n = np.ones_like(q) if count is None else np.asarray(count, float)
+    ok = (q > 0) & (C > 0) & np.isfinite(C) & (n >= min_count)
+    q, C, n = q[ok], C[ok], n[ok]
+    if q.size < 5:
+        raise ValueError("spectrum has fewer than 5 usable points: no reliable band")
+    q_fov = 2 * np.pi / length_m
+    q_nyq = np.pi / spacing_m
+    limits = {"field_of_view": None, "roll_off": None, "nyquist": NYQUIST_FRACTION * q_nyq,
+              "resolution": None, "noise_floor": None}
+    hi_cands = [(limits["nyquist"], f"Nyquist: {NYQUIST_FRACTION:g} x pi / a (a = {_len(spacing_m)}; "
+                                    f"aliasing adds over 10 % to C above)")]
+    if resolution_m is not None and resolution_m > 0:
+        limits["resolution"] = float(resolution_limit(resolution_m))
+        hi_cands.append((limits["resolution"],
+                         f"lateral resolution: {_len(resolution_m)} (amplitude response "
+                         f"{RESPONSE_MIN:g} at {_wl(limits['resolution'])} wavelength)"))
+    # the self-affine line over the middle of the spectrum, refitted once inside the band
+    x, y = np.log10(q), np.log10(C)
+    w = np.sqrt(n)
+    lo_b, hi_b = _middle_band(q, C, n)
+    for _ in range(2):
+        sel = (q >= lo_b) & (q <= hi_b)
+        slope, icpt = _line_fit(x[sel], y[sel], w[sel])
+        q_noise, level, why = noise_limit(q, C, slope, icpt, max(lo_b, np.sqrt(lo_b * hi_b)))
+        top = min([c for c, _ in hi_cands] + ([q_noise] if q_noise else []))
+        if top >= hi_b * 0.999:
+            break
+        hi_b = max(top, q[min(np.searchsorted(q, lo_b) + 4, q.size - 1)])
+    if q_noise is not None:
+        limits["noise_floor"] = q_noise
+        hi_cands.append((q_noise, f"noise floor: {why}"))
+    beta = -slope
+    k = leakage_factor(beta)
+    limits["field_of_view"] = k * q_fov
+    lo, lo_reason = k * q_fov, (f"field of view: {k:.3g} x 2 pi / L (L = {_len(length_m)}; "
+                                f"window leakage biases C below for a spectrum falling as "
+                                f"q^-{beta:.2f})")
+    q_roll = detect_roll_off(q, C, n if count is not None else None, slope, icpt, q_fov, hi_b)
+    if q_roll is not None:
+        limits["roll_off"] = q_roll
+        q_lo_roll = max(q_roll, _ROLL_K_MIN * q_fov)
+        if q_lo_roll < lo:
+            lo, lo_reason = q_lo_roll, (f"roll-off at {_wl(q_roll)} wavelength (flat below: "
+                                        f"little leakage; at least {_ROLL_K_MIN:g} x 2 pi / L)")
+    hi, hi_reason = min(hi_cands, key=lambda c: c[0])
+    return ReliableBand(float(lo), float(hi), lo_reason, hi_reason,
+                        {k_: (None if v is None else float(v)) for k_, v in limits.items()},
+                        slope=float(slope), q_roll_per_m=q_roll, noise_floor=level)
+
+
+def _len(m):
+    return f"{m * 1e3:.3g} mm" if m >= 1e-3 else f"{m * 1e6:.3g} um"
+
+
+def _middle_band(q, C, n):
+    """The straight stretch of the spectrum around its middle (roadscan.fit.detect_band)."""
+    from .fit import detect_band
+    from .spectrum_types import Spectrum
+
+    spec = Spectrum(q, C, count=np.rint(n).astype(np.int64))
+    for min_count in (8, 1):              # as the fit: rings of under 8 points scatter widely
+        try:
+            return detect_band(spec, min_count=min_count)
+        except ValueError:
+            pass
+    return float(q[0]), float(q[-1])
