@@ -1,0 +1,208 @@
+"""What road engineers report for one scan (issue 21): the ISO 13473-4 texture spectrum
+(``texture_spectrum.csv``, ``texture_spectrum.png``, ``summary.json`` key ``texture_level_dB``),
+ETD, the IFI speed constant and F60 (ASTM E1960), a labelled short-baseline segment depth for
+scans under 100 mm, and an MPD note that names the spike threshold that would pass.
+
+Options (``roadscan analyse`` and ``roadscan batch``): ``--direction x|y`` (driving direction
+of an area scan), ``--friction-measurement F@SPEED`` (friction F measured at slip speed SPEED
+km/h) with ``--ifi-constants A,B[,C]`` (the device's calibration constants).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from roadscan.errors import InputError
+
+__all__ = ["TEXTURE_HEADER", "TextureSettings", "add_texture_options", "texture_settings_from_args",
+           "texture_keys", "write_texture_csv", "texture_picture", "draw_texture_spectrum",
+           "texture_table_html", "depth_rows"]
+
+TEXTURE_HEADER = ["centre_wavelength_m", "band_lo_m", "band_hi_m", "level_dB"]
+
+
+@dataclass
+class TextureSettings:
+    """Driving direction and the IFI inputs (None when not given)."""
+
+    direction: str = "x"
+    friction: float = None          # FRS measured
+    slip_speed_kmh: float = None    # S
+    ifi_constants: tuple = None     # (A, B, C)
+
+
+def add_texture_options(p):
+    """``--direction``, ``--friction-measurement``, ``--ifi-constants``."""
+    p.add_argument("--direction", choices=("x", "y"), default="x",
+                   help="driving direction of an area scan for the ISO 13473-4 texture spectrum "
+                        "(lines along it are analysed; default x)")
+    p.add_argument("--friction-measurement", default=None, metavar="F@SPEED",
+                   help="friction F measured at slip speed SPEED km/h (e.g. 0.45@30): with "
+                        "--ifi-constants gives the IFI F60 of ASTM E1960")
+    p.add_argument("--ifi-constants", default=None, metavar="A,B[,C]",
+                   help="the friction device's IFI calibration constants (ASTM E1960; C "
+                        "multiplies MPD in mm, default 0)")
+
+
+def _floats(text, flag, sep, n_min, n_max, form):
+    parts = text.split(sep)
+    try:
+        vals = [float(x) for x in parts]
+    except ValueError:
+        raise InputError(None, f"{flag} {text!r}: expected {form}") from None
+    if not n_min <= len(vals) <= n_max or not all(np.isfinite(vals)):
+        raise InputError(None, f"{flag} {text!r}: expected {form}")
+    return vals
+
+
+def texture_settings_from_args(args):
+    """Checked :class:`TextureSettings` from parsed options (InputError naming the flag)."""
+    fm, ic = getattr(args, "friction_measurement", None), getattr(args, "ifi_constants", None)
+    st = TextureSettings(direction=getattr(args, "direction", None) or "x")
+    if (fm is None) != (ic is None):
+        given = "--friction-measurement" if fm is not None else "--ifi-constants"
+        other = "--ifi-constants" if fm is not None else "--friction-measurement"
+        raise InputError(None, f"{given} needs {other} too (ASTM E1960 F60 takes both)")
+    if fm is not None:
+        f, s = _floats(fm, "--friction-measurement", "@", 2, 2, "F@SPEED, e.g. 0.45@30 (km/h)")
+        if not 0 < f <= 5:
+            raise InputError(None, f"--friction-measurement {fm!r}: friction must be in (0, 5]")
+        if not 0 < s <= 500:
+            raise InputError(None, f"--friction-measurement {fm!r}: slip speed must be in "
+                                   f"(0, 500] km/h")
+        c = _floats(ic, "--ifi-constants", ",", 2, 3, "A,B or A,B,C")
+        st.friction, st.slip_speed_kmh = f, s
+        st.ifi_constants = (c[0], c[1], c[2] if len(c) > 2 else 0.0)
+    return st
+
+
+def _spectrum_input(analysis):
+    """The levelled scan (dropouts still unmeasured; the texture module fills them per line)."""
+    return analysis.levelled
+
+
+def texture_keys(analysis, settings=None, mpd_settings=None):
+    """The issue-21 ``summary.json`` keys of one analysed scan and its texture spectrum.
+
+    Returns
+    -------
+    (dict of keys, roadscan.texture_spectrum.TextureSpectrum)
+    """
+    from roadscan import texture_depth as td
+    from roadscan.texture_spectrum import texture_spectrum
+
+    from .validate import warn
+
+    settings = settings or TextureSettings()
+    ts = texture_spectrum(_spectrum_input(analysis), direction=settings.direction)
+    out = {"texture_level_dB": ts.as_dict(), "texture_spectrum_note": ts.note}
+    if not analysis.is_profile:
+        out["texture_direction"] = settings.direction
+    mpd = analysis.mpd_m
+    out["etd_m"] = td.estimated_texture_depth(mpd)
+    out["ifi_speed_constant_kmh"] = td.ifi_speed_constant(mpd)
+    src = analysis.source
+    if settings.friction is not None:
+        A, B, C = settings.ifi_constants
+        res = td.ifi_f60(settings.friction, settings.slip_speed_kmh, mpd, A, B, C)
+        out["ifi_F60"] = res[0] if res else None
+        out["ifi_inputs"] = {"friction": settings.friction, "slip_speed_kmh": settings.slip_speed_kmh,
+                             "A": A, "B": B, "C": C, "FR60": res[2] if res else None}
+        if res is None:
+            warn(f"{analysis.name}: no IFI F60: it needs the MPD, which is null ({analysis.mpd_note})")
+    length = src.length_m if analysis.is_profile else src.nx * src.dx_m
+    if mpd is None and length < 0.1:
+        msd, base, note = td.short_segment_depth(src, **(mpd_settings or {}))
+        out.update(msd_short_m=msd, msd_short_baseline_m=base, msd_short_note=note)
+    elif mpd is None and "no valid segment" in (analysis.mpd_note or ""):
+        alpha, iso = td.spike_alpha_to_pass(src, mpd_settings)
+        if alpha is not None:
+            what = "an MPD valid per ISO 13473-1 (at least half the segments valid)" if iso else \
+                "an MPD (fewer than half the segments valid, not valid per ISO 13473-1)"
+            out["mpd_note"] = (f"{analysis.mpd_note}; --mpd-spike-alpha {alpha:g} would give {what} "
+                               f"(the steep stone edges of chip seals read as spikes at the "
+                               f"ISO default 3)")
+            out["mpd_spike_alpha_to_pass"] = alpha
+        else:
+            out["mpd_note"] = (f"{analysis.mpd_note}; no --mpd-spike-alpha up to 50 helps: the "
+                               f"segments fail on dropouts")
+    return out, ts
+
+
+def write_texture_csv(path, ts):
+    """``texture_spectrum.csv``: one row per resolved band, SI."""
+    from .report import write_csv
+
+    return write_csv(path, TEXTURE_HEADER, [ts.centre_m, ts.lo_m, ts.hi_m, ts.level_dB])
+
+
+def texture_picture(ts):
+    """What :func:`draw_texture_spectrum` needs (small, picklable)."""
+    return {"nominal_mm": np.asarray(ts.nominal_mm), "level_dB": np.asarray(ts.level_dB)}
+
+
+def draw_texture_spectrum(picture, path, title):
+    """Third-octave bar chart as in ISO 13473-4: wavelength bands [mm] descending from left
+    to right, texture level [dB re 1 µm] as bars."""
+    from . import report
+    from .units_format import sig3
+
+    plt = report.pyplot()
+    nom = picture["nominal_mm"][::-1]
+    lvl = picture["level_dB"][::-1]
+    fig, ax = plt.subplots(figsize=(7.5, 4.4))
+    x = np.arange(nom.size)
+    ok = np.isfinite(lvl)
+    base = np.floor(np.nanmin(lvl[ok]) / 10) * 10 - 10 if ok.any() else 0.0
+    ax.bar(x[ok], lvl[ok] - base, bottom=base, width=0.8, color="C0", edgecolor="0.2", lw=0.5)
+    ax.set_xticks(x)
+    ax.set_xticklabels([f"{v:g}" for v in nom], rotation=90, fontsize=8)
+    ax.set_xlim(-0.6, nom.size - 0.4)
+    ax.set_xlabel("texture wavelength, third-octave band centre [mm]")
+    ax.set_ylabel("texture level L [dB re 1 µm]")
+    if ok.any():
+        ax.set_ylim(base, np.nanmax(lvl[ok]) + 5)
+        k = int(np.nanargmax(np.where(ok, lvl, -np.inf)))
+        ax.annotate(f"{sig3(lvl[k])} dB", (x[k], lvl[k]), textcoords="offset points",
+                    xytext=(0, 3), ha="center", fontsize=7)
+    ax.grid(axis="y", alpha=0.3)
+    report.set_title(ax, title)
+    return report.save_figure(fig, path, report.fixed_margins(ax, bottom=0.95))
+
+
+def texture_table_html(ts):
+    """The band table of the report (mm and dB)."""
+    from .report import table_html
+    from .units_format import decibel, sig3
+
+    rows = [(f"{n:g}", sig3(c * 1e3), f"{sig3(lo * 1e3)} – {sig3(hi * 1e3)}", decibel(v))
+            for n, c, lo, hi, v in zip(ts.nominal_mm[::-1], ts.centre_m[::-1], ts.lo_m[::-1],
+                                       ts.hi_m[::-1], ts.level_dB[::-1])]
+    return table_html(rows, ["band [mm]", "exact centre [mm]", "band edges [mm]",
+                             "level [dB re 1 µm]"])
+
+
+def depth_rows(summary):
+    """Report rows (label, text) for MPD, ETD, IFI and the short-baseline depth."""
+    from .units_format import length, sig3, speed_kmh
+
+    rows = []
+    if summary.get("mpd_m") is not None:
+        rows.append(("mean profile depth MPD (ISO 13473-1)", length(summary["mpd_m"])))
+    else:
+        rows.append(("mean profile depth MPD (ISO 13473-1)", summary.get("mpd_note") or "—"))
+    if summary.get("etd_m") is not None:
+        rows.append(("estimated texture depth ETD = 0.2 mm + 0.8 MPD", length(summary["etd_m"])))
+    if summary.get("ifi_speed_constant_kmh") is not None:
+        rows.append(("IFI speed constant Sp = 14.2 + 89.7 MPD[mm] (ASTM E1960)",
+                     speed_kmh(summary["ifi_speed_constant_kmh"])))
+    if "ifi_F60" in summary:
+        inp = summary.get("ifi_inputs") or {}
+        rows.append((f"IFI F60 (ASTM E1960; F = {sig3(inp.get('friction'))} at "
+                     f"{sig3(inp.get('slip_speed_kmh'))} km/h)", sig3(summary["ifi_F60"])))
+    if summary.get("msd_short_m") is not None:
+        rows.append((f"short-baseline mean segment depth over "
+                     f"{length(summary['msd_short_baseline_m'])} (NOT ISO 13473-1 MPD)",
+                     length(summary["msd_short_m"])))
+    return rows
