@@ -59,8 +59,15 @@ def test_campaign_rows_status_and_outputs(campaign):
         assert not any(f.endswith(".png") for f in files)      # no --figures
         s = json.loads((out / stem / "summary.json").read_text())
         flat = flatten_summary(s)
-        # every scalar of summary.json is a column, under its (flattened) key, same value
+        # every scalar of summary.json is a column, under its (flattened) key, same value; the
+        # anisotropy sectors in campaign_anisotropy.csv (issue 21), same row order
+        side_head, side_rows = _read_campaign(out / "campaign_anisotropy.csv")
+        side = side_rows[names.index(Path(r["file"]).name)]
         for k, v in flat.items():
+            if k.startswith("anisotropy.sector_"):
+                assert k not in head and k in side_head, k
+                assert float(side[k]) == v, k
+                continue
             assert k in head, k
             if isinstance(v, float):
                 assert float(r[k]) == v, k

@@ -8,7 +8,8 @@ Flattening (the column names of ``campaign.csv``): top-level scalar keys keep th
 (``hurst``, ``rms_height_m``, ``mpd_m``...); a nested dict's scalars are joined with a dot
 (``roughness.Sq_m``, ``friction.mu_peak``, ``anisotropy.ratio``); a list of scalars gives one
 column per element with its index (``fit_band_per_m.0``, ``fit_band_per_m.1``,
-``shape.0``...). Nothing else is dropped: every scalar of ``summary.json`` has a column.
+``shape.0``...). Nothing else is dropped: every scalar of ``summary.json`` has a column
+(the anisotropy sectors in ``campaign_anisotropy.csv``, see :mod:`.table`).
 """
 from __future__ import annotations
 

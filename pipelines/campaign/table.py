@@ -5,6 +5,12 @@ One row per input in input order (per section with ``--section-length``). Column
 scalar of the scans' ``summary.json`` flattened as :mod:`.records` documents (in order of
 first appearance over the rows). Floats are written with full precision (``repr``), missing
 values as empty cells.
+
+The anisotropy sectors of area scans (``anisotropy.sector_angle_deg.*``,
+``anisotropy.sector_power_fraction.*``: 72 columns) go to a side file,
+``campaign_anisotropy.csv`` (``file``, ``label``, ``chainage_m``, ``status`` and the sector
+columns, same rows), so that ``campaign.csv`` stays readable (issue 21); the summary figures
+of the anisotropy (``anisotropy.power_ratio_x_to_y``...) stay in ``campaign.csv``.
 """
 from __future__ import annotations
 
@@ -13,17 +19,26 @@ import io
 
 from roadscan.io.atomic import atomic_path, atomic_write_text
 
-__all__ = ["FIXED_COLUMNS", "columns_of", "write_campaign_csv", "write_campaign_parquet"]
+__all__ = ["FIXED_COLUMNS", "SIDE_PREFIXES", "ANISOTROPY_FILE", "columns_of", "write_campaign_csv",
+           "write_campaign_parquet"]
 
 FIXED_COLUMNS = ("file", "label", "chainage_m", "status", "error")
+#: columns that go to ``campaign_anisotropy.csv`` instead of ``campaign.csv``
+SIDE_PREFIXES = ("anisotropy.sector_",)
+ANISOTROPY_FILE = "campaign_anisotropy.csv"
 
 
-def columns_of(records):
-    cols = list(FIXED_COLUMNS)
+def _side(k):
+    return k.startswith(SIDE_PREFIXES)
+
+
+def columns_of(records, side=False):
+    """The columns of ``campaign.csv`` (``side=True``: of ``campaign_anisotropy.csv``)."""
+    cols = list(FIXED_COLUMNS) if not side else ["file", "label", "chainage_m", "status"]
     seen = set(cols)
     for r in records:
         for k in r["values"]:
-            if k not in seen:
+            if k not in seen and (_side(k) == side or (side and k in ("section", "section_start_m"))):
                 seen.add(k)
                 cols.append(k)
     return cols
@@ -45,25 +60,38 @@ def _row(r, cols):
     return [_cell(fixed[c] if c in fixed else r["values"].get(c)) for c in cols]
 
 
-def write_campaign_csv(path, records):
-    cols = columns_of(records)
+def _write_table(path, records, cols):
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
     for r in records:
         w.writerow(_row(r, cols))
     atomic_write_text(path, buf.getvalue())
+
+
+def write_campaign_csv(path, records):
+    """``campaign.csv`` and, when some scan has anisotropy sectors, ``campaign_anisotropy.csv``
+    next to it. Returns the columns of ``campaign.csv``."""
+    cols = columns_of(records)
+    _write_table(path, records, cols)
+    side = columns_of(records, side=True)
+    if any(_side(c) for c in side):
+        from pathlib import Path
+
+        _write_table(Path(path).with_name(ANISOTROPY_FILE), records, side)
     return cols
 
 
 def write_campaign_parquet(path, records):
-    """Write ``campaign.parquet`` if pyarrow is importable; return True when written."""
+    """Write ``campaign.parquet`` (every column, the anisotropy sectors too) if pyarrow is
+    importable; return True when written."""
     try:
         import pyarrow as pa
         import pyarrow.parquet as pq
     except ImportError:
         return False
-    cols = columns_of(records)
+    cols = columns_of(records)       # parquet keeps the anisotropy sectors as well
+    cols += [c for c in columns_of(records, side=True) if _side(c)]
     data = {c: [] for c in cols}
     for r in records:
         for c in cols:
