@@ -30,7 +30,7 @@ from roadscan.errors import InputError
 # subcommand modules, in the order ``roadscan --help`` lists them
 COMMAND_MODULES = (
     "analyse", "batch", "synth", "friction_cmd", "rubber", "stitch", "rainfill", "dry_vs_wet", "compare",
-    "diagnose", "convert",
+    "diagnose", "convert", "combine",
 )
 
 #: exceptions that bad input provokes deep inside the numerics: reported as input errors (exit 2)
