@@ -5,7 +5,7 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-__all__ = ["add_scan_options", "load_scan"]
+__all__ = ["add_scan_options", "load_scan", "read_options"]
 
 _UNITS = ("m", "mm", "um", "nm")
 
@@ -20,21 +20,46 @@ def add_scan_options(parser):
         "--units", choices=_UNITS, default=None,
         help="units of the heights in files that carry no units (default m)",
     )
+    parser.add_argument(
+        "--override-calibration", action="store_true",
+        help="let --spacing/--units replace the spacing/units a file carries (X3P, vendor, .npz "
+             "with dx/dy...; refused otherwise); recorded as calibration_override in summary.json",
+    )
+    parser.add_argument(
+        "--channel", metavar="N|NAME", default=None,
+        help="page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or channel of an "
+             "instrument file with several (index from 0 or name); recorded in summary.json",
+    )
 
 
-def load_scan(path, args=None, spacing=None, units=None):
+def read_options(args=None, spacing=None, units=None, calibration=None, channel=None):
+    """Keyword arguments of :func:`roadscan.io.read` from the parsed ``add_scan_options`` flags
+    (explicit arguments win): ``spacing``, ``units``, ``calibration`` ("override" with
+    ``--override-calibration``, else "strict") and ``channel``."""
+    if args is not None:
+        spacing = getattr(args, "spacing", None) if spacing is None else spacing
+        units = getattr(args, "units", None) if units is None else units
+        channel = getattr(args, "channel", None) if channel is None else channel
+        if calibration is None and getattr(args, "override_calibration", False):
+            calibration = "override"
+    return {"spacing": spacing, "units": units, "calibration": calibration or "strict",
+            "channel": channel}
+
+
+def load_scan(path, args=None, spacing=None, units=None, calibration=None, channel=None):
     """Read a height file (HeightMap or Profile) with the options of ``add_scan_options``.
 
     Any reader failure becomes an :class:`InputError` naming the file; the scan then passes the
     plausibility checks of :func:`pipelines.validate.check_scan` (spacing, grid size, measured
-    points, constant grids, spikes).
+    points, constant grids, spikes) and :func:`roadscan.plausibility.check_plausible` (heights
+    against the scan's own size: a units slip is refused with the flag that fixes it). The
+    reader's warnings (``meta["read_warnings"]``) go to stderr and ``summary.json``.
     """
     from roadscan.io import read
 
     path = Path(path)
-    if args is not None:
-        spacing = getattr(args, "spacing", None) if spacing is None else spacing
-        units = getattr(args, "units", None) if units is None else units
+    opts = read_options(args, spacing, units, calibration, channel)
+    spacing, units = opts["spacing"], opts["units"]
     if not path.exists():
         raise InputError(path, "no such file")
     if path.is_dir():
@@ -44,7 +69,7 @@ def load_scan(path, args=None, spacing=None, units=None):
 
         check_spacing_option(spacing)
     try:
-        obj = read(path, spacing=spacing, units=units)
+        obj = read(path, **opts)
     except InputError:
         raise
     except MemoryError:
@@ -52,6 +77,9 @@ def load_scan(path, args=None, spacing=None, units=None):
                                "such files before reading)") from None
     except (ValueError, OSError, KeyError, IndexError) as exc:
         raise InputError(path, f"cannot read height data ({type(exc).__name__}: {exc})") from None
-    from .validate import check_scan
+    from .validate import check_scan, warn
 
-    return check_scan(obj, path)
+    obj = check_scan(obj, path)
+    for line in obj.meta.get("read_warnings", ()):
+        warn(f"{path}: {line}")
+    return obj

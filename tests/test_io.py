@@ -117,8 +117,11 @@ def test_npz_keys_and_override(tmp_path):
     m = read(tmp_path / "a.npz")
     assert (m.dx_m, m.dy_m) == (1e-4, 2e-4)
     assert m.unmeasured[2, 3] and np.isnan(m.heights_m[2, 3]) and m.unmeasured.sum() == 1
-    m2 = read(tmp_path / "a.npz", spacing="3e-5")
+    with pytest.raises(InputError, match="a.npz: the file carries its own spacing"):
+        read(tmp_path / "a.npz", spacing="3e-5")     # never silently overridden (issue 22)
+    m2 = read(tmp_path / "a.npz", spacing="3e-5", calibration="override")
     assert (m2.dx_m, m2.dy_m) == (3e-5, 3e-5)
+    assert m2.meta["calibration_override"]["spacing"] == {"file": [1e-4, 2e-4], "flag": [3e-5, 3e-5]}
     np.savez(tmp_path / "b.npz", heights=h)
     with pytest.raises(InputError, match="b.npz: no spacing"):
         read(tmp_path / "b.npz")
@@ -192,7 +195,9 @@ def test_gwyddion_ascii_export(tmp_path):
     text = "# Channel: Height\n# Width: 2.000 mm\n# Height: 1.500 mm\n# Value units: um\n"
     text += "\n".join("\t".join(f"{v:.6e}" for v in r) for r in h)
     (tmp_path / "g.txt").write_text(text)
-    m = read(tmp_path / "g.txt", units="mm")  # file states um: units ignored
+    with pytest.raises(InputError, match="states its heights in um: --units mm"):
+        read(tmp_path / "g.txt", units="mm")   # never silently overridden (issue 22)
+    m = read(tmp_path / "g.txt", units="mm", calibration="default")  # batch: the file wins
     assert m.dx_m == pytest.approx(0.5e-3) and m.dy_m == pytest.approx(0.5e-3)
     np.testing.assert_allclose(m.heights_m, h * 1e-6)
     assert m.meta["units_ignored"] == "mm"

@@ -74,3 +74,79 @@ def test_thousands_and_ambiguous_commas_refused(tmp_path, line, word):
         read(p, spacing=1e-4)
     msg = str(ei.value)
     assert word in msg and "bad.csv" in msg and "\n" not in msg
+
+
+# ---------------------------------------------------------------- calibration never overridden
+def _x3p(tmp_path, name="s.x3p", dx=2e-5):
+    from roadscan.heightmap import HeightMap
+    from roadscan.io import write
+
+    h = RNG.normal(size=(48, 48)) * 2e-4
+    return write(tmp_path / name, HeightMap(h, dx, dx)), h
+
+
+def test_spacing_on_x3p_refused_in_one_line(tmp_path, capsys):
+    from pipelines.cli import main
+
+    p, _ = _x3p(tmp_path)
+    for flag in (["--spacing", "1e-4"], ["--units", "mm"]):
+        capsys.readouterr()
+        assert main(["analyse", str(p), "--out", str(tmp_path / "o"), "--no-friction",
+                     "--no-figures", *flag]) == 2
+        err = capsys.readouterr().err.strip()
+        assert "s.x3p" in err and "--override-calibration" in err and "\n" not in err
+        assert not (tmp_path / "o").exists()
+
+
+def test_override_calibration_recorded_in_summary(tmp_path):
+    import json
+
+    from pipelines.cli import main
+
+    p, h = _x3p(tmp_path)
+    out = tmp_path / "o"
+    assert main(["analyse", str(p), "--out", str(out), "--no-friction", "--no-figures",
+                 "--spacing", "1e-4", "--override-calibration"]) == 0
+    s = json.loads(next(out.rglob("summary.json")).read_text())
+    assert s["spacing_m"] == [1e-4, 1e-4]
+    assert s["calibration_override"]["spacing"] == {"file": [2e-5, 2e-5], "flag": [1e-4, 1e-4]}
+
+
+def test_units_override_rescales_from_the_files_unit(tmp_path):
+    p, h = _x3p(tmp_path)
+    m = read(p, units="mm", calibration="override")      # the file says m, the user says mm
+    np.testing.assert_allclose(m.heights_m, h * 1e-3, rtol=1e-15)
+    assert m.meta["calibration_override"]["units"] == {"file": "m", "flag": "mm"}
+
+
+def test_flag_equal_to_the_files_calibration_is_accepted(tmp_path):
+    p, h = _x3p(tmp_path)
+    m = read(p, spacing="2e-5", units="m")
+    assert m.dx_m == 2e-5 and "calibration_override" not in m.meta
+
+
+def test_npy_without_spacing_still_takes_the_flag(tmp_path):
+    np.save(tmp_path / "a.npy", H)
+    m = read(tmp_path / "a.npy", spacing="1e-4", units="mm")
+    np.testing.assert_array_equal(m.heights_m, H * 1e-3)
+    assert "calibration_override" not in m.meta
+
+
+def test_mixed_batch_keeps_x3p_calibration(tmp_path):
+    """--spacing in a batch fills in for files without one and never replaces an X3P's."""
+    import json
+
+    from pipelines.cli import main
+
+    p, h = _x3p(tmp_path, "a.x3p")
+    np.save(tmp_path / "b.npy", np.random.default_rng(5).normal(size=(40, 40)) * 1e-4)
+    out = tmp_path / "camp"
+    rc = main(["batch", str(p), str(tmp_path / "b.npy"), "--out", str(out), "--no-friction",
+               "--spacing", "1e-4", "--workers", "1"])
+    assert rc == 0
+    sums = {f.parent.name: json.loads(f.read_text()) for f in out.rglob("summary.json")}
+    a = next(v for k, v in sums.items() if k.startswith("a"))
+    b = next(v for k, v in sums.items() if k.startswith("b"))
+    assert a["spacing_m"] == [2e-5, 2e-5] and b["spacing_m"] == [1e-4, 1e-4]
+    assert a["calibration_ignored"]["spacing"]["flag"] == [1e-4, 1e-4]
+    assert any("ignored" in w for w in a["warnings"])

@@ -121,11 +121,23 @@ def test_issue9_plu_regression(maps):
 
 
 def test_spacing_and_units_options(formats_dir, maps):
-    m = read(formats_dir / "plu-1.plu", spacing="2e-6,3e-6", units="mm")
+    """A flag never silently overrides the file's calibration (issue 22): refused by default,
+    used and recorded under the override policy, set aside (and recorded) in a batch."""
+    with pytest.raises(InputError, match="carries its own spacing.*--override-calibration"):
+        read(formats_dir / "plu-1.plu", spacing="2e-6,3e-6")
+    with pytest.raises(InputError, match="heights in .*--units mm would override"):
+        read(formats_dir / "plu-1.plu", units="mm")
+    m = read(formats_dir / "plu-1.plu", spacing="2e-6,3e-6", units="mm", calibration="override")
     assert (m.dx_m, m.dy_m) == (2e-6, 3e-6)
-    np.testing.assert_array_equal(m.heights_m, maps["plu-1.plu"].heights_m)
-    assert m.meta["units_ignored"] == "mm"
-    assert m.meta["file_spacing_m"] == pytest.approx([1.66e-6, 1.66e-6], rel=1e-6)
+    f = {"m": 1.0, "mm": 1e-3, "µm": 1e-6, "um": 1e-6}[maps["plu-1.plu"].meta["units"]]
+    np.testing.assert_allclose(m.heights_m, maps["plu-1.plu"].heights_m * 1e-3 / f, rtol=1e-12)
+    over = m.meta["calibration_override"]
+    assert over["spacing"]["file"] == pytest.approx([1.66e-6, 1.66e-6], rel=1e-6)
+    assert over["spacing"]["flag"] == [2e-6, 3e-6] and over["units"]["flag"] == "mm"
+    kept = read(formats_dir / "plu-1.plu", spacing="2e-6,3e-6", units="mm", calibration="default")
+    np.testing.assert_array_equal(kept.heights_m, maps["plu-1.plu"].heights_m)
+    assert kept.dx_m == maps["plu-1.plu"].dx_m and kept.meta["units_ignored"] == "mm"
+    assert set(kept.meta["calibration_ignored"]) == {"spacing", "units"}
 
 
 def test_size_limit_refuses_before_reading(formats_dir, monkeypatch):

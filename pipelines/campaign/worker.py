@@ -57,7 +57,8 @@ def _analyse_one(job, tmp):
     from ..scan_input import load_scan
 
     _reset_warnings()
-    scan = load_scan(job.get("path") or job["file"], spacing=job.get("spacing"), units=job.get("units"))
+    scan = load_scan(job.get("path") or job["file"], spacing=job.get("spacing"), units=job.get("units"),
+                     calibration=job.get("calibration"), channel=job.get("channel"))
     try:
         summary = run_analysis(scan, tmp, job["settings"], figures=job.get("figures", False),
                                **job["analysis"])

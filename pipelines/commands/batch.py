@@ -98,6 +98,9 @@ def run(args):
         job = {"file": j.file, "path": os.path.abspath(j.file), "label": j.label,
                "chainage_m": j.chainage_m, "error": j.error, "subdir": j.subdir,
                "out": str(out.resolve()), "spacing": args.spacing, "units": args.units,
+               # shared flags fill in what a file lacks, never replace what it carries (issue 22)
+               "calibration": "override" if getattr(args, "override_calibration", False) else "default",
+               "channel": getattr(args, "channel", None),
                "settings": settings, "analysis": kw, "figures": args.figures,
                "section_length_m": args.section_length, "fingerprint": fingerprint}
         if args.resume and not j.error:

@@ -77,7 +77,9 @@ def run(args):
         from ..validate import check_spacing_option
 
         check_spacing_option(args.spacing)
-    scan = read(inp, spacing=args.spacing, units=args.units)
+    from ..scan_input import read_options
+
+    scan = read(inp, **read_options(args))
     ext = out.suffix.lower()
     if ext in (".tif", ".tiff") and not isinstance(scan, HeightMap):
         raise InputError(inp, "is a line profile: TIFF holds area scans; use .x3p, .npy or .npz")

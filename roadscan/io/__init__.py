@@ -19,6 +19,7 @@ from . import ascii_text, captif, gwy, numpy_files, tiff, vendor, x3p  # noqa: F
 from ._common import parse_spacing, parse_units, resolve_spacing, unit_factor
 from ._registry import READERS, WRITERS, register_reader, register_writer
 from .atomic import atomic_path
+from .calibration import calibration_policy
 
 __all__ = [
     "read", "write", "READERS", "WRITERS", "parse_spacing", "parse_units",
@@ -26,7 +27,7 @@ __all__ = [
 ]
 
 
-def read(path, spacing=None, units=None):
+def read(path, spacing=None, units=None, calibration="strict", channel=None):
     """Read a height map or line profile, choosing the reader by the file's extension.
 
     Parameters
@@ -35,10 +36,17 @@ def read(path, spacing=None, units=None):
     spacing : None, float, (float, float) or str, optional
         Grid spacing DX or (DX, DY) [m], or the CLI string ``"DX"`` / ``"DX,DY"``. Required for
         files that carry none (``.npy``, plain ASCII matrices, TIFFs without physical resolution);
-        overrides the file's spacing otherwise.
+        see ``calibration`` for files that carry one.
     units : {"m", "mm", "um", "nm"}, optional
-        Units of the heights of a file that carries no units (default "m"); ignored (and noted
-        in ``meta["units_ignored"]``) for files that state theirs (X3P, .gwy, CAPTIF, vendor).
+        Units of the heights of a file that carries no units (default "m").
+    calibration : {"strict", "override", "default"}
+        What happens when ``spacing``/``units`` contradict what the file states
+        (:mod:`roadscan.io.calibration`): refused (default), the flag wins and is recorded in
+        ``meta["calibration_override"]``, or the file wins (``meta["calibration_ignored"]``).
+    channel : int or str, optional
+        Page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or channel (index or
+        name) of an instrument file with several; recorded in ``meta["channel"]``. Images with
+        several pages or channels are refused without it.
 
     Returns
     -------
@@ -65,13 +73,27 @@ def read(path, spacing=None, units=None):
         parse_units(units, path)
     resolve_spacing(spacing, path)
     try:
-        return reader(path, spacing=spacing, units=units)
+        extra = {} if channel is None else {"channel": _channel_option(path, reader, channel)}
+        with calibration_policy(calibration):
+            return reader(path, spacing=spacing, units=units, **extra)
     except InputError:
         raise
     except (MemoryError, KeyboardInterrupt):
         raise
     except Exception as exc:  # noqa: BLE001 - never a traceback for a bad file
         raise InputError(path, f"cannot read {ext} file ({exc.__class__.__name__}: {exc})") from None
+
+
+def _channel_option(path, reader, channel):
+    """``channel`` as an int when it is a number; refused for readers without channels."""
+    import inspect
+
+    if "channel" not in inspect.signature(reader).parameters:
+        raise InputError(path, f"--channel {channel}: a {Path(path).suffix.lower()} file holds one "
+                               f"height channel (--channel is for TIFF pages/colours and "
+                               f"instrument files)")
+    text = str(channel).strip()
+    return int(text) if text.lstrip("-").isdigit() else text
 
 
 def write(path, heightmap, **options):

@@ -22,8 +22,9 @@ content (see :mod:`roadscan.io.text_table` for the table syntax):
 
 Decimal commas: :func:`roadscan.io.text_table.decimal_mark` (one rule, FORMATS.md).
 
-``spacing=`` always overrides a spacing found in the file. Heights without stated units are
-metres unless ``units`` says otherwise.
+A ``spacing=`` or ``units=`` that contradicts what the file states (header, coordinates, unit
+titles) follows :mod:`roadscan.io.calibration` (refused unless overridden). Heights without
+stated units are metres unless ``units`` says otherwise.
 """
 from __future__ import annotations
 
@@ -35,6 +36,7 @@ from ..errors import InputError
 from ._common import (NO_SPACING, check_declared_size, make_heightmap, make_profile, parse_units, regular_axis,
                       resolve_spacing, unit_factor)
 from ._registry import register_reader
+from .calibration import pick_spacing, pick_units
 from .text_table import ESRI_KEYS, column_units, read_table, read_text
 
 __all__ = ["read_text_heights", "grid_from_points"]
@@ -137,30 +139,32 @@ def _esri(path, values, hdr, sp, factor, units, meta):
     h = values.reshape(nrows, ncols)[::-1].copy()  # first row is the north edge
     if "nodata_value" in hdr:
         h[h == _float(hdr["nodata_value"], path, "NODATA_value")] = np.nan
+    from_file = None
+    if "cellsize" in hdr:
+        c = _float(hdr["cellsize"], path, "cellsize")
+        from_file = (c, c)
+    elif "dx" in hdr and "dy" in hdr:
+        from_file = (_float(hdr["dx"], path, "dx"), _float(hdr["dy"], path, "dy"))
+    sp = pick_spacing(path, sp, from_file, meta)
     if sp is None:
-        if "cellsize" in hdr:
-            c = _float(hdr["cellsize"], path, "cellsize")
-            sp = (c, c)
-        elif "dx" in hdr and "dy" in hdr:
-            sp = (_float(hdr["dx"], path, "dx"), _float(hdr["dy"], path, "dy"))
-        else:
-            raise InputError(path, NO_SPACING)
+        raise InputError(path, NO_SPACING)
     meta.update(layout="ESRI ASCII grid (rows flipped: row 0 is the south edge)", units=units or "m")
     return make_heightmap(path, h * factor, sp[0], sp[1], meta=meta)
 
 
 def _gwy_matrix(path, values, gwy, sp, factor, units, meta):
     ny, nx = values.shape
-    if sp is None:
-        if "width" not in gwy:
-            raise InputError(path, NO_SPACING)
+    from_file = None
+    if "width" in gwy:
         dx = gwy["width"] / nx
-        sp = (dx, gwy.get("height", dx * ny) / ny)
+        from_file = (dx, gwy.get("height", dx * ny) / ny)
+    sp = pick_spacing(path, sp, from_file, meta)
+    if sp is None:
+        raise InputError(path, NO_SPACING)
     if "value units" in gwy:
-        factor = parse_units(gwy["value units"], path)
-        meta["units"] = gwy["value units"]
-        if units is not None:
-            meta["units_ignored"] = units
+        zu = gwy["value units"]
+        factor = pick_units(path, units, zu, parse_units(zu, path), meta)
+        meta["units"] = zu
     else:
         meta["units"] = units or "m"
     meta["layout"] = "Gwyddion ASCII export"
@@ -172,9 +176,9 @@ def _column_factors(path, titles, ncol, factor, units, meta):
     else coordinates in metres (spacings are always metres) and heights in ``units``."""
     if titles is not None:
         meta["units"] = ",".join(titles)
-        if units is not None:
-            meta["units_ignored"] = units
-        return [parse_units(t, path) for t in titles]
+        factors = [parse_units(t, path) for t in titles]
+        factors[-1] = pick_units(path, units, titles[-1], factors[-1], meta)
+        return factors
     meta["units"] = f"coordinates m, heights {units or 'm'}"
     return [1.0] * (ncol - 1) + [factor]
 
@@ -190,7 +194,7 @@ def _profile(path, values, titles, sp, factor, units, meta):
     h = np.full(idx[-1] + 1, np.nan)
     h[idx] = z
     meta.update(layout="x,z profile", x0_m=x0 * fx, missing_points=int(h.size - x.size))
-    dx_m = sp[0] if sp is not None else dx * fx
+    (dx_m,) = pick_spacing(path, None if sp is None else sp[:1], (dx * fx,), meta)
     return make_profile(path, h * fz, dx_m, meta=meta)
 
 
@@ -239,6 +243,5 @@ def _xyz(path, values, titles, sp, factor, units, meta):
     h, x0, dx, y0, dy = grid_from_points(path, values[:, 0], values[:, 1], values[:, 2])
     meta.update(layout="x,y,z points", x0_m=x0 * fx, y0_m=y0 * fy,
                 missing_points=int(h.size - values.shape[0]))
-    if sp is None:
-        sp = (dx * fx, dy * fy)
+    sp = pick_spacing(path, sp, (dx * fx, dy * fy), meta)
     return make_heightmap(path, h * fz, sp[0], sp[1], meta=meta)

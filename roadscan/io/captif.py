@@ -108,11 +108,10 @@ def read_captif(path, spacing=None, units=None):
         "dropouts": int(np.isnan(depth_mm).sum()),
         "sign": "Depth column is height, positive up (kept as is)",
     }
-    if units is not None:
-        meta["units_ignored"] = units
-    dx_m = dx_mm * 1e-3
-    if spacing is not None:
-        from ._common import resolve_spacing
+    from ._common import resolve_spacing
+    from .calibration import pick_spacing, pick_units
 
-        dx_m = resolve_spacing(spacing, path)[0]
-    return make_profile(path, h_mm * 1e-3, dx_m, meta=meta)
+    f = pick_units(path, units, "mm", 1e-3, meta)
+    sp = resolve_spacing(spacing, path)
+    (dx_m,) = pick_spacing(path, None if sp is None else sp[:1], (dx_mm * 1e-3,), meta)
+    return make_profile(path, h_mm * f, dx_m, meta=meta)

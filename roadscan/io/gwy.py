@@ -19,6 +19,7 @@ from ..errors import InputError
 from ._common import (NO_SPACING, check_declared_size, check_file, make_heightmap, parse_units,
                       resolve_spacing, unit_factor)
 from ._registry import register_reader
+from .calibration import pick_spacing, pick_units
 
 __all__ = ["read_gwy"]
 
@@ -137,10 +138,8 @@ def read_gwy(path, spacing=None, units=None):
     meta = {"format": "gwy", "channel": ch, "title": str(obj.get(f"/{ch}/data/title", ""))}
     zu = _unit(field, "si_unit_z")
     if zu:
-        factor = parse_units(zu, path)
+        factor = pick_units(path, units, zu, parse_units(zu, path), meta)
         meta["units"] = zu
-        if units is not None:
-            meta["units_ignored"] = units
     else:
         factor = unit_factor(units, path)
         meta["units"] = units or "m"
@@ -156,11 +155,13 @@ def read_gwy(path, spacing=None, units=None):
         meta["gwy_mask_fraction"] = float(np.mean(masked))
         z = np.where(masked, np.nan, z)
     sp = resolve_spacing(spacing, path)
-    if sp is None:
-        xyu = _unit(field, "si_unit_xy")
-        if not xyu or field.xreal is None or field.yreal is None:
-            raise InputError(path, NO_SPACING)
+    xyu = _unit(field, "si_unit_xy")
+    from_file = None
+    if xyu and field.xreal is not None and field.yreal is not None:
         f = parse_units(xyu, path)
         ny, nx = z.shape
-        sp = (field.xreal * f / nx, field.yreal * f / ny)
+        from_file = (field.xreal * f / nx, field.yreal * f / ny)
+    sp = pick_spacing(path, sp, from_file, meta)
+    if sp is None:
+        raise InputError(path, NO_SPACING)
     return make_heightmap(path, z * factor, sp[0], sp[1], meta=meta)

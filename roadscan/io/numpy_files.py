@@ -19,6 +19,7 @@ from ..errors import InputError
 from ..heightmap import HeightMap, Profile
 from ._common import NO_SPACING, check_compression_ratio, check_declared_size, check_file, make_heightmap, make_profile, resolve_spacing, unit_factor
 from ._registry import register_reader, register_writer
+from .calibration import pick_spacing
 
 __all__ = ["read_npy", "read_npz", "write_npy", "write_npz"]
 
@@ -120,19 +121,18 @@ def read_npz(path, spacing=None, units=None):
         raise InputError(path, f"'unmeasured' has shape {unmeasured.shape}, heights {h.shape}")
     meta = {"format": "npz", "units": units or "m"}
     if h.ndim == 1:
-        if sp is not None:
-            dx = sp[0]
-        if dx is None:
+        got = pick_spacing(path, None if sp is None else sp[:1], None if dx is None else (dx,), meta)
+        if got is None:
             raise InputError(path, NO_SPACING)
-        return make_profile(path, h * factor, dx, unmeasured=unmeasured, meta=meta)
+        return make_profile(path, h * factor, got[0], unmeasured=unmeasured, meta=meta)
     if h.ndim != 2:
         raise InputError(path, f"expected a 2D height array, got shape {h.shape}")
-    if sp is not None:
-        dx, dy = sp
-    elif dx is not None and dy is None:
+    if dx is not None and dy is None:
         dy = dx
-    if dx is None or dy is None:
+    got = pick_spacing(path, sp, None if dx is None or dy is None else (dx, dy), meta)
+    if got is None:
         raise InputError(path, NO_SPACING)
+    dx, dy = got
     return make_heightmap(path, _scaled_float64(h, factor), dx, dy, unmeasured=unmeasured, meta=meta)
 
 

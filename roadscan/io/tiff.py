@@ -24,6 +24,7 @@ from ..errors import InputError
 from ._common import (NO_SPACING, check_compression_ratio, check_declared_size, check_file,
                       make_heightmap, resolve_spacing, unit_factor)
 from ._registry import register_reader, register_writer
+from .calibration import pick_spacing, pick_units
 
 __all__ = ["read_tiff", "write_tiff"]
 
@@ -115,15 +116,15 @@ def read_tiff(path, spacing=None, units=None):
     if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
         raise InputError(path, f"heights are not real numbers (dtype {arr.dtype})")
     meta = {"format": "tiff", "dtype": str(arr.dtype)}
-    if desc_units is not None and units is None:
-        factor = unit_factor(desc_units, path)
+    if desc_units is not None:
+        factor = pick_units(path, units, desc_units, unit_factor(desc_units, path), meta)
         meta["units"] = desc_units
     else:
         meta["units"] = units or "m"
+    sp = pick_spacing(path, sp, None if from_file is None else tuple(from_file[:2]), meta)
     if sp is None:
-        if from_file is None:
-            raise InputError(path, NO_SPACING)
-        sp = from_file[:2]
+        raise InputError(path, NO_SPACING)
+    if from_file is not None:
         meta["spacing_from"] = from_file[2]
     return make_heightmap(path, arr.astype(np.float64) * factor, sp[0], sp[1], meta=meta)
 

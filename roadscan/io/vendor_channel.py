@@ -30,6 +30,7 @@ import numpy as np
 
 from ..errors import InputError
 from ._common import check_compression_ratio, check_declared_size, make_heightmap, unit_factor
+from .calibration import pick_spacing, pick_units
 from .vendor_meta import LENGTH_UNITS, info_dict, instrument_block, one_line
 
 __all__ = ["read_channel", "MIN_NONZERO_M", "MAX_ABS_M"]
@@ -95,6 +96,7 @@ def read_channel(reader, path, version, sp, units):
         n = check_declared_size(path, declared, 8)
         # at most ~200x compression of real height data (zip-bomb guard above 64 MiB)
         check_compression_ratio(path, n * 4, Path(path).stat().st_size)
+    meta = {}
     file_unit = ch.unit
     kwargs = {}
     if file_unit is None:
@@ -104,6 +106,8 @@ def read_channel(reader, path, version, sp, units):
         file_unit = _ST_UNIT.get(units, units)
         kwargs["unit"] = file_unit
     f_file = _length_factor(file_unit, path, "the file's")
+    # heights' metres per file unit: the file's, or --units under --override-calibration
+    f_heights = f_file if "unit" in kwargs else pick_units(path, units, file_unit, f_file, meta)
     if ch.physical_sizes is None:
         if sp is None:
             raise InputError(path, "the file states no lateral size: pass --spacing DX[,DY] in metres")
@@ -144,7 +148,7 @@ def read_channel(reader, path, version, sp, units):
     h_file = np.array(data, dtype=np.float64).T         # [x, y] -> rows along y
     undefined = mask.T | np.isnan(h_file)
     _check_values(path, h_file, f, undefined)
-    h = h_file * f                                        # metres
+    h = h_file * (f if f_heights == f_file else f * f_heights / f_file)   # metres
     del h_file
     h[undefined] = np.nan
     sx, sy = (float(v) * f for v in topo.physical_sizes)
@@ -152,25 +156,21 @@ def read_channel(reader, path, version, sp, units):
     for name, v in (("dx", file_dx), ("dy", file_dy)):
         if not (np.isfinite(v) and v > 0):
             raise InputError(path, f"the file's {name} = {v!r} m is not a positive length")
-    dx, dy = (file_dx, file_dy) if sp is None else sp
+    dx, dy = pick_spacing(path, sp, (file_dx, file_dy), meta)
     n_undef = int(undefined.sum())
     fmt_id = reader.format()
-    meta = {
+    meta.update({
         "format": fmt_id,
         "format_name": reader.name(),
         "reader": f"SurfaceTopography {version} ({type(reader).__name__})",
         "units": str(unit),
         "channel": str(ch.name),
         "undefined_points": n_undef,
-    }
+    })
     if len(channels) > 1:
         meta["channels"] = [str(c.name) for c in channels]
         meta["channel_note"] = (f"channel {ch.index} {ch.name!r} of {len(channels)} read "
                                 f"(the first height channel)")
-    if sp is not None:
-        meta["file_spacing_m"] = [file_dx, file_dy]
-    if units is not None and "unit" not in kwargs:
-        meta["units_ignored"] = units
     if caught:
         meta["reader_warnings"] = sorted({one_line(w.message, 160) for w in caught})[:5]
     info = info_dict(topo, ch)

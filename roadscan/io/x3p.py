@@ -17,6 +17,7 @@ from ..heightmap import HeightMap, Profile
 from ._common import (check_compression_ratio, check_declared_size, check_file, make_heightmap,
                       make_profile, resolve_spacing)
 from ._registry import register_reader, register_writer
+from .calibration import pick_spacing, pick_units
 
 __all__ = ["read_x3p", "write_x3p"]
 
@@ -135,16 +136,17 @@ def read_x3p(path, spacing=None, units=None):
             meta["date"] = md.date.isoformat()
         if md.comment:
             meta["comment"] = md.comment
-    if units is not None:
-        meta["units_ignored"] = units
+    factor = pick_units(path, units, "m", 1.0, meta)        # X3P heights are metres
     sp = resolve_spacing(spacing, path)
     z = np.array(layer.z, dtype=np.float64)
+    if factor != 1.0:
+        z *= factor
     if md is not None:
         meta["instrument"] = _instrument_from_record2(md, int(np.count_nonzero(np.isnan(z))))
     if kind == "Profile":
-        dx = f.header.x.increment if sp is None else sp[0]
+        (dx,) = pick_spacing(path, None if sp is None else sp[:1], (f.header.x.increment,), meta)
         return make_profile(path, z.ravel(), dx, meta=meta)
-    dx, dy = (f.header.x.increment, f.header.y.increment) if sp is None else sp
+    dx, dy = pick_spacing(path, sp, (f.header.x.increment, f.header.y.increment), meta)
     return make_heightmap(path, z, dx, dy, meta=meta)
 
 

@@ -1,0 +1,122 @@
+"""What wins when a flag and a file both state a calibration (spacing or height unit).
+
+A flag never silently overrides what a file carries (issue 22). Three policies, chosen by the
+caller of :func:`roadscan.io.read` (``calibration=``) and seen by the readers through a context
+variable:
+
+- ``"strict"`` (default, every single-scan command): ``--spacing`` or ``--units`` on a file that
+  carries its own (X3P, .gwy, vendor files, .npz with dx/dy, TIFF with resolution, text with
+  coordinates or a header) is refused in one line, unless they agree (relative difference
+  below 1e-6, or the same unit);
+- ``"override"`` (``--override-calibration``): the flag wins and the reader records
+  ``meta["calibration_override"]`` (what the file said, what was used), copied to
+  ``summary.json``;
+- ``"default"`` (a batch's shared flags): the file wins; the flag applies only to files that
+  carry none, and what was set aside is recorded in ``meta["calibration_ignored"]`` and as a
+  warning.
+
+Units override: heights are rescaled from the file's unit to the flag's,
+``h_m = h_file * f(flag)`` instead of ``h_file * f(file)`` (``f`` = metres per unit).
+"""
+from __future__ import annotations
+
+import contextvars
+from contextlib import contextmanager
+
+from ..errors import InputError
+
+__all__ = ["POLICIES", "calibration_policy", "current_policy", "pick_spacing", "pick_units"]
+
+POLICIES = ("strict", "override", "default")
+_POLICY = contextvars.ContextVar("roadscan_calibration_policy", default="strict")
+_REL = 1e-6
+_FLAG = "--override-calibration"
+
+
+@contextmanager
+def calibration_policy(policy):
+    """Context in which readers apply ``policy`` (one of :data:`POLICIES`)."""
+    if policy not in POLICIES:
+        raise ValueError(f"calibration policy must be one of {POLICIES}, got {policy!r}")
+    token = _POLICY.set(policy)
+    try:
+        yield
+    finally:
+        _POLICY.reset(token)
+
+
+def current_policy():
+    """The policy readers apply now (``"strict"`` outside :func:`calibration_policy`)."""
+    return _POLICY.get()
+
+
+def _fmt(values):
+    return " x ".join(f"{v:.6g}" for v in values)
+
+
+def _record(meta, key, what, file_value, flag_value):
+    block = meta.setdefault(key, {})
+    block[what] = {"file": file_value, "flag": flag_value}
+    if key == "calibration_ignored":
+        meta.setdefault("read_warnings", []).append(
+            f"--{what} {flag_value} ignored: the file carries its own {what} ({file_value})")
+
+
+def pick_spacing(path, given, from_file, meta):
+    """The spacing to use, (dx, dy) [m] or (dx,) for profiles.
+
+    Parameters
+    ----------
+    path : str or Path
+        For the error message.
+    given : tuple of float or None
+        ``--spacing`` [m] (already resolved), or None.
+    from_file : tuple of float or None
+        The spacing the file carries [m], or None.
+    meta : dict
+        The reader's meta; receives ``calibration_override`` / ``calibration_ignored``.
+    """
+    if given is None:
+        return from_file
+    if from_file is None:
+        return given
+    n = len(from_file)
+    given = tuple(given)[:n]
+    if all(abs(g - f) <= _REL * abs(f) for g, f in zip(given, from_file)):
+        return from_file
+    policy = current_policy()
+    if policy == "strict":
+        raise InputError(path, f"the file carries its own spacing {_fmt(from_file)} m: --spacing "
+                               f"{_fmt(given)} would override it; drop --spacing, or add {_FLAG} "
+                               f"to use yours (recorded in the outputs)")
+    if policy == "override":
+        _record(meta, "calibration_override", "spacing", list(from_file), list(given))
+        return given
+    _record(meta, "calibration_ignored", "spacing", list(from_file), list(given))
+    return from_file
+
+
+def pick_units(path, given, file_unit, file_factor, meta):
+    """Metres per height unit to use: the file's ``file_factor`` unless overridden.
+
+    ``given`` is ``--units`` (m, mm, um, nm) or None; ``file_unit`` the file's unit as it spells
+    it. Also sets ``meta["units_ignored"]`` when the file's unit is kept against a flag.
+    """
+    from ._common import unit_factor
+
+    if given is None:
+        return file_factor
+    f_given = unit_factor(given, path)
+    if abs(f_given - file_factor) <= _REL * file_factor:
+        return file_factor
+    policy = current_policy()
+    if policy == "strict":
+        raise InputError(path, f"the file states its heights in {file_unit}: --units {given} "
+                               f"would override it; drop --units, or add {_FLAG} to use yours "
+                               f"(recorded in the outputs)")
+    if policy == "override":
+        _record(meta, "calibration_override", "units", str(file_unit), str(given))
+        return f_given
+    meta["units_ignored"] = given
+    _record(meta, "calibration_ignored", "units", str(file_unit), str(given))
+    return file_factor
