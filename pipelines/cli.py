@@ -14,6 +14,11 @@ line** on stderr, never a traceback.
 - NumPy floating-point warnings are not printed as they happen: the CLI collects them and, if
   the command succeeds, prints one named line (``warning: numpy: ...``); the checks of
   :mod:`pipelines.validate` make them rare. Python ``RuntimeWarning``\\ s are treated the same.
+- Ctrl-C, SIGTERM and SIGHUP at any moment: temporary outputs removed, one line
+  (``interrupted``), exit code 128 + signal (130, 143, 129; :mod:`pipelines.signals`).
+- No output replaces an input (:mod:`pipelines.overwrite_check`, before any work, and
+  :mod:`roadscan.io.overwrite_guard` when writing): one line, exit code 2.
+- A mistyped command or option gets "did you mean" (:mod:`pipelines.cli_hints`); ``--version``.
 - ``--max-pixels N`` (before or after the command name) caps the size a reader accepts
   (default: :func:`roadscan.io._common.default_max_pixels`, from the available memory).
 """
@@ -49,7 +54,14 @@ class OneLineParser(argparse.ArgumentParser):
     exit code 2."""
 
     def error(self, message):
-        self.exit(2, f"{self.prog}: error: {one_line(message)} (see {self.prog} -h)\n")
+        from .cli_hints import hint
+
+        more = hint(self, message, _ARGV if _ARGV is not None else sys.argv[1:])
+        self.exit(2, f"{self.prog}: error: {one_line(message)}{more} (see {self.prog} -h)\n")
+
+
+#: the words being parsed (for "did you mean"), set by :func:`main`
+_ARGV = None
 
 
 def _load_commands():
@@ -87,6 +99,9 @@ def build_parser():
         description="Road-surface scans to spectra, rain fill and rubber friction.",
     )
     _add_global_options(parser, None)
+    from .cli_hints import package_version
+
+    parser.add_argument("--version", action="version", version=f"roadscan {package_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     sub.required = True
     for mod in _load_commands():
@@ -109,22 +124,46 @@ def _numpy_warning_line(caught):
 
 
 def main(argv=None):
-    parser = build_parser()
-    args = parser.parse_args(argv)  # one-line usage errors, exit code 2
+    """Run one command; SIGTERM/SIGHUP/SIGINT at any moment: one line, exit 128 + signal."""
+    from .signals import after_interrupt, exit_code, signal_name, signals_as_interrupt
+
+    global _ARGV
+    _ARGV = list(sys.argv[1:] if argv is None else argv)
+    cmd = "roadscan"
+    try:
+        with signals_as_interrupt():
+            parser = build_parser()
+            args = parser.parse_args(argv)  # one-line usage errors, exit code 2
+            cmd = f"roadscan {args.command}"
+            return _main(args, cmd)
+    except KeyboardInterrupt as exc:   # Ctrl-C, SIGTERM, SIGHUP (pipelines.signals)
+        code = exit_code(exc)
+        if argv is None:               # the real command line: a second signal ends at once
+            after_interrupt(code)
+        what = "" if code == 130 else f" ({signal_name(exc)})"
+        print(f"{cmd}: interrupted{what}", file=sys.stderr, flush=True)
+        return code
+    finally:
+        _ARGV = None
+
+
+def _main(args, cmd):
     # heavy modules (numpy, the readers) only now: --help and usage errors stay fast (issue 13)
     from roadscan.io import _common as io_common
+    from roadscan.io.overwrite_guard import reads_tracked
 
     from . import validate
+    from .overwrite_check import check_command_paths
 
-    cmd = f"roadscan {args.command}"
     debug = bool(getattr(args, "debug", False))
     validate.reset_warnings(prefix=cmd)
     previous_limit = io_common.get_max_pixels()
     if getattr(args, "max_pixels", None):
         io_common.set_max_pixels(args.max_pixels)
     try:
-        with warnings.catch_warnings(record=True) as caught:
+        with warnings.catch_warnings(record=True) as caught, reads_tracked():
             warnings.simplefilter("always", RuntimeWarning)
+            check_command_paths(args)   # no output over an input, no looping link (exit 2)
             rc = int(args._run(args) or 0)
         runtime = [w for w in caught if issubclass(w.category, RuntimeWarning)]
         for w in caught:
@@ -133,11 +172,8 @@ def main(argv=None):
         if runtime:
             print(f"{cmd}: warning: {_numpy_warning_line(runtime)}", file=sys.stderr)
         return rc
-    except SystemExit:
+    except (SystemExit, KeyboardInterrupt):
         raise
-    except KeyboardInterrupt:
-        print(f"{cmd}: interrupted", file=sys.stderr)
-        return 130
     except InputError as exc:
         return _fail(cmd, debug, one_line(exc))
     except (FileNotFoundError, IsADirectoryError, NotADirectoryError, PermissionError,
@@ -153,6 +189,8 @@ def main(argv=None):
     except INPUT_LIKE as exc:
         return _fail(cmd, debug, one_line(f"cannot process this input ({type(exc).__name__}: {exc})"))
     except Exception as exc:  # noqa: BLE001 - last resort: a bug, still one line
+        if isinstance(exc, RuntimeError) and "symlink loop" in str(exc).lower():  # pathlib, a looping link
+            return _fail(cmd, debug, one_line(f"{exc}: a symbolic link loop"))
         return _fail(cmd, debug, one_line(f"internal error ({type(exc).__name__}: {exc}); rerun with "
                                           f"--debug for the traceback"), internal=True)
     finally:

@@ -17,11 +17,17 @@ The swap uses Linux ``renameat2(RENAME_EXCHANGE)`` (one atomic step: the old set
 temporary name, then is deleted). Where that is unavailable the old folder is renamed aside,
 the new one renamed in, and the old one deleted; a kill between the two renames leaves the
 target missing for an instant, and the next run restores the old set before doing anything.
+
+Every writer here writes *through* a symbolic link (the file or folder it points to is
+replaced, the link stays), names the final file in "No space left on device" and other write
+errors, and refuses to replace a file the running command has read
+(:mod:`roadscan.io.overwrite_guard`).
 """
 from __future__ import annotations
 
 import contextlib
 import ctypes
+import errno
 import ctypes.util
 import os
 import shutil
@@ -29,9 +35,11 @@ import tempfile
 from pathlib import Path
 
 from ..errors import InputError
+from .overwrite_guard import check_not_read
 
 __all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_save_npy",
-           "atomic_output_dir", "atomic_file_set", "check_output_dir", "file_mode", "TMP_TAG", "OLD_TAG"]
+           "atomic_output_dir", "atomic_file_set", "check_output_dir", "file_mode", "TMP_TAG", "OLD_TAG",
+           "through_link", "final_name"]
 
 #: marker in the names of temporary output folders (``.<target>.roadscan-tmp-XXXX``)
 TMP_TAG = ".roadscan-tmp-"
@@ -41,6 +49,43 @@ OLD_TAG = ".roadscan-old-"
 #: files whose presence marks a folder as an earlier roadscan output (safe to replace)
 OUTPUT_MARKERS = ("summary.json", "report.html", "rainfill.json", "summary.csv", "mu.csv",
                   "psd.csv", "compare.csv", "diagnosis.json", "wet.npy")
+
+
+def through_link(path):
+    """The path a write to ``path`` should replace: where a symbolic link points (followed to
+    the end, a dangling link's target included), else ``path`` itself. A link loop is refused
+    (:class:`InputError`): writing "through" it has no meaning."""
+    path = Path(path)
+    if not os.path.islink(path):
+        return path
+    try:
+        return Path(path.resolve(strict=False))
+    except (RuntimeError, OSError):       # Python 3.11: RuntimeError on a loop
+        raise InputError(path, "is a symbolic link loop; name another output") from None
+
+
+def final_name(path):
+    """Where a file being written inside a temporary output folder ends up
+    (``.out.roadscan-tmp-ab12/psd.csv`` -> ``out/psd.csv``), for messages."""
+    parts = list(Path(path).parts)
+    for i, part in enumerate(parts):
+        if part.startswith(".") and TMP_TAG in part:
+            parts[i] = part[1:].split(TMP_TAG, 1)[0]
+    return Path(*parts) if parts else Path(path)
+
+
+def _in_tmp_folder(path):
+    return any(part.startswith(".") and TMP_TAG in part for part in Path(path).parent.parts)
+
+
+def _named(exc, path):
+    """``exc`` as an OSError naming ``path`` when it names no file (a full disk, a quota, an
+    I/O error raised by ``write``): "No space left on device" then says where."""
+    if getattr(exc, "filename", None) or not isinstance(exc, OSError) or exc.errno is None:
+        return exc
+    named = OSError(exc.errno, exc.strerror or str(exc), str(path))
+    named.__cause__ = exc
+    return named
 
 
 def file_mode():
@@ -63,21 +108,29 @@ def atomic_path(path, suffix=None):
     The temporary file keeps the final suffix (writers that pick a format from the
     extension still work) and gets mode ``0o666 & ~umask``. On an exception it is removed.
     """
-    path = Path(path)
+    shown = Path(path)
+    path = through_link(shown)
     if path.is_dir():
-        raise InputError(path, "is a directory, cannot write a file there")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix or path.suffix, dir=path.parent)
+        raise InputError(shown, "is a directory, cannot write a file there")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix or path.suffix, dir=path.parent)
+    except OSError as exc:
+        raise _named(exc, final_name(shown)) from None
     try:
         os.fchmod(fd, file_mode())
     finally:
         os.close(fd)
     try:
         yield Path(tmp)
+        if not _in_tmp_folder(path):
+            check_not_read([path], flag="output", exclude=tmp)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         with contextlib.suppress(FileNotFoundError):
             os.unlink(tmp)
+        if isinstance(exc, OSError) and not isinstance(exc, InputError):
+            raise _named(exc, final_name(shown)) from None
         raise
 
 
@@ -203,7 +256,7 @@ def atomic_output_dir(target, flag="--out", inputs=()):
     On an exception (including ``KeyboardInterrupt``) the temporary folder is deleted and the
     target is left as it was. On success the target holds exactly the files written.
     """
-    target = Path(target)
+    target = through_link(Path(target))     # a link to a folder: the folder it points to
     check_output_dir(target, flag, inputs)
     parent = target.parent
     try:
@@ -218,9 +271,12 @@ def atomic_output_dir(target, flag="--out", inputs=()):
     try:
         os.chmod(tmp, _dir_mode())
         yield tmp
+        check_not_read([target], flag=flag, exclude=tmp)
         _swap_in(tmp, target)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
+        if isinstance(exc, OSError):
+            raise _named(exc, target) from None
         raise
 
 
@@ -284,15 +340,31 @@ def atomic_file_set(target, flag="--out"):
         os.chmod(tmp, _dir_mode())
         yield tmp
         files = sorted(tmp.iterdir())
-        busy = [p.name for p in files if (folder / p.name).is_dir()]
+        dests = [through_link(folder / p.name) for p in files]   # a link: where it points
+        busy = [d for d in dests if d.is_dir()]
         if busy:
-            raise InputError(None, f"{flag} {target}: {folder / busy[0]} is a folder, cannot write the file")
-        for p in files:
-            os.replace(p, folder / p.name)
+            raise InputError(None, f"{flag} {target}: {busy[0]} is a folder, cannot write the file")
+        check_not_read(dests, flag=flag, exclude=tmp)
+        for p, dest in zip(files, dests):
+            _place(p, dest)
         os.rmdir(tmp)
-    except BaseException:
+    except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
         for d in created:                       # deepest first
             with contextlib.suppress(OSError):
                 d.rmdir()
+        if isinstance(exc, OSError) and not isinstance(exc, InputError):
+            raise _named(exc, target) from None
         raise
+
+
+def _place(src, dest):
+    """Rename ``src`` onto ``dest``; across file systems (a link pointing elsewhere) copy to a
+    temporary file beside ``dest`` first, then rename."""
+    try:
+        os.replace(src, dest)
+    except OSError as exc:
+        if exc.errno != errno.EXDEV:
+            raise
+        with atomic_path(dest) as tmp:
+            shutil.copyfile(src, tmp)

@@ -1,0 +1,82 @@
+""""Did you mean ...?" for a mistyped command or option (``analyze`` -> ``analyse``,
+``--output`` -> ``--out``), and the version string of ``roadscan --version``.
+
+Suggestions come from :func:`difflib.get_close_matches` (Ratcliff/Obershelp similarity, cutoff
+0.6) over the parser's own command names and option strings, so they follow the parser as it
+grows; a few common spellings that are too far for the ratio (``--output``) are mapped by
+prefix: an unknown option that starts with a known one (or the reverse) is suggested too.
+"""
+from __future__ import annotations
+
+import argparse
+import difflib
+
+__all__ = ["hint", "package_version"]
+
+
+def package_version():
+    """The installed package's version (``importlib.metadata``), ``unknown`` when not installed."""
+    from importlib import metadata
+
+    try:
+        return metadata.version("roadscan")
+    except metadata.PackageNotFoundError:
+        return "unknown"
+
+
+def _subparsers(parser):
+    for action in parser._actions:                     # noqa: SLF001 - argparse has no public API
+        if isinstance(action, argparse._SubParsersAction):
+            return action.choices
+    return {}
+
+
+def _options(parser):
+    return [o for o in parser._option_string_actions if o.startswith("--")]   # noqa: SLF001
+
+
+def _close(word, choices):
+    best = difflib.get_close_matches(word, choices, n=1, cutoff=0.6)
+    if best:
+        return best[0]
+    stem = word.split("=", 1)[0]
+    pre = [c for c in choices if len(c) > 3 and (stem.startswith(c) or c.startswith(stem))]
+    return min(pre, key=lambda c: abs(len(c) - len(stem))) if pre else None
+
+
+def _chosen(parser, argv):
+    """The deepest subcommand parser ``argv`` selects (the parser itself when none)."""
+    p = parser
+    for tok in argv:
+        subs = _subparsers(p)
+        if tok in subs:
+            p = subs[tok]
+    return p
+
+
+def hint(parser, message, argv):
+    """A ``"; did you mean X?"`` suffix for an argparse error ``message`` (empty when none).
+
+    ``argv`` are the command-line words. An invalid command choice is matched against the
+    command names; an unknown option (or a missing required one, when the user typed something
+    close to it) against the options of the command the words select.
+    """
+    argv = [str(a) for a in (argv or [])]
+    if "invalid choice:" in message:
+        word = message.split("invalid choice:", 1)[1].strip().split(" ", 1)[0].strip("'\"")
+        names = list(_subparsers(parser))
+        if not names:
+            for action in parser._actions:             # noqa: SLF001
+                if action.choices and word in message:
+                    names = [str(c) for c in action.choices]
+        best = _close(word, names) if names else None
+        return f"; did you mean '{best}'?" if best else ""
+    target = _chosen(parser, argv)
+    known = _options(target)
+    words = [a.split("=", 1)[0] for a in argv if a.startswith("--")]
+    unknown = [w for w in words if not any(k.startswith(w) for k in known)]   # abbreviations pass
+    for word in unknown:
+        best = _close(word, known)
+        if best:
+            return f"; did you mean {best}?"
+    return ""

@@ -1,0 +1,85 @@
+"""Every command's inputs and outputs from its parsed options, checked before any work: an
+output never replaces an input, and a broken or looping symbolic link given as an input is a
+one-line input error.
+
+The parsed options are read generically (every string option that names an existing path is an
+input; ``--out`` and convert's ``OUT`` are the outputs), so a new command or flag is covered
+without listing it here. What no option names (the tiles of a stitch manifest, the data files of
+a rubber TOML) is caught when the output is written: :mod:`roadscan.io.overwrite_guard`
+records the files a command reads and the atomic writers refuse to replace them.
+"""
+from __future__ import annotations
+
+import errno
+import os
+
+from roadscan.errors import InputError
+from roadscan.io.overwrite_guard import refuse_overwrite
+
+__all__ = ["command_inputs", "command_outputs", "check_command_paths", "check_link"]
+
+#: options that name outputs, and how the message calls them
+OUTPUT_OPTIONS = {"out": "--out", "output": "OUT"}
+
+#: commands whose --out is a folder replaced as a whole (an input inside it is refused too)
+FOLDER_COMMANDS = {"analyse", "batch", "compare", "rain-fill", "dry-vs-wet", "diagnose"}
+
+_NOT_PATHS = {"command", "_run", "debug", "rubber_command"}
+
+
+def _strings(value):
+    if isinstance(value, (str, os.PathLike)):
+        return [os.fspath(value)]
+    if isinstance(value, (list, tuple)):
+        return [os.fspath(v) for v in value if isinstance(v, (str, os.PathLike))]
+    return []
+
+
+def command_inputs(args):
+    """Every option value of ``args`` (an argparse namespace) that names an existing path
+    (a dangling or looping link included), outputs excepted."""
+    found = []
+    for key, value in vars(args).items():
+        if key in OUTPUT_OPTIONS or key in _NOT_PATHS or key.startswith("_"):
+            continue
+        for s in _strings(value):
+            if s and os.path.lexists(s):
+                found.append(s)
+    return found
+
+
+def command_outputs(args):
+    """``[(path, is_folder, flag)]`` of the outputs ``args`` names."""
+    folder = getattr(args, "command", None) in FOLDER_COMMANDS
+    return [(os.fspath(v), folder, flag) for key, flag in OUTPUT_OPTIONS.items()
+            if isinstance((v := getattr(args, key, None)), (str, os.PathLike)) and os.fspath(v)]
+
+
+def check_link(path):
+    """Refuse (one line) an input that is a symbolic link loop or a dangling link."""
+    if not os.path.islink(path):
+        return
+    try:
+        os.stat(path)
+    except OSError as exc:
+        if exc.errno == errno.ELOOP:
+            raise InputError(path, "is a symbolic link loop") from None
+        target = os.readlink(path)
+        raise InputError(path, f"is a broken symbolic link (to {target}: "
+                               f"{exc.strerror or 'not found'})") from None
+
+
+def check_command_paths(args):
+    """The checks of the module docstring on a parsed command line; InputError (exit 2)."""
+    inputs = command_inputs(args)
+    for inp in inputs:
+        check_link(inp)
+    for out, folder, flag in command_outputs(args):
+        if os.path.islink(out):
+            try:
+                os.stat(out)
+            except OSError as exc:
+                if exc.errno == errno.ELOOP:
+                    raise InputError(None, f"{flag} {out}: is a symbolic link loop; name another "
+                                           f"output") from None
+        refuse_overwrite([(out, folder)], inputs, flag=flag)
