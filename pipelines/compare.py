@@ -100,10 +100,12 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
         ax.axhline(1, color="0.5", lw=0.8)
         ax.set_xlabel("wave vector q [1/m]")
         ax.set_ylabel("PSD ratio C / C$_{ref}$ [-]")
+        report.wavelength_axis(ax)
         report.set_title(ax, "where the spectra differ")
         ax.grid(which="both", alpha=0.25)
         ax.legend(fontsize=8)
-        figs.append(report.save_figure(fig, out_dir / "psd_ratio.png"))
+        figs.append(report.save_figure(fig, out_dir / "psd_ratio.png",
+                                       report.fixed_margins(ax, top=report.WAVELENGTH_AXIS_TOP)))
     if curves:
         figs.append(report.plot_mu([(n, c.v_m_per_s, c.mu) for n, c in zip(names, curves)],
                                    out_dir / "mu_all.png", title="μ(v) of all surfaces"))
@@ -118,19 +120,22 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
 
 
 def _write_report(out_dir, names, result, figs, curves):
-    header = ["surface", "H", "rms height [m]", "h0 [m]", "MPD [m]", "peak μ", "v at peak [m/s]"]
-    rows = [[n, r["hurst"], r["rms_height_m"], r["h0_m"], r["mpd_m"], r.get("mu_peak"), r.get("v_peak_m_per_s")]
-            for n, r in result.items()]
+    from .units_format import length, quantity
+
+    header = ["surface", "H", "rms height", "h0", "MPD (ISO 13473-1)", "peak μ", "v at peak [m/s]"]
+    rows = [[n, r["hurst"], length(r["rms_height_m"]), length(r["h0_m"]), length(r["mpd_m"]),
+             r.get("mu_peak"), r.get("v_peak_m_per_s")] for n, r in result.items()]
     sections = [("Surfaces", report.table_html(rows, header))]
     drows = []
     for n, r in result.items():
         d = r.get("difference_from_reference")
         if d:
-            drows.append([n, d["reference"], d.get("psd_ratio_median"), d.get("q_at_max_ratio_per_m"),
+            drows.append([n, d["reference"], d.get("psd_ratio_median"),
+                          quantity("q_at_max_ratio_per_m", d.get("q_at_max_ratio_per_m")),
                           d.get("psd_ratio_at_max"), d.get("max_difference_v_m_per_s"), d.get("max_difference_mu")])
     if drows:
         sections.append(("Where and by how much they differ", report.table_html(
-            drows, ["surface", "reference", "median PSD ratio", "q of largest PSD ratio [1/m]",
+            drows, ["surface", "reference", "median PSD ratio", "q of largest PSD ratio",
                     "largest PSD ratio", "v of largest μ difference [m/s]", "largest μ difference"])))
     if curves:
         v = curves[0].v_m_per_s

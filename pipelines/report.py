@@ -208,6 +208,7 @@ def plot_psd(curves, path, title="power spectral density", fits=()):
     ax.set_xlabel("wave vector q [1/m]")
     ax.set_ylabel("C(q) [m⁴]")
     plain_log_ticks(ax)
+    wavelength_axis(ax)
     lo, hi = ax.get_ylim()
     if lo > 0 and hi / lo > 1e5:    # many decades: minor ticks and lines only on the q axis
         from matplotlib.ticker import NullLocator
@@ -216,7 +217,25 @@ def plot_psd(curves, path, title="power spectral density", fits=()):
     set_title(ax, title)
     ax.grid(which="both", alpha=0.25)
     ax.legend(fontsize=8, loc="best")
-    return save_figure(fig, path, fixed_margins(ax))
+    return save_figure(fig, path, fixed_margins(ax, top=WAVELENGTH_AXIS_TOP))
+
+
+#: room above a wave-vector axes for its secondary wavelength axis (ticks and label) [in]
+WAVELENGTH_AXIS_TOP = 0.62
+
+
+def wavelength_axis(ax):
+    """A secondary axis on top of a log wave-vector axis: wavelength 2 pi / q in mm
+    (:func:`pipelines.units_format.add_wavelength_axis`), with plain tick labels."""
+    from matplotlib.ticker import FuncFormatter
+
+    from .units_format import add_wavelength_axis
+
+    sec = add_wavelength_axis(ax)
+    sec.xaxis.set_major_formatter(FuncFormatter(lambda x, pos: f"{x:g}"))
+    sec.xaxis.set_minor_formatter(FuncFormatter(lambda x, pos: ""))
+    sec.tick_params(labelsize=8)
+    return sec
 
 
 def plot_mu(curves, path, title="friction coefficient", ylabel="friction coefficient μ [-]",
@@ -245,7 +264,9 @@ def _fmt(x):
     if x is None:
         return "—"
     if isinstance(x, float):
-        return f"{x:.4g}"
+        from .units_format import sig3
+
+        return sig3(x)
     if isinstance(x, (list, tuple)):
         return ", ".join(_fmt(v) for v in x)
     return html.escape(str(x))

@@ -26,6 +26,10 @@ def QUANTITIES(speeds):
     q = [("hurst", "Hurst exponent H [-]", 1.0, lambda r: r["values"].get("hurst")),
          ("rms_height_m", "Sq, rms height [µm]", 1e6, lambda r: r["values"].get("rms_height_m")),
          ("mpd_m", "MPD (ISO 13473-1) [mm]", 1e3, lambda r: r["values"].get("mpd_m"))]
+    for band in ("80", "5"):       # what noise studies plot along chainage (ISO 13473-4, issue 21)
+        key = f"texture_level_dB.{band}"
+        q.append((key, f"texture level {band} mm [dB re 1 µm]", 1.0,
+                  lambda r, key=key: r["values"].get(key)))
     for s in speeds:
         q.append((f"mu@{s}", f"μ at {s} m/s [-]", 1.0, lambda r, s=s: r["mu_at"].get(s)))
     return q
@@ -101,7 +105,9 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
 
 
 def _fmt(x, scale=1.0):
-    return "—" if x is None or not np.isfinite(x) else f"{x:.4g}"
+    from ..units_format import sig3
+
+    return sig3(x)
 
 
 def _table(records, quantities, vals, masks):
@@ -110,7 +116,7 @@ def _table(records, quantities, vals, masks):
     for i, r in enumerate(records):
         flags = [q[0] for q in quantities if masks[q[0]][i]]
         cells = [str(i + 1), html.escape(Path(r["file"]).name), html.escape(r["label"] or ""),
-                 _fmt(r["chainage_m"] if r["chainage_m"] is not None else np.nan),
+                 "—" if r["chainage_m"] is None else f"{r['chainage_m']:.6g}",
                  "ok" if r["status"] == "ok" else f"<span style='color:#b00'>error: {html.escape(r['error'])}</span>"]
         for q in quantities:
             v = vals[q[0]][i]

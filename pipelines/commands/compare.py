@@ -34,8 +34,10 @@ def run(args):
             r = run_compare(scans, names, tmp, settings)
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
+    from ..units_format import length
+
     for n in names:
-        print(f"{n}: H = {r[n]['hurst']:.3f}, rms height = {r[n]['rms_height_m'] * 1e6:.1f} um"
+        print(f"{n}: H = {r[n]['hurst']:.3f}, rms height = {length(r[n]['rms_height_m'])}"
               + (f", peak mu = {r[n]['mu_peak']:.3g}" if r[n].get("mu_peak") else ""))
     print(f"-> {args.out}/report.html")
     return 0
