@@ -42,11 +42,19 @@ def friction_json(d, where, bandmap, validate=None):
                                       [_r(x) for x in d.verdict["shrink_interval"]]),
                      inconclusive=d.verdict["inconclusive"], at_bound=d.verdict["at_bound"],
                      confidence=d.verdict["confidence"],
+                     implausible=d.verdict.get("implausible", []),
+                     implausible_why=d.verdict.get("implausible_why", []),
+                     calibrated=_calibrated(d.verdict.get("calibrated") or {}),
                      gap_validate=None if validate is None else _r(validate["gap_after"]),
                      gap_validate_baseline=None if validate is None else _r(validate["gap_before"]),
                      reason=d.verdict["reason"]),
         seconds=round(d.seconds, 2),
     )
+
+
+def _calibrated(cal):
+    return {k: dict(value=_r(x["value"], 9), interval=[_r(a, 9) for a in x["interval"]],
+                    range=[_r(a, 9) for a in x["range"]]) for k, x in cal.items()}
 
 
 def _plots_friction(tmp, curve, d, where, bm_curves, validate):

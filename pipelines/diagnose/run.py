@@ -11,7 +11,16 @@ from .bandmap import band_map
 from .model import FrictionContext, simulate
 from .search import diagnose_friction, predict
 
-__all__ = ["validate", "run_friction"]
+__all__ = ["validate", "run_friction", "diagnose_curve"]
+
+
+def _provenance(data, d, ctx, inputs):
+    """``inputs`` (provenance, :mod:`.provenance`) and ``engine_settings.sigma0_Pa`` of the JSON."""
+    from .provenance import inputs_json
+
+    data["inputs"] = inputs_json(ctx, d, inputs)
+    es = data.setdefault("engine_settings", {})
+    es["sigma0_Pa"] = data["inputs"]["sigma0_Pa"]
 
 
 def validate(ctx, d, other_curve):
@@ -28,25 +37,38 @@ def validate(ctx, d, other_curve):
                 v=other_curve.v_m_per_s, mu=other_curve.mu, pred=pred)
 
 
-def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=True, extra=None):
+def diagnose_curve(curve, ctx, noise=None, log=None, uncertain=None):
+    """The diagnosis of one curve with its where-table and band map (computed first: where mu is
+    carried by the cut-off, q1 is uncertain by default). Returns (Diagnosis, where, bm, bm_curves)."""
+    bands = [(a, b) for a, b, _ in gapmod.decade_bands(curve.v_m_per_s)]
+    T0 = ctx.T0_C[np.isfinite(ctx.T0_C)]
+    from .calibration import apply_known
+
+    bm, bm_curves = band_map(apply_known(ctx, uncertain or {}), bands, sigma0_Pa=float(np.median(ctx.sigma0_Pa)),
+                             T0_C=float(np.median(T0)) if T0.size else None)
+    carried = any(b["carried_by_cutoff"] for b in bm)
+    d = diagnose_friction(ctx, curve.mu, noise=noise, log=log, uncertain=uncertain, carried=carried)
+    where = gapmod.gap_by_band(curve.v_m_per_s, curve.mu, d.baseline_mu, d.noise)
+    return d, where, bm, bm_curves
+
+
+def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=True, extra=None,
+                 uncertain=None, inputs=None):
     """Diagnose ``curve`` (MeasuredCurve) on ``ctx``; write DIR/diagnosis.json and report.html.
 
     ``extra``: a dict of run settings added to the JSON (the command's band, nu, rubber checks).
+    ``uncertain``: dict key -> calibration.Uncertain; ``inputs``: provenance (:mod:`.provenance`).
 
     Returns the JSON dict.
     """
     from .. import report as rep
     from .report import friction_json, write_friction_report
 
-    d = diagnose_friction(ctx, curve.mu, noise=noise, log=log)
-    where = gapmod.gap_by_band(curve.v_m_per_s, curve.mu, d.baseline_mu, d.noise)
-    bands = [(w["v_min_m_per_s"], w["v_max_m_per_s"]) for w in where]
-    T0 = ctx.T0_C[np.isfinite(ctx.T0_C)]
-    bm, bm_curves = band_map(ctx.base, bands, sigma0_Pa=float(np.median(ctx.sigma0_Pa)),
-                             T0_C=float(np.median(T0)) if T0.size else None)
+    d, where, bm, bm_curves = diagnose_curve(curve, ctx, noise=noise, log=log, uncertain=uncertain)
     val = validate(ctx, d, other) if other is not None else None
     data = friction_json(d, where, bm, val)
     data.update(extra or {})
+    _provenance(data, d, ctx, inputs)
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     rep.write_json(out_dir / "diagnosis.json", data)

@@ -17,6 +17,12 @@ modified prediction (see :mod:`pipelines.diagnose.surface`), so that effects com
 ``null(context) -> params`` gives the parameters at which the effect is no effect (every effect
 has one within its bounds: fits start there and keep it unless the training data improve). ``cost`` > 1 marks expensive effects (the
 search spends fewer evaluations on them).
+
+Physical plausibility: the bounds of a parameter are where the fit may go; ``plausible(context,
+params, real_mu) -> [(name, why), ...]`` names the fitted parameters outside the range where
+they are physical (flash heating beyond a factor 3 of the model's own, an adhesion amplitude
+above the measured mu, a temperature outside the shift table, ...). A verdict never names an
+implausible fit (:mod:`pipelines.diagnose.verdict`).
 """
 from __future__ import annotations
 
@@ -27,7 +33,7 @@ from typing import Callable
 
 import numpy as np
 
-__all__ = ["Param", "Effect", "register", "all_effects", "get"]
+__all__ = ["Param", "Effect", "register", "all_effects", "get", "temperature_extrapolated"]
 
 
 @dataclass(frozen=True)
@@ -66,6 +72,11 @@ class Effect:
     cost: float = 1.0
     description: str = ""
     null: Callable = None
+    plausible: Callable = None
+
+    def implausible(self, context, params, real_mu):
+        """[(parameter name, why)] of fitted parameters outside their physical range."""
+        return [] if self.plausible is None else list(self.plausible(context, params, real_mu))
 
     def null_params(self, context):
         """The parameters at which the effect is no effect (its reachable "no effect" limit), or
@@ -84,6 +95,19 @@ class Effect:
 
         spec = context.base if spec is None else spec
         return simulate(self.modify(spec, params, context), context)
+
+
+def temperature_extrapolated(context, T_C):
+    """A one-line reason when a temperature [C] lies outside the rubber's shift table (the
+    master curve is then extrapolated in temperature), else None (also for a WLF shift)."""
+    shift = getattr(context.base.rubber, "shift", None)
+    T = getattr(shift, "T_C", None)
+    if T is None or not np.size(T):
+        return None
+    lo, hi = float(np.min(T)), float(np.max(T))
+    if not (lo - 1e-9 <= float(T_C) <= hi + 1e-9):
+        return f"{float(T_C):.3g} C is outside the shift table's {lo:.3g}..{hi:.3g} C (extrapolated)"
+    return None
 
 
 _REGISTRY: dict = {}

@@ -7,7 +7,8 @@ effect covers both with
     mu_adh(v) = A exp(-1/2 (min(log10(v / v_c), 0) / w)^2) / (1 + (v / v_c)^n),
 
 a rise of width w [decades] below the peak speed v_c [m/s] (w large: a plateau at low speed)
-and a fall with exponent n above it; A [-] is the peak amplitude.
+and a fall with exponent n above it; A [-] is the peak amplitude. Physical: A below the largest
+measured mu (an additive term cannot exceed the total it is part of).
 """
 import numpy as np
 
@@ -28,13 +29,20 @@ def _modify(spec, p, ctx):
     return spec.with_(additive=spec.additive + (mu_adh,))
 
 
+def _plausible(ctx, p, real_mu):
+    top = float(np.max(real_mu))
+    if p["amplitude"] > top:
+        return [("amplitude", f"amplitude {p['amplitude']:.3g} exceeds the largest measured mu {top:.3g}")]
+    return []
+
+
 EFFECT = register(Effect(
     name="adhesion", level="friction",
     params=(Param("amplitude", 1e-6, 3.0, 0.05, "log"),
             Param("v_c_m_per_s", 1e-8, 30.0, 1e-3, "log"),
             Param("exponent", 0.3, 6.0, 1.0, "log"),
             Param("rise_decades", 0.2, 20.0, 20.0, "log")),
-    modify=_modify,
+    modify=_modify, plausible=_plausible,
     null=lambda ctx: {"amplitude": 1e-6, "v_c_m_per_s": 1e-3, "exponent": 1.0, "rise_decades": 20.0},
     description="additive bell in log v: rise of width w below v_c, fall (v/v_c)^-n above",
 ))

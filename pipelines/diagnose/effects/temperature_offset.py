@@ -1,14 +1,24 @@
 """``temperature_offset``: the rubber's background temperature T0 differs from the assumed one.
 
 Every row's T0 is shifted by ``dT_C`` [K]; through the WLF shift (DESIGN.md sec 4,
-E(w, T) = E_ref(w aT(T)/aT(T_ref))) this moves mu(v) along the speed axis.
+E(w, T) = E_ref(w aT(T)/aT(T_ref))) this moves mu(v) along the speed axis. Physical: T0 + dT inside the rubber's shift table (when it
+has one; outside it the master curve is extrapolated).
 """
-from . import Effect, Param, register
+import numpy as np
+
+from . import Effect, Param, register, temperature_extrapolated
+
+
+def _plausible(ctx, p, real_mu):
+    T = ctx.T0_C[np.isfinite(ctx.T0_C)]
+    T0 = float(np.median(T)) if T.size else float(ctx.base.rubber.T_ref_C)
+    why = temperature_extrapolated(ctx, T0 + p["dT_C"])
+    return [("dT_C", why)] if why else []
 
 EFFECT = register(Effect(
     name="temperature_offset", level="friction",
     params=(Param("dT_C", -30.0, 30.0, 0.0, "lin"),),
     modify=lambda spec, p, ctx: spec.with_(T0_shift_C=spec.T0_shift_C + p["dT_C"]),
-    null=lambda ctx: {"dT_C": 0.0},
+    null=lambda ctx: {"dT_C": 0.0}, plausible=_plausible,
     description="background temperature offset dT [K] (WLF shift along the speed axis)",
 ))
