@@ -108,12 +108,14 @@ def run(args):
     with atomic_file_set(out) as d:        # the map and its overlaps table: both or neither
         write(d / out.name, hm)
         atomic_write_text(d / (out.stem + "_overlaps.csv"), overlaps_csv(res))
+    from ..units_format import length
+
     names = res.meta["tile_names"]
-    print(f"{'tile i':>24} {'tile j':>24} {'points':>8} {'rms mismatch [um]':>18} {'shift [px]':>16}")
+    print(f"{'tile i':>24} {'tile j':>24} {'points':>8} {'rms mismatch':>14} {'shift [px]':>16}")
     for o in res.overlaps:
         flag = "" if o["registered"] else "  (not registered: nominal kept)"
         print(f"{Path(names[o['i']]).name:>24} {Path(names[o['j']]).name:>24} {o['n_points']:>8d} "
-              f"{o['rms_mismatch_m'] * 1e6:>18.4g} {o['shift_px'][0]:>7.2f},{o['shift_px'][1]:>7.2f}{flag}")
-    print(f"wrote {out}: {hm.ny} x {hm.nx} points at {hm.dx_m:g} x {hm.dy_m:g} m from {len(tiles)} tiles, "
+              f"{length(o['rms_mismatch_m']):>14} {o['shift_px'][0]:>7.2f},{o['shift_px'][1]:>7.2f}{flag}")
+    print(f"wrote {out}: {hm.ny} x {hm.nx} points at {length(hm.dx_m)} x {length(hm.dy_m)} from {len(tiles)} tiles, "
           f"{hm.measured_fraction:.1%} measured")
     return 0
