@@ -8,6 +8,7 @@ for both, so that only the surface changes.
 """
 from __future__ import annotations
 
+import html
 from pathlib import Path
 
 import numpy as np
@@ -82,13 +83,17 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     figs.append(report.plot_psd([("dry", q, an_dry.spectrum.C_m4),
                                  ("wet (rain-filled)", an_wet.spectrum.q_per_m, an_wet.spectrum.C_m4)],
                                 out_dir / "psd_dry_wet.png", title=f"{scan.name}: PSD dry and wet"))
-    try:
-        from .render3d import render_surface_with_water
+    from . import validate
+    from .render3d import render_3d_view
 
-        figs.append(render_surface_with_water(dry, rain.depth_m, out_dir / "surface_3d.png",
-                                              title=f"{scan.name}: surface and water"))
-    except Exception as exc:  # rendering needs an OpenGL context; the numbers do not
-        result["render_note"] = f"3D view not rendered: {type(exc).__name__}: {exc}"
+    view = render_3d_view(dry, rain.depth_m, out_dir / "surface_3d.png", title=f"{scan.name}: surface and water")
+    result["renderer_3d"] = view.renderer          # pyvista | matplotlib | None (not drawn)
+    if view.path is not None:
+        figs.append(view.path)
+    if view.note:
+        result["render_note"] = view.note
+    if view.warning:
+        validate.warn(view.warning)
 
     if settings.enabled:
         psd_dry = surface_psd(an_dry.spectrum, an_dry.fit, q1_per_m=settings.q1_per_m)
@@ -117,6 +122,7 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         result["mu_dry"] = result["mu_wet"] = None
         result["max_difference_v_m_per_s"] = None
 
+    result["warnings"] = validate.warnings_list()   # every line this run printed
     report.write_json(out_dir / "comparison.json", result)
     _write_report(out_dir, scan.name, result, figs)
     return result
@@ -130,8 +136,13 @@ def _write_report(out_dir, name, r, figs):
         "wetted area fraction": r["wetted_fraction"],
         "water volume per area [m³/m²]": r["water_volume_m3_per_m2"],
         "connectivity of the fill": r["connectivity"],
+        "3D view drawn with": r.get("renderer_3d") or "not drawn",
     }
     sections = [("Key figures", report.table_html(key, ["quantity", "value"]))]
+    notes = list(r.get("warnings") or []) + ([r["render_note"]] if r.get("render_note") else [])
+    if notes:
+        sections.append(("Warnings and notes", "<ul>" + "".join(
+            f"<li>{html.escape(n)}</li>" for n in notes) + "</ul>"))
     if r.get("mu_dry"):
         vs = list(r["mu_dry"])
         v = np.array([float(s) for s in vs])
