@@ -9,6 +9,7 @@ import tempfile
 import numpy as np
 
 from .. import report as rep
+from ..units_format import length, quantity
 
 __all__ = ["friction_json", "write_friction_report", "write_surface_report"]
 
@@ -141,7 +142,7 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
             "validation gap (baseline → corrected)": (f"{v['gap_validate_baseline']} → {v['gap_validate']}"
                                                       if v["gap_validate"] is not None else None),
             "run time [s]": data["seconds"]})
-        eff = rep.table_html([(e["name"], ", ".join(f"{k}={val:.4g}" for k, val in e["params"].items()),
+        eff = rep.table_html([(e["name"], ", ".join(f"{k}={quantity(k, val)}" for k, val in e["params"].items()),
                                e["gap_train"], e["gap_heldout"], e["shrink"],
                                "" if not e.get("shrink_interval") or e["shrink_interval"][0] is None else
                                f"{e['shrink_interval'][0]:.2f}–{e['shrink_interval'][1]:.2f}",
@@ -154,12 +155,12 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
         bands = rep.table_html([(f"{w['v_min_m_per_s']:.3g}–{w['v_max_m_per_s']:.3g}", w["n"], w["gap"],
                                  "yes" if w["significant"] else "no",
                                  f"{b['q_min_per_m']:.3g}–{b['q_max_per_m']:.3g}",
-                                 f"{b['length_min_m'] * 1e6:.3g}–{b['length_max_m'] * 1e6:.3g}",
+                                 f"{length(b['length_min_m'])} – {length(b['length_max_m'])}",
                                  f"{b['omega_min_rad_s']:.3g}–{b['omega_max_rad_s']:.3g}",
                                  f"{b['dlnmu_dlnq1']:.2f}" + (" (cut-off!)" if b.get("carried_by_cutoff") else ""))
                                 for w, b in zip(data["where"], data["band_map"])],
                                header=["speed band [m/s]", "points", "gap", "significant",
-                                       "q carrying 80 % of μ [1/m]", "length scales [µm]",
+                                       "q carrying 80 % of μ [1/m]", "length scales",
                                        "frequencies ω = q v [rad/s]", "d ln μ / d ln q1"])
         rep.write_html(out_dir / "report.html", f"Sim-to-real gap diagnosis: {curve.name}", [
             ("Verdict", [verdict, summary]),
@@ -226,7 +227,7 @@ def write_surface_report(out_dir, name, data, figs):
     stats = rep.table_html([(f"{f}: {e}", m, t, s) for f, d in data["family_noise"].items()
                             for e, m, t, s in zip(d["entries"], d["measured"], d["twin"], d["noise_per_block"])],
                            header=["descriptor", "measured (block mean)", "self-affine twin", "noise per block"])
-    eff = rep.table_html([(e["name"], ", ".join(f"{k}={val:.4g}" for k, val in e["params"].items()),
+    eff = rep.table_html([(e["name"], ", ".join(f"{k}={quantity(k, val)}" for k, val in e["params"].items()),
                            e["gap_train"], e["gap_heldout"], e["shrink"],
                            "" if not e.get("shrink_interval") or e["shrink_interval"][0] is None else
                            f"{e['shrink_interval'][0]:.2f}–{e['shrink_interval'][1]:.2f}",
