@@ -150,3 +150,99 @@ def test_mixed_batch_keeps_x3p_calibration(tmp_path):
     assert a["spacing_m"] == [2e-5, 2e-5] and b["spacing_m"] == [1e-4, 1e-4]
     assert a["calibration_ignored"]["spacing"]["flag"] == [1e-4, 1e-4]
     assert any("ignored" in w for w in a["warnings"])
+
+
+# ---------------------------------------------------------------- TIFF pages, samples, palettes
+@pytest.fixture()
+def tiffs(tmp_path):
+    tifffile = pytest.importorskip("tifffile")
+    rng = np.random.default_rng(3)
+    stack = rng.normal(size=(3, 20, 30)).astype(np.float32)
+    rgb = (rng.random((20, 30, 3)) * 255).astype(np.uint8)
+    pal = (rng.random((20, 30)) * 255).astype(np.uint8)
+    cmap = np.tile(np.arange(256, dtype=np.uint16) * 256, (3, 1))
+    tifffile.imwrite(tmp_path / "stack.tif", stack, photometric="minisblack")
+    tifffile.imwrite(tmp_path / "rgb.tif", rgb, photometric="rgb")
+    tifffile.imwrite(tmp_path / "planar.tif", np.moveaxis(rgb, 2, 0).copy(), photometric="rgb",
+                     planarconfig="separate")
+    tifffile.imwrite(tmp_path / "pal.tif", pal, photometric="palette", colormap=cmap)
+    return tmp_path, {"stack": stack, "rgb": rgb, "pal": pal}
+
+
+@pytest.mark.parametrize("name, word", [("stack", "3 images"), ("rgb", "3 samples per pixel"),
+                                        ("planar", "3 samples per pixel"), ("pal", "palette")])
+def test_ambiguous_tiffs_refused_without_channel(tiffs, name, word):
+    d, _ = tiffs
+    with pytest.raises(InputError) as ei:
+        read(d / f"{name}.tif", spacing=1e-4)
+    msg = str(ei.value)
+    assert word in msg and "--channel" in msg and f"{name}.tif" in msg and "\n" not in msg
+
+
+def test_tiff_channel_chooses_page_sample_or_indices(tiffs):
+    d, src = tiffs
+    for k in range(3):
+        m = read(d / "stack.tif", spacing=1e-4, channel=k)
+        np.testing.assert_array_equal(m.heights_m, src["stack"][k].astype(np.float64))
+        assert m.meta["channel"] == k and m.meta["channel_note"] == f"page {k} of 3"
+    for name in ("rgb", "planar"):
+        for ch, k in ((0, 0), ("g", 1), ("b", 2)):
+            m = read(d / f"{name}.tif", spacing=1e-4, channel=ch)
+            np.testing.assert_array_equal(m.heights_m, src["rgb"][..., k].astype(np.float64))
+    m = read(d / "pal.tif", spacing=1e-4, channel="index")
+    np.testing.assert_array_equal(m.heights_m, src["pal"].astype(np.float64))
+    for bad in (3, "x"):
+        with pytest.raises(InputError, match="--channel"):
+            read(d / "stack.tif", spacing=1e-4, channel=bad)
+
+
+def test_channel_on_single_channel_formats_refused(tmp_path):
+    np.save(tmp_path / "a.npy", H)
+    with pytest.raises(InputError, match="a.npy: --channel 1: a .npy file holds one"):
+        read(tmp_path / "a.npy", spacing=1e-4, channel="1")
+
+
+def test_channel_recorded_in_summary(tiffs):
+    import json
+
+    from pipelines.cli import main
+
+    d, src = tiffs
+    out = d / "o"
+    assert main(["analyse", str(d / "stack.tif"), "--spacing", "1e-4", "--channel", "1",
+                 "--out", str(out), "--no-friction", "--no-figures"]) == 0
+    s = json.loads(next(out.rglob("summary.json")).read_text())
+    assert s["channel"] == 1
+    m = read(d / "stack.tif", spacing=1e-4, channel=1)
+    assert s["shape"] == list(m.heights_m.shape)
+
+
+def test_vendor_channel_by_index_or_name():
+    from types import SimpleNamespace
+
+    from roadscan.io.vendor_channel import _pick_channel
+
+    a = SimpleNamespace(name="Phase", is_height_channel=False)
+    b = SimpleNamespace(name="Height", is_height_channel=True)
+    c = SimpleNamespace(name="Height retrace", is_height_channel=True)
+    reader = SimpleNamespace(channels=[a, b, c], default_channel=b)
+    assert _pick_channel(reader, "f", 2)[0] is c
+    assert _pick_channel(reader, "f", "height RETRACE")[0] is c
+    with pytest.raises(InputError, match="does not hold heights"):
+        _pick_channel(reader, "f", "phase")
+    with pytest.raises(InputError, match=r"holds 3 channels \(0..2"):
+        _pick_channel(reader, "f", 3)
+    with pytest.raises(InputError, match="no such channel"):
+        _pick_channel(reader, "f", "amplitude")
+
+
+def test_vendor_file_summary_names_its_channel(formats_dir, tmp_path):
+    import json
+
+    from pipelines.cli import main
+
+    f = formats_dir / "opd-1.opd"
+    out = tmp_path / "o"
+    assert main(["analyse", str(f), "--out", str(out), "--no-friction", "--no-figures"]) == 0
+    s = json.loads(next(out.rglob("summary.json")).read_text())
+    assert s["channel"] == read(f).meta["channel"] and s["channel"]

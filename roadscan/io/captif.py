@@ -41,10 +41,13 @@ def is_captif(path):
 
 
 @register_reader(".dat")
-def read_dat(path, spacing=None, units=None):
-    """Dispatch ``.dat``: CAPTIF SLP profile if it has the data marker, else a vendor format."""
+def read_dat(path, spacing=None, units=None, channel=None):
+    """Dispatch ``.dat``: CAPTIF SLP profile if it has the data marker, else a vendor format
+    (``channel`` applies to the latter)."""
     check_file(path)
     if is_captif(path):
+        if channel is not None:
+            raise InputError(path, f"--channel {channel}: a CAPTIF profile holds one channel")
         return read_captif(path, spacing=spacing, units=units)
     from .vendor import read_vendor, vendor_available
 
@@ -52,7 +55,7 @@ def read_dat(path, spacing=None, units=None):
         raise InputError(path, "no '*****DATA*****' line: not a CAPTIF profile (other .dat "
                                "formats need the optional extra: pip install 'roadscan[vendor]')")
     try:
-        return read_vendor(path, spacing=spacing, units=units)
+        return read_vendor(path, spacing=spacing, units=units, channel=channel)
     except InputError as exc:
         raise InputError(path, f"not a CAPTIF profile (no '*****DATA*****' line) nor a vendor "
                                f".dat: {exc.problem}") from None

@@ -1,7 +1,8 @@
 """TIFF height images through :mod:`tifffile`.
 
-Reading: the first page (first sample of a multi-sample page is refused), rows along y,
-columns along x, NaN where unmeasured. Heights are metres unless ``units`` says otherwise
+Reading: one image, rows along y, columns along x, NaN where unmeasured; multi-page,
+multi-sample (RGB) and palette-colour TIFFs are refused unless ``channel`` chooses a page,
+sample or the palette indices (:mod:`roadscan.io.tiff_pages`). Heights are metres unless ``units`` says otherwise
 (integer images are converted with the same factor). The spacing comes, in this order, from
 ``spacing=``; from the JSON description roadscan writes (``dx_m``, ``dy_m``, ``units``); from a
 GeoTIFF ModelPixelScaleTag (assumed metres: a projected CRS); from the resolution tags when they
@@ -25,6 +26,7 @@ from ._common import (NO_SPACING, check_compression_ratio, check_declared_size, 
                       make_heightmap, resolve_spacing, unit_factor)
 from ._registry import register_reader, register_writer
 from .calibration import pick_spacing, pick_units
+from .tiff_pages import select_page, select_sample
 
 __all__ = ["read_tiff", "write_tiff"]
 
@@ -80,8 +82,9 @@ def _check_page_size(path, page):
 
 
 @register_reader(".tif", ".tiff")
-def read_tiff(path, spacing=None, units=None):
-    """Read a TIFF height image (see the module notes for the spacing rules)."""
+def read_tiff(path, spacing=None, units=None, channel=None):
+    """Read a TIFF height image (see the module notes for the spacing rules; ``channel``
+    chooses a page, sample or palette indices: :mod:`roadscan.io.tiff_pages`)."""
     import tifffile
 
     check_file(path)
@@ -91,9 +94,11 @@ def read_tiff(path, spacing=None, units=None):
         with tifffile.TiffFile(path) as tif:
             page = tif.pages.first
             park = _PARK_SYSTEMS_TAG in page.tags
+            meta = {"format": "tiff"}
             if not park:
+                page, rest = select_page(path, tif, channel, meta)
                 _check_page_size(path, page)
-                arr = page.asarray()
+                arr = select_sample(path, page, page.asarray(), rest, meta)
                 from_file = _spacing_from_tags(tif, page)
                 desc_units = None
                 try:
@@ -109,13 +114,13 @@ def read_tiff(path, spacing=None, units=None):
     if park:
         from .vendor import read_vendor
 
-        return read_vendor(path, spacing=spacing, units=units, formats=("ps",))
+        return read_vendor(path, spacing=spacing, units=units, formats=("ps",), channel=channel)
     arr = np.squeeze(arr)
     if arr.ndim != 2:
         raise InputError(path, f"expected one 2D height image, got shape {arr.shape}")
     if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
         raise InputError(path, f"heights are not real numbers (dtype {arr.dtype})")
-    meta = {"format": "tiff", "dtype": str(arr.dtype)}
+    meta["dtype"] = str(arr.dtype)
     if desc_units is not None:
         factor = pick_units(path, units, desc_units, unit_factor(desc_units, path), meta)
         meta["units"] = desc_units

@@ -159,7 +159,7 @@ def _open(stio, version, path, formats):
 
 
 @register_reader(*VENDOR_EXTENSIONS)
-def read_vendor(path, spacing=None, units=None, formats=None):
+def read_vendor(path, spacing=None, units=None, formats=None, channel=None):
     """Read an instrument's height file with SurfaceTopography (see the module notes).
 
     Parameters
@@ -171,6 +171,8 @@ def read_vendor(path, spacing=None, units=None, formats=None):
         Height unit of a file that states none; ignored otherwise.
     formats : sequence of str, optional
         SurfaceTopography format ids to try (default: the readers listing the extension).
+    channel : int or str, optional
+        Channel index (from 0) or name; default the reader's default height channel.
 
     Returns
     -------
@@ -188,7 +190,7 @@ def read_vendor(path, spacing=None, units=None, formats=None):
     sp = resolve_spacing(spacing, path)
     reader = _open(stio, version, path, formats)
     try:
-        return read_channel(reader, path, version, sp, units)
+        return read_channel(reader, path, version, sp, units, channel)
     finally:
         try:
             with warnings.catch_warnings():

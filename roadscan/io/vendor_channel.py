@@ -54,10 +54,30 @@ def _length_factor(unit, path, what):
                            f"({', '.join(LENGTH_UNITS)})")
 
 
-def _pick_channel(reader, path):
+def _pick_channel(reader, path, channel=None):
+    """(chosen channel, all channels): ``channel`` (index from 0 or name, case-insensitive)
+    when given, else the reader's default channel if it holds heights, else the first height
+    channel."""
     channels = list(reader.channels)
     if not channels:
         raise InputError(path, "holds no data channel")
+    if channel is not None:
+        names = [str(c.name) for c in channels]
+        if isinstance(channel, int):
+            if not 0 <= channel < len(channels):
+                raise InputError(path, f"--channel {channel}: the file holds {len(channels)} "
+                                       f"channels (0..{len(channels) - 1}: {', '.join(names)})")
+            ch = channels[channel]
+        else:
+            hits = [c for c in channels if str(c.name).lower() == str(channel).lower()]
+            if not hits:
+                raise InputError(path, f"--channel {channel!r}: no such channel (channels: "
+                                       f"{', '.join(names)})")
+            ch = hits[0]
+        if not getattr(ch, "is_height_channel", True):
+            raise InputError(path, f"--channel {channel}: channel {ch.name!r} does not hold "
+                                   f"heights")
+        return ch, channels
     heights = [c for c in channels if getattr(c, "is_height_channel", True)]
     if not heights:
         kinds = ", ".join(f"{c.name} ({getattr(getattr(c, 'data_kind', None), 'value', '?')})"
@@ -88,9 +108,9 @@ def _declared_grid(ch, path):
     return int(ny), int(nx)
 
 
-def read_channel(reader, path, version, sp, units):
+def read_channel(reader, path, version, sp, units, channel=None):
     """The chosen height channel of the open ``reader`` as a HeightMap [m] (module notes)."""
-    ch, channels = _pick_channel(reader, path)
+    ch, channels = _pick_channel(reader, path, channel)
     declared = _declared_grid(ch, path)
     if declared is not None:
         n = check_declared_size(path, declared, 8)
@@ -169,8 +189,8 @@ def read_channel(reader, path, version, sp, units):
     })
     if len(channels) > 1:
         meta["channels"] = [str(c.name) for c in channels]
-        meta["channel_note"] = (f"channel {ch.index} {ch.name!r} of {len(channels)} read "
-                                f"(the first height channel)")
+        how = "chosen with --channel" if channel is not None else "the first height channel"
+        meta["channel_note"] = f"channel {ch.index} {ch.name!r} of {len(channels)} read ({how})"
     if caught:
         meta["reader_warnings"] = sorted({one_line(w.message, 160) for w in caught})[:5]
     info = info_dict(topo, ch)
