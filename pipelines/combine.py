@@ -1,0 +1,133 @@
+"""The ``combine`` job: several measurements of one surface -> one C(q) over all their scales.
+
+Each input is read, turned into its spectrum and reliable band
+(:mod:`pipelines.combine_sources`) and dropped before the next is read: the memory is that of
+the largest single input. The reliable parts are merged (:func:`roadscan.spectrum_merge.
+merge_spectra`: lattice-point-weighted mean per ring of a common log-q grid, 5-95 % band from
+the rings' counts and the sources' scatter, gaps bridged by a fitted power law) and the merged
+curve gets the self-affine fit of :func:`roadscan.fit.fit_self_affine` (H, h0, roll-off).
+
+Outputs, all written into a temporary folder swapped in at the end
+(:func:`roadscan.io.atomic.atomic_output_dir`):
+
+- ``psd.csv``: ``q_per_m,C_m4,C_lo_m4,C_hi_m4,n_sources`` (readable by ``--psd``: the PSD
+  reader takes ``q_per_m`` and ``C_m4`` and ignores the other columns);
+- ``combine.json``: per input (``inputs``) its ``reliable_band_per_m``, reasons, spacing,
+  size and resolution; ``merged_band_per_m``; ``gaps``; ``fit``; ``warnings``;
+- ``combine.png`` (unless ``--no-figures``) and a self-contained ``report.html``.
+
+Reference: Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014 (2022) (merging the spectra
+of several instruments within their reliable ranges).
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from roadscan.errors import InputError
+
+__all__ = ["run_combine", "combine_sources", "PSD_HEADER"]
+
+PSD_HEADER = ["q_per_m", "C_m4", "C_lo_m4", "C_hi_m4", "n_sources"]
+
+
+def _spectra(entries, args):
+    """Read, analyse and forget each input in turn -> list of SourceSpectrum."""
+    from .combine_sources import source_spectrum
+    from .scan_input import load_scan
+
+    out = []
+    for e in entries:
+        obj = load_scan(e.path, args, spacing=e.spacing, units=e.units)
+        try:
+            out.append(source_spectrum(obj, e.path, e.label, e.resolution_m))
+        except InputError:
+            raise
+        except (ValueError, ArithmeticError) as exc:
+            raise InputError(e.path, f"cannot compute its spectrum ({type(exc).__name__}: "
+                                     f"{exc})") from None
+        del obj
+    return out
+
+
+def combine_sources(sources):
+    """Merge the reliable parts of :class:`~pipelines.combine_sources.SourceSpectrum` s and fit
+    the result -> (MergedSpectrum, fit dict or None, warnings)."""
+    from roadscan.fit import fit_self_affine
+    from roadscan.spectrum_merge import SpectrumPart, merge_spectra
+    from roadscan.spectrum_types import Spectrum
+
+    from .units_format import wavelength_of_q
+
+    parts = [SpectrumPart(s.label, s.q_per_m, s.C_m4, s.count, tuple(s.band.band),
+                          s.dof_per_count) for s in sources]
+    merged = merge_spectra(parts)
+    notes = []
+    for g in merged.gaps:
+        notes.append(f"gap: no input measures {g['q_from_per_m']:.4g} to {g['q_to_per_m']:.4g} 1/m "
+                     f"(wavelengths {wavelength_of_q(g['q_to_per_m'])} to "
+                     f"{wavelength_of_q(g['q_from_per_m'])}, a factor {g['factor']:.3g}) reliably; "
+                     f"bridged by {g['bridged_by']} (n_sources = 0 in psd.csv)")
+    for s in sources:
+        if s.resolution_m is None:
+            notes.append(f"{s.path}: no lateral resolution given nor in the file: its band ends "
+                         f"at Nyquist or its noise floor (give resolution_m in the manifest)")
+    fit = None
+    try:
+        spec = Spectrum(merged.q_per_m, merged.C_m4, count=np.rint(merged.count).astype(np.int64),
+                        kind="model", meta={"source": "roadscan combine"})
+        f = fit_self_affine(spec)
+        fit = f.as_dict()
+        fit["roll_off_per_m"] = f.q_roll_per_m
+    except ValueError as exc:
+        notes.append(f"no self-affine fit of the merged spectrum ({exc})")
+    return merged, fit, notes
+
+
+def _summary(sources, merged, fit, warnings):
+    return {
+        "inputs": [s.as_dict() for s in sources],
+        "merged_band_per_m": [float(b) for b in merged.band_per_m],
+        "q_range_per_m": [float(merged.q_per_m[0]), float(merged.q_per_m[-1])],
+        "rows": int(merged.q_per_m.size),
+        "gaps": merged.gaps,
+        "fit": fit,
+        "method": ("C per ring of a common grid of 20 rings per decade: mean over the lattice "
+                   "points of every input measuring it reliably; C_lo/C_hi the 5-95 % band from "
+                   "chi-square counts and the inputs' scatter (roadscan.spectrum_merge)"),
+        "warnings": warnings,
+    }
+
+
+def run_combine(args):
+    """``roadscan combine`` (see module docstring); returns the exit code."""
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+    from . import report, validate
+    from .combine_inputs import collect_inputs
+    from .combine_report import draw_combine, write_combine_report
+
+    if args.resolution is not None and not (0 < args.resolution < 10):
+        raise InputError(None, f"--resolution {args.resolution!r}: a positive length in metres")
+    entries = collect_inputs(args.inputs, args.spacing, args.units, args.resolution)
+    inputs = [str(e.path) for e in entries] + [str(p) for p in args.inputs]
+    check_output_dir(args.out, inputs=inputs)
+    sources = _spectra(entries, args)
+    merged, fit, notes = combine_sources(sources)
+    for line in notes:
+        validate.warn(line)
+    summary = _summary(sources, merged, fit, validate.warnings_list())
+    with atomic_output_dir(args.out, inputs=inputs) as tmp:
+        tmp = Path(tmp)
+        report.write_csv(tmp / "psd.csv", PSD_HEADER, [merged.q_per_m, merged.C_m4, merged.C_lo_m4,
+                                                      merged.C_hi_m4, merged.n_sources])
+        report.write_json(tmp / "combine.json", summary)
+        fig = None if args.no_figures else draw_combine(sources, merged, fit, tmp / "combine.png")
+        write_combine_report(tmp / "report.html", summary, fig)
+    lo, hi = merged.band_per_m
+    print(f"{len(sources)} inputs merged: C(q) from {lo:.4g} to {hi:.4g} 1/m, "
+          f"{len(merged.gaps)} gap(s) bridged" + (f", H = {fit['hurst']:.3f}" if fit else ""))
+    print(f"-> {args.out}/psd.csv, {args.out}/report.html", file=sys.stdout)
+    return 0

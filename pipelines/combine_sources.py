@@ -1,0 +1,157 @@
+"""One measurement of ``roadscan combine`` -> its spectrum on the common grid and its reliable
+band; the scan itself is dropped before the next one is read (memory bounded by the largest
+single input).
+
+Areas: levelled (plane), unmeasured points filled (biharmonic), Tukey-windowed (alpha 0.25)
+angular average :func:`roadscan.spectrum.psd_area` on rings aligned with the common grid
+(:func:`roadscan.spectrum_merge.aligned_range`). Profiles: the road section
+(:func:`roadscan.trim.road_section`), levelled (line) and filled, the 1D spectrum
+:func:`roadscan.spectrum.psd_profile` binned on the same grid and turned into the isotropic 2D
+estimate C(q) = C1(q) / q Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)) (the H psd_profile fitted).
+The reliable band (:func:`roadscan.reliable_band.reliable_band`) is found on what was measured:
+an area's C, a profile's C1. With a lateral resolution r (given, or from the file), C is then
+divided by the Gaussian response T(q)^2 = exp(-2 ln 2 (q r / 2 pi)^2) inside the band, where
+T^2 >= 0.64 (``RESPONSE_MIN`` squared): the merged curve is not pulled down at each band's top (Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001
+(2017)).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from roadscan.errors import InputError
+
+__all__ = ["SourceSpectrum", "source_spectrum", "resolution_of"]
+
+WINDOW_ALPHA = 0.25
+
+
+@dataclass
+class SourceSpectrum:
+    """What ``combine`` keeps of one input (no heights)."""
+
+    label: str
+    path: str
+    kind: str                       # "area" or "profile"
+    shape: list
+    spacing_m: list
+    size_m: list
+    resolution_m: float
+    resolution_source: str
+    q_per_m: np.ndarray             # rings (aligned with the common grid)
+    C_m4: np.ndarray                # 2D C (a profile's estimate)
+    count: np.ndarray
+    band: object                    # roadscan.reliable_band.ReliableBand
+    dof_per_count: float
+    meta: dict = field(default_factory=dict)
+
+    def as_dict(self):
+        d = {"label": self.label, "file": self.path, "kind": self.kind, "shape": self.shape,
+             "spacing_m": self.spacing_m, "size_m": self.size_m,
+             "resolution_m": self.resolution_m, "resolution_source": self.resolution_source,
+             "reliable_band_per_m": self.band.band,
+             "reliable_band_reasons": self.band.reasons,
+             "limits_per_m": dict(self.band.limits), "q_roll_per_m": self.band.q_roll_per_m,
+             "spectrum_slope": self.band.slope, "reliable_band_valid": self.band.valid}
+        d.update(self.meta)
+        return d
+
+
+def resolution_of(obj, given):
+    """(lateral resolution [m] or None, where it came from): the manifest / option value,
+    else the file's instrument metadata (``lateral_resolution_m``), else None."""
+    if given:
+        return float(given), "given"
+    inst = obj.meta.get("instrument") if isinstance(obj.meta.get("instrument"), dict) else {}
+    for key in ("lateral_resolution_m", "resolution_m"):
+        v = inst.get(key, obj.meta.get(key))
+        try:
+            v = float(v)
+        except (TypeError, ValueError):
+            continue
+        if np.isfinite(v) and v > 0:
+            return v, "file metadata"
+    return None, "none (no resolution given nor in the file: the band ends at Nyquist or the noise)"
+
+
+def _enbw(n, alpha=WINDOW_ALPHA):
+    """Equivalent noise bandwidth of the n-point Tukey window in bins: n sum w^2 / (sum w)^2."""
+    from roadscan.windows import tukey
+
+    w = tukey(n, alpha)
+    return float(n * np.sum(w**2) / np.sum(w) ** 2)
+
+
+def _area_spectrum(hm, per_decade):
+    from roadscan import inpaint, level
+    from roadscan.spectrum import psd_area
+    from roadscan.spectrum_merge import aligned_range
+
+    lev = level.level(hm, degree=1)
+    values = inpaint.unmeasured_fill(lev) if lev.unmeasured.any() else None
+    lx, ly = hm.size_m
+    q_lo, q_hi = aligned_range(2 * np.pi / max(lx, ly), np.pi / max(hm.dx_m, hm.dy_m), per_decade)
+    spec, _ = psd_area(lev, window_alpha=WINDOW_ALPHA, rings_per_decade=per_decade,
+                       q_min=q_lo, q_max=q_hi, fill_values=values)
+    ny, nx = hm.shape
+    dof = 1.0 / (_enbw(nx) * _enbw(ny))   # full-lattice count: each pair of points, 2 dof
+    q, C, n = spec.q_per_m, spec.C_m4, np.asarray(spec.count, float)
+    return q, C, n, C, dof, {}
+
+
+def _profile_spectrum(pr, per_decade):
+    from roadscan import inpaint, level
+    from roadscan.profile_spectrum import profile_to_area_factor
+    from roadscan.spectrum import psd_profile
+    from roadscan.trim import road_section
+
+    pr = road_section(pr)
+    filled, _ = inpaint.fill_unmeasured(level.level(pr, degree=1))
+    q1, C1, spec = psd_profile(filled, window_alpha=WINDOW_ALPHA)
+    hurst = float(spec.meta["conversion_hurst"])
+    b = np.floor(per_decade * np.log10(q1) + 1e-9).astype(np.int64)
+    b -= b.min()
+    n = np.bincount(b).astype(float)
+    keep = n > 0
+    qb = np.bincount(b, q1)[keep] / n[keep]
+    c1b = np.bincount(b, C1)[keep] / n[keep]
+    C = c1b / qb * profile_to_area_factor(hurst)
+    n_prof = int(spec.meta.get("n_profiles", 1))
+    return qb, C, n[keep] * n_prof, c1b, 2.0 / _enbw(filled.heights_m.size), {
+        "conversion": spec.meta["conversion"], "conversion_hurst": hurst}
+
+
+def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
+    """A read HeightMap or Profile -> :class:`SourceSpectrum` (see module docstring)."""
+    from roadscan.heightmap import Profile
+    from roadscan.reliable_band import gaussian_response, reliable_band
+
+    res, res_src = resolution_of(obj, resolution_m)
+    if isinstance(obj, Profile):
+        q, C, n, measured, dof, meta = _profile_spectrum(obj, per_decade)
+        length, spacing = obj.length_m, obj.dx_m
+        kind, spacing_list, size = "profile", [obj.dx_m], [obj.length_m]
+    else:
+        q, C, n, measured, dof, meta = _area_spectrum(obj, per_decade)
+        lx, ly = obj.size_m
+        length, spacing = min(lx, ly), max(obj.dx_m, obj.dy_m)
+        kind, spacing_list, size = "area", [obj.dx_m, obj.dy_m], [lx, ly]
+    try:
+        band = reliable_band(q, measured, n, length, spacing, resolution_m=res)
+    except ValueError as exc:
+        raise InputError(path, f"no reliable band in its spectrum ({exc})") from None
+    if not band.valid:
+        raise InputError(path, f"its reliable band [{band.lo_per_m:.4g}, {band.hi_per_m:.4g}] 1/m "
+                               f"is under a factor 2 wide ({band.lo_reason}; {band.hi_reason})")
+    if res is not None:
+        # the instrument's Gaussian low-pass undone inside the band (C / T^2 <= 1 / 0.64 there)
+        T2 = gaussian_response(q, res) ** 2
+        C = C / T2
+        inside = (q >= band.lo_per_m) & (q <= band.hi_per_m)
+        meta["resolution_correction"] = {
+            "applied": "C divided by T(q)^2, T = exp(-ln 2 (q r / 2 pi)^2) (Gaussian lateral "
+                       "response, 50 % amplitude at the wavelength r)",
+            "max_factor": float(1.0 / T2[inside].min()) if inside.any() else 1.0}
+    return SourceSpectrum(label, str(path), kind, list(obj.heights_m.shape), spacing_list, size,
+                          res, res_src, q, C, n, band, float(dof), meta)
