@@ -246,3 +246,53 @@ def test_vendor_file_summary_names_its_channel(formats_dir, tmp_path):
     assert main(["analyse", str(f), "--out", str(out), "--no-friction", "--no-figures"]) == 0
     s = json.loads(next(out.rglob("summary.json")).read_text())
     assert s["channel"] == read(f).meta["channel"] and s["channel"]
+
+
+# ---------------------------------------------------------------- hostile X3P archives
+def _rezip(src, dst, edit):
+    """Copy the X3P ``src`` to ``dst`` member by member, ``edit(name, data) -> [(name, data)]``."""
+    import warnings
+    import zipfile
+
+    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(dst, "w") as zout:
+        for info in zin.infolist():
+            for name, data in edit(info.filename, zin.read(info)):
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")        # zipfile: "Duplicate name"
+                    zout.writestr(name, data)
+    return dst
+
+
+def test_x3p_duplicate_member_refused(tmp_path):
+    p, _ = _x3p(tmp_path)
+    other, _ = _x3p(tmp_path, "other.x3p")
+    import zipfile
+
+    second = zipfile.ZipFile(other).read("main.xml").replace(b"48", b"24")
+    dup = _rezip(p, tmp_path / "dup.x3p",
+                 lambda n, d: [(n, d), (n, second)] if n == "main.xml" else [(n, d)])
+    with pytest.raises(InputError) as ei:
+        read(dup)
+    msg = str(ei.value)
+    assert "dup.x3p" in msg and "'main.xml'" in msg and "several members" in msg
+    assert "\n" not in msg
+
+
+def test_x3p_checksum_note_is_a_warning_in_the_outputs(tmp_path, capsys):
+    import json
+
+    from pipelines.cli import main
+
+    p, h = _x3p(tmp_path)
+    bad = _rezip(p, tmp_path / "sum.x3p",
+                 lambda n, d: [(n, b"0" * 32 + b" *main.xml\n" if n == "md5checksum.hex" else d)])
+    m = read(bad)
+    np.testing.assert_array_equal(m.heights_m, h)
+    assert any("md5checksum.hex" in w for w in m.meta["read_warnings"])
+    out = tmp_path / "o"
+    capsys.readouterr()
+    assert main(["analyse", str(bad), "--out", str(out), "--no-friction", "--no-figures"]) == 0
+    err = capsys.readouterr().err
+    s = json.loads(next(out.rglob("summary.json")).read_text())
+    assert any("md5checksum.hex" in w and "sum.x3p" in w for w in s["warnings"])
+    assert "md5checksum.hex" in err

@@ -41,7 +41,15 @@ def precheck_x3p(path):
 
     try:
         with zipfile.ZipFile(path) as zf:
+            listed = [i.filename for i in zf.infolist()]
             infos = {i.filename: i for i in zf.infolist()}
+            if len(infos) != len(listed):
+                from collections import Counter
+
+                dup = sorted(n for n, c in Counter(listed).items() if c > 1)
+                raise InputError(path, f"X3P archive holds several members named "
+                                       f"{', '.join(repr(d) for d in dup[:3])} (which one is meant "
+                                       f"is undefined): refused")
             xml_info = infos.get("main.xml")
             if xml_info is None:
                 raise InputError(path, "not an X3P file (no main.xml in the archive)")
@@ -130,6 +138,7 @@ def read_x3p(path, spacing=None, units=None):
     meta = {"format": "x3p", "units": "m", "layers": len(f.layers), "feature": kind}
     if checksum_note:
         meta["checksum_note"] = checksum_note
+        meta.setdefault("read_warnings", []).append(checksum_note)
     md = f.metadata
     if md is not None:
         if md.date is not None:
