@@ -5,7 +5,10 @@ profile the isotropic 2D estimate, with the profile's own 1D PSD in ``psd1d.csv`
 ``q_per_m,C1_m3``),
 ``mu.csv`` (``v_m_per_s,mu,area_fraction`` with A/A0 = P(q1); ``T_flash_max_C`` added with
 flash), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
-``psd2d.png`` (areas), ``mu.png`` and a self-contained ``report.html``.
+``psd2d.png`` (areas), ``mu.png`` and a self-contained ``report.html``; the road engineer's
+texture figures (issue 21, :mod:`pipelines.texture_outputs`): ``texture_spectrum.csv``
+(``centre_wavelength_m,band_lo_m,band_hi_m,level_dB``), ``texture_spectrum.png`` and the
+``summary.json`` keys ``texture_level_dB``, ``etd_m``, ``ifi_speed_constant_kmh`` (``ifi_F60``).
 """
 from __future__ import annotations
 
@@ -86,8 +89,11 @@ def summarise(analysis, fr=None):
 
 
 def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
-                 mpd_settings=None, figures=True, drawer=None):
+                 mpd_settings=None, figures=True, drawer=None, texture=None):
     """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict.
+
+    ``texture``: :class:`pipelines.texture_outputs.TextureSettings` (driving direction, IFI
+    inputs; default x, none).
 
     ``figures=False`` (``roadscan batch`` without ``--figures``) skips the PNGs; the numbers,
     the CSV/JSON files and ``report.html`` (tables only) are the same. ``drawer``: where the
@@ -102,15 +108,15 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     drawer.discard()                      # nothing of an earlier scan is taken for this one's
     try:
         return _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_settings,
-                             figures, drawer)
+                             figures, drawer, texture)
     except BaseException:
         drawer.discard()                  # a failed scan's figures are not drawn again here
         raise
 
 
 def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_settings, figures,
-                  drawer):
-    from . import validate
+                  drawer, texture=None):
+    from . import texture_outputs, validate
 
     def draw_map(levelled):               # the height map is drawn while the spectrum is made
         if figures and not isinstance(levelled, Profile):
@@ -161,7 +167,9 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
             summary["friction"]["band"] = band
         if checks is not None:
             summary["friction"]["rubber_checks"] = checks
+    summary, tex = texture_outputs.add_to_summary(summary, an, texture, mpd_settings)
     summary["warnings"] = validate.warnings_list()   # this run so far (they name the file)
+    texture_outputs.write_texture_csv(out_dir / "texture_spectrum.csv", tex)
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
     figs = []
     if an.is_profile:
@@ -175,9 +183,13 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
         report.write_csv(out_dir / "mu.csv", MU_HEADER + MU_EXTRA[:len(cols) - 2], cols)
     if figures:
         _figures(drawer, out_dir, an, fit, fr, spec, settings, summary)
+        if tex.level_dB.size:
+            drawer.submit(texture_outputs.draw_texture_spectrum, texture_outputs.texture_picture(tex),
+                          out_dir / "texture_spectrum.png",
+                          f"{an.name}: texture spectrum (ISO 13473-4)")
         figs = drawer.collect()
     report.write_json(out_dir / "summary.json", summary)
-    _write_report(out_dir, an, summary, figs)
+    _write_report(out_dir, an, summary, figs, tex)
     return summary
 
 
@@ -215,10 +227,11 @@ def _plot_psd1d(q, C1, path, name):
     ax.set_xlabel("wave vector q [1/m]")
     ax.set_ylabel("C₁(q) [m³]")
     report.plain_log_ticks(ax)
+    report.wavelength_axis(ax)
     report.set_title(ax, f"{name}: 1D PSD (<h²> = 2 ∫ C1 dq)")
     ax.grid(which="both", alpha=0.25)
     ax.legend(fontsize=8)
-    return report.save_figure(fig, path, report.fixed_margins(ax))
+    return report.save_figure(fig, path, report.fixed_margins(ax, top=report.WAVELENGTH_AXIS_TOP))
 
 
 def psd2d_picture(spec2d, zoom=4):
@@ -249,24 +262,31 @@ def draw_psd2d_figure(picture, path, name):
     return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))
 
 
-def _write_report(out_dir, an, summary, figs):
-    rough = {k: v for k, v in summary["roughness"].items()}
+def _write_report(out_dir, an, summary, figs, tex=None):
+    from . import texture_outputs
+    from .units_format import label_of, length, quantity, sig3
+
+    rough = {label_of(k): quantity(k, v) for k, v in summary["roughness"].items()}
     key = {
         "Hurst exponent H": f"{summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}",
-        "rms height (Sq of levelled measured heights) [m]": summary["rms_height_m"],
-        "band rms from fit [m]": summary["band_rms_m"],
-        "h0 (thesis form) [m]": summary["h0_m"],
-        "q range [1/m]": [summary["q_min_per_m"], summary["q_max_per_m"]],
-        "fitted band [1/m]": summary["fit_band_per_m"],
-        "roll-off q [1/m]": summary["q_roll_per_m"],
-        "mean profile depth MPD [m]": summary["mpd_m"] if summary["mpd_m"] is not None else summary["mpd_note"],
-        "filled (unmeasured) fraction": summary["filled_fraction"],
+        "rms height (Sq of levelled measured heights)": length(summary["rms_height_m"]),
+        "band rms from fit": length(summary["band_rms_m"]),
+        "h0 (thesis form)": length(summary["h0_m"]),
+        "q range": quantity("q_per_m", [summary["q_min_per_m"], summary["q_max_per_m"]]),
+        "fitted band": quantity("q_per_m", summary["fit_band_per_m"]),
+        "roll-off q": quantity("q_per_m", summary["q_roll_per_m"]),
+        "filled (unmeasured) fraction": f"{sig3(100 * summary['filled_fraction'])} %",
     }
     if "friction" in summary:
         key["peak μ"] = summary["friction"]["mu_peak"]
         key["speed at peak [m/s]"] = summary["friction"]["v_peak_m_per_s"]
+    texture = [report.table_html(texture_outputs.depth_rows(summary), ["quantity", "value"])]
+    if tex is not None and tex.level_dB.size:
+        texture.append(f"<p class='note'>{texture_outputs.html_escape(tex.note)}</p>")
+        texture.append(texture_outputs.texture_table_html(tex))
     sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
-                ("Roughness (ISO 25178-2 / 4287; SI units in names)", report.table_html(rough, ["parameter", "value"])),
+                ("Road texture (ISO 13473-1, ISO 13473-4, ASTM E1960)", texture),
+                ("Roughness (ISO 25178-2 / 4287)", report.table_html(rough, ["parameter", "value"])),
                 ("Figures", [list(figs)])]
     if not figs:
         sections.pop()

@@ -16,7 +16,7 @@ import numpy as np
 from roadscan.errors import InputError
 
 __all__ = ["TEXTURE_HEADER", "TextureSettings", "add_texture_options", "texture_settings_from_args",
-           "texture_keys", "write_texture_csv", "texture_picture", "draw_texture_spectrum",
+           "texture_keys", "add_to_summary", "html_escape", "write_texture_csv", "texture_picture", "draw_texture_spectrum",
            "texture_table_html", "depth_rows"]
 
 TEXTURE_HEADER = ["centre_wavelength_m", "band_lo_m", "band_hi_m", "level_dB"]
@@ -103,14 +103,6 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
     out["etd_m"] = td.estimated_texture_depth(mpd)
     out["ifi_speed_constant_kmh"] = td.ifi_speed_constant(mpd)
     src = analysis.source
-    if settings.friction is not None:
-        A, B, C = settings.ifi_constants
-        res = td.ifi_f60(settings.friction, settings.slip_speed_kmh, mpd, A, B, C)
-        out["ifi_F60"] = res[0] if res else None
-        out["ifi_inputs"] = {"friction": settings.friction, "slip_speed_kmh": settings.slip_speed_kmh,
-                             "A": A, "B": B, "C": C, "FR60": res[2] if res else None}
-        if res is None:
-            warn(f"{analysis.name}: no IFI F60: it needs the MPD, which is null ({analysis.mpd_note})")
     length = src.length_m if analysis.is_profile else src.nx * src.dx_m
     if mpd is None and length < 0.1:
         msd, base, note = td.short_segment_depth(src, **(mpd_settings or {}))
@@ -127,7 +119,40 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
         else:
             out["mpd_note"] = (f"{analysis.mpd_note}; no --mpd-spike-alpha up to 50 helps: the "
                                f"segments fail on dropouts")
+    if settings.friction is not None:
+        A, B, C = settings.ifi_constants
+        res = td.ifi_f60(settings.friction, settings.slip_speed_kmh, mpd, A, B, C)
+        out["ifi_F60"] = res[0] if res else None
+        out["ifi_inputs"] = {"friction": settings.friction, "slip_speed_kmh": settings.slip_speed_kmh,
+                             "A": A, "B": B, "C": C, "FR60": res[2] if res else None}
+        if res is None:
+            why = out.get("mpd_note", analysis.mpd_note)
+            warn(f"{analysis.name}: no IFI F60: it needs the MPD, which is null ({why})")
     return out, ts
+
+
+def add_to_summary(summary, analysis, settings=None, mpd_settings=None):
+    """``summary`` with the keys of :func:`texture_keys`: the depth figures right after
+    ``mpd_m``/``mpd_note`` (whose note may gain the spike threshold that passes), the texture
+    spectrum at the end. Returns (new summary dict, TextureSpectrum)."""
+    keys, ts = texture_keys(analysis, settings, mpd_settings)
+    spectrum = {k: keys.pop(k) for k in ("texture_level_dB", "texture_spectrum_note",
+                                         "texture_direction") if k in keys}
+    out = {}
+    for k, v in summary.items():
+        out[k] = keys.pop("mpd_note", v) if k == "mpd_note" else v
+        if k == "mpd_note":
+            out.update(keys)
+            keys = {}
+    out.update(keys)
+    out.update(spectrum)
+    return out, ts
+
+
+def html_escape(text):
+    import html
+
+    return html.escape(str(text))
 
 
 def write_texture_csv(path, ts):

@@ -96,7 +96,7 @@ def _analyse_sections(job, tmp):
 
 def _write_sections_csv(path, recs):
     cols = ["chainage_m", *SECTION_COLUMNS, "status", "error", "mpd_m", "hurst", "rms_height_m",
-            "mpd_note"]
+            "mpd_note", "etd_m", "texture_level_dB.80", "texture_level_dB.5"]
     with open(path, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(cols)

@@ -33,6 +33,9 @@ def add_analysis_options(p):
     p.add_argument("--mpd-spike-alpha", type=float, default=None, metavar="ALPHA",
                    help="MPD spike criterion |dh| >= ALPHA x sampling interval (ISO 13473-1 "
                         "default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep)")
+    from ..texture_outputs import add_texture_options
+
+    add_texture_options(p)    # --direction, --friction-measurement, --ifi-constants (issue 21)
     add_friction_options(p)
 
 
@@ -69,8 +72,10 @@ def analysis_kwargs(args):
         if not args.mpd_spike_alpha > 0:
             raise InputError(None, f"--mpd-spike-alpha {args.mpd_spike_alpha}: must be positive")
         mpd = {"spike_alpha": args.mpd_spike_alpha}
+    from ..texture_outputs import texture_settings_from_args
+
     return {"window_alpha": args.window_alpha, "fit_band": band, "despike": args.despike,
-            "mpd_settings": mpd}
+            "mpd_settings": mpd, "texture": texture_settings_from_args(args)}
 
 
 def run(args):
@@ -96,6 +101,7 @@ def run(args):
 def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
     from .. import report
     from ..analyse import run_analysis
+    from ..units_format import length
 
     rows = []
     for i, (path, scan, sub) in enumerate(zip(args.files, scans, _unique_dirs(args.files))):
@@ -109,7 +115,7 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
         rows.append((sub, summary))
         if not many:
             print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
-                  f"rms height = {summary['rms_height_m'] * 1e6:.3g} um -> {final / 'report.html'}")
+                  f"rms height = {length(summary['rms_height_m'])} -> {final / 'report.html'}")
     if many:
         header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak"]
         table = [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],
