@@ -296,3 +296,28 @@ def test_x3p_checksum_note_is_a_warning_in_the_outputs(tmp_path, capsys):
     s = json.loads(next(out.rglob("summary.json")).read_text())
     assert any("md5checksum.hex" in w and "sum.x3p" in w for w in s["warnings"])
     assert "md5checksum.hex" in err
+
+
+# ---------------------------------------------------------------- .npy format 3.0
+def test_npy_format_3_read(tmp_path):
+    for version in ((1, 0), (2, 0), (3, 0)):
+        p = tmp_path / f"v{version[0]}.npy"
+        with open(p, "wb") as f:
+            np.lib.format.write_array(f, H, version=version)
+        with open(p, "rb") as f:
+            assert np.lib.format.read_magic(f) == version
+        m = read(p, spacing=1e-4)
+        np.testing.assert_array_equal(m.heights_m, H)
+    np.savez(tmp_path / "z.npz", heights=H, dx=1e-4, dy=1e-4)   # members through the same header
+    np.testing.assert_array_equal(read(tmp_path / "z.npz").heights_m, H)
+
+
+def test_npy_unknown_format_version_refused(tmp_path):
+    p = tmp_path / "v9.npy"
+    with open(p, "wb") as f:
+        np.lib.format.write_array(f, H, version=(2, 0))
+    raw = bytearray(p.read_bytes())
+    raw[6] = 9                                              # major version byte
+    p.write_bytes(bytes(raw))
+    with pytest.raises(InputError, match="v9.npy: not a readable NumPy file"):
+        read(p, spacing=1e-4)

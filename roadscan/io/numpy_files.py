@@ -38,11 +38,14 @@ def _read_header(fh, path, member=None):
         version = np.lib.format.read_magic(fh)
         if version == (1, 0):
             shape, _, dtype = np.lib.format.read_array_header_1_0(fh)
-        elif version == (2, 0):
+        elif version in ((2, 0), (3, 0)):
+            # format 3.0 differs from 2.0 only by a UTF-8 (not Latin-1) header, which matters
+            # for structured field names alone (refused below as not heights): numpy's public
+            # 2.0 header reader reads it (no private numpy function, issue 22)
             shape, _, dtype = np.lib.format.read_array_header_2_0(fh)
         else:
-            shape, _, dtype = np.lib.format._read_array_header(fh, version)
-    except (ValueError, OSError, EOFError, SyntaxError, TypeError) as exc:
+            raise ValueError(f"unknown .npy format version {version[0]}.{version[1]}")
+    except (ValueError, OSError, EOFError, SyntaxError, TypeError, UnicodeDecodeError) as exc:
         raise InputError(path, f"not a readable NumPy file{where} ({exc.__class__.__name__}: {exc})") from None
     return shape, dtype
 
