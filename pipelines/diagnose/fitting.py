@@ -150,7 +150,8 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
     """Fit the parameters of ``effects`` (a tuple) on the ``train`` rows; see module docstring.
 
     ``start``: list of parameter dicts to start from (skips the cold starts).
-    ``extra_starts``: further parameter-dict lists tried besides the cold starts.
+    ``extra_starts``: parameter-dict lists of fits on the same training rows, tried instead of the
+    cold grid (with the initial values).
     ``cache``: a dict shared between fits of the same ``effects`` on the same rows.
     ``max_starts``: at most this many local fits (cross-validation folds use one).
     Returns a :class:`Candidate` (errors on all, train and held-out rows filled in).
@@ -196,13 +197,14 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
     if start is not None:
         starts = [np.clip(pack(effects, start), 0, 1)]
     else:
-        grid = _cold_points(ctx, effects, k, cost)
+        # warm starts (fits on the same training rows) replace the cold grid
+        grid = _cold_points(ctx, effects, k, cost)[:1] if extra_starts else _cold_points(ctx, effects, k, cost)
         for s in extra_starts:
             grid = np.vstack([np.clip(pack(effects, s), 0, 1), grid])
         costs = [float(np.sum(resid(g) ** 2)) for g in grid]
         order = np.argsort(costs)
         n_starts = (MULTI_STARTS if k <= 2 else 2) if cost <= 1 else 1
-        n_starts += bool(extra_starts)
+        n_starts += bool(extra_starts) and cost <= 1
         n_starts = n_starts if max_starts is None else min(n_starts, max_starts)
         for i in order:
             if len(starts) >= n_starts:

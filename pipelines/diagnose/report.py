@@ -58,28 +58,50 @@ def _calibrated(cal):
                     range=[_r(a, 9) for a in x["range"]]) for k, x in cal.items()}
 
 
-def _plots_friction(tmp, curve, d, where, bm_curves, validate):
-    import matplotlib.pyplot as plt
+def _finish(ax, xlabel, ylabel, title, fontsize=8):
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    ax.grid(which="both", alpha=0.25)
+    ax.legend(fontsize=fontsize)
 
+
+def mu_axes(ax, curve, d, dense, validate=None, title="measured, simulated and corrected μ(v)"):
+    """Draw measured points (fitted / held out), the baseline with the band of the uncertain
+    inputs, and the corrected model over the whole speed range (``dense``: :func:`curves.report_curves`)."""
     v, mu = curve.v_m_per_s, curve.mu
-    held = ~d.train
-    figs = []
-    fig, ax = plt.subplots(figsize=rep.FIGSIZE)
-    ax.loglog(v[d.train], mu[d.train], "o", color="k", ms=4, label="measured (fit)")
-    ax.loglog(v[held], mu[held], "s", mfc="none", color="k", ms=5, label="measured (held out)")
-    ax.loglog(v, d.baseline_mu, "-", color="C0", label="simulated (baseline)")
+    if d.train.all():   # cross-validation: every point is held out by one fold
+        ax.loglog(v, mu, "s", mfc="none", color="k", ms=5, label="measured (each held out by one CV fold)")
+    else:
+        ax.loglog(v[d.train], mu[d.train], "o", color="k", ms=4, label="measured (fit)")
+        ax.loglog(v[~d.train], mu[~d.train], "s", mfc="none", color="k", ms=5, label="measured (held out)")
+    dv = dense["v"]
+    if dense.get("band_lo") is not None:
+        ax.fill_between(dv, dense["band_lo"], dense["band_hi"], color="C0", alpha=0.18,
+                        label="simulated within the uncertain inputs' ranges")
+    if dense.get("base") is not None:
+        ax.loglog(dv, dense["base"], "-", color="C0", label="simulated (nominal inputs)")
+    else:
+        ax.loglog(v, d.baseline_mu, "-", color="C0", label="simulated (nominal inputs)")
     if d.best is not None:
-        ax.loglog(v, d.best.pred, "-", color="C3", label=f"corrected: {d.best.name}")
+        pred = dense.get("corrected")
+        ax.loglog(dv if pred is not None else v, pred if pred is not None else d.best.pred, "-", color="C3",
+                  label=f"corrected: {d.best.name}")
     elif d.candidates:
         ax.loglog(v, d.candidates[0].pred, ":", color="C7", label=f"best candidate: {d.candidates[0].name}")
     if validate is not None:
         ax.loglog(validate["v"], validate["mu"], "^", color="C2", ms=4, label="validation data")
         ax.loglog(validate["v"], validate["pred"], "--", color="C2", label="validation prediction")
-    ax.set_xlabel("sliding speed v [m/s]")
-    ax.set_ylabel("friction coefficient μ [-]")
-    ax.grid(which="both", alpha=0.25)
-    ax.legend(fontsize=8)
-    ax.set_title("measured, simulated and corrected μ(v)")
+    _finish(ax, "sliding speed v [m/s]", "friction coefficient μ [-]", title, fontsize=7)
+
+
+def _plots_friction(tmp, curve, d, where, bm_curves, validate, dense):
+    import matplotlib.pyplot as plt
+
+    v, mu = curve.v_m_per_s, curve.mu
+    figs = []
+    fig, ax = plt.subplots(figsize=rep.FIGSIZE)
+    mu_axes(ax, curve, d, dense, validate)
     figs.append(rep.save_figure(fig, tmp / "mu.png"))
 
     fig, ax = plt.subplots(figsize=rep.FIGSIZE)
@@ -92,11 +114,7 @@ def _plots_friction(tmp, curve, d, where, bm_curves, validate):
         ax.hlines([w["gap"], -w["gap"]], w["v_min_m_per_s"], w["v_max_m_per_s"],
                   colors="C1" if w["significant"] else "C7", lw=2)
     ax.axhline(0, color="k", lw=0.5)
-    ax.set_xlabel("sliding speed v [m/s]")
-    ax.set_ylabel("log10 ratio [-]")
-    ax.set_title("gap against speed (bars: band rms; orange = significant)")
-    ax.grid(which="both", alpha=0.25)
-    ax.legend(fontsize=8)
+    _finish(ax, "sliding speed v [m/s]", "log10 ratio [-]", "gap against speed (bars: band rms; orange = significant)")
     figs.append(rep.save_figure(fig, tmp / "gap.png"))
 
     q, f, vc = bm_curves
@@ -105,20 +123,48 @@ def _plots_friction(tmp, curve, d, where, bm_curves, validate):
         tot = np.trapezoid(np.maximum(f[i], 0), np.log(q)) or 1.0
         ax.semilogx(q, f[i] / tot, color=plt.cm.viridis(i / max(f.shape[0] - 1, 1)),
                     label=f"v = {vc[i]:.2g} m/s")
-    ax.set_xlabel("wave vector q [1/m]  (length scale 2π/q)")
-    ax.set_ylabel("share of μ per ln q [-]")
-    ax.set_title("band map: which q carries μ in each speed band")
-    ax.grid(which="both", alpha=0.25)
-    ax.legend(fontsize=7)
+    _finish(ax, "wave vector q [1/m]  (length scale 2π/q)", "share of μ per ln q [-]",
+            "band map: which q carries μ in each speed band", fontsize=7)
     figs.append(rep.save_figure(fig, tmp / "bandmap.png"))
     return figs
 
 
+def inputs_html(inp):
+    """The model inputs of a diagnosis (``diagnosis.json`` ``inputs``) as HTML: values in the
+    report's units, which were assumed, the uncertain ranges, the files with their SHA-256."""
+    if not inp:
+        return "<p>inputs not recorded</p>"
+    assumed = set(inp.get("assumed") or [])
+    unc = inp.get("uncertain") or {}
+    key_of = {"sigma0_Pa": "sigma0", "q1_per_m": "q1", "temperature_C": "temperature", "psd_scale": "psd_scale"}
+
+    def row(label, key, text):
+        u = unc.get(key_of.get(key, ""))
+        rng = "" if not u else f"uncertain {u['range'][0]:.3g} – {u['range'][1]:.3g} ({u['source']})"
+        return (label, text, "assumed (default)" if key in assumed else "given", rng)
+
+    rows = [row("nominal pressure σ0", "sigma0_Pa", f"{inp['sigma0_Pa'] / 1e6:.3g} MPa"),
+            row("spectrum q0 (lowest wave vector)", "q0_per_m", f"{inp['q0_per_m']:.3g} 1/m"),
+            row("spectrum q1 (cut-off)", "q1_per_m", f"{inp['q1_per_m']:.3g} 1/m (λ = {2e6 * np.pi / inp['q1_per_m']:.3g} µm)"),
+            row("background temperature T0", "temperature_C", f"{inp['temperature_C']:.3g} °C"),
+            row("spectrum level factor", "psd_scale", f"{inp['psd_scale']:.3g}")]
+    out = rep.table_html(rows, header=["input", "value", "source", "uncertainty"])
+    files = [(f["role"], html.escape(f["path"]), f["sha256"][:16] + "…") for f in inp.get("files") or []]
+    if files:
+        out += rep.table_html(files, header=["file", "path", "sha256"])
+    for note in inp.get("notes") or []:
+        out += f"<p><b>Note:</b> {html.escape(note)}.</p>"
+    return out
+
+
 def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=None):
     """Write ``report.html`` for a friction-level diagnosis (``data``: the JSON dict)."""
+    from .curves import report_curves
+
     out_dir = Path(out_dir)
+    dense = report_curves(d.ctx, d) if d.ctx is not None else dict(v=curve.v_m_per_s)
     with tempfile.TemporaryDirectory() as t:
-        figs = _plots_friction(Path(t), curve, d, where, bm_curves, validate)
+        figs = _plots_friction(Path(t), curve, d, where, bm_curves, validate, dense)
         v = data["verdict"]
         verdict = _verdict_html(v)
         cut = [b for b in data["band_map"] if b.get("carried_by_cutoff")]
@@ -163,6 +209,7 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
                                        "q carrying 80 % of μ [1/m]", "length scales",
                                        "frequencies ω = q v [rad/s]", "d ln μ / d ln q1"])
         rep.write_html(out_dir / "report.html", f"Sim-to-real gap diagnosis: {curve.name}", [
+            ("Model inputs", [inputs_html(data.get("inputs"))]),
             ("Verdict", [verdict, summary]),
             ("Measured, simulated and corrected friction", [figs[0]]),
             ("Where: the gap against speed", [figs[1], bands]),
@@ -187,6 +234,13 @@ def _verdict_html(v):
         extra += f" Shrink interval (5-95 %): {lo:.0%} to {hi:.0%}." if lo is not None else ""
     if v.get("at_bound"):
         extra += " Parameters at a bound (confidence lowered): " + html.escape(", ".join(v["at_bound"])) + "."
+    if v.get("implausible"):
+        extra += (" Not physical, so not named: " + html.escape("; ".join(v.get("implausible_why") or v["implausible"]))
+                  + ".")
+    if v.get("calibrated"):
+        extra += " Calibrated inputs (95 % interval): " + html.escape(", ".join(
+            f"{k} = {x['value']:.3g} ({x['interval'][0]:.3g} – {x['interval'][1]:.3g})"
+            for k, x in v["calibrated"].items())) + "."
     if v.get("confidence"):
         extra += f" Confidence: {html.escape(v['confidence'])}."
     return f"<p><b>Verdict:</b> {head}. {html.escape(v.get('reason', ''))}.{extra}</p>"

@@ -7,7 +7,8 @@ inputs (:mod:`.calibration`), the calibration alone and every effect fitted toge
 (started from the calibration's fit and the effect's single fit, besides cold starts). A model
 with more free parameters than half its training points is not fitted (listed under
 ``skipped``). Effects that an uncertain input makes redundant (``fine_roughness`` with q1,
-``load`` with sigma0, ``temperature_offset`` with the temperature) are skipped too. The verdict
+``load`` with sigma0, ``temperature_offset`` with the temperature) are skipped too, except
+``fine_roughness`` beyond a default q1 range (its factor multiplies the calibrated q1). The verdict
 is :func:`verdict.decide`.
 """
 from __future__ import annotations
@@ -53,7 +54,7 @@ class Diagnosis:
     ctx: object = None
 
 
-def _usable(ctx, effects, free, skipped):
+def _usable(ctx, effects, free, ranges, skipped):
     from .calibration import REDUNDANT
 
     out = []
@@ -62,7 +63,8 @@ def _usable(ctx, effects, free, skipped):
         if miss:
             skipped.append(dict(name=e.name, reason=f"needs {', '.join(miss)} (not given)"))
             continue
-        red = [k for k in free if REDUNDANT.get(k) == e.name]
+        # a default q1 range (a decade either side) leaves fine roughness beyond it to the effect
+        red = [k for k in free if REDUNDANT.get(k) == e.name and not (k == "q1" and ranges[k].source == "default")]
         if red:
             skipped.append(dict(name=e.name, reason=f"the same as calibrating the uncertain input {red[0]}"))
             continue
@@ -127,7 +129,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         say("uncertain inputs: " + ", ".join(f"{k} {a:.4g}..{b:.4g} ({ranges[k].source})" for k, (a, b) in free.items()))
 
     skipped = []
-    usable = _usable(ctx, effects if effects is not None else all_effects("friction"), free, skipped)
+    usable = _usable(ctx, effects if effects is not None else all_effects("friction"), free, ranges, skipped)
     timings = {}
 
     def run(effs, **kw):
@@ -163,7 +165,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
                 starts = [cal.params + [e.null_params(ctx) or {p.name: p.init for p in e.params}]]
                 if e.name in by_name:
                     starts.append(cal.params + by_name[e.name].params)
-                budget = 12 if e.cost > 1 else None
+                budget = 8 if e.cost > 1 else None
                 c = run((cal_e, e), extra_starts=starts, budget=budget)
                 if c is not None:
                     calpairs.append(c)

@@ -34,14 +34,15 @@ PAIR_GAIN = 0.85
 
 
 def rivals(best, pool, noise, names=None):
-    """Candidates of ``pool`` (not sharing an effect with ``best``) explaining the held-out points
-    as well within the noise: their mean squared held-out residual exceeds the best's by less than
-    a quarter of its paired standard error, and their held-out gap by less than a tenth of the
-    noise."""
+    """Candidates of ``pool`` (not sharing an effect with ``best``, with no more free parameters)
+    explaining the held-out points as well within the noise: their mean squared held-out residual
+    exceeds the best's by less than a quarter of its paired standard error, and their held-out gap
+    by less than a tenth of the noise. (A model with more parameters that does no better is no
+    rival: the simpler explanation is preferred.)"""
     out = []
     names = set(best.effect_names) if names is None else names
     for c in pool:
-        if c is best or set(c.effect_names) & names or not (c.shrink >= MIN_SHRINK):
+        if c is best or set(c.effect_names) & names or not (c.shrink >= MIN_SHRINK) or c.k > best.k:
             continue
         if c.r_held is None or best.r_held is None or c.r_held.size != best.r_held.size:
             continue
