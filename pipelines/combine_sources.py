@@ -122,6 +122,27 @@ def _profile_spectrum(pr, per_decade):
         "conversion": spec.meta["conversion"], "conversion_hurst": hurst}
 
 
+def _noise_after_correction(band, q, corrected, n, length, spacing):
+    """The band's top lowered to the noise floor seen in the spectrum with the resolution's
+    attenuation undone: attenuation and a noise floor cancel in the measured C near the
+    resolution limit, and the white floor shows only once C is divided by T^2."""
+    from dataclasses import replace
+
+    from roadscan.reliable_band import reliable_band
+
+    try:
+        again = reliable_band(q, corrected, n, length, spacing)
+    except ValueError:
+        return band
+    q_noise = again.limits.get("noise_floor")
+    if q_noise is None or q_noise >= band.hi_per_m or q_noise <= band.lo_per_m:
+        return band
+    limits = dict(band.limits, noise_floor=q_noise)
+    return replace(band, hi_per_m=float(q_noise), limits=limits,
+                   hi_reason=f"{again.hi_reason} (in C / T(q)^2: the resolution's attenuation "
+                             f"undone, the noise floor shows)", noise_floor=again.noise_floor)
+
+
 def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
     """A read HeightMap or Profile -> :class:`SourceSpectrum` (see module docstring)."""
     from roadscan.heightmap import Profile
@@ -148,6 +169,7 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
         # the instrument's Gaussian low-pass undone inside the band (C / T^2 <= 1 / 0.64 there)
         T2 = gaussian_response(q, res) ** 2
         C = C / T2
+        band = _noise_after_correction(band, q, measured / T2, n, length, spacing)
         inside = (q >= band.lo_per_m) & (q <= band.hi_per_m)
         meta["resolution_correction"] = {
             "applied": "C divided by T(q)^2, T = exp(-ln 2 (q r / 2 pi)^2) (Gaussian lateral "

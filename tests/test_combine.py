@@ -37,3 +37,108 @@ def test_bad_manifests_are_one_line_naming_the_file(tmp_path, text, word):
         collect_inputs([m])
     msg = str(e.value)
     assert "\n" not in msg and word in msg and ("list.csv" in msg or "missing.npy" in msg)
+
+
+# --------------------------------------------------------------------- three simulated instruments
+import csv  # noqa: E402
+import json  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from pipelines.cli import main  # noqa: E402
+from roadscan.reliable_band import gaussian_response  # noqa: E402
+from roadscan.synth import model_psd  # noqa: E402
+from roadscan.synth_measure import measure_synthetic  # noqa: E402
+
+HURST, K = 0.8, 1e-3          # C = K q^-3.6 [m^4]: about 0.3 mm rms over a 13 mm view
+#: (points per side, spacing a [m], lateral resolution r [m], white noise rms [m]): a texture
+#: laser whose noise floor ends its band, a confocal microscope, an AFM-like instrument
+INSTRUMENTS = ((256, 50e-6, 100e-6, 1e-5), (256, 3e-6, 6e-6, 2e-8), (256, 0.15e-6, 0.45e-6, 1e-10))
+
+
+def _noise_C(a, sigma):
+    """White noise of rms sigma on spacing a: C = sigma^2 (a / 2 pi)^2 [m^4]."""
+    return sigma**2 * (a / (2 * np.pi)) ** 2
+
+
+def _read_psd(path):
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    return rows[0], np.array(rows[1:], float).T
+
+
+@pytest.fixture(scope="module")
+def three_instruments(tmp_path_factory):
+    from roadscan.io import write
+
+    d = tmp_path_factory.mktemp("three")
+    lines = ["file,spacing_m,resolution_m,label"]
+    for i, (n, a, r, noise) in enumerate(INSTRUMENTS):
+        hm = measure_synthetic(n, a, HURST, K, resolution_m=r, noise_rms_m=noise, seed=10 + i, pad=3)
+        name = f"inst{i}.x3p" if i == 1 else f"inst{i}.npy"
+        if i == 1:
+            write(d / name, hm)
+        else:
+            np.save(d / name, hm.heights_m)
+        lines.append(f"{name},{a!r},{r!r},instrument {i}")
+    (d / "manifest.csv").write_text("\n".join(lines) + "\n")
+    out = d / "out"
+    assert main(["combine", str(d / "manifest.csv"), "--out", str(out), "--no-figures"]) == 0
+    return d, out
+
+
+def test_three_instruments_give_the_true_spectrum(three_instruments):
+    _, out = three_instruments
+    head, (q, C, lo, hi, ns) = _read_psd(out / "psd.csv")
+    assert head == ["q_per_m", "C_m4", "C_lo_m4", "C_hi_m4", "n_sources"]
+    truth = model_psd(q, HURST, K)
+    n0, a0 = INSTRUMENTS[0][:2]
+    q_from, q_to = 8 * 2 * np.pi / (n0 * a0), 2 * np.pi / 1e-6
+    assert q[0] <= 15 * 2 * np.pi / (n0 * a0) and q[-1] >= q_to
+    sel = (q >= q_from) & (q <= q_to)
+    ratio = C[sel] / truth[sel]
+    held = (lo[sel] <= truth[sel]) & (truth[sel] <= hi[sel])
+    ok = (np.abs(ratio - 1) < 0.25) | ((np.abs(ratio - 1) < 0.5) & held)
+    assert ok.all(), list(zip(q[sel][~ok], ratio[~ok]))
+    assert held.mean() > 0.8                       # a 90 % band holds the truth most of the time
+    assert np.all(lo <= C) and np.all(C <= hi) and np.all(np.diff(q) > 0)
+    summary = json.loads((out / "combine.json").read_text())
+    assert all(g["factor"] <= 6 for g in summary["gaps"]) and np.max(q[1:] / q[:-1]) < 6
+    # bridged rows are the gaps' rows, and only they carry no source
+    assert sum(g["rows"] for g in summary["gaps"]) == int(np.sum(ns == 0))
+    # the merged band stops before the finest instrument's response falls to 0.3
+    r_fine = INSTRUMENTS[-1][2]
+    top = summary["merged_band_per_m"][1]
+    assert gaussian_response(top, r_fine) > 0.3 and top == pytest.approx(q[ns > 0][-1])
+
+
+def test_each_band_ends_before_resolution_or_noise_dominates(three_instruments):
+    _, out = three_instruments
+    summary = json.loads((out / "combine.json").read_text())
+    assert [d["label"] for d in summary["inputs"]] == [f"instrument {i}" for i in range(3)]
+    for d, (n, a, r, noise) in zip(summary["inputs"], INSTRUMENTS):
+        lo, hi = d["reliable_band_per_m"]
+        assert d["spacing_m"] == [pytest.approx(a)] * 2 and d["size_m"] == [pytest.approx(n * a)] * 2
+        assert d["resolution_m"] == pytest.approx(r) and d["resolution_source"] == "given"
+        signal = model_psd(hi, HURST, K) * gaussian_response(hi, r) ** 2
+        assert gaussian_response(hi, r) >= 0.5                 # resolution not yet dominant
+        assert _noise_C(a, noise) < 0.5 * signal               # nor the noise
+        assert lo >= 4 * 2 * np.pi / (n * a) and set(d["reliable_band_reasons"]) == {"lo", "hi"}
+    laser = summary["inputs"][0]
+    assert laser["reliable_band_reasons"]["hi"].startswith("noise floor")
+    fit = summary["fit"]
+    assert fit["hurst"] == pytest.approx(HURST, abs=0.05) and fit["h0_m"] > 0
+    assert "merged_band_per_m" in summary and "roll_off_per_m" in fit
+
+
+def test_psd_csv_feeds_friction(three_instruments, tmp_path):
+    _, out = three_instruments
+    from pipelines.csv_files import read_psd_csv
+
+    psd = read_psd_csv(out / "psd.csv")
+    _, (q, C, *_rest) = _read_psd(out / "psd.csv")
+    assert psd.q_min_per_m == pytest.approx(q[0])
+    rc = main(["friction", "--psd", str(out / "psd.csv"), "--out", str(tmp_path / "mu.csv")])
+    assert rc == 0
+    head, cols = _read_psd(tmp_path / "mu.csv")
+    assert head[:2] == ["v_m_per_s", "mu"] and np.all(cols[1] > 0)
