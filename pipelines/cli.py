@@ -24,9 +24,17 @@ line** on stderr, never a traceback.
 """
 from __future__ import annotations
 
+import os
+import sys
+
+# the console script itself, still importing (not a Dask worker re-importing it as __mp_main__)
+if os.path.basename(getattr(sys.modules.get("__main__"), "__file__", None) or "") == "roadscan":
+    from .signals import exit_early_on_signals
+
+    exit_early_on_signals()
+
 import argparse
 import importlib
-import sys
 import traceback
 import warnings
 
@@ -125,7 +133,7 @@ def _numpy_warning_line(caught):
 
 def main(argv=None):
     """Run one command; SIGTERM/SIGHUP/SIGINT at any moment: one line, exit 128 + signal."""
-    from .signals import after_interrupt, exit_code, signal_name, signals_as_interrupt
+    from .signals import after_interrupt, exit_code, received, signal_name, signals_as_interrupt
 
     global _ARGV
     _ARGV = list(sys.argv[1:] if argv is None else argv)
@@ -135,7 +143,10 @@ def main(argv=None):
             parser = build_parser()
             args = parser.parse_args(argv)  # one-line usage errors, exit code 2
             cmd = f"roadscan {args.command}"
-            return _main(args, cmd)
+            rc = _main(args, cmd)
+            if received():             # a library swallowed the interruption: never exit 0
+                raise KeyboardInterrupt
+            return rc
     except KeyboardInterrupt as exc:   # Ctrl-C, SIGTERM, SIGHUP (pipelines.signals)
         code = exit_code(exc)
         if argv is None:               # the real command line: a second signal ends at once

@@ -20,7 +20,8 @@ import signal
 import sys
 import threading
 
-__all__ = ["Terminated", "signals_as_interrupt", "exit_code", "signal_name", "after_interrupt"]
+__all__ = ["Terminated", "signals_as_interrupt", "received", "exit_code", "signal_name", "after_interrupt",
+           "exit_early_on_signals"]
 
 #: signals turned into :class:`Terminated` (SIGINT keeps Python's KeyboardInterrupt)
 CAUGHT = tuple(getattr(signal, n) for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n))
@@ -34,17 +35,38 @@ class Terminated(KeyboardInterrupt):
         self.signum = int(signum)
 
 
+#: the last signal :func:`signals_as_interrupt` turned into an exception (code that catches
+#: the interruption and raises a plain KeyboardInterrupt again keeps its exit code this way)
+_LAST = {"signum": None}
+
+
 def _raise(signum, frame):
+    _LAST["signum"] = int(signum)
     raise Terminated(signum)
+
+
+def _int(signum, frame):
+    _LAST["signum"] = int(signum)
+    raise KeyboardInterrupt
+
+
+def _signum(exc):
+    return int(getattr(exc, "signum", None) or _LAST["signum"] or signal.SIGINT)
+
+
+def received():
+    """The signal number a stop request arrived with inside :func:`signals_as_interrupt`
+    (None when none did): a library that swallowed the exception cannot turn it into exit 0."""
+    return _LAST["signum"]
 
 
 def exit_code(exc):
     """``128 + n`` for the signal behind ``exc`` (SIGINT for a plain KeyboardInterrupt)."""
-    return 128 + int(getattr(exc, "signum", signal.SIGINT))
+    return 128 + _signum(exc)
 
 
 def signal_name(exc):
-    n = int(getattr(exc, "signum", signal.SIGINT))
+    n = _signum(exc)
     try:
         return signal.Signals(n).name
     except ValueError:
@@ -54,15 +76,19 @@ def signal_name(exc):
 @contextlib.contextmanager
 def signals_as_interrupt():
     """Inside the block, SIGTERM and SIGHUP raise :class:`Terminated` in the main thread and
-    SIGINT raises KeyboardInterrupt (whatever handler a library installed before). Outside the
-    main thread this does nothing (Python allows handlers only there)."""
+    SIGINT raises KeyboardInterrupt (whatever handler a library installed before). A signal the
+    parent set to be ignored stays ignored (``nohup`` ignores SIGHUP). Outside the main thread
+    this does nothing (Python allows handlers only there)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
+    _LAST["signum"] = None
     previous = {}
     for sig in CAUGHT + (signal.SIGINT,):
         try:
-            previous[sig] = signal.signal(sig, _raise if sig != signal.SIGINT else signal.default_int_handler)
+            if signal.getsignal(sig) == signal.SIG_IGN:    # nohup, a shell's background job
+                continue
+            previous[sig] = signal.signal(sig, _raise if sig != signal.SIGINT else _int)
         except (OSError, ValueError):
             pass
     try:
@@ -75,7 +101,13 @@ def signals_as_interrupt():
 
 def after_interrupt(code):
     """After an interruption was reported: any further SIGINT/SIGTERM/SIGHUP exits with
-    ``code`` at once (no traceback from a library shutting down). Call from the main thread."""
+    ``code`` at once, and what libraries print while the interpreter shuts down (log records,
+    "Exception ignored in atexit callback" of a Dask cluster that was closing when the signal
+    came) is not shown: the user has the one line already. Call from the main thread."""
+    import logging
+
+    logging.disable(logging.CRITICAL)
+    sys.unraisablehook = lambda unraisable: None
     def _now(signum, frame):
         with contextlib.suppress(Exception):
             sys.stderr.flush()
@@ -86,3 +118,23 @@ def after_interrupt(code):
     for sig in CAUGHT + (signal.SIGINT,):
         with contextlib.suppress(OSError, ValueError):
             signal.signal(sig, _now)
+
+
+def exit_early_on_signals(prog="roadscan"):
+    """Until :func:`signals_as_interrupt` takes over: SIGINT/SIGTERM/SIGHUP print one line and
+    exit with 128 + signal at once (the program is still importing: nothing to clean up, and
+    Python's own SIGINT handler would print a traceback from the import machinery). Signals the
+    parent set to be ignored stay ignored."""
+    def _early(signum, frame):
+        name = "" if signum == signal.SIGINT else f" ({signal.Signals(signum).name})"
+        with contextlib.suppress(Exception):
+            sys.stderr.write(f"{prog}: interrupted{name}\n")
+            sys.stderr.flush()
+        os._exit(128 + signum)
+
+    if threading.current_thread() is not threading.main_thread():
+        return
+    for sig in CAUGHT + (signal.SIGINT,):
+        with contextlib.suppress(OSError, ValueError):
+            if signal.getsignal(sig) != signal.SIG_IGN:
+                signal.signal(sig, _early)
