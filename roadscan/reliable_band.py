@@ -8,7 +8,8 @@ measures without bias, and why each end is where it is.
   bias of C stays under about 10 % only from k(beta) x 2 pi / L on, with k = 4, 6, 12, 14 at
   beta = 2.6, 3.0, 3.6, 4.0 (interpolated, clipped to [4, 15]; measured on non-periodic
   crops of synthetic surfaces, ``tests/test_reliable_band.py``). beta is the fitted slope of
-  the windowed spectrum itself (2 + 2H for an area's C, 1 + 2H for a profile's C1); L is the
+  the windowed spectrum itself (2 + 2H for an area's C, 1 + 2H for a profile's C1); a Hann
+  window (alpha 1) leaks less: k = 5 at beta = 3.6 (:func:`leakage_factor`); L is the
   shorter side of an area (the leakage comes from the side with the fewest modes);
 - except where a *roll-off* is detected (:func:`roadscan.rolloff.detect_roll_off`): below it
   the spectrum is flat and leaks little, so lo = max(q_r, 4 x 2 pi / L) when that is lower.
@@ -46,8 +47,12 @@ NYQUIST_FRACTION = 0.7
 RESPONSE_MIN = 0.8
 NOISE_EXCESS = 1.25
 WHITE_SHARE = 10.0
-#: (slope beta of the windowed spectrum, k such that C is within ~10 % from k x 2 pi / L)
-_LEAKAGE_TABLE = ((2.6, 4.0), (3.0, 6.0), (3.6, 12.0), (4.0, 14.0))
+#: window alpha -> ((slope beta of the windowed spectrum, k such that C is within ~10 % from
+#: k x 2 pi / L), ...): measured on non-periodic crops (128^2 of 1024^2 periodic surfaces, 192
+#: crops per row; the Hann window's broader main lobe leaks far less into k >= 5)
+_LEAKAGE_TABLES = {0.25: ((2.6, 4.0), (3.0, 6.0), (3.6, 12.0), (4.0, 14.0)),
+                   0.5: ((2.6, 4.0), (3.6, 6.0), (4.0, 7.0)),
+                   1.0: ((2.6, 4.0), (3.6, 5.0), (4.0, 6.0))}
 _K_MIN, _K_MAX = 4.0, 15.0
 _ROLL_K_MIN = 4.0
 
@@ -87,10 +92,14 @@ class ReliableBand:
                 "limits_per_m": dict(self.limits), "q_roll_per_m": self.q_roll_per_m}
 
 
-def leakage_factor(beta):
-    """k(beta): C is within about 10 % of the truth from k x 2 pi / L on (see module doc)."""
-    xs, ks = zip(*_LEAKAGE_TABLE)
-    return float(np.clip(np.interp(beta, xs, ks), _K_MIN, _K_MAX))
+def leakage_factor(beta, window_alpha=0.25):
+    """k(beta): C is within about 10 % of the truth from k x 2 pi / L on (see module doc), for a
+    Tukey window of ``window_alpha`` (tables at 0.25, 0.5 and 1, interpolated in alpha; below
+    0.25 the 0.25 table, which is optimistic for a rectangular window)."""
+    alphas = sorted(_LEAKAGE_TABLES)
+    ks = [np.interp(beta, *zip(*_LEAKAGE_TABLES[a])) for a in alphas]
+    k = np.interp(window_alpha, alphas, ks)
+    return float(np.clip(k, _K_MIN, _K_MAX))
 
 
 def gaussian_response(q_per_m, resolution_m):
@@ -160,7 +169,8 @@ def _wl(q):
     return f"{lam * 1e3:.3g} mm" if lam >= 1e-3 else f"{lam * 1e6:.3g} um"
 
 
-def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min_count=1):
+def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min_count=1,
+                  window_alpha=0.25):
     """The reliable band of a spectrum (see module docstring).
 
     Parameters
@@ -176,6 +186,8 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
         Sampling interval a [m] (an area's coarser spacing).
     resolution_m : float, optional
         Lateral resolution r [m] (wavelength passed at 50 % amplitude).
+    window_alpha : float
+        The Tukey window's alpha the spectrum was made with (sets the leakage factor).
 
     Returns
     -------
@@ -215,7 +227,7 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
         limits["noise_floor"] = q_noise
         hi_cands.append((q_noise, f"noise floor: {why}"))
     beta = -slope
-    k = leakage_factor(beta)
+    k = leakage_factor(beta, window_alpha)
     limits["field_of_view"] = k * q_fov
     lo, lo_reason = k * q_fov, (f"field of view: {k:.3g} x 2 pi / L (L = {_len(length_m)}; "
                                 f"window leakage biases C below for a spectrum falling as "
