@@ -117,9 +117,11 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
             print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
                   f"rms height = {length(summary['rms_height_m'])} -> {final / 'report.html'}")
     if many:
-        header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak"]
+        header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak",
+                  "etd_m", "ifi_speed_constant_kmh"]
         table = [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],
-                  d["filled_fraction"], d.get("friction", {}).get("mu_peak")] for s, d in rows]
+                  d["filled_fraction"], d.get("friction", {}).get("mu_peak"), d.get("etd_m"),
+                  d.get("ifi_speed_constant_kmh")] for s, d in rows]
         from roadscan.io.atomic import atomic_write_text
 
         lines = [",".join(header)] + [",".join("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))
@@ -127,5 +129,17 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
         atomic_write_text(out / "summary.csv", "\n".join(lines) + "\n")
         links = "".join(f"<li><a href='{s}/report.html'>{s}</a></li>" for s, _ in rows)
         report.write_html(out / "report.html", "roadscan analyse: summary",
-                          [("Scans", report.table_html(table, header)), ("Reports", f"<ul>{links}</ul>")])
+                          [("Scans", _scans_html(table, header)), ("Reports", f"<ul>{links}</ul>")])
     return rows
+
+
+def _scans_html(table, header):
+    """The summary table in the reader's units (mm, µm, %, km/h; summary.csv keeps SI)."""
+    from .. import report
+    from ..units_format import label_of, quantity, sig3
+
+    shown = [[r[0]] + [f"{sig3(100 * c)} %" if k == "filled_fraction" and c is not None else
+                       quantity(k, c) for k, c in zip(header[1:], r[1:])] for r in table]
+    names = {"hurst": "H", "hurst_stderr": "± H", "mpd_m": "MPD", "etd_m": "ETD", "mu_peak": "peak μ",
+             "ifi_speed_constant_kmh": "IFI Sp"}
+    return report.table_html(shown, [names.get(h, label_of(h)) for h in header])
