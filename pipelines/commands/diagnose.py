@@ -35,7 +35,15 @@ def add_arguments(p):
     p.add_argument("--validate", metavar="OTHER.csv", default=None,
                    help="a separate measurement predicted by the corrected model without refitting")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
+    p.add_argument("--uncertain", default=None, metavar="KEY=LO:HI,...",
+                   help="inputs known only within a range, calibrated on the training points: q1=LO:HI [1/m] "
+                        "(q1=known: q1 fixed), sigma0=LO:HI (units as --sigma0), psd_scale=LO:HI (factor on C(q)), "
+                        "temperature=LO:HI [C]; any subset (issue 19)")
+    p.add_argument("--measurements", metavar="M.csv", default=None,
+                   help="several measurements at once: CSV measured,rubber,label[,temperature_C,sigma0_Pa] "
+                        "(paths relative to M.csv); q1, psd_scale and sigma0 shared")
     add_scan_options(p)
+    p.set_defaults(sigma0=None)   # None: not given (the default 0.2MPa is then listed as assumed)
 
 
 def _say(msg):
@@ -47,13 +55,21 @@ def run(args):
 
     if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):
         raise InputError(None, f"--noise {args.noise!r} must be a positive rms of log10")
-    args.sigma0 = parse_pressure(args.sigma0)
+    from ..diagnose.calibration import parse_uncertain
+
+    args.sigma0_given = args.sigma0 is not None
+    args.sigma0 = parse_pressure(args.sigma0 if args.sigma0_given else "0.2MPa")
     check_contact_args(args)
+    uncertain = parse_uncertain(args.uncertain)
+    if args.measurements is not None:
+        from ..diagnose.run_command import run_measurements
+
+        return run_measurements(args, uncertain, _settings, _report, _say)
     if args.measured is None:
         if args.scan is None:
             raise InputError(None, "give --measured MU.csv with --scan/--psd (friction level) or --scan alone (surface level)")
-        if args.psd or args.validate:
-            raise InputError(None, "--psd and --validate need --measured (friction level)")
+        if args.psd or args.validate or uncertain:
+            raise InputError(None, "--psd, --validate and --uncertain need --measured or --measurements (friction level)")
         from ..diagnose.surface import run_surface
 
         from roadscan.io.atomic import atomic_output_dir, check_output_dir
@@ -98,8 +114,11 @@ def run(args):
     from roadscan.io.atomic import atomic_output_dir
 
     inputs = [f for f in (args.measured, args.scan, args.psd, args.validate) if f]
+    from ..diagnose.run_command import provenance_hints
+
     with atomic_output_dir(args.out, inputs=inputs) as tmp:
-        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say, extra=extra)
+        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=_say, extra=extra,
+                            uncertain=uncertain, inputs=provenance_hints(args, uncertain))
     _report(data, args.out)
     return 0
 
