@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .rolloff import detect_roll_off
 from .spectrum_types import Spectrum
 
 __all__ = ["SelfAffineFit", "fit_self_affine", "detect_band", "extend_spectrum", "local_slopes"]
@@ -215,7 +216,12 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4):
         counts = None
     slope, icpt, se, n = _loglog_fit(q, C, lo, hi, weights=None if counts is None else np.sqrt(counts))
     hurst = -slope / 2.0 - 1.0
-    q_roll = _detect_roll_off(q, C, slope, icpt, lo, window_decades)
+    # the broken-line test of roadscan.rolloff (issue 20: the older median test, kept below
+    # as _detect_roll_off, missed the coarse sample's 14 mm roll-off); the first ring stands
+    # for 2 pi / L
+    q_roll = detect_roll_off(q, C, counts, slope, icpt, float(spectrum.q_per_m[0]), hi)
+    if q_roll is not None and q_roll > lo * 1.5:
+        q_roll = None
     q0 = q_roll if q_roll is not None else float(q[0])
     q1 = float(q[-1])
     c0 = 10 ** (icpt + slope * np.log10(q0))

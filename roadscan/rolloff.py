@@ -99,4 +99,11 @@ def detect_roll_off(q_per_m, C_m4, count, slope, intercept, q_fov_per_m, q_hi_pe
         return None
     if count is not None and chi0 - chi < MIN_CHI2_DROP:
         return None
-    return float(q[j])
+    # the knee between rings: where the low part's own line (slope s_low, level fitted to the
+    # rings below the knee) meets the self-affine line, kept between the knee ring and the one below
+    s_low = slope + b
+    below = slice(0, j)
+    c_low = np.sum(w[below] * (y[below] - s_low * x[below])) / np.sum(w[below])
+    x_knee = (c_low - intercept) / (slope - s_low)
+    x_knee = float(np.clip(x_knee, x[j - 1], x[j]))
+    return float(10**x_knee)
