@@ -129,12 +129,15 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
 
 
 def _write_report(out_dir, name, r, figs):
+    from .units_format import length, sig3
+
     key = {
-        "rms height dry / wet [m]": [r["rms_height_dry_m"], r["rms_height_wet_m"]],
-        "Hurst exponent dry / wet": [r["hurst_dry"], r["hurst_wet"]],
+        "rms height dry / wet": f"{length(r['rms_height_dry_m'])} / {length(r['rms_height_wet_m'])}",
+        "Hurst exponent dry / wet": f"{sig3(r['hurst_dry'])} / {sig3(r['hurst_wet'])}",
         "median PSD ratio wet / dry": r["psd_ratio_wet_to_dry_median"],
-        "wetted area fraction": r["wetted_fraction"],
-        "water volume per area [m³/m²]": r["water_volume_m3_per_m2"],
+        "wetted area fraction": (f"{sig3(100 * r['wetted_fraction'])} %"
+                                 if r["wetted_fraction"] is not None else None),
+        "water per area (volume / area, as a depth)": length(r["water_volume_m3_per_m2"]),
         "connectivity of the fill": r["connectivity"],
         "3D view drawn with": r.get("renderer_3d") or "not drawn",
     }

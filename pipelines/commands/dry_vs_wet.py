@@ -36,7 +36,9 @@ def run(args):
         raise InputError(args.scan, exc.problem) from None
     except ValueError as exc:
         raise InputError(args.scan, str(exc)) from None
-    print(f"{args.scan}: wetted {r['wetted_fraction']:.1%}, water {r['water_volume_m3_per_m2'] * 1e3:.3g} mm, "
-          f"rms dry {r['rms_height_dry_m'] * 1e6:.1f} um / wet {r['rms_height_wet_m'] * 1e6:.1f} um "
+    from ..units_format import length
+
+    print(f"{args.scan}: wetted {r['wetted_fraction']:.1%}, water {length(r['water_volume_m3_per_m2'])}, "
+          f"rms dry {length(r['rms_height_dry_m'])} / wet {length(r['rms_height_wet_m'])} "
           f"-> {args.out}/report.html")
     return 0
