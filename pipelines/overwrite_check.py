@@ -21,8 +21,9 @@ __all__ = ["command_inputs", "command_outputs", "check_command_paths", "check_li
 #: options that name outputs, and how the message calls them
 OUTPUT_OPTIONS = {"out": "--out", "output": "OUT"}
 
-#: commands whose --out is a folder replaced as a whole (an input inside it is refused too)
-FOLDER_COMMANDS = {"analyse", "batch", "compare", "rain-fill", "dry-vs-wet", "diagnose"}
+#: commands whose --out is a folder replaced as a whole (an input inside it is refused too;
+#: batch adds to its folder, and checks each of its outputs itself)
+FOLDER_COMMANDS = {"analyse", "compare", "rain-fill", "dry-vs-wet", "diagnose", "combine"}
 
 _NOT_PATHS = {"command", "_run", "debug", "rubber_command"}
 

@@ -199,7 +199,8 @@ def test_quiet_when_not_a_terminal(tmp_path):
                         "--spacing", str(DX), "--out", str(tmp_path / "o"), "--workers", "1",
                         "--no-friction"], capture_output=True, text=True, env=env, timeout=120)
     assert r.returncode == 2
-    assert r.stdout == ""
+    assert r.stdout.splitlines() == [f"roadscan batch: 1 done, 0 skipped, 1 failed -> {tmp_path / 'o' / 'campaign.csv'}, "
+                                     f"{tmp_path / 'o' / 'report.html'}"]   # the one summary line (issue 22)
     assert r.stderr.strip().splitlines() == [f"roadscan batch: error: {tmp_path / 'nope.npy'}: no such file"]
 
 
@@ -247,7 +248,7 @@ def test_ctrl_c_keeps_finished_scans_and_resume_completes(tmp_path):
 
 def test_progress_bar_on_a_terminal_without_tqdm(tmp_path):
     """stderr a terminal (a pty): a progress bar, the built-in one when tqdm is not installed
-    (tqdm is no dependency), ending at n/n; stdout stays empty."""
+    (tqdm is no dependency), ending at n/n; stdout holds the one summary line."""
     import pty
 
     f = tmp_path / "a.npy"
@@ -273,9 +274,9 @@ def test_progress_bar_on_a_terminal_without_tqdm(tmp_path):
     out, _ = r.communicate(timeout=120)
     os.close(master)
     text = b"".join(chunks).decode(errors="replace")
-    assert r.returncode == 0 and out == b""
+    assert r.returncode == 0 and out.decode().count("\n") == 1
     assert "0/2 scans" in text and "2/2 scans" in text and "Traceback" not in text
-    assert "2 ok, 0 failed" in text
+    assert "2 done, 0 skipped, 0 failed" in out.decode()
 
 
 def test_local_workers_keep_glibc_dynamic_mmap_threshold(monkeypatch):

@@ -89,7 +89,6 @@ def run(args):
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(out, "--out exists and is not a folder")
-    out.mkdir(parents=True, exist_ok=True)
     tty = sys.stderr.isatty()
 
     fingerprint = _fingerprint(args, kw)
@@ -108,6 +107,8 @@ def run(args):
             if recs is not None:
                 job["records"] = recs
         jobs.append(job)
+    _refuse_overwrite(out, jobs, args.inputs)
+    out.mkdir(parents=True, exist_ok=True)
     skipped = sum("records" in j for j in jobs)
     if skipped:
         _say(f"--resume: {skipped} of {len(jobs)} inputs unchanged, skipped", tty)
@@ -126,6 +127,26 @@ def run(args):
         raise KeyboardInterrupt
     for r in failed:
         print(f"roadscan batch: error: {r['error']}", file=sys.stderr)
-    _say(f"{len(records) - len(failed)} ok, {len(failed)} failed -> {out / 'campaign.csv'}, "
-         f"{out / 'report.html'}", tty)
+    print(summary_line(jobs, results, out))
     return 2 if failed else 0
+
+
+def summary_line(jobs, results, out):
+    """The one line a campaign ends with (stdout): inputs done now, skipped by ``--resume``
+    (unchanged), failed; where the table and report are."""
+    skipped = sum("records" in j for j in jobs)
+    failed = sum(any(r["status"] != "ok" for r in recs) for recs in results)
+    done = len(jobs) - skipped - failed
+    return (f"roadscan batch: {done} done, {skipped} skipped, {failed} failed -> "
+            f"{out / 'campaign.csv'}, {out / 'report.html'}")
+
+
+def _refuse_overwrite(out, jobs, given):
+    """No campaign output (campaign.csv/.parquet, report.html, a scan's folder) replaces an
+    input file or the manifest (issue 22)."""
+    from roadscan.io.overwrite_guard import refuse_overwrite
+
+    outputs = [out / n for n in ("campaign.csv", "campaign.parquet", "report.html")]
+    outputs += [(out / j["subdir"], True) for j in jobs if j.get("subdir")]
+    refuse_overwrite(outputs, [j["path"] for j in jobs if not j.get("error")] +
+                     [g for g in given if os.path.isfile(g)])   # a manifest too

@@ -94,6 +94,11 @@ def run(args):
     from ..friction_options import run_checks, settings_from_args, with_extrapolation
     from ..spectrum_bridge import default_velocities
 
+    from roadscan.io.overwrite_guard import refuse_overwrite
+
+    out = Path(args.out)                  # mu.csv, its summary and plot never replace an input
+    refuse_overwrite([out, out.with_name(out.stem + "_summary.json"), out.with_suffix(".png")],
+                     [getattr(args, k, None) for k in ("psd", "rubber", "master_curve", "shift_table")])
     settings = settings_from_args(args)   # checked: contact options, rubber, pressure, T0
     sigma0 = settings.sigma0_Pa
     v = settings.v_m_per_s if settings.v_m_per_s is not None else default_velocities()

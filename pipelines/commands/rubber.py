@@ -101,6 +101,10 @@ def run(args):
     out = Path(args.out)
     if out.suffix.lower() != ".toml":
         raise InputError(out, "--out must name a .toml file")
+    from roadscan.io.overwrite_guard import refuse_overwrite
+
+    refuse_overwrite([out] + [out.with_name(out.stem + s) for s in ("_master.csv", "_shift.csv", "_shifted.csv",
+                                                                    "_master.json", "_master.png")], [args.raw])
     f, E1, E2, T, sid = read_dma_sweeps_csv(args.raw)
     try:
         with np.errstate(all="ignore"):

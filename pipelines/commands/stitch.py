@@ -79,6 +79,17 @@ def _tiles_and_positions(args):
     return tiles, grid_positions(rows, cols, shape, tiles[0].dx_m, tiles[0].dy_m, args.overlap)
 
 
+def _refuse_overwrite(args, out):
+    """The map and its overlaps table never replace a tile or the manifest (issue 22)."""
+    from roadscan.io.overwrite_guard import refuse_overwrite
+    from roadscan.stitch import read_manifest
+
+    inputs = list(args.inputs)
+    if args.grid is None and len(args.inputs) == 1:
+        inputs += [f for f, _, _ in read_manifest(args.inputs[0])]
+    refuse_overwrite([out, out.with_name(out.stem + "_overlaps.csv")], inputs)
+
+
 def overlaps_csv(result):
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
@@ -100,6 +111,7 @@ def run(args):
         out = out.with_suffix(".x3p")
     if args.max_shift < 0:
         raise InputError(None, f"--max-shift {args.max_shift}: must be 0 or more samples")
+    _refuse_overwrite(args, out)
     tiles, positions = _tiles_and_positions(args)
     if len(tiles) < 2:
         raise InputError(args.inputs[0], "need at least two tiles to stitch")
