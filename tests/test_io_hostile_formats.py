@@ -321,3 +321,91 @@ def test_npy_unknown_format_version_refused(tmp_path):
     p.write_bytes(bytes(raw))
     with pytest.raises(InputError, match="v9.npy: not a readable NumPy file"):
         read(p, spacing=1e-4)
+
+
+# ---------------------------------------------------------------- detection by content
+def test_unknown_extension_read_by_content(tmp_path):
+    import shutil
+
+    p, h = _x3p(tmp_path)
+    shutil.copy(p, tmp_path / "scan.bin")
+    m = read(tmp_path / "scan.bin")
+    np.testing.assert_array_equal(m.heights_m, h)
+    assert m.meta["detected_by_content"] == "x3p"
+    np.save(tmp_path / "a.npy", H)
+    shutil.copy(tmp_path / "a.npy", tmp_path / "a.raw")
+    m = read(tmp_path / "a.raw", spacing=1e-4)
+    np.testing.assert_array_equal(m.heights_m, H)
+    assert m.meta["detected_by_content"] == "npy"
+    (tmp_path / "t.export").write_text("\n".join(";".join(_comma(v) for v in r) for r in H))
+    np.testing.assert_array_equal(read(tmp_path / "t.export", spacing=1e-4).heights_m, H)
+
+
+def test_unknown_binary_refused_in_one_line(tmp_path):
+    pytest.importorskip("SurfaceTopography")
+    p = tmp_path / "noise.zzz"
+    p.write_bytes(bytes(np.random.default_rng(1).integers(0, 256, 5000, dtype=np.uint8)))
+    with pytest.raises(InputError) as ei:
+        read(p)
+    msg = str(ei.value)
+    assert "noise.zzz" in msg and "'.zzz'" in msg and "\n" not in msg
+
+
+@pytest.mark.parametrize("name", ["plu-1.plu", "opd-1.opd", "sur-2.sur", "al3d-1.al3d"])
+def test_instrument_files_renamed_di_read_by_content(formats_dir, tmp_path, name):
+    """As Bruker's .di scans: an extension no reader lists; SurfaceTopography tells by content."""
+    import shutil
+
+    shutil.copy(formats_dir / name, tmp_path / "scan.di")
+    a, b = read(formats_dir / name), read(tmp_path / "scan.di")
+    np.testing.assert_array_equal(a.heights_m, b.heights_m)
+    assert (a.dx_m, a.dy_m) == (b.dx_m, b.dy_m)
+    assert b.meta["detected_by_content"] == a.meta["format"]
+
+
+# ---------------------------------------------------------------- lateral size vs instrument
+def _nms(path, nx, ny, dx_header, z=(-2.0, 3.0), seed=0):
+    """A NanoFocus .nms as SurfaceTopography's reader lays it out: 3468-byte header, z range
+    (2 doubles) at 16, nx, ny (uint32) and the grid spacing (2 doubles) at 1368, then uint16."""
+    import struct
+
+    raw = np.random.default_rng(seed).integers(0, 2**16 - 1, size=(ny, nx), dtype=np.uint16)
+    head = bytearray(3468)
+    head[16:32] = struct.pack("<dd", *z)
+    head[1368:1392] = struct.pack("<IIdd", nx, ny, dx_header, dx_header)
+    path.write_bytes(bytes(head) + raw.astype("<u2").tobytes())
+    return raw.astype(np.float64) / (2**16 - 2) * (z[1] - z[0]) + z[0]    # um, rows along y
+
+
+def test_nanofocus_spacing_in_nanometres(tmp_path):
+    pytest.importorskip("SurfaceTopography")
+    z_um = _nms(tmp_path / "a.nms", 64, 48, 312.5)            # 312.5 nm pixels
+    m = read(tmp_path / "a.nms")
+    assert (m.dx_m, m.dy_m) == (pytest.approx(312.5e-9), pytest.approx(312.5e-9))
+    np.testing.assert_allclose(m.heights_m, z_um * 1e-6, rtol=1e-12)
+    assert any("nanometres" in w for w in m.meta["read_warnings"])
+    _nms(tmp_path / "b.nms", 64, 48, 0.0003125)               # a header in mm stays as read
+    m = read(tmp_path / "b.nms")
+    assert m.dx_m == pytest.approx(312.5e-9) and "read_warnings" not in m.meta
+
+
+def test_implausible_lateral_size_refused(tmp_path):
+    pytest.importorskip("SurfaceTopography")
+    _nms(tmp_path / "c.nms", 64, 48, 3e9)                     # 3 m pixels even in nm
+    with pytest.raises(InputError) as ei:
+        read(tmp_path / "c.nms")
+    msg = str(ei.value)
+    assert "c.nms" in msg and "implausible" in msg and "--override-calibration" in msg
+    m = read(tmp_path / "c.nms", spacing="1e-6", calibration="override")
+    assert m.dx_m == 1e-6
+
+
+def test_lateral_ranges_by_kind():
+    from roadscan.io.instrument_kind import check_lateral
+
+    check_lateral("f", "di", "DI", 1e-8, 1e-8, 512, 512)           # AFM: 5 um field
+    check_lateral("f", "hgt", "SRTM", 30.0, 30.0, 3601, 3601)       # any scale: not checked
+    with pytest.raises(InputError, match="scanning-probe"):
+        check_lateral("f", "di", "DI", 1e-5, 1e-5, 512, 512)       # a 5 mm AFM field
+    with pytest.raises(InputError, match="optical"):
+        check_lateral("f", "plu", "PLU", 1e-10, 1e-10, 512, 512)   # 0.1 nm optical pixels

@@ -5,7 +5,8 @@
 >>> prof = read("station_0.dat")                       # doctest: +SKIP  (CAPTIF profile)
 >>> write("scan.x3p", hmap)                            # doctest: +SKIP
 
-The reader is chosen by the file's extension (``READERS``; one small module per format);
+The reader is chosen by the file's extension (``READERS``; one small module per format), or by
+the file's content when the extension is unknown (:mod:`roadscan.io.detect`);
 see ``FORMATS.md`` at the repository root for the table of formats and how each is tested.
 Every problem with an input raises :class:`roadscan.errors.InputError` naming the file.
 """
@@ -66,13 +67,16 @@ def read(path, spacing=None, units=None, calibration="strict", channel=None):
     if p.is_dir():
         raise InputError(path, "is a directory, not a height file")
     reader = READERS.get(ext)
-    if reader is None:
-        known = ", ".join(sorted(READERS))
-        raise InputError(path, f"unknown file extension {ext or '(none)'!r}; known: {known}")
     if units is not None:
         parse_units(units, path)
     resolve_spacing(spacing, path)
     try:
+        if reader is None:          # unknown extension: the content decides (roadscan/io/detect.py)
+            from .detect import read_by_content
+
+            with calibration_policy(calibration):
+                return read_by_content(path, READERS, spacing=spacing, units=units,
+                                       channel=None if channel is None else _channel_value(channel))
         extra = {} if channel is None else {"channel": _channel_option(path, reader, channel)}
         with calibration_policy(calibration):
             return reader(path, spacing=spacing, units=units, **extra)
@@ -92,6 +96,10 @@ def _channel_option(path, reader, channel):
         raise InputError(path, f"--channel {channel}: a {Path(path).suffix.lower()} file holds one "
                                f"height channel (--channel is for TIFF pages/colours and "
                                f"instrument files)")
+    return _channel_value(channel)
+
+
+def _channel_value(channel):
     text = str(channel).strip()
     return int(text) if text.lstrip("-").isdigit() else text
 

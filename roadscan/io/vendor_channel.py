@@ -31,6 +31,7 @@ import numpy as np
 from ..errors import InputError
 from ._common import check_compression_ratio, check_declared_size, make_heightmap, unit_factor
 from .calibration import pick_spacing, pick_units
+from .instrument_kind import check_lateral, fix_reader_units
 from .vendor_meta import LENGTH_UNITS, info_dict, instrument_block, one_line
 
 __all__ = ["read_channel", "MIN_NONZERO_M", "MAX_ABS_M"]
@@ -176,7 +177,10 @@ def read_channel(reader, path, version, sp, units, channel=None):
     for name, v in (("dx", file_dx), ("dy", file_dy)):
         if not (np.isfinite(v) and v > 0):
             raise InputError(path, f"the file's {name} = {v!r} m is not a positive length")
+    file_dx, file_dy = fix_reader_units(reader.format(), file_dx, file_dy, meta)
     dx, dy = pick_spacing(path, sp, (file_dx, file_dy), meta)
+    if "calibration_override" not in meta or "spacing" not in meta["calibration_override"]:
+        check_lateral(path, reader.format(), reader.name(), dx, dy, nx, ny)
     n_undef = int(undefined.sum())
     fmt_id = reader.format()
     meta.update({
