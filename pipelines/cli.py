@@ -101,6 +101,12 @@ def _add_global_options(p, default):
                         "(default: from the available memory)")
 
 
+def _nested(p):
+    from .cli_hints import subparsers
+
+    return subparsers(p).values()
+
+
 def build_parser():
     parser = OneLineParser(
         prog="roadscan",
@@ -116,6 +122,8 @@ def build_parser():
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
         _add_global_options(p, argparse.SUPPRESS)  # after the command name too
+        for action in list(_nested(p)):            # and after a sub-action ('rubber master')
+            _add_global_options(action, argparse.SUPPRESS)
         p.set_defaults(_run=mod.run)
     return parser
 

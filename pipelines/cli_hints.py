@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 import difflib
 
-__all__ = ["hint", "package_version"]
+__all__ = ["hint", "package_version", "subparsers"]
 
 
 def package_version():
@@ -24,7 +24,8 @@ def package_version():
         return "unknown"
 
 
-def _subparsers(parser):
+def subparsers(parser):
+    """The sub-command parsers of ``parser`` by name (empty when it has none)."""
     for action in parser._actions:                     # noqa: SLF001 - argparse has no public API
         if isinstance(action, argparse._SubParsersAction):
             return action.choices
@@ -48,7 +49,7 @@ def _chosen(parser, argv):
     """The deepest subcommand parser ``argv`` selects (the parser itself when none)."""
     p = parser
     for tok in argv:
-        subs = _subparsers(p)
+        subs = subparsers(p)
         if tok in subs:
             p = subs[tok]
     return p
@@ -64,7 +65,7 @@ def hint(parser, message, argv):
     argv = [str(a) for a in (argv or [])]
     if "invalid choice:" in message:
         word = message.split("invalid choice:", 1)[1].strip().split(" ", 1)[0].strip("'\"")
-        names = list(_subparsers(parser))
+        names = list(subparsers(parser))
         if not names:
             for action in parser._actions:             # noqa: SLF001
                 if action.choices and word in message:

@@ -1,7 +1,9 @@
 """``roadscan rain-fill SCAN --out DIR``: fill a scan's cavities with water (thesis sec. 4.4).
 
 Writes ``wet.npy`` (wet surface [m], NaN where unmeasured), ``depth.npy`` (water depth [m], 0
-where dry, NaN where unmeasured) and ``rainfill.json``. The scan is levelled (least-squares
+where dry, NaN where unmeasured), the same two maps with their spacing as ``wet.npz`` and
+``depth.npz`` (``heights``, ``dx``, ``dy`` [m], ``unmeasured``: ``roadscan analyse out/wet.npz``
+needs no ``--spacing``) and ``rainfill.json`` (``dx_m``, ``dy_m`` too). The scan is levelled (least-squares
 plane removed) first unless ``--no-level``: water settles relative to gravity, and a scan's tilt
 is the instrument's, not the road's. Unmeasured points are transparent (they neither hold nor
 block water; see :mod:`roadscan.rain`).
@@ -75,8 +77,14 @@ def run(args):
 def _write(out, args, scan, r):
     from roadscan.io.atomic import atomic_save_npy, atomic_write_text
 
+    from roadscan.io import write
+
     atomic_save_npy(out / "wet.npy", r.wet.heights_m)
     atomic_save_npy(out / "depth.npy", r.depth_m)
+    # the same maps with their spacing (heights, dx, dy, unmeasured): read back by roadscan or
+    # numpy without --spacing (issue 22)
+    write(out / "wet.npz", r.wet)
+    write(out / "depth.npz", r.wet.with_heights(r.depth_m, name="depth"))
     summary = {
         "scan": str(args.scan),
         "wetted_fraction": r.wetted_fraction,
@@ -91,8 +99,10 @@ def _write(out, args, scan, r):
         "dx_m": scan.dx_m,
         "dy_m": scan.dy_m,
         "unmeasured_points": r.meta["unmeasured_policy"],
-        "files": {"wet.npy": "wet surface [m], NaN unmeasured",
-                  "depth.npy": "water depth [m], 0 dry, NaN unmeasured"},
+        "files": {"wet.npy": "wet surface [m], NaN unmeasured (no spacing: dx_m, dy_m above)",
+                  "depth.npy": "water depth [m], 0 dry, NaN unmeasured (no spacing: dx_m, dy_m above)",
+                  "wet.npz": "wet surface with its spacing: heights [m], dx, dy [m], unmeasured",
+                  "depth.npz": "water depth with its spacing: heights [m], dx, dy [m], unmeasured"},
     }
     from ..validate import warnings_list
 
