@@ -61,10 +61,19 @@ def combine_sources(sources):
 
     from .units_format import wavelength_of_q
 
-    parts = [SpectrumPart(s.label, s.q_per_m, s.C_m4, s.count, tuple(s.band.band),
-                          s.dof_per_count) for s in sources]
-    merged = merge_spectra(parts)
     notes = []
+    for s in sources:
+        if not s.band.valid:
+            notes.append(f"{s.path}: left out: its reliable band [{s.band.lo_per_m:.4g}, "
+                         f"{s.band.hi_per_m:.4g}] 1/m is under a factor 2 wide (low end: "
+                         f"{s.band.lo_reason}; high end: {s.band.hi_reason})")
+    parts = [SpectrumPart(s.label, s.q_per_m, s.C_m4, s.count, tuple(s.band.band),
+                          s.dof_per_count) for s in sources if s.band.valid]
+    if not parts:
+        raise InputError(sources[0].path if len(sources) == 1 else None,
+                         "no input has a reliable band at least a factor 2 wide: nothing to merge "
+                         f"({notes[0]})")
+    merged = merge_spectra(parts)
     for g in merged.gaps:
         notes.append(f"gap: no input measures {g['q_from_per_m']:.4g} to {g['q_to_per_m']:.4g} 1/m "
                      f"(wavelengths {wavelength_of_q(g['q_to_per_m'])} to "

@@ -162,9 +162,6 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
         band = reliable_band(q, measured, n, length, spacing, resolution_m=res)
     except ValueError as exc:
         raise InputError(path, f"no reliable band in its spectrum ({exc})") from None
-    if not band.valid:
-        raise InputError(path, f"its reliable band [{band.lo_per_m:.4g}, {band.hi_per_m:.4g}] 1/m "
-                               f"is under a factor 2 wide ({band.lo_reason}; {band.hi_reason})")
     if res is not None:
         # the instrument's Gaussian low-pass undone inside the band (C / T^2 <= 1 / 0.64 there)
         T2 = gaussian_response(q, res) ** 2

@@ -6,10 +6,13 @@ computed on rings aligned with it (:func:`aligned_range`) contribute whole rings
 In bin j, with rings i of the sources (mean wave vector q_i, mean C_i over n_i lattice points
 or 1D modes),
 
-    C_j = sum_i n_i C_i / sum_i n_i,        q_j = sum_i n_i q_i / sum_i n_i,
+    C_j = sum_i n_i C_i (q_j / q_i)^s_j / sum_i n_i,        q_j = sum_i n_i q_i / sum_i n_i,
 
 the mean over every lattice point of every source that falls in the bin: each source weighs by
-its statistical weight. Uncertainty: a periodogram value of a Gaussian surface is C times an
+its statistical weight; s_j is the local log-log slope (weighted line through the rings within
+0.3 decade), which moves each ring to q_j without bias for a power law. Where a bin holds few
+lattice points (the lowest rings of a field of view), consecutive bins are pooled into one row
+until it holds :data:`MIN_ROW_DOF` degrees of freedom (at most :data:`MAX_ROW_BINS` bins). Uncertainty: a periodogram value of a Gaussian surface is C times an
 exponential variable (2 degrees of freedom per independent mode, reduced by the window's
 equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
 band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
@@ -38,6 +41,10 @@ RINGS_PER_DECADE = 20
 #: band tolerates there (leakage at lo, noise or resolution at hi: about 10 %)
 EDGE_DECADES = 0.15
 EDGE_BIAS = 0.10
+#: rings are pooled into a row until it holds this many degrees of freedom (C within about
+#: +-7 % at one standard deviation, sqrt(2 / 400)), over at most MAX_ROW_BINS grid bins
+MIN_ROW_DOF = 400.0
+MAX_ROW_BINS = 4
 #: one-sided 95 % point of the standard normal
 Z95 = 1.6448536269514722
 
@@ -70,7 +77,7 @@ class MergedSpectrum:
     C_hi_m4: np.ndarray
     n_sources: np.ndarray           # sources measuring each row reliably (0: bridged)
     count: np.ndarray               # lattice points / modes behind each row (0: bridged)
-    band_per_m: tuple               # [first, last] reliable row
+    band_per_m: tuple               # union of the contributing reliable bands [lo, hi]
     gaps: list = field(default_factory=list)
 
 
@@ -113,13 +120,16 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     ValueError
         When no source has a reliable ring.
     """
-    rows = []                       # (bin, q, C, n, dof, source index)
+    rows = []                       # (bin, q, C, n, dof, source index, edge ring)
+    lows, highs = [], []
     for s, p in enumerate(parts):
         q, C = np.asarray(p.q_per_m, float), np.asarray(p.C_m4, float)
         n = np.asarray(p.count, float)
         lo, hi = p.band_per_m
         keep = (q >= lo * (1 - 1e-9)) & (q <= hi * (1 + 1e-9)) & (C > 0) & np.isfinite(C) & (n > 0)
         if keep.any():
+            lows.append(float(lo))
+            highs.append(float(hi))
             qk = q[keep]
             edge = (qk < lo * 10**EDGE_DECADES) | (qk > hi / 10**EDGE_DECADES)
             rows.append(np.column_stack([_bins(qk, per_decade), qk, C[keep], n[keep],
@@ -129,19 +139,22 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
         raise ValueError("no input has a reliable part of its spectrum: nothing to merge")
     r = np.vstack(rows)
     b = r[:, 0].astype(np.int64)
-    j0, j1 = b.min(), b.max()
-    idx = b - j0
-    nb = j1 - j0 + 1
+    j0 = b.min()
     n, dof = r[:, 3], r[:, 4]
+    row_of_bin, first_bin = _group_bins(np.bincount(b - j0, dof), MIN_ROW_DOF, MAX_ROW_BINS)
+    idx = row_of_bin[b - j0]
+    nb = first_bin.size
     N = np.bincount(idx, n, nb)
     covered = N > 0
     Nc = np.where(covered, N, 1.0)
-    C = np.bincount(idx, n * r[:, 2], nb) / Nc
     q = np.bincount(idx, n * r[:, 1], nb) / Nc
+    # each ring's C moved to its row's q along the local slope (exact for a power law)
+    Cr = r[:, 2] * (q[idx] / r[:, 1]) ** _row_slopes(r[:, 1], r[:, 2], n, q, covered)[idx]
+    C = np.bincount(idx, n * Cr, nb) / Nc
     k = np.bincount(idx, dof, nb)
     nsrc = np.array([np.unique(r[idx == i, 5]).size for i in range(nb)])
     # between-source scatter of ln C about the merged value (weighted rms)
-    dev = np.log(r[:, 2] / np.where(covered, C, 1.0)[idx])
+    dev = np.log(Cr / np.where(covered, C, 1.0)[idx])
     s2 = np.bincount(idx, n * dev**2, nb) / Nc
     s2 = np.where(nsrc >= 2, s2, 0.0)
     s2 = s2 + (np.bincount(idx, n * r[:, 6], nb) / Nc) * np.log(1 + EDGE_BIAS) ** 2 / Z95**2
@@ -151,16 +164,49 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     d_lo = np.sqrt(d_lo**2 + Z95**2 * s2)
     d_hi = np.sqrt(d_hi**2 + Z95**2 * s2)
     # gaps: bins no source covers, bridged in ln C vs ln q
-    centre = 10 ** ((np.arange(nb) + j0 + 0.5) / per_decade)
+    centre = 10 ** ((first_bin + j0 + 0.5) / per_decade)
     q = np.where(covered, q, centre)
     gaps = _gaps(covered, q)
     lnC = np.log(np.where(covered, C, 1.0))
     for g in gaps:
         _bridge(g, q, lnC, d_lo, d_hi, N, covered)
+    _gap_edges(gaps, lows, highs)
     Cm = np.exp(lnC)
     return MergedSpectrum(q, Cm, Cm * np.exp(-d_lo), Cm * np.exp(d_hi), nsrc.astype(np.int64),
-                          np.where(covered, N, 0.0), (float(q[covered][0]), float(q[covered][-1])),
-                          gaps)
+                          np.where(covered, N, 0.0), (min(lows), max(highs)), gaps)
+
+
+def _group_bins(dof, min_dof, max_bins):
+    """Rows of the merged curve from grid bins: consecutive covered bins are pooled until a row
+    holds ``min_dof`` degrees of freedom (at most ``max_bins`` bins); an uncovered bin is a row
+    of its own. -> (row index of each bin, first bin of each row)."""
+    row = np.empty(dof.size, np.int64)
+    first = []
+    acc, width, prev = 0.0, 0, False
+    for j, d in enumerate(dof):
+        cov = d > 0
+        if not (cov and prev) or acc >= min_dof or width >= max_bins:
+            first.append(j)
+            acc, width = 0.0, 0
+        row[j] = len(first) - 1
+        acc += d
+        width += 1
+        prev = cov
+    return row, np.asarray(first, np.int64)
+
+
+def _row_slopes(q, C, n, q_row, covered, reach=0.3):
+    """d ln C / d ln q at each row: weighted (lattice points) line through the rings within
+    ``reach`` decades of the row's q (0 where fewer than 3 rings)."""
+    x, y = np.log(q), np.log(C)
+    out = np.zeros(q_row.size)
+    for i in np.flatnonzero(covered):
+        near = np.abs(x - np.log(q_row[i])) <= reach * np.log(10)
+        if near.sum() >= 3 and np.ptp(x[near]) > 0:
+            w = n[near] / n[near].sum()
+            xm, ym = w @ x[near], w @ y[near]
+            out[i] = (w @ ((x[near] - xm) * (y[near] - ym))) / (w @ (x[near] - xm) ** 2)
+    return out
 
 
 def _bridge(gap, q, lnC, d_lo, d_hi, N, covered, reach=0.3):
@@ -199,3 +245,16 @@ def _gaps(covered, q):
         out.append({"q_from_per_m": a, "q_to_per_m": b, "factor": b / a, "rows": int(j - i)})
         i = j
     return out
+
+
+def _gap_edges(gaps, lows, highs):
+    """Each gap's ends moved from the rows beside it to the reliable bands' own ends: from the
+    highest band top below the gap to the lowest band start above it (rows pool several rings,
+    so their q lies inside the bands)."""
+    for g in gaps:
+        mid = np.sqrt(g["q_from_per_m"] * g["q_to_per_m"])
+        below = [h for h in highs if h < mid]
+        above = [lo for lo in lows if lo > mid]
+        if below and above:
+            g["q_from_per_m"], g["q_to_per_m"] = max(below), min(above)
+            g["factor"] = g["q_to_per_m"] / g["q_from_per_m"]
