@@ -8,11 +8,12 @@ both relative to M.csv; ``label`` names the row (unique). A row's ``temperature_
 
 Joint calibration: the shared uncertain inputs (q1, psd_scale, sigma0; q1 also by default where
 mu is carried by the cut-off in some row) are fitted once on the training points of every row
-together (bounded least squares in the unit cube, cold starts on a coarse grid; sigma0 as a common
-factor on each row's nominal pressure), with Gauss-Newton 95 % intervals (as
-:func:`calibration.intervals`). Each row is then diagnosed on its own (:func:`run.diagnose_curve`)
-with the shared inputs uncertain only within their joint interval (source ``"joint"``); its
-temperature stays uncertain within its own range when one was given. ``joint.effects``: every
+together (bounded least squares in the unit cube from the three best separated points of a coarse
+grid; one sigma0 for every row), with Gauss-Newton 95 % intervals (as
+:func:`calibration.intervals`): ``joint.calibrated``. Each row is then diagnosed on its own
+(:func:`run.diagnose_curve`) within the same ranges (not the joint interval: a local interval can
+exclude the truth where the shared inputs trade off against one another, and a row forced
+outside it would blame an effect); its temperature stays uncertain within its own range. ``joint.effects``: every
 effect named in some row, with the rows naming it and whether it holds in every row.
 """
 from __future__ import annotations
@@ -24,7 +25,7 @@ import numpy as np
 
 from roadscan.errors import InputError
 
-from .calibration import KEYS, PARAM, Uncertain, calibration_effect, default_q1, free_ranges
+from .calibration import KEYS, Uncertain, calibration_effect, default_q1, free_ranges
 
 __all__ = ["Row", "read_measurements", "joint_calibration", "run_joint", "SHARED"]
 
@@ -135,15 +136,21 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
     axes = [np.linspace(0.05, 0.95, {1: 7, 2: 5}.get(k, 3))] * k
     grid = np.array(np.meshgrid(*axes, indexing="ij")).reshape(k, -1).T
     grid = np.vstack([pack((e0,), [e0.null_params(ctxs[0])]), grid])
-    costs = [float(np.sum(resid(g) ** 2)) for g in grid]
-    best_u, best_c = grid[int(np.argmin(costs))], min(costs)
-    try:
-        sol = optimize.least_squares(resid, best_u, bounds=(0.0, 1.0), diff_step=0.02, max_nfev=20 * k,
-                                     x_scale=0.1, xtol=1e-4, ftol=1e-6)
-        if float(np.sum(sol.fun ** 2)) < best_c:
-            best_u = sol.x
-    except (ValueError, np.linalg.LinAlgError):
-        pass
+    costs = np.array([float(np.sum(resid(g) ** 2)) for g in grid])
+    best_u, best_c = grid[int(np.argmin(costs))], float(costs.min())
+    starts = []
+    for i in np.argsort(costs):
+        if len(starts) < 3 and all(np.max(np.abs(grid[i] - s0)) > 0.2 for s0 in starts):
+            starts.append(grid[i])
+    for u0 in starts:
+        try:
+            sol = optimize.least_squares(resid, u0, bounds=(0.0, 1.0), diff_step=0.02, max_nfev=20 * k,
+                                         x_scale=0.1, xtol=1e-4, ftol=1e-6)
+            c1 = float(np.sum(resid(sol.x) ** 2))
+            if c1 < best_c:
+                best_u, best_c = sol.x, c1
+        except (ValueError, np.linalg.LinAlgError):
+            pass
     r = resid(best_u)
     J = np.empty((r.size, k))
     for j in range(k):
@@ -163,17 +170,6 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
                                                                    p.from_unit(best_u[j] + 1.96 * sd)],
                            range=[p.lo, p.hi])
     return out, effs
-
-
-def _narrowed(ranges, joint):
-    """The per-row uncertain ranges: shared inputs within their joint interval."""
-    inv = {v: k for k, v in PARAM.items()}
-    out = dict(ranges)
-    for name, x in joint.items():
-        key = inv[name]
-        if key in SHARED:
-            out[key] = Uncertain(key, float(x["interval"][0]), float(x["interval"][1]), "joint")
-    return out
 
 
 def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
@@ -200,7 +196,10 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
     if free_ranges(ctxs[0], shared):
         trains = [holdout(r.curve.n).train for r in rows]
         joint_cal, _ = joint_calibration(ctxs, [r.curve.mu for r in rows], trains, shared, nz, log=say)
-    per_row = dict(_narrowed(shared, joint_cal))
+    # each row keeps the full ranges: a joint interval from a local (Gauss-Newton) fit can exclude
+    # the truth where the shared inputs trade off against one another (q1 against the spectrum's
+    # level), and a row forced outside it would blame an effect
+    per_row = dict(shared)
     if "temperature" in uncertain:
         per_row["temperature"] = uncertain["temperature"]
     if "q1" in shared and "q1" not in joint_cal and shared["q1"].source == "known":
@@ -225,5 +224,5 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
         effects=[dict(name=n, rows=labels, all_rows=len(labels) == len(rows)) for n, labels in sorted(named.items())],
         noise=nz,
         method=("shared inputs fitted on the training points of every row together (Gauss-Newton 95 % intervals); "
-                "each row then diagnosed with them uncertain within that interval"))
+                "each row then diagnosed with them uncertain within the same ranges"))
     return joint, results
