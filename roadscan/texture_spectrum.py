@@ -96,16 +96,25 @@ class TextureSpectrum:
 
 
 def _fill_lines(z):
-    """Linear interpolation over NaN along each row (ends held); rows without data stay NaN."""
+    """Linear interpolation over NaN along each row (ends held at the nearest measured value),
+    vectorised: for every point the previous and the next measured index of its row."""
     bad = ~np.isfinite(z)
     if not bad.any():
         return z
-    out = z.copy()
-    x = np.arange(z.shape[1])
-    for i in np.flatnonzero(bad.any(axis=1)):
-        good = ~bad[i]
-        if good.any():
-            out[i, bad[i]] = np.interp(x[bad[i]], x[good], z[i, good])
+    m, n = z.shape
+    k = np.arange(n)
+    prev = np.maximum.accumulate(np.where(bad, -1, k), axis=1)
+    nxt = np.minimum.accumulate(np.where(bad, n, k)[:, ::-1], axis=1)[:, ::-1]
+    empty = prev[:, -1] < 0                                   # rows without a measured point
+    rows = np.arange(m)[:, None]
+    p = np.where(prev < 0, nxt, prev)
+    q = np.where(nxt >= n, p, nxt)
+    p = np.where(prev < 0, q, p)
+    p[empty], q[empty] = 0, 0
+    zp, zq = z[rows, p], z[rows, q]
+    w = np.where(q > p, (k - p) / np.maximum(q - p, 1), 0.0)
+    out = np.where(bad, zp + w * (zq - zp), z)
+    out[empty] = np.nan
     return out
 
 

@@ -164,3 +164,22 @@ def test_captif_levels_match_welch(station):
     ref = _welch_levels(z, prof.dx_m, ts.lo_m[sel], ts.hi_m[sel])
     assert np.max(np.abs(ts.level_dB[sel] - ref)) < 1.5
     assert np.all(ts.level_dB[sel] > 20)               # macrotexture: tens of dB re 1 um
+
+
+def test_vectorised_line_fill_equals_np_interp():
+    from roadscan.texture_spectrum import _fill_lines
+
+    rng = np.random.default_rng(0)
+    z = rng.normal(size=(40, 150))
+    z[rng.random(z.shape) < 0.3] = np.nan
+    z[3] = np.nan                       # no data: stays NaN (the line is skipped)
+    z[4, :50] = np.nan                  # leading and trailing gaps: held at the nearest value
+    z[5, -30:] = np.nan
+    f = _fill_lines(z)
+    x = np.arange(z.shape[1])
+    for i in range(z.shape[0]):
+        good = np.isfinite(z[i])
+        if good.any():
+            assert np.allclose(f[i], np.interp(x, x[good], z[i, good]), rtol=1e-12, atol=0)
+        else:
+            assert np.isnan(f[i]).all()
