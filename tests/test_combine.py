@@ -213,3 +213,34 @@ def test_output_never_over_an_input(tmp_path, capsys):
     rc, err = _run(["combine", str(d / "list.csv"), "--out", str(d)], capsys)
     assert rc == 2 and len(err) == 1 and (d / "a.npy").read_bytes() == before
     assert not (d / "psd.csv").exists()
+
+
+# --------------------------------------------------------------------- the merge itself
+def _part(label, lo, hi, scale=1.0, count=1000.0, per_decade=20):
+    from roadscan.spectrum_merge import SpectrumPart
+
+    j = np.arange(np.floor(per_decade * np.log10(lo)) - 2, np.ceil(per_decade * np.log10(hi)) + 2)
+    q = 10 ** ((j + 0.5) / per_decade)
+    return SpectrumPart(label, q, scale * q**-3.0, np.full(q.size, count), (lo, hi))
+
+
+def test_merge_power_law_gap_and_weights():
+    from roadscan.spectrum_merge import chi2_quantile, merge_spectra
+
+    assert chi2_quantile(0.05, 10) == pytest.approx(3.9403, abs=1e-3)     # tables
+    assert chi2_quantile(0.95, 2) == pytest.approx(5.9915, abs=1e-3)
+    m = merge_spectra([_part("a", 1e3, 1e4), _part("b", 3e4, 1e5)])
+    assert np.allclose(m.C_m4, m.q_per_m**-3.0, rtol=1e-9)          # bridge and rows exact
+    assert len(m.gaps) == 1 and m.gaps[0]["q_from_per_m"] == 1e4 and m.gaps[0]["q_to_per_m"] == 3e4
+    assert m.gaps[0]["factor"] == pytest.approx(3.0) and np.all(m.n_sources[m.count == 0] == 0)
+    assert m.band_per_m == (1e3, 1e5) and np.all(m.C_lo_m4 < m.C_m4) and np.all(m.C_hi_m4 > m.C_m4)
+    # overlap: 3000 points at the truth and 1000 at twice it -> 1.25 x, the scatter widens the band
+    m2 = merge_spectra([_part("a", 1e3, 1e4, count=3000.0), _part("b", 1e3, 1e4, 2.0, 1000.0)])
+    inner = (m2.q_per_m > 2e3) & (m2.q_per_m < 5e3)
+    assert np.allclose(m2.C_m4[inner] / m2.q_per_m[inner] ** -3.0, 1.25, rtol=1e-9)
+    assert np.all(m2.n_sources[inner] == 2)
+    alone = merge_spectra([_part("a", 1e3, 1e4, count=4000.0)])
+    i2 = (alone.q_per_m > 2e3) & (alone.q_per_m < 5e3)
+    assert np.all((m2.C_hi_m4 / m2.C_lo_m4)[inner] > (alone.C_hi_m4 / alone.C_lo_m4)[i2])
+    with pytest.raises(ValueError):
+        merge_spectra([_part("none", 1e3, 1e4, count=0.0)])          # no lattice point
