@@ -9,9 +9,8 @@ km/h) with ``--ifi-constants A,B[,C]`` (the device's calibration constants).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-
-import numpy as np
 
 from roadscan.errors import InputError
 
@@ -51,7 +50,7 @@ def _floats(text, flag, sep, n_min, n_max, form):
         vals = [float(x) for x in parts]
     except ValueError:
         raise InputError(None, f"{flag} {text!r}: expected {form}") from None
-    if not n_min <= len(vals) <= n_max or not all(np.isfinite(vals)):
+    if not n_min <= len(vals) <= n_max or not all(math.isfinite(v) for v in vals):
         raise InputError(None, f"{flag} {text!r}: expected {form}")
     return vals
 
@@ -164,12 +163,16 @@ def write_texture_csv(path, ts):
 
 def texture_picture(ts):
     """What :func:`draw_texture_spectrum` needs (small, picklable)."""
+    import numpy as np
+
     return {"nominal_mm": np.asarray(ts.nominal_mm), "level_dB": np.asarray(ts.level_dB)}
 
 
 def draw_texture_spectrum(picture, path, title):
     """Third-octave bar chart as in ISO 13473-4: wavelength bands [mm] descending from left
     to right, texture level [dB re 1 µm] as bars."""
+    import numpy as np
+
     from . import report
     from .units_format import sig3
 
