@@ -89,11 +89,12 @@ def summarise(analysis, fr=None):
 
 
 def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
-                 mpd_settings=None, figures=True, drawer=None, texture=None):
+                 mpd_settings=None, figures=True, drawer=None, texture=None, resolution_m=None):
     """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict.
 
     ``texture``: :class:`pipelines.texture_outputs.TextureSettings` (driving direction, IFI
-    inputs; default x, none).
+    inputs; default x, none). ``resolution_m``: the instrument's lateral resolution [m] for the
+    reliable band (:mod:`pipelines.analyse_band`; default: the file's metadata, else none).
 
     ``figures=False`` (``roadscan batch`` without ``--figures``) skips the PNGs; the numbers,
     the CSV/JSON files and ``report.html`` (tables only) are the same. ``drawer``: where the
@@ -108,15 +109,15 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     drawer.discard()                      # nothing of an earlier scan is taken for this one's
     try:
         return _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_settings,
-                             figures, drawer, texture)
+                             figures, drawer, texture, resolution_m)
     except BaseException:
         drawer.discard()                  # a failed scan's figures are not drawn again here
         raise
 
 
 def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_settings, figures,
-                  drawer, texture=None):
-    from . import texture_outputs, validate
+                  drawer, texture=None, resolution_m=None):
+    from . import analyse_band, texture_outputs, validate
 
     def draw_map(levelled):               # the height map is drawn while the spectrum is made
         if figures and not isinstance(levelled, Profile):
@@ -129,6 +130,7 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
 
     an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
                          mpd_settings=mpd_settings, on_levelled=draw_map, on_spectrum2d=draw_psd2d)
+    rb = analyse_band.reliable_fit(an, resolution_m, window_alpha, fit_band)   # issue 20
     spec, fit = an.spectrum, an.fit
     validate.check_fit(fit, an.name)
 
@@ -137,8 +139,9 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
     if settings.enabled:
         from .friction_options import apply_band, run_checks, with_extrapolation
 
-        psd = surface_psd(spec, fit, q1_per_m=settings.q1_per_m)
-        psd, band = apply_band(psd, settings.q0_per_m, settings.q1_per_m)
+        q0_eff, q1_eff = analyse_band.friction_ends(rb, fit, settings)   # the reliable band
+        psd = surface_psd(spec, fit, q1_per_m=q1_eff)
+        psd, band = apply_band(psd, q0_eff, q1_eff)
         q_nyq = float(np.max(spec.q_per_m))
         if settings.q1_per_m is not None and settings.q1_per_m > q_nyq * (1 + 1e-9):
             band = dict(band or {}, extended_by="self-affine fit", extended_decades=float(
@@ -158,6 +161,7 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
                                 fr.meta["T0_C"], T_max, result=fr)
 
     summary = summarise(an, fr)
+    summary.update(analyse_band.summary_keys(rb))
     if fr is not None:
         summary["friction"].update(
             q0_per_m=float(fr.q_per_m[0]), sigma0_Pa=settings.sigma0_Pa, nu=settings.nu,

@@ -54,7 +54,7 @@ class FrictionSettings:
     sigma0_Pa: float = 0.2e6
     T0_C: float = None             # None -> the rubber's T_ref
     flash: bool = False
-    v_m_per_s: "np.ndarray" = None   # None -> 1e-8..1e4 m/s, 10 per decade
+    v_m_per_s: "np.ndarray" = None   # None -> 1e-4..1e2 m/s, 10 per decade
     q1_per_m: float = None         # upper end; beyond Nyquist the self-affine fit extends C(q)
     enabled: bool = True
     q0_per_m: float = None         # lower end of the friction integrals (None: lowest ring)
@@ -258,7 +258,7 @@ def add_friction_options(p, master_curve=False, sliding=True, optional=True, q1_
         g.add_argument("--flash", action="store_true", help="flash-temperature model (Persson 2006)")
         g.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
                        help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
-                            "(e.g. another program's table; default 1e-8:1e4:121)")
+                            "(e.g. another program's table; default 1e-4:1e2:61, where tyres slide)")
     add_contact_options(g, q1_help=q1_help)
     if optional:
         g.add_argument("--no-friction", action="store_true", help="skip mu(v)")

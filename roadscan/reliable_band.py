@@ -17,8 +17,8 @@ measures without bias, and why each end is where it is.
 **hi** (short wavelengths) is the smallest of
 
 - *Nyquist*: :data:`NYQUIST_FRACTION` x pi / a (a the coarser spacing): above it the power of
-  wavelengths shorter than 2 a, folded back by the sampling, adds over 10 % to C for a
-  spectrum falling as q^-3.6 (((2 - f) / f)^-3.6 = 0.11 at f = 0.7);
+  wavelengths shorter than 2 a, folded back by the sampling, adds over 5 % to C for a
+  spectrum falling as q^-3.6 (((2 - f) / f)^-3.6 = 0.05 at f = 0.6; 0.11 at f = 0.7);
 - the *lateral resolution* r (the wavelength passed at 50 % amplitude, from the file's
   metadata or given): modelled as a Gaussian low-pass, amplitude response
   T(q) = exp(-ln 2 (q r / 2 pi)^2); the band ends where T = :data:`RESPONSE_MIN` (0.8, i.e.
@@ -43,7 +43,7 @@ from .rolloff import detect_roll_off
 __all__ = ["ReliableBand", "reliable_band", "leakage_factor", "resolution_limit",
            "gaussian_response", "noise_limit", "NYQUIST_FRACTION", "RESPONSE_MIN"]
 
-NYQUIST_FRACTION = 0.7
+NYQUIST_FRACTION = 0.6
 RESPONSE_MIN = 0.8
 NOISE_EXCESS = 1.25
 WHITE_SHARE = 10.0
@@ -205,7 +205,7 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
     limits = {"field_of_view": None, "roll_off": None, "nyquist": NYQUIST_FRACTION * q_nyq,
               "resolution": None, "noise_floor": None}
     hi_cands = [(limits["nyquist"], f"Nyquist: {NYQUIST_FRACTION:g} x pi / a (a = {_len(spacing_m)}; "
-                                    f"aliasing adds over 10 % to C above)")]
+                                    f"aliasing adds over 5 % to C above)")]
     if resolution_m is not None and resolution_m > 0:
         limits["resolution"] = float(resolution_limit(resolution_m))
         hi_cands.append((limits["resolution"],

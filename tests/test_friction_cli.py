@@ -23,8 +23,8 @@ def test_cli_self_affine_defaults(tmp_path):
     out = tmp_path / "mu.csv"
     assert main(["friction", "--self-affine", "H=0.85,h0=5e-4,q0=2000,q1=2e5", "--out", str(out)]) == 0
     head, d = _read(out)
-    assert head == ["v_m_per_s", "mu", "area_fraction"] and d.shape == (121, 3)
-    assert d[0, 0] == pytest.approx(1e-8) and d[-1, 0] == pytest.approx(1e4)
+    assert head[:3] == ["v_m_per_s", "mu", "area_fraction"] and d.shape[0] == 61
+    assert d[0, 0] == pytest.approx(1e-4) and d[-1, 0] == pytest.approx(1e2)
     res = mu_isothermal(SelfAffinePSD(0.85, 5e-4, 2000.0, 2e5), thesis_rubber(), d[:, 0])
     np.testing.assert_allclose(d[:, 1], res.mu, rtol=1e-8)
     np.testing.assert_allclose(d[:, 2], res.P[:, -1], rtol=1e-8)

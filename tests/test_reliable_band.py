@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from roadscan import level
-from roadscan.reliable_band import (RESPONSE_MIN, gaussian_response, leakage_factor,
+from roadscan.reliable_band import (NYQUIST_FRACTION, RESPONSE_MIN, gaussian_response, leakage_factor,
                                     reliable_band, resolution_limit)
 from roadscan.rolloff import detect_roll_off
 from roadscan.spectrum import psd_area
@@ -83,7 +83,7 @@ def test_detect_roll_off_on_a_broken_line():
 def test_high_end_is_nyquist_fraction_without_noise_or_blur():
     spec = _measure(3, oversample=1)      # no folding: the spectrum holds to Nyquist
     rb = _band(spec)
-    assert rb.hi_per_m == pytest.approx(0.7 * np.pi / DX)
+    assert rb.hi_per_m == pytest.approx(NYQUIST_FRACTION * np.pi / DX)
     assert rb.hi_reason.startswith("Nyquist")
 
 

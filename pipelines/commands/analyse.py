@@ -1,6 +1,7 @@
 """``roadscan analyse FILE... --out DIR``."""
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
@@ -33,6 +34,10 @@ def add_analysis_options(p):
     p.add_argument("--mpd-spike-alpha", type=float, default=None, metavar="ALPHA",
                    help="MPD spike criterion |dh| >= ALPHA x sampling interval (ISO 13473-1 "
                         "default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep)")
+    p.add_argument("--resolution", type=float, default=None, metavar="M",
+                   help="the instrument's lateral resolution [m] (wavelength passed at 50 %% "
+                        "amplitude; default: the file's metadata): the reliable band ends where "
+                        "it still passes 80 %% (issue 20)")
     from ..texture_outputs import add_texture_options
 
     add_texture_options(p)    # --direction, --friction-measurement, --ifi-constants (issue 21)
@@ -74,8 +79,12 @@ def analysis_kwargs(args):
         mpd = {"spike_alpha": args.mpd_spike_alpha}
     from ..texture_outputs import texture_settings_from_args
 
+    res = getattr(args, "resolution", None)
+    if res is not None and not (math.isfinite(res) and 0 < res <= 1.0):
+        raise InputError(None, f"--resolution {res!r}: must be a lateral resolution in metres "
+                               f"(0 < r <= 1 m, e.g. 5e-6)")
     return {"window_alpha": args.window_alpha, "fit_band": band, "despike": args.despike,
-            "mpd_settings": mpd, "texture": texture_settings_from_args(args)}
+            "mpd_settings": mpd, "texture": texture_settings_from_args(args), "resolution_m": res}
 
 
 def run(args):

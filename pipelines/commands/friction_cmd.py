@@ -5,8 +5,8 @@ speed; with ``--flash`` also ``T_flash_max_C``, the hottest flash temperature ov
 scales, then ``T_C_zeta_1``, ``T_C_zeta_max`` and ``T_C_zeta_<z>`` per ``--magnifications``
 value), a PNG plot beside it (same stem) and ``<stem>_summary.json`` (inputs, the integration
 band, the master-curve frequency coverage and the WLF fit of a shift table). Defaults (DESIGN.md
-sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis rubber at T0 = T_ref, isothermal, speeds 1e-8 to
-1e4 m/s at 10 per decade (121 points), the spectrum's own band.
+sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis rubber at T0 = T_ref, isothermal, speeds 1e-4 to
+1e2 m/s at 10 per decade (61 points; issue 20), the spectrum's own band.
 """
 from __future__ import annotations
 
