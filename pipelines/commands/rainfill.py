@@ -69,8 +69,10 @@ def run(args):
     final = Path(args.out)
     with atomic_output_dir(final, inputs=[args.scan]) as out:
         _write(out, args, scan, r)
+    from ..units_format import length
+
     print(f"{args.scan}: {r.connectivity}-connected fill, wetted {r.wetted_fraction:.1%}, "
-          f"water {r.water_volume_m3_per_m2 * 1e6:.4g} um (m^3/m^2 x 1e6) -> {final}")
+          f"water {length(r.water_volume_m3_per_m2)} deep on average (volume per area) -> {final}")
     return 0
 
 
