@@ -98,25 +98,33 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
     out = {"texture_level_dB": ts.as_dict(), "texture_spectrum_note": ts.note}
     if not analysis.is_profile:
         out["texture_direction"] = settings.direction
-    mpd = analysis.mpd_m
+    mpd, mpd_note = analysis.mpd_m, analysis.mpd_note
+    src = analysis.source
+    if not analysis.is_profile and settings.direction == "y":    # MPD along the driving direction
+        from roadscan import roughness
+        from roadscan.heightmap import HeightMap
+
+        src = HeightMap(src.heights_m.T, src.dy_m, src.dx_m, src.unmeasured.T, src.name, src.meta)
+        mpd, mpd_note = roughness.mean_profile_depth_area(src, **(mpd_settings or {}))
+        mpd_note = f"{mpd_note} (lines along y, the driving direction)"
+        out["mpd_m"], out["mpd_note"] = mpd, mpd_note
     out["etd_m"] = td.estimated_texture_depth(mpd)
     out["ifi_speed_constant_kmh"] = td.ifi_speed_constant(mpd)
-    src = analysis.source
     length = src.length_m if analysis.is_profile else src.nx * src.dx_m
     if mpd is None and length < 0.1:
         msd, base, note = td.short_segment_depth(src, **(mpd_settings or {}))
         out.update(msd_short_m=msd, msd_short_baseline_m=base, msd_short_note=note)
-    elif mpd is None and "no valid segment" in (analysis.mpd_note or ""):
+    elif mpd is None and "no valid segment" in (mpd_note or ""):
         alpha, iso = td.spike_alpha_to_pass(src, mpd_settings)
         if alpha is not None:
             what = "an MPD valid per ISO 13473-1 (at least half the segments valid)" if iso else \
                 "an MPD (fewer than half the segments valid, not valid per ISO 13473-1)"
-            out["mpd_note"] = (f"{analysis.mpd_note}; --mpd-spike-alpha {alpha:g} would give {what} "
+            out["mpd_note"] = (f"{mpd_note}; --mpd-spike-alpha {alpha:g} would give {what} "
                                f"(the steep stone edges of chip seals read as spikes at the "
                                f"ISO default 3)")
             out["mpd_spike_alpha_to_pass"] = alpha
         else:
-            out["mpd_note"] = (f"{analysis.mpd_note}; no --mpd-spike-alpha up to 50 helps: the "
+            out["mpd_note"] = (f"{mpd_note}; no --mpd-spike-alpha up to 50 helps: the "
                                f"segments fail on dropouts")
     if settings.friction is not None:
         A, B, C = settings.ifi_constants
@@ -139,7 +147,7 @@ def add_to_summary(summary, analysis, settings=None, mpd_settings=None):
                                          "texture_direction") if k in keys}
     out = {}
     for k, v in summary.items():
-        out[k] = keys.pop("mpd_note", v) if k == "mpd_note" else v
+        out[k] = keys.pop(k, v) if k in ("mpd_m", "mpd_note") else v
         if k == "mpd_note":
             out.update(keys)
             keys = {}

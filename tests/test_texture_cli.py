@@ -159,3 +159,20 @@ def test_batch_sections_carry_texture_along_chainage(tmp_path):
     with open(out / "campaign.csv", newline="") as fh:
         camp = list(csv.DictReader(fh))
     assert len(camp) == 2 and camp[1]["texture_level_dB.80"] == rows[1]["texture_level_dB.80"]
+
+
+def test_direction_y_takes_mpd_along_y(tmp_path):
+    dx = 0.1e-3
+    y = np.arange(1100) * dx                                  # 110 mm along y, 6 mm along x
+    h = np.repeat((0.5e-3 * np.sin(2 * np.pi * y / 5e-3))[:, None], 60, axis=1)
+    p = tmp_path / "along_y.npy"
+    np.save(p, h)
+    base = ["analyse", str(p), "--spacing", str(dx), "--no-friction", "--no-figures"]
+    assert main(base + ["--out", str(tmp_path / "x")]) == 0
+    sx = json.loads((tmp_path / "x" / "summary.json").read_text())
+    assert sx["mpd_m"] is None and sx["msd_short_m"] is None      # 6 mm rows: nothing to give
+    assert main(base + ["--out", str(tmp_path / "y"), "--direction", "y"]) == 0
+    sy = json.loads((tmp_path / "y" / "summary.json").read_text())
+    assert 0.3e-3 < sy["mpd_m"] < 0.55e-3 and "along y" in sy["mpd_note"]
+    assert sy["etd_m"] == 0.2e-3 + 0.8 * sy["mpd_m"]
+    assert abs(sy["texture_level_dB"]["5"] - 20 * np.log10(0.5e-3 / np.sqrt(2) / 1e-6)) < 0.5
