@@ -20,7 +20,8 @@ Where several sources overlap, the weighted rms scatter s of their ln C_i about 
 in quadrature to each side (as 1.645 s), and so is ln(1 + 0.1) times the share of the bin's
 lattice points lying within 0.15 decade of their source's band ends (the bias the reliable
 band tolerates there: leakage, noise, resolution; :mod:`roadscan.reliable_band`). Bins inside the union of the bands that no source
-covers are *gaps*: bridged by the power law fitted (weighted by lattice points) to the covered
+covers are *gaps* (a bin inside some band that holds no ring, as 1D modes sparser than the
+grid at low q, gets no row): bridged by the power law fitted (weighted by lattice points) to the covered
 bins within 0.3 decade on either side, flagged ``n_sources = 0`` and listed.
 
 Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 3
@@ -163,9 +164,16 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     d_hi = np.log(kk / chi2_quantile(0.05, kk))
     d_lo = np.sqrt(d_lo**2 + Z95**2 * s2)
     d_hi = np.sqrt(d_hi**2 + Z95**2 * s2)
-    # gaps: bins no source covers, bridged in ln C vs ln q
+    # gaps: bins no source's band covers, bridged in ln C vs ln q; an empty bin inside a band
+    # (1D modes or lattice points sparser than the grid at low q) is no gap: no row
     centre = 10 ** ((first_bin + j0 + 0.5) / per_decade)
-    q = np.where(covered, q, centre)
+    lo_edge, hi_edge = 10 ** ((first_bin + j0) / per_decade), 10 ** ((first_bin + j0 + 1) / per_decade)
+    in_band = np.zeros(nb, bool)
+    for lo, hi in zip(lows, highs):
+        in_band |= (hi_edge > lo) & (lo_edge < hi)
+    row = covered | ~in_band
+    q, C, N, covered, d_lo, d_hi, nsrc = (a[row] for a in (np.where(covered, q, centre), C, N,
+                                                           covered, d_lo, d_hi, nsrc))
     gaps = _gaps(covered, q)
     lnC = np.log(np.where(covered, C, 1.0))
     for g in gaps:

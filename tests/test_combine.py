@@ -244,3 +244,16 @@ def test_merge_power_law_gap_and_weights():
     assert np.all((m2.C_hi_m4 / m2.C_lo_m4)[inner] > (alone.C_hi_m4 / alone.C_lo_m4)[i2])
     with pytest.raises(ValueError):
         merge_spectra([_part("none", 1e3, 1e4, count=0.0)])          # no lattice point
+
+
+def test_empty_bins_inside_a_band_are_no_gap():
+    """A profile's 1D modes are sparser than the grid at low q: bins without a ring inside a
+    band get no row, and no gap is reported."""
+    from roadscan.spectrum_merge import SpectrumPart, merge_spectra
+
+    p = _part("sparse", 1e3, 1e4)
+    keep = np.arange(p.q_per_m.size) % 3 == 0
+    m = merge_spectra([SpectrumPart("sparse", p.q_per_m[keep], p.C_m4[keep], p.count[keep],
+                                    p.band_per_m)])
+    assert m.gaps == [] and np.all(m.n_sources == 1)
+    assert np.allclose(m.C_m4, m.q_per_m**-3.0, rtol=1e-9)
