@@ -28,7 +28,8 @@ import os
 import sys
 
 # the console script itself, still importing (not a Dask worker re-importing it as __mp_main__)
-if os.path.basename(getattr(sys.modules.get("__main__"), "__file__", None) or "") == "roadscan":
+if __name__ == "__main__" or \
+        os.path.basename(getattr(sys.modules.get("__main__"), "__file__", None) or "") == "roadscan":
     from .signals import exit_early_on_signals
 
     exit_early_on_signals()
@@ -204,7 +205,7 @@ def _main(args, cmd):
                                           f"scan or lower --max-pixels"))
     except OSError as exc:
         name = getattr(exc, "filename", None)
-        return _fail(cmd, debug, one_line(f"{name + ': ' if name else ''}{exc.strerror or exc}"))
+        return _fail(cmd, debug, one_line(f"{str(name) + ': ' if name else ''}{exc.strerror or exc}"))
     except INPUT_LIKE as exc:
         return _fail(cmd, debug, one_line(f"cannot process this input ({type(exc).__name__}: {exc})"))
     except Exception as exc:  # noqa: BLE001 - last resort: a bug, still one line

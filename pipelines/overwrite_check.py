@@ -1,6 +1,6 @@
 """Every command's inputs and outputs from its parsed options, checked before any work: an
-output never replaces an input, and a broken or looping symbolic link given as an input is a
-one-line input error.
+output never replaces an input, an output below an existing file and a broken or looping
+symbolic link given as an input are one-line input errors.
 
 The parsed options are read generically (every string option that names an existing path is an
 input; ``--out`` and convert's ``OUT`` are the outputs), so a new command or flag is covered
@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import errno
 import os
+from pathlib import Path
 
 from roadscan.errors import InputError
 from roadscan.io.overwrite_guard import refuse_overwrite
@@ -83,4 +84,7 @@ def check_command_paths(args):
                 if exc.errno == errno.ELOOP:
                     raise InputError(None, f"{flag} {out}: is a symbolic link loop; name another "
                                            f"output") from None
+        for parent in Path(out).parents:    # every output, before any work
+            if parent.is_file():
+                raise InputError(None, f"{flag} {out}: is below the file {parent}, need a folder")
         refuse_overwrite([(out, folder)], inputs, flag=flag)
