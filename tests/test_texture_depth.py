@@ -61,3 +61,17 @@ def test_spike_alpha_that_passes():
     bad = np.zeros(n, bool)
     bad[::5] = bad[1::5] = bad[2::5] = True
     assert spike_alpha_to_pass(Profile(z, dx, unmeasured=bad)) == (None, False)
+
+
+def test_spike_alpha_on_a_big_map_uses_a_row_sample():
+    rng = np.random.default_rng(8)
+    dx, n, ny = 0.5e-3, 400, 600                                   # 200 mm rows, 600 of them
+    z = np.tile(0.3e-3 * np.sin(2 * np.pi * np.arange(n) * dx / 20e-3), (ny, 1))
+    spikes = rng.random(z.shape) < 0.08
+    z[spikes] += 2.2e-3                                            # jumps of 4.4 intervals
+    hm = HeightMap(z, dx, dx)
+    assert roughness.mean_profile_depth_area(hm)[0] is None
+    alpha, iso = spike_alpha_to_pass(hm)
+    assert iso and 3.0 < alpha <= 5.0
+    res = roughness.segment_depths(z, dx, spike_alpha=alpha)
+    assert res["valid"].mean() >= 0.45                             # the whole map passes too
