@@ -13,7 +13,8 @@ Outputs, all written into a temporary folder swapped in at the end
 - ``psd.csv``: ``q_per_m,C_m4,C_lo_m4,C_hi_m4,n_sources`` (readable by ``--psd``: the PSD
   reader takes ``q_per_m`` and ``C_m4`` and ignores the other columns);
 - ``combine.json``: per input (``inputs``) its ``reliable_band_per_m``, reasons, spacing,
-  size and resolution; ``merged_band_per_m``; ``gaps``; ``fit``; ``warnings``;
+  size and resolution; ``merged_band_per_m``; ``gaps`` ([lo, hi] [1/m] each: no input
+  reliable there) with ``gap_details`` (factor, rows, how bridged); ``fit``; ``warnings``;
 - ``combine.png`` (unless ``--no-figures``) and a self-contained ``report.html``.
 
 Reference: Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014 (2022) (merging the spectra
@@ -101,7 +102,8 @@ def _summary(sources, merged, fit, warnings):
         "merged_band_per_m": [float(b) for b in merged.band_per_m],
         "q_range_per_m": [float(merged.q_per_m[0]), float(merged.q_per_m[-1])],
         "rows": int(merged.q_per_m.size),
-        "gaps": merged.gaps,
+        "gaps": [[g["q_from_per_m"], g["q_to_per_m"]] for g in merged.gaps],
+        "gap_details": merged.gaps,
         "fit": fit,
         "method": ("C per ring of a common grid of 20 rings per decade: mean over the lattice "
                    "points of every input measuring it reliably; C_lo/C_hi the 5-95 % band from "

@@ -72,9 +72,9 @@ def write_combine_report(path, summary, figure=None):
                      f"{d['reliable_band_reasons']['hi']}"))
     inputs = report.table_html(rows, ["input", "kind", "spacing", "size", "lateral resolution",
                                       "reliable band", "why it ends there"])
-    gaps = ("<p>none: the reliable bands overlap or touch</p>" if not summary["gaps"] else
+    gaps = ("<p>none: the reliable bands overlap or touch</p>" if not summary["gap_details"] else
             report.table_html([(_band_text([g["q_from_per_m"], g["q_to_per_m"]]), sig3(g["factor"]),
-                                g["bridged_by"]) for g in summary["gaps"]],
+                                g["bridged_by"]) for g in summary["gap_details"]],
                               ["gap (no input reliable)", "factor in q", "bridged by"]))
     fit = summary.get("fit")
     fit_html = "<p>no fit</p>" if not fit else report.table_html({

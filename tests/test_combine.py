@@ -104,9 +104,10 @@ def test_three_instruments_give_the_true_spectrum(three_instruments):
     assert ok.all(), list(zip(q[sel][~ok], ratio[~ok]))
     assert held.mean() > 0.8                       # a 90 % band holds the truth most of the time
     assert np.all(lo <= C) and np.all(C <= hi) and np.all(np.diff(q) > 0)
-    assert all(g["factor"] <= 6 for g in summary["gaps"]) and np.max(q[1:] / q[:-1]) < 6
+    assert all(hi_ / lo_ <= 6 for lo_, hi_ in summary["gaps"]) and np.max(q[1:] / q[:-1]) < 6
+    assert [[g["q_from_per_m"], g["q_to_per_m"]] for g in summary["gap_details"]] == summary["gaps"]
     # bridged rows are the gaps' rows, and only they carry no source
-    assert sum(g["rows"] for g in summary["gaps"]) == int(np.sum(ns == 0))
+    assert sum(g["rows"] for g in summary["gap_details"]) == int(np.sum(ns == 0)) > 0
     # the merged band stops before the finest instrument's response falls to 0.3
     r_fine = INSTRUMENTS[-1][2]
     top = summary["merged_band_per_m"][1]
