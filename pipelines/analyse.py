@@ -134,7 +134,7 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
     spec, fit = an.spectrum, an.fit
     validate.check_fit(fit, an.name)
 
-    fr = None
+    fr = prov = None
     checks = band = None
     if settings.enabled:
         from .friction_options import apply_band, run_checks, with_extrapolation
@@ -154,8 +154,11 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
             print(f"note: {an.name}: {band['note']}", file=sys.stderr)
         rubber = with_extrapolation(settings.rubber, settings.extrapolate)
         fr = friction_curve(psd, rubber, settings.v_m_per_s, settings.sigma0_Pa,
-                            settings.T0_C, settings.flash, settings.nu, settings.contact_gamma)
-        if rubber is not None:
+                            settings.T0_C, settings.flash, settings.nu, settings.contact_gamma,
+                            warn_high=False)
+        # extrapolated share, rubber label, plausibility (a refusal drops fr) (issue 20)
+        fr, prov = analyse_band.friction_provenance(an, spec, psd, fr, settings, rubber)
+        if rubber is not None and fr is not None:
             T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))
             checks = run_checks(rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m,
                                 fr.meta["T0_C"], T_max, result=fr)
@@ -171,6 +174,8 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
             summary["friction"]["band"] = band
         if checks is not None:
             summary["friction"]["rubber_checks"] = checks
+    if prov is not None:
+        analyse_band.add_provenance(summary, prov, psd.q_min_per_m, psd.q1_per_m)
     summary, tex = texture_outputs.add_to_summary(summary, an, texture, mpd_settings)
     summary["warnings"] = validate.warnings_list()   # this run so far (they name the file)
     texture_outputs.write_texture_csv(out_dir / "texture_spectrum.csv", tex)
@@ -184,7 +189,8 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
         cols = [fr.v_m_per_s, fr.mu, fr.P[:, -1]]
         if fr.T_q_C is not None:
             cols.append(np.max(fr.T_q_C, axis=1))
-        report.write_csv(out_dir / "mu.csv", MU_HEADER + MU_EXTRA[:len(cols) - 2], cols)
+        head = MU_HEADER + MU_EXTRA[:len(cols) - 2] + ["extrapolated_share"]   # issue 20
+        report.write_csv(out_dir / "mu.csv", head, cols + [prov["extrapolated_share"]])
     if figures:
         _figures(drawer, out_dir, an, fit, fr, spec, settings, summary)
         if tex.level_dB.size:
@@ -216,9 +222,8 @@ def _figures(drawer, out_dir, an, fit, fr, spec, settings, summary):
                   fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m"
                          + (f", extended to q1 = {q_top:.3g} 1/m" if q_top > hi else ""), qf, fit.model_C(qf))])
     if fr is not None:
-        rub = "thesis rubber" if settings.rubber is None else getattr(settings.rubber, "name", "rubber")
-        drawer.submit(report.plot_mu, [(f"{summary['friction']['model']}, {rub}, σ0 = "
-                                        f"{settings.sigma0_Pa / 1e6:g} MPa", fr.v_m_per_s, fr.mu)],
+        rub = summary["friction"].get("rubber", "thesis rubber")   # name, T0 and sigma0 (issue 20)
+        drawer.submit(report.plot_mu, [(f"{summary['friction']['model']}, {rub}", fr.v_m_per_s, fr.mu)],
                       out_dir / "mu.png", title=f"{an.name}: friction μ(v)")
 
 
@@ -281,9 +286,9 @@ def _write_report(out_dir, an, summary, figs, tex=None):
         "roll-off q": quantity("q_per_m", summary["q_roll_per_m"]),
         "filled (unmeasured) fraction": f"{sig3(100 * summary['filled_fraction'])} %",
     }
-    if "friction" in summary:
-        key["peak μ"] = summary["friction"]["mu_peak"]
-        key["speed at peak [m/s]"] = summary["friction"]["v_peak_m_per_s"]
+    from . import analyse_band
+
+    key.update(analyse_band.report_rows(summary))   # band, rubber, mu's provenance (issue 20)
     texture = [report.table_html(texture_outputs.depth_rows(summary), ["quantity", "value"])]
     if tex is not None and tex.level_dB.size:
         texture.append(f"<p class='note'>{texture_outputs.html_escape(tex.note)}</p>")
@@ -294,5 +299,7 @@ def _write_report(out_dir, an, summary, figs, tex=None):
                 ("Figures", [list(figs)])]
     if not figs:
         sections.pop()
+    if analyse_band.warnings_section(summary):          # every warning in the report (issue 20)
+        sections.insert(1, analyse_band.warnings_section(summary))
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,
                       intro=report.instrument_html(summary.get("instrument")))

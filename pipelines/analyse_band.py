@@ -77,3 +77,99 @@ def summary_keys(rb):
         return {}
     return {"reliable_band_per_m": rb.band, "reliable_band_reasons": rb.reasons,
             "reliable_band_limits_per_m": dict(rb.limits)}
+
+
+def friction_provenance(an, spec, psd, fr, settings, rubber):
+    """mu's provenance for analyse (:mod:`pipelines.mu_provenance`) -> (fr or None, info).
+
+    ``info``: ``extrapolated_share`` per speed, ``rubber`` (name, T0, sigma0), ``rms_slope``
+    over the integrated band, and ``refused`` (one line) when the default analysis (default
+    rubber, no ``--q0/--q1``) gives a peak mu outside 0.3-3: its friction is then not written
+    (``fr`` None) and the warning names the likely cause and the flag; with a chosen rubber or
+    band the result is kept and the same line is a warning.
+    """
+    from . import mu_provenance as mp
+    from . import validate
+    from .spectrum_bridge import friction_curve
+
+    def recompute(p):
+        return friction_curve(p, rubber, fr.v_m_per_s, settings.sigma0_Pa, settings.T0_C,
+                              settings.flash, settings.nu, settings.contact_gamma,
+                              warn_high=False).mu
+
+    share = mp.extrapolated_share(psd, fr.mu, float(spec.q_max_per_m), recompute)
+    i = int(np.argmax(fr.mu))
+    slope = mp.rms_slope(psd)
+    info = {"extrapolated_share": share, "extrapolated_share_at_peak": float(share[i]),
+            "rubber": mp.rubber_label(settings.rubber, settings.sigma0_Pa, fr.meta.get("T0_C")),
+            "rms_slope_band": slope, "refused": None}
+    cause = mp.implausible_cause(float(fr.mu[i]), share_at_peak=float(share[i]), slope=slope,
+                                 rms_height_m=an.roughness.get("Sq_m", an.roughness.get("Rq_m")),
+                                 default_rubber=settings.rubber is None, q1_per_m=psd.q1_per_m)
+    if cause is None:
+        return fr, info
+    default = settings.rubber is None and settings.q0_per_m is None and settings.q1_per_m is None
+    if default:
+        info["refused"] = f"friction refused: {cause}"
+        info["mu_peak_computed"] = float(fr.mu[i])
+        validate.warn(f"{an.name}: {info['refused']}")
+        return None, info
+    validate.warn(f"{an.name}: {cause}")
+    return fr, info
+
+
+def add_provenance(summary, info, q0, q1):
+    """Put :func:`friction_provenance`'s ``info`` into ``summary['friction']``."""
+    if info is None:
+        return summary
+    if info["refused"]:
+        summary["friction"] = {"refused": info["refused"], "mu_peak_computed":
+                               info["mu_peak_computed"], "rubber": info["rubber"],
+                               "q0_per_m": q0, "q1_per_m": q1,
+                               "rms_slope_band": info["rms_slope_band"]}
+        return summary
+    summary["friction"].update(
+        rubber=info["rubber"], rms_slope_band=info["rms_slope_band"],
+        extrapolated_share=[float(x) for x in info["extrapolated_share"]],
+        extrapolated_share_at_peak=info["extrapolated_share_at_peak"])
+    return summary
+
+
+def report_rows(summary):
+    """The report's rows of the reliable band and the friction's provenance (mm/um, 3
+    significant digits)."""
+    from .units_format import sig3
+
+    rows = {}
+    if "reliable_band_per_m" in summary:
+        lo, hi = summary["reliable_band_per_m"]
+        why = summary.get("reliable_band_reasons", {})
+        rows["reliable band (wavelengths)"] = f"{_wl(hi)} to {_wl(lo)}"
+        rows["reliable band: long end"] = why.get("lo", "")
+        rows["reliable band: short end"] = why.get("hi", "")
+    fr = summary.get("friction")
+    if fr:
+        if fr.get("rubber"):
+            rows["rubber (friction)"] = fr["rubber"]
+        if fr.get("refused"):
+            rows["friction"] = fr["refused"]
+        else:
+            rows["peak μ"] = sig3(fr["mu_peak"])
+            rows["speed at peak [m/s]"] = sig3(fr["v_peak_m_per_s"])
+            if "extrapolated_share_at_peak" in fr:
+                rows["share of μ from beyond the last measured q (at peak)"] = \
+                    f"{sig3(100 * fr['extrapolated_share_at_peak'])} %"
+    return rows
+
+
+def _wl(q):
+    lam = 2 * np.pi / q
+    return f"{lam * 1e3:.3g} mm" if lam >= 1e-3 else f"{lam * 1e6:.3g} µm"
+
+
+def warnings_section(summary):
+    """("Warnings", table) for a report, or None when there are none."""
+    from . import report
+
+    w = summary.get("warnings") or []
+    return ("Warnings", report.table_html([[x] for x in w], ["warning"])) if w else None

@@ -312,8 +312,12 @@ def run_checks(rubber, v, q0, q1, T0_C, T_max_C=None, log=None, result=None):
                                  T_q_C=result.T_q_C if flash else None,
                                  q_per_m=result.q_per_m if flash else None)
     msg = coverage_note(cov)
-    if msg:
-        (log or _say)(msg)
+    if msg and log is not None:
+        log(msg)
+    elif msg:                             # recorded for summary.json/reports too (issue 20)
+        from .validate import warn
+
+        warn(msg.removeprefix("warning: "))
     cov["warning"] = msg
     out = {"frequency_coverage": cov}
     wlf = wlf_fit_report(getattr(rubber, "shift", None))

@@ -176,7 +176,7 @@ def default_velocities(lo=1e-4, hi=1e2, per_decade=10):
 
 
 def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None, flash=False,
-                   nu=0.5, contact_gamma=None):
+                   nu=0.5, contact_gamma=None, warn_high=True):
     """mu(v) from the shared engine with the defaults of DESIGN.md section 5 (nu = 0.5, S = 1)."""
     import friction
 
@@ -197,5 +197,5 @@ def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None,
                 res = friction.mu_isothermal(psd, rubber, v, **kw)
     except FlashConvergenceError as exc:      # one line naming the speeds (as `friction` says)
         raise InputError(None, f"friction: {exc}") from None
-    check_mu(res.mu)
+    check_mu(res.mu, warn_high=warn_high)
     return res

@@ -335,9 +335,10 @@ def check_fit(fit, name=""):
              f"is not self-affine over the fitted band; H, h0 and mu(v) are not meaningful{undefined}")
 
 
-def check_mu(mu, what="mu"):
+def check_mu(mu, what="mu", warn_high=True):
     """Friction results: refuse non-finite values and mu > 100 (no physical meaning);
-    warn when mu > 5."""
+    warn when mu > 5 (unless ``warn_high`` is False: the caller diagnoses it, as analyse does
+    with :mod:`pipelines.mu_provenance`)."""
     mu = np.asarray(mu, dtype=float)
     if mu.size and not np.all(np.isfinite(mu)):
         n = int(np.count_nonzero(~np.isfinite(mu)))
@@ -347,6 +348,8 @@ def check_mu(mu, what="mu"):
     if top > MU_MAX:
         raise InputError(None, f"{what} reaches {top:.3g}: not physical (> {MU_MAX:g}); check the "
                                f"PSD (does it fall with q?) and the rubber model")
-    if top > MU_WARN:
-        warn(f"{what} reaches {top:.3g}, unusually high for rubber on a road")
+    if top > MU_WARN and warn_high:
+        warn(f"{what} reaches {top:.3g}, unusually high for rubber on a road: likely the band "
+             f"(its short end in the noise, or extended beyond the spectrum: --q1), the units "
+             f"(--units) or the rubber (--rubber)")
     return mu

@@ -59,8 +59,9 @@ def test_analyse_single_file_contract(scan_npy, tmp_path):
     assert var == pytest.approx(s["rms_height_m"] ** 2, rel=0.35)
     with open(out / "mu.csv") as fh:
         rows = list(csv.reader(fh))
-    assert rows[0] == ["v_m_per_s", "mu", "area_fraction"]
-    v, mu, area = np.array(rows[1:], float).T
+    assert rows[0] == ["v_m_per_s", "mu", "area_fraction", "extrapolated_share"]
+    v, mu, area, share = np.array(rows[1:], float).T
+    assert np.all((share >= 0) & (share <= 1))
     assert np.all((area > 0) & (area <= 1)) and np.all(np.diff(area) <= 1e-12)  # A/A0 falls with v
     assert len(v) == 61 and v[0] == pytest.approx(1e-4) and v[-1] == pytest.approx(1e2)
     assert np.all(np.isfinite(mu)) and np.all(mu >= 0) and mu.max() > 0.1

@@ -45,8 +45,8 @@ def test_cli_psd_file_flash_and_rubber(tmp_path):
     assert rc == 0
     head, d = _read(out)
     assert head == ["v_m_per_s", "mu", "area_fraction", "T_flash_max_C", "T_C_zeta_1", "T_C_zeta_max",
-                    "T_C_zeta_3", "T_C_zeta_10"]
-    assert d.shape == (7, 8) and np.all(d[:, 3:] >= 60.0 - 1e-9)
+                    "T_C_zeta_3", "T_C_zeta_10", "extrapolated_share"]
+    assert d.shape == (7, 9) and np.all(d[:, 3:8] >= 60.0 - 1e-9) and np.all(d[:, 8] == 0)
     d = np.delete(d, 2, axis=1)  # the columns of the former layout follow T_flash_max_C
     assert np.all(d[:, 2] >= d[:, 3:].max(axis=1) - 1e-9)  # the hottest over all length scales
     d = np.delete(d, 2, axis=1)

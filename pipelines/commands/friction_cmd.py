@@ -131,7 +131,8 @@ def run(args):
         raise InputError(None, f"friction: {exc}") from None
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
-    check_mu(res.mu)
+    check_mu(res.mu, warn_high=False)
+    prov = _provenance(args, psd, band, res, rubber, settings, v, kw)   # issue 20
     out = Path(args.out)
     if out.suffix.lower() == ".png":
         raise InputError(None, f"--out {out}: name the CSV (the plot is written beside it as {out.stem}.png)")
@@ -145,12 +146,15 @@ def run(args):
         for z in zetas:
             header.append(f"T_C_zeta_{z:g}")
             cols.append(res.temperature_at(z))
+    header.append("extrapolated_share")                  # after the existing columns (issue 20)
+    cols.append(prov["extrapolated_share"])
     checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, res.meta["T0_C"],
                         None if T_max is None else float(T_max.max()), result=res)
     from roadscan.io.atomic import atomic_file_set
 
     with atomic_file_set(out) as tmp:      # mu.csv, its summary and plot: all or none
-        _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max)
+        _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max,
+                       prov)
     mu_max, v_max = res.peak
     print(f"{out}: {v.size} speeds, peak mu {mu_max:.4g} at {v_max:.4g} m/s, "
           f"q {psd.q_min_per_m:.4g}..{psd.q1_per_m:.4g} 1/m"
@@ -158,7 +162,39 @@ def run(args):
     return 0
 
 
-def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max):
+def _provenance(args, psd, band, res, rubber, settings, v, kw):
+    """extrapolated_share per speed (beyond a --psd table's last row; a --self-affine model
+    measures nothing: 0), the rubber's label, and the implausible-mu warning naming its cause."""
+    import numpy as np
+
+    import friction
+
+    from .. import mu_provenance as mp
+    from ..validate import warn
+
+    engine = friction.mu_flash if args.flash else friction.mu_isothermal
+    q_meas = band.get("q_table_max_per_m") if args.psd else None
+
+    def recompute(p):
+        with np.errstate(all="ignore"):
+            return engine(p, rubber, v, **kw).mu
+
+    share = mp.extrapolated_share(psd, res.mu, q_meas, recompute)
+    i = int(np.argmax(res.mu))
+    default = settings.rubber is None and not getattr(args, "master_curve", None)
+    label = mp.rubber_label(None if default else rubber, settings.sigma0_Pa, res.meta["T0_C"])
+    cause = mp.implausible_cause(float(res.mu[i]), share_at_peak=float(share[i]),
+                                 slope=mp.rms_slope(psd), default_rubber=default,
+                                 q1_per_m=psd.q1_per_m)
+    if cause:
+        warn(f"{args.out}: {cause}")
+    return {"extrapolated_share": share, "extrapolated_share_at_peak": float(share[i]),
+            "rubber": label, "implausible": cause,
+            "extrapolated_from_per_m": q_meas}
+
+
+def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max,
+                   prov=None):
     from ..report import plot_mu, write_csv, write_json
 
     write_csv(tmp / out.name, header, cols)
@@ -179,10 +215,19 @@ def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area
         "area_fraction_range": [float(area.min()), float(area.max())],
         "rubber_checks": checks,
     }
+    if prov is not None:                  # where mu comes from (issue 20)
+        summary["rubber_label"] = prov["rubber"]
+        summary["extrapolated_share"] = [float(x) for x in prov["extrapolated_share"]]
+        summary["extrapolated_share_at_peak"] = prov["extrapolated_share_at_peak"]
+        summary["extrapolated_from_per_m"] = prov["extrapolated_from_per_m"]
+        from .. import validate
+
+        summary["warnings"] = validate.warnings_list()
     if T_max is not None:
         summary["T_flash_max_C"] = float(T_max.max())
     write_json(tmp / (out.stem + "_summary.json"), summary)
     title = "mu(v), " + ("flash temperature" if args.flash else "isothermal") + \
-        f", sigma0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} C"
+        (f", {prov['rubber']}" if prov is not None else
+         f", sigma0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} C")
     plot_mu([("", res.v_m_per_s, res.mu)], tmp / (out.stem + ".png"), title=title,
             ylabel="friction coefficient mu [-]")
