@@ -119,9 +119,10 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
         if alpha is not None:
             what = "an MPD valid per ISO 13473-1 (at least half the segments valid)" if iso else \
                 "an MPD (fewer than half the segments valid, not valid per ISO 13473-1)"
+            now = (mpd_settings or {}).get("spike_alpha", 3.0)
             out["mpd_note"] = (f"{mpd_note}; --mpd-spike-alpha {alpha:g} would give {what} "
-                               f"(the steep stone edges of chip seals read as spikes at the "
-                               f"ISO default 3)")
+                               f"(steep stone edges, e.g. of chip seals, read as spikes at "
+                               f"alpha = {now:g}, the ISO 13473-1 default being 3)")
             out["mpd_spike_alpha_to_pass"] = alpha
         else:
             out["mpd_note"] = (f"{mpd_note}; no --mpd-spike-alpha up to 50 helps: the "
