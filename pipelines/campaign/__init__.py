@@ -6,6 +6,7 @@
   small record; big arrays never leave the worker);
 - :mod:`.sections` long line profiles cut into sections along chainage, read in chunks;
 - :mod:`.runner`   the Dask client side: local cluster or ``--scheduler``, progress, Ctrl-C;
-- :mod:`.table`    ``campaign.csv`` (and ``campaign.parquet`` when pyarrow is installed);
+- :mod:`.table`    ``campaign.csv``, its anisotropy sectors in ``campaign_anisotropy.csv`` (and
+  ``campaign.parquet`` when pyarrow is installed);
 - :mod:`.report`   ``report.html`` of the campaign.
 """
