@@ -15,7 +15,7 @@ import sys
 
 from roadscan.errors import InputError
 
-from ..friction_options import (add_friction_options, apply_band, check_contact_args, parse_pressure,
+from ..friction_options import (add_friction_options, check_contact_args, parse_pressure,
                                 rubber_from_args, run_checks, with_extrapolation)
 from ..scan_input import add_scan_options, load_scan
 
@@ -86,7 +86,7 @@ def run(args):
         return 0
     if (args.scan is None) == (args.psd is None):
         raise InputError(args.measured, "the friction level needs exactly one of --scan FILE or --psd FILE")
-    from ..diagnose.inputs import build_context, read_psd_csv, surface_from_scan
+    from ..diagnose.inputs import build_context
     from ..diagnose.measured import read_measured
     from ..diagnose.run import run_friction
 
@@ -95,15 +95,9 @@ def run(args):
              if args.validate else None)
     rubber = rubber_from_args(args)
     _check_conditions(args, rubber, curve, other)
-    if args.psd:
-        psd, scan, spec, fit = read_psd_csv(args.psd), None, None, None
-    else:
-        obj = load_scan(args.scan, args)
-        try:
-            psd, scan, spec, fit = surface_from_scan(obj)
-        except ValueError as exc:
-            raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
-    psd, band = apply_band(psd, args.q0, args.q1, log=_say)
+    from ..diagnose.run_command import load_surface
+
+    psd, band, scan, spec, fit = load_surface(args, _say)
     rubber = with_extrapolation(rubber, args.extrapolate)
     ctx = build_context(curve, psd, rubber=rubber, scan=scan, spectrum=spec, fit=fit)
     from dataclasses import replace

@@ -102,13 +102,7 @@ class Geometry:
             r[(q > e[-1] * (1 + 1e-12))] = -1
             r = np.clip(r, -1, e.size - 2)
             return dict(q=q, ring=r)
-        ny, nx = self.shape
-        kx = np.fft.fftshift(np.fft.fftfreq(nx) * nx).round().astype(int)
-        ky = np.fft.fftshift(np.fft.fftfreq(ny) * ny).round().astype(int)
-        KX, KY = np.meshgrid(kx, ky)
-        QX = 2 * np.pi * KX / (nx * self.dx_m)
-        QY = 2 * np.pi * KY / (ny * self.dy_m)
-        Q = np.hypot(QX, QY)
+        KX, KY, QX, QY, Q = _lattice_q(self.shape, self.dx_m, self.dy_m)
         r = np.searchsorted(e, Q.ravel(), side="right").reshape(Q.shape) - 1
         r[(Q > e[-1] * (1 + 1e-12)) | (Q < e[0] * (1 - 1e-12)) | (Q == 0)] = -1
         r = np.clip(r, -1, e.size - 2)
@@ -119,12 +113,7 @@ class Geometry:
         """Lattice of the prewhitened (Laplacian) block, (ny - 2) x (nx - 2): the points used by
         the anisotropy components, their ring, and the unit vectors of their physical q."""
         ny, nx = self.shape[0] - 2, self.shape[1] - 2
-        kx = np.fft.fftshift(np.fft.fftfreq(nx) * nx).round().astype(int)
-        ky = np.fft.fftshift(np.fft.fftfreq(ny) * ny).round().astype(int)
-        KX, KY = np.meshgrid(kx, ky)
-        QX = 2 * np.pi * KX / (nx * self.dx_m)
-        QY = 2 * np.pi * KY / (ny * self.dy_m)
-        Q = np.hypot(QX, QY)
+        KX, KY, QX, QY, Q = _lattice_q((ny, nx), self.dx_m, self.dy_m)
         kr = np.hypot(KX, KY)
         kmax = min(nx, ny) // 2
         sel = (np.minimum(np.abs(KX), np.abs(KY)) > AXIS_EXCLUDE) & (kr >= ANISO_MIN_K) & (kr <= kmax)
@@ -171,6 +160,18 @@ class Geometry:
 
     def families(self):
         return ("spectrum", "height") if self.is_profile else (FAMILIES if self.rain else FAMILIES[:4])
+
+
+def _lattice_q(shape, dx_m, dy_m):
+    """Integer wave indices (KX, KY) of an fftshifted (ny, nx) lattice and their physical wave
+    vectors QX, QY, |Q| [1/m] for spacings dx, dy [m]."""
+    ny, nx = shape
+    kx = np.fft.fftshift(np.fft.fftfreq(nx) * nx).round().astype(int)
+    ky = np.fft.fftshift(np.fft.fftfreq(ny) * ny).round().astype(int)
+    KX, KY = np.meshgrid(kx, ky)
+    QX = 2 * np.pi * KX / (nx * dx_m)
+    QY = 2 * np.pi * KY / (ny * dy_m)
+    return KX, KY, QX, QY, np.hypot(QX, QY)
 
 
 def near_axes(KX, KY):

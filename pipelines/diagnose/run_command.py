@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from roadscan.errors import InputError
 
-__all__ = ["provenance_hints", "run_measurements"]
+__all__ = ["provenance_hints", "run_measurements", "load_surface"]
 
 
 def provenance_hints(args, uncertain, measured=True):
@@ -28,7 +28,8 @@ def provenance_hints(args, uncertain, measured=True):
     return dict(files=[(r, p) for r, p in files if p], given=given)
 
 
-def _surface(args, say):
+def load_surface(args, say):
+    """(psd, band, scan, spectrum, fit) of ``--psd`` or ``--scan`` with ``--q0/--q1`` applied."""
     from ..friction_options import apply_band
     from ..scan_input import load_scan
     from .inputs import read_psd_csv, surface_from_scan
@@ -76,7 +77,7 @@ def run_measurements(args, uncertain, settings_fn, report_fn, say):
             check_temperature(float(t), r.rubber, flag=f"{r.label}: T0_C")
         for p in np.unique(r.curve.sigma0_Pa):
             check_pressure(float(p), flag=f"{r.label}: sigma0_Pa")
-    psd, band, scan, spec, fit = _surface(args, say)
+    psd, band, scan, spec, fit = load_surface(args, say)
     ctxs, settings = [], {}
     for r in rows:
         rub = with_extrapolation(r.rubber, args.extrapolate)

@@ -23,6 +23,8 @@ listed) when another single explains the gap as well within the fold-to-fold sca
 from __future__ import annotations
 
 import numpy as np
+
+from .fitting import pack, unpack as _unpack
 from scipy import stats
 
 from .blocks import spectrum_shape
@@ -58,16 +60,8 @@ def _train_resid(ctx, pred, blocks):
     return np.concatenate([z[f] / np.sqrt(z[f].size) for f in ctx.families])
 
 
-def _unpack(effs, u):
-    out, i = [], 0
-    for e in effs:
-        out.append({p.name: p.from_unit(u[i + j]) for j, p in enumerate(e.params)})
-        i += len(e.params)
-    return out
-
-
 def _pack(effs, params):
-    return np.array([np.clip(p.to_unit(d[p.name]), 0, 1) for e, d in zip(effs, params) for p in e.params])
+    return np.clip(pack(effs, params), 0, 1)
 
 
 def _fit(ctx, effs, blocks, starts):
