@@ -21,14 +21,17 @@ target missing for an instant, and the next run restores the old set before doin
 Every writer here writes *through* a symbolic link (the file or folder it points to is
 replaced, the link stays), names the final file in "No space left on device" and other write
 errors, and refuses to replace a file the running command has read
-(:mod:`roadscan.io.overwrite_guard`).
+(:mod:`roadscan.io.overwrite_guard`). Two runs writing the same target at once both finish:
+each locks its own temporary folder (``flock``), so the other's clean-up leaves it alone, and
+the target ends up holding one complete set, the last one swapped in.
 """
 from __future__ import annotations
 
 import contextlib
 import ctypes
-import errno
 import ctypes.util
+import errno
+import fcntl
 import os
 import shutil
 import tempfile
@@ -198,7 +201,35 @@ def recover_output_dir(target):
         os.rename(olds[0], target)
         olds = olds[1:]
     for p in olds + _leftovers(target, TMP_TAG):
-        shutil.rmtree(p, ignore_errors=True)
+        if not _in_use(p):                    # another run writing there now: leave it
+            shutil.rmtree(p, ignore_errors=True)
+
+
+def _hold(folder):
+    """Lock ``folder`` (``flock``, released when the descriptor closes or the process dies):
+    a concurrent run's clean-up then knows it is being written, not left by a killed run."""
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX)
+    except OSError:
+        pass
+    return fd
+
+
+def _in_use(folder):
+    try:
+        fd = os.open(folder, os.O_RDONLY)
+    except OSError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        return False
+    except BlockingIOError:
+        return True
+    except OSError:
+        return False
+    finally:
+        os.close(fd)
 
 
 def check_output_dir(target, flag="--out", inputs=()):
@@ -268,6 +299,7 @@ def atomic_output_dir(target, flag="--out", inputs=()):
         tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=parent))
     except OSError as exc:
         raise InputError(None, f"{flag} {target}: cannot write there ({exc.strerror or exc})") from None
+    lock = _hold(tmp)
     try:
         os.chmod(tmp, _dir_mode())
         yield tmp
@@ -278,12 +310,18 @@ def atomic_output_dir(target, flag="--out", inputs=()):
         if isinstance(exc, OSError):
             raise _named(exc, target) from None
         raise
+    finally:
+        os.close(lock)
 
 
 def _swap_in(tmp, target):
     if not os.path.lexists(target):
-        os.rename(tmp, target)
-        return
+        try:
+            os.rename(tmp, target)
+            return
+        except OSError as exc:            # a concurrent run put its set there first
+            if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):
+                raise
     if _exchange(tmp, target):       # tmp now holds the old set
         shutil.rmtree(tmp, ignore_errors=True)
         return
@@ -331,11 +369,13 @@ def atomic_file_set(target, flag="--out"):
     except OSError as exc:
         raise InputError(None, f"{flag} {target}: cannot create the folder ({exc.strerror or exc})") from None
     for old in _leftovers(target, TMP_TAG):
-        shutil.rmtree(old, ignore_errors=True)
+        if not _in_use(old):
+            shutil.rmtree(old, ignore_errors=True)
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=folder))
     except OSError as exc:
         raise InputError(None, f"{flag} {target}: cannot write there ({exc.strerror or exc})") from None
+    lock = _hold(tmp)
     try:
         os.chmod(tmp, _dir_mode())
         yield tmp
@@ -356,6 +396,8 @@ def atomic_file_set(target, flag="--out"):
         if isinstance(exc, OSError) and not isinstance(exc, InputError):
             raise _named(exc, target) from None
         raise
+    finally:
+        os.close(lock)
 
 
 def _place(src, dest):
