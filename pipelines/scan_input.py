@@ -53,7 +53,9 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
     plausibility checks of :func:`pipelines.validate.check_scan` (spacing, grid size, measured
     points, constant grids, spikes) and :func:`roadscan.plausibility.check_plausible` (heights
     against the scan's own size: a units slip is refused with the flag that fixes it). The
-    reader's warnings (``meta["read_warnings"]``) go to stderr and ``summary.json``.
+    reader's warnings (``meta["read_warnings"]``) and steps far above the texture
+    (:func:`roadscan.seams.find_steps`: stitching faults, plate edges) go to stderr and
+    ``summary.json``.
     """
     from roadscan.io import read
 
@@ -79,7 +81,12 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
         raise InputError(path, f"cannot read height data ({type(exc).__name__}: {exc})") from None
     from .validate import check_scan, warn
 
+    from roadscan.plausibility import check_plausible
+
+    check_plausible(obj, path, units)      # a units slip refused before any figure (issue 22)
     obj = check_scan(obj, path)
-    for line in obj.meta.get("read_warnings", ()):
-        warn(f"{path}: {line}")
+    from roadscan.seams import find_steps
+
+    for line in [*obj.meta.get("read_warnings", ()), *find_steps(obj)]:
+        warn(f"{path}: {line}")              # on stderr and in summary.json (issue 22)
     return obj

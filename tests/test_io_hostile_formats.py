@@ -157,7 +157,7 @@ def test_mixed_batch_keeps_x3p_calibration(tmp_path):
 def tiffs(tmp_path):
     tifffile = pytest.importorskip("tifffile")
     rng = np.random.default_rng(3)
-    stack = rng.normal(size=(3, 20, 30)).astype(np.float32)
+    stack = (rng.normal(size=(3, 20, 30)) * 1e-4).astype(np.float32)
     rgb = (rng.random((20, 30, 3)) * 255).astype(np.uint8)
     pal = (rng.random((20, 30)) * 255).astype(np.uint8)
     cmap = np.tile(np.arange(256, dtype=np.uint16) * 256, (3, 1))

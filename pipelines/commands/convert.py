@@ -79,7 +79,10 @@ def run(args):
         check_spacing_option(args.spacing)
     from ..scan_input import read_options
 
+    from roadscan.plausibility import check_plausible
+
     scan = read(inp, **read_options(args))
+    check_plausible(scan, inp, args.units)   # a units slip is not converted (issue 22)
     ext = out.suffix.lower()
     if ext in (".tif", ".tiff") and not isinstance(scan, HeightMap):
         raise InputError(inp, "is a line profile: TIFF holds area scans; use .x3p, .npy or .npz")

@@ -100,10 +100,12 @@ def pick_units(path, given, file_unit, file_factor, meta):
     """Metres per height unit to use: the file's ``file_factor`` unless overridden.
 
     ``given`` is ``--units`` (m, mm, um, nm) or None; ``file_unit`` the file's unit as it spells
-    it. Also sets ``meta["units_ignored"]`` when the file's unit is kept against a flag.
+    it. Records ``meta["height_unit"]`` (unit, metres per unit, from "file" or "flag") and
+    ``meta["units_ignored"]`` when the file's unit is kept against a flag.
     """
     from ._common import unit_factor
 
+    meta["height_unit"] = {"unit": str(file_unit), "m_per_unit": float(file_factor), "from": "file"}
     if given is None:
         return file_factor
     f_given = unit_factor(given, path)
@@ -116,6 +118,7 @@ def pick_units(path, given, file_unit, file_factor, meta):
                                f"(recorded in the outputs)")
     if policy == "override":
         _record(meta, "calibration_override", "units", str(file_unit), str(given))
+        meta["height_unit"] = {"unit": str(given), "m_per_unit": f_given, "from": "flag"}
         return f_given
     meta["units_ignored"] = given
     _record(meta, "calibration_ignored", "units", str(file_unit), str(given))
