@@ -143,6 +143,11 @@ def _check_npz_members(path):
     """Check every member's header (size limit, complex, zip-bomb ratio) before loading any."""
     try:
         with zipfile.ZipFile(path) as zf:
+            names = [info.filename for info in zf.infolist()]
+            dup = sorted({n for n in names if names.count(n) > 1})
+            if dup:        # numpy would take the last one silently (issue 22)
+                raise InputError(path, f".npz archive holds several members named {dup[0]!r} "
+                                       f"(which one is meant is undefined): refused")
             for info in zf.infolist():
                 if not info.filename.endswith(".npy"):
                     continue
