@@ -206,6 +206,8 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
 def _figures(drawer, out_dir, an, fit, fr, spec, settings, summary):
     """The PNGs of one scan after its height map and 2D spectrum (skipped by ``roadscan batch``
     without ``--figures``), submitted to ``drawer`` in the report's order."""
+    from .units_format import wavelength_of_q
+
     if an.is_profile:
         q1d, c1d = an.psd1d
         keep = (q1d > 0) & (c1d > 0)
@@ -219,8 +221,8 @@ def _figures(drawer, out_dir, an, fit, fr, spec, settings, summary):
                "2D estimate from the profile's 1D PSD", spec.q_per_m, spec.C_m4)]
     drawer.submit(report.plot_psd,
                   curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {fit.hurst:.3f} ± {fit.hurst_stderr:.3f}",
-                  fits=[(f"self-affine fit, band {lo:.3g}–{hi:.3g} 1/m"
-                         + (f", extended to q1 = {q_top:.3g} 1/m" if q_top > hi else ""), qf, fit.model_C(qf))])
+                  fits=[(f"self-affine fit, λ = {wavelength_of_q(lo)} to {wavelength_of_q(hi)}"
+                         + (f", extended to {wavelength_of_q(q_top)}" if q_top > hi else ""), qf, fit.model_C(qf))])
     if fr is not None:
         rub = summary["friction"].get("rubber", "thesis rubber")   # name, T0 and sigma0 (issue 20)
         drawer.submit(report.plot_mu, [(f"{summary['friction']['model']}, {rub}", fr.v_m_per_s, fr.mu)],
