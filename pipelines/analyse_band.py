@@ -30,12 +30,18 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
 
     from .reliable_bridge import scan_band
 
+    from . import validate
+
     spec = an.spectrum
     try:
         rb = scan_band(an.source, spec, resolution_m, window_alpha=window_alpha)
     except ValueError:
         return None
-    if fit_band is not None:
+    if not rb.valid:
+        validate.warn(f"{an.name}: reliable band {rb.lo_per_m:.3g}-{rb.hi_per_m:.3g} 1/m is narrower "
+                      f"than a factor 2 (the scan is small for its spacing: {rb.lo_reason.split(':')[0]} "
+                      f"vs {rb.hi_reason.split(':')[0]}): fit and friction use the whole spectrum")
+    if fit_band is not None or not rb.valid:
         return rb
     q, C = spec.q_per_m, spec.C_m4
     cnt = spec.count if spec.count is not None else np.ones(q.size, dtype=np.int64)
@@ -59,7 +65,7 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
 def friction_ends(rb, fit, settings):
     """(q0, q1) [1/m] of the friction integrals: the flags where given, else the band's ends
     (q0 at a roll-off inside the band); (None, None) without a band."""
-    if rb is None:
+    if rb is None or not rb.valid:
         return settings.q0_per_m, settings.q1_per_m
     q0 = settings.q0_per_m
     if q0 is None:
@@ -84,9 +90,10 @@ def friction_provenance(an, spec, psd, fr, settings, rubber):
 
     ``info``: ``extrapolated_share`` per speed, ``rubber`` (name, T0, sigma0), ``rms_slope``
     over the integrated band, and ``refused`` (one line) when the default analysis (default
-    rubber, no ``--q0/--q1``) gives a peak mu outside 0.3-3: its friction is then not written
-    (``fr`` None) and the warning names the likely cause and the flag; with a chosen rubber or
-    band the result is kept and the same line is a warning.
+    rubber, no ``--q0/--q1``) gives a peak mu above 3 that the measurement explains (an rms
+    slope over 1 in the band, or heights in the wrong units): its friction is then not written
+    (``fr`` None) and the warning names the likely cause and the flag. Otherwise an mu outside
+    0.3-3 is kept and the same line is a warning.
     """
     from . import mu_provenance as mp
     from . import validate
@@ -109,7 +116,8 @@ def friction_provenance(an, spec, psd, fr, settings, rubber):
     if cause is None:
         return fr, info
     default = settings.rubber is None and settings.q0_per_m is None and settings.q1_per_m is None
-    if default:
+    measured_cause = "band (" in cause or "units (" in cause
+    if default and fr.mu[i] > mp.MU_PLAUSIBLE[1] and measured_cause:
         info["refused"] = f"friction refused: {cause}"
         info["mu_peak_computed"] = float(fr.mu[i])
         validate.warn(f"{an.name}: {info['refused']}")

@@ -5,7 +5,8 @@
 ``mu_at`` maps a few report speeds [m/s] to mu (for ``report.html``).
 
 Flattening (the column names of ``campaign.csv``): top-level scalar keys keep their names
-(``hurst``, ``rms_height_m``, ``mpd_m``...); a nested dict's scalars are joined with a dot
+(``hurst``, ``rms_height_m``, ``mpd_m``...); ``warnings`` is one column, the scan's warnings
+joined by " | " (issue 20); a nested dict's scalars are joined with a dot
 (``roughness.Sq_m``, ``friction.mu_peak``, ``anisotropy.ratio``); a list of scalars gives one
 column per element with its index (``fit_band_per_m.0``, ``fit_band_per_m.1``,
 ``shape.0``...). Nothing else is dropped: every scalar of ``summary.json`` has a column
@@ -63,9 +64,16 @@ def mu_at_speeds(v_m_per_s, mu, speeds=REPORT_SPEEDS_M_PER_S):
     return out
 
 
+#: list keys of summary.json kept out of campaign.csv's columns (the warnings go into one
+#: ``warnings`` column, joined by " | "; the per-speed shares stay in each scan's mu.csv)
+_LIST_COLUMNS_DROPPED = ("warnings.", "friction.extrapolated_share.")
+
+
 def ok_record(job, summary, subdir, mu_at=None, extra=None, chainage_m=None):
     values = dict(extra or {})
-    values.update(flatten_summary(summary))
+    flat = flatten_summary(summary)
+    values.update({k: v for k, v in flat.items() if not k.startswith(_LIST_COLUMNS_DROPPED)})
+    values["warnings"] = " | ".join(summary.get("warnings") or [])     # issue 20
     return {"file": job["file"], "label": job.get("label") or "",
             "chainage_m": job.get("chainage_m") if chainage_m is None else chainage_m,
             "status": "ok", "error": "", "dir": subdir, "values": values, "mu_at": mu_at or {}}

@@ -149,7 +149,13 @@ def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campa
                                [r["file"] for r in records]))
         sections.append(("Along chainage", [pngs[1]]))
     sections.append(("Scans", _table(records, quantities, vals, masks)))
-    intro = (f"{len(records)} rows, {n_ok} ok, {len(records) - n_ok} failed. Outliers (red): "
+    warned = [r for r in records if r["status"] == "ok" and r["values"].get("warnings")]
+    if warned:                            # every warning of every scan (issue 20)
+        sections.append(("Warnings", report.table_html(
+            [[r.get("dir") or r["file"], w] for r in warned
+             for w in r["values"]["warnings"].split(" | ")], ["scan", "warning"])))
+    intro = (f"{len(records)} rows, {n_ok} ok ({len(warned)} with warnings), "
+             f"{len(records) - n_ok} failed. Outliers (red): "
              f"modified z-score |0.6745 (x − median)/MAD| &gt; {Z_OUTLIER} (Iglewicz &amp; Hoaglin). "
              f"All numbers in <a href='campaign.csv'>campaign.csv</a>.")
     try:

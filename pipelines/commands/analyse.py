@@ -112,16 +112,21 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
     from ..analyse import run_analysis
     from ..units_format import length
 
-    rows = []
+    from .. import validate
+
+    rows, own = [], []
     for i, (path, scan, sub) in enumerate(zip(args.files, scans, _unique_dirs(args.files))):
         if many:
             print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
+        n0 = len(validate.warnings_list())
         try:
             summary = run_analysis(scan, out / sub if many else out, settings,
                                    figures=not getattr(args, "no_figures", False), drawer=drawer, **kw)
         except ValueError as exc:
             raise InputError(path, str(exc)) from None
         rows.append((sub, summary))
+        seen = validate.warnings_list()      # this scan's: those while it ran, and those naming it
+        own.append([w for w in seen[:n0] if str(path) in w or scan.name in w] + seen[n0:])
         if not many:
             print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
                   f"rms height = {length(summary['rms_height_m'])} -> {final / 'report.html'}")
@@ -135,10 +140,16 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
 
         lines = [",".join(header)] + [",".join("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))
                                                for c in r) for r in table]
+        # each scan's warnings, one quoted cell joined by " | " (issue 20)
+        lines = [lines[0] + ",warnings"] + [
+            f'{ln},"{" | ".join(w).replace(chr(34), chr(34) * 2)}"' for ln, w in zip(lines[1:], own)]
         atomic_write_text(out / "summary.csv", "\n".join(lines) + "\n")
         links = "".join(f"<li><a href='{s}/report.html'>{s}</a></li>" for s, _ in rows)
-        report.write_html(out / "report.html", "roadscan analyse: summary",
-                          [("Scans", _scans_html(table, header)), ("Reports", f"<ul>{links}</ul>")])
+        sections = [("Scans", _scans_html(table, header)), ("Reports", f"<ul>{links}</ul>")]
+        warned = [[s, w] for (s, _), ws in zip(rows, own) for w in ws]
+        if warned:
+            sections.insert(1, ("Warnings", report.table_html(warned, ["scan", "warning"])))
+        report.write_html(out / "report.html", "roadscan analyse: summary", sections)
     return rows
 
 

@@ -137,7 +137,10 @@ def summary_line(jobs, results, out):
     skipped = sum("records" in j for j in jobs)
     failed = sum(any(r["status"] != "ok" for r in recs) for recs in results)
     done = len(jobs) - skipped - failed
-    return (f"roadscan batch: {done} done, {skipped} skipped, {failed} failed -> "
+    warned = sum(any(r["status"] == "ok" and r["values"].get("warnings") for r in recs)
+                 for recs in results)          # scans with warnings (issue 20)
+    return (f"roadscan batch: {done} done, {skipped} skipped, {failed} failed, "
+            f"{warned} with warnings -> "
             f"{out / 'campaign.csv'}, {out / 'report.html'}")
 
 
