@@ -53,6 +53,16 @@ def _spectra(entries, args):
     return out
 
 
+def _edge_bias(band):
+    """Bias the band tolerates at its (low, high) end: leakage about 10 %; at a noise floor
+    :data:`roadscan.reliable_band.NOISE_EXCESS` - 1 (25 %), else 10 % (aliasing, resolution)."""
+    from roadscan.reliable_band import NOISE_EXCESS
+    from roadscan.spectrum_merge import EDGE_BIAS
+
+    hi = NOISE_EXCESS - 1.0 if band.hi_reason.startswith("noise floor") else EDGE_BIAS
+    return (EDGE_BIAS, max(EDGE_BIAS, hi))
+
+
 def combine_sources(sources):
     """Merge the reliable parts of :class:`~pipelines.combine_sources.SourceSpectrum` s and fit
     the result -> (MergedSpectrum, fit dict or None, warnings)."""
@@ -69,7 +79,7 @@ def combine_sources(sources):
                          f"{s.band.hi_per_m:.4g}] 1/m is under a factor 2 wide (low end: "
                          f"{s.band.lo_reason}; high end: {s.band.hi_reason})")
     parts = [SpectrumPart(s.label, s.q_per_m, s.C_m4, s.count, tuple(s.band.band),
-                          s.dof_per_count) for s in sources if s.band.valid]
+                          s.dof_per_count, _edge_bias(s.band)) for s in sources if s.band.valid]
     if not parts:
         raise InputError(sources[0].path if len(sources) == 1 else None,
                          "no input has a reliable band at least a factor 2 wide: nothing to merge "

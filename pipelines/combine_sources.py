@@ -2,14 +2,15 @@
 band; the scan itself is dropped before the next one is read (memory bounded by the largest
 single input).
 
-Areas: levelled (plane), unmeasured points filled (biharmonic), Tukey-windowed (alpha 0.25)
-angular average :func:`roadscan.spectrum.psd_area` on rings aligned with the common grid
+Areas: levelled (plane), unmeasured points filled (biharmonic), Tukey-windowed (alpha 0.5:
+less leakage, the low end of the band from :mod:`pipelines.combine_window`) angular average :func:`roadscan.spectrum.psd_area` on rings aligned with the common grid
 (:func:`roadscan.spectrum_merge.aligned_range`). Profiles: the road section
-(:func:`roadscan.trim.road_section`), levelled (line) and filled, the 1D spectrum
+(:func:`roadscan.trim.road_section`), levelled (line) and filled, the 1D spectrum (alpha 0.25)
 :func:`roadscan.spectrum.psd_profile` binned on the same grid and turned into the isotropic 2D
 estimate C(q) = C1(q) / q Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)) (the H psd_profile fitted).
 The reliable band (:func:`roadscan.reliable_band.reliable_band`) is found on what was measured:
-an area's C, a profile's C1. With a lateral resolution r (given, or from the file), C is then
+an area's C, a profile's C1. Where it finds a white noise floor (the top rings flatter than
+q^-1), that level is taken off C (white noise adds a constant to the periodogram). With a lateral resolution r (given, or from the file), C is then
 divided by the Gaussian response T(q)^2 = exp(-2 ln 2 (q r / 2 pi)^2) inside the band, where
 T^2 >= 0.64 (``RESPONSE_MIN`` squared): the merged curve is not pulled down at each band's top (Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001
 (2017)).
@@ -25,6 +26,10 @@ from roadscan.errors import InputError
 __all__ = ["SourceSpectrum", "source_spectrum", "resolution_of"]
 
 WINDOW_ALPHA = 0.25
+#: variance of a ring's C over what its count and the window's equivalent noise bandwidth
+#: predict: 1.15-1.36 measured over 25 non-periodic synthetic views (256 x 256, H = 0.8, rings
+#: of 200 to 2200 lattice points; the window correlates neighbours in both directions)
+VARIANCE_EXCESS = 1.3
 
 
 @dataclass
@@ -88,14 +93,17 @@ def _area_spectrum(hm, per_decade):
     from roadscan.spectrum import psd_area
     from roadscan.spectrum_merge import aligned_range
 
+    from .combine_window import AREA_WINDOW_ALPHA
+
     lev = level.level(hm, degree=1)
     values = inpaint.unmeasured_fill(lev) if lev.unmeasured.any() else None
     lx, ly = hm.size_m
     q_lo, q_hi = aligned_range(2 * np.pi / max(lx, ly), np.pi / max(hm.dx_m, hm.dy_m), per_decade)
-    spec, _ = psd_area(lev, window_alpha=WINDOW_ALPHA, rings_per_decade=per_decade,
+    spec, _ = psd_area(lev, window_alpha=AREA_WINDOW_ALPHA, rings_per_decade=per_decade,
                        q_min=q_lo, q_max=q_hi, fill_values=values)
     ny, nx = hm.shape
-    dof = 1.0 / (_enbw(nx) * _enbw(ny))   # full-lattice count: each pair of points, 2 dof
+    # full-lattice count: each pair of points, 2 dof
+    dof = 1.0 / (_enbw(nx, AREA_WINDOW_ALPHA) * _enbw(ny, AREA_WINDOW_ALPHA) * VARIANCE_EXCESS)
     q, C, n = spec.q_per_m, spec.C_m4, np.asarray(spec.count, float)
     return q, C, n, C, dof, {}
 
@@ -118,7 +126,7 @@ def _profile_spectrum(pr, per_decade):
     c1b = np.bincount(b, C1)[keep] / n[keep]
     C = c1b / qb * profile_to_area_factor(hurst)
     n_prof = int(spec.meta.get("n_profiles", 1))
-    return qb, C, n[keep] * n_prof, c1b, 2.0 / _enbw(filled.heights_m.size), {
+    return qb, C, n[keep] * n_prof, c1b, 2.0 / (_enbw(filled.heights_m.size) * VARIANCE_EXCESS), {
         "conversion": spec.meta["conversion"], "conversion_hurst": hurst}
 
 
@@ -162,6 +170,18 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
         band = reliable_band(q, measured, n, length, spacing, resolution_m=res)
     except ValueError as exc:
         raise InputError(path, f"no reliable band in its spectrum ({exc})") from None
+    if kind == "area":
+        from .combine_window import with_combine_low_end
+
+        band = with_combine_low_end(band, length)
+    level = band.noise_floor
+    if level is not None and level > 0:
+        # a white floor adds its level to every ring: taken off (C scales as the measured C)
+        C = C * (1.0 - level / measured)
+        meta["noise_floor_subtracted"] = {
+            "level": float(level), "units": "m^4" if kind == "area" else "m^3 (of C1)",
+            "applied": "the white level of the spectrum's top rings taken off C before the "
+                       "resolution correction"}
     if res is not None:
         # the instrument's Gaussian low-pass undone inside the band (C / T^2 <= 1 / 0.64 there)
         T2 = gaussian_response(q, res) ** 2

@@ -17,9 +17,10 @@ exponential variable (2 degrees of freedom per independent mode, reduced by the 
 equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
 band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
 Where several sources overlap, the weighted rms scatter s of their ln C_i about ln C_j is added
-in quadrature to each side (as 1.645 s), and so is ln(1 + 0.1) times the share of the bin's
-lattice points lying within 0.15 decade of their source's band ends (the bias the reliable
-band tolerates there: leakage, noise, resolution; :mod:`roadscan.reliable_band`). Bins inside the union of the bands that no source
+in quadrature to each side (as 1.645 s), and so is ln(1 + b) times the share of the bin's
+lattice points lying within 0.15 decade of their source's band ends, b the bias the reliable
+band tolerates there (``SpectrumPart.edge_bias``: about 10 % for leakage, aliasing, resolution,
+25 % at a noise floor; :mod:`roadscan.reliable_band`). Bins inside the union of the bands that no source
 covers are *gaps* (a bin inside some band that holds no ring, as 1D modes sparser than the
 grid at low q, gets no row): bridged by the power law fitted (weighted by lattice points) to the covered
 bins within 0.3 decade on either side, flagged ``n_sources = 0`` and listed.
@@ -45,7 +46,7 @@ EDGE_BIAS = 0.10
 #: rings are pooled into a row until it holds this many degrees of freedom (C within about
 #: +-7 % at one standard deviation, sqrt(2 / 400)), over at most MAX_ROW_BINS grid bins
 MIN_ROW_DOF = 400.0
-MAX_ROW_BINS = 4
+MAX_ROW_BINS = 8
 #: one-sided 95 % point of the standard normal
 Z95 = 1.6448536269514722
 
@@ -66,6 +67,8 @@ class SpectrumPart:
     count: np.ndarray
     band_per_m: tuple
     dof_per_count: float = 1.0
+    #: bias the band tolerates at its (low, high) end (fractions of C)
+    edge_bias: tuple = (EDGE_BIAS, EDGE_BIAS)
 
 
 @dataclass(frozen=True)
@@ -132,7 +135,9 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
             lows.append(float(lo))
             highs.append(float(hi))
             qk = q[keep]
-            edge = (qk < lo * 10**EDGE_DECADES) | (qk > hi / 10**EDGE_DECADES)
+            b_lo, b_hi = p.edge_bias
+            edge = np.where(qk < lo * 10**EDGE_DECADES, np.log(1 + b_lo) ** 2, 0.0)
+            edge = np.maximum(edge, np.where(qk > hi / 10**EDGE_DECADES, np.log(1 + b_hi) ** 2, 0.0))
             rows.append(np.column_stack([_bins(qk, per_decade), qk, C[keep], n[keep],
                                          n[keep] * p.dof_per_count, np.full(keep.sum(), s),
                                          edge]))
@@ -158,7 +163,7 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     dev = np.log(Cr / np.where(covered, C, 1.0)[idx])
     s2 = np.bincount(idx, n * dev**2, nb) / Nc
     s2 = np.where(nsrc >= 2, s2, 0.0)
-    s2 = s2 + (np.bincount(idx, n * r[:, 6], nb) / Nc) * np.log(1 + EDGE_BIAS) ** 2 / Z95**2
+    s2 = s2 + (np.bincount(idx, n * r[:, 6], nb) / Nc) / Z95**2
     kk = np.maximum(k, 1.0)
     d_lo = np.log(chi2_quantile(0.95, kk) / kk)
     d_hi = np.log(kk / chi2_quantile(0.05, kk))
@@ -250,19 +255,20 @@ def _gaps(covered, q):
         while not covered[j]:
             j += 1
         a, b = float(q[i - 1]), float(q[j])
-        out.append({"q_from_per_m": a, "q_to_per_m": b, "factor": b / a, "rows": int(j - i)})
+        out.append({"q_from_per_m": a, "q_to_per_m": b, "factor": b / a, "rows": int(j - i),
+                    "_bridged": (float(q[i]), float(q[j - 1]))})
         i = j
     return out
 
 
 def _gap_edges(gaps, lows, highs):
     """Each gap's ends moved from the rows beside it to the reliable bands' own ends: from the
-    highest band top below the gap to the lowest band start above it (rows pool several rings,
-    so their q lies inside the bands)."""
+    highest band top below its bridged bins to the lowest band start above them (rows pool
+    several rings, so their q lies inside the bands)."""
     for g in gaps:
-        mid = np.sqrt(g["q_from_per_m"] * g["q_to_per_m"])
-        below = [h for h in highs if h < mid]
-        above = [lo for lo in lows if lo > mid]
+        first, last = g.pop("_bridged")        # bridged bins lie outside every band
+        below = [h for h in highs if h < first]
+        above = [lo for lo in lows if lo > last]
         if below and above:
             g["q_from_per_m"], g["q_to_per_m"] = max(below), min(above)
             g["factor"] = g["q_to_per_m"] / g["q_from_per_m"]

@@ -106,6 +106,10 @@ def test_three_instruments_give_the_true_spectrum(three_instruments):
     assert np.all(lo <= C) and np.all(C <= hi) and np.all(np.diff(q) > 0)
     assert all(hi_ / lo_ <= 6 for lo_, hi_ in summary["gaps"]) and np.max(q[1:] / q[:-1]) < 6
     assert [[g["q_from_per_m"], g["q_to_per_m"]] for g in summary["gap_details"]] == summary["gaps"]
+    bands = [d["reliable_band_per_m"] for d in summary["inputs"]]
+    for lo_, hi_ in summary["gaps"]:           # from one band's top to the next band's start
+        assert lo_ in [b[1] for b in bands] and hi_ in [b[0] for b in bands]
+        assert not any(b[0] < np.sqrt(lo_ * hi_) < b[1] for b in bands)
     # bridged rows are the gaps' rows, and only they carry no source
     assert sum(g["rows"] for g in summary["gap_details"]) == int(np.sum(ns == 0)) > 0
     # the merged band stops before the finest instrument's response falls to 0.3
