@@ -13,7 +13,7 @@ from . import report
 from .analyse import summarise
 from .dry_vs_wet import mu_by_speed, speed_table
 from .friction_options import FrictionSettings
-from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
+from .spectrum_bridge import analyse_surface, friction_curve
 
 __all__ = ["run_compare", "spectrum_difference", "friction_difference"]
 
@@ -58,8 +58,10 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
     curves = []
     if settings.enabled:
         first = None
+        from .analyse_band import band_psd
+
         for an in analyses:
-            psd = surface_psd(an.spectrum, an.fit, q1_per_m=settings.q1_per_m)
+            psd, _ = band_psd(an, settings, window_alpha)    # the reliable band, as analyse (issue 20)
             fr = friction_curve(psd, settings.rubber, settings.v_m_per_s if first is None else first,
                                 settings.sigma0_Pa, settings.T0_C, settings.flash)
             first = fr.v_m_per_s
@@ -107,8 +109,11 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
         figs.append(report.save_figure(fig, out_dir / "psd_ratio.png",
                                        report.fixed_margins(ax, top=report.WAVELENGTH_AXIS_TOP)))
     if curves:
+        from .mu_provenance import rubber_label
+
         figs.append(report.plot_mu([(n, c.v_m_per_s, c.mu) for n, c in zip(names, curves)],
-                                   out_dir / "mu_all.png", title="μ(v) of all surfaces"))
+                                   out_dir / "mu_all.png", title="μ(v) of all surfaces, " + rubber_label(
+                                       settings.rubber, settings.sigma0_Pa, curves[0].meta.get("T0_C"))))
         if len(curves) > 1:
             figs.append(report.plot_mu([(f"{n} / {names[0]}", c.v_m_per_s, c.mu / curves[0].mu)
                                         for n, c in zip(names[1:], curves[1:])],

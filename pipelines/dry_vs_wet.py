@@ -20,7 +20,7 @@ from roadscan.io.atomic import atomic_save_npy
 from . import report
 from .analyse import nominal_band
 from .friction_options import FrictionSettings
-from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
+from .spectrum_bridge import analyse_surface, friction_curve
 
 __all__ = ["run_dry_vs_wet", "speed_table", "mu_by_speed"]
 
@@ -96,8 +96,11 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         validate.warn(view.warning)
 
     if settings.enabled:
-        psd_dry = surface_psd(an_dry.spectrum, an_dry.fit, q1_per_m=settings.q1_per_m)
-        psd_wet = surface_psd(an_wet.spectrum, an_dry.fit, q1_per_m=settings.q1_per_m)
+        from .analyse_band import band_psd
+        from .mu_provenance import rubber_label
+
+        psd_dry, rb = band_psd(an_dry, settings, window_alpha)     # the dry scan's reliable band
+        psd_wet, _ = band_psd(an_wet, settings, window_alpha, rb=rb, fit=an_dry.fit)   # (issue 20)
         fd = friction_curve(psd_dry, settings.rubber, settings.v_m_per_s, settings.sigma0_Pa,
                             settings.T0_C, settings.flash)
         fw = friction_curve(psd_wet, settings.rubber, fd.v_m_per_s, settings.sigma0_Pa,
@@ -111,9 +114,11 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         result["max_difference_mu"] = float(fd.mu[i] - fw.mu[i])
         result["mu_peak_dry"] = float(fd.mu.max())
         result["mu_peak_wet"] = float(fw.mu.max())
+        result["rubber"] = rubber_label(settings.rubber, settings.sigma0_Pa, fd.meta.get("T0_C"))
         report.write_csv(out_dir / "mu.csv", ["v_m_per_s", "mu_dry", "mu_wet"], [v, fd.mu, fw.mu])
         figs.append(report.plot_mu([("dry", v, fd.mu), ("wet (rain-filled)", v, fw.mu)],
-                                   out_dir / "mu_dry_wet.png", title=f"{scan.name}: μ(v) dry and wet"))
+                                   out_dir / "mu_dry_wet.png",
+                                   title=f"{scan.name}: μ(v) dry and wet, {result['rubber']}"))
         ratio = np.divide(fw.mu, fd.mu, out=np.full_like(fw.mu, np.nan), where=fd.mu > 0)
         figs.append(report.plot_mu([("μ_wet / μ_dry", v, ratio)], out_dir / "mu_ratio.png",
                                    title=f"{scan.name}: wet-to-dry friction ratio",
@@ -140,6 +145,7 @@ def _write_report(out_dir, name, r, figs):
         "water per area (volume / area, as a depth)": length(r["water_volume_m3_per_m2"]),
         "connectivity of the fill": r["connectivity"],
         "3D view drawn with": r.get("renderer_3d") or "not drawn",
+        "rubber (friction)": r.get("rubber") or "—",
     }
     sections = [("Key figures", report.table_html(key, ["quantity", "value"]))]
     notes = list(r.get("warnings") or []) + ([r["render_note"]] if r.get("render_note") else [])
