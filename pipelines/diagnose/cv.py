@@ -4,7 +4,7 @@ With ``CV_BELOW`` (20) or more points, every third point (indices 1, 4, 7, ...) 
 never used in a fit. With fewer, k-fold cross-validation over the measured speeds (leave-one-out
 up to ``CV_FOLDS`` points; fold i holds points i, i + K, ...): every fold is refitted from its
 own cold starts, chosen on its own training points (:func:`fitting.fit_candidate` without
-``start``; the evaluation cache is shared, since an evaluation gives mu at every row), never
+``start``; the three best separated grid points for one or two parameters, the best one above; the evaluation cache is shared, since an evaluation gives mu at every row), never
 from the fit on every point, and predicts its held-out points (Hastie, Tibshirani & Friedman,
 *The elements of statistical learning*, 2nd ed., sec 7.10.2: the whole fitting procedure,
 starts included, must be repeated inside each fold). The reported parameters are the fit on
@@ -106,7 +106,7 @@ def evaluate(c, ctx, real_mu, ho, r0_held, cache=None):
         for f in ho.folds:
             m = np.ones(n, bool)
             m[f] = False
-            cf = fit_candidate(ctx, real_mu, c.effects, m, budget=small, cache=cache)
+            cf = fit_candidate(ctx, real_mu, c.effects, m, budget=small, cache=cache, max_starts=3 if c.k <= 2 else 1)
             rh[f] = (y - np.log10(cf.pred))[f]
             c.nfev += cf.nfev
         c.r_held = rh

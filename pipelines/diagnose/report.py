@@ -34,7 +34,9 @@ def friction_json(d, where, bandmap, validate=None):
         where=[{k: w[k] for k in ("v_min_m_per_s", "v_max_m_per_s", "gap", "n", "mean_log_ratio",
                                   "p_value", "significant")} for w in where],
         band_map=bandmap,
-        effects=[c.as_dict() for c in d.candidates],
+        effects=effect_entries(d),
+        effects_nominal=[c.as_dict() for c in d.candidates if _is_nominal_single(c, d)],
+        calibration=None if d.calibration is None else d.calibration.as_dict(),
         skipped=d.skipped,
         inconclusive=d.verdict["inconclusive"],
         at_bound=d.verdict["at_bound"],
@@ -51,6 +53,34 @@ def friction_json(d, where, bandmap, validate=None):
                      reason=d.verdict["reason"]),
         seconds=round(d.seconds, 2),
     )
+
+
+def _is_nominal_single(c, d):
+    """A single effect fitted at the nominal inputs while a calibrated version of it exists."""
+    names = {x.name for x in d.candidates}
+    return len(c.effects) == 1 and c.name != "calibration" and f"calibration+{c.name}" in names
+
+
+def effect_entries(d):
+    """``effects`` of diagnosis.json, best first: one entry per physical candidate. With uncertain
+    inputs an effect's entry is its fit together with the calibration (named after the effect;
+    its params hold the effect's own and ``calibration.<input>``; ``with_calibration`` true); the
+    fit at the nominal inputs is under ``effects_nominal`` and the calibration alone under
+    ``calibration``."""
+    out = []
+    for c in d.candidates:
+        if c.name == "calibration" or _is_nominal_single(c, d):
+            continue
+        e = c.as_dict()
+        if c.effects[0].name == "calibration":
+            e["name"] = "+".join(c.effect_names)
+            e["candidate"] = c.name
+            e["params"] = dict(c.params[1], **{f"calibration.{k}": x for k, x in c.params[0].items()})
+            e["with_calibration"] = True
+            if hasattr(c, "beyond"):
+                e["shrink_beyond_calibration"] = c.beyond
+        out.append(e)
+    return out
 
 
 def _calibrated(cal):

@@ -165,7 +165,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
                 starts = [cal.params + [e.null_params(ctx) or {p.name: p.init for p in e.params}]]
                 if e.name in by_name:
                     starts.append(cal.params + by_name[e.name].params)
-                budget = 8 if e.cost > 1 else None
+                budget = 8 if e.cost > 1 else 20 + 4 * (len(e.params) + len(cal_e.params))
                 c = run((cal_e, e), extra_starts=starts, budget=budget)
                 if c is not None:
                     calpairs.append(c)

@@ -10,7 +10,9 @@ well within the noise (:func:`rivals`) makes the verdict inconclusive.
 With uncertain inputs (:mod:`.calibration`) the reference is the calibrated model: an effect is
 named only when, fitted together with the calibration, it shrinks the calibrated model's
 held-out gap by ``MIN_SHRINK`` more (its paired bootstrap interval above 0) while the calibrated
-gap is still significant against the noise. Otherwise, when the calibration alone shrinks the
+gap is still significant against the noise; among effects that do so equally well, the one whose
+fit at the nominal inputs is clearly the best is preferred (the nominal values are the most likely
+within their ranges), else the verdict is inconclusive. Otherwise, when the calibration alone shrinks the
 baseline's held-out gap by ``MIN_SHRINK``, the verdict is ``"calibration"`` (``calibrated``: the
 fitted inputs with approximate 95 % intervals), or inconclusive when an effect alone explains
 the held-out points as well (``inconclusive`` then names it and ``"calibration"``).
@@ -34,15 +36,14 @@ PAIR_GAIN = 0.85
 
 
 def rivals(best, pool, noise, names=None):
-    """Candidates of ``pool`` (not sharing an effect with ``best``, with no more free parameters)
-    explaining the held-out points as well within the noise: their mean squared held-out residual
-    exceeds the best's by less than a quarter of its paired standard error, and their held-out gap
-    by less than a tenth of the noise. (A model with more parameters that does no better is no
-    rival: the simpler explanation is preferred.)"""
+    """Candidates of ``pool`` (not sharing an effect with ``best``) explaining the held-out points
+    as well within the noise: their mean squared held-out residual exceeds the best's by less than
+    a quarter of its paired standard error, and their held-out gap by less than a tenth of the
+    noise."""
     out = []
     names = set(best.effect_names) if names is None else names
     for c in pool:
-        if c is best or set(c.effect_names) & names or not (c.shrink >= MIN_SHRINK) or c.k > best.k:
+        if c is best or set(c.effect_names) & names or not (c.shrink >= MIN_SHRINK):
             continue
         if c.r_held is None or best.r_held is None or c.r_held.size != best.r_held.size:
             continue
@@ -93,6 +94,20 @@ def _name(v, best, g_ref, ref="baseline", interval=None, calibrated=None):
     v["confidence"] = _confidence(best, lo)
     v["calibrated"] = calibrated or {}
     v["reason"] = (f"{'+'.join(names)} shrinks the {ref} held-out gap from {g_ref:.4f} to {best.gap_heldout:.4f}")
+
+
+def _nominal_tiebreak(group, singles, noise, best, riv):
+    """Effects that explain what the calibrated inputs leave equally well: the one whose fit at
+    the nominal inputs is clearly better than every other's (no rival there) is preferred, since
+    the nominal inputs are the most likely values within their ranges. Returns (best, rivals)."""
+    nominal = {c.effects[0].name: c for c in singles}
+    fits = [nominal.get(c.effect_names[0]) for c in group]
+    if any(f is None for f in fits):
+        return best, riv
+    top = min(range(len(group)), key=lambda i: fits[i].gap_heldout)
+    if not fits[top].shrink >= MIN_SHRINK or rivals(fits[top], fits, noise):
+        return best, riv
+    return group[top], []
 
 
 def _refuse(v, best, why):
@@ -161,6 +176,8 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
     if adds:
         best = min(adds, key=lambda c: c.score)
         riv = rivals(best, adds, noise)
+        if riv:
+            best, riv = _nominal_tiebreak([best] + riv, singles, noise, best, riv)
         if riv:
             v["inconclusive"] = [best.effect_names[0]] + [r.effect_names[0] for r in riv]
             v["reason"] = ("inconclusive: " + ", ".join(v["inconclusive"]) + " each explain what the calibrated "
