@@ -165,8 +165,7 @@ def noise_limit(q, C, slope, intercept, q_from):
 
 def _wl(q):
     """A wavelength 2 pi / q in mm or um, 3 significant digits."""
-    lam = 2 * np.pi / q
-    return f"{lam * 1e3:.3g} mm" if lam >= 1e-3 else f"{lam * 1e6:.3g} um"
+    return _len(2 * np.pi / q)
 
 
 def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min_count=1,
@@ -246,6 +245,9 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
 
 
 def _len(m):
+    """A length in m, mm or um, 3 significant digits."""
+    if m >= 1.0:
+        return f"{m:.3g} m"
     return f"{m * 1e3:.3g} mm" if m >= 1e-3 else f"{m * 1e6:.3g} um"
 
 
