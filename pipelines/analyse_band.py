@@ -55,9 +55,10 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
         band = detect_band(sub)
     except ValueError:
         band = (float(q[inner][0]), float(q[inner][-1]))
+    q_roll = rb.q_roll_per_m if rb.q_roll_per_m and rb.q_roll_per_m < band[0] * 1.5 else None
     try:
-        an.fit = fit_self_affine(cut, band=band)
-    except ValueError:
+        an.fit = fit_self_affine(cut, band=band, roll_off=q_roll)   # the band's roll-off test
+    except ValueError:                                              # saw every ring
         pass
     return rb
 

@@ -184,7 +184,7 @@ def _detect_roll_off(q, C, slope, icpt, lo, window_decades, min_deficit=0.3):
     return float(q_roll)
 
 
-def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4):
+def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_off=None):
     """Fit the self-affine form to a (2D, isotropic) spectrum.
 
     log10 C is fitted against log10 q over the band by least squares, each ring weighted by
@@ -197,6 +197,9 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4):
         C(q) [m^4] in Persson's normalisation (kind area, profile or model).
     band : (lo, hi), optional
         Fit band [1/m]; detected with :func:`detect_band` when omitted.
+    roll_off : float, optional
+        A roll-off wave vector [1/m] found elsewhere (e.g. by :mod:`roadscan.reliable_band` on
+        every ring) used instead of this fit's own test.
 
     Returns
     -------
@@ -220,6 +223,8 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4):
     # as _detect_roll_off, missed the coarse sample's 14 mm roll-off); the first ring stands
     # for 2 pi / L
     q_roll = detect_roll_off(q, C, counts, slope, icpt, float(spectrum.q_per_m[0]), hi)
+    if roll_off is not None:
+        q_roll = float(roll_off)
     if q_roll is not None and q_roll > lo * 1.5:
         q_roll = None
     q0 = q_roll if q_roll is not None else float(q[0])
