@@ -19,6 +19,8 @@ __all__ = ["TEXTURE_HEADER", "TextureSettings", "add_texture_options", "texture_
            "texture_table_html", "depth_rows"]
 
 TEXTURE_HEADER = ["centre_wavelength_m", "band_lo_m", "band_hi_m", "level_dB"]
+#: dropout share above which the texture levels get a warning (a linear fill carries no texture)
+DROPOUT_WARN = 0.10
 
 
 @dataclass
@@ -96,6 +98,12 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
     settings = settings or TextureSettings()
     ts = texture_spectrum(_spectrum_input(analysis), direction=settings.direction)
     out = {"texture_level_dB": ts.as_dict(), "texture_spectrum_note": ts.note}
+    if ts.dropout_fraction > DROPOUT_WARN:
+        import math
+
+        low = -10 * math.log10(max(1e-6, 1 - ts.dropout_fraction))
+        warn(f"{analysis.name}: {ts.dropout_fraction:.0%} of the points are dropouts, filled "
+             f"linearly for the texture spectrum: its levels read up to about {low:.1f} dB low")
     if not analysis.is_profile:
         out["texture_direction"] = settings.direction
     mpd, mpd_note = analysis.mpd_m, analysis.mpd_note

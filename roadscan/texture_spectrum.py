@@ -78,7 +78,7 @@ class TextureSpectrum:
 
     ``nominal_mm``, ``centre_m``, ``lo_m``, ``hi_m``: the bands; ``rms_m``: a [m];
     ``level_dB``: 20 log10(a / 1e-6 m); ``note``: what was done (lines, dropouts filled,
-    resolved range).
+    resolved range); ``dropout_fraction``: the share of unmeasured points filled.
     """
 
     nominal_mm: np.ndarray
@@ -88,6 +88,7 @@ class TextureSpectrum:
     rms_m: np.ndarray
     level_dB: np.ndarray
     note: str = ""
+    dropout_fraction: float = 0.0
 
     def as_dict(self):
         """{nominal label: level dB} (the ``texture_level_dB`` object of summary.json)."""
@@ -206,8 +207,8 @@ def texture_spectrum(obj, direction="x"):
         note += f"; {drop:.1%} dropouts filled linearly along the lines"
     if not ok.any():
         e = np.array([])
-        return TextureSpectrum(e, e, e, e, e, e, note + "; no band resolved")
+        return TextureSpectrum(e, e, e, e, e, e, note + "; no band resolved", drop)
     a2, used = line_band_power(z, dx, lo[ok], hi[ok])
     with np.errstate(divide="ignore"):
         level = 10.0 * np.log10(a2 / A_REF_M ** 2)
-    return TextureSpectrum(nom[ok], centre[ok], lo[ok], hi[ok], np.sqrt(a2), level, note)
+    return TextureSpectrum(nom[ok], centre[ok], lo[ok], hi[ok], np.sqrt(a2), level, note, drop)

@@ -98,3 +98,18 @@ def test_units_format():
     assert quantity("texture_dB", 45.26) == "45.3 dB"
     assert quantity("ifi_speed_constant_kmh", 308.4) == "308 km/h"
     assert "λ = 6.28 mm" in quantity("q_roll_per_m", 1000.0)
+
+
+def test_many_dropouts_warned_in_summary_warnings():
+    from pipelines import validate
+
+    dx = 0.5e-3
+    z = 1e-3 * np.sin(2 * np.pi * np.arange(4000) * dx / 20e-3)
+    bad = np.zeros(z.size, bool)
+    bad[::4] = bad[1::4] = True                             # half the points missing
+    validate.reset_warnings()
+    to.texture_keys(_Analysis(Profile(z, dx, unmeasured=bad), 1e-3))
+    assert any("dropouts" in w and "dB low" in w for w in validate.warnings_list())
+    validate.reset_warnings()
+    to.texture_keys(_Analysis(Profile(z, dx), 1e-3))
+    assert not any("dropouts" in w for w in validate.warnings_list())
