@@ -46,6 +46,8 @@ def run(args):
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
     write(args.out, hm)
-    print(f"wrote {args.out}: {hm.ny} x {hm.nx} points at {args.spacing:g} m, H = {args.hurst}, "
-          f"rms = {args.rms:g} m, seed {args.seed}")
+    from ..units_format import length
+
+    print(f"wrote {args.out}: {hm.ny} x {hm.nx} points at {length(args.spacing)}, H = {args.hurst}, "
+          f"rms = {length(args.rms)}, seed {args.seed}")
     return 0
