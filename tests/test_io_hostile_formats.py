@@ -409,3 +409,22 @@ def test_lateral_ranges_by_kind():
         check_lateral("f", "di", "DI", 1e-5, 1e-5, 512, 512)       # a 5 mm AFM field
     with pytest.raises(InputError, match="optical"):
         check_lateral("f", "plu", "PLU", 1e-10, 1e-10, 512, 512)   # 0.1 nm optical pixels
+
+
+def test_gwy_channel_by_number_or_title(tmp_path):
+    pytest.importorskip("gwyfile")
+    from gwyfile.objects import GwyContainer, GwyDataField
+
+    a, b = H, H[::-1] * 2
+    c = GwyContainer()
+    for k, (h, title) in enumerate(((a, "Height"), (b, "Height retrace"))):
+        c[f"/{k}/data"] = GwyDataField(h, xreal=5e-4, yreal=6e-4, si_unit_xy="m", si_unit_z="m")
+        c[f"/{k}/data/title"] = title
+    c.tofile(str(tmp_path / "two.gwy"))
+    m = read(tmp_path / "two.gwy")
+    np.testing.assert_array_equal(m.heights_m, a)
+    assert m.meta["channels"] == ["0: Height", "1: Height retrace"]
+    for ch in (1, "1", "height retrace"):
+        np.testing.assert_array_equal(read(tmp_path / "two.gwy", channel=ch).heights_m, b)
+    with pytest.raises(InputError, match=r"--channel 7: no such channel \(channels: 0 \(Height\)"):
+        read(tmp_path / "two.gwy", channel=7)

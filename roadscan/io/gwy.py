@@ -106,9 +106,25 @@ def check_gwy_structure(path):
     _check_object(buf, 4, len(buf), path)
 
 
+def _choose_channel(path, channels, titles, channel):
+    """The channel number: the first, or ``channel`` as a number or a title."""
+    if channel is None:
+        return channels[0]
+    if isinstance(channel, int):
+        if channel in channels:
+            return channel
+    else:
+        hits = [c for c in channels if titles[c].lower() == str(channel).lower()]
+        if hits:
+            return hits[0]
+    listed = ", ".join(f"{c} ({titles[c]})" if titles[c] else str(c) for c in channels)
+    raise InputError(path, f"--channel {channel}: no such channel (channels: {listed})")
+
+
 @register_reader(".gwy")
-def read_gwy(path, spacing=None, units=None):
-    """Read the first data channel of a Gwyddion ``.gwy`` file."""
+def read_gwy(path, spacing=None, units=None, channel=None):
+    """Read a data channel of a Gwyddion ``.gwy`` file: the first, or ``channel`` (its number
+    ``/N/data``, or its title); ``meta["channels"]`` lists the titles when there are several."""
     import gwyfile
 
     p = check_file(path)
@@ -124,7 +140,8 @@ def read_gwy(path, spacing=None, units=None):
     )
     if not channels:
         raise InputError(path, "no data channel in the Gwyddion file")
-    ch = channels[0]
+    titles = {c: str(obj.get(f"/{c}/data/title", "")) for c in channels}
+    ch = _choose_channel(path, channels, titles, channel)
     field = obj[f"/{ch}/data"]
     try:
         check_declared_size(path, (int(field["yres"]), int(field["xres"])), 8)
@@ -135,7 +152,9 @@ def read_gwy(path, spacing=None, units=None):
         z = np.asarray(field.data, dtype=np.float64)
     except Exception as exc:  # noqa: BLE001
         raise InputError(path, f"channel {ch} is not a readable data field ({exc})") from None
-    meta = {"format": "gwy", "channel": ch, "title": str(obj.get(f"/{ch}/data/title", ""))}
+    meta = {"format": "gwy", "channel": ch, "title": titles[ch]}
+    if len(channels) > 1:
+        meta["channels"] = [f"{c}: {titles[c]}" for c in channels]
     zu = _unit(field, "si_unit_z")
     if zu:
         factor = pick_units(path, units, zu, parse_units(zu, path), meta)
