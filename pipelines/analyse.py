@@ -164,7 +164,7 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
                                 fr.meta["T0_C"], T_max, result=fr)
 
     summary = summarise(an, fr)
-    summary.update(analyse_band.summary_keys(rb))
+    summary.update(analyse_band.summary_keys(rb, an.name))
     if fr is not None:
         summary["friction"].update(
             q0_per_m=float(fr.q_per_m[0]), sigma0_Pa=settings.sigma0_Pa, nu=settings.nu,

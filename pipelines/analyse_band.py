@@ -30,17 +30,11 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
 
     from .reliable_bridge import scan_band
 
-    from . import validate
-
     spec = an.spectrum
     try:
         rb = scan_band(an.source, spec, resolution_m, window_alpha=window_alpha)
     except ValueError:
         return None
-    if not rb.valid:
-        validate.warn(f"{an.name}: reliable band {rb.lo_per_m:.3g}-{rb.hi_per_m:.3g} 1/m is narrower "
-                      f"than a factor 2 (the scan is small for its spacing: {rb.lo_reason.split(':')[0]} "
-                      f"vs {rb.hi_reason.split(':')[0]}): fit and friction use the whole spectrum")
     if fit_band is not None or not rb.valid:
         return rb
     q, C = spec.q_per_m, spec.C_m4
@@ -78,10 +72,17 @@ def friction_ends(rb, fit, settings):
     return float(q0), float(q1)
 
 
-def summary_keys(rb):
-    """The ``summary.json`` keys of the band (empty without one)."""
+def summary_keys(rb, name=""):
+    """The ``summary.json`` keys of the band (empty without one); warns (once, after the
+    friction's own checks) when the band is under a factor 2 wide."""
     if rb is None:
         return {}
+    if not rb.valid:
+        from . import validate
+
+        validate.warn(f"{name}: reliable band {rb.lo_per_m:.3g}-{rb.hi_per_m:.3g} 1/m is narrower "
+                      f"than a factor 2 (the scan is small for its spacing: {rb.lo_reason.split(':')[0]} "
+                      f"vs {rb.hi_reason.split(':')[0]}): fit and friction use the whole spectrum")
     return {"reliable_band_per_m": rb.band, "reliable_band_reasons": rb.reasons,
             "reliable_band_limits_per_m": dict(rb.limits)}
 

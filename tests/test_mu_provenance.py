@@ -82,6 +82,8 @@ def test_shipped_samples_give_believable_mu(tmp_path, name):
     assert set(s["reliable_band_reasons"]) == {"lo", "hi"}
     assert f["q0_per_m"] >= lo * (1 - 1e-6) and f["q1_per_m"] <= hi * (1 + 1e-6)
     assert s["fit_band_per_m"][1] <= hi * (1 + 1e-6)
+    if name == "coarse_asphalt.x3p":                   # made with a 14 mm roll-off
+        assert 2 * np.pi / s["q_roll_per_m"] == pytest.approx(14e-3, rel=0.15)
     html = (tmp_path / "o" / "report.html").read_text()
     assert "reliable band" in html and "thesis" in html
 
