@@ -145,3 +145,17 @@ def test_boundaries_are_where_documented():
     check_plausible(HeightMap(n * 12e-9, 20e-6, 20e-6), "b")
     with pytest.raises(InputError, match="units?"):
         check_plausible(HeightMap(n * 8e-9, 20e-6, 20e-6), "b")
+
+
+def test_batch_sections_refuse_a_slipped_profile(tmp_path):
+    import csv
+
+    rng = np.random.default_rng(4)
+    z = np.convolve(rng.normal(size=40008), np.ones(8) / 8, mode="valid")[:40000] * 2e-3
+    np.save(tmp_path / "lane.npy", z * 1e3)                     # mm numbers read as metres
+    out = tmp_path / "o"
+    main(["batch", str(tmp_path / "lane.npy"), "--section-length", "0.5", "--spacing", "5e-5",
+          "--no-friction", "--out", str(out), "--workers", "1"])
+    rows = list(csv.DictReader(open(out / "campaign.csv")))
+    assert rows and all(r["status"] != "ok" for r in rows)
+    assert any("units?" in r["error"] and "--units mm" in r["error"] for r in rows)

@@ -80,6 +80,10 @@ def _analyse_sections(job, tmp):
         extra = {"section": k, "section_start_m": start, "section_length_m": prof.length_m}
         chain = base + start
         _reset_warnings()
+        if k == 0:      # a units slip refuses the file before any section (issue 22)
+            from roadscan.plausibility import check_plausible
+
+            check_plausible(prof, job["file"], job.get("units"))
         try:
             summary = run_analysis(prof, tmp / sub, job["settings"], figures=job.get("figures", False),
                                    **job["analysis"])
