@@ -428,3 +428,22 @@ def test_gwy_channel_by_number_or_title(tmp_path):
         np.testing.assert_array_equal(read(tmp_path / "two.gwy", channel=ch).heights_m, b)
     with pytest.raises(InputError, match=r"--channel 7: no such channel \(channels: 0 \(Height\)"):
         read(tmp_path / "two.gwy", channel=7)
+
+
+def test_text_header_over_binary_goes_to_surfacetopography(tmp_path):
+    """A Bruker Nanoscope file starts with a long text header (``\\*File list``); it must reach
+    SurfaceTopography's detection, not the text reader (a broken one: refused in one line)."""
+    pytest.importorskip("SurfaceTopography")
+    from roadscan.io.detect import sniff_extension
+
+    p = tmp_path / "afm.di"
+    p.write_bytes(b"\\*File list\r\n\\Version: 0x05120000\r\n" + b"\\x: 1\r\n" * 800
+                  + b"\\*File list end\r\n" + bytes(range(256)) * 8)
+    assert sniff_extension(p) == "vendor"
+    with pytest.raises(InputError) as ei:
+        read(p)
+    assert "afm.di" in str(ei.value) and "'.di'" in str(ei.value) and "\n" not in str(ei.value)
+    q = tmp_path / "hdr.bin"
+    q.write_bytes(b"instrument export\r\n" * 300 + b"\x00\x01" * 500)
+    with pytest.raises(InputError, match="hdr.bin"):
+        read(q)

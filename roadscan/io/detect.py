@@ -6,7 +6,9 @@ or without extension; exports get ``.bin`` or ``.dat``). When the extension is n
 
 - ``\\x93NUMPY`` -> ``.npy``; ``GWYP`` -> ``.gwy``; ``II*\\0`` / ``MM\\0*`` -> ``.tif``;
 - a zip holding ``main.xml`` -> ``.x3p``, one holding only ``.npy`` members -> ``.npz``;
-- text (no NUL byte in the first 4 kB): CAPTIF marker -> CAPTIF ``.dat``, else the text reader;
+- text (no NUL byte in the first 4 kB): CAPTIF marker -> CAPTIF ``.dat``, else the text reader,
+  and SurfaceTopography when the text reader finds no table (a long text header over binary
+  data); a Bruker Nanoscope header (``\\*File list``) goes to SurfaceTopography directly;
 - anything else: SurfaceTopography's detection by content (``SurfaceTopography.IO.
   detect_format``: each reader whose magic bytes do not rule the file out tries to open it),
   then its reader of that format (:func:`roadscan.io.vendor.read_vendor`).
@@ -52,6 +54,8 @@ def sniff_extension(path):
         if names and all(n.endswith(".npy") for n in names):
             return ".npz"
         return "vendor"
+    if head.lstrip().startswith(b"\\*"):          # Bruker Nanoscope: "\*File list" header
+        return "vendor"
     if b"\x00" not in head:
         with open(path, "rb") as f:
             if _CAPTIF_MARK in f.read(1 << 16):
@@ -74,10 +78,27 @@ def read_by_content(path, readers, spacing=None, units=None, channel=None):
         try:
             obj = reader(path, spacing=spacing, units=units, **extra)
         except InputError as exc:
+            if kind == ".txt" and _has_binary_tail(path):   # a text header over binary data
+                try:
+                    return _read_vendor_by_content(path, ext, readers, spacing, units, extra)
+                except InputError:
+                    pass
             raise InputError(path, f"unknown file extension {ext!r}, read by its content as "
                                    f"{kind}: {exc.problem}") from None
         obj.meta["detected_by_content"] = kind.lstrip(".")
         return obj
+    return _read_vendor_by_content(path, ext, readers, spacing, units, extra)
+
+
+def _has_binary_tail(path, limit=1 << 22):
+    """True if a NUL byte occurs in the first ``limit`` bytes (binary data under a text
+    header); a text table never holds one."""
+    with open(path, "rb") as f:
+        return b"\x00" in f.read(limit)
+
+
+def _read_vendor_by_content(path, ext, readers, spacing, units, extra):
+    """SurfaceTopography's detection by content, then its reader of the format found."""
     from .vendor import _import_io, read_vendor
 
     stio, _ = _import_io(path)
