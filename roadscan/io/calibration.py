@@ -62,6 +62,18 @@ def _record(meta, key, what, file_value, flag_value):
             f"--{what} {flag_value} ignored: the file carries its own {what} ({file_value})")
 
 
+def _decide(path, meta, what, file_value, flag_value, conflict):
+    """``"flag"`` or ``"file"``: which wins under the current policy (recorded in ``meta``);
+    under ``"strict"`` the ``conflict`` is refused in one line."""
+    policy = current_policy()
+    if policy == "strict":
+        raise InputError(path, f"{conflict}; drop --{what}, or add {_FLAG} to use yours "
+                               f"(recorded in the outputs)")
+    key = "calibration_override" if policy == "override" else "calibration_ignored"
+    _record(meta, key, what, file_value, flag_value)
+    return "flag" if policy == "override" else "file"
+
+
 def pick_spacing(path, given, from_file, meta):
     """The spacing to use, (dx, dy) [m] or (dx,) for profiles.
 
@@ -84,16 +96,10 @@ def pick_spacing(path, given, from_file, meta):
     given = tuple(given)[:n]
     if all(abs(g - f) <= _REL * abs(f) for g, f in zip(given, from_file)):
         return from_file
-    policy = current_policy()
-    if policy == "strict":
-        raise InputError(path, f"the file carries its own spacing {_fmt(from_file)} m: --spacing "
-                               f"{_fmt(given)} would override it; drop --spacing, or add {_FLAG} "
-                               f"to use yours (recorded in the outputs)")
-    if policy == "override":
-        _record(meta, "calibration_override", "spacing", list(from_file), list(given))
-        return given
-    _record(meta, "calibration_ignored", "spacing", list(from_file), list(given))
-    return from_file
+    won = _decide(path, meta, "spacing", list(from_file), list(given),
+                  f"the file carries its own spacing {_fmt(from_file)} m: --spacing "
+                  f"{_fmt(given)} would override it")
+    return given if won == "flag" else from_file
 
 
 def pick_units(path, given, file_unit, file_factor, meta):
@@ -111,15 +117,10 @@ def pick_units(path, given, file_unit, file_factor, meta):
     f_given = unit_factor(given, path)
     if abs(f_given - file_factor) <= _REL * file_factor:
         return file_factor
-    policy = current_policy()
-    if policy == "strict":
-        raise InputError(path, f"the file states its heights in {file_unit}: --units {given} "
-                               f"would override it; drop --units, or add {_FLAG} to use yours "
-                               f"(recorded in the outputs)")
-    if policy == "override":
-        _record(meta, "calibration_override", "units", str(file_unit), str(given))
+    won = _decide(path, meta, "units", str(file_unit), str(given),
+                  f"the file states its heights in {file_unit}: --units {given} would override it")
+    if won == "flag":
         meta["height_unit"] = {"unit": str(given), "m_per_unit": f_given, "from": "flag"}
         return f_given
     meta["units_ignored"] = given
-    _record(meta, "calibration_ignored", "units", str(file_unit), str(given))
     return file_factor
