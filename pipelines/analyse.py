@@ -70,9 +70,9 @@ def summarise(analysis, fr=None):
         out["trim_note"] = src.meta["trim_note"]
     if isinstance(src.meta.get("instrument"), dict):   # what the reader found (JSON-safe)
         out["instrument"] = src.meta["instrument"]
-    for key in ("calibration_override", "calibration_ignored", "channel", "channels"):
-        if key in src.meta:                           # how the file was read (issue 22)
-            out[key] = src.meta[key]
+    from .scan_input import read_record
+
+    out.update(read_record(src))                      # how the file was read (issue 22)
     if analysis.is_profile:
         out["psd_conversion"] = analysis.spectrum.meta.get("conversion")
     if analysis.anisotropy is not None:

@@ -5,7 +5,10 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-__all__ = ["add_scan_options", "load_scan", "read_options"]
+__all__ = ["add_scan_options", "load_scan", "read_options", "read_record"]
+
+#: what summary.json records of how a file was read (issue 22)
+READ_KEYS = ("calibration_override", "calibration_ignored", "channel", "channels")
 
 _UNITS = ("m", "mm", "um", "nm")
 
@@ -90,3 +93,10 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
     for line in [*obj.meta.get("read_warnings", ()), *find_steps(obj)]:
         warn(f"{path}: {line}")              # on stderr and in summary.json (issue 22)
     return obj
+
+
+def read_record(obj):
+    """The keys of :data:`READ_KEYS` found in ``obj.meta``: for summary.json (how the file was
+    read: a flag that overrode or was set aside for its calibration, the channel used)."""
+    meta = getattr(obj, "meta", None) or {}
+    return {k: meta[k] for k in READ_KEYS if k in meta}

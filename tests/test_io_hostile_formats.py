@@ -447,3 +447,22 @@ def test_text_header_over_binary_goes_to_surfacetopography(tmp_path):
     q.write_bytes(b"instrument export\r\n" * 300 + b"\x00\x01" * 500)
     with pytest.raises(InputError, match="hdr.bin"):
         read(q)
+
+
+def test_rain_fill_summary_records_channel_and_override(tiffs, tmp_path):
+    import json
+
+    from pipelines.cli import main
+
+    d, _ = tiffs
+    out = tmp_path / "rain"
+    assert main(["rain-fill", str(d / "stack.tif"), "--spacing", "1e-4", "--channel", "2",
+                 "--out", str(out)]) == 0
+    s = json.loads((out / "rainfill.json").read_text())
+    assert s["channel"] == 2
+    p, _ = _x3p(tmp_path)
+    out2 = tmp_path / "rain2"
+    assert main(["rain-fill", str(p), "--spacing", "1e-4", "--override-calibration",
+                 "--out", str(out2)]) == 0
+    s = json.loads((out2 / "rainfill.json").read_text())
+    assert s["calibration_override"]["spacing"]["flag"] == [1e-4, 1e-4] and s["dx_m"] == 1e-4

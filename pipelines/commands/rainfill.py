@@ -106,6 +106,9 @@ def _write(out, args, scan, r):
                   "wet.npz": "wet surface with its spacing: heights [m], dx, dy [m], unmeasured",
                   "depth.npz": "water depth with its spacing: heights [m], dx, dy [m], unmeasured"},
     }
+    from ..scan_input import read_record
+
+    summary.update(read_record(scan))          # how the file was read (issue 22)
     from ..validate import warnings_list
 
     if warnings_list():
