@@ -33,6 +33,13 @@ if __name__ == "__main__" or \
     from .signals import exit_early_on_signals
 
     exit_early_on_signals()
+elif __name__ == "__mp_main__" or \
+        os.path.basename(getattr(sys.modules.get("__mp_main__"), "__file__", None) or "") == "roadscan":
+    # a process the command spawned (a local Dask worker re-importing the script): a terminal's
+    # Ctrl-C reaches the whole group, but stopping is the parent's business (issue 22)
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 import argparse
 import importlib
@@ -148,7 +155,7 @@ def main(argv=None):
     _ARGV = list(sys.argv[1:] if argv is None else argv)
     cmd = "roadscan"
     try:
-        with signals_as_interrupt():
+        with signals_as_interrupt(restore=argv is not None):
             parser = build_parser()
             args = parser.parse_args(argv)  # one-line usage errors, exit code 2
             cmd = f"roadscan {args.command}"

@@ -40,13 +40,25 @@ class Terminated(KeyboardInterrupt):
 _LAST = {"signum": None}
 
 
+def _quiet():
+    """From the first stop request on, libraries winding down (a Dask cluster closing while its
+    workers start: asyncio's "Task exception was never retrieved", "Exception ignored in ...")
+    print nothing: the command's one line says what happened."""
+    import logging
+
+    logging.disable(logging.CRITICAL)
+    sys.unraisablehook = lambda unraisable: None
+
+
 def _raise(signum, frame):
     _LAST["signum"] = int(signum)
+    _quiet()
     raise Terminated(signum)
 
 
 def _int(signum, frame):
     _LAST["signum"] = int(signum)
+    _quiet()
     raise KeyboardInterrupt
 
 
@@ -74,15 +86,20 @@ def signal_name(exc):
 
 
 @contextlib.contextmanager
-def signals_as_interrupt():
+def signals_as_interrupt(restore=True):
     """Inside the block, SIGTERM and SIGHUP raise :class:`Terminated` in the main thread and
     SIGINT raises KeyboardInterrupt (whatever handler a library installed before). A signal the
     parent set to be ignored stays ignored (``nohup`` ignores SIGHUP). Outside the main thread
-    this does nothing (Python allows handlers only there)."""
+    this does nothing (Python allows handlers only there). With ``restore`` the handlers, the
+    logging switch and ``sys.unraisablehook`` are as before after the block (a program calling
+    ``main()``); the command line passes False (the process ends with the block)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
+    import logging
+
     _LAST["signum"] = None
+    hook, disabled = sys.unraisablehook, logging.root.manager.disable
     previous = {}
     for sig in CAUGHT + (signal.SIGINT,):
         try:
@@ -94,9 +111,12 @@ def signals_as_interrupt():
     try:
         yield
     finally:
-        for sig, old in previous.items():
-            with contextlib.suppress(OSError, ValueError, TypeError):
-                signal.signal(sig, old if old is not None else signal.SIG_DFL)
+        if restore:
+            for sig, old in previous.items():
+                with contextlib.suppress(OSError, ValueError, TypeError):
+                    signal.signal(sig, old if old is not None else signal.SIG_DFL)
+            sys.unraisablehook = hook
+            logging.disable(disabled)
 
 
 def after_interrupt(code):
@@ -104,10 +124,8 @@ def after_interrupt(code):
     ``code`` at once, and what libraries print while the interpreter shuts down (log records,
     "Exception ignored in atexit callback" of a Dask cluster that was closing when the signal
     came) is not shown: the user has the one line already. Call from the main thread."""
-    import logging
+    _quiet()
 
-    logging.disable(logging.CRITICAL)
-    sys.unraisablehook = lambda unraisable: None
     def _now(signum, frame):
         with contextlib.suppress(Exception):
             sys.stderr.flush()

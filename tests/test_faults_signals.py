@@ -118,3 +118,30 @@ def test_interrupt_in_process_is_one_line_and_130(tmp_path, capsys, monkeypatch)
         rc, err = run_cli(capsys, ["analyse", scan, "--spacing", DX, "--no-figures", "--out", tmp_path / "o"])
         assert rc == code and err.count("\n") == 1 and "interrupted" in err, (rc, err)
         assert sorted(p.name for p in tmp_path.iterdir()) == ["s.npy"]
+
+
+@pytest.mark.parametrize("sig, delay, group", [(signal.SIGTERM, 1.2, False), (signal.SIGINT, 2.5, True)],
+                         ids=["SIGTERM-starting-cluster", "SIGINT-to-the-group-while-workers-start"])
+def test_campaign_interrupted_while_the_cluster_starts_or_runs(work, sig, delay, group):
+    """Ctrl-C or SIGTERM at any moment of a campaign (Dask cluster starting, scans running,
+    cluster stopping), to the command alone or, as a terminal's Ctrl-C does, to its whole
+    process group (the Dask workers too): one line, exit 128 + n, never a traceback nor exit 0,
+    no hidden folder left."""
+    import os
+
+    out = work / f"camp_{sig.name}"
+    cmd = roadscan_cmd() + ["batch", str(work / "scan.npy"), str(work / "scan.npy"), "--spacing", str(DX),
+                            "--workers", "1", "--out", str(out)]
+    p = subprocess.Popen(cmd, env=cli_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                         start_new_session=group)
+    time.sleep(delay)
+    if group:
+        os.killpg(p.pid, sig)
+    else:
+        p.send_signal(sig)
+    _, err = p.communicate(timeout=120)
+    if p.returncode == 0:
+        pytest.skip("the campaign finished before the signal")
+    assert p.returncode == 128 + sig, (p.returncode, err)
+    assert "Traceback" not in err and err.strip().count("\n") == 0 and "interrupted" in err, err
+    assert hidden_leftovers(work) == []

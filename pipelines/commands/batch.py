@@ -118,6 +118,7 @@ def run(args):
         results = run_campaign(jobs, workers=args.workers, scheduler=args.scheduler, progress=tty)
     except Interrupted as exc:
         results, interrupted = exc.records, True
+        _clean_after_stop(out, jobs)
     records = [r for recs in results for r in recs]
     write_campaign_csv(out / "campaign.csv", records)
     write_campaign_parquet(out / "campaign.parquet", records)
@@ -142,6 +143,20 @@ def summary_line(jobs, results, out):
     return (f"roadscan batch: {done} done, {skipped} skipped, {failed} failed, "
             f"{warned} with warnings -> "
             f"{out / 'campaign.csv'}, {out / 'report.html'}")
+
+
+def _clean_after_stop(out, jobs):
+    """Hidden temporary folders of scans whose worker was stopped mid-write (a signal to the
+    whole process group, a cluster closed under them): removed unless still locked by a live
+    writer (:func:`roadscan.io.atomic.recover_output_dir`)."""
+    from roadscan.io.atomic import recover_output_dir
+
+    for j in jobs:
+        if j.get("subdir"):
+            try:
+                recover_output_dir(out / j["subdir"])
+            except OSError:
+                pass
 
 
 def _refuse_overwrite(out, jobs, given):
