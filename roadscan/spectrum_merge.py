@@ -10,9 +10,11 @@ or 1D modes),
 
 the mean over every lattice point of every source that falls in the bin: each source weighs by
 its statistical weight; s_j is the local log-log slope (weighted line through the rings within
-0.3 decade), which moves each ring to q_j without bias for a power law. Where a bin holds few
+0.4 decade), which moves each ring to q_j without bias for a power law. Where a bin holds few
 lattice points (the lowest rings of a field of view), consecutive bins are pooled into one row
-until it holds :data:`MIN_ROW_DOF` degrees of freedom (at most :data:`MAX_ROW_BINS` bins). Uncertainty: a periodogram value of a Gaussian surface is C times an
+until it holds :data:`MIN_ROW_DOF` degrees of freedom (at most :data:`MAX_ROW_BINS` bins); the
+first row of a stretch of rows sits at its lowest ring's q (the curve starts where the band
+does), the others at the count-weighted mean q. Uncertainty: a periodogram value of a Gaussian surface is C times an
 exponential variable (2 degrees of freedom per independent mode, reduced by the window's
 equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
 band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
@@ -81,7 +83,7 @@ class MergedSpectrum:
     C_hi_m4: np.ndarray
     n_sources: np.ndarray           # sources measuring each row reliably (0: bridged)
     count: np.ndarray               # lattice points / modes behind each row (0: bridged)
-    band_per_m: tuple               # union of the contributing reliable bands [lo, hi]
+    band_per_m: tuple               # [first, last] row measured reliably
     gaps: list = field(default_factory=list)
 
 
@@ -154,6 +156,12 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     covered = N > 0
     Nc = np.where(covered, N, 1.0)
     q = np.bincount(idx, n * r[:, 1], nb) / Nc
+    # the first row of each covered run sits at its lowest ring: the curve starts where the
+    # band does, not at the pooled rings' mean
+    q_first = np.full(nb, np.inf)
+    np.minimum.at(q_first, idx, r[:, 1])
+    starts = covered & ~np.r_[False, covered[:-1]]
+    q = np.where(starts, q_first, q)
     # each ring's C moved to its row's q along the local slope (exact for a power law)
     Cr = r[:, 2] * (q[idx] / r[:, 1]) ** _row_slopes(r[:, 1], r[:, 2], n, q, covered)[idx]
     C = np.bincount(idx, n * Cr, nb) / Nc
@@ -186,7 +194,8 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     _gap_edges(gaps, lows, highs)
     Cm = np.exp(lnC)
     return MergedSpectrum(q, Cm, Cm * np.exp(-d_lo), Cm * np.exp(d_hi), nsrc.astype(np.int64),
-                          np.where(covered, N, 0.0), (min(lows), max(highs)), gaps)
+                          np.where(covered, N, 0.0),
+                          (float(q[covered][0]), float(q[covered][-1])), gaps)
 
 
 def _group_bins(dof, min_dof, max_bins):
@@ -208,7 +217,7 @@ def _group_bins(dof, min_dof, max_bins):
     return row, np.asarray(first, np.int64)
 
 
-def _row_slopes(q, C, n, q_row, covered, reach=0.3):
+def _row_slopes(q, C, n, q_row, covered, reach=0.4):
     """d ln C / d ln q at each row: weighted (lattice points) line through the rings within
     ``reach`` decades of the row's q (0 where fewer than 3 rings)."""
     x, y = np.log(q), np.log(C)
