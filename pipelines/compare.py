@@ -119,6 +119,14 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
                                         for n, c in zip(names[1:], curves[1:])],
                                        out_dir / "mu_ratio.png", title="where the friction differs",
                                        ylabel="μ / μ$_{ref}$ [-]"))
+    from . import validate
+
+    said = validate.warnings_list()          # what this run printed (readers, seams: issue 22)
+    srcs = [str(sc.meta.get("source", "\0")) for sc in scans]
+    for src, entry in zip(srcs, result.values()):   # each scan's own, and those naming none
+        mine = [w for w in said if w.startswith(src) or not any(w.startswith(t) for t in srcs)]
+        if mine and isinstance(entry, dict):
+            entry["warnings"] = mine
     report.write_json(out_dir / "comparison.json", result)
     _write_report(out_dir, names, result, figs, curves)
     return result

@@ -68,3 +68,16 @@ def test_step_warning_reaches_summary_and_stderr(tmp_path, capsys):
     s = json.loads(next(out.rglob("summary.json")).read_text())
     assert any("stitching fault" in w and "s.npy" in w for w in s["warnings"])
     assert "stitching fault" in err
+
+
+def test_step_warning_reaches_comparison_json(tmp_path):
+    h = fourier_surface(128, DX, 0.8, 2e-4, seed=3)
+    np.save(tmp_path / "a.npy", h)
+    h[:, 64:] += 2e-3
+    np.save(tmp_path / "b.npy", h)
+    out = tmp_path / "o"
+    assert main(["compare", str(tmp_path / "a.npy"), str(tmp_path / "b.npy"), "--spacing",
+                 str(DX), "--out", str(out), "--no-friction"]) == 0
+    c = json.loads((out / "comparison.json").read_text())
+    assert set(c) == {"a", "b"} and "warnings" not in c["a"]
+    assert any("stitching fault" in w and "b.npy" in w for w in c["b"]["warnings"])
