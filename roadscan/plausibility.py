@@ -74,7 +74,9 @@ def detrended_rms(obj):
         cols = [np.ones(int(ok.sum())), xx[ok], yy[ok]]
     zo = z[ok]
     if zo.size < len(cols) + 1:
-        return float(np.std(zo)) if zo.size else 0.0
+        if step > 1:                  # the subsample missed the measured points: take them all
+            return _all_points_rms(h)
+        return float(np.std(zo)) if zo.size else float("nan")
     lo, hi = np.percentile(zo, [1.0, 99.0])
     keep = (zo >= lo) & (zo <= hi)            # a few spikes neither tilt the plane nor the rms
     if keep.sum() < len(cols) + 1:
@@ -84,6 +86,12 @@ def detrended_rms(obj):
     coef, *_ = np.linalg.lstsq(a, zk, rcond=None)
     r = zk - a @ coef
     return float(np.sqrt(np.mean(r * r)))
+
+
+def _all_points_rms(h):
+    """rms about the mean of every measured point (no plane: too few for one)."""
+    v = h[np.isfinite(h)]
+    return float(np.std(v)) if v.size > 1 else float("nan")
 
 
 def _span(obj):
@@ -142,6 +150,8 @@ def check_plausible(obj, path=None, units=None):
         ``"... units? ... pass --units mm"`` when the heights are implausible.
     """
     rms = detrended_rms(obj)
+    if np.isnan(rms):
+        return rms        # too few measured points to judge (the caller's checks refuse them)
     size, dx = _lateral(obj)
     why = _problem(rms, size, dx)
     if why is None or (rms <= 1e-9 * _span(obj) and rms <= ROUGH_MAX * size):
