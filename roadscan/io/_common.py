@@ -6,7 +6,7 @@ Conventions (all readers)
 - Heights are returned in metres; spacings are metres.
 - ``units`` is the unit of the heights of a file that carries no units of its own
   ("m", "mm", "um" or "nm"); a file that states its units (X3P, Gwyddion, CAPTIF, vendor
-  formats) is read in its own units and ``units`` is ignored (recorded in ``meta``).
+  formats) is read in its own units; a contradicting ``units`` follows :mod:`roadscan.io.calibration`.
 - ``spacing`` is ``None``, a number DX (then DY = DX), a pair (DX, DY), or the CLI string
   ``"DX"`` / ``"DX,DY"``, always in metres.
 """

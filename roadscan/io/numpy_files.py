@@ -3,8 +3,9 @@
 - ``.npy``: a 2D array of heights, rows along y, columns along x, NaN where unmeasured, in
   metres unless ``units`` says otherwise. The file has no spacing: ``spacing`` is required.
 - ``.npz``: keys ``heights`` (2D, or 1D for a profile), ``dx`` and ``dy`` [m] (``dy`` absent for
-  a profile), optional boolean ``unmeasured``. ``spacing`` given to the reader overrides
-  ``dx``/``dy``. Heights are metres unless ``units`` says otherwise.
+  a profile), optional boolean ``unmeasured``. A ``spacing`` that contradicts ``dx``/``dy``
+  follows :mod:`roadscan.io.calibration` (refused unless overridden). Heights are metres
+  unless ``units`` says otherwise.
 
 Writers store metres (float64, or float32 with ``dtype="float32"``) and NaN at unmeasured points.
 """

@@ -16,9 +16,9 @@ extension; those whose magic bytes rule the file out are skipped, the others are
 the registry's order.
 
 The channel is converted by :mod:`roadscan.io.vendor_channel` (orientation, units, mask, size
-and value checks) and its metadata by :mod:`roadscan.io.vendor_meta`. ``spacing`` overrides the
-file's (the file's is kept in ``meta["file_spacing_m"]``); ``units`` is ignored when the file
-states its unit (noted in ``meta["units_ignored"]``).
+and value checks) and its metadata by :mod:`roadscan.io.vendor_meta`. A ``spacing`` or ``units``
+that contradicts the file's follows :mod:`roadscan.io.calibration` (refused unless
+overridden, recorded either way).
 
 Reference: L. Pastewka et al., SurfaceTopography, https://github.com/ContactEngineering/
 SurfaceTopography (MIT); the file formats are documented in its ``SurfaceTopography/IO``.
@@ -166,9 +166,9 @@ def read_vendor(path, spacing=None, units=None, formats=None, channel=None):
     ----------
     path : str or Path
     spacing : None, float, (float, float) or str
-        Grid spacing [m]; overrides the file's, required when the file states no size.
+        Grid spacing [m]; required when the file states no size (else see calibration).
     units : {"m", "mm", "um", "nm"}, optional
-        Height unit of a file that states none; ignored otherwise.
+        Height unit of a file that states none (else see calibration).
     formats : sequence of str, optional
         SurfaceTopography format ids to try (default: the readers listing the extension).
     channel : int or str, optional
