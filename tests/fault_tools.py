@@ -39,8 +39,12 @@ def snapshot(folder):
 
 def hidden_leftovers(folder):
     """Temporary outputs a run left (``.*roadscan-tmp-*``, ``.*roadscan-old-*``, mkstemp's
-    ``.<stem>.*`` files of an atomic write), anywhere below ``folder``."""
-    return [str(p) for p in Path(folder).rglob(".*") if "roadscan-" in p.name or p.is_file()]
+    ``.<stem>.*`` files of an atomic write), anywhere below ``folder``; a finished campaign's
+    sidecar (``.roadscan-batch.json``) is an output, not a leftover."""
+    from pipelines.campaign.folder import SIDECAR
+
+    return [str(p) for p in Path(folder).rglob(".*")
+            if p.name != SIDECAR and ("roadscan-" in p.name or p.is_file())]
 
 
 def run_cli(capsys, argv):
