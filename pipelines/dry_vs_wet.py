@@ -55,6 +55,9 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     an_wet = analyse_surface(wet, window_alpha=window_alpha)
 
     atomic_save_npy(out_dir / "wet.npy", wet.heights_m)   # NaN where unmeasured
+    from roadscan.io import write
+
+    write(out_dir / "wet.npz", wet)    # the same with its spacing: heights, dx, dy, unmeasured (issue 22)
 
     result = {
         "name": scan.name,
