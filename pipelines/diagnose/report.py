@@ -35,7 +35,8 @@ def friction_json(d, where, bandmap, validate=None):
                                   "p_value", "significant")} for w in where],
         band_map=bandmap,
         effects=effect_entries(d),
-        effects_nominal=[c.as_dict() for c in d.candidates if _is_nominal_single(c, d)],
+        effects_nominal=[c.as_dict() for c in d.candidates if _is_nominal_single(c, d) or c is d.best and
+                         len(c.effects) == 1 and d.calibration is not None],
         calibration=None if d.calibration is None else d.calibration.as_dict(),
         skipped=d.skipped,
         inconclusive=d.verdict["inconclusive"],
@@ -56,9 +57,17 @@ def friction_json(d, where, bandmap, validate=None):
 
 
 def _is_nominal_single(c, d):
-    """A single effect fitted at the nominal inputs while a calibrated version of it exists."""
+    """A single effect fitted at the nominal inputs while a calibrated version of it exists (and
+    the verdict did not name the nominal fit itself)."""
     names = {x.name for x in d.candidates}
-    return len(c.effects) == 1 and c.name != "calibration" and f"calibration+{c.name}" in names
+    return (len(c.effects) == 1 and c.name != "calibration" and f"calibration+{c.name}" in names
+            and c is not d.best)
+
+
+def _is_replaced_pair(c, d):
+    """A calibration+effect fit whose effect the verdict named at the nominal inputs."""
+    return (d.best is not None and len(c.effects) == 2 and c.effects[0].name == "calibration"
+            and d.best.name == c.effects[1].name)
 
 
 def effect_entries(d):
@@ -69,7 +78,7 @@ def effect_entries(d):
     ``calibration``."""
     out = []
     for c in d.candidates:
-        if c.name == "calibration" or _is_nominal_single(c, d):
+        if c.name == "calibration" or _is_nominal_single(c, d) or _is_replaced_pair(c, d):
             continue
         e = c.as_dict()
         if c.effects[0].name == "calibration":

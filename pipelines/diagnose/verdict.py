@@ -110,6 +110,21 @@ def _nominal_tiebreak(group, singles, noise, best, riv):
     return group[top], []
 
 
+def _plausible_nominal(best, singles, cal, noise, boot):
+    """The same effect fitted at the nominal inputs, when that fit is physical, explains the
+    held-out points as well (within a tenth of the noise) and also shrinks the calibrated model's
+    held-out gap by MIN_SHRINK (its paired interval above 0); else ``best`` (the calibrated inputs
+    may trade off against an effect's parameters, e.g. q1 against the flash heating)."""
+    for c in singles:
+        if c.effect_names == best.effect_names and not c.implausible and \
+                c.gap_heldout <= best.gap_heldout + 0.1 * noise:
+            c.beyond = 1.0 - c.gap_heldout / cal.gap_heldout if cal.gap_heldout > 0 else float("nan")
+            c.beyond_interval = boot_shrink(c.r_held, cal.r_held, boot)
+            if c.beyond >= MIN_SHRINK and c.beyond_interval[0] > 0:
+                return c
+    return best
+
+
 def _refuse(v, best, why):
     v["implausible"] = list(best.implausible)
     v["implausible_why"] = list(best.implausible_why)
@@ -183,6 +198,8 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
             v["reason"] = ("inconclusive: " + ", ".join(v["inconclusive"]) + " each explain what the calibrated "
                            "inputs leave, equally well within the noise")
             return v, None
+        if best.implausible:
+            best = _plausible_nominal(best, singles, cal, noise, st["boot"])
         if not best.implausible:
             _name(v, best, cal.gap_heldout, ref="calibrated model's", interval=best.beyond_interval,
                   calibrated=intervals(best))
@@ -191,7 +208,9 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
             return v, best
         prefix = _refuse(v, best, "")
     if cal.shrink >= MIN_SHRINK and not cal.implausible:
-        riv = rivals(cal, singles, noise, names=set())
+        # an effect that is one of the calibrated inputs (fine_roughness for q1, ...) is no rival
+        same = {"q1_per_m": "fine_roughness", "sigma0_Pa": "load", "temperature_C": "temperature_offset"}
+        riv = rivals(cal, singles, noise, names={same[p.name] for p in cal.effects[0].params if p.name in same})
         if riv:
             v["inconclusive"] = [r.name for r in riv] + ["calibration"]
             v["reason"] = prefix + ("inconclusive: " + ", ".join(v["inconclusive"]) +
