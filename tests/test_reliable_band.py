@@ -145,3 +145,27 @@ def test_coarse_sample_roll_off_14_mm():
     assert rb.q_roll_per_m is not None
     assert 2 * np.pi / rb.q_roll_per_m == pytest.approx(14e-3, rel=0.15)
     assert rb.lo_reason.startswith("roll-off")
+
+
+def test_resolution_from_the_flag_or_the_file_metadata(tmp_path):
+    """analyse --resolution ends the band at the 80 % response; without the flag the file's
+    instrument metadata gives it (pipelines.reliable_bridge)."""
+    import json
+    from pathlib import Path
+
+    from pipelines.cli import main
+    from pipelines.reliable_bridge import resolution_of, scan_band
+
+    sample = Path(__file__).resolve().parents[1] / "sample_scans" / "coarse_asphalt.x3p"
+    assert main(["analyse", str(sample), "--out", str(tmp_path / "o"), "--no-figures",
+                 "--no-friction", "--resolution", "2e-4"]) == 0
+    s = json.loads((tmp_path / "o" / "summary.json").read_text())
+    assert s["reliable_band_reasons"]["hi"].startswith("lateral resolution")
+    assert s["reliable_band_per_m"][1] == pytest.approx(resolution_limit(2e-4))
+    hm = measure_synthetic(N, DX, H, K, seed=8)
+    hm.meta["instrument"] = {"lateral_resolution_m": 3 * DX}
+    assert resolution_of(hm) == (3 * DX, "file metadata")
+    assert resolution_of(hm, 1e-5) == (1e-5, "given")
+    spec, _ = psd_area(level.level(hm, degree=1))
+    rb = scan_band(hm, spec)
+    assert rb.limits["resolution"] == pytest.approx(resolution_limit(3 * DX))
