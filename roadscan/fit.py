@@ -162,28 +162,6 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
     return float(q[i0]), float(q[i1])
 
 
-def _detect_roll_off(q, C, slope, icpt, lo, window_decades, min_deficit=0.3):
-    """Wave vector where the fitted power law meets a low-q plateau, or None.
-
-    A roll-off is declared when the (usable) points below the band lie, on the median, more
-    than ``min_deficit`` decades (default 0.3: a factor 2) below the extrapolated power law
-    and are flatter than half its slope; the plateau level is their median log C.
-    """
-    below = q < lo * (1 - 1e-9)
-    if below.sum() < 2:
-        return None
-    x, y = np.log10(q[below]), np.log10(C[below])
-    deficit = (icpt + slope * x) - y
-    s = local_slopes(q, C, window_decades)[below]
-    if np.median(deficit) < min_deficit or not (np.nanmedian(np.abs(s)) < abs(slope) / 2):
-        return None
-    plateau = np.median(y)
-    q_roll = 10 ** ((plateau - icpt) / slope)
-    if not (q[0] <= q_roll <= lo * 1.5):
-        return None
-    return float(q_roll)
-
-
 def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_off=None):
     """Fit the self-affine form to a (2D, isotropic) spectrum.
 
@@ -219,9 +197,8 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_o
         counts = None
     slope, icpt, se, n = _loglog_fit(q, C, lo, hi, weights=None if counts is None else np.sqrt(counts))
     hurst = -slope / 2.0 - 1.0
-    # the broken-line test of roadscan.rolloff (issue 20: the older median test, kept below
-    # as _detect_roll_off, missed the coarse sample's 14 mm roll-off); the first ring stands
-    # for 2 pi / L
+    # the broken-line test of roadscan.rolloff (issue 20: the older median test of the rings
+    # below the band missed the coarse sample's 14 mm roll-off); the first ring stands for 2 pi / L
     q_roll = detect_roll_off(q, C, counts, slope, icpt, float(spectrum.q_per_m[0]), hi)
     if roll_off is not None:
         q_roll = float(roll_off)

@@ -19,7 +19,7 @@ average at least ``min_deficit`` decades under the extended line, and the knee i
 every steep spectrum alike (checked on non-periodic crops of synthetic surfaces without
 roll-off: none found; see ``tests/test_reliable_band.py``).
 
-This replaces the older median test of :func:`roadscan.fit._detect_roll_off`, which missed
+This replaces the older median test in :func:`roadscan.fit.fit_self_affine`, which missed
 the coarse sample's 14 mm roll-off (3.7 x 2 pi / L: most rings under the fitted band were
 already on the line, so their median deficit was small).
 
