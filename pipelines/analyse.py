@@ -219,6 +219,12 @@ def _figures(drawer, out_dir, an, fit, fr, spec, settings, summary):
     qf = np.geomspace(lo, q_top, 60)
     curves = [("measured (angular average)" if not an.is_profile else
                "2D estimate from the profile's 1D PSD", spec.q_per_m, spec.C_m4)]
+    if "reliable_band_per_m" in summary:    # the part the fit and friction use (issue 20)
+        rlo, rhi = summary["reliable_band_per_m"]
+        inb = (spec.q_per_m >= rlo * (1 - 1e-9)) & (spec.q_per_m <= rhi * (1 + 1e-9))
+        if inb.any():
+            curves.append((f"reliable band, λ = {wavelength_of_q(rhi)} to {wavelength_of_q(rlo)}",
+                           spec.q_per_m[inb], spec.C_m4[inb]))
     drawer.submit(report.plot_psd,
                   curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {fit.hurst:.3f} ± {fit.hurst_stderr:.3f}",
                   fits=[(f"self-affine fit, λ = {wavelength_of_q(lo)} to {wavelength_of_q(hi)}"
