@@ -86,8 +86,13 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
 
     from roadscan.plausibility import check_plausible
 
+    try:
+        obj = check_scan(obj, path)
+    except InputError as exc:
+        if "units?" in str(exc):           # the absolute bound: name the flag that fixes it
+            check_plausible(obj, path, units)
+        raise
     check_plausible(obj, path, units)      # a units slip refused before any figure (issue 22)
-    obj = check_scan(obj, path)
     from roadscan.seams import find_steps
 
     for line in [*obj.meta.get("read_warnings", ()), *find_steps(obj)]:
