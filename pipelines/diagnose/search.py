@@ -77,6 +77,22 @@ def _usable(ctx, effects, free, ranges, skipped):
     return out
 
 
+def _physical_refit(c, ctx, real_mu, ho, r0_held):
+    """An implausible fit refitted with its parameters held in their physical ranges (started
+    from its own fit, clipped, on the same training rows); the refit replaces it when every
+    effect declares such ranges (:meth:`effects.Effect.restricted`)."""
+    effs = tuple(e if e.name == "calibration" else e.restricted(ctx, real_mu) for e in c.effects)
+    if any(e is None for e in effs):
+        return c
+    start = [{p.name: float(np.clip(q[p.name], p.lo, p.hi)) for p in e.params} for e, q in zip(effs, c.params)]
+    cache = {}
+    budget = 8 if max(e.cost for e in effs) > 1 else None
+    r = fit_candidate(ctx, real_mu, effs, ho.train, cache=cache, extra_starts=[start], budget=budget)
+    r = evaluate(r, ctx, real_mu, ho, r0_held, cache=cache)
+    r.nfev += c.nfev
+    return r if not r.implausible else c
+
+
 def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=None, uncertain=None,
                       default_q1=True, carried=None):
     """Run the friction-level diagnosis of the rows of ``ctx`` against measured ``real_mu``.
@@ -142,6 +158,8 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         cache = {}
         c = fit_candidate(ctx, real_mu, effs, ho.train, cache=cache, **kw)
         c = evaluate(c, ctx, real_mu, ho, r0_held, cache=cache)
+        if c.implausible:
+            c = _physical_refit(c, ctx, real_mu, ho, r0_held)
         c.seconds = time.perf_counter() - t1
         timings[c.name] = c.seconds
         say(f"  {c.name}: train {c.gap_train:.4f} held-out {c.gap_heldout:.4f} ({c.seconds:.1f} s)")

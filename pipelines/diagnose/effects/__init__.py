@@ -73,6 +73,28 @@ class Effect:
     description: str = ""
     null: Callable = None
     plausible: Callable = None
+    physical: Callable = None
+
+    def restricted(self, context, real_mu):
+        """This effect with each parameter's bounds narrowed to its physical range
+        (``physical(context, real_mu) -> {name: (lo, hi)}``), or None when it declares none. The
+        search refits an implausible fit within them: the parameters of an effect can trade off
+        (flash: zeta_m against the heating), so a physical fit may explain the data as well."""
+        if self.physical is None:
+            return None
+        from dataclasses import replace
+
+        rng = self.physical(context, real_mu)
+        params = []
+        for p in self.params:
+            lo, hi = rng.get(p.name, (p.lo, p.hi))
+            lo, hi = max(lo, p.lo), min(hi, p.hi)
+            if not hi > lo:
+                return None
+            params.append(Param(p.name, lo, hi, float(np.clip(p.init, lo, hi)), p.scale))
+        null = self.null_params(context)
+        keep = null is not None and all(pp.lo <= null[pp.name] <= pp.hi for pp in params)
+        return replace(self, params=tuple(params), null=self.null if keep else None)
 
     def implausible(self, context, params, real_mu):
         """[(parameter name, why)] of fitted parameters outside their physical range."""

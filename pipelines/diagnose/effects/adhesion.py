@@ -42,7 +42,7 @@ EFFECT = register(Effect(
             Param("v_c_m_per_s", 1e-8, 30.0, 1e-3, "log"),
             Param("exponent", 0.3, 6.0, 1.0, "log"),
             Param("rise_decades", 0.2, 20.0, 20.0, "log")),
-    modify=_modify, plausible=_plausible,
+    modify=_modify, plausible=_plausible, physical=lambda ctx, mu: {"amplitude": (1e-6, float(np.max(mu)))},
     null=lambda ctx: {"amplitude": 1e-6, "v_c_m_per_s": 1e-3, "exponent": 1.0, "rise_decades": 20.0},
     description="additive bell in log v: rise of width w below v_c, fall (v/v_c)^-n above",
 ))

@@ -38,5 +38,6 @@ EFFECT = register(Effect(
     name="flash_temperature", level="friction",
     params=(Param("zeta_m", 1.5, 8.0, 3.0, "log"), Param("heat_scale", 1e-3, 10.0, 1.0, "log")),
     modify=_modify, cost=10.0, null=lambda ctx: {"zeta_m": 3.0, "heat_scale": 1e-3}, plausible=_plausible,
+    physical=lambda ctx, mu: {"heat_scale": (1 / HEAT_FACTOR, HEAT_FACTOR)},
     description="self-consistent flash temperature (Persson 2006), zeta_m and heat-source scale free",
 ))
