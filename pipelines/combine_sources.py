@@ -155,6 +155,51 @@ def _noise_after_correction(band, q, corrected, n, length, spacing, alpha):
                              f"undone, the noise floor shows)", noise_floor=again.noise_floor)
 
 
+#: the band's start is raised while the rings of its first 0.1 decade lie, pooled, more than
+#: this far above the power law of the rest of the band (and by over 2 standard deviations)
+LEAK_EXCESS = 1.25
+_LEAK_WINDOW, _LEAK_MAX, _LEAK_STEP = 0.1, 0.3, 0.05     # decades
+
+
+def _trim_leaky_start(band, q, C, dof):
+    """The band with its low end raised past a leakage excess of this particular view.
+
+    The window's leakage is random from view to view (it carries the power of the modes longer
+    than the view, which this view happens to have): the field-of-view end bounds its mean, not
+    one view's. The power law ln C = a + s ln q is fitted (weights: degrees of freedom) to the
+    band above its first 0.3 decade; while the rings of the first 0.1 decade lie on average more
+    than :data:`LEAK_EXCESS` above it, by over 2 standard deviations (sqrt(2 / dof) each), the
+    start moves up 0.05 decade (at most 0.3). A roll-off (C below the line) is never trimmed.
+    """
+    from dataclasses import replace
+
+    lo, hi = band.lo_per_m, band.hi_per_m
+    ok = (q >= lo) & (q <= hi) & (C > 0)
+    ref = ok & (q >= lo * 10**_LEAK_MAX)
+    if ref.sum() < 5:
+        return band
+    x, y, w = np.log(q), np.log(np.where(C > 0, C, 1.0)), dof
+    xm, ym = np.average(x[ref], weights=w[ref]), np.average(y[ref], weights=w[ref])
+    slope = np.sum(w[ref] * (x[ref] - xm) * (y[ref] - ym)) / np.sum(w[ref] * (x[ref] - xm) ** 2)
+    resid = y - (ym + slope * (x - xm))
+    start = lo
+    while start < lo * 10 ** (_LEAK_MAX - 1e-9):
+        first = ok & (q >= start) & (q < start * 10**_LEAK_WINDOW)
+        if not first.any():
+            break
+        excess = np.average(resid[first], weights=w[first])
+        sd = np.sqrt(2.0 / w[first].sum())
+        if not (excess > np.log(LEAK_EXCESS) and excess > 2 * sd):
+            break
+        start *= 10**_LEAK_STEP
+    if start == lo:
+        return band
+    reason = (f"{band.lo_reason}; raised {np.log10(start / lo):.2f} decade: the lowest rings lie "
+              f"over {100 * (LEAK_EXCESS - 1):.0f} % above the band's power law (this view's "
+              f"window leakage)")
+    return replace(band, lo_per_m=float(start), lo_reason=reason)
+
+
 def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
     """A read HeightMap or Profile -> :class:`SourceSpectrum` (see module docstring)."""
     from roadscan.heightmap import Profile
@@ -195,5 +240,6 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
             "applied": "C divided by T(q)^2, T = exp(-ln 2 (q r / 2 pi)^2) (Gaussian lateral "
                        "response, 50 % amplitude at the wavelength r)",
             "max_factor": float(1.0 / T2[inside].min()) if inside.any() else 1.0}
+    band = _trim_leaky_start(band, q, C, n * dof)
     return SourceSpectrum(label, str(path), kind, list(obj.heights_m.shape), spacing_list, size,
                           res, res_src, q, C, n, band, float(dof), meta)
