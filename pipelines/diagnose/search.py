@@ -196,7 +196,8 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
             if c is not None:
                 pair_list.append(c)
     ranked = sorted(singles + pair_list + ([cal] if cal else []) + calpairs, key=lambda c: c.score)
-    st = dict(g_all=g_all, g_ho=g_ho, noise=noise, n=n, significant=significant, p=p, boot=ho.boot)
+    st = dict(g_all=g_all, g_ho=g_ho, noise=noise, n=n, significant=significant, p=p, boot=ho.boot,
+              default_only=bool(free) and all(ranges[k].source == "default" for k in free))
     verdict, best = decide(singles, pair_list, cal, calpairs, st,
                            intervals=lambda c: intervals(c, ctx, real_mu, ho.train, noise))
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}

@@ -15,7 +15,9 @@ fit at the nominal inputs is clearly the best is preferred (the nominal values a
 within their ranges), else the verdict is inconclusive. Otherwise, when the calibration alone shrinks the
 baseline's held-out gap by ``MIN_SHRINK``, the verdict is ``"calibration"`` (``calibrated``: the
 fitted inputs with approximate 95 % intervals), or inconclusive when an effect alone explains
-the held-out points as well (``inconclusive`` then names it and ``"calibration"``).
+the held-out points as well (``inconclusive`` then names it and ``"calibration"``); when only
+the default q1 range is uncertain (no ``--uncertain``), the inputs as given are believed and that
+effect is named with confidence low.
 
 Never named: a fit with a parameter outside its physical range (``implausible``, see
 :mod:`.effects`). Confidence: high; low when the shrink interval reaches below ``MIN_SHRINK`` or
@@ -211,6 +213,16 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
         # an effect that is one of the calibrated inputs (fine_roughness for q1, ...) is no rival
         same = {"q1_per_m": "fine_roughness", "sigma0_Pa": "load", "temperature_C": "temperature_offset"}
         riv = rivals(cal, singles, noise, names={same[p.name] for p in cal.effects[0].params if p.name in same})
+        if riv and st.get("default_only"):
+            s1 = min(riv, key=lambda c: c.score)
+            if not rivals(s1, singles, noise) and not s1.implausible:
+                # only the honest default range of q1 is uncertain: the inputs as given are
+                # believed, so an effect at them is preferred to moving q1, with low confidence
+                _name(v, s1, g_ho)
+                v["confidence"] = "low"
+                v["reason"] = prefix + v["reason"] + (" at the inputs as given; calibrating q1 within its default "
+                                                      "range explains the held-out points as well")
+                return v, s1
         if riv:
             v["inconclusive"] = [r.name for r in riv] + ["calibration"]
             v["reason"] = prefix + ("inconclusive: " + ", ".join(v["inconclusive"]) +
