@@ -155,5 +155,8 @@ def _write_report(out_dir, names, result, figs, curves):
         idx = speed_table(v)
         sections.append(("μ at whole decades of speed", report.table_html(
             [[f"{v[i]:g}"] + [float(c.mu[i]) for c in curves] for i in idx], ["v [m/s]"] + list(names))))
+    warned = [[n, w] for n, r in result.items() if isinstance(r, dict) for w in r.get("warnings", [])]
+    if warned:                            # every warning in the report too (issue 20)
+        sections.insert(1, ("Warnings", report.table_html(warned, ["surface", "warning"])))
     sections.append(("Figures", [list(figs)]))
     report.write_html(out_dir / "report.html", "roadscan compare: " + " vs ".join(names), sections)
