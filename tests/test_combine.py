@@ -286,3 +286,23 @@ def test_area_window_low_end_is_unbiased_and_lower_than_analyses():
     assert abs(np.exp(np.mean(at_lo)) - 1) < 0.12
     assert all(4 <= k <= 8 for k in los) and s.band.lo_reason.startswith("field of view")
     assert leakage_factor(3.6, 0.5) < leakage_factor(3.6)
+
+
+def test_leaky_start_is_trimmed_and_a_roll_off_is_not():
+    from dataclasses import replace
+
+    from roadscan.reliable_band import ReliableBand
+
+    from pipelines.combine_sources import _trim_leaky_start
+
+    q = 10 ** ((np.arange(60, 100) + 0.5) / 20)          # 1e3 .. 1e5, 20 per decade
+    dof = np.full(q.size, 2000.0)
+    band = ReliableBand(1e3, 1e5, "field of view: test", "Nyquist: test")
+    leaky = q**-3.0 * np.where(q < 10 ** 3.1, 1.6, 1.0)
+    trimmed = _trim_leaky_start(band, q, leaky, dof)
+    assert 0.999 * 10 ** 3.1 <= trimmed.lo_per_m <= 10 ** 3.2 and "raised" in trimmed.lo_reason
+    rolled = q**-3.0 * np.where(q < 10 ** 3.1, 0.5, 1.0)
+    assert _trim_leaky_start(band, q, rolled, dof) == band
+    assert _trim_leaky_start(band, q, q**-3.0, dof) == band
+    few = _trim_leaky_start(band, q, leaky, np.full(q.size, 4.0))   # not significant
+    assert few == replace(band)
