@@ -244,3 +244,16 @@ def test_single_diagnosis_records_inputs_and_assumed(tmp_path, monkeypatch):
     assert inp["temperature_C"] == pytest.approx(60.0)       # the thesis rubber's T_ref
     assert inp["q1_per_m"] == pytest.approx(2e5) and inp["psd_scale"] == 1.0
     assert {f["role"] for f in inp["files"]} == {"measured", "psd"}
+
+
+def test_an_implausible_fit_is_refitted_within_the_physical_range():
+    v = np.logspace(-4, 0, 6)
+    ctx = build_context(_curve(v), PSD)
+    mu = np.full(6, 0.4)
+    r = get("flash_temperature").restricted(ctx, mu)
+    hs = {p.name: p for p in r.params}["heat_scale"]
+    assert (hs.lo, hs.hi) == pytest.approx((1 / 3, 3.0))
+    assert r.null_params(ctx) is None            # heat_scale 1e-3 is outside: no null within
+    a = {p.name: p for p in get("adhesion").restricted(ctx, mu).params}["amplitude"]
+    assert a.hi == pytest.approx(0.4)
+    assert get("load").restricted(ctx, mu) is None    # no physical range declared

@@ -9,9 +9,17 @@ adding that effect closes the gap. One idea per module:
 - :mod:`.model`      the simulation specification that effects modify, and its evaluation
                      with the friction engine at the measured speeds only
 - :mod:`.effects`    the plug-in registry; one module per unmodelled effect
-- :mod:`.search`     bounded least-squares fits, held-out ranking, greedy pairs, verdict
+- :mod:`.search`     the candidates (singles, greedy pairs, calibration + each effect), ranked
+- :mod:`.fitting`    one bounded least-squares fit (cold or warm starts, shared cache, refusal)
+- :mod:`.cv`         held-out third or k-fold CV with cold-start folds; shrink, interval, score
+- :mod:`.calibration` uncertain inputs (``--uncertain``, the default q1 range) as a pseudo-effect
+- :mod:`.verdict`    effect / calibration / inconclusive / null, confidence, plausibility
+- :mod:`.provenance` the ``inputs`` of diagnosis.json (values, files with sha256, assumed)
+- :mod:`.curves`     dense-grid curves of the report (band of the uncertain inputs, corrected)
+- :mod:`.joint`      several measurements (``--measurements``) with a joint calibration
+- :mod:`.run_command` the command-line side (provenance hints, surface loading, --measurements)
 - :mod:`.bandmap`    which length scales and frequencies carry mu in each speed band
 - :mod:`.surface`    the surface level (scan versus its fitted Gaussian self-affine twin)
 - :mod:`.cases`      the seeded case generator used for the proof (tests and benchmark)
-- :mod:`.report`     diagnosis.json and report.html
+- :mod:`.report`     diagnosis.json and report.html (:mod:`.report_joint` for several measurements)
 """
