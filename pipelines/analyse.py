@@ -199,7 +199,7 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
                           f"{an.name}: texture spectrum (ISO 13473-4)")
         figs = drawer.collect()
     report.write_json(out_dir / "summary.json", summary)
-    _write_report(out_dir, an, summary, figs, tex)
+    _write_report(out_dir, an, summary, figs, tex, fr)
     return summary
 
 
@@ -279,7 +279,7 @@ def draw_psd2d_figure(picture, path, name):
     return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))
 
 
-def _write_report(out_dir, an, summary, figs, tex=None):
+def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
     from . import texture_outputs
     from .units_format import label_of, length, quantity, sig3
 
@@ -309,5 +309,7 @@ def _write_report(out_dir, an, summary, figs, tex=None):
         sections.pop()
     if analyse_band.warnings_section(summary):          # every warning in the report (issue 20)
         sections.insert(1, analyse_band.warnings_section(summary))
+    if analyse_band.share_section(summary, fr):         # mu's provenance per speed (issue 20)
+        sections.insert(-1 if figs else len(sections), analyse_band.share_section(summary, fr))
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,
                       intro=report.instrument_html(summary.get("instrument")))

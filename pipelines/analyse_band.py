@@ -199,3 +199,23 @@ def band_psd(an, settings, window_alpha=0.25, rb=None, fit=None):
     psd = surface_psd(an.spectrum, fit, q1_per_m=q1)
     psd, _ = apply_band(psd, q0, q1)
     return psd, rb
+
+
+def share_section(summary, fr):
+    """("μ and its extrapolated share", table at whole decades of speed) for the report, or
+    None without friction."""
+    from . import report
+    from .units_format import sig3
+
+    f = summary.get("friction") or {}
+    if fr is None or "extrapolated_share" not in f:
+        return None
+    v = np.asarray(fr.v_m_per_s, float)
+    share = np.asarray(f["extrapolated_share"], float)
+    rows = []
+    for d in range(int(np.floor(np.log10(v[0]))), int(np.ceil(np.log10(v[-1]))) + 1):
+        i = int(np.argmin(np.abs(np.log10(v) - d)))
+        if abs(np.log10(v[i]) - d) < 0.05:
+            rows.append([sig3(v[i]), sig3(fr.mu[i]), f"{sig3(100 * share[i])} %"])
+    return ("μ and the share carried by wave vectors beyond the last measured one",
+            report.table_html(rows, ["v [m/s]", "μ", "extrapolated share"]))
