@@ -258,11 +258,14 @@ def test_proof_small_blind_cases_meet_the_goals():
     hits, shrink, fp, n_null = 0, [], 0, 0
     for c in cases:
         d = diagnose_friction(c.context(), c.curve.mu)
+        got = d.verdict["effect"]
         if c.effect is None:
             n_null += 1
-            fp += d.verdict["effect"] is not None
+            fp += got not in (None, "calibration")      # calibration is no named effect (issue 19)
         else:
-            hits += d.verdict["effect"] == c.effect
+            # fine roughness answered by calibrating q1 (uncertain by default) is right (issue 19)
+            hits += got == c.effect or (c.effect == "fine_roughness" and got == "calibration"
+                                        and "q1_per_m" in d.verdict["calibrated"])
             shrink.append(d.verdict["shrink"] or 0.0)
     n_eff = len(cases) - n_null
     assert n_eff == 8 and n_null == 4

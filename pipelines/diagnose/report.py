@@ -88,7 +88,7 @@ def effect_entries(d):
             e["with_calibration"] = True
             if hasattr(c, "beyond"):
                 e["shrink_beyond_calibration"] = c.beyond
-        out.insert(0, e) if c is d.best else out.append(e)   # the verdict's fit first
+        out.append(e)
     return out
 
 
