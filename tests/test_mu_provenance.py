@@ -115,5 +115,7 @@ def test_extension_beyond_the_scan_is_counted_and_warned(tmp_path):
     i = int(np.argmax(d[:, 1]))
     assert d[i, -1] == pytest.approx(f["extrapolated_share_at_peak"]) and d[i, -1] > 0.3
     assert f["extrapolated_share"][i] == pytest.approx(d[i, -1])
+    page = (tmp_path / "o" / "report.html").read_text()
+    assert "extrapolated share" in page and "thesis SLS" in page   # per speed, in the report
     if f["mu_peak"] > 3:
         assert any("cut-off" in w and "--q1" in w for w in s["warnings"])
