@@ -257,3 +257,18 @@ def test_an_implausible_fit_is_refitted_within_the_physical_range():
     a = {p.name: p for p in get("adhesion").restricted(ctx, mu).params}["amplitude"]
     assert a.hi == pytest.approx(0.4)
     assert get("load").restricted(ctx, mu) is None    # no physical range declared
+
+
+def test_flash_beyond_the_shift_table_is_flagged_extrapolated():
+    from pipelines.diagnose.fitting import Candidate
+    from pipelines.diagnose.search import _flash_extrapolation
+
+    v = np.logspace(-2, 0.5, 6)
+    rub = friction.StandardLinearSolid(shift=friction.ShiftTable(np.array([20.0, 60.0, 62.0]),
+                                                                 np.array([3.0, 0.0, -0.1])), T_ref_C=60.0)
+    ctx = build_context(_curve(v, T=60.0), PSD, rubber=rub)
+    f = get("flash_temperature")
+    c = Candidate((f,), [{"zeta_m": 3.0, "heat_scale": 1.0}], np.ones(6), 0.01, 0.01, 0.01)
+    verdict = dict(effect="flash_temperature", confidence="high")
+    _flash_extrapolation(ctx, c, verdict)      # the flash heats well above 62 C at 3 m/s
+    assert verdict["confidence"] == "medium" and "outside the shift table" in verdict["extrapolated"][0]

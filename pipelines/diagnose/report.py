@@ -49,6 +49,7 @@ def friction_json(d, where, bandmap, validate=None):
                      implausible=d.verdict.get("implausible", []),
                      implausible_why=d.verdict.get("implausible_why", []),
                      calibrated=_calibrated(d.verdict.get("calibrated") or {}),
+                     extrapolated=d.verdict.get("extrapolated", []),
                      gap_validate=None if validate is None else _r(validate["gap_after"]),
                      gap_validate_baseline=None if validate is None else _r(validate["gap_before"]),
                      reason=d.verdict["reason"]),
@@ -276,6 +277,8 @@ def _verdict_html(v):
     if v.get("implausible"):
         extra += (" Not physical, so not named: " + html.escape("; ".join(v.get("implausible_why") or v["implausible"]))
                   + ".")
+    if v.get("extrapolated"):
+        extra += " Extrapolated: " + html.escape("; ".join(v["extrapolated"])) + "."
     if v.get("calibrated"):
         extra += " Calibrated inputs (95 % interval): " + html.escape(", ".join(
             f"{k} = {x['value']:.3g} ({x['interval'][0]:.3g} – {x['interval'][1]:.3g})"

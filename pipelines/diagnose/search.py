@@ -77,6 +77,30 @@ def _usable(ctx, effects, free, ranges, skipped):
     return out
 
 
+def _flash_extrapolation(ctx, best, verdict):
+    """A named fit with flash heating whose hottest flash temperature lies beyond the rubber's
+    shift table: the master curve is extrapolated there; ``verdict.extrapolated`` says so and the
+    confidence is at most medium."""
+    from .effects import temperature_extrapolated
+    from .model import simulate
+
+    if "flash_temperature" not in {e.name for e in best.effects}:
+        return
+    spec = ctx.base
+    for e, p in zip(best.effects, best.params):
+        spec = e.modify(spec, p, ctx)
+    try:
+        _, res = simulate(spec, ctx, full=True)
+    except (ValueError, ArithmeticError, RuntimeError):
+        return
+    T = [float(np.nanmax(r.T_q_C)) for _, r in res if getattr(r, "T_q_C", None) is not None]
+    why = temperature_extrapolated(ctx, max(T)) if T else None
+    if why:
+        verdict["extrapolated"] = [f"hottest flash temperature {why}"]
+        if verdict.get("confidence") == "high":
+            verdict["confidence"] = "medium"
+
+
 def _physical_refit(c, ctx, real_mu, ho, r0_held):
     """An implausible fit refitted with its parameters held in their physical ranges (started
     from its own fit, clipped, on the same training rows); the refit replaces it when every
@@ -200,6 +224,8 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
               default_only=bool(free) and all(ranges[k].source == "default" for k in free))
     verdict, best = decide(singles, pair_list, cal, calpairs, st,
                            intervals=lambda c: intervals(c, ctx, real_mu, ho.train, noise))
+    if best is not None and verdict.get("effect") not in (None, "calibration"):
+        _flash_extrapolation(ctx, best, verdict)
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
     return Diagnosis(base, g_all, g_tr, g_ho, noise, noise_given, significant, p, ho.train, ranked,
                      skipped, verdict, best, time.perf_counter() - t0, timings, ho.description,
