@@ -13,7 +13,7 @@ from roadscan.reliable_band import gaussian_response
 from roadscan.synth import model_psd
 from roadscan.synth_measure import measure_synthetic
 
-H, K = 0.8, 1e-21              # C = K q^-3.6 [m^4], q in 1/m
+H, K = 0.8, 2e-5               # C = K q^-3.6 [m^4], q in 1/m: rms 0.2 mm over the laser's view
 N = 256
 #: (name, spacing [m], lateral resolution [m], wave vector where the noise's C equals the
 #: blurred surface's, as a fraction of Nyquist)
