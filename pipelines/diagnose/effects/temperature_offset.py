@@ -9,6 +9,19 @@ import numpy as np
 from . import Effect, Param, register, temperature_extrapolated
 
 
+def _T0(ctx):
+    T = ctx.T0_C[np.isfinite(ctx.T0_C)]
+    return float(np.median(T)) if T.size else float(ctx.base.rubber.T_ref_C)
+
+
+def _physical(ctx, real_mu):
+    """dT keeping T0 + dT inside the shift table (no limit for a WLF shift)."""
+    T = getattr(getattr(ctx.base.rubber, "shift", None), "T_C", None)
+    if T is None or not np.size(T):
+        return {}
+    return {"dT_C": (float(np.min(T)) - _T0(ctx), float(np.max(T)) - _T0(ctx))}
+
+
 def _plausible(ctx, p, real_mu):
     T = ctx.T0_C[np.isfinite(ctx.T0_C)]
     T0 = float(np.median(T)) if T.size else float(ctx.base.rubber.T_ref_C)
@@ -19,6 +32,6 @@ EFFECT = register(Effect(
     name="temperature_offset", level="friction",
     params=(Param("dT_C", -30.0, 30.0, 0.0, "lin"),),
     modify=lambda spec, p, ctx: spec.with_(T0_shift_C=spec.T0_shift_C + p["dT_C"]),
-    null=lambda ctx: {"dT_C": 0.0}, plausible=_plausible,
+    null=lambda ctx: {"dT_C": 0.0}, plausible=_plausible, physical=_physical,
     description="background temperature offset dT [K] (WLF shift along the speed axis)",
 ))
