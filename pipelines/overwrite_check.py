@@ -1,6 +1,6 @@
 """Every command's inputs and outputs from its parsed options, checked before any work: an
-output never replaces an input, an output below an existing file and a broken or looping
-symbolic link given as an input are one-line input errors.
+output never replaces an input; an output below an existing file, a broken or looping symbolic
+link given as an input and a device, pipe or socket given as an input are one-line input errors.
 
 The parsed options are read generically (every string option that names an existing path is an
 input; ``--out`` and convert's ``OUT`` are the outputs), so a new command or flag is covered
@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import errno
 import os
+import stat
 from pathlib import Path
 
 from roadscan.errors import InputError
@@ -71,11 +72,28 @@ def check_link(path):
                                f"{exc.strerror or 'not found'})") from None
 
 
+_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+          (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISSOCK, "a socket"))
+
+
+def check_kind(path):
+    """Refuse (one line) an input that is a device, a pipe or a socket: ``/dev/zero`` never
+    ends, a FIFO blocks until someone writes; roadscan reads files."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return                       # missing or unreadable: the reader says so
+    for test, what in _KINDS:
+        if test(mode):
+            raise InputError(path, f"is {what}, not a file: save the data to a file first")
+
+
 def check_command_paths(args):
     """The checks of the module docstring on a parsed command line; InputError (exit 2)."""
     inputs = command_inputs(args)
     for inp in inputs:
         check_link(inp)
+        check_kind(inp)
     for out, folder, flag in command_outputs(args):
         if os.path.islink(out):
             try:

@@ -69,6 +69,9 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
         raise InputError(path, "no such file")
     if path.is_dir():
         raise InputError(path, "is a directory, expected a height file")
+    from .overwrite_check import check_kind
+
+    check_kind(path)      # /dev/zero, a FIFO: refused, not read forever (issue 22)
     if spacing is not None:
         from .validate import check_spacing_option
 

@@ -217,3 +217,16 @@ def test_snapshot_helper_sees_changes(tmp_path):
     assert snapshot(tmp_path) != s
     (tmp_path / ".x.roadscan-tmp-1").mkdir()
     assert hidden_leftovers(tmp_path)
+
+
+def test_devices_and_pipes_are_not_read(tmp_path, capsys):
+    """/dev/zero never ends and a FIFO blocks until written: both refused before reading."""
+    fifo = tmp_path / "pipe.npy"
+    os.mkfifo(fifo)
+    for src in ("/dev/zero", fifo):
+        for argv in (["analyse", src, "--out", tmp_path / "o", *FAST], ["convert", src, tmp_path / "c.x3p"],
+                     ["friction", "--psd", src, "--out", tmp_path / "mu.csv"],
+                     ["rubber", "master", src, "--reference-temperature", 20, "--out", tmp_path / "r.toml"]):
+            rc, err = run_cli(capsys, argv)
+            assert_one_line_error(rc, err, words=[str(src), "not a file"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.npy"]
