@@ -63,10 +63,35 @@ def _edge_bias(band):
     return (EDGE_BIAS, max(EDGE_BIAS, hi))
 
 
+def _fit(spec, band):
+    """Self-affine fit of the merged curve -> (dict or None, note): over the straight stretch
+    :func:`roadscan.fit.detect_band` finds, else (a gap in the middle leaves it no rings to
+    compare) over the whole measured band."""
+    import warnings
+
+    from roadscan.fit import fit_self_affine
+
+    for b in (None, tuple(band)):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                f = fit_self_affine(spec, band=b)
+        except ValueError as exc:
+            last = exc
+            continue
+        if np.isfinite(f.hurst):
+            d = f.as_dict()
+            d["roll_off_per_m"] = f.q_roll_per_m
+            note = None if b is None else ("self-affine fit over the whole merged band (no "
+                                           "straight stretch detected around its middle)")
+            return d, note
+        last = ValueError("the fit gave no finite H")
+    return None, f"no self-affine fit of the merged spectrum ({last})"
+
+
 def combine_sources(sources):
     """Merge the reliable parts of :class:`~pipelines.combine_sources.SourceSpectrum` s and fit
     the result -> (MergedSpectrum, fit dict or None, warnings)."""
-    from roadscan.fit import fit_self_affine
     from roadscan.spectrum_merge import SpectrumPart, merge_spectra
     from roadscan.spectrum_types import Spectrum
 
@@ -94,15 +119,11 @@ def combine_sources(sources):
         if s.resolution_m is None:
             notes.append(f"{s.path}: no lateral resolution given nor in the file: its band ends "
                          f"at Nyquist or its noise floor (give resolution_m in the manifest)")
-    fit = None
-    try:
-        spec = Spectrum(merged.q_per_m, merged.C_m4, count=np.rint(merged.count).astype(np.int64),
-                        kind="model", meta={"source": "roadscan combine"})
-        f = fit_self_affine(spec)
-        fit = f.as_dict()
-        fit["roll_off_per_m"] = f.q_roll_per_m
-    except ValueError as exc:
-        notes.append(f"no self-affine fit of the merged spectrum ({exc})")
+    spec = Spectrum(merged.q_per_m, merged.C_m4, count=np.rint(merged.count).astype(np.int64),
+                    kind="model", meta={"source": "roadscan combine"})
+    fit, why = _fit(spec, merged.band_per_m)
+    if why:
+        notes.append(why)
     return merged, fit, notes
 
 

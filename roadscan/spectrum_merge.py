@@ -9,12 +9,13 @@ or 1D modes),
     C_j = sum_i n_i C_i (q_j / q_i)^s_j / sum_i n_i,    ln q_j = sum_i n_i ln q_i / sum_i n_i,
 
 the mean over every lattice point of every source that falls in the bin: each source weighs by
-its statistical weight; s_j is the local log-log slope (weighted line through the rings within
-0.4 decade), which moves each ring to q_j without bias for a power law. Where a bin holds few
-lattice points (the lowest rings of a field of view), consecutive bins are pooled into one row
-until it holds :data:`MIN_ROW_DOF` degrees of freedom (at most :data:`MAX_ROW_BINS` bins; the
-first row of a stretch at most 2, so that the curve starts where the band does, its few lattice
-points said by its wider band). Uncertainty: a periodogram value of a Gaussian surface is C times an
+its statistical weight; s_j is the local log-log slope (line through the rings within 0.6
+decade, weighted by lattice points, so that the many-point rings above a band's start set it),
+which moves each ring to q_j without bias for a power law. Where a bin holds few lattice points
+(the lowest rings of a field of view), consecutive bins are pooled into one row until it holds
+:data:`MIN_ROW_DOF` degrees of freedom (at most :data:`MAX_ROW_BINS` bins). The first row of
+each stretch sits at its lowest ring (the curve starts where the band does), the others at the
+count-weighted mean of ln q (where a slope error cancels to first order). Uncertainty: a periodogram value of a Gaussian surface is C times an
 exponential variable (2 degrees of freedom per independent mode, reduced by the window's
 equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
 band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
@@ -25,7 +26,7 @@ band tolerates there (``SpectrumPart.edge_bias``: about 10 % for leakage, aliasi
 25 % at a noise floor; :mod:`roadscan.reliable_band`). Bins inside the union of the bands that no source
 covers are *gaps* (a bin inside some band that holds no ring, as 1D modes sparser than the
 grid at low q, gets no row): bridged by the power law fitted (inverse-variance weights) to the
-covered rows within 0.3 decade on either side, flagged ``n_sources = 0`` and listed.
+covered rows within 0.5 decade on either side, flagged ``n_sources = 0`` and listed.
 
 Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 3
 (periodogram statistics, windows); Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014
@@ -155,9 +156,13 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     N = np.bincount(idx, n, nb)
     covered = N > 0
     Nc = np.where(covered, N, 1.0)
-    # each row at the count-weighted mean of ln q: an error in the slope below cancels to first
-    # order in the moved rings' mean
+    # each row at the count-weighted mean of ln q (an error in the slope below cancels to first
+    # order in the moved rings' mean), but the first of each stretch at its lowest ring: the
+    # curve starts where the band does
     q = np.exp(np.bincount(idx, n * np.log(r[:, 1]), nb) / Nc)
+    q_first = np.full(nb, np.inf)
+    np.minimum.at(q_first, idx, r[:, 1])
+    q = np.where(covered & ~np.r_[False, covered[:-1]], q_first, q)
     # each ring's C moved to its row's q along the local slope (exact for a power law)
     Cr = r[:, 2] * (q[idx] / r[:, 1]) ** _row_slopes(r[:, 1], r[:, 2], n, q, covered)[idx]
     C = np.bincount(idx, n * Cr, nb) / Nc
@@ -194,21 +199,18 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
                           (float(q[covered][0]), float(q[covered][-1])), gaps)
 
 
-def _group_bins(dof, min_dof, max_bins, first_bins=2):
+def _group_bins(dof, min_dof, max_bins):
     """Rows of the merged curve from grid bins: consecutive covered bins are pooled until a row
-    holds ``min_dof`` degrees of freedom (at most ``max_bins`` bins; the first row of a stretch
-    at most ``first_bins``, so that the curve starts where the band does); an uncovered bin is
-    a row of its own. -> (row index of each bin, first bin of each row)."""
+    holds ``min_dof`` degrees of freedom (at most ``max_bins`` bins); an uncovered bin is a row
+    of its own. -> (row index of each bin, first bin of each row)."""
     row = np.empty(dof.size, np.int64)
     first = []
-    acc, width, prev, limit = 0.0, 0, False, first_bins
+    acc, width, prev = 0.0, 0, False
     for j, d in enumerate(dof):
         cov = d > 0
-        start = not (cov and prev)
-        if start or acc >= min_dof or width >= limit:
+        if not (cov and prev) or acc >= min_dof or width >= max_bins:
             first.append(j)
             acc, width = 0.0, 0
-            limit = first_bins if start else max_bins
         row[j] = len(first) - 1
         acc += d
         width += 1
@@ -216,7 +218,7 @@ def _group_bins(dof, min_dof, max_bins, first_bins=2):
     return row, np.asarray(first, np.int64)
 
 
-def _row_slopes(q, C, n, q_row, covered, reach=0.4):
+def _row_slopes(q, C, n, q_row, covered, reach=0.6):
     """d ln C / d ln q at each row: weighted (lattice points) line through the rings within
     ``reach`` decades of the row's q (0 where fewer than 3 rings)."""
     x, y = np.log(q), np.log(C)
@@ -230,7 +232,7 @@ def _row_slopes(q, C, n, q_row, covered, reach=0.4):
     return out
 
 
-def _bridge(gap, q, lnC, d_lo, d_hi, covered, reach=0.3):
+def _bridge(gap, q, lnC, d_lo, d_hi, covered, reach=0.5):
     """Fill the rows of one gap in place: the line ln C = a + b ln q fitted to the covered rows
     within ``reach`` decades on either side (inverse-variance weights from each row's band, so
     that a band end's tolerated bias weighs less), so that the bridge does not rest on the two
