@@ -54,8 +54,12 @@ def command_inputs(args):
 def command_outputs(args):
     """``[(path, is_folder, flag)]`` of the outputs ``args`` names."""
     folder = getattr(args, "command", None) in FOLDER_COMMANDS
-    return [(os.fspath(v), folder, flag) for key, flag in OUTPUT_OPTIONS.items()
-            if isinstance((v := getattr(args, key, None)), (str, os.PathLike)) and os.fspath(v)]
+    outs = [(os.fspath(v), folder, flag) for key, flag in OUTPUT_OPTIONS.items()
+            if isinstance((v := getattr(args, key, None)), (str, os.PathLike))]
+    for out, _, flag in outs:
+        if not out.strip():
+            raise InputError(None, f"{flag}: empty name; name a file or folder")
+    return outs
 
 
 def check_link(path):
@@ -76,16 +80,17 @@ _KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device")
           (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISSOCK, "a socket"))
 
 
-def check_kind(path):
+def check_kind(path, advice="save the data to a file first"):
     """Refuse (one line) an input that is a device, a pipe or a socket: ``/dev/zero`` never
-    ends, a FIFO blocks until someone writes; roadscan reads files."""
+    ends, a FIFO blocks until someone writes; roadscan reads files (and never replaces a
+    device node by one: ``advice`` for an output)."""
     try:
         mode = os.stat(path).st_mode
     except OSError:
         return                       # missing or unreadable: the reader says so
     for test, what in _KINDS:
         if test(mode):
-            raise InputError(path, f"is {what}, not a file: save the data to a file first")
+            raise InputError(path, f"is {what}, not a file: {advice}")
 
 
 def check_command_paths(args):
@@ -102,6 +107,10 @@ def check_command_paths(args):
                 if exc.errno == errno.ELOOP:
                     raise InputError(None, f"{flag} {out}: is a symbolic link loop; name another "
                                            f"output") from None
+        try:
+            check_kind(out, "name a file or folder")     # /dev/full, a FIFO: never replaced
+        except InputError as exc:
+            raise InputError(None, f"{flag} {exc}") from None
         for parent in Path(out).parents:    # every output, before any work
             if parent.is_file():
                 raise InputError(None, f"{flag} {out}: is below the file {parent}, need a folder")

@@ -118,8 +118,8 @@ def atomic_path(path, suffix=None):
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{path.stem}.", suffix=suffix or path.suffix, dir=path.parent)
-    except OSError as exc:
-        raise _named(exc, final_name(shown)) from None
+    except OSError as exc:          # the name the user gave, not the hidden temporary one
+        raise OSError(exc.errno, exc.strerror or str(exc), str(final_name(shown))) from None
     try:
         os.fchmod(fd, file_mode())
     finally:
