@@ -66,10 +66,10 @@ def hint(parser, message, argv):
     if "invalid choice:" in message:
         word = message.split("invalid choice:", 1)[1].strip().split(" ", 1)[0].strip("'\"")
         names = list(subparsers(parser))
-        if not names:
-            for action in parser._actions:             # noqa: SLF001
-                if action.choices and word in message:
-                    names = [str(c) for c in action.choices]
+        flag = message.split("argument ", 1)[-1].split(":", 1)[0].split("/")[0].strip()
+        for action in parser._actions:                 # noqa: SLF001 - an option's own choices
+            if action.choices and flag in action.option_strings:
+                names = [str(c) for c in action.choices]
         best = _close(word, names) if names else None
         return f"; did you mean '{best}'?" if best else ""
     target = _chosen(parser, argv)

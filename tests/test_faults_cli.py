@@ -28,6 +28,7 @@ def test_version_from_package_metadata():
     (["analyse", "x.npy", "--out", "o", "--spacng", "1e-4"], "--spacing"),
     (["friction", "--psd", "p.csv", "--velocitys", "1,2"], "--velocities"),
     (["rubber", "mastr"], "'master'"),
+    (["stitch", "a.csv", "--blend", "feathr", "--out", "o.x3p"], "'feather'"),
 ])
 def test_did_you_mean(capsys, argv, suggestion):
     from pipelines.cli import main
