@@ -42,6 +42,7 @@ elif __name__ == "__mp_main__" or \
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 import argparse
+import errno
 import importlib
 import traceback
 import warnings
@@ -211,7 +212,7 @@ def _main(args, cmd):
         return _fail(cmd, debug, one_line(f"out of memory ({exc or 'allocation failed'}); use a smaller "
                                           f"scan or lower --max-pixels"))
     except OSError as exc:
-        name = getattr(exc, "filename", None)
+        name = getattr(exc, "filename", None) or _output_of(args, exc)
         return _fail(cmd, debug, one_line(f"{str(name) + ': ' if name else ''}{exc.strerror or exc}"))
     except INPUT_LIKE as exc:
         return _fail(cmd, debug, one_line(f"cannot process this input ({type(exc).__name__}: {exc})"))
@@ -222,6 +223,17 @@ def _main(args, cmd):
                                           f"--debug for the traceback"), internal=True)
     finally:
         io_common.set_max_pixels(previous_limit)
+
+
+#: errors of writing: when the exception names no file, the message names the command's output
+_WRITE_ERRNOS = {getattr(errno, n) for n in ("ENOSPC", "EDQUOT", "EFBIG", "EROFS", "EIO") if hasattr(errno, n)}
+
+
+def _output_of(args, exc):
+    if getattr(exc, "errno", None) not in _WRITE_ERRNOS:
+        return None
+    out = getattr(args, "out", None) or getattr(args, "output", None)
+    return f"{out} (writing the output)" if out else None
 
 
 def _fail(cmd, debug, message, internal=False):

@@ -230,3 +230,17 @@ def test_devices_and_pipes_are_not_read(tmp_path, capsys):
             rc, err = run_cli(capsys, argv)
             assert_one_line_error(rc, err, words=[str(src), "not a file"])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.npy"]
+
+
+def test_full_disk_outside_the_atomic_writers_names_the_output(tmp_path, scan, capsys, monkeypatch):
+    """An ENOSPC without a file name raised anywhere (here the writer itself): the one line
+    names the command's output."""
+    import roadscan.io
+
+    def full(*a, **k):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(roadscan.io, "write", full)
+    rc, err = run_cli(capsys, ["convert", scan, tmp_path / "c.x3p", "--spacing", DX])
+    assert_one_line_error(rc, err, words=["No space left on device", "c.x3p"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["scan.npy"]
