@@ -15,9 +15,11 @@ fit at the nominal inputs is clearly the best is preferred (the nominal values a
 within their ranges), else the verdict is inconclusive. Otherwise, when the calibration alone shrinks the
 baseline's held-out gap by ``MIN_SHRINK``, the verdict is ``"calibration"`` (``calibrated``: the
 fitted inputs with approximate 95 % intervals), or inconclusive when an effect alone explains
-the held-out points as well (``inconclusive`` then names it and ``"calibration"``); when only
-the default q1 range is uncertain (no ``--uncertain``), the inputs as given are believed and that
-effect is named with confidence low.
+the held-out points as well (``inconclusive`` then names it and ``"calibration"``). When only
+the default q1 range is uncertain (no ``--uncertain``), the inputs as given are believed first:
+the verdict at them (as without uncertain inputs) stands when it names an effect, with confidence
+low when calibrating q1 alone explains the held-out points as well; otherwise the calibrated
+verdict applies.
 
 Never named: a fit with a parameter outside its physical range (``implausible``, see
 :mod:`.effects`). Confidence: high; low when the shrink interval reaches below ``MIN_SHRINK`` or
@@ -149,6 +151,16 @@ def decide(singles, pairs, cal, calpairs, st, intervals=None):
         return v, None
     if cal is None:
         return _plain(v, singles, pairs, st, every)
+    if st.get("default_only"):
+        # only the honest default range of q1 is uncertain (no --uncertain): the inputs as given
+        # are believed first; an effect named at them keeps its name, with confidence low when
+        # calibrating q1 alone closes the gap as well
+        v0, b0 = _plain(_empty(), singles, pairs, st, every)
+        if b0 is not None:
+            if cal.shrink >= MIN_SHRINK and cal.gap_heldout <= b0.gap_heldout + 0.1 * noise:
+                v0["confidence"] = "low"
+                v0["reason"] += "; calibrating q1 within its default range explains it as well"
+            return v0, b0
     return _calibrated(v, singles, cal, calpairs, st, every, intervals or (lambda c: {}))
 
 
@@ -213,16 +225,6 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
         # an effect that is one of the calibrated inputs (fine_roughness for q1, ...) is no rival
         same = {"q1_per_m": "fine_roughness", "sigma0_Pa": "load", "temperature_C": "temperature_offset"}
         riv = rivals(cal, singles, noise, names={same[p.name] for p in cal.effects[0].params if p.name in same})
-        if riv and st.get("default_only"):
-            s1 = min(riv, key=lambda c: c.score)
-            if not rivals(s1, singles, noise) and not s1.implausible:
-                # only the honest default range of q1 is uncertain: the inputs as given are
-                # believed, so an effect at them is preferred to moving q1, with low confidence
-                _name(v, s1, g_ho)
-                v["confidence"] = "low"
-                v["reason"] = prefix + v["reason"] + (" at the inputs as given; calibrating q1 within its default "
-                                                      "range explains the held-out points as well")
-                return v, s1
         if riv:
             v["inconclusive"] = [r.name for r in riv] + ["calibration"]
             v["reason"] = prefix + ("inconclusive: " + ", ".join(v["inconclusive"]) +
