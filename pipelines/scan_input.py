@@ -13,6 +13,12 @@ READ_KEYS = ("calibration_override", "calibration_ignored", "channel", "channels
 _UNITS = ("m", "mm", "um", "nm")
 
 
+def add_inputs_and_out(parser, inputs_help, out_help):
+    """The positional ``INPUT...`` and the required ``--out DIR`` of a many-input command."""
+    parser.add_argument("inputs", nargs="+", metavar="INPUT", help=inputs_help)
+    parser.add_argument("--out", required=True, metavar="DIR", help=out_help)
+
+
 def add_scan_options(parser):
     """Add ``--spacing DX[,DY]`` [m] and ``--units {m,mm,um,nm}`` to an argparse parser."""
     parser.add_argument(

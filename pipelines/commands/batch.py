@@ -13,6 +13,7 @@ from pathlib import Path
 from roadscan.errors import InputError
 
 from ..friction_options import settings_from_args
+from ..scan_input import add_inputs_and_out
 from .analyse import add_analysis_options, analysis_kwargs
 
 NAME = "batch"
@@ -20,11 +21,9 @@ HELP = "analyse many scans (files, globs, manifest CSV) on a local or existing D
 
 
 def add_arguments(p):
-    p.add_argument("inputs", nargs="+", metavar="INPUT",
-                   help="height files, glob patterns (quote them) or a manifest CSV with header "
-                        "file[,chainage_m][,label] (paths relative to the manifest)")
-    p.add_argument("--out", required=True, metavar="DIR",
-                   help="campaign folder: DIR/<stem>/ per input, DIR/campaign.csv, DIR/report.html")
+    add_inputs_and_out(p, "height files, glob patterns (quote them) or a manifest CSV with header "
+                          "file[,chainage_m][,label] (paths relative to the manifest)",
+                       "campaign folder: DIR/<stem>/ per input, DIR/campaign.csv, DIR/report.html")
     add_analysis_options(p)   # the very options of analyse, friction included
     g = p.add_argument_group("campaign")
     g.add_argument("--figures", action="store_true", help="also write each scan's PNG figures")

@@ -9,17 +9,15 @@ lattice points per ring (:mod:`pipelines.combine_merge`). Outputs (written atomi
 """
 from __future__ import annotations
 
-from ..scan_input import add_scan_options
+from ..scan_input import add_inputs_and_out, add_scan_options
 
 NAME = "combine"
 HELP = "merge the spectra of several measurements of one surface (instruments, scales) into one C(q)"
 
 
 def add_arguments(p):
-    p.add_argument("inputs", nargs="+", metavar="INPUT",
-                   help="height files, or a manifest CSV (header: file[,spacing_m,units,"
-                        "resolution_m,label]; paths relative to the manifest)")
-    p.add_argument("--out", required=True, metavar="DIR", help="output folder")
+    add_inputs_and_out(p, "height files, or a manifest CSV (header: file[,spacing_m,units,"
+                          "resolution_m,label]; paths relative to the manifest)", "output folder")
     p.add_argument("--resolution", type=float, default=None, metavar="M",
                    help="lateral resolution [m] (wavelength passed at 50 %% amplitude) of inputs "
                         "given on the command line whose file does not carry one")
