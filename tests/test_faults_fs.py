@@ -244,3 +244,17 @@ def test_full_disk_outside_the_atomic_writers_names_the_output(tmp_path, scan, c
     rc, err = run_cli(capsys, ["convert", scan, tmp_path / "c.x3p", "--spacing", DX])
     assert_one_line_error(rc, err, words=["No space left on device", "c.x3p"])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scan.npy"]
+
+
+def test_earlier_output_folder_with_a_users_file_is_not_replaced(tmp_path, scan, capsys):
+    """An earlier run's folder where the user put notes: replacing the folder as a whole would
+    lose them, so it is refused; without them the folder is replaced."""
+    out = tmp_path / "out"
+    assert run_cli(capsys, ["analyse", scan, "--out", out, *FAST])[0] == 0
+    (out / "notes.txt").write_text("field log\n")
+    before = snapshot(tmp_path)
+    rc, err = run_cli(capsys, ["analyse", scan, "--out", out, *FAST])
+    assert_one_line_error(rc, err, words=["notes.txt"])
+    assert snapshot(tmp_path) == before
+    (out / "notes.txt").unlink()
+    assert run_cli(capsys, ["analyse", scan, "--out", out, *FAST])[0] == 0

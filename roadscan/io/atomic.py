@@ -264,6 +264,34 @@ def check_output_dir(target, flag="--out", inputs=()):
                 (target / e / m).exists() for e in entries for m in OUTPUT_MARKERS):
             raise InputError(None, f"{flag} {target}: folder exists, is not empty and holds no "
                                    f"earlier roadscan output; name a new folder")
+        foreign = _foreign_file(target)
+        if foreign is not None:
+            raise InputError(None, f"{flag} {target}: holds {foreign}, which no roadscan run writes; "
+                                   f"replacing the folder would lose it: move it or name another folder")
+
+
+#: what roadscan writes into an output folder (a folder holding anything else is not replaced)
+OUTPUT_SUFFIXES = (".json", ".csv", ".png", ".html", ".npy", ".npz", ".parquet")
+
+
+def _foreign_file(folder, depth=2):
+    """The first visible file below ``folder`` (``depth`` levels) whose kind roadscan never writes
+    into an output folder (a user's notes or photo beside an earlier run), else None."""
+    try:
+        entries = sorted(Path(folder).iterdir())
+    except OSError:
+        return None
+    for p in entries:
+        if p.name.startswith("."):
+            continue
+        if p.is_dir() and not p.is_symlink():
+            if depth > 1:
+                found = _foreign_file(p, depth - 1)
+                if found is not None:
+                    return found
+        elif p.suffix.lower() not in OUTPUT_SUFFIXES:
+            return p
+    return None
 
 
 @contextlib.contextmanager
