@@ -59,6 +59,18 @@ def _values(records, quantities):
     return vals
 
 
+def _hist_bins(x, n_ok):
+    """Histogram bins for the values ``x``: sqrt-rule bins, or one bar around the value when all
+    scans agree to 1e-9 (matplotlib refuses many bins over a range of a few ulps)."""
+    if x.size == 0:
+        return {"bins": 5}
+    centre, span = float(np.mean(x)), float(np.ptp(x))
+    if span <= 1e-9 * max(abs(centre), float(np.abs(x).max()), 1e-300):
+        half = max(0.01 * abs(centre), 1e-12)
+        return {"bins": 1, "range": (centre - half, centre + half)}
+    return {"bins": min(30, max(5, int(np.sqrt(n_ok)) + 1))}
+
+
 def _plot_grid(path, quantities, vals, chain=None, groups=None):
     import matplotlib.pyplot as plt
 
@@ -72,7 +84,7 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
         bad = outlier_mask(v)
         if chain is None:
             if ok.any():
-                ax.hist(v[ok & ~bad], bins=min(30, max(5, int(np.sqrt(ok.sum())) + 1)), color="C0",
+                ax.hist(v[ok & ~bad], **_hist_bins(v[ok & ~bad], ok.sum()), color="C0",
                         alpha=0.8, label="scans")
                 if bad.any():
                     ax.plot(v[bad], np.zeros(bad.sum()), "v", color="red", ms=8, label="outliers")
