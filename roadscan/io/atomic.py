@@ -38,6 +38,7 @@ import tempfile
 from pathlib import Path
 
 from ..errors import InputError
+from .output_folder import OUTPUT_MARKERS, OUTPUT_SUFFIXES, check_output_dir  # noqa: F401 (re-exported)
 from .overwrite_guard import check_not_read
 
 __all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_save_npy",
@@ -48,11 +49,6 @@ __all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_sav
 TMP_TAG = ".roadscan-tmp-"
 #: marker of an old output folder set aside during a swap (``.<target>.roadscan-old-XXXX``)
 OLD_TAG = ".roadscan-old-"
-
-#: files whose presence marks a folder as an earlier roadscan output (safe to replace)
-OUTPUT_MARKERS = ("summary.json", "report.html", "rainfill.json", "summary.csv", "mu.csv",
-                  "psd.csv", "compare.csv", "diagnosis.json", "wet.npy")
-
 
 def through_link(path):
     """The path a write to ``path`` should replace: where a symbolic link points (followed to
@@ -231,67 +227,6 @@ def _in_use(folder):
         return False
     finally:
         os.close(fd)
-
-
-def check_output_dir(target, flag="--out", inputs=()):
-    """Refuse an output folder that cannot or must not be (re)placed, with one line.
-
-    Refused: a path that is an existing file; a path below a file; an existing non-empty folder
-    that holds no earlier roadscan output (it would be replaced as a whole); the current
-    folder, the home folder or a filesystem root; a folder that contains one of ``inputs``.
-    """
-    target = Path(target)
-    if str(target).strip() == "":
-        raise InputError(None, f"{flag}: empty folder name")
-    for parent in [target, *target.parents]:
-        if parent.exists() and not parent.is_dir():
-            what = "is an existing file" if parent == target else f"is below the file {parent}"
-            raise InputError(None, f"{flag} {target}: {what}, need a folder")
-    resolved = target.resolve()
-    if resolved in (Path.cwd().resolve(), Path.home().resolve()) or resolved == resolved.parent \
-            or resolved in Path.cwd().resolve().parents:
-        raise InputError(None, f"{flag} {target}: the whole folder would be replaced; name a new "
-                               f"or earlier output folder")
-    for inp in inputs:
-        try:
-            Path(inp).resolve().relative_to(resolved)
-        except ValueError:
-            continue
-        raise InputError(None, f"{flag} {target}: contains the input {inp}; name another folder")
-    if target.is_dir():
-        entries = [p.name for p in target.iterdir()]
-        if entries and not any(m in entries for m in OUTPUT_MARKERS) and not any(
-                (target / e / m).exists() for e in entries for m in OUTPUT_MARKERS):
-            raise InputError(None, f"{flag} {target}: folder exists, is not empty and holds no "
-                                   f"earlier roadscan output; name a new folder")
-        foreign = _foreign_file(target)
-        if foreign is not None:
-            raise InputError(None, f"{flag} {target}: holds {foreign}, which no roadscan run writes; "
-                                   f"replacing the folder would lose it: move it or name another folder")
-
-
-#: what roadscan writes into an output folder (a folder holding anything else is not replaced)
-OUTPUT_SUFFIXES = (".json", ".csv", ".png", ".html", ".npy", ".npz", ".parquet")
-
-
-def _foreign_file(folder, depth=2):
-    """The first visible file below ``folder`` (``depth`` levels) whose kind roadscan never writes
-    into an output folder (a user's notes or photo beside an earlier run), else None."""
-    try:
-        entries = sorted(Path(folder).iterdir())
-    except OSError:
-        return None
-    for p in entries:
-        if p.name.startswith("."):
-            continue
-        if p.is_dir() and not p.is_symlink():
-            if depth > 1:
-                found = _foreign_file(p, depth - 1)
-                if found is not None:
-                    return found
-        elif p.suffix.lower() not in OUTPUT_SUFFIXES:
-            return p
-    return None
 
 
 @contextlib.contextmanager
