@@ -245,7 +245,7 @@ def _plot_psd1d(q, C1, path, name):
     ax.set_ylabel("C₁(q) [m³]")
     report.plain_log_ticks(ax)
     report.wavelength_axis(ax)
-    report.set_title(ax, f"{name}: 1D PSD (<h²> = 2 ∫ C1 dq)")
+    report.set_title(ax, f"{name}: 1D PSD (<h²> = 2 ∫ C₁ dq)")
     ax.grid(which="both", alpha=0.25)
     ax.legend(fontsize=8)
     return report.save_figure(fig, path, report.fixed_margins(ax, top=report.WAVELENGTH_AXIS_TOP))
@@ -272,7 +272,8 @@ def draw_psd2d_figure(picture, path, name):
                    extent=(qxs[0], qxs[-1], qys[0], qys[-1]), aspect="equal")
     ax.set_xlabel("wave vector qx [1/m]")
     ax.set_ylabel("wave vector qy [1/m]")
-    report.set_title(ax, f"{name}: 2D PSD, |q| < {qlim:.3g} 1/m (anisotropy)")
+    from .units_format import sig3, wavelength_of_q
+    report.set_title(ax, f"{name}: 2D PSD, |q| < {sig3(qlim)} 1/m (λ > {wavelength_of_q(qlim)})")
     cb = fig.colorbar(im, ax=ax)
     cb.set_label("log₁₀ C [m⁴]")
     ax.ticklabel_format(style="sci", scilimits=(-2, 3))

@@ -23,6 +23,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .units_format import quantity
+
 __all__ = ["extrapolated_share", "rms_slope", "implausible_cause", "MU_PLAUSIBLE",
            "rubber_label"]
 
@@ -93,7 +95,7 @@ def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=No
         causes.append(f"cut-off ({100 * share_at_peak:.0f} % of mu from wave vectors beyond the "
                       f"scan: a lower --q1)")
     if mu_peak > hi and slope is not None and slope > SLOPE_BAND:
-        causes.append(f"band (rms slope {slope:.3g} up to q1 = {q1_per_m:.3g} 1/m: its short end "
+        causes.append(f"band (rms slope {slope:.3g} up to q1 = {quantity('q1_per_m', q1_per_m)}: its short end "
                       f"likely holds noise or artefacts: a lower --q1 or --resolution)")
     if mu_peak < lo and slope is not None and slope < 0.1:
         causes.append(f"band (rms slope {slope:.3g}: too smooth or too short a band: --q1)")

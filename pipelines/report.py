@@ -112,7 +112,13 @@ def set_title(ax, text, width=58):
     """A title wrapped to the axes width (long scan names must not run off the figure)."""
     import textwrap
 
-    ax.set_title("\n".join(textwrap.wrap(str(text), width)) or "", fontsize=10)
+    text = str(text)
+    head, sep, tail = text.partition(": ")
+    if len(text) > width and sep and len(head) < width:   # break after the scan's name
+        lines = [head + ":"] + textwrap.wrap(tail, width)
+    else:
+        lines = textwrap.wrap(text, width)
+    ax.set_title("\n".join(lines) or "", fontsize=10)
 
 
 def fixed_margins(ax, left=0.95, right=0.25, bottom=0.62, top=0.18):

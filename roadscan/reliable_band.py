@@ -245,10 +245,10 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
 
 
 def _len(m):
-    """A length in m, mm or um, 3 significant digits."""
+    """A length in m, mm or µm, 3 significant digits."""
     if m >= 1.0:
         return f"{m:.3g} m"
-    return f"{m * 1e3:.3g} mm" if m >= 1e-3 else f"{m * 1e6:.3g} um"
+    return f"{m * 1e3:.3g} mm" if m >= 1e-3 else f"{m * 1e6:.3g} µm"
 
 
 def _middle_band(q, C, n):

@@ -78,7 +78,7 @@ def _jumps(profiles, sigma):
 
 
 def _fmt(v):
-    for unit, f in (("m", 1.0), ("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9)):
+    for unit, f in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
         if abs(v) >= f:
             return f"{v / f:.3g} {unit}"
     return f"{v:.3g} m"

@@ -74,9 +74,11 @@ def _hist_bins(x, n_ok):
 def _plot_grid(path, quantities, vals, chain=None, groups=None):
     import matplotlib.pyplot as plt
 
+    shown = [q for q in quantities if np.isfinite(vals[q[0]]).any()]
+    quantities = shown or quantities[:1]           # no panel of "no values" (issue 21)
     n = len(quantities)
     ncol = 3
-    nrow = int(np.ceil(n / ncol))
+    nrow = int(np.ceil((n + (chain is not None)) / ncol))   # along chainage: a spare for the legend
     fig, axes = plt.subplots(nrow, ncol, figsize=(11, 3.2 * nrow), squeeze=False)
     for ax, (key, label, _, _) in zip(axes.flat, quantities):
         v = vals[key]
@@ -106,14 +108,32 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
                 ax.plot(chain[bad & has], v[bad & has], "o", color="red", ms=6, label="outliers")
             ax.set_xlabel("chainage [m]")
             ax.set_ylabel(label)
-            if ax.get_legend_handles_labels()[0]:
-                ax.legend(fontsize=7)
         if not ok.any():
             ax.text(0.5, 0.5, "no values", transform=ax.transAxes, ha="center")
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
+    if chain is not None:                           # one legend in the spare panel, over no data
+        legend = {}
+        for ax in list(axes.flat)[:n]:
+            legend.update(zip(*reversed(ax.get_legend_handles_labels())))
+        if legend:
+            axes.flat[n].legend(list(legend.values()), list(legend.keys()), loc="center",
+                                fontsize=8, frameon=False)
     return report.save_figure(fig, path)
+
+
+def _reader_units(quantities, vals):
+    """Heights shown in µm switch to mm for the whole column when their median is 1 mm or more
+    (CAPTIF profiles: "2.53", not "2530"; issue 21)."""
+    out = []
+    for key, label, scale, get in quantities:
+        v = vals[key]
+        if scale == 1e6 and "[µm]" in label and np.isfinite(v).any() \
+                and np.nanmedian(np.abs(v)) >= 1e3:
+            label, scale, vals[key] = label.replace("[µm]", "[mm]"), 1e3, v / 1e3
+        out.append((key, label, scale, get))
+    return out, vals
 
 
 def _fmt(x, scale=1.0):
@@ -150,7 +170,7 @@ def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campa
     """Write ``out_dir/report.html`` (figures embedded; PNGs written beside it are removed)."""
     out_dir = Path(out_dir)
     quantities = QUANTITIES([f"{s:g}" for s in speeds])
-    vals = _values(records, quantities)
+    quantities, vals = _reader_units(quantities, _values(records, quantities))
     masks = {k: outlier_mask(v) for k, v in vals.items()}
     chain = np.array([np.nan if r["chainage_m"] is None else float(r["chainage_m"]) for r in records])
     n_ok = sum(r["status"] == "ok" for r in records)
