@@ -39,11 +39,11 @@ MIN_SHRINK = 0.25
 PAIR_GAIN = 0.85
 
 
-def rivals(best, pool, noise, names=None):
+def rivals(best, pool, noise, names=None, margin=0.1, tie=0.0):
     """Candidates of ``pool`` (not sharing an effect with ``best``) explaining the held-out points
     as well within the noise: their mean squared held-out residual exceeds the best's by less than
-    a quarter of its paired standard error, and their held-out gap by less than a tenth of the
-    noise."""
+    a quarter of its paired standard error (or their held-out gaps differ by at most ``tie`` x the
+    noise), and their held-out gap by less than ``margin`` x the noise."""
     out = []
     names = set(best.effect_names) if names is None else names
     for c in pool:
@@ -53,7 +53,8 @@ def rivals(best, pool, noise, names=None):
             continue
         d = c.r_held ** 2 - best.r_held ** 2
         se = float(np.std(d, ddof=1) / np.sqrt(d.size)) if d.size > 1 else 0.0
-        if float(np.mean(d)) <= 0.25 * se and c.gap_heldout <= best.gap_heldout + 0.1 * noise:
+        same = float(np.mean(d)) <= 0.25 * se or c.gap_heldout <= best.gap_heldout + tie * noise
+        if same and c.gap_heldout <= best.gap_heldout + margin * noise:
             out.append(c)
     return out
 
@@ -109,7 +110,11 @@ def _nominal_tiebreak(group, singles, noise, best, riv):
     if any(f is None for f in fits):
         return best, riv
     top = min(range(len(group)), key=lambda i: fits[i].gap_heldout)
-    if not fits[top].shrink >= MIN_SHRINK or rivals(fits[top], fits, noise):
+    if not fits[top].shrink >= MIN_SHRINK or fits[top].implausible:
+        return best, riv
+    # clearly better: every other nominal fit is a quarter of the noise worse, or no fit at all
+    if any(f is not fits[top] and f.shrink >= MIN_SHRINK and f.gap_heldout < fits[top].gap_heldout + 0.25 * noise
+           for f in fits):
         return best, riv
     return group[top], []
 
@@ -204,7 +209,9 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
     prefix = ""
     if adds:
         best = min(adds, key=lambda c: c.score)
-        riv = rivals(best, adds, noise)
+        # beyond a calibration, two effects whose held-out gaps differ by a few hundredths of the
+        # noise are equal whatever their paired scatter
+        riv = rivals(best, adds, noise, margin=0.15, tie=0.05)
         if riv:
             best, riv = _nominal_tiebreak([best] + riv, singles, noise, best, riv)
         if riv:
