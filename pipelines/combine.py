@@ -169,7 +169,9 @@ def run_combine(args):
         fig = None if args.no_figures else draw_combine(sources, merged, fit, tmp / "combine.png")
         write_combine_report(tmp / "report.html", summary, fig)
     lo, hi = merged.band_per_m
-    print(f"{len(sources)} inputs merged: C(q) from {lo:.4g} to {hi:.4g} 1/m, "
+    from .units_format import quantity
+    print(f"{len(sources)} inputs merged: C(q) from {quantity('q_per_m', lo)} to "
+          f"{quantity('q_per_m', hi)}, "
           f"{len(merged.gaps)} gap(s) bridged" + (f", H = {fit['hurst']:.3f}" if fit else ""))
     print(f"-> {args.out}/psd.csv, {args.out}/report.html", file=sys.stdout)
     return 0

@@ -107,7 +107,8 @@ def render_surface_with_water(dry_hm, depth_m, path, max_points=220, exaggeratio
     pl.set_background("white")
     pl.add_mesh(ground, scalars="height [µm]", cmap="copper", show_scalar_bar=True,
                 scalar_bar_args={"title": "height [µm]", "color": "black", "vertical": True,
-                                 "position_x": 0.86, "position_y": 0.2})
+                                 "position_x": 0.89, "position_y": 0.2, "width": 0.05,
+                                 "fmt": "%.0f", "n_labels": 5})   # "918", not "918." (issue 21)
     wet = np.isfinite(d) & (d > 0)
     if wet.any():
         Zw = np.where(wet, Z + np.nan_to_num(d) * 1e3 * exaggeration + 1e-6, np.nan)
@@ -120,7 +121,7 @@ def render_surface_with_water(dry_hm, depth_m, path, max_points=220, exaggeratio
                 color="black")
     pl.camera_position = "iso"
     pl.camera.elevation = -10
-    pl.camera.zoom(1.35)
+    pl.camera.zoom(1.1)     # the colour bar right of the surface, not over it
     with atomic_path(path) as tmp:
         pl.screenshot(str(tmp))
     pl.close()

@@ -246,9 +246,8 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
 
 def _len(m):
     """A length in m, mm or µm, 3 significant digits."""
-    if m >= 1.0:
-        return f"{m:.3g} m"
-    return f"{m * 1e3:.3g} mm" if m >= 1e-3 else f"{m * 1e6:.3g} µm"
+    v, unit = (m, "m") if m >= 1.0 else (m * 1e3, "mm") if m >= 1e-3 else (m * 1e6, "µm")
+    return f"{v:#.3g}".rstrip(".") + f" {unit}"      # trailing zeros kept: "60.0 mm"
 
 
 def _middle_band(q, C, n):

@@ -200,8 +200,9 @@ def texture_spectrum(obj, direction="x"):
     ok = (lo >= MIN_SAMPLES_PER_WAVELENGTH * dx * (1 - 1e-9)) & \
          ((1.0 / lo - 1.0 / hi) * L >= MIN_BINS * (1 - 1e-9))
     drop = float(np.mean(~np.isfinite(z)))
+    length = (f"{L:#.3g}".rstrip(".") + " m") if L >= 1 else (f"{L * 1e3:#.3g}".rstrip(".") + " mm")
     note = (f"ISO 13473-4 third-octave levels re 1 µm, FFT (Tukey 0.5 window) of {what} of "
-            f"{f'{L:.3g} m' if L >= 1 else f'{L * 1e3:.3g} mm'} at {dx * 1e3:.3g} mm; bands from {MIN_SAMPLES_PER_WAVELENGTH} "
+            f"{length} at {dx * 1e3:.3g} mm; bands from {MIN_SAMPLES_PER_WAVELENGTH} "
             f"samples per shortest wavelength to {MIN_BINS} FFT bins per band")
     if drop > 0:
         note += f"; {drop:.1%} dropouts filled linearly along the lines"

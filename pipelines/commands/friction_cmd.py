@@ -156,8 +156,9 @@ def run(args):
         _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max,
                        prov)
     mu_max, v_max = res.peak
-    print(f"{out}: {v.size} speeds, peak mu {mu_max:.4g} at {v_max:.4g} m/s, "
-          f"q {psd.q_min_per_m:.4g}..{psd.q1_per_m:.4g} 1/m"
+    from ..units_format import quantity, sig3
+    print(f"{out}: {v.size} speeds, peak μ {sig3(mu_max)} at {sig3(v_max)} m/s, "
+          f"q {quantity('q_per_m', psd.q_min_per_m)} to {quantity('q_per_m', psd.q1_per_m)}"
           + (f", {res.iterations} iterations, residual {res.residual:.2g} K" if args.flash else ""))
     return 0
 
@@ -226,8 +227,8 @@ def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area
     if T_max is not None:
         summary["T_flash_max_C"] = float(T_max.max())
     write_json(tmp / (out.stem + "_summary.json"), summary)
-    title = "mu(v), " + ("flash temperature" if args.flash else "isothermal") + \
+    title = "μ(v), " + ("flash temperature" if args.flash else "isothermal") + \
         (f", {prov['rubber']}" if prov is not None else
-         f", sigma0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} C")
+         f", σ0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} °C")
     plot_mu([("", res.v_m_per_s, res.mu)], tmp / (out.stem + ".png"), title=title,
-            ylabel="friction coefficient mu [-]")
+            ylabel="friction coefficient μ [-]")

@@ -16,6 +16,8 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
+from ..units_format import sig3
+
 NAME = "rubber"
 HELP = "rubber data tools: 'rubber master RAW.csv' builds a master curve from raw DMA sweeps"
 
@@ -53,7 +55,7 @@ def _plot(res, raw, path):
     ax.scatter(f, E2, c=cmap(Tn), s=8, marker="^", label="E'' (raw)")
     ax.set_xscale("log"), ax.set_yscale("log")
     ax.set_xlabel("frequency f [Hz]"), ax.set_ylabel("modulus [Pa]")
-    ax.set_title(f"raw sweeps, {T.min():.0f} to {T.max():.0f} C (blue cold, red hot)", fontsize=9)
+    ax.set_title(f"raw sweeps, {T.min():.0f} to {T.max():.0f} °C (blue cold, red hot)", fontsize=9)
     ax.legend(fontsize=8)
     ax = axs[1]
     s = res.shifted
@@ -66,7 +68,7 @@ def _plot(res, raw, path):
     Ep = res.prony.modulus_ref(2 * np.pi * m.f_Hz)
     ax.loglog(m.f_Hz, Ep.real, color="C2", lw=0.8, label=f"Prony ({res.prony.E_i_Pa.size} terms)")
     ax.loglog(m.f_Hz, Ep.imag, color="C2", lw=0.8, ls="--")
-    ax.set_xlabel(f"reduced frequency f aT [Hz] at T_ref = {res.T_ref_C:g} C"), ax.set_ylabel("modulus [Pa]")
+    ax.set_xlabel(f"reduced frequency f aT [Hz] at T_ref = {res.T_ref_C:g} °C"), ax.set_ylabel("modulus [Pa]")
     ax.set_title("shifted sweeps and master curve", fontsize=9)
     ax.legend(fontsize=8)
     ax = axs[2]
@@ -78,8 +80,8 @@ def _plot(res, raw, path):
     Tg = np.linspace(res.T_sweep_C.min(), res.T_sweep_C.max(), 200)
     w = res.wlf
     ax.plot(Tg, w.log10_aT(Tg), "k-", lw=1,
-            label=f"WLF C1={w.C1:.3g}, C2={w.C2_K:.3g} K (rms {res.wlf_rms_decades:.2f} dec)")
-    ax.set_xlabel("temperature T [C]"), ax.set_ylabel("log10 aT")
+            label=f"WLF C1 = {sig3(w.C1)}, C2 = {sig3(w.C2_K)} K (rms {res.wlf_rms_decades:.2f} dec)")
+    ax.set_xlabel("temperature T [°C]"), ax.set_ylabel("log10 aT")
     ax.set_title("shift factors aT(T)", fontsize=9)
     ax.grid(alpha=0.3), ax.legend(fontsize=8)
     fig.tight_layout()
@@ -151,8 +153,8 @@ def run(args):
         write_json(d / f"{stem}_master.json", summary)
         _plot(res, (f, E1, E2, T), d / f"{stem}_master.png")
     trend = sum(i["method"] == "trend" for i in res.sweep_info)
-    print(f"{out}: master curve at {res.T_ref_C:g} C from {len(res.T_sweep_C)} sweeps, "
-          f"{m.f_Hz[0]:.3g}..{m.f_Hz[-1]:.3g} Hz; WLF C1 {w.C1:.4g}, C2 {w.C2_K:.4g} K, "
+    print(f"{out}: master curve at {res.T_ref_C:g} °C from {len(res.T_sweep_C)} sweeps, "
+          f"{m.f_Hz[0]:.3g}..{m.f_Hz[-1]:.3g} Hz; WLF C1 {sig3(w.C1)}, C2 {sig3(w.C2_K)} K, "
           f"rms {res.wlf_rms_decades:.2f} decades; Prony {p.E_i_Pa.size} terms")
     if res.wlf_rms_decades > 0.5:
         print(f"note: WLF describes this shift table poorly (rms {res.wlf_rms_decades:.2f} decades, max "

@@ -1,0 +1,143 @@
+"""Reports speak the reader's units (issue 21): every HTML report and console line written by
+``analyse`` (area, profile, several scans), ``batch`` (sections of a profile), ``compare``,
+``dry-vs-wet`` and ``combine`` is scanned for raw SI ("0.0003974", "1.849e-05 um",
+"2.53e+03 um"), the ASCII "um" and heights of a thousand micrometres and more.
+
+The checker itself is tested first on the strings the issue quotes, so that it can fail.
+"""
+import html
+import re
+
+import numpy as np
+import pytest
+
+from conftest import fourier_surface
+from pipelines.cli import main
+
+DX = 5e-5            # area scans: 50 µm
+DXP = 5e-4           # profiles: 0.5 mm, a texture laser's interval
+
+_NUMBER = re.compile(r"(?<![\w.:/+-])-?(\d*\.\d+)(?![\w.])")
+_PATTERNS = {
+    "exponent next to a length unit": re.compile(r"\d[eE][+-]?\d+\s*(?:m|mm|um|µm|nm)\b"),
+    "ASCII um as a unit": re.compile(r"\d\s*um\b|\[um\]|\(um\)"),
+    "a thousand µm or more (say mm)": re.compile(r"(?<![\w.])\d{4,}(?:\.\d+)?\s*µm"),
+    "a length in plain metres below 1 m": re.compile(r"(?<![\w.@])0\.\d+\s*m(?![\w/])"),
+}
+
+
+def visible_text(page):
+    """What a reader sees of an HTML page: no style, script, tags or embedded images."""
+    page = re.sub(r"<(style|script)\b.*?</\1>", " ", page, flags=re.S)
+    page = re.sub(r"<[^>]+>", " ", page)
+    return html.unescape(page)
+
+
+def raw_si(text):
+    """Snippets of ``text`` that a road engineer should not have to read."""
+    bad = []
+    for m in _NUMBER.finditer(text):
+        digits = m.group(1).replace(".", "").lstrip("0")
+        if len(digits) > 4 or (len(digits) == 4 and abs(float(m.group(1))) < 0.01):
+            bad.append(("more than 4 significant digits", text[max(0, m.start() - 30):m.end() + 10]))
+    for what, rx in _PATTERNS.items():
+        bad += [(what, text[max(0, m.start() - 30):m.end() + 10]) for m in rx.finditer(text)]
+    return bad
+
+
+@pytest.mark.parametrize("text", [
+    "rms height [m] 0.0003974", "MPD 0.0032755905236328256", "rms height = 2.53e+03 um",
+    "rms mismatch [um] 1.849e-05", "rms mismatch 1.849e-05 um", "Sq 2530 µm", "rms mismatch 1.849e-05 m", "MPD 0.00328 m"])
+def test_checker_flags_the_quoted_raw_si(text):
+    assert raw_si(text)
+
+
+@pytest.mark.parametrize("text", [
+    "MPD 3.28 mm", "Sq 397 µm", "q range 104 1/m (λ = 60.3 mm)", "45.3 dB", "2.72 %",
+    "H = 0.863 ± 0.005", "v 0.000100 m/s", "read by: x3pio 2.0.0", "1.81 m", "μ 4.89e-06", "station_10@0.25m"])
+def test_checker_passes_reader_units(text):
+    assert raw_si(text) == []
+
+
+def _profile(n, seed):
+    """mm-scale texture: running-mean white noise plus a slow wave, heights about 2.3 mm rms."""
+    rng = np.random.default_rng(seed)
+    z = np.convolve(rng.normal(size=n + 24), np.ones(24) / 24, mode="valid")[:n] * 8e-3
+    x = np.arange(n) * DXP
+    return x, z + 2.5e-3 * np.sin(2 * np.pi * x / 0.9)
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    """Run every report-writing command once; -> {name: (report path, console text)}."""
+    d = tmp_path_factory.mktemp("units")
+    fine = fourier_surface(160, DX, 0.8, 4e-4, seed=1)
+    fine[10:13, 20:25] = np.nan
+    np.save(d / "fine.npy", fine)
+    np.save(d / "coarse.npy", fourier_surface(160, DX, 0.8, 9e-4, seed=2, q_roll=2 * np.pi / 2e-3))
+    for k in (1, 2):
+        x, z = _profile(3000, k)
+        np.savetxt(d / f"line{k}.txt", np.column_stack([x * 1e3, z * 1e3]), fmt="%.4f",
+                   delimiter=", ", header="distance (mm), height (mm)", comments="")
+    (d / "instruments.csv").write_text(
+        "file,spacing_m,resolution_m,label\n"
+        f"fine.npy,{DX},{2 * DX},fine\ncoarse.npy,{DX},{2 * DX},coarse\n")
+    a, b = str(d / "fine.npy"), str(d / "coarse.npy")
+    v = ["--velocities", "1e-4:1e2:7"]
+    commands = {
+        "analyse area": (["analyse", a, "--spacing", str(DX), "--no-figures"] + v, "area"),
+        "analyse profile": (["analyse", str(d / "line1.txt"), "--no-figures"] + v, "profile"),
+        "analyse several": (["analyse", a, b, "--spacing", str(DX), "--no-figures"] + v, "several"),
+        "batch sections": (["batch", str(d / "line1.txt"), str(d / "line2.txt"),
+                            "--section-length", "0.5", "--workers", "1", "--no-friction"], "batch"),
+        "compare": (["compare", a, b, "--spacing", str(DX)] + v, "compare"),
+        "dry-vs-wet": (["dry-vs-wet", a, "--spacing", str(DX)] + v, "wet"),
+        "combine": (["combine", str(d / "instruments.csv"), "--no-figures"], "combine"),
+    }
+    out = {}
+    for name, (argv, sub) in commands.items():
+        import contextlib
+        import io
+
+        buf = io.StringIO()
+        with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(buf):
+            rc = main(argv + ["--out", str(d / sub)])
+        assert rc == 0, (name, buf.getvalue())
+        out[name] = (d / sub / "report.html", buf.getvalue())
+    return out
+
+
+NAMES = ["analyse area", "analyse profile", "analyse several", "batch sections", "compare",
+         "dry-vs-wet", "combine"]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_html_report_has_no_raw_si(runs, name):
+    path, _ = runs[name]
+    pages = [path] + sorted(p for p in path.parent.rglob("report.html") if p != path)
+    for p in pages:
+        bad = raw_si(visible_text(p.read_text(encoding="utf-8")))
+        assert bad == [], f"{name}: {p.relative_to(path.parent)}: {bad[:5]}"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_console_has_no_raw_si(runs, name):
+    text = runs[name][1]
+    text = "\n".join(line for line in text.splitlines() if not line.startswith("["))  # progress
+    bad = raw_si(re.sub(r"(?:/[\w.@-]+)+", "PATH", text))     # file paths are not numbers
+    assert bad == [], f"{name}: {bad[:5]}"
+
+
+def test_campaign_heights_in_mm_when_they_are_millimetres(runs):
+    """Profiles of about 2.5 mm rms: the campaign's Sq column in mm ("2.53"), not µm ("2530")."""
+    page = visible_text(runs["batch sections"][0].read_text(encoding="utf-8"))
+    assert "Sq, rms height [mm]" in page and "Sq, rms height [µm]" not in page
+    head = page.index("Sq, rms height [mm]")
+    cells = re.findall(r"(?<![\w.])\d+\.\d+(?![\w.])", page[head:head + 4000])
+    assert cells and max(float(c) for c in cells) < 1000
+
+
+def test_profile_report_speaks_mm(runs):
+    page = visible_text(runs["analyse profile"][0].read_text(encoding="utf-8"))
+    assert re.search(r"rms height \(Sq[^)]*\)\s+\d\.\d\d mm", page), page[:2000]
+    assert re.search(r"mean profile depth MPD \(ISO 13473-1\)\s+\d\.\d\d mm", page)
