@@ -109,13 +109,16 @@ def display_image(data, points=DISPLAY_POINTS):
 
 
 def set_title(ax, text, width=58):
-    """A title wrapped to the axes width (long scan names must not run off the figure)."""
+    """A title wrapped to the axes width (long scan names must not run off the figure): after
+    the scan's name when the rest fits one line, never inside "T0 = 60 °C" or "0.2 MPa"."""
     import textwrap
 
-    text = str(text)
+    nb = "\u00a0"                       # textwrap breaks only at ASCII whitespace
+    text = re.sub(r"(?<=\S) ([=±]) (?=\S)", nb + r"\1" + nb, str(text))
+    text = re.sub(r"(?<=\d) (?=[^\W\d_]|°|%)", nb, text)
     head, sep, tail = text.partition(": ")
-    if len(text) > width and sep and len(head) < width:   # break after the scan's name
-        lines = [head + ":"] + textwrap.wrap(tail, width)
+    if len(text) > width and sep and len(head) < width and len(tail) <= width:
+        lines = [head + ":", tail]
     else:
         lines = textwrap.wrap(text, width)
     ax.set_title("\n".join(lines) or "", fontsize=10)

@@ -258,7 +258,12 @@ def mean_profile_depth(profile, **settings):
         res = segment_depths(profile.heights_m, profile.dx_m, profile.unmeasured, **settings)
     except ValueError as err:
         return None, f"no MPD: {err}"
-    return _summarise(res, f"a {profile.length_m * 1e3:.0f} mm profile")
+    return _summarise(res, f"a {_size(profile.length_m)} profile")
+
+
+def _size(L):
+    """A length [m] to 3 significant digits, in m from 1 m: "1.81 m", "54.2 mm"."""
+    return (f"{L:#.3g}".rstrip(".") + " m") if L >= 1 else (f"{L * 1e3:#.3g}".rstrip(".") + " mm")
 
 
 def mean_profile_depth_area(hm, **settings):
@@ -283,7 +288,7 @@ def mean_profile_depth_area(hm, **settings):
         res = _segment_depths_by_bands(hm, settings)
     except ValueError as err:
         return None, f"no MPD: {err}"
-    return _summarise(res, f"{hm.ny} rows of {L * 1e3:.0f} mm")
+    return _summarise(res, f"{hm.ny} rows of {_size(L)}")
 
 
 def _segment_depths_by_bands(hm, settings):

@@ -73,6 +73,7 @@ def _hist_bins(x, n_ok):
 
 def _plot_grid(path, quantities, vals, chain=None, groups=None):
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import MaxNLocator
 
     shown = [q for q in quantities if np.isfinite(vals[q[0]]).any()]
     quantities = shown or quantities[:1]           # no panel of "no values" (issue 21)
@@ -93,6 +94,7 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
                 ax.legend(fontsize=7)
             ax.set_xlabel(label)
             ax.set_ylabel("count")
+            ax.yaxis.set_major_locator(MaxNLocator(integer=True))     # whole scans
         else:
             has = ok & np.isfinite(chain)
             keys = np.asarray(groups)
