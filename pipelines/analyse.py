@@ -268,15 +268,17 @@ def draw_psd2d_figure(picture, path, name):
     pos = C[C > 0]
     lo = np.percentile(pos, 2) if pos.size else 1e-30
     fig, ax = plt.subplots(figsize=report.FIGSIZE)
+    p = int(np.floor(np.log10(qlim)))     # axes in 10^p 1/m: no offset text under the title
+    f = 10.0 ** p
     im = ax.imshow(np.log10(np.maximum(C, lo)), origin="lower", cmap="magma",
-                   extent=(qxs[0], qxs[-1], qys[0], qys[-1]), aspect="equal")
-    ax.set_xlabel("wave vector qx [1/m]")
-    ax.set_ylabel("wave vector qy [1/m]")
+                   extent=(qxs[0] / f, qxs[-1] / f, qys[0] / f, qys[-1] / f), aspect="equal")
+    unit = "1/m" if p == 0 else f"10{str(p).translate(str.maketrans('-0123456789', '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'))} 1/m"
+    ax.set_xlabel(f"wave vector qx [{unit}]")
+    ax.set_ylabel(f"wave vector qy [{unit}]")
     from .units_format import sig3, wavelength_of_q
     report.set_title(ax, f"{name}: 2D PSD, |q| < {sig3(qlim)} 1/m (λ > {wavelength_of_q(qlim)})")
     cb = fig.colorbar(im, ax=ax)
     cb.set_label("log₁₀ C [m⁴]")
-    ax.ticklabel_format(style="sci", scilimits=(-2, 3))
     return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))
 
 

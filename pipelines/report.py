@@ -259,6 +259,13 @@ def plot_mu(curves, path, title="friction coefficient", ylabel="friction coeffic
     ax.set_xscale("log")
     if logy:
         ax.set_yscale("log")
+    else:                  # a nearly flat curve: a span of 10 %, ticks "0.58" and not "0.5925"
+        ys = np.concatenate([np.asarray(c[2], float).ravel() for c in curves] or [np.zeros(0)])
+        ys = ys[np.isfinite(ys)]
+        big = float(np.abs(ys).max()) if ys.size else 0.0
+        if big > 0 and np.ptp(ys) < 0.1 * big:
+            mid = 0.5 * (ys.min() + ys.max())
+            ax.set_ylim(mid - 0.05 * big, mid + 0.05 * big)
     ax.set_xlabel("sliding speed v [m/s]")
     ax.set_ylabel(ylabel)
     plain_log_ticks(ax)
