@@ -138,6 +138,7 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
     checks = band = None
     if settings.enabled:
         from .friction_options import apply_band, run_checks, with_extrapolation
+        from .units_format import quantity
 
         q0_eff, q1_eff = analyse_band.friction_ends(rb, fit, settings)   # the reliable band
         psd = surface_psd(spec, fit, q1_per_m=q1_eff)
@@ -146,7 +147,8 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
         if settings.q1_per_m is not None and settings.q1_per_m > q_nyq * (1 + 1e-9):
             band = dict(band or {}, extended_by="self-affine fit", extended_decades=float(
                 np.log10(settings.q1_per_m / q_nyq)), note=(
-                f"q1 = {settings.q1_per_m:.4g} 1/m is above the measured band (to {q_nyq:.4g} 1/m): "
+                f"q1 = {quantity('q1_per_m', settings.q1_per_m)} is above the measured band "
+                f"(to {quantity('q_per_m', q_nyq)}): "
                 f"C(q) extended {np.log10(settings.q1_per_m / q_nyq):.2f} decades by the self-affine "
                 f"fit, H = {fit.hurst:.3f}"))
             import sys

@@ -95,13 +95,13 @@ def combine_sources(sources):
     from roadscan.spectrum_merge import SpectrumPart, merge_spectra
     from roadscan.spectrum_types import Spectrum
 
-    from .units_format import wavelength_of_q
+    from .units_format import sig3, wavelength_of_q
 
     notes = []
     for s in sources:
         if not s.band.valid:
-            notes.append(f"{s.path}: left out: its reliable band [{s.band.lo_per_m:.4g}, "
-                         f"{s.band.hi_per_m:.4g}] 1/m is under a factor 2 wide (low end: "
+            notes.append(f"{s.path}: left out: its reliable band [{sig3(s.band.lo_per_m)}, "
+                         f"{sig3(s.band.hi_per_m)}] 1/m is under a factor 2 wide (low end: "
                          f"{s.band.lo_reason}; high end: {s.band.hi_reason})")
     parts = [SpectrumPart(s.label, s.q_per_m, s.C_m4, s.count, tuple(s.band.band),
                           s.dof_per_count, _edge_bias(s.band)) for s in sources if s.band.valid]
@@ -111,7 +111,7 @@ def combine_sources(sources):
                          f"({notes[0]})")
     merged = merge_spectra(parts)
     for g in merged.gaps:
-        notes.append(f"gap: no input measures {g['q_from_per_m']:.4g} to {g['q_to_per_m']:.4g} 1/m "
+        notes.append(f"gap: no input measures {sig3(g['q_from_per_m'])} to {sig3(g['q_to_per_m'])} 1/m "
                      f"(wavelengths {wavelength_of_q(g['q_to_per_m'])} to "
                      f"{wavelength_of_q(g['q_from_per_m'])}, a factor {g['factor']:.3g}) reliably; "
                      f"bridged by {g['bridged_by']} (n_sources = 0 in psd.csv)")

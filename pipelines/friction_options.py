@@ -205,9 +205,10 @@ def apply_band(psd, q0, q1, log=None):
     except ValueError as exc:
         raise InputError(None, f"--q0/--q1: {exc}") from None
     if info["extended_decades"] > 0:
-        info["note"] = (f"q1 = {info['q1_per_m']:.4g} 1/m is above the spectrum's last point "
-                        f"{info['q_table_max_per_m']:.4g} 1/m: C(q) extended {info['extended_decades']:.2f} "
-                        f"decades by the fitted power law C ~ q^{info['tail_exponent']:.3f}")
+        from .units_format import quantity
+        info["note"] = (f"q1 = {quantity('q1_per_m', info['q1_per_m'])} is above the spectrum's "
+                        f"last point {quantity('q_per_m', info['q_table_max_per_m'])}: C(q) extended "
+                        f"{info['extended_decades']:.2f} decades by the fitted power law C ~ q^{info['tail_exponent']:.3f}")
         (log or _say)("note: " + info["note"])
     return out, info
 

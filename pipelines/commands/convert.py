@@ -91,9 +91,12 @@ def run(args):
         options["comment"] = _source_note(inp, scan)
     write(out, scan, **options)
     shape = " x ".join(str(n) for n in scan.heights_m.shape)
-    spacing = f"{scan.dx_m:.6g} m" if not isinstance(scan, HeightMap) else \
-        f"{scan.dx_m:.6g} x {scan.dy_m:.6g} m"
+    from ..units_format import length
+    spacing = length(scan.dx_m) if not isinstance(scan, HeightMap) else \
+        f"{length(scan.dx_m)} x {length(scan.dy_m)}"
     undefined = int(scan.unmeasured.sum())
-    note = "; spacing not stored in .npy: pass --spacing when reading it" if ext == ".npy" else ""
+    note = (f"; spacing not stored in .npy: pass --spacing {scan.dx_m:.6g}"
+            + ("" if not isinstance(scan, HeightMap) or scan.dy_m == scan.dx_m else f",{scan.dy_m:.6g}")
+            + " when reading it") if ext == ".npy" else ""
     print(f"{inp} -> {out}: {shape} points at {spacing}, {undefined} unmeasured{note}")
     return 0
