@@ -7,6 +7,7 @@ The checker itself is tested first on the strings the issue quotes, so that it c
 """
 import html
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -141,3 +142,61 @@ def test_profile_report_speaks_mm(runs):
     page = visible_text(runs["analyse profile"][0].read_text(encoding="utf-8"))
     assert re.search(r"rms height \(Sq[^)]*\)\s+\d\.\d\d mm", page), page[:2000]
     assert re.search(r"mean profile depth MPD \(ISO 13473-1\)\s+\d\.\d\d mm", page)
+
+
+@pytest.fixture(scope="module")
+def spectrum_figures(tmp_path_factory):
+    """Every figure ``analyse`` (area and profile), ``compare``, ``dry-vs-wet`` and ``combine``
+    save, drawn in this process -> [(command, figure file name, axes)]."""
+    import pipelines.report as report
+
+    d = tmp_path_factory.mktemp("figs")
+    np.save(d / "a.npy", fourier_surface(128, DX, 0.8, 4e-4, seed=3))
+    np.save(d / "b.npy", fourier_surface(128, DX, 0.7, 8e-4, seed=4))
+    x, z = _profile(3000, 3)
+    np.savetxt(d / "line.txt", np.column_stack([x * 1e3, z * 1e3]), fmt="%.4f", delimiter=", ",
+               header="distance (mm), height (mm)", comments="")
+    (d / "two.csv").write_text(f"file,spacing_m,resolution_m,label\na.npy,{DX},,a\nb.npy,{DX},,b\n")
+    a, b, v = str(d / "a.npy"), str(d / "b.npy"), ["--velocities", "1e-4:1e2:5"]
+    seen = []
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setenv("ROADSCAN_FIGURE_PROCESS", "0")
+        save = report.save_figure
+
+        def recording(fig, path, *args, **kwargs):
+            seen.extend((command, Path(path).name, ax) for ax in fig.axes)
+            return save(fig, path, *args, **kwargs)
+
+        mp.setattr(report, "save_figure", recording)
+        for command, argv in (("analyse", ["analyse", a, "--spacing", str(DX)] + v),
+                              ("analyse profile", ["analyse", str(d / "line.txt")] + v),
+                              ("compare", ["compare", a, b, "--spacing", str(DX)] + v),
+                              ("dry-vs-wet", ["dry-vs-wet", a, "--spacing", str(DX)] + v),
+                              ("combine", ["combine", str(d / "two.csv")])):
+            assert main(argv + ["--out", str(d / command.replace(" ", "_"))]) == 0, command
+    return seen
+
+
+def test_every_spectrum_plot_has_a_wavelength_axis_in_mm(spectrum_figures):
+    """A log q axis [1/m] always comes with lambda = 2 pi / q in mm on top (issue 21)."""
+    spectra = [(c, f, ax) for c, f, ax in spectrum_figures
+               if ax.get_xlabel().startswith("wave vector q") and ax.get_xscale() == "log"]
+    drawn = {c for c, _, _ in spectra}
+    assert drawn == {"analyse", "analyse profile", "compare", "dry-vs-wet", "combine"}, drawn
+    for command, name, ax in spectra:
+        tops = [c for c in ax.child_axes if "wavelength" in c.get_xlabel()]
+        assert tops, f"{command}: {name} has no wavelength axis"
+        assert "[mm]" in tops[0].get_xlabel()
+        # lambda = 2 pi / q: the top axis at q = 2 pi / 1 mm reads 1 mm
+        forward = tops[0]._functions[0]
+        assert float(forward(np.array([2e3 * np.pi]))[0]) == pytest.approx(1.0)
+
+
+def test_every_axis_names_its_unit(spectrum_figures):
+    """Axis labels of every figure carry a unit in brackets ("[mm]", "[1/m]", "[-]")."""
+    for command, name, ax in spectrum_figures:
+        if not ax.get_visible() or not ax.axison:
+            continue
+        for label in (ax.get_xlabel(), ax.get_ylabel()):
+            if label:
+                assert re.search(r"\[[^\]]+\]", label), f"{command}: {name}: {label!r}"
