@@ -99,16 +99,17 @@ def render_surface_with_water(dry_hm, depth_m, path, max_points=220, exaggeratio
     _quiet_vtk()
     X, Y, h, h_plot, d, Z, exaggeration = _grid(dry_hm, depth_m, max_points, exaggeration)
     ground = pv.StructuredGrid(X, Y, Z)
-    ground["height [µm]"] = (h_plot * 1e6).ravel(order="F")
+    f, name = _height_unit(h_plot)
+    ground[name] = (h_plot * f).ravel(order="F")
     ground["measured"] = np.isfinite(h).ravel(order="F").astype(float)
     if not np.isfinite(h).all():   # unmeasured points are holes, not invented ground
         ground = ground.threshold(0.5, scalars="measured", all_scalars=True)
     pl = pv.Plotter(off_screen=True, window_size=(900, 650))
     pl.set_background("white")
-    pl.add_mesh(ground, scalars="height [µm]", cmap="copper", show_scalar_bar=True,
-                scalar_bar_args={"title": "height [µm]", "color": "black", "vertical": True,
+    pl.add_mesh(ground, scalars=name, cmap="copper", show_scalar_bar=True,
+                scalar_bar_args={"title": name, "color": "black", "vertical": True,
                                  "position_x": 0.89, "position_y": 0.2, "width": 0.05,
-                                 "fmt": "%.0f", "n_labels": 5})   # "918", not "918." (issue 21)
+                                 "fmt": "%#.3g" if f == 1e3 else "%.0f", "n_labels": 5})   # not "918."
     wet = np.isfinite(d) & (d > 0)
     if wet.any():
         Zw = np.where(wet, Z + np.nan_to_num(d) * 1e3 * exaggeration + 1e-6, np.nan)
@@ -128,6 +129,12 @@ def render_surface_with_water(dry_hm, depth_m, path, max_points=220, exaggeratio
     return path
 
 
+def _height_unit(h_m):
+    """(factor, colour-bar title) for heights [m]: µm, or mm once they reach 1 mm (issue 21)."""
+    big = float(np.nanmax(np.abs(h_m))) if np.isfinite(h_m).any() else 0.0
+    return (1e3, "height [mm]") if big >= 1e-3 else (1e6, "height [µm]")
+
+
 def render_surface_with_water_mpl(dry_hm, depth_m, path, max_points=100, exaggeration=None,
                                   title="surface and water"):
     """The view of :func:`render_surface_with_water` drawn with matplotlib's mplot3d
@@ -140,7 +147,8 @@ def render_surface_with_water_mpl(dry_hm, depth_m, path, max_points=100, exagger
     plt = pyplot()
 
     X, Y, h, h_plot, d, Z, exaggeration = _grid(dry_hm, depth_m, max_points, exaggeration)
-    um = h_plot * 1e6
+    f, name = _height_unit(h_plot)
+    um = h_plot * f
     norm = colors.Normalize(vmin=float(um.min()), vmax=float(max(um.max(), um.min() + 1e-9)))
     face = cm.copper(norm(um))
     face[..., 3] = np.where(np.isfinite(h), 1.0, 0.0)   # unmeasured points are holes
@@ -157,7 +165,7 @@ def render_surface_with_water_mpl(dry_hm, depth_m, path, max_points=100, exagger
         ax.plot_surface(X, Y, Zw, facecolors=blue, rstride=1, cstride=1, linewidth=0,
                         antialiased=False, shade=False)
     mappable = cm.ScalarMappable(norm=norm, cmap=cm.copper)
-    fig.colorbar(mappable, ax=ax, shrink=0.6, pad=0.08, label="height [µm]")
+    fig.colorbar(mappable, ax=ax, shrink=0.6, pad=0.08, label=name)
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.set_zticks([])

@@ -165,14 +165,18 @@ def heightmap_picture(hm, depth_m=None):
     del finite
     if depth_m is not None:
         vmin = 0.0
+    label = "water depth [mm]" if depth_m is not None else "height [µm]"
+    if depth_m is None and max(abs(vmin), abs(vmax)) >= 1e3:   # "2.0 mm", not "2000 µm"
+        unit, vmin, vmax, label = 1e3, vmin / 1e3, vmax / 1e3, "height [mm]"
     shown = display_image(data) * unit   # colour limits from every point, the picture from block means
     return {"image": shown, "vmin": float(vmin), "vmax": float(max(vmax, vmin + 1e-12)),
-            "extent_mm": (0.0, lx * 1e3, 0.0, ly * 1e3), "depth": depth_m is not None}
+            "extent_mm": (0.0, lx * 1e3, 0.0, ly * 1e3), "depth": depth_m is not None,
+            "label": label}
 
 
 def draw_heightmap(picture, path, title=None):
-    """Draw a :func:`heightmap_picture`: x, y in mm, heights in um (depths in mm), unmeasured
-    points grey."""
+    """Draw a :func:`heightmap_picture`: x, y in mm, heights in µm (in mm from 1 mm; depths in
+    mm), unmeasured points grey."""
     plt = pyplot()
     import matplotlib
 
@@ -184,7 +188,7 @@ def draw_heightmap(picture, path, title=None):
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     cb = fig.colorbar(im, ax=ax, shrink=0.9)
-    cb.set_label("water depth [mm]" if depth else "height [µm]")
+    cb.set_label(picture.get("label") or ("water depth [mm]" if depth else "height [µm]"))
     set_title(ax, title or ("water depth" if depth else "height map"))
     return save_figure(fig, path, fixed_margins(ax, right=1.1))
 
