@@ -147,6 +147,9 @@ def _write_report(out_dir, name, r, figs):
                                  if r["wetted_fraction"] is not None else None),
         "water per area (volume / area, as a depth)": length(r["water_volume_m3_per_m2"]),
         "connectivity of the fill": r["connectivity"],
+        **({"water depth cap (--max-depth)": length(r["max_depth_m"])} if r.get("max_depth_m") else {}),
+        **({"water film per area (--water-film)": length(r["water_film_m"])}
+           if r.get("water_film_m") else {}),
         "3D view drawn with": r.get("renderer_3d") or "not drawn",
         "rubber (friction)": r.get("rubber") or "—",
     }
@@ -165,5 +168,8 @@ def _write_report(out_dir, name, r, figs):
                          report.table_html(rows, ["v [m/s]", "μ dry", "μ wet", "wet / dry"])))
     sections.append(("Figures", [list(figs)]))
     note = ("Water fills every depression not connected to the border up to its spill level "
-            "(grayscale imfill / morphological reconstruction), the rubber slides over the filled surface.")
+            "(grayscale imfill / morphological reconstruction)"
+            + (f", at most {length(r['max_depth_m'])} deep" if r.get("max_depth_m") else "")
+            + (f", with {length(r['water_film_m'])} of water per area" if r.get("water_film_m") else "")
+            + "; the rubber slides over the filled surface.")
     report.write_html(out_dir / "report.html", f"roadscan dry-vs-wet: {name}", sections, intro=note)
