@@ -71,7 +71,10 @@ def run(args):
         _write(out, args, scan, r)
     from ..units_format import length
 
-    print(f"{args.scan}: {r.connectivity}-connected fill, wetted {r.wetted_fraction:.1%}, "
+    cap = (f", at most {length(args.max_depth)} deep" if args.max_depth is not None else
+           f", {length(args.water_film)} of water per area offered (the depressions hold "
+           f"{length(r.meta['capacity_m3_per_m2'])})" if args.water_film is not None else "")
+    print(f"{args.scan}: {r.connectivity}-connected fill{cap}, wetted {r.wetted_fraction:.1%}, "
           f"water {length(r.water_volume_m3_per_m2)} deep on average (volume per area) -> {final}")
     return 0
 
