@@ -9,8 +9,9 @@ import pytest
 
 from pipelines.cli import main
 from roadscan.texture_spectrum import NOMINAL_MM
+from conftest import _shared_dir
 
-CAPTIF = Path(__file__).resolve().parents[2] / "shared" / "data" / "profiles" / "captif"
+CAPTIF = (_shared_dir() or Path("/nonexistent")) / "data" / "profiles" / "captif"
 needs_captif = pytest.mark.skipif(not CAPTIF.is_dir(), reason="CAPTIF profiles not available")
 LABELS = {"0.5", "0.63", "0.8", "1", "1.25", "1.6", "2", "2.5", "3.15", "4", "5", "6.3", "8", "10",
           "12.5", "16", "20", "25", "31.5", "40", "50", "63", "80", "100", "125", "160", "200",

@@ -7,8 +7,9 @@ import pytest
 from roadscan.heightmap import HeightMap, Profile
 from roadscan.texture_spectrum import (MIN_BINS, MIN_SAMPLES_PER_WAVELENGTH, NOMINAL_MM,
                                        texture_spectrum, third_octave_bands)
+from conftest import _shared_dir
 
-CAPTIF = Path(__file__).resolve().parents[2] / "shared" / "data" / "profiles" / "captif"
+CAPTIF = (_shared_dir() or Path("/nonexistent")) / "data" / "profiles" / "captif"
 
 
 def _expected(A):
