@@ -271,7 +271,8 @@ def settings_from_args(args):
     temperature against the rubber's WLF pole). A flag the command lacks takes its default."""
     check_contact_args(args)
     rubber = rubber_from_args(args)
-    sigma0 = parse_pressure(args.sigma0)
+    # a command that records whether --sigma0 was given (diagnose) defaults it to None
+    sigma0 = FrictionSettings().sigma0_Pa if args.sigma0 is None else parse_pressure(args.sigma0)
     velocities = getattr(args, "velocities", None)
     v = parse_velocities(velocities) if velocities else None
     from .validate import check_temperature, finite_number
