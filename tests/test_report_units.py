@@ -200,3 +200,16 @@ def test_every_axis_names_its_unit(spectrum_figures):
         for label in (ax.get_xlabel(), ax.get_ylabel()):
             if label:
                 assert re.search(r"\[[^\]]+\]", label), f"{command}: {name}: {label!r}"
+
+
+def test_stitch_console_has_no_raw_si(tmp_path, capsys):
+    """stitch's overlap table: "rms mismatch [um] 1.849e-05" was the issue's example."""
+    z = fourier_surface(224, DX, 0.8, 4e-4, seed=5)
+    rng = np.random.default_rng(5)
+    for k, c in enumerate((0, 96)):
+        np.save(tmp_path / f"t{k}.npy", z[:120, c:c + 120] + rng.normal(0, 1e-6, (120, 120)))
+    rc = main(["stitch", str(tmp_path / "t0.npy"), str(tmp_path / "t1.npy"), "--grid", "1x2",
+               "--overlap", "0.2", "--spacing", str(DX), "--out", str(tmp_path / "m.npz")])
+    text = capsys.readouterr().out
+    assert rc == 0 and "µm" in text
+    assert raw_si(re.sub(r"(?:/[\w.@-]+)+", "PATH", text)) == [], text
