@@ -201,8 +201,13 @@ def plot_heightmap(hm, path, title=None, depth_m=None):
 def plot_profile(profile, path, title=None):
     """Line profile: distance in mm, height in mm."""
     fig, ax = pyplot().subplots(figsize=(7.5, 3.4))
-    ax.plot(profile.x_m() * 1e3, profile.heights_m * 1e3, lw=0.5, color="C0")
-    ax.set_xlabel("distance [mm]")
+    start = (getattr(profile, "meta", None) or {}).get("section_start_m")
+    if start is None:
+        ax.plot(profile.x_m() * 1e3, profile.heights_m * 1e3, lw=0.5, color="C0")
+        ax.set_xlabel("distance [mm]")
+    else:                                   # a campaign's section: its place along the road
+        ax.plot(start + profile.x_m(), profile.heights_m * 1e3, lw=0.5, color="C0")
+        ax.set_xlabel("chainage [m]")
     ax.set_ylabel("height [mm]")
     set_title(ax, title or "profile")
     ax.grid(alpha=0.3)
