@@ -202,6 +202,24 @@ def recover_output_dir(target):
             shutil.rmtree(p, ignore_errors=True)
 
 
+def _make_folder(folder, target, flag):
+    """Create ``folder`` (the output's parent) or raise a one-line InputError naming ``target``."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(None, f"{flag} {target}: cannot create the folder ({exc.strerror or exc})") from None
+
+
+def _held_temporary(folder, target, flag):
+    """A new hidden temporary folder for ``target`` inside ``folder`` and the lock that holds it
+    (a concurrent run's clean-up leaves a held folder alone)."""
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=folder))
+    except OSError as exc:
+        raise InputError(None, f"{flag} {target}: cannot write there ({exc.strerror or exc})") from None
+    return tmp, _hold(tmp)
+
+
 def _hold(folder):
     """Lock ``folder`` (``flock``, released when the descriptor closes or the process dies):
     a concurrent run's clean-up then knows it is being written, not left by a killed run."""
@@ -254,16 +272,9 @@ def atomic_output_dir(target, flag="--out", inputs=()):
     target = through_link(Path(target))     # a link to a folder: the folder it points to
     check_output_dir(target, flag, inputs)
     parent = target.parent
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(None, f"{flag} {target}: cannot create the folder ({exc.strerror or exc})") from None
+    _make_folder(parent, target, flag)
     recover_output_dir(target)
-    try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=parent))
-    except OSError as exc:
-        raise InputError(None, f"{flag} {target}: cannot write there ({exc.strerror or exc})") from None
-    lock = _hold(tmp)
+    tmp, lock = _held_temporary(parent, target, flag)
     try:
         os.chmod(tmp, _dir_mode())
         yield tmp
@@ -328,18 +339,11 @@ def atomic_file_set(target, flag="--out"):
         if parent.exists() and not parent.is_dir():
             raise InputError(None, f"{flag} {target}: is below the file {parent}, need a folder")
     created = [p for p in [folder, *folder.parents] if not p.exists()]
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        raise InputError(None, f"{flag} {target}: cannot create the folder ({exc.strerror or exc})") from None
+    _make_folder(folder, target, flag)
     for old in _leftovers(target, TMP_TAG):
         if not _in_use(old):
             shutil.rmtree(old, ignore_errors=True)
-    try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=folder))
-    except OSError as exc:
-        raise InputError(None, f"{flag} {target}: cannot write there ({exc.strerror or exc})") from None
-    lock = _hold(tmp)
+    tmp, lock = _held_temporary(folder, target, flag)
     try:
         os.chmod(tmp, _dir_mode())
         yield tmp
