@@ -81,6 +81,7 @@ _SPACED_DIGITS = re.compile(r"\d[ \u00a0\u202f]+\d")    # 1 234,5 inside a ';' f
 _COMMA_SEP = re.compile(r",[ \t]|[ \t],|,$|^,|,,", re.MULTILINE)  # a comma separating fields
 _COMMA_IN_NUMBER = re.compile(r"\d,\d")
 _SPACE_BETWEEN = re.compile(r"[\d.][ \t]+[-+.\dnN]")
+_DECIMAL_COMMA_PARTS = re.compile(r"(?:^|,)\s*(-0|[-+]?0\d+)\s*(?=,|$)", re.MULTILINE)
 
 
 def decimal_mark(path, block):
@@ -101,6 +102,13 @@ def decimal_mark(path, block):
         if _COMMA_IN_NUMBER.search(block) and re.search(r",[ \t]|[ \t],", block):
             raise InputError(path, "ambiguous commas: they both separate fields and sit between "
                                    "digits (decimal commas?); separate fields with ';' or tabs")
+        # no decimal point at all, and fields an integer writer never makes ('-0', '0056'): the
+        # commas are decimal commas that also separate fields (0,1609,-0,0056 is 0.1609;-0.0056)
+        m = None if "." in block else _DECIMAL_COMMA_PARTS.search(block)
+        if m:
+            raise InputError(path, f"comma-separated numbers without a decimal point, with a field "
+                                   f"{m.group(1)!r} no integer column holds: decimal commas used as "
+                                   f"field separators too? separate fields with ';' or tabs")
         return "."   # comma-separated fields, dot decimals
     m = _TWO_MARKS.search(block)
     if m:

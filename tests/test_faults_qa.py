@@ -1,0 +1,35 @@
+"""Fault suite, adversarial-user findings of the issue-22 QA pass (plausible-but-wrong inputs
+that went through, or went wrong, after the issue-22 work). Each case: exit 2, one line naming
+the file and the problem, no traceback, inputs unchanged, nothing hidden left."""
+from __future__ import annotations
+
+import numpy as np
+
+from conftest import fourier_surface
+from fault_tools import assert_one_line_error, digest, hidden_leftovers, run_cli
+
+
+def test_decimal_commas_that_also_separate_fields_are_refused(tmp_path, capsys):
+    """A mm map written with decimal commas AND commas between fields (``0,1609,-0,0056``) has
+    no '.' anywhere: read as twice the columns it gave a 40 x 80 map and exit 0 with --units um.
+    The fields '-0' and '0056' (no integer writer makes them) show the commas are decimal."""
+    z = fourier_surface(40, 1e-4, 0.8, 2e-4, seed=1) * 1e3
+    f = tmp_path / "dc_comma.csv"
+    f.write_text("\n".join(",".join(f"{v:.4f}".replace(".", ",") for v in row) for row in z) + "\n")
+    before = digest(f)
+    rc, err = run_cli(capsys, ["analyse", f, "--spacing", "1e-4", "--units", "um", "--no-figures",
+                               "--no-friction", "--out", tmp_path / "o"])
+    assert_one_line_error(rc, err, words=[str(f), "decimal comma"])
+    assert digest(f) == before and not (tmp_path / "o").exists() and hidden_leftovers(tmp_path) == []
+
+
+def test_integer_comma_table_still_reads(tmp_path, capsys):
+    """The refusal above does not touch a comma-separated integer map (nm), which has no '.'."""
+    z = np.rint(fourier_surface(32, 1e-4, 0.8, 2e-4, seed=2) * 1e9).astype(np.int64)
+    f = tmp_path / "int_nm.csv"
+    f.write_text("\n".join(",".join(str(v) for v in row) for row in z) + "\n")
+    from roadscan.io import read
+
+    s = read(f, spacing=1e-4, units="nm")
+    assert s.heights_m.shape == (32, 32)
+    assert np.allclose(s.heights_m, z * 1e-9)
