@@ -33,6 +33,14 @@ def read_csv_rows(path, expected="a header line and data rows"):
         line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#"))]
     if not rows:
         raise InputError(path, f"empty file, expected {expected}")
+    # a row with more values than the header has names: decimal commas read as separators
+    # (q 110,103893 and C 5,687e-15 give four fields under 'q_per_m,C_m4'), or a stray field
+    width = len([c for c in rows[0] if c])
+    for k, r in enumerate(rows[1:], start=2):
+        if len([c for c in r if c]) > width:
+            raise InputError(path, f"data row {k} has {len([c for c in r if c])} values but the "
+                                   f"header names {width} columns (decimal commas? separate fields "
+                                   f"with ',' and write decimals with '.')")
     return rows[0], rows[1:]
 
 

@@ -33,3 +33,24 @@ def test_integer_comma_table_still_reads(tmp_path, capsys):
     s = read(f, spacing=1e-4, units="nm")
     assert s.heights_m.shape == (32, 32)
     assert np.allclose(s.heights_m, z * 1e-9)
+
+
+def test_small_csv_with_decimal_commas_and_comma_separators_is_refused(tmp_path, capsys):
+    """psd.csv exported with decimal commas ('110,103893,5,687e-15' under 'q_per_m,C_m4') was
+    read as q = 110, C = 103893 and refused only as 'mu reaches 1e12 ... check the PSD', naming
+    no file; the same rows under a measured mu(v) header were 'not positive'. Now a data row with
+    more values than the header names is one line naming the file."""
+    from conftest import ROOT
+
+    text = (ROOT / "sample_scans" / "asphalt_psd.csv").read_text()
+    f = tmp_path / "psd.csv"
+    f.write_text("\n".join(line if k == 0 else line.replace(",", ";").replace(".", ",").replace(";", ",")
+                           for k, line in enumerate(text.splitlines())) + "\n")
+    before = digest(f)
+    rc, err = run_cli(capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / "mu.csv"])
+    assert_one_line_error(rc, err, words=[str(f), "decimal commas", "header names 2"])
+    assert digest(f) == before and not (tmp_path / "mu.csv").exists() and hidden_leftovers(tmp_path) == []
+    # a trailing comma (an empty last field) is not a stray value: still read
+    f.write_text("\n".join(line + "," for line in text.splitlines()) + "\n")
+    rc, err = run_cli(capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / "mu.csv"])
+    assert rc == 0, err
