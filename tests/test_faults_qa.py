@@ -54,3 +54,33 @@ def test_small_csv_with_decimal_commas_and_comma_separators_is_refused(tmp_path,
     f.write_text("\n".join(line + "," for line in text.splitlines()) + "\n")
     rc, err = run_cli(capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / "mu.csv"])
     assert rc == 0, err
+
+
+def test_full_disk_in_a_file_set_names_the_file_not_a_folder_of_its_name(tmp_path, capsys, monkeypatch):
+    """friction --out mu.csv writes mu.csv and its summary through a hidden folder named after
+    mu.csv; a full disk was reported as 'mu.csv/mu.csv: No space left on device' (and rubber
+    master's as 'r.toml/r_master.csv'), a path that never exists. Now the file's real place."""
+    import builtins
+    import errno
+    import io
+    from conftest import ROOT
+
+    real_open = builtins.open
+
+    def full_open(file, mode="r", *a, **k):
+        fh = real_open(file, mode, *a, **k)
+        if "w" in str(mode) and str(file).endswith(".csv"):
+            fh.close()
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return fh
+
+    out = tmp_path / "mu.csv"
+    monkeypatch.setattr(builtins, "open", full_open)
+    monkeypatch.setattr(io, "open", full_open)
+    rc, err = run_cli(capsys, ["friction", "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
+                               "--velocities", "1e-2,1", "--out", out])
+    monkeypatch.setattr(builtins, "open", real_open)
+    monkeypatch.setattr(io, "open", real_open)
+    assert_one_line_error(rc, err, words=["No space left on device", f"{out}:"])
+    assert f"{out}/" not in err
+    assert list(tmp_path.iterdir()) == []

@@ -362,6 +362,9 @@ def atomic_file_set(target, flag="--out"):
             with contextlib.suppress(OSError):
                 d.rmdir()
         if isinstance(exc, OSError) and not isinstance(exc, InputError):
+            name = getattr(exc, "filename", None)
+            if name and Path(name).parent in (tmp, final_name(tmp)):   # a file of the set: where
+                exc = OSError(exc.errno, exc.strerror or str(exc), str(folder / Path(name).name))  # it goes
             raise _named(exc, target) from None
         raise
     finally:
