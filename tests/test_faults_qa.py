@@ -84,3 +84,33 @@ def test_full_disk_in_a_file_set_names_the_file_not_a_folder_of_its_name(tmp_pat
     assert_one_line_error(rc, err, words=["No space left on device", f"{out}:"])
     assert f"{out}/" not in err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_integers_grouped_by_one_thousands_separator_are_refused(tmp_path, capsys):
+    """A nm map written as grouped integers ('160,878' beside '-715', tab-separated; or
+    '160.878' with ';') was read as decimals: rms 0.198 um instead of 0.198 mm, exit 0, and the
+    units check passed (0.2 um at 100 um spacing is plausible). Now one line naming the file."""
+    z = fourier_surface(40, 1e-4, 0.8, 2e-4, seed=1) * 1e9
+    for name, sep, group in (("tab.txt", "\t", ","), ("semi.csv", ";", "."), ("space.txt", " ", ",")):
+        f = tmp_path / name
+        f.write_text("\n".join(sep.join(f"{v:,.0f}".replace(",", group) for v in row) for row in z) + "\n")
+        rc, err = run_cli(capsys, ["analyse", f, "--spacing", "1e-4", "--units", "nm", "--no-figures",
+                                   "--no-friction", "--out", tmp_path / "o"])
+        assert_one_line_error(rc, err, words=[str(f), "thousands"])
+    assert not (tmp_path / "o").exists() and hidden_leftovers(tmp_path) == []
+
+
+def test_three_decimal_exports_still_read(tmp_path):
+    """Not refused: '%.3f' decimal-comma and dot maps (every field marked), and x;y;z points whose
+    integer coordinates sit in their own columns beside 3-decimal heights above 1 mm."""
+    from roadscan.io import read
+
+    z = fourier_surface(32, 1e-4, 0.8, 2e-4, seed=3) * 1e3 + 45.0        # mm, all above 1
+    f = tmp_path / "dc.csv"
+    f.write_text("\n".join(";".join(f"{v:.3f}".replace(".", ",") for v in row) for row in z) + "\n")
+    assert np.allclose(read(f, spacing=1e-4, units="mm").heights_m, z * 1e-3, rtol=0, atol=6e-7)   # 3 decimals of mm
+    f = tmp_path / "xyz.txt"
+    f.write_text("\n".join(f"{i};{j};{z[j, i]:.3f}".replace(".", ",")
+                           for j in range(32) for i in range(32)) + "\n")
+    s = read(f, units="mm")
+    assert s.heights_m.shape == (32, 32)

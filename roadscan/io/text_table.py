@@ -92,6 +92,7 @@ def decimal_mark(path, block):
     fields. Thousands separators, mixed marks and ambiguous commas raise :class:`InputError`.
     """
     if "," not in block:
+        _check_grouped_thousands(path, block, ".")
         return "."
     if ";" in block or "\t" in block:
         sep = "semicolon" if ";" in block else "tab"
@@ -126,7 +127,30 @@ def decimal_mark(path, block):
     if bad:
         raise InputError(path, f"a comma not between digits in fields {where} (commas are "
                                f"decimal marks there)")
+    _check_grouped_thousands(path, block, ",")
     return ","
+
+
+def _check_grouped_thousands(path, block, mark):
+    """Refuse integers grouped by one thousands separator read as decimals: ``160,878`` (or
+    ``160.878``) beside plain ``44`` in the same column, every marked field with exactly three
+    digits after the mark and none with integer part 0 (a decimal writer gives ``0,044``; a
+    grouping one gives ``44``). Read as decimals the heights would be 1000 times too small."""
+    sep = r"[;\s]+" if mark == "," else r"[,;\s]+"
+    rows = [re.split(sep, line.strip()) for line in block.splitlines()[:2000] if line.strip()]
+    if not rows or any(len(r) != len(rows[0]) for r in rows):
+        return
+    m = re.escape(mark)
+    marked = [f for r in rows for f in r if mark in f]
+    if len(marked) < 10 or not all(re.fullmatch(rf"[-+]?[1-9]\d{{0,2}}{m}\d{{3}}", f) for f in marked):
+        return
+    for j in range(len(rows[0])):
+        col = [r[j] for r in rows]
+        plain = [f for f in col if re.fullmatch(r"[-+]?\d{1,3}", f)]
+        if plain and any(mark in f for f in col):
+            raise InputError(path, f"{next(f for f in col if mark in f)!r} beside {plain[0]!r} in one "
+                                   f"column: '{mark}' groups thousands (integers), not decimals; "
+                                   f"write numbers without grouping")
 
 
 def read_table(path, text=None):
