@@ -241,5 +241,8 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
                        "response, 50 % amplitude at the wavelength r)",
             "max_factor": float(1.0 / T2[inside].min()) if inside.any() else 1.0}
     band = _trim_leaky_start(band, q, C, n * dof)
+    from .scan_input import read_record
+
+    meta.update(read_record(obj))           # how the file was read: channel, overrides (issue 22)
     return SourceSpectrum(label, str(path), kind, list(obj.heights_m.shape), spacing_list, size,
                           res, res_src, q, C, n, band, float(dof), meta)

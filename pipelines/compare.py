@@ -127,6 +127,11 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
         mine = [w for w in said if w.startswith(src) or not any(w.startswith(t) for t in srcs)]
         if mine and isinstance(entry, dict):
             entry["warnings"] = mine
+    from .scan_input import read_record
+
+    for sc, entry in zip(scans, result.values()):   # how each file was read (issue 22)
+        if isinstance(entry, dict):
+            entry.update(read_record(sc))
     report.write_json(out_dir / "comparison.json", result)
     _write_report(out_dir, names, result, figs, curves)
     return result

@@ -131,6 +131,9 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         result["max_difference_v_m_per_s"] = None
 
     result["warnings"] = validate.warnings_list()   # every line this run printed
+    from .scan_input import read_record
+
+    result.update(read_record(scan))           # how the file was read: channel, overrides (issue 22)
     report.write_json(out_dir / "comparison.json", result)
     _write_report(out_dir, scan.name, result, figs)
     return result

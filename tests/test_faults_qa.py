@@ -114,3 +114,29 @@ def test_three_decimal_exports_still_read(tmp_path):
                            for j in range(32) for i in range(32)) + "\n")
     s = read(f, units="mm")
     assert s.heights_m.shape == (32, 32)
+
+
+def test_channel_choice_recorded_by_compare_dry_vs_wet_and_combine(tmp_path, capsys):
+    """--channel K on a multi-page TIFF was recorded by analyse, batch and rain-fill only;
+    compare's and dry-vs-wet's comparison.json and combine's combine.json did not say which page
+    was read. Checked against the page's own heights (page 1 is 3x page 0's texture)."""
+    import json
+
+    import tifffile
+
+    z = fourier_surface(48, 1e-4, 0.8, 2e-4, seed=1)
+    tifffile.imwrite(tmp_path / "p.tif", np.stack([z, 3 * z]).astype(np.float32))
+    tifffile.imwrite(tmp_path / "q.tif", np.stack([z, 3 * z]).astype(np.float32))
+    base = ["--spacing", "1e-4", "--channel", "1"]
+    for argv, js in ((["compare", tmp_path / "p.tif", tmp_path / "q.tif", *base, "--no-friction"], "comparison.json"),
+                     (["dry-vs-wet", tmp_path / "p.tif", *base, "--no-friction"], "comparison.json"),
+                     (["combine", tmp_path / "p.tif", *base, "--no-figures"], "combine.json")):
+        out = tmp_path / argv[0]
+        rc, err = run_cli(capsys, [*argv, "--out", out])
+        assert rc == 0, err
+        data = json.loads((out / js).read_text())
+        entries = {"compare": lambda d: list(d.values()), "dry-vs-wet": lambda d: [d],
+                   "combine": lambda d: d["inputs"]}[argv[0]](data)
+        assert entries and all(e["channel"] == 1 for e in entries), (argv[0], entries)
+    a = json.loads((tmp_path / "compare" / "comparison.json").read_text())["p"]
+    assert a["rms_height_m"] > 2 * float(np.std(z))         # page 1 read, not page 0
