@@ -140,3 +140,15 @@ def test_channel_choice_recorded_by_compare_dry_vs_wet_and_combine(tmp_path, cap
         assert entries and all(e["channel"] == 1 for e in entries), (argv[0], entries)
     a = json.loads((tmp_path / "compare" / "comparison.json").read_text())["p"]
     assert a["rms_height_m"] > 2 * float(np.std(z))         # page 1 read, not page 0
+
+
+def test_npz_spacing_member_that_is_not_one_number_is_named(tmp_path, capsys):
+    """An .npz whose dx is text said 'heights are not numbers'; dx = [1e-4, 1e-4] was dropped
+    silently (then --spacing was asked for, or used instead). Each now names the member."""
+    z = fourier_surface(32, 1e-4, 0.8, 2e-4, seed=1)
+    for name, dx, word in (("s.npz", "abc", "'dx' are not numbers"), ("two.npz", [1e-4, 1e-4], "'dx' must be one number"),
+                           ("c.npz", 1e-4 + 0j, "'dx' are complex")):
+        np.savez(tmp_path / name, heights=z, dx=dx, dy=1e-4)
+        rc, err = run_cli(capsys, ["convert", tmp_path / name, tmp_path / "o.npy", "--spacing", "1e-4"])
+        assert_one_line_error(rc, err, words=[str(tmp_path / name), word])
+    assert not (tmp_path / "o.npy").exists() and hidden_leftovers(tmp_path) == []

@@ -53,12 +53,13 @@ def _read_header(fh, path, member=None):
 
 def _check_header(path, shape, dtype, stored_bytes=None, member=None):
     """Refuse before allocating: complex, non-numeric, too large, or a zip bomb."""
+    what = "heights" if member in (None, "heights.npy") else f"'{member[:-4]}'"   # .npz: name the member
     if dtype.names is not None or dtype.hasobject:
-        raise InputError(path, f"heights are not numbers (dtype {dtype})")
+        raise InputError(path, f"{what} are not numbers (dtype {dtype})")
     if np.issubdtype(dtype, np.complexfloating):
-        raise InputError(path, "heights are complex numbers: save the real heights")
+        raise InputError(path, f"{what} are complex numbers: save real values")
     if not (np.issubdtype(dtype, np.number) or dtype == bool):
-        raise InputError(path, f"heights are not numbers (dtype {dtype})")
+        raise InputError(path, f"{what} are not numbers (dtype {dtype})")
     n = check_declared_size(path, shape, max(dtype.itemsize, 8))
     if stored_bytes is not None:
         check_compression_ratio(path, n * dtype.itemsize, stored_bytes)
@@ -104,6 +105,15 @@ def _scaled_float64(arr, factor):
     return h
 
 
+def _npz_spacing(path, z, key):
+    """``z[key]`` (``dx`` or ``dy``) as one float [m]; anything else is one line naming it."""
+    v = z[key]
+    if v.size != 1 or not (np.issubdtype(v.dtype, np.number) and not np.iscomplexobj(v)):
+        raise InputError(path, f"'{key}' must be one number (the spacing in metres), got "
+                               f"{v.size} value(s) of dtype {v.dtype}")
+    return float(v.reshape(()))
+
+
 @register_reader(".npz")
 def read_npz(path, spacing=None, units=None):
     """Read a ``.npz`` with keys ``heights``, ``dx``, ``dy`` [m] and optional ``unmeasured``."""
@@ -117,8 +127,7 @@ def read_npz(path, spacing=None, units=None):
             raise InputError(path, f"no 'heights' array (keys: {', '.join(sorted(keys)) or 'none'})")
         h = z["heights"]
         unmeasured = z["unmeasured"] if "unmeasured" in keys else None
-        dx = float(z["dx"]) if "dx" in keys and z["dx"].size == 1 else None
-        dy = float(z["dy"]) if "dy" in keys and z["dy"].size == 1 else None
+        dx, dy = (_npz_spacing(path, z, k) if k in keys else None for k in ("dx", "dy"))
     if not (np.issubdtype(h.dtype, np.number) or h.dtype == bool):
         raise InputError(path, f"heights are not numbers (dtype {h.dtype})")
     if unmeasured is not None and unmeasured.shape != h.shape:
