@@ -152,3 +152,22 @@ def test_npz_spacing_member_that_is_not_one_number_is_named(tmp_path, capsys):
         rc, err = run_cli(capsys, ["convert", tmp_path / name, tmp_path / "o.npy", "--spacing", "1e-4"])
         assert_one_line_error(rc, err, words=[str(tmp_path / name), word])
     assert not (tmp_path / "o.npy").exists() and hidden_leftovers(tmp_path) == []
+
+
+def test_batch_into_a_users_folder_replaces_nothing(tmp_path, capsys):
+    """batch --out into an existing folder that is no campaign (a project folder holding the
+    user's report.html, campaign.csv and a folder named like a scan) replaced all three, exit 0.
+    Now refused like every other command's output folder; an earlier campaign is still reused."""
+    from fault_tools import small_scan, snapshot
+
+    scan = small_scan(tmp_path / "a.npy")
+    proj = tmp_path / "proj"
+    (proj / "a").mkdir(parents=True)
+    (proj / "report.html").write_text("my report")
+    (proj / "campaign.csv").write_text("my,table\n")
+    (proj / "a" / "summary.json").write_text("{}")
+    before = snapshot(tmp_path)
+    argv = ["batch", scan, "--spacing", "1e-4", "--no-friction", "--workers", "1"]
+    rc, err = run_cli(capsys, [*argv, "--out", proj])
+    assert_one_line_error(rc, err, words=[str(proj), "not empty"])
+    assert snapshot(tmp_path) == before and hidden_leftovers(tmp_path) == []

@@ -88,6 +88,10 @@ def run(args):
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(out, "--out exists and is not a folder")
+    if out.is_dir() and any(out.iterdir()) and not _earlier_campaign(out):   # a user's folder
+        raise InputError(None, f"--out {out}: folder exists, is not empty and holds no earlier "
+                               f"batch campaign (its campaign.csv, report.html or scan folders would "
+                               f"replace files there); name a new folder")
     tty = sys.stderr.isatty()
 
     fingerprint = _fingerprint(args, kw)
@@ -156,6 +160,20 @@ def _clean_after_stop(out, jobs):
                 recover_output_dir(out / j["subdir"])
             except OSError:
                 pass
+
+
+def _earlier_campaign(out):
+    """True when ``out`` holds an earlier campaign: a scan folder with its sidecar, or the
+    campaign table roadscan writes."""
+    from ..campaign.folder import SIDECAR
+
+    if any((p / SIDECAR).is_file() for p in out.iterdir() if p.is_dir()):
+        return True
+    try:
+        with open(out / "campaign.csv", encoding="utf-8") as fh:
+            return fh.readline().startswith("file,label,chainage_m,status")
+    except (OSError, UnicodeDecodeError):
+        return False
 
 
 def _refuse_overwrite(out, jobs, given):
