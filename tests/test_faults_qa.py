@@ -171,3 +171,26 @@ def test_batch_into_a_users_folder_replaces_nothing(tmp_path, capsys):
     rc, err = run_cli(capsys, [*argv, "--out", proj])
     assert_one_line_error(rc, err, words=[str(proj), "not empty"])
     assert snapshot(tmp_path) == before and hidden_leftovers(tmp_path) == []
+
+
+def test_dry_vs_wet_output_error_names_the_output_not_the_scan(tmp_path, capsys, monkeypatch):
+    """A read-only --out gave 'dry-vs-wet: error: SCAN: --out OUT: cannot write there': the
+    line blamed the scan first. Now the output alone; a scan problem still names the scan."""
+    import errno
+    import tempfile
+
+    from fault_tools import small_scan
+
+    scan = small_scan(tmp_path / "a.npy")
+
+    def ro(*a, **k):
+        raise OSError(errno.EROFS, "Read-only file system")
+
+    monkeypatch.setattr(tempfile, "mkdtemp", ro)
+    rc, err = run_cli(capsys, ["dry-vs-wet", scan, "--spacing", "1e-4", "--no-friction", "--out", tmp_path / "o"])
+    monkeypatch.undo()
+    assert_one_line_error(rc, err, words=["--out", "Read-only"])
+    assert str(scan) not in err
+    np.save(tmp_path / "p.npy", fourier_surface(64, 1e-4, 0.8, 2e-4, seed=1)[0])
+    rc, err = run_cli(capsys, ["dry-vs-wet", tmp_path / "p.npy", "--spacing", "1e-4", "--out", tmp_path / "o"])
+    assert_one_line_error(rc, err, words=[str(tmp_path / "p.npy"), "area scan"])

@@ -33,6 +33,8 @@ def run(args):
             r = run_dry_vs_wet(scan, tmp, settings, connectivity=args.connectivity,
                                max_depth_m=args.max_depth, water_film_m=args.water_film)
     except InputError as exc:
+        if exc.problem.startswith("--out") or str(exc.path or "").startswith(str(args.out)):
+            raise                          # about the output, which it names: not the scan
         raise InputError(args.scan, exc.problem) from None
     except ValueError as exc:
         raise InputError(args.scan, str(exc)) from None
