@@ -194,3 +194,26 @@ def test_dry_vs_wet_output_error_names_the_output_not_the_scan(tmp_path, capsys,
     np.save(tmp_path / "p.npy", fourier_surface(64, 1e-4, 0.8, 2e-4, seed=1)[0])
     rc, err = run_cli(capsys, ["dry-vs-wet", tmp_path / "p.npy", "--spacing", "1e-4", "--out", tmp_path / "o"])
     assert_one_line_error(rc, err, words=[str(tmp_path / "p.npy"), "area scan"])
+
+
+def test_psd_csv_in_other_units_is_refused_as_units(tmp_path, capsys):
+    """psd.csv with C in mm^4 (or q per mm) read as SI gave 'mu reaches 1.9e+06 ... check the
+    PSD' naming no file, or (q per mm) exit 0 with mu 4e-14. Now 'units?' naming the file, from
+    the table's rms height h = sqrt(2 pi int q C dq) against the wavelengths it spans; the SI
+    table still runs."""
+    from conftest import ROOT
+
+    d = np.loadtxt(ROOT / "sample_scans" / "asphalt_psd.csv", delimiter=",", skiprows=1)
+    for name, q, C in (("C_mm4.csv", d[:, 0], d[:, 1] * 1e12), ("q_per_mm.csv", d[:, 0] * 1e-3, d[:, 1]),
+                       ("si.csv", d[:, 0], d[:, 1])):
+        f = tmp_path / name
+        f.write_text("q_per_m,C_m4\n" + "\n".join(f"{a:.9g},{b:.9g}" for a, b in zip(q, C)) + "\n")
+        rc, err = run_cli(capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / f"mu_{name}"])
+        if name == "si.csv":
+            assert rc == 0, err
+            h = np.sqrt(2 * np.pi * np.trapezoid(q * C, q))
+            assert 1e-5 * 2 * np.pi / q.max() < h < np.pi / q.min()     # the bounds hold for SI
+        else:
+            assert_one_line_error(rc, err, words=[str(f), "units?"])
+            assert not (tmp_path / f"mu_{name}").exists()
+    assert hidden_leftovers(tmp_path) == []
