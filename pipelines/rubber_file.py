@@ -225,8 +225,8 @@ def load_rubber(path):
 
     path = Path(path)
     try:
-        with open(path, "rb") as fh:
-            d = tomllib.load(fh)
+        with open(path, "rb") as fh:     # a byte-order mark (Windows editors) is not TOML
+            d = tomllib.loads(fh.read().decode("utf-8-sig"))
     except FileNotFoundError:
         raise InputError(path, "no such file") from None
     except tomllib.TOMLDecodeError as exc:

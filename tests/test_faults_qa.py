@@ -217,3 +217,21 @@ def test_psd_csv_in_other_units_is_refused_as_units(tmp_path, capsys):
             assert_one_line_error(rc, err, words=[str(f), "units?"])
             assert not (tmp_path / f"mu_{name}").exists()
     assert hidden_leftovers(tmp_path) == []
+
+
+def test_rubber_toml_with_a_byte_order_mark_reads(tmp_path, capsys):
+    """A rubber TOML saved with a UTF-8 byte-order mark (Windows editors) was 'invalid TOML
+    (Invalid statement at line 1, column 1)'; the CSVs beside it were read with the mark. Now
+    the same mu(v) as the file without it."""
+    from conftest import ROOT
+
+    src = ROOT / "sample_scans" / "rubbers" / "thesis_sls.toml"
+    (tmp_path / "bom.toml").write_bytes(b"\xef\xbb\xbf" + src.read_bytes().replace(b"\n", b"\r\n"))
+    psd = ROOT / "sample_scans" / "asphalt_psd.csv"
+    mus = []
+    for toml in (src, tmp_path / "bom.toml"):
+        out = tmp_path / f"mu_{toml.stem}.csv"
+        rc, err = run_cli(capsys, ["friction", "--psd", psd, "--rubber", toml, "--velocities", "1e-2,1", "--out", out])
+        assert rc == 0, err
+        mus.append(np.loadtxt(out, delimiter=",", skiprows=1)[:, 1])
+    assert np.array_equal(mus[0], mus[1])
