@@ -235,3 +235,24 @@ def test_rubber_toml_with_a_byte_order_mark_reads(tmp_path, capsys):
         assert rc == 0, err
         mus.append(np.loadtxt(out, delimiter=",", skiprows=1)[:, 1])
     assert np.array_equal(mus[0], mus[1])
+
+
+def test_damaged_tiff_gives_one_line_not_the_tiff_libraries_log(tmp_path, capsys):
+    """A TIFF header over garbage printed tifffile's own log line ('<tifffile.TiffPages @...>
+    invalid offset to first page') before the error, which said only 'IndexError: 0'; a TIFF
+    whose size tags were edited printed two such lines. Now one roadscan line naming the file
+    and tifffile's reason."""
+    import os
+
+    import tifffile
+
+    f = tmp_path / "garbage.tif"
+    f.write_bytes(b"II*\x00" + os.urandom(2000))
+    rc, err = run_cli(capsys, ["analyse", f, "--spacing", "1e-4", "--no-figures", "--no-friction",
+                               "--out", tmp_path / "o"])
+    assert_one_line_error(rc, err, words=[str(f), "not a readable TIFF", "offset"])
+    g = tmp_path / "good.tif"
+    tifffile.imwrite(g, fourier_surface(64, 1e-4, 0.8, 2e-4, seed=1).astype(np.float32))
+    rc, err = run_cli(capsys, ["convert", g, tmp_path / "g.npy", "--spacing", "1e-4"])
+    assert rc == 0 and err == "", err
+    assert hidden_leftovers(tmp_path) == []

@@ -19,6 +19,8 @@ image is a coloured preview: it is handed to SurfaceTopography's Park Systems re
 """
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 
 from ..errors import InputError
@@ -81,6 +83,29 @@ def _check_page_size(path, page):
     check_compression_ratio(path, n * itemsize, stored)
 
 
+@contextlib.contextmanager
+def _tifffile_notes(notes):
+    """Collect tifffile's log warnings ('incorrect StripByteCounts count', 'invalid offset to
+    first page') into ``notes`` instead of stray stderr lines: a refusal states the problem in
+    one line, a file read despite them has them in its warnings (summary.json)."""
+    import logging
+
+    log = logging.getLogger("tifffile")
+
+    class _Keep(logging.Handler):
+        def emit(self, record):
+            notes.append(record.getMessage().splitlines()[0] if record.getMessage() else "")
+
+    keep, propagate = _Keep(logging.WARNING), log.propagate
+    log.addHandler(keep)
+    log.propagate = False
+    try:
+        yield
+    finally:
+        log.removeHandler(keep)
+        log.propagate = propagate
+
+
 @register_reader(".tif", ".tiff")
 def read_tiff(path, spacing=None, units=None, channel=None):
     """Read a TIFF height image (see the module notes for the spacing rules; ``channel``
@@ -90,8 +115,9 @@ def read_tiff(path, spacing=None, units=None, channel=None):
     check_file(path)
     factor = unit_factor(units, path)
     sp = resolve_spacing(spacing, path)
+    notes = []
     try:
-        with tifffile.TiffFile(path) as tif:
+        with _tifffile_notes(notes), tifffile.TiffFile(path) as tif:
             page = tif.pages.first
             park = _PARK_SYSTEMS_TAG in page.tags
             meta = {"format": "tiff"}
@@ -110,7 +136,8 @@ def read_tiff(path, spacing=None, units=None, channel=None):
     except InputError:
         raise
     except Exception as exc:  # noqa: BLE001 - tifffile raises many types for broken files
-        raise InputError(path, f"not a readable TIFF ({exc.__class__.__name__}: {exc})") from None
+        why = notes[0] if notes else f"{exc.__class__.__name__}: {exc}"   # tifffile's own words
+        raise InputError(path, f"not a readable TIFF ({why})") from None
     if park:
         from .vendor import read_vendor
 
@@ -121,6 +148,8 @@ def read_tiff(path, spacing=None, units=None, channel=None):
     if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
         raise InputError(path, f"heights are not real numbers (dtype {arr.dtype})")
     meta["dtype"] = str(arr.dtype)
+    if notes:                                # tifffile's complaints about a damaged file
+        meta.setdefault("read_warnings", []).extend(f"TIFF reader: {n}" for n in notes)
     if desc_units is not None:
         factor = pick_units(path, units, desc_units, unit_factor(desc_units, path), meta)
         meta["units"] = desc_units
