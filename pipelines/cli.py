@@ -63,6 +63,7 @@ INPUT_LIKE = (ValueError, OverflowError, ZeroDivisionError, FloatingPointError, 
 def one_line(text, limit=400):
     """Collapse a message to one line (newlines -> ' | ', at most ``limit`` characters)."""
     s = " | ".join(part.strip() for part in str(text).splitlines() if part.strip())
+    s = "".join(c if c.isprintable() else "?" for c in s)   # no terminal control bytes from a file
     return s if len(s) <= limit else s[: limit - 3] + "..."
 
 

@@ -256,3 +256,18 @@ def test_damaged_tiff_gives_one_line_not_the_tiff_libraries_log(tmp_path, capsys
     rc, err = run_cli(capsys, ["convert", g, tmp_path / "g.npy", "--spacing", "1e-4"])
     assert rc == 0 and err == "", err
     assert hidden_leftovers(tmp_path) == []
+
+
+def test_error_lines_carry_no_terminal_control_bytes(tmp_path, capsys):
+    """A vendor reader's refusal quoted the file's binary bytes (a random .plu: 'ParserError:
+    Unknown string format: <junk>'), so ESC, BEL or NUL from a file could reach the terminal.
+    Error lines now show them as '?'; the line stays one line naming the file."""
+    from pipelines.cli import one_line
+    from roadscan.io.vendor_meta import one_line as vendor_line
+
+    assert one_line("a\x1b[2Jb\x07c\x00d") == "a?[2Jb?c?d"
+    assert vendor_line(ValueError("x\x1b]0;title\x07y")) == "ValueError: x?]0;title?y"
+    f = tmp_path / "scan\x1b[2J.npy"
+    rc, err = run_cli(capsys, ["analyse", f, "--spacing", "1e-4", "--out", tmp_path / "o"])
+    assert_one_line_error(rc, err, words=["scan?[2J.npy", "no such file"])
+    assert "\x1b" not in err

@@ -26,6 +26,7 @@ def one_line(exc, limit=240):
     """``exc`` (or any object) as one line of at most ``limit`` characters."""
     text = f"{type(exc).__name__}: {exc}"
     s = " ".join(part.strip() for part in text.splitlines() if part.strip())
+    s = "".join(c if c.isprintable() else "?" for c in s)   # a reader quoting binary junk: no ESC, BEL, NUL
     return s if len(s) <= limit else s[: limit - 3] + "..."
 
 
