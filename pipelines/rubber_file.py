@@ -243,9 +243,25 @@ def load_rubber(path):
         T, a = orient_shift(*read_shift_csv(base / str(sh["file"])), base / str(sh["file"]))
         d["shift"] = {"kind": "table", "T_C": T, "log10_aT": a}
     try:
-        return friction.rubber_from_dict(d)
+        rubber = friction.rubber_from_dict(d)
     except (ValueError, TypeError) as exc:
         raise InputError(path, str(exc)) from None
+    _check_modulus_range(path, rubber)
+    return rubber
+
+
+def _check_modulus_range(path, rubber):
+    """Refuse a rubber whose largest modulus |E(omega)| at T_ref over omega = 1e-8..1e14 rad/s
+    lies outside 1e5..1e11 Pa (glassy rubber ~1e9 Pa, glass 7e10 Pa): a units slip in the
+    TOML (MPa numbers under *_Pa keys give 1e3 Pa; 1e15 Pa is stiffer than diamond)."""
+    try:
+        top = float(np.nanmax(np.abs(rubber.modulus(np.logspace(-8, 14, 45)))))
+    except (AttributeError, TypeError, ValueError):
+        return
+    if not 1e5 <= top <= 1e11:
+        raise InputError(path, f"units? its modulus reaches at most {top:.3g} Pa, outside the "
+                               f"1e5..1e11 Pa of any rubber (glassy about 1e9 Pa): are the "
+                               f"values in Pa as the keys say?")
 
 
 def rubber_from_csv_files(master_csv, shift_csv=None, T_ref_C=None, units=None):

@@ -271,3 +271,26 @@ def test_error_lines_carry_no_terminal_control_bytes(tmp_path, capsys):
     rc, err = run_cli(capsys, ["analyse", f, "--spacing", "1e-4", "--out", tmp_path / "o"])
     assert_one_line_error(rc, err, words=["scan?[2J.npy", "no such file"])
     assert "\x1b" not in err
+
+
+def test_rubber_toml_modulus_in_the_wrong_units_is_refused(tmp_path, capsys):
+    """The thesis SLS with E1_Pa = 1000 (MPa numbers under a Pa key) gave mu 4e-5 and exit 0
+    (a warning blaming 'the rubber model or the band'); E1_Pa = 1e15 (stiffer than diamond)
+    ran without a word. Both now 'units?' naming the TOML; the shipped rubbers still run."""
+    from conftest import ROOT
+
+    rubbers = ROOT / "sample_scans" / "rubbers"
+    psd = ROOT / "sample_scans" / "asphalt_psd.csv"
+    text = (rubbers / "thesis_sls.toml").read_text()
+    assert "E1_Pa = 1e9" in text
+    for value in ("1000", "1e15"):
+        f = tmp_path / f"sls_{value}.toml"
+        f.write_text(text.replace("E1_Pa = 1e9", f"E1_Pa = {value}"))
+        rc, err = run_cli(capsys, ["friction", "--psd", psd, "--rubber", f, "--velocities", "1e-2,1",
+                                   "--out", tmp_path / "mu.csv"])
+        assert_one_line_error(rc, err, words=[str(f), "units?"])
+        assert not (tmp_path / "mu.csv").exists()
+    for toml in sorted(rubbers.glob("*.toml")):
+        rc, err = run_cli(capsys, ["friction", "--psd", psd, "--rubber", toml, "--velocities", "1e-2,1",
+                                   "--out", tmp_path / "ok.csv"])
+        assert rc == 0, (toml, err)
