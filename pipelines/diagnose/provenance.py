@@ -70,4 +70,5 @@ def inputs_json(ctx, d, given=None):
     return dict(sigma0_Pa=nom["sigma0"], q0_per_m=float(psd.q_min_per_m), q1_per_m=float(psd.q1_per_m),
                 temperature_C=nom["temperature"], psd_scale=1.0,
                 files=file_entries(given.get("files", ())), assumed=assumed, uncertain=unc,
-                cutoff_sensitivity=d.cutoff_sensitivity, notes=notes)
+                cutoff_sensitivity=d.cutoff_sensitivity, notes=notes,
+                **({"scan_read": given["scan_read"]} if given.get("scan_read") else {}))

@@ -25,7 +25,10 @@ def provenance_hints(args, uncertain, measured=True):
         given.append("temperature_C")
     if "psd_scale" in uncertain:
         given.append("psd_scale")
-    return dict(files=[(r, p) for r, p in files if p], given=given)
+    hints = dict(files=[(r, p) for r, p in files if p], given=given)
+    if getattr(args, "scan_read", None):
+        hints["scan_read"] = args.scan_read      # how --scan was read (channel, calibration)
+    return hints
 
 
 def load_surface(args, say):
@@ -37,7 +40,10 @@ def load_surface(args, say):
     if args.psd:
         psd, scan, spec, fit = read_psd_csv(args.psd), None, None, None
     else:
+        from ..scan_input import read_record
+
         obj = load_scan(args.scan, args)
+        args.scan_read = read_record(obj)
         try:
             psd, scan, spec, fit = surface_from_scan(obj)
         except ValueError as exc:
