@@ -221,11 +221,11 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
             "chi-square p-value of the baseline gap": data["p_value"],
             "held-out shrink of the verdict": v["shrink"],
             "shrink interval (5-95 % bootstrap)": (None if not v.get("shrink_interval") else
-                                                   f"{v['shrink_interval'][0]} – {v['shrink_interval'][1]}"),
+                                                   f"{_fmt(v['shrink_interval'][0])} – {_fmt(v['shrink_interval'][1])}"),
             "held out": data["heldout"],
             "inconclusive between": ", ".join(v.get("inconclusive") or []) or "no",
             "parameters at a bound": ", ".join(v.get("at_bound") or []) or "none",
-            "validation gap (baseline → corrected)": (f"{v['gap_validate_baseline']} → {v['gap_validate']}"
+            "validation gap (baseline → corrected)": (f"{_fmt(v['gap_validate_baseline'])} → {_fmt(v['gap_validate'])}"
                                                       if v["gap_validate"] is not None else None),
             "run time [s]": data["seconds"]})
         eff = rep.table_html([(e["name"], ", ".join(f"{k}={quantity(k, val)}" for k, val in e["params"].items()),
@@ -305,7 +305,7 @@ def write_surface_report(out_dir, name, data, figs):
     ws = data.get("whole_spectrum") or {}
     for c in ws.get("candidates") or []:
         checks.append((f"spectrum (every third ring held out): {c['name']}", _fmt(c.get("p_value")),
-                       _fmt(c.get("shrink")), ", ".join(f"{k}={x:.4g}" for k, x in c["params"].items())))
+                       _fmt(c.get("shrink")), ", ".join(f"{k}={x:.3g}" for k, x in c["params"].items())))
     wh = data.get("whole_height")
     if wh:
         checks.append(("height law (curvature lags 1, 4 held out): height_skew", _fmt(wh.get("p_value")),
