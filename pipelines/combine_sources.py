@@ -116,9 +116,6 @@ def _profile_spectrum(pr, per_decade):
     from roadscan import inpaint, level
     from roadscan.profile_spectrum import profile_to_area_factor
     from roadscan.spectrum import psd_profile
-    from roadscan.trim import road_section
-
-    pr = road_section(pr)
     filled, _ = inpaint.fill_unmeasured(level.level(pr, degree=1))
     q1, C1, spec = psd_profile(filled, window_alpha=WINDOW_ALPHA)
     hurst = float(spec.meta["conversion_hurst"])
@@ -207,6 +204,9 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
 
     res, res_src = resolution_of(obj, resolution_m)
     if isinstance(obj, Profile):
+        from roadscan.trim import road_section
+
+        obj = road_section(obj)   # a profiler's reference plates are not road (as in analyse)
         q, C, n, measured, dof, meta = _profile_spectrum(obj, per_decade)
         length, spacing = obj.length_m, obj.dx_m
         kind, spacing_list, size = "profile", [obj.dx_m], [obj.length_m]
