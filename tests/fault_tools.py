@@ -3,7 +3,11 @@ of ``pipelines.cli.main`` that captures the exit code and stderr, and the checks
 case ends with (no traceback, one line, nothing left behind, inputs unchanged)."""
 from __future__ import annotations
 
+import builtins
+import contextlib
+import errno
 import hashlib
+import io
 import os
 import sys
 from pathlib import Path
@@ -80,3 +84,25 @@ def roadscan_cmd():
 
 def cli_env():
     return {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
+
+
+@contextlib.contextmanager
+def disk_full_for(monkeypatch, suffix):
+    """Inside the block, opening a file whose name ends with ``suffix`` for writing fails with
+    ENOSPC (the file is created, as on a real full disk); plain ``open`` is back afterwards."""
+    real_open = builtins.open
+
+    def full_open(file, mode="r", *a, **k):
+        fh = real_open(file, mode, *a, **k)
+        if "w" in str(mode) and str(file).endswith(suffix):
+            fh.close()
+            raise OSError(errno.ENOSPC, "No space left on device")
+        return fh
+
+    monkeypatch.setattr(builtins, "open", full_open)
+    monkeypatch.setattr(io, "open", full_open)
+    try:
+        yield
+    finally:
+        monkeypatch.setattr(builtins, "open", real_open)
+        monkeypatch.setattr(io, "open", real_open)

@@ -6,14 +6,13 @@ from __future__ import annotations
 
 import builtins
 import errno
-import io
 import os
 import tempfile
 
 import numpy as np
 import pytest
 
-from fault_tools import (DX, assert_one_line_error, digest, hidden_leftovers, run_cli, small_scan,
+from fault_tools import (DX, assert_one_line_error, digest, disk_full_for, hidden_leftovers, run_cli, small_scan,
                          snapshot)
 
 FAST = ["--spacing", DX, "--no-figures", "--no-friction"]
@@ -107,20 +106,8 @@ def test_full_disk_names_the_file(tmp_path, scan, capsys, monkeypatch):
 def test_full_disk_in_a_plain_write_of_an_output_folder(tmp_path, scan, capsys, monkeypatch):
     """ENOSPC from a text write inside analyse's output folder: the folder is named, the
     temporary folder is gone."""
-    real_open = builtins.open
-
-    def full_open(file, mode="r", *a, **k):
-        fh = real_open(file, mode, *a, **k)
-        if "w" in str(mode) and str(file).endswith(".json"):
-            fh.close()
-            raise OSError(errno.ENOSPC, "No space left on device")
-        return fh
-
-    monkeypatch.setattr(builtins, "open", full_open)
-    monkeypatch.setattr(io, "open", full_open)
-    rc, err = run_cli(capsys, ["analyse", scan, "--out", tmp_path / "out", *FAST])
-    monkeypatch.setattr(builtins, "open", real_open)
-    monkeypatch.setattr(io, "open", real_open)
+    with disk_full_for(monkeypatch, ".json"):
+        rc, err = run_cli(capsys, ["analyse", scan, "--out", tmp_path / "out", *FAST])
     assert_one_line_error(rc, err, words=["No space left on device", "out"])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scan.npy"]
 

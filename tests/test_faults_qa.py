@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from conftest import fourier_surface
-from fault_tools import assert_one_line_error, digest, hidden_leftovers, run_cli
+from fault_tools import assert_one_line_error, digest, disk_full_for, hidden_leftovers, run_cli
 
 
 def test_decimal_commas_that_also_separate_fields_are_refused(tmp_path, capsys):
@@ -60,27 +60,12 @@ def test_full_disk_in_a_file_set_names_the_file_not_a_folder_of_its_name(tmp_pat
     """friction --out mu.csv writes mu.csv and its summary through a hidden folder named after
     mu.csv; a full disk was reported as 'mu.csv/mu.csv: No space left on device' (and rubber
     master's as 'r.toml/r_master.csv'), a path that never exists. Now the file's real place."""
-    import builtins
-    import errno
-    import io
     from conftest import ROOT
 
-    real_open = builtins.open
-
-    def full_open(file, mode="r", *a, **k):
-        fh = real_open(file, mode, *a, **k)
-        if "w" in str(mode) and str(file).endswith(".csv"):
-            fh.close()
-            raise OSError(errno.ENOSPC, "No space left on device")
-        return fh
-
     out = tmp_path / "mu.csv"
-    monkeypatch.setattr(builtins, "open", full_open)
-    monkeypatch.setattr(io, "open", full_open)
-    rc, err = run_cli(capsys, ["friction", "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
-                               "--velocities", "1e-2,1", "--out", out])
-    monkeypatch.setattr(builtins, "open", real_open)
-    monkeypatch.setattr(io, "open", real_open)
+    with disk_full_for(monkeypatch, ".csv"):
+        rc, err = run_cli(capsys, ["friction", "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
+                                   "--velocities", "1e-2,1", "--out", out])
     assert_one_line_error(rc, err, words=["No space left on device", f"{out}:"])
     assert f"{out}/" not in err
     assert list(tmp_path.iterdir()) == []
