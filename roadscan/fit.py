@@ -199,9 +199,10 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_o
     hurst = -slope / 2.0 - 1.0
     # the broken-line test of roadscan.rolloff (issue 20: the older median test of the rings
     # below the band missed the coarse sample's 14 mm roll-off); the first ring stands for 2 pi / L
-    q_roll = detect_roll_off(q, C, counts, slope, icpt, float(spectrum.q_per_m[0]), hi)
     if roll_off is not None:
         q_roll = float(roll_off)
+    else:
+        q_roll = detect_roll_off(q, C, counts, slope, icpt, float(spectrum.q_per_m[0]), hi)
     if q_roll is not None and q_roll > lo * 1.5:
         q_roll = None
     q0 = q_roll if q_roll is not None else float(q[0])
