@@ -312,9 +312,11 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
                 ("Figures", [list(figs)])]
     if not figs:
         sections.pop()
-    if analyse_band.warnings_section(summary):          # every warning in the report (issue 20)
-        sections.insert(1, analyse_band.warnings_section(summary))
-    if analyse_band.share_section(summary, fr):         # mu's provenance per speed (issue 20)
-        sections.insert(-1 if figs else len(sections), analyse_band.share_section(summary, fr))
+    warned = analyse_band.warnings_section(summary)     # every warning in the report (issue 20)
+    if warned:
+        sections.insert(1, warned)
+    shares = analyse_band.share_section(summary, fr)    # mu's provenance per speed (issue 20)
+    if shares:
+        sections.insert(-1 if figs else len(sections), shares)
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,
                       intro=report.instrument_html(summary.get("instrument")))
