@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import report
+from ..units_format import sig3
 
 __all__ = ["QUANTITIES", "outlier_mask", "write_campaign_report"]
 
@@ -138,12 +139,6 @@ def _reader_units(quantities, vals):
     return out, vals
 
 
-def _fmt(x, scale=1.0):
-    from ..units_format import sig3
-
-    return sig3(x)
-
-
 def _table(records, quantities, vals, masks):
     head = ["#", "file", "label", "chainage [m]", "status"] + [q[1] for q in quantities] + ["outlier in", "outputs"]
     rows = ["<table>", "<tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"]
@@ -154,7 +149,7 @@ def _table(records, quantities, vals, masks):
                  "ok" if r["status"] == "ok" else f"<span style='color:#b00'>error: {html.escape(r['error'])}</span>"]
         for q in quantities:
             v = vals[q[0]][i]
-            s = _fmt(v)
+            s = sig3(v)
             cells.append(f"<b style='color:#c00'>{s}</b>" if masks[q[0]][i] else s)
         cells.append(html.escape(", ".join(flags)))
         if r.get("dir"):
