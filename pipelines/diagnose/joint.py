@@ -183,11 +183,10 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
     uncertain = dict(uncertain or {})
     shared = {k: u for k, u in uncertain.items() if k in SHARED}
     if "q1" not in shared:
-        carried = False
         for c in ctxs:
-            r, sens = default_q1(c, {})
+            r, _ = default_q1(c, {})
             if "q1" in r:
-                shared["q1"], carried = r["q1"], True
+                shared["q1"] = r["q1"]
                 break
     from .gap import estimate_noise
 
@@ -202,8 +201,6 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
     per_row = dict(shared)
     if "temperature" in uncertain:
         per_row["temperature"] = uncertain["temperature"]
-    if "q1" in shared and "q1" not in joint_cal and shared["q1"].source == "known":
-        per_row["q1"] = shared["q1"]
     if "q1" not in per_row:
         per_row["q1"] = Uncertain("q1", np.nan, np.nan, "known")   # q1 neither uncertain nor carried
     results = []

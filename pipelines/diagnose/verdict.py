@@ -134,7 +134,7 @@ def _plausible_nominal(best, singles, cal, noise, boot):
     return best
 
 
-def _refuse(v, best, why):
+def _refuse(v, best):
     v["implausible"] = list(best.implausible)
     v["implausible_why"] = list(best.implausible_why)
     return f"{best.name} would explain it but is not physical ({'; '.join(best.implausible_why)}); "
@@ -150,7 +150,7 @@ def decide(singles, pairs, cal, calpairs, st, intervals=None):
     """
     v = _empty()
     every = list(singles) + list(pairs) + ([cal] if cal else []) + list(calpairs)
-    g_all, g_ho, noise, n = st["g_all"], st["g_ho"], st["noise"], st["n"]
+    g_all, noise = st["g_all"], st["noise"]
     if not st["significant"]:
         v["reason"] = f"baseline gap {g_all:.4f} is within the noise {noise:.4f} (chi-square p = {st['p']:.3g})"
         return v, None
@@ -191,7 +191,7 @@ def _plain(v, singles, pairs, st, every):
                        " explain the held-out points equally well within the noise")
         return v, None
     if best.implausible:
-        v["reason"] = _refuse(v, best, "") + "no effect named"
+        v["reason"] = _refuse(v, best) + "no effect named"
         return v, None
     _name(v, best, st["g_ho"])
     return v, best
@@ -227,7 +227,7 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
             v["reason"] += (f" ({best.beyond:.0%} beyond the calibration of "
                             f"{', '.join(p.name for p in cal.effects[0].params)})")
             return v, best
-        prefix = _refuse(v, best, "")
+        prefix = _refuse(v, best)
     if cal.shrink >= MIN_SHRINK and not cal.implausible:
         # an effect that is one of the calibrated inputs (fine_roughness for q1, ...) is no rival
         same = {"q1_per_m": "fine_roughness", "sigma0_Pa": "load", "temperature_C": "temperature_offset"}
