@@ -173,6 +173,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     timings = {}
 
     def run(effs, **kw):
+        t1 = time.perf_counter()
         k = sum(len(e.params) for e in effs)
         name = "+".join(e.name for e in effs)
         if too_many_parameters(k, ho.n_train):
@@ -191,19 +192,16 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
 
     singles = []
     for e in usable:
-        t1 = time.perf_counter()
         c = run((e,))
         if c is not None:
             singles.append(c)
     singles.sort(key=lambda c: c.score)
     pair_list, cal, calpairs = [], None, []
     if cal_e is not None:
-        t1 = time.perf_counter()
         cal = run((cal_e,))
         if cal is not None and significant:
             by_name = {c.effects[0].name: c for c in singles}
             for e in usable:
-                t1 = time.perf_counter()
                 starts = [cal.params + [e.null_params(ctx) or {p.name: p.init for p in e.params}]]
                 if e.name in by_name:
                     starts.append(cal.params + by_name[e.name].params)
@@ -214,7 +212,6 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     elif pairs and singles and significant:
         first = singles[0]
         for other in singles[1:]:
-            t1 = time.perf_counter()
             c = run(first.effects + other.effects, start=first.params + other.params,
                     budget=12 if max(first.effects[0].cost, other.effects[0].cost) > 1 else 40)
             if c is not None:
