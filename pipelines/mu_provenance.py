@@ -68,7 +68,9 @@ def rubber_label(rubber, sigma0_Pa, T0_C):
     """'thesis SLS rubber, T0 = 60 C, sigma0 = 0.2 MPa' (the name, temperature and pressure
     printed on every friction figure and report)."""
     if rubber is None:
-        name = "default rubber: thesis SLS"
+        from .headline import RUBBER_ILLUSTRATIVE
+
+        name = f"default rubber: {RUBBER_ILLUSTRATIVE}"
     else:
         name = getattr(rubber, "name", None) or type(rubber).__name__
     if T0_C is None:

@@ -219,6 +219,25 @@ def orient_shift(T_C, log10_aT, path, log=None):
     return T, y
 
 
+def _not_toml(path, exc):
+    """The one-line message of a --rubber file that is not TOML: a CSV (a ``.csv`` name, or
+    comma-separated lines with no ``=``) is told to go to ``--master-curve`` (a master curve) or
+    ``--shift-table`` (a shift table); anything else is "invalid TOML (reason)"."""
+    try:
+        lines = [ln.strip() for ln in Path(path).read_text(encoding="utf-8-sig",
+                                                           errors="replace").splitlines()]
+    except OSError:
+        lines = []
+    lines = [ln for ln in lines if ln and not ln.startswith("#")][:20]
+    csv_like = path.suffix.lower() in (".csv", ".tsv", ".txt") or (
+        lines and all("=" not in ln and ("," in ln or ";" in ln or "\t" in ln) for ln in lines))
+    if csv_like:
+        return ("is a CSV table, not a rubber TOML: give a master curve with --master-curve FILE "
+                "(and its shift factors with --shift-table FILE), or write a TOML "
+                "(friction/RUBBER_TOML.md) for --rubber")
+    return f"invalid TOML ({exc})"
+
+
 def load_rubber(path):
     """Rubber model from a TOML file; raises :class:`roadscan.errors.InputError` on bad input."""
     import friction
@@ -230,7 +249,7 @@ def load_rubber(path):
     except FileNotFoundError:
         raise InputError(path, "no such file") from None
     except tomllib.TOMLDecodeError as exc:
-        raise InputError(path, f"invalid TOML ({exc})") from None
+        raise InputError(path, _not_toml(path, exc)) from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(path, f"cannot read ({exc})") from None
     base = path.parent
