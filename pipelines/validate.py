@@ -7,8 +7,9 @@ before it reaches the numerics. Each check either
   file and the value (the CLI prints it and exits with code 2); used when no meaningful result
   can follow (a constant grid has no roughness, a temperature at the rubber's WLF pole has no
   shift factor, a PSD rising like q^3 is not a surface), or
-- **warns**: :func:`warn` prints one line ``roadscan CMD: warning: ...`` on stderr and records it;
-  commands that write ``summary.json`` store the list under ``"warnings"``. Used when the result
+- **warns**: :func:`warn` prints one line ``roadscan CMD: warning: ...`` on stderr and records it
+  in the current run's :class:`Warnings` (:func:`collecting`); commands that write
+  ``summary.json`` store that run's list under ``"warnings"``. Used when the result
   is still meaningful but the user should look (e.g. an unusual spacing, a small grid).
 
 Limits (SI units; chosen wide, to refuse only what no road scan or rubber can be):
@@ -43,6 +44,8 @@ Size limits on files are in :mod:`roadscan.io._common` (``check_declared_size``,
 """
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import math
 import sys
 
@@ -51,7 +54,7 @@ import numpy as np
 from roadscan.errors import InputError
 
 __all__ = [
-    "warn", "warnings_list", "reset_warnings",
+    "warn", "warnings_list", "reset_warnings", "Warnings", "collecting", "current_warnings",
     "check_spacing", "check_spacing_option", "check_heights", "check_scan", "check_pressure", "check_poisson",
     "check_temperature", "check_rms_height", "check_wave_vector", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
     "finite_number",
@@ -77,28 +80,75 @@ MAX_PSD_SLOPE = 1.0
 MU_MAX = 100.0
 MU_WARN = 5.0
 
-_WARNINGS = []
-_PREFIX = ["roadscan"]
+class Warnings:
+    """The warnings of one run (one scan, one command): lines in the order first said, each
+    once. :func:`warn` records into the collector of the innermost :func:`collecting` scope
+    (a :mod:`contextvars` variable: each thread, task and nested run has its own), so two runs
+    in one process, or many files in one call, never share a warning."""
+
+    def __init__(self, prefix="roadscan"):
+        self.prefix = prefix
+        self.lines = []
+
+    def add(self, line, echo=True):
+        """Record ``line`` (once); ``echo`` prints ``PREFIX: warning: line`` on stderr."""
+        if line in self.lines:
+            return False
+        self.lines.append(line)
+        if echo:
+            print(f"{self.prefix}: warning: {line}", file=sys.stderr)
+        return True
+
+    def __iter__(self):
+        return iter(list(self.lines))
+
+    def __len__(self):
+        return len(self.lines)
 
 
-# ------------------------------------------------------------------------------ warnings
+_CURRENT = contextvars.ContextVar("roadscan_warnings", default=None)
+
+
+def current_warnings():
+    """The collector :func:`warn` records into (one is started in this context if none is)."""
+    w = _CURRENT.get()
+    if w is None:
+        w = Warnings()
+        _CURRENT.set(w)
+    return w
+
+
+@contextlib.contextmanager
+def collecting(into=None, prefix=None):
+    """A scope of its own for warnings: ``with collecting() as w: ...`` records every
+    :func:`warn` inside into ``w`` (a :class:`Warnings`; ``into`` re-enters a given one). On
+    leaving, the lines are also handed to the enclosing scope (not printed again), so a
+    command that runs several scans still sees them all."""
+    parent = _CURRENT.get()
+    w = into if into is not None else Warnings(prefix or (parent.prefix if parent else "roadscan"))
+    token = _CURRENT.set(w)
+    try:
+        yield w
+    finally:
+        _CURRENT.reset(token)
+        if parent is not None and parent is not w:
+            for line in w.lines:
+                parent.add(line, echo=False)
+
+
 def reset_warnings(prefix="roadscan"):
-    """Forget recorded warnings (the CLI calls this at the start of every command)."""
-    _WARNINGS.clear()
-    _PREFIX[0] = prefix
+    """Start a new collector in this context (the CLI calls this at the start of every command)."""
+    _CURRENT.set(Warnings(prefix))
 
 
 def warn(message):
-    """Print one warning line on stderr and record it for ``summary.json``."""
-    line = " ".join(str(message).split())
-    if line not in _WARNINGS:
-        _WARNINGS.append(line)
-        print(f"{_PREFIX[0]}: warning: {line}", file=sys.stderr)
+    """Print one warning line on stderr and record it in this run's collector."""
+    current_warnings().add(" ".join(str(message).split()))
 
 
 def warnings_list():
-    """The warnings recorded since the last :func:`reset_warnings` (a new list)."""
-    return list(_WARNINGS)
+    """The warnings of the current scope (a new list)."""
+    return list(current_warnings().lines)
 
 
 # ------------------------------------------------------------------------------ numbers

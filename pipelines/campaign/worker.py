@@ -44,26 +44,27 @@ def _mu_at(folder):
     return mu_at_speeds(d[:, 0], d[:, 1])
 
 
-def _reset_warnings():
-    """Each scan's ``summary.json`` lists its own warnings, as ``roadscan analyse`` on that one
-    file does (the list is per process, and a worker runs many scans)."""
+def _own_warnings():
+    """A warnings scope of its own (:func:`pipelines.validate.collecting`): each scan's
+    ``summary.json`` lists its own warnings, as ``roadscan analyse`` on that one file does."""
     from .. import validate
 
-    validate.reset_warnings(prefix="roadscan batch")
+    return validate.collecting(prefix="roadscan batch")
 
 
 def _analyse_one(job, tmp):
     from ..analyse import run_analysis
     from ..scan_input import load_scan
 
-    _reset_warnings()
-    scan = load_scan(job.get("path") or job["file"], spacing=job.get("spacing"), units=job.get("units"),
-                     calibration=job.get("calibration"), channel=job.get("channel"))
-    try:
-        summary = run_analysis(scan, tmp, job["settings"], figures=job.get("figures", False),
-                               **job["analysis"])
-    except ValueError as exc:
-        raise InputError(job["file"], str(exc)) from None
+    with _own_warnings():
+        scan = load_scan(job.get("path") or job["file"], spacing=job.get("spacing"),
+                         units=job.get("units"), calibration=job.get("calibration"),
+                         channel=job.get("channel"))
+        try:
+            summary = run_analysis(scan, tmp, job["settings"], figures=job.get("figures", False),
+                                   **job["analysis"])
+        except ValueError as exc:
+            raise InputError(job["file"], str(exc)) from None
     return [ok_record(job, summary, job["subdir"], _mu_at(tmp))]
 
 
@@ -79,14 +80,14 @@ def _analyse_sections(job, tmp):
         sub = f"section_{k:05d}"
         extra = {"section": k, "section_start_m": start, "section_length_m": prof.length_m}
         chain = base + start
-        _reset_warnings()
         if k == 0:      # a units slip refuses the file before any section (issue 22)
             from roadscan.plausibility import check_plausible
 
             check_plausible(prof, job["file"], job.get("units"))
         try:
-            summary = run_analysis(prof, tmp / sub, job["settings"], figures=job.get("figures", False),
-                                   **job["analysis"])
+            with _own_warnings():
+                summary = run_analysis(prof, tmp / sub, job["settings"],
+                                       figures=job.get("figures", False), **job["analysis"])
             recs.append(ok_record(job, summary, f"{job['subdir']}/{sub}", _mu_at(tmp / sub), extra, chain))
         except (ValueError, ArithmeticError) as exc:
             recs.append(error_record(job, f"{job['file']}: section {k} at {start:g} m: {exc}",

@@ -98,7 +98,7 @@ def run(args):
     check_output_dir(out, inputs=args.files)
     # matplotlib is imported by a helper process while the scans are read and analysed
     with figure_drawer(not getattr(args, "no_figures", False)) as drawer:
-        scans = [load_scan(f, args) for f in args.files]  # every input is checked before any output
+        scans = [_load(f, args) for f in args.files]  # every input is checked before any output
         many = len(scans) > 1
         with atomic_output_dir(out, inputs=args.files) as tmp:  # all outputs or none
             rows = _analyse_all(args, scans, tmp, out, many, settings, kw, drawer)
@@ -107,26 +107,34 @@ def run(args):
     return 0
 
 
+def _load(path, args):
+    """(scan, its own :class:`pipelines.validate.Warnings`): what reading it warned."""
+    from ..validate import Warnings, collecting, current_warnings
+
+    w = Warnings(current_warnings().prefix)
+    with collecting(into=w):
+        return load_scan(path, args), w
+
+
 def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
     from .. import report
     from ..analyse import run_analysis
     from ..units_format import length
 
-    from .. import validate
+    from ..validate import collecting
 
     rows, own = [], []
-    for i, (path, scan, sub) in enumerate(zip(args.files, scans, _unique_dirs(args.files))):
+    for i, (path, (scan, said), sub) in enumerate(zip(args.files, scans, _unique_dirs(args.files))):
         if many:
             print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
-        n0 = len(validate.warnings_list())
         try:
-            summary = run_analysis(scan, out / sub if many else out, settings,
-                                   figures=not getattr(args, "no_figures", False), drawer=drawer, **kw)
+            with collecting(into=said):      # this scan's warnings only, reading included
+                summary = run_analysis(scan, out / sub if many else out, settings,
+                                       figures=not getattr(args, "no_figures", False), drawer=drawer, **kw)
         except ValueError as exc:
             raise InputError(path, str(exc)) from None
         rows.append((sub, summary))
-        seen = validate.warnings_list()      # this scan's: those while it ran, and those naming it
-        own.append([w for w in seen[:n0] if str(path) in w or scan.name in w] + seen[n0:])
+        own.append(list(said.lines))
         if not many:
             print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
                   f"rms height = {length(summary['rms_height_m'])} -> {final / 'report.html'}")
