@@ -255,9 +255,8 @@ def test_two_column_profile(tmp_path):
     z[10] = np.nan
     keep = np.ones(200, bool)
     keep[50:53] = False  # three rows missing: become unmeasured
-    # without unit titles the coordinates are metres (spacings are always metres) and --units
-    # applies to the heights only
-    np.savetxt(tmp_path / "p.txt", np.column_stack([x[keep] * 1e-3, z[keep]]), fmt="%.6e %.9f")
+    # without unit titles --units applies to the coordinates and the heights alike
+    np.savetxt(tmp_path / "p.txt", np.column_stack([x[keep], z[keep]]), fmt="%.6e %.9f")
     p = read(tmp_path / "p.txt", units="mm")
     assert isinstance(p, Profile) and p.n == 200
     assert p.dx_m == pytest.approx(0.05e-3, rel=1e-6)
@@ -407,17 +406,18 @@ def test_profile_in_npz_and_one_column_text(tmp_path):
     np.testing.assert_allclose(c.heights_m, z, rtol=1e-12)
 
 
-def test_xyz_units_apply_to_heights_only(tmp_path):
-    """--units names the heights' unit; x, y of a point list without unit titles are metres."""
+def test_xyz_units_apply_to_coordinates_and_heights(tmp_path):
+    """--units names the unit of x, y and z of a point list without unit titles."""
     h, pts = _xyz_points()
     pts = pts.copy()
-    pts[:, 2] *= 1e6   # heights written in um, coordinates in m
+    pts *= 1e6   # coordinates and heights written in um
     np.savetxt(tmp_path / "u.xyz", pts, fmt="%.9g")
     m = read(tmp_path / "u.xyz", units="um")
+    np.savetxt(tmp_path / "u.xyz", pts * 1e-6, fmt="%.9g")
     ref = read(tmp_path / "u.xyz")
     assert (m.dx_m, m.dy_m) == pytest.approx((2e-4, 3e-4))
     assert (ref.dx_m, ref.dy_m) == pytest.approx((2e-4, 3e-4))
-    np.testing.assert_allclose(m.heights_m, ref.heights_m * 1e-6)
+    np.testing.assert_allclose(m.heights_m, ref.heights_m, rtol=1e-8)
 
 
 def test_npy_units_scaled_without_changing_the_file(tmp_path):

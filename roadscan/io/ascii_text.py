@@ -12,11 +12,12 @@ content (see :mod:`roadscan.io.text_table` for the table syntax):
 - **1 column**: a profile of heights; ``spacing`` required.
 - **2 columns x, z**: a line profile. x must be on a regular grid (missing x values become
   unmeasured points); the spacing comes from x. Units: a title line naming units in brackets
-  (``distance (mm), height (mm)``) gives each column's unit; otherwise x is in metres (spacings
-  are always metres) and z in ``units``.
+  (``distance (mm), height (mm)``) gives each column's unit; otherwise x and z are both in
+  ``units`` (default m), a reading checked by :mod:`roadscan.io.text_units` (a mm profile read
+  as metres is refused naming ``--units mm``), and ``spacing`` replaces the step of x with a note.
 - **3 columns x, y, z** (any order of points): a point list that must fill a regular x,y grid
   (points may be missing: they become unmeasured); spacing from the coordinates; x, y, z in the
-  units of a title line, else x, y in metres and z in ``units``.
+  units of a title line, else x, y and z in ``units`` (checked as for x,z profiles).
 - **4 or more columns**: a matrix of heights, rows along y, columns along x; ``spacing``
   required (unless a Gwyddion or ESRI header gives it).
 
@@ -173,14 +174,39 @@ def _gwy_matrix(path, values, gwy, sp, factor, units, meta):
 
 def _column_factors(path, titles, ncol, factor, units, meta):
     """Scale factors to metres of each column: from the title line's units when it names them,
-    else coordinates in metres (spacings are always metres) and heights in ``units``."""
+    else every column (coordinates and heights) in ``units`` (default m), a reading checked by
+    :func:`_unstated_spacing`."""
     if titles is not None:
         meta["units"] = ",".join(titles)
         factors = [parse_units(t, path) for t in titles]
         factors[-1] = pick_units(path, units, titles[-1], factors[-1], meta)
         return factors
-    meta["units"] = f"coordinates m, heights {units or 'm'}"
-    return [1.0] * (ncol - 1) + [factor]
+    meta["units"] = f"coordinates and heights {units or 'm'}"
+    return [factor] * ncol
+
+
+def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, what):
+    """Spacing [m] of coordinates whose unit no title line states (:mod:`roadscan.io.text_units`).
+
+    ``--spacing`` replaces the spacing inferred from the coordinates (with a note); without it
+    the coordinates are read in ``units`` (default m), refused in one line when that reading is
+    implausible for a profiler and another unit is plausible."""
+    from .text_units import check_coordinate_units
+
+    inferred = tuple(d * f for d, f in zip(d_file, factors))
+    if sp is not None:
+        given = tuple(sp)[:len(inferred)]
+        if any(abs(g - i) > 1e-6 * i for g, i in zip(given, inferred)):
+            shown = " x ".join(f"{d:.6g}" for d in d_file)
+            meta.setdefault("read_warnings", []).append(
+                f"--spacing {' x '.join(f'{g:.6g}' for g in given)} m replaces the spacing inferred "
+                f"from the {what} column ({shown} in the file's numbers; no title line states "
+                f"their unit)")
+            meta["spacing_from"] = "--spacing (replacing the coordinates' step)"
+        return given
+    unit = check_coordinate_units(path, max(d_file), n_nodes, z_file, units, what)
+    meta["coordinate_unit"] = unit
+    return inferred
 
 
 def _profile(path, values, titles, sp, factor, units, meta):
@@ -194,7 +220,11 @@ def _profile(path, values, titles, sp, factor, units, meta):
     h = np.full(idx[-1] + 1, np.nan)
     h[idx] = z
     meta.update(layout="x,z profile", x0_m=x0 * fx, missing_points=int(h.size - x.size))
-    (dx_m,) = pick_spacing(path, None if sp is None else sp[:1], (dx * fx,), meta)
+    if titles is None:
+        (dx_m,) = _unstated_spacing(path, None if sp is None else sp[:1], (dx,), (fx,), h.size, h,
+                                    units, meta, "x")
+    else:
+        (dx_m,) = pick_spacing(path, None if sp is None else sp[:1], (dx * fx,), meta)
     return make_profile(path, h * fz, dx_m, meta=meta)
 
 
@@ -243,5 +273,9 @@ def _xyz(path, values, titles, sp, factor, units, meta):
     h, x0, dx, y0, dy = grid_from_points(path, values[:, 0], values[:, 1], values[:, 2])
     meta.update(layout="x,y,z points", x0_m=x0 * fx, y0_m=y0 * fy,
                 missing_points=int(h.size - values.shape[0]))
-    sp = pick_spacing(path, sp, (dx * fx, dy * fy), meta)
+    if titles is None:
+        sp = _unstated_spacing(path, sp, (dx, dy), (fx, fy), max(h.shape), h, units, meta,
+                               "x, y")
+    else:
+        sp = pick_spacing(path, sp, (dx * fx, dy * fy), meta)
     return make_heightmap(path, h * fz, sp[0], sp[1], meta=meta)

@@ -1,0 +1,135 @@
+"""The unit of a text file's coordinate columns when no title line states it.
+
+An x,z profile (or x,y,z point list) exported in millimetres with no unit line carries its
+spacing in millimetres: read as metres, a 150 mm CAPTIF-like profile at 0.0375 mm becomes a
+150 m profile at 3.75 cm with 0.73 m rms heights, and every number after it is wrong. The
+coordinates are therefore read in the unit of the heights (``units``, default m) and that
+reading is checked against what a road or microscope profiler can give; when it is
+implausible and another unit (the same for coordinates and heights) is plausible, the file is
+refused in one line naming that unit and the flag (``--units mm``). Plausible means
+
+- spacing ``dx`` in [1 nm, 1 cm] (microscopes to road texture profilers; ISO 13473-1 asks for
+  at most 1 mm for texture, unevenness profilers sample at 25 mm and more but are not texture),
+- detrended rms height ``Sq`` at most 50 mm (road textures reach a few mm: ISO 13473-1 MPD
+  0.2..3 mm; a microscope field far less),
+- ``Sq`` at most half the length and at least 1e-5 of the spacing (the scan-against-itself
+  bounds of :mod:`roadscan.plausibility`).
+
+A file whose coordinates really are metres and heights metres with a large rms (a long
+unevenness profile) is read with ``--units m`` given explicitly: the unit is then stated.
+When heights are given in ``units`` and the coordinates are plausible only as metres (the
+older convention of coordinates always in metres), the refusal says so and asks for a title
+line naming each column's unit (``x (m), z (mm)``).
+
+Reference: ISO 13473-1:2019 (texture profile sampling and MPD); ISO 25178-2:2012 (``Sq``).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import InputError
+
+__all__ = ["UNITS", "check_coordinate_units", "plausible_reading", "line_rms"]
+
+#: candidate units, metres per unit
+UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6}
+DX_RANGE_M = (1e-9, 1e-2)
+SQ_MAX_M = 0.05
+ROUGH_MAX = 0.5
+SMOOTH_MIN = 1e-5
+
+
+def line_rms(z):
+    """rms about a least-squares line (2D ``z``: plane) of the finite values of ``z`` (in its
+    own unit), the lowest and highest 1 % left out (spikes do not decide a unit)."""
+    z = np.asarray(z, float)
+    idx = np.indices(z.shape, dtype=float).reshape(z.ndim, -1)
+    z = z.ravel()
+    ok = np.isfinite(z)
+    cols = np.vstack([np.ones(z.size), idx])[:, ok].T
+    z = z[ok]
+    if z.size < cols.shape[1] + 1:
+        return float(np.std(z)) if z.size else float("nan")
+    lo, hi = np.percentile(z, [1.0, 99.0])
+    keep = (z >= lo) & (z <= hi)
+    if keep.sum() < cols.shape[1] + 1:
+        keep[:] = True
+    zk = z[keep] - np.median(z[keep])
+    coef, *_ = np.linalg.lstsq(cols[keep], zk, rcond=None)
+    r = zk - cols[keep] @ coef
+    return float(np.sqrt(np.mean(r * r)))
+
+
+def plausible_reading(dx_m, length_m, rms_m):
+    """True when a scan with spacing ``dx_m``, length ``length_m`` and rms height ``rms_m``
+    [m] is one a road or microscope profiler can give (module notes)."""
+    if not (np.isfinite(rms_m) and np.isfinite(dx_m)):
+        return True                      # nothing to judge: other checks refuse it
+    if not DX_RANGE_M[0] <= dx_m <= DX_RANGE_M[1]:
+        return False
+    if rms_m > SQ_MAX_M or rms_m > ROUGH_MAX * length_m:
+        return False
+    return rms_m == 0 or rms_m >= SMOOTH_MIN * dx_m
+
+
+def _len(v):
+    for unit, f in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
+        if abs(v) >= f:
+            return f"{v / f:.3g} {unit}"
+    return f"{v:.3g} m"
+
+
+def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x"):
+    """Check the reading of coordinates with no stated unit in the heights' unit.
+
+    Parameters
+    ----------
+    path : str or Path
+        For the message.
+    dx_file : float
+        The step of the coordinate column(s) (the larger of x and y), in the file's numbers.
+    n_nodes : int
+        Grid nodes along the longer side.
+    z_file : array
+        The heights in the file's numbers.
+    units : str or None
+        ``--units`` (m, mm, um, nm) or None (not given: metres assumed).
+    what : str
+        ``"x"`` or ``"x, y"`` (for the message).
+
+    Returns
+    -------
+    str
+        The unit the coordinates are read in.
+
+    Raises
+    ------
+    InputError
+        When that reading is implausible and another is plausible (module notes), naming the
+        unit and the flag.
+    """
+    from ._common import unit_factor
+
+    f = unit_factor(units, path)
+    rms = line_rms(z_file)
+    if plausible_reading(dx_file * f, n_nodes * dx_file * f, rms * f):
+        return units or "m"
+    where = (f"read as {units or 'm'}, the file gives a {_len(n_nodes * dx_file * f)} profile with "
+             f"{_len(dx_file * f)} spacing and {_len(rms * f)} rms heights")
+    if units is None:
+        fits = [u for u, g in UNITS.items() if g != 1.0
+                and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * g)]
+        if fits:
+            alt = fits[0] + "".join(f" (or {u})" for u in fits[1:])
+            raise InputError(path, f"{what} and heights look like {alt}, not metres ({where}; no "
+                                   f"title line states the units): give --units {fits[0]}, or "
+                                   f"--units m if they are metres")
+        return "m"
+    # heights in `units`: are the coordinates metres (the older convention)?
+    for u, g in UNITS.items():
+        if abs(g - f) > 1e-9 * f and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * f):
+            raise InputError(path, f"{what} {'look' if ',' in what else 'looks'} like {u} while --units {units} reads them in "
+                                   f"{units} ({where}): --units applies to coordinates and heights "
+                                   f"alike; state each column's unit in a title line, e.g. "
+                                   f"'x ({u}), z ({units})'")
+    return units
