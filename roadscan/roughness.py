@@ -30,11 +30,17 @@ def area_parameters(hm, level_degree=1):
 
     z = h minus the least-squares plane (``level_degree``; None to skip) over measured points.
     Sa = <|z|>, Sq = <z^2>^(1/2), Ssk = <z^3>/Sq^3, Sku = <z^4>/Sq^4, Sp = max z,
-    Sv = -min z, Sz = Sp + Sv (over the whole map). Gradients: on each grid cell whose four
-    corners are measured, dz/dx and dz/dy are the means of the cell's two edge differences;
-    Sdq = <|grad z|^2>^(1/2), Sdr = <sqrt(1 + |grad z|^2)> - 1 (developed interfacial area
-    ratio, as a fraction). Sdq and Sdr are None (undefined, not NaN) when no grid cell has its
-    four corners measured (e.g. every other row missing).
+    Sv = -min z, Sz = Sp + Sv (over the whole map).
+
+    Slopes, ISO 25178-2:2021 (4.3.1, 4.3.2) discretised as follows.
+    Sdq = (<(dz/dx)^2> + <(dz/dy)^2>)^(1/2) with forward differences
+    dz/dx = (z[i, j+1] - z[i, j]) / dx and dz/dy = (z[i+1, j] - z[i, j]) / dy, each mean taken
+    over the pairs of measured neighbours. Sdr (developed interfacial area ratio, as a
+    fraction, not in %) = <A_cell> / (dx dy) - 1 over the grid cells whose four corners are
+    measured, A_cell being the mean of the cell's two triangulations (split along either
+    diagonal: four triangles, each of area (dx dy / 2) sqrt(1 + gx^2 + gy^2) with gx, gy the
+    edge differences of its two legs). Sdq and Sdr are None (undefined, not NaN) when no such
+    neighbours or cells exist (e.g. every other row and column missing).
 
     The map is read band by band of rows (z evaluated on the fly, plane included), with the
     sums accumulated in float64: the memory used is a few rows whatever the map's size, and
@@ -47,8 +53,8 @@ def area_parameters(hm, level_degree=1):
     h, bad = hm.heights_m, hm.unmeasured
     ny, nx = h.shape
     form = fit_polynomial(h, bad, level_degree) if level_degree is not None else None
-    acc = np.zeros(7)        # n, sum|z|, sum z^2, z^3, z^4, n_g, sum g^2
-    sdr_sum = 0.0
+    acc = np.zeros(9)        # n, sum|z|, sum z^2, z^3, z^4, n_gx, sum gx^2, n_gy, sum gy^2
+    sdr_sum, n_cells = 0.0, 0
     zmax, zmin = -np.inf, np.inf
     for sl in row_chunks(ny, nx):
         ext = slice(sl.start, min(sl.stop + 1, ny))        # one more row for the gradients
@@ -63,20 +69,24 @@ def area_parameters(hm, level_degree=1):
             continue
         d_x = np.diff(z, axis=1) / hm.dx_m            # NaN where a point is missing
         d_y = np.diff(z, axis=0) / hm.dy_m
-        gx = 0.5 * (d_x[:-1, :] + d_x[1:, :])
-        gy = 0.5 * (d_y[:, :-1] + d_y[:, 1:])
-        g2 = gx * gx + gy * gy
-        g2 = g2[np.isfinite(g2)]
-        acc[5:] += (g2.size, g2.sum())
-        sdr_sum += np.sqrt(1.0 + g2).sum()
-    n, sa, s2, s3, s4, ng, sg2 = acc
+        gx2, gy2 = d_x[:-1] ** 2, d_y ** 2             # forward differences of this band's rows
+        okx, oky = np.isfinite(gx2), np.isfinite(gy2)
+        acc[5:] += (okx.sum(), gx2[okx].sum(), oky.sum(), gy2[oky].sum())
+        top, bot = gx2, d_x[1:] ** 2                   # cell edges: along x (top, bottom) ...
+        left, right = gy2[:, :-1], gy2[:, 1:]          # ... and along y (left, right)
+        cell = (np.sqrt(1 + top + right) + np.sqrt(1 + bot + left)
+                + np.sqrt(1 + top + left) + np.sqrt(1 + bot + right))
+        cell = cell[np.isfinite(cell)]
+        n_cells += cell.size
+        sdr_sum += 0.25 * cell.sum()
+    n, sa, s2, s3, s4, ngx, sgx2, ngy, sgy2 = acc
     sq = float(np.sqrt(s2 / n))
     m = {"a": float(sa / n), "q": sq,
          "sk": float(s3 / n / sq**3) if sq > 0 else 0.0,
          "ku": float(s4 / n / sq**4) if sq > 0 else 0.0,
          "p": float(zmax), "v": float(-zmin)}
-    sdq = float(np.sqrt(sg2 / ng)) if ng else None
-    sdr = float(sdr_sum / ng - 1.0) if ng else None
+    sdq = float(np.sqrt(sgx2 / ngx + sgy2 / ngy)) if ngx and ngy else None
+    sdr = float(sdr_sum / n_cells - 1.0) if n_cells else None
     return {"Sa_m": m["a"], "Sq_m": m["q"], "Ssk": m["sk"], "Sku": m["ku"], "Sp_m": m["p"],
             "Sv_m": m["v"], "Sz_m": m["p"] + m["v"], "Sdq": sdq, "Sdr": sdr}
 
