@@ -69,22 +69,8 @@ def read_psd_csv(path):
     if d.shape[0] < 4 or np.any(np.diff(d[:, 0]) <= 0):
         raise InputError(path, "need at least 4 rows with distinct positive q and positive C")
     check_psd_shape(d[:, 0], d[:, 1], path)
-    _check_psd_units(path, d[:, 0], d[:, 1])
+    from .psd_plausibility import check_psd_table
+
+    check_psd_table(path, d[:, 0], d[:, 1])   # wavelengths, rms height and slope a profiler gives
     return TabulatedPSD(d[:, 0], d[:, 1])
 
-
-def _check_psd_units(path, q, C):
-    """Refuse a spectrum whose rms height cannot belong to the wavelengths it spans (a units
-    slip: C in mm^4 read as m^4, or q in 1/mm read as 1/m), before any friction.
-
-    The rms height of the table is h = sqrt(2 pi int q C(q) dq) (Persson's isotropic
-    normalisation, as ``roadscan analyse`` writes psd.csv); refused when h exceeds half the
-    longest wavelength 2 pi / q_min, or falls below 1e-5 of the shortest 2 pi / q_max (the
-    bounds of :mod:`roadscan.plausibility` for scans: Sq against the scan's size and spacing).
-    """
-    h = float(np.sqrt(2 * np.pi * np.sum(0.5 * (q[1:] * C[1:] + q[:-1] * C[:-1]) * np.diff(q))))
-    lmin, lmax = 2 * np.pi / q[-1], 2 * np.pi / q[0]
-    if h > 0.5 * lmax or h < 1e-5 * lmin:
-        raise InputError(path, f"units? its rms height {h:.3g} m is impossible over wavelengths "
-                               f"{lmin:.3g}..{lmax:.3g} m: expected q_per_m [1/m] and C_m4 [m^4] "
-                               f"(Persson's 2D C, as roadscan analyse writes psd.csv)")

@@ -187,6 +187,10 @@ def _provenance(args, psd, band, res, rubber, settings, v, kw):
     cause = mp.implausible_cause(float(res.mu[i]), share_at_peak=float(share[i]),
                                  slope=mp.rms_slope(psd), default_rubber=default,
                                  q1_per_m=psd.q1_per_m)
+    if cause and args.psd:              # a spectrum file: its C may be in another normalisation
+        from ..psd_plausibility import normalisation_cause
+
+        cause = f"{cause}; {normalisation_cause()}"
     if cause:
         warn(f"{args.out}: {cause}")
     return {"extrapolated_share": share, "extrapolated_share_at_peak": float(share[i]),
