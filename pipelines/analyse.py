@@ -1,5 +1,8 @@
 """The ``analyse`` job: one scan -> spectrum, fit, roughness figures, mu(v), plots and report.
 
+This module is also callable: ``pipelines.analyse(source, **options)`` is
+:func:`pipelines.api.analyse` (the computation; this module writes its outputs).
+
 Outputs (one directory per scan): ``summary.json``, ``psd.csv`` (``q_per_m,C_m4``; for a line
 profile the isotropic 2D estimate, with the profile's own 1D PSD in ``psd1d.csv``,
 ``q_per_m,C1_m3``),
@@ -12,6 +15,8 @@ texture figures (issue 21, :mod:`pipelines.texture_outputs`): ``texture_spectrum
 """
 from __future__ import annotations
 
+import sys
+import types
 from pathlib import Path
 
 import numpy as np
@@ -20,9 +25,8 @@ from roadscan.heightmap import Profile
 
 from . import report
 from .friction_options import FrictionSettings  # its one home; re-exported here
-from .spectrum_bridge import analyse_surface, friction_curve, surface_psd
 
-__all__ = ["FrictionSettings", "summarise", "run_analysis", "nominal_band"]
+__all__ = ["FrictionSettings", "summarise", "run_analysis", "write_outputs", "nominal_band"]
 
 PSD_HEADER = ["q_per_m", "C_m4"]
 MU_HEADER = ["v_m_per_s", "mu"]
@@ -38,8 +42,10 @@ def nominal_band(obj):
     return 2 * np.pi / max(lx, ly), np.pi / max(obj.dx_m, obj.dy_m)
 
 
-def summarise(analysis, fr=None):
+def summarise(analysis, fr=None, window_alpha=0.25):
     """The ``summary.json`` dictionary of one analysed scan (contract keys of issue 2)."""
+    from .headline import hurst_keys, peak_keys
+
     fit = analysis.fit
     qmin, qmax = nominal_band(analysis.source)
     src = analysis.source
@@ -63,8 +69,8 @@ def summarise(analysis, fr=None):
         "mpd_m": analysis.mpd_m,
         "mpd_note": analysis.mpd_note,
         "filled_fraction": analysis.filled_fraction,
-        "psd_convention": "Persson: <h^2> = 2 pi integral q C(q) dq; C in m^4; Tukey window "
-                          "alpha 0.25 with its power loss corrected",
+        "psd_convention": f"Persson: <h^2> = 2 pi integral q C(q) dq; C in m^4; Tukey window "
+                          f"alpha {window_alpha:g} with its power loss corrected",
     }
     if "trim_note" in src.meta:
         out["trim_note"] = src.meta["trim_note"]
@@ -78,11 +84,11 @@ def summarise(analysis, fr=None):
     if analysis.anisotropy is not None:
         out["anisotropy"] = analysis.anisotropy
     if fr is not None:
-        i = int(np.argmax(fr.mu))
         out["friction"] = {
             "model": "flash temperature" if fr.T_q_C is not None else "isothermal",
-            "mu_peak": float(fr.mu[i]),
-            "v_peak_m_per_s": float(fr.v_m_per_s[i]),
+            # mu_peak, v_peak_m_per_s, peak_at_edge (largest mu at the first or last speed: no
+            # peak in the range) and peak_note
+            **peak_keys(fr.v_m_per_s, fr.mu),
             "q1_per_m": float(fr.q_per_m[-1]),
         }
     return out
@@ -90,34 +96,25 @@ def summarise(analysis, fr=None):
 
 def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
                  mpd_settings=None, figures=True, drawer=None, texture=None, resolution_m=None):
-    """Analyse one scan and write all outputs into ``out_dir``. Returns the summary dict.
+    """Analyse one scan (:func:`pipelines.api.analyse_scan`) and write all outputs into
+    ``out_dir`` (:func:`write_outputs`). Returns the summary dict.
 
     ``texture``: :class:`pipelines.texture_outputs.TextureSettings` (driving direction, IFI
     inputs; default x, none). ``resolution_m``: the instrument's lateral resolution [m] for the
-    reliable band (:mod:`pipelines.analyse_band`; default: the file's metadata, else none).
+    reliable band (default: the file's metadata, else none).
 
     ``figures=False`` (``roadscan batch`` without ``--figures``) skips the PNGs; the numbers,
     the CSV/JSON files and ``report.html`` (tables only) are the same. ``drawer``: where the
-    figures are drawn (:mod:`pipelines.figure_process`; default in this process).
+    figures are drawn (:mod:`pipelines.figure_process`; default in this process): the height
+    map and the 2D spectrum are handed to it as soon as they exist.
     """
+    from .api import analyse_scan
     from .figure_process import InProcess
 
-    settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     drawer = drawer if drawer is not None else InProcess()
     drawer.discard()                      # nothing of an earlier scan is taken for this one's
-    try:
-        return _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_settings,
-                             figures, drawer, texture, resolution_m)
-    except BaseException:
-        drawer.discard()                  # a failed scan's figures are not drawn again here
-        raise
-
-
-def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_settings, figures,
-                  drawer, texture=None, resolution_m=None):
-    from . import analyse_band, texture_outputs, validate
 
     def draw_map(levelled):               # the height map is drawn while the spectrum is made
         if figures and not isinstance(levelled, Profile):
@@ -128,60 +125,39 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
         if figures:
             drawer.submit(draw_psd2d_figure, psd2d_picture(spec2d), out_dir / "psd2d.png", obj.name)
 
-    an = analyse_surface(obj, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
-                         mpd_settings=mpd_settings, on_levelled=draw_map, on_spectrum2d=draw_psd2d)
-    rb = analyse_band.reliable_fit(an, resolution_m, window_alpha, fit_band)   # issue 20
-    spec, fit = an.spectrum, an.fit
-    validate.check_fit(fit, an.name)
+    try:
+        result = analyse_scan(obj, settings, window_alpha, fit_band, despike, mpd_settings,
+                              texture, resolution_m, on_levelled=draw_map, on_spectrum2d=draw_psd2d)
+        write_outputs(result, out_dir, figures, drawer, early=True)
+    except BaseException:
+        drawer.discard()                  # a failed scan's figures are not drawn again here
+        raise
+    return result.summary
 
-    fr = prov = None
-    checks = band = None
-    if settings.enabled:
-        from .friction_options import apply_band, run_checks, with_extrapolation
-        from .units_format import quantity
 
-        q0_eff, q1_eff = analyse_band.friction_ends(rb, fit, settings)   # the reliable band
-        psd = surface_psd(spec, fit, q1_per_m=q1_eff)
-        psd, band = apply_band(psd, q0_eff, q1_eff)
-        q_nyq = float(np.max(spec.q_per_m))
-        if settings.q1_per_m is not None and settings.q1_per_m > q_nyq * (1 + 1e-9):
-            band = dict(band or {}, extended_by="self-affine fit", extended_decades=float(
-                np.log10(settings.q1_per_m / q_nyq)), note=(
-                f"q1 = {quantity('q1_per_m', settings.q1_per_m)} is above the measured band "
-                f"(to {quantity('q_per_m', q_nyq)}): "
-                f"C(q) extended {np.log10(settings.q1_per_m / q_nyq):.2f} decades by the self-affine "
-                f"fit, H = {fit.hurst:.3f}"))
-            import sys
+def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
+    """Write the files of one analysed scan (:class:`pipelines.api.AnalysisResult`) into
+    ``out_dir``: summary.json, psd.csv and its band (psd_band.json), mu.csv, the texture
+    spectrum, the figures and report.html. ``early``: the height map and 2D spectrum were
+    already handed to ``drawer``."""
+    from . import texture_outputs
+    from .chain import band_sidecar
+    from .figure_process import InProcess
 
-            print(f"note: {an.name}: {band['note']}", file=sys.stderr)
-        rubber = with_extrapolation(settings.rubber, settings.extrapolate)
-        fr = friction_curve(psd, rubber, settings.v_m_per_s, settings.sigma0_Pa,
-                            settings.T0_C, settings.flash, settings.nu, settings.contact_gamma,
-                            warn_high=False)
-        # extrapolated share, rubber label, plausibility (a refusal drops fr) (issue 20)
-        fr, prov = analyse_band.friction_provenance(an, spec, psd, fr, settings, rubber)
-        if rubber is not None and fr is not None:
-            T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))
-            checks = run_checks(rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m,
-                                fr.meta["T0_C"], T_max, result=fr)
-
-    summary = summarise(an, fr)
-    summary.update(analyse_band.summary_keys(rb, an.name))
-    if fr is not None:
-        summary["friction"].update(
-            q0_per_m=float(fr.q_per_m[0]), sigma0_Pa=settings.sigma0_Pa, nu=settings.nu,
-            contact_gamma=settings.contact_gamma,
-            area_fraction_range=[float(fr.P[:, -1].min()), float(fr.P[:, -1].max())])
-        if band is not None:
-            summary["friction"]["band"] = band
-        if checks is not None:
-            summary["friction"]["rubber_checks"] = checks
-    if prov is not None:
-        analyse_band.add_provenance(summary, prov, psd.q_min_per_m, psd.q1_per_m)
-    summary, tex = texture_outputs.add_to_summary(summary, an, texture, mpd_settings)
-    summary["warnings"] = validate.warnings_list()   # this run so far (they name the file)
+    drawer = drawer if drawer is not None else InProcess()
+    an, summary, tex = result.analysis, result.summary, result.texture
+    spec, fit, fr = an.spectrum, an.fit, result.friction
+    prov = result.friction_outcome.provenance if result.friction_outcome is not None else None
+    if figures and not early:
+        if not an.is_profile:
+            drawer.submit(report.draw_heightmap, report.heightmap_picture(an.levelled),
+                          out_dir / "heightmap.png", title=f"{an.name}: levelled heights")
+        if an.spec2d is not None:
+            drawer.submit(draw_psd2d_figure, psd2d_picture(an.spec2d), out_dir / "psd2d.png", an.name)
     texture_outputs.write_texture_csv(out_dir / "texture_spectrum.csv", tex)
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
+    report.write_json(out_dir / "psd_band.json", band_sidecar(result.reliable_band, fit,
+                                                              result.window_alpha))
     figs = []
     if an.is_profile:
         q1d, c1d = an.psd1d
@@ -191,10 +167,11 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
         cols = [fr.v_m_per_s, fr.mu, fr.P[:, -1]]
         if fr.T_q_C is not None:
             cols.append(np.max(fr.T_q_C, axis=1))
-        head = MU_HEADER + MU_EXTRA[:len(cols) - 2] + ["extrapolated_share"]   # issue 20
+        head = MU_HEADER + MU_EXTRA[:len(cols) - 2] + ["extrapolated_share"]
         report.write_csv(out_dir / "mu.csv", head, cols + [prov["extrapolated_share"]])
     if figures:
-        _figures(drawer, out_dir, an, fit, fr, spec, settings, summary)
+        st = result.settings
+        _figures(drawer, out_dir, an, fit, fr, spec, st.q1_per_m if st.enabled else None, summary)
         if tex.level_dB.size:
             drawer.submit(texture_outputs.draw_texture_spectrum, texture_outputs.texture_picture(tex),
                           out_dir / "texture_spectrum.png",
@@ -202,10 +179,10 @@ def _run_analysis(obj, out_dir, settings, window_alpha, fit_band, despike, mpd_s
         figs = drawer.collect()
     report.write_json(out_dir / "summary.json", summary)
     _write_report(out_dir, an, summary, figs, tex, fr)
-    return summary
+    return out_dir
 
 
-def _figures(drawer, out_dir, an, fit, fr, spec, settings, summary):
+def _figures(drawer, out_dir, an, fit, fr, spec, q1_per_m, summary):
     """The PNGs of one scan after its height map and 2D spectrum (skipped by ``roadscan batch``
     without ``--figures``), submitted to ``drawer`` in the report's order."""
     from .units_format import wavelength_of_q
@@ -217,7 +194,7 @@ def _figures(drawer, out_dir, an, fit, fr, spec, settings, summary):
                       title=f"{an.name}: levelled profile")
         drawer.submit(_plot_psd1d, q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name)
     lo, hi = fit.fit_band_per_m
-    q_top = max(hi, settings.q1_per_m or 0.0) if settings.enabled else hi
+    q_top = max(hi, q1_per_m or 0.0)
     qf = np.geomspace(lo, q_top, 60)
     curves = [("measured (angular average)" if not an.is_profile else
                "2D estimate from the profile's 1D PSD", spec.q_per_m, spec.C_m4)]
@@ -320,3 +297,16 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
         sections.insert(-1 if figs else len(sections), shares)
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,
                       intro=report.instrument_html(summary.get("instrument")))
+
+
+class _CallableModule(types.ModuleType):
+    """``pipelines.analyse`` is both this module (its outputs, for the command) and the call
+    ``pipelines.analyse(source, **options)`` (:func:`pipelines.api.analyse`)."""
+
+    def __call__(self, source, **options):
+        from .api import analyse
+
+        return analyse(source, **options)
+
+
+sys.modules[__name__].__class__ = _CallableModule

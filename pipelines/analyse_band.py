@@ -22,8 +22,10 @@ __all__ = ["reliable_fit", "friction_ends", "summary_keys"]
 def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
     """Find the band of analysed scan ``an`` and (without ``fit_band``) refit inside it.
 
-    Sets ``an.fit`` and returns the :class:`roadscan.reliable_band.ReliableBand` (None when
-    the spectrum has too few points for one: the fit is then left as it was).
+    Sets ``an.fit`` (fitted here once when ``an.fit`` is None: inside the band, else over
+    ``fit_band`` or the whole spectrum) and returns the
+    :class:`roadscan.reliable_band.ReliableBand` (None when the spectrum has too few points for
+    one).
     """
     from roadscan.fit import detect_band, fit_self_affine
     from roadscan.spectrum_types import Spectrum
@@ -31,18 +33,26 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
     from .reliable_bridge import scan_band
 
     spec = an.spectrum
+
+    def whole():                          # the fit over --fit-band, or the whole spectrum
+        if an.fit is None:
+            an.fit = fit_self_affine(spec, band=fit_band)
+
     try:
         rb = scan_band(an.source, spec, resolution_m, window_alpha=window_alpha)
     except ValueError:
+        whole()
         return None
     if fit_band is not None or not rb.valid:
+        whole()
         return rb
     q, C = spec.q_per_m, spec.C_m4
     cnt = spec.count if spec.count is not None else np.ones(q.size, dtype=np.int64)
     top = q <= rb.hi_per_m * (1 + 1e-9)
     inner = top & (q >= rb.lo_per_m * (1 - 1e-9))
     if np.count_nonzero(inner & (C > 0)) < 5:
-        return rb                                    # too narrow to refit: the fit stays
+        whole()
+        return rb                                    # too narrow to refit: the whole fit
     cut = Spectrum(q[top], C[top], count=np.asarray(cnt)[top], kind=spec.kind, meta=spec.meta)
     sub = Spectrum(q[inner], C[inner], count=np.asarray(cnt)[inner], kind=spec.kind)
     try:
@@ -53,7 +63,7 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
     try:
         an.fit = fit_self_affine(cut, band=band, roll_off=q_roll)   # the band's roll-off test
     except ValueError:                                              # saw every ring
-        pass
+        whole()
     return rb
 
 
@@ -87,19 +97,19 @@ def summary_keys(rb, name=""):
             "reliable_band_limits_per_m": dict(rb.limits)}
 
 
-def friction_provenance(an, spec, psd, fr, settings, rubber):
-    """mu's provenance for analyse (:mod:`pipelines.mu_provenance`) -> (fr or None, info).
+def friction_provenance(an, spec, psd, fr, settings, rubber, name=None):
+    """mu's provenance (:mod:`pipelines.mu_provenance`) -> (fr, info).
 
     ``info``: ``extrapolated_share`` per speed, ``rubber`` (name, T0, sigma0), ``rms_slope``
-    over the integrated band, and ``refused`` (one line) when the default analysis (default
-    rubber, no ``--q0/--q1``) gives a peak mu above 3 that the measurement explains (an rms
-    slope over 1 in the band, or heights in the wrong units): its friction is then not written
-    (``fr`` None) and the warning names the likely cause and the flag. Otherwise an mu outside
-    0.3-3 is kept and the same line is a warning.
+    over the integrated band and ``refused`` (None: whether the band's fine end is trusted is
+    the measurement's decision, :func:`pipelines.chain.judge_fine_end`, taken before any mu).
+    A peak mu outside 0.3-3 is a warning naming its likely causes and the flags.
     """
     from . import mu_provenance as mp
     from . import validate
     from .spectrum_bridge import friction_curve
+
+    name = an.name if name is None else name
 
     def recompute(p):
         return friction_curve(p, rubber, fr.v_m_per_s, settings.sigma0_Pa, settings.T0_C,
@@ -115,16 +125,8 @@ def friction_provenance(an, spec, psd, fr, settings, rubber):
     cause = mp.implausible_cause(float(fr.mu[i]), share_at_peak=float(share[i]), slope=slope,
                                  rms_height_m=an.roughness.get("Sq_m", an.roughness.get("Rq_m")),
                                  default_rubber=settings.rubber is None, q1_per_m=psd.q1_per_m)
-    if cause is None:
-        return fr, info
-    default = settings.rubber is None and settings.q0_per_m is None and settings.q1_per_m is None
-    measured_cause = "band (" in cause or "units (" in cause
-    if default and fr.mu[i] > mp.MU_PLAUSIBLE[1] and measured_cause:
-        info["refused"] = f"friction refused: {cause}"
-        info["mu_peak_computed"] = float(fr.mu[i])
-        validate.warn(f"{an.name}: {info['refused']}")
-        return None, info
-    validate.warn(f"{an.name}: {cause}")
+    if cause is not None:
+        validate.warn(f"{name}: {cause}")
     return fr, info
 
 
@@ -133,8 +135,7 @@ def add_provenance(summary, info, q0, q1):
     if info is None:
         return summary
     if info["refused"]:
-        summary["friction"] = {"refused": info["refused"], "mu_peak_computed":
-                               info["mu_peak_computed"], "rubber": info["rubber"],
+        summary["friction"] = {"refused": info["refused"], "rubber": info["rubber"],
                                "q0_per_m": q0, "q1_per_m": q1,
                                "rms_slope_band": info["rms_slope_band"]}
         return summary

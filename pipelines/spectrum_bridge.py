@@ -72,14 +72,15 @@ def spectrum_of(obj, window_alpha=0.25):
 
 
 def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_band=None,
-                    mpd_settings=None, on_levelled=None, on_spectrum2d=None):
+                    mpd_settings=None, on_levelled=None, on_spectrum2d=None, fit=True):
     """Run the metrology chain on a HeightMap or Profile (see module docstring).
 
     ``mpd_settings`` overrides :data:`roadscan.roughness.MPD_SETTINGS` (e.g. ``spike_alpha``).
     ``on_levelled(levelled)``, when given, is called as soon as the levelled scan exists, before
     the spectrum (``roadscan analyse`` hands the height map to its figure process there), and
     ``on_spectrum2d(spec2d)`` as soon as a map's 2D spectrum exists (before the fit and the
-    anisotropy).
+    anisotropy). ``fit=False`` leaves ``fit`` None (:func:`pipelines.chain.measure` fits once,
+    inside the reliable band).
     """
     from roadscan import fit as fitmod
     from roadscan import inpaint, level, roughness
@@ -122,7 +123,7 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
         psd1d = None
         if on_spectrum2d is not None:
             on_spectrum2d(spec2d)
-    fit = fitmod.fit_self_affine(spec, band=fit_band)
+    fit = fitmod.fit_self_affine(spec, band=fit_band) if fit else None
     aniso = anisotropy(spec2d) if spec2d is not None else None
     return SurfaceAnalysis(obj, levelled, fill, float(filled_fraction), spec, spec2d, psd1d,
                            fit, rough, mpd_m, mpd_note, aniso)
@@ -176,8 +177,10 @@ def default_velocities(lo=1e-4, hi=1e2, per_decade=10):
 
 
 def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None, flash=False,
-                   nu=0.5, contact_gamma=None, warn_high=True):
-    """mu(v) from the shared engine with the defaults of DESIGN.md section 5 (nu = 0.5, S = 1)."""
+                   nu=0.5, contact_gamma=None, warn_high=True, tol=None):
+    """mu(v) from the shared engine (Persson's theory; :func:`friction.mu_isothermal`,
+    :func:`friction.mu_flash`) with the defaults nu = 0.5, S = 1, the thesis rubber at its
+    T_ref, and the engine's accuracy target ``tol`` (relative, 1e-3) unless given."""
     import friction
 
     from .validate import check_mu, check_temperature
@@ -186,6 +189,8 @@ def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None,
     check_temperature(T0_C, rubber)
     v = default_velocities() if v_m_per_s is None else np.asarray(v_m_per_s, float)
     kw = dict(sigma0_Pa=sigma0_Pa, T0_C=T0_C, nu=nu, contact_gamma=contact_gamma)
+    if tol is not None:
+        kw["tol"] = tol
     from friction.flash import FlashConvergenceError
     from roadscan.errors import InputError
 

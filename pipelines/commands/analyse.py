@@ -1,14 +1,14 @@
 """``roadscan analyse FILE... --out DIR``."""
 from __future__ import annotations
 
-import math
 import sys
 from pathlib import Path
 
 from roadscan.errors import InputError
 
-from ..friction_options import add_friction_options, settings_from_args
-from ..scan_input import add_scan_options, load_scan
+from ..analyse_options import add_analysis_options, analysis_kwargs  # noqa: F401 (batch uses them)
+from ..friction_options import settings_from_args
+from ..scan_input import load_scan
 
 NAME = "analyse"
 HELP = "PSD, self-affine fit, roughness figures and friction mu(v) of height files"
@@ -23,39 +23,6 @@ def add_arguments(p):
     add_analysis_options(p)
 
 
-def add_analysis_options(p):
-    """Every per-scan option of ``analyse``, friction included (``roadscan batch`` takes the
-    very same)."""
-    add_scan_options(p)
-    p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
-    p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
-                   help="self-affine fit band [1/m] (default: detected)")
-    p.add_argument("--despike", action="store_true", help="mark spikes as unmeasured before levelling")
-    p.add_argument("--mpd-spike-alpha", type=float, default=None, metavar="ALPHA",
-                   help="MPD spike criterion |dh| >= ALPHA x sampling interval (ISO 13473-1 "
-                        "default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep)")
-    p.add_argument("--resolution", type=float, default=None, metavar="M",
-                   help="the instrument's lateral resolution [m] (wavelength passed at 50 %% "
-                        "amplitude; default: the file's metadata): the reliable band ends where "
-                        "it still passes 80 %% (issue 20)")
-    from ..texture_outputs import add_texture_options
-
-    add_texture_options(p)    # --direction, --friction-measurement, --ifi-constants (issue 21)
-    add_friction_options(p)
-
-
-def _fit_band(text):
-    if text is None:
-        return None
-    try:
-        lo, hi = (float(x) for x in text.split(","))
-    except ValueError:
-        raise InputError(None, f"--fit-band {text!r}: expected QLO,QHI in 1/m") from None
-    if not 0 < lo < hi:
-        raise InputError(None, f"--fit-band {text!r}: need 0 < QLO < QHI")
-    return lo, hi
-
-
 def _unique_dirs(paths):
     seen, out = {}, []
     for p in paths:
@@ -64,27 +31,6 @@ def _unique_dirs(paths):
         seen[stem] = n + 1
         out.append(stem if n == 0 else f"{stem}_{n + 1}")
     return out
-
-
-def analysis_kwargs(args):
-    """Checked keyword arguments of :func:`pipelines.analyse.run_analysis` from the options of
-    :func:`add_analysis_options` (InputError naming the flag when one is out of range)."""
-    if not 0 <= args.window_alpha <= 1:
-        raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
-    band = _fit_band(args.fit_band)
-    mpd = None
-    if args.mpd_spike_alpha is not None:
-        if not args.mpd_spike_alpha > 0:
-            raise InputError(None, f"--mpd-spike-alpha {args.mpd_spike_alpha}: must be positive")
-        mpd = {"spike_alpha": args.mpd_spike_alpha}
-    from ..texture_outputs import texture_settings_from_args
-
-    res = getattr(args, "resolution", None)
-    if res is not None and not (math.isfinite(res) and 0 < res <= 1.0):
-        raise InputError(None, f"--resolution {res!r}: must be a lateral resolution in metres "
-                               f"(0 < r <= 1 m, e.g. 5e-6)")
-    return {"window_alpha": args.window_alpha, "fit_band": band, "despike": args.despike,
-            "mpd_settings": mpd, "texture": texture_settings_from_args(args), "resolution_m": res}
 
 
 def run(args):

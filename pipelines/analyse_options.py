@@ -1,0 +1,117 @@
+"""The options of ``roadscan analyse`` (and ``roadscan batch``, which takes the very same), in
+one place: the flags (:func:`add_analysis_options`), their checked values
+(:func:`analysis_kwargs`, :func:`pipelines.friction_options.settings_from_args`) and the
+keyword arguments of :func:`pipelines.analyse` (:func:`options_from_kwargs`: each keyword is a
+long flag with dashes as underscores, parsed by the same parser, so its meaning is the flag's
+by construction).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+
+from roadscan.errors import InputError
+
+__all__ = ["add_analysis_options", "analysis_kwargs", "options_from_kwargs", "parse_fit_band"]
+
+
+def add_analysis_options(p):
+    """Every per-scan option of ``analyse``, friction included (``roadscan batch`` takes the
+    very same)."""
+    from .friction_options import add_friction_options
+    from .scan_input import add_scan_options
+    from .texture_outputs import add_texture_options
+
+    add_scan_options(p)
+    p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
+    p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
+                   help="self-affine fit band [1/m] (default: detected)")
+    p.add_argument("--despike", action="store_true", help="mark spikes as unmeasured before levelling")
+    p.add_argument("--mpd-spike-alpha", type=float, default=None, metavar="ALPHA",
+                   help="MPD spike criterion |dh| >= ALPHA x sampling interval (ISO 13473-1 "
+                        "default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep)")
+    p.add_argument("--resolution", type=float, default=None, metavar="M",
+                   help="the instrument's lateral resolution [m] (wavelength passed at 50 %% "
+                        "amplitude; default: the file's metadata): the reliable band ends where "
+                        "it still passes 80 %%")
+    add_texture_options(p)    # --direction, --friction-measurement, --ifi-constants
+    add_friction_options(p)
+
+
+def parse_fit_band(text):
+    """``"QLO,QHI"`` [1/m] -> (lo, hi), or None; one-line InputError naming --fit-band."""
+    if text is None:
+        return None
+    try:
+        lo, hi = (float(x) for x in text.split(","))
+    except ValueError:
+        raise InputError(None, f"--fit-band {text!r}: expected QLO,QHI in 1/m") from None
+    if not 0 < lo < hi:
+        raise InputError(None, f"--fit-band {text!r}: need 0 < QLO < QHI")
+    return lo, hi
+
+
+def analysis_kwargs(args):
+    """Checked keyword arguments of :func:`pipelines.analyse.run_analysis` from the options of
+    :func:`add_analysis_options` (InputError naming the flag when one is out of range)."""
+    if not 0 <= args.window_alpha <= 1:
+        raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
+    band = parse_fit_band(args.fit_band)
+    mpd = None
+    if args.mpd_spike_alpha is not None:
+        if not args.mpd_spike_alpha > 0:
+            raise InputError(None, f"--mpd-spike-alpha {args.mpd_spike_alpha}: must be positive")
+        mpd = {"spike_alpha": args.mpd_spike_alpha}
+    from .texture_outputs import texture_settings_from_args
+
+    res = getattr(args, "resolution", None)
+    if res is not None and not (math.isfinite(res) and 0 < res <= 1.0):
+        raise InputError(None, f"--resolution {res!r}: must be a lateral resolution in metres "
+                               f"(0 < r <= 1 m, e.g. 5e-6)")
+    return {"window_alpha": args.window_alpha, "fit_band": band, "despike": args.despike,
+            "mpd_settings": mpd, "texture": texture_settings_from_args(args), "resolution_m": res}
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):             # a bad value: one line, never an exit
+        raise InputError(None, message)
+
+
+def _parser():
+    p = _Parser(prog="pipelines.analyse", add_help=False)
+    p.add_argument("--no-figures", action="store_true")
+    add_analysis_options(p)
+    return p
+
+
+def options_from_kwargs(options, caller="analyse"):
+    """``pipelines.analyse``'s keyword arguments -> the parsed flags (an argparse Namespace).
+
+    Each keyword is a long flag of ``roadscan analyse`` with dashes as underscores and takes
+    what the flag takes: a string (``sigma0="0.25MPa"``, ``spacing="2e-5"``), a number
+    (``nu=0.45``), a path, a pair (``fit_band=(1e3, 1e4)``), True/False for a switch; None is
+    the flag's default. TypeError naming an unknown keyword; InputError (one line) for a value
+    the flag refuses.
+    """
+    p = _parser()
+    argv = []
+    for key, value in options.items():
+        flag = "--" + key.replace("_", "-")
+        action = p._option_string_actions.get(flag)
+        if action is None or key != action.dest:
+            raise TypeError(f"{caller}() got an unexpected keyword argument {key!r}")
+        if value is None:
+            continue
+        if action.nargs == 0:             # a switch (store_true)
+            if value:
+                argv.append(flag)
+            continue
+        if isinstance(value, (list, tuple)):
+            value = ",".join(repr(float(v)) if isinstance(v, float) else str(v) for v in value)
+        elif isinstance(value, os.PathLike):
+            value = os.fspath(value)
+        elif isinstance(value, float):
+            value = repr(value)
+        argv.append(f"{flag}={value}")
+    return p.parse_args(argv)

@@ -1,0 +1,209 @@
+"""The one chain from a scan to friction: every command that computes mu(v) from a height file
+calls these functions, so that the same scan and options give the same answer everywhere.
+
+    scan -> level, roughness, fill -> PSD C(q) -> reliable band [lo, hi] -> self-affine fit
+         -> friction spectrum over [q0, q1] -> mu(v) (Persson's theory)
+
+:func:`measure` runs the metrology (:func:`pipelines.spectrum_bridge.analyse_surface`) and finds
+the reliable band (:mod:`roadscan.reliable_band`), fitting the spectrum once: inside the band, or
+over ``--fit-band``, or the whole spectrum when there is no band. :func:`friction_psd` makes the
+friction engine's spectrum over [q0, q1] (the band's ends unless ``--q0``/``--q1`` say otherwise;
+above the scan C(q) continues as the fit), :func:`friction_of` runs the engine with every
+friction option (rubber, sigma0, nu, contact gamma, master-curve extrapolation, flash, speeds),
+and :func:`scan_friction` does both, with the judgement of the band's fine end and mu's
+provenance (:mod:`pipelines.mu_provenance`).
+
+**The measurement decides** whether the band's fine end is trusted (:func:`judge_fine_end`):
+when the rms slope of the measured spectrum over the band, sqrt(2 pi int q^3 C dq), exceeds
+:data:`SLOPE_TRUSTED` (1.5, a mean steepness of 56 degrees) the short wavelengths are steeper
+than an optical profiler or laser resolves (beyond its acceptance angle it records noise,
+dropouts and artefacts), so friction over that band is refused whatever the rubber, naming
+``--q1`` and ``--resolution``; with ``--q1`` given the user has chosen the end. Persson puts the
+cut-off q1 where the rms slope reaches about 1 (Persson, J. Phys.: Condens. Matter 18, 7789
+(2006); Lorenz et al., Eur. Phys. J. E 34, 129 (2011)). A peak mu outside 0.3-3 stays a warning
+with its likely causes (:func:`pipelines.mu_provenance.implausible_cause`).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["measure", "friction_psd", "friction_of", "scan_friction", "judge_fine_end",
+           "FrictionOutcome", "SLOPE_TRUSTED", "band_sidecar", "read_band_sidecar"]
+
+#: rms slope over the band above which its short end is not trusted (see module docstring)
+SLOPE_TRUSTED = 1.5
+
+
+def measure(scan, window_alpha=0.25, fit_band=None, despike=False, mpd_settings=None,
+            resolution_m=None, on_levelled=None, on_spectrum2d=None):
+    """The metrology of one scan -> (SurfaceAnalysis, ReliableBand or None), fitted once.
+
+    ``window_alpha``: Tukey window; ``fit_band`` (lo, hi) [1/m]; ``resolution_m``: lateral
+    resolution [m] (default: the file's metadata); the hooks as in
+    :func:`pipelines.spectrum_bridge.analyse_surface`. Warns (:func:`pipelines.validate.check_fit`)
+    when the Hurst exponent is outside [0, 1].
+    """
+    from .analyse_band import reliable_fit
+    from .spectrum_bridge import analyse_surface
+    from .validate import check_fit
+
+    an = analyse_surface(scan, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
+                         mpd_settings=mpd_settings, on_levelled=on_levelled,
+                         on_spectrum2d=on_spectrum2d, fit=False)
+    rb = reliable_fit(an, resolution_m, window_alpha, fit_band)
+    check_fit(an.fit, an.name)
+    return an, rb
+
+
+def friction_psd(spectrum, fit, rb, settings, name="", say=True):
+    """The friction engine's spectrum of a measured ``spectrum`` -> (TabulatedPSD, band dict).
+
+    [q0, q1] are ``settings.q0_per_m``/``q1_per_m`` where given, else the reliable band's ends
+    (q0 at a roll-off inside the band; :func:`pipelines.analyse_band.friction_ends`); above the
+    spectrum's last wave vector C(q) continues as ``fit`` (:func:`roadscan.fit.extend_spectrum`).
+    """
+    from .analyse_band import friction_ends
+    from .friction_options import apply_band
+    from .spectrum_bridge import surface_psd
+    from .units_format import quantity
+
+    q0, q1 = friction_ends(rb, fit, settings)
+    psd = surface_psd(spectrum, fit, q1_per_m=q1)
+    psd, band = apply_band(psd, q0, q1)
+    q_nyq = float(np.max(spectrum.q_per_m))
+    if settings.q1_per_m is not None and settings.q1_per_m > q_nyq * (1 + 1e-9):
+        dec = float(np.log10(settings.q1_per_m / q_nyq))
+        band = dict(band or {}, extended_by="self-affine fit", extended_decades=dec, note=(
+            f"q1 = {quantity('q1_per_m', settings.q1_per_m)} is above the measured band (to "
+            f"{quantity('q_per_m', q_nyq)}): C(q) extended {dec:.2f} decades by the self-affine "
+            f"fit, H = {fit.hurst:.3f}"))
+        if say:
+            import sys
+
+            print(f"note: {name + ': ' if name else ''}{band['note']}", file=sys.stderr)
+    return psd, band
+
+
+def friction_of(psd, settings, v_m_per_s=None, tol=None):
+    """mu(v) of friction spectrum ``psd`` with every option of ``settings``
+    (:class:`pipelines.friction_options.FrictionSettings`): the engine's result
+    (``v_m_per_s``, ``mu``, ``P`` (A/A0 per speed and q), ``T_q_C`` with flash)."""
+    from .friction_options import with_extrapolation
+    from .spectrum_bridge import friction_curve
+
+    rubber = with_extrapolation(settings.rubber, settings.extrapolate)
+    v = settings.v_m_per_s if v_m_per_s is None else v_m_per_s
+    return friction_curve(psd, rubber, v, settings.sigma0_Pa, settings.T0_C, settings.flash,
+                          settings.nu, settings.contact_gamma, warn_high=False, tol=tol)
+
+
+def judge_fine_end(psd, settings, name=""):
+    """(rms slope over the friction band, refusal line or None): rubber-independent (see the
+    module docstring); the refusal names the flags that change it."""
+    from .mu_provenance import rms_slope
+    from .units_format import quantity
+
+    slope = rms_slope(psd)
+    if settings.q1_per_m is not None or not slope > SLOPE_TRUSTED:
+        return slope, None
+    return slope, (f"friction refused: the reliable band's short end likely holds noise or "
+                   f"artefacts (rms slope {slope:.3g} up to q1 = {quantity('q1_per_m', psd.q1_per_m)}, "
+                   f"steeper than {SLOPE_TRUSTED:g}, which a profiler does not resolve): a lower "
+                   f"--q1 or --resolution")
+
+
+@dataclass(frozen=True)
+class FrictionOutcome:
+    """Friction of one scan: ``result`` (the engine's, None when refused), ``psd`` (the
+    integrated spectrum), ``band`` (its [q0, q1] and extension), ``provenance``
+    (:func:`pipelines.analyse_band.friction_provenance`), ``checks`` (rubber checks)."""
+
+    result: object
+    psd: object
+    band: dict
+    provenance: dict
+    checks: dict = None
+
+
+def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
+    """Friction of analysed scan ``an`` over its reliable band ``rb`` -> :class:`FrictionOutcome`.
+
+    ``fit`` and ``rb`` may be another scan's (dry-vs-wet integrates the wet spectrum over the
+    dry scan's band, with its fit); ``v_m_per_s`` overrides the speeds (compare puts every scan
+    on the first one's).
+    """
+    from .analyse_band import friction_provenance
+    from .friction_options import run_checks, with_extrapolation
+    from .mu_provenance import rubber_label
+    from .validate import warn
+
+    name = an.name if name is None else name
+    fit = an.fit if fit is None else fit
+    psd, band = friction_psd(an.spectrum, fit, rb, settings, name)
+    slope, refused = judge_fine_end(psd, settings, name)
+    if refused is not None:
+        warn(f"{name}: {refused}")
+        label = rubber_label(settings.rubber, settings.sigma0_Pa, settings.T0_C)
+        return FrictionOutcome(None, psd, band, {"refused": refused, "rubber": label,
+                                                 "rms_slope_band": slope})
+    fr = friction_of(psd, settings, v_m_per_s)
+    rubber = with_extrapolation(settings.rubber, settings.extrapolate)
+    fr, prov = friction_provenance(an, an.spectrum, psd, fr, settings, rubber, name=name)
+    checks = None
+    if rubber is not None and fr is not None:
+        T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))
+        checks = run_checks(rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m,
+                            fr.meta["T0_C"], T_max, result=fr)
+    return FrictionOutcome(fr, psd, band, prov, checks)
+
+
+# ------------------------------------------------------------------ the band beside psd.csv
+BAND_SIDECAR_SUFFIX = "_band.json"
+
+
+def band_sidecar(rb, fit, window_alpha):
+    """What ``roadscan friction --psd psd.csv`` needs to integrate analyse's spectrum exactly as
+    analyse did: the reliable band, its roll-off and the self-affine fit (for C(q) above the
+    scan). Written as ``psd_band.json`` beside ``psd.csv``."""
+    band = None
+    if rb is not None and rb.valid:
+        band = {"lo_per_m": float(rb.lo_per_m), "hi_per_m": float(rb.hi_per_m),
+                "q_roll_per_m": rb.q_roll_per_m, "reasons": rb.reasons}
+    d = fit.as_dict()
+    d = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in d.items()}
+    return {"about": "the band roadscan analyse integrated psd.csv over (q0 = lo, or the roll-off "
+                     "inside the band; q1 = hi) and its self-affine fit, which continues C(q) "
+                     "above the last row; read by roadscan friction --psd",
+            "reliable_band": band, "fit": d, "window_alpha": window_alpha}
+
+
+def read_band_sidecar(psd_path):
+    """(band-like object or None, SelfAffineFit) from the sidecar of ``psd_path``, or None
+    when there is none. InputError naming the sidecar when it cannot be read."""
+    import json
+    from pathlib import Path
+    from types import SimpleNamespace
+
+    from roadscan.errors import InputError
+    from roadscan.fit import SelfAffineFit
+
+    p = Path(psd_path)
+    side = p.with_name(p.stem + BAND_SIDECAR_SUFFIX)
+    if not side.is_file():
+        return None
+    try:
+        d = json.loads(side.read_text(encoding="utf-8"))
+        f = dict(d["fit"])
+        f["fit_band_per_m"] = tuple(f["fit_band_per_m"])
+        f = {k: (float("nan") if v is None and k in ("h0_m", "band_rms_m", "hurst_stderr") else v)
+             for k, v in f.items()}
+        fit = SelfAffineFit(**f)
+        b = d.get("reliable_band")
+        rb = None if b is None else SimpleNamespace(
+            valid=True, lo_per_m=float(b["lo_per_m"]), hi_per_m=float(b["hi_per_m"]),
+            q_roll_per_m=b.get("q_roll_per_m"))
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise InputError(side, f"cannot read the band of {p.name} ({type(exc).__name__}: {exc})") from None
+    return rb, fit, side
