@@ -54,8 +54,9 @@ def summarise(analysis, fr=None, window_alpha=0.25):
         "kind": "profile" if analysis.is_profile else "area",
         "shape": list(src.heights_m.shape),
         "spacing_m": [src.dx_m] if analysis.is_profile else [src.dx_m, src.dy_m],
-        "hurst": fit.hurst,
-        "hurst_stderr": fit.hurst_stderr,
+        # H is a headline only over half a decade and within [0, 1]; else null with hurst_note
+        # (the fitted value in hurst_fit): pipelines.headline
+        **hurst_keys(fit.hurst, fit.hurst_stderr, fit.fit_band_per_m),
         "rms_height_m": analysis.roughness.get("Sq_m", analysis.roughness.get("Rq_m")),
         "band_rms_m": fit.band_rms_m,
         # h0 of the thesis form is undefined for H <= 0 (C falls no faster than white noise):
@@ -185,6 +186,7 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
 def _figures(drawer, out_dir, an, fit, fr, spec, q1_per_m, summary):
     """The PNGs of one scan after its height map and 2D spectrum (skipped by ``roadscan batch``
     without ``--figures``), submitted to ``drawer`` in the report's order."""
+    from .headline import hurst_text
     from .units_format import wavelength_of_q
 
     if an.is_profile:
@@ -205,7 +207,7 @@ def _figures(drawer, out_dir, an, fit, fr, spec, q1_per_m, summary):
             curves.append((f"reliable band, λ = {wavelength_of_q(rhi)} to {wavelength_of_q(rlo)}",
                            spec.q_per_m[inb], spec.C_m4[inb]))
     drawer.submit(report.plot_psd,
-                  curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {fit.hurst:.3f} ± {fit.hurst_stderr:.3f}",
+                  curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {hurst_text(summary, short=True)}",
                   fits=[(f"self-affine fit, λ = {wavelength_of_q(lo)} to {wavelength_of_q(hi)}"
                          + (f", extended to {wavelength_of_q(q_top)}" if q_top > hi else ""), qf, fit.model_C(qf))])
     if fr is not None:
@@ -265,9 +267,11 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
     from . import texture_outputs
     from .units_format import label_of, length, quantity, sig3
 
+    from .headline import hurst_text
+
     rough = {label_of(k): quantity(k, v) for k, v in summary["roughness"].items()}
     key = {
-        "Hurst exponent H": f"{summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}",
+        "Hurst exponent H": hurst_text(summary),     # the note when the fit is no headline
         "rms height (Sq of levelled measured heights)": length(summary["rms_height_m"]),
         "band rms from fit": length(summary["band_rms_m"]),
         "h0 (thesis form)": length(summary["h0_m"]),

@@ -11,6 +11,7 @@ sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis rubber at T0 = T_ref, isothermal,
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 
 from roadscan.errors import InputError
@@ -65,12 +66,30 @@ def _self_affine(text):
         raise InputError(None, f"--self-affine: {exc}") from None
 
 
-def _psd(args):
+def _psd(args, settings=None):
+    """(friction PSD, band dict). A ``psd.csv`` written by ``roadscan analyse`` carries its band
+    beside it (``psd_band.json``): the spectrum is then integrated over the band analyse used,
+    continued above its last row by analyse's self-affine fit (:func:`pipelines.chain.friction_psd`),
+    so that the same flags give analyse's mu(v)."""
     from ..csv_files import read_psd_csv
     from ..friction_options import apply_band
 
     if args.psd:
-        psd, band = apply_band(read_psd_csv(args.psd), args.q0, args.q1)
+        table = read_psd_csv(args.psd)
+        from ..chain import friction_psd, read_band_sidecar
+
+        side = read_band_sidecar(args.psd) if settings is not None else None
+        if side is not None:
+            from roadscan.spectrum_types import Spectrum
+
+            rb, fit, path = side
+            spec = Spectrum(table.q_per_m, table.C_m4, kind="table", meta={"source": str(args.psd)})
+            psd, band = friction_psd(spec, fit, rb, settings, say=True)
+            band = dict(band or {}, band_from=str(path))
+            print(f"note: {args.psd}: integrated over the band of {path.name} "
+                  f"({band['q0_per_m']:.6g} to {band['q1_per_m']:.6g} 1/m)", file=sys.stderr)
+            return psd, band
+        psd, band = apply_band(table, args.q0, args.q1)
         if band is None:
             band = dict(q0_per_m=psd.q_min_per_m, q1_per_m=psd.q1_per_m, q_table_min_per_m=psd.q_min_per_m,
                         q_table_max_per_m=float(psd.q_per_m[-1]), extended_decades=0.0, tail_exponent=None)
@@ -104,7 +123,7 @@ def run(args):
     v = settings.v_m_per_s if settings.v_m_per_s is not None else default_velocities()
     if not (0 < args.tol < 0.1):
         raise InputError(None, "--tol must lie in (0, 0.1)")
-    psd, band = _psd(args)
+    psd, band = _psd(args, settings)
     rubber = with_extrapolation(settings.rubber if settings.rubber is not None else friction.thesis_rubber(),
                                 args.extrapolate)
     zetas = []
@@ -120,18 +139,19 @@ def run(args):
         raise InputError(None, f"--magnifications {bad}: outside the spectrum's range {zmin:g}..{zmax:g}")
     if zetas and not args.flash:
         raise InputError(None, "--magnifications needs --flash")
-    from ..validate import check_mu
 
     kw = dict(sigma0_Pa=sigma0, nu=args.nu, T0_C=args.temperature, tol=args.tol,
               contact_gamma=args.contact_gamma)
-    try:
-        with np.errstate(all="ignore"):
-            res = (friction.mu_flash if args.flash else friction.mu_isothermal)(psd, rubber, v, **kw)
+    from ..chain import friction_of
+
+    try:                                  # the one engine call of every command (pipelines.chain)
+        res = friction_of(psd, settings, v, tol=args.tol)
     except RuntimeError as exc:
         raise InputError(None, f"friction: {exc}") from None
+    except InputError:
+        raise
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
-    check_mu(res.mu, warn_high=False)
     prov = _provenance(args, psd, band, res, rubber, settings, v, kw)   # issue 20
     out = Path(args.out)
     if out.suffix.lower() == ".png":
