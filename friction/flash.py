@@ -1,6 +1,7 @@
-"""Persson's flash-temperature model (Persson 2006; thesis eqs 3.1 to 3.7; DESIGN.md sec 5).
+"""Persson's flash-temperature model (Persson 2006, J. Phys.: Condens. Matter 18, 7789,
+doi:10.1088/0953-8984/18/32/025; thesis eqs 3.1 to 3.7).
 
-The rubber heats at every length scale:
+The rubber heats at every length scale::
 
     T_q = T0 + integral_0^inf dq' g(q, q') f(q')
     g(q, q') = (1/pi) int_0^inf dk (1 - exp(-D k^2 t0)) / (D k^2)
@@ -20,7 +21,7 @@ The self-consistent T_q is found for every speed side by side (:func:`_solve_fla
 fixed point with an adaptive damping per speed (cut when successive residuals oppose, grown
 along aligned ones) and Anderson acceleration (Walker & Ni 2011) once that speed's residual
 falls steadily; a converged speed leaves the active set, so the cost follows the hard speeds
-only. On the flash set of DESIGN.md sec 6 it takes about 20 map evaluations for 50 speeds over
+only. On the thesis's flash-temperature parameter set it takes about 20 map evaluations for 50 speeds over
 1e-8..1e4 m/s (the damped loop it replaced took 572; benchmarks/bench_friction.py). The
 iteration count and the final residual ``max |Phi(T) - T|`` [K] are reported, and a
 :class:`FlashConvergenceError` (a RuntimeError, one line) is raised if it does not converge.

@@ -82,10 +82,13 @@ def hurst_keys(hurst, hurst_stderr, fit_band_per_m):
             "hurst_fit": h, "hurst_fit_stderr": se, "hurst_note": note}
 
 
-def hurst_text(summary):
-    """``"0.812 ± 0.004"`` when ``summary['hurst']`` is a headline, else its ``hurst_note``."""
+def hurst_text(summary, short=False):
+    """``"0.812 ± 0.004"`` when ``summary['hurst']`` is a headline, else its ``hurst_note``
+    (``short``: ``"not given (see hurst_note)"``, for figure titles)."""
     h = summary.get("hurst")
     if h is None:
+        if short:
+            return "not given (fit not meaningful: see the report)"
         return summary.get("hurst_note") or "not given"
     se = summary.get("hurst_stderr")
     return f"{h:.3f}" + (f" ± {se:.3f}" if se is not None else "")

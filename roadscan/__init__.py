@@ -3,8 +3,8 @@
 roadscan does not import ``friction`` or ``pipelines``.
 
 Imports are on demand: ``import roadscan`` loads only :mod:`roadscan.errors`; the names below
-(``HeightMap``, ``Spectrum``...) load their module (and numpy) when first used, so a command's
-``--help`` stays fast. The submodules (``roadscan.spectrum``, ``roadscan.level``...) import
+(``HeightMap``, ``Spectrum``, ``psd_area``...) load their module (and numpy) when first used, so a
+command's ``--help`` stays fast. The submodules (``roadscan.spectrum``, ``roadscan.level``...) import
 numpy and the parts of scipy they need; none imports matplotlib, ``scipy.optimize`` or
 ``scipy.signal`` at import time (guarded by ``tests/test_imports.py``).
 """
@@ -12,11 +12,12 @@ from importlib import import_module
 
 from .errors import InputError
 
-__all__ = ["InputError", "HeightMap", "Profile", "Spectrum", "Spectrum2D"]
+__all__ = ["InputError", "HeightMap", "Profile", "Spectrum", "Spectrum2D", "psd_area"]
 __version__ = "0.1.0"
 
 #: public name -> the submodule that defines it, loaded on first use (PEP 562)
-_HOMES = {".heightmap": ("HeightMap", "Profile"), ".spectrum_types": ("Spectrum", "Spectrum2D")}
+_HOMES = {".heightmap": ("HeightMap", "Profile"), ".spectrum_types": ("Spectrum", "Spectrum2D"),
+          ".spectrum": ("psd_area",)}
 _LAZY = {name: home for home, names in _HOMES.items() for name in names}
 
 

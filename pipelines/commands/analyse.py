@@ -82,7 +82,9 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
         rows.append((sub, summary))
         own.append(list(said.lines))
         if not many:
-            print(f"{path}: H = {summary['hurst']:.3f} ± {summary['hurst_stderr']:.3f}, "
+            from ..headline import hurst_text
+
+            print(f"{path}: H = {hurst_text(summary)}, "
                   f"rms height = {length(summary['rms_height_m'])} -> {final / 'report.html'}")
     if many:
         header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak",
