@@ -176,8 +176,9 @@ def run(args):
         _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max,
                        prov)
     mu_max, v_max = res.peak
+    from ..headline import peak_keys, peak_text
     from ..units_format import quantity, sig3
-    print(f"{out}: {v.size} speeds, peak μ {sig3(mu_max)} at {sig3(v_max)} m/s, "
+    print(f"{out}: {v.size} speeds, {peak_text(**peak_keys(res.v_m_per_s, res.mu))}, "
           f"q {quantity('q_per_m', psd.q_min_per_m)} to {quantity('q_per_m', psd.q1_per_m)}"
           + (f", {res.iterations} iterations, residual {res.residual:.2g} K" if args.flash else ""))
     return 0
@@ -220,6 +221,7 @@ def _provenance(args, psd, band, res, rubber, settings, v, kw):
 
 def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max,
                    prov=None):
+    from ..headline import peak_keys
     from ..report import plot_mu, write_csv, write_json
 
     write_csv(tmp / out.name, header, cols)
@@ -237,6 +239,8 @@ def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area
         "q_nodes": res.meta.get("q_nodes"),
         "mu_peak": mu_max,
         "v_peak_m_per_s": v_max,
+        # largest mu at the first or last speed: no peak in the range (pipelines.headline)
+        **{k: x for k, x in peak_keys(res.v_m_per_s, res.mu).items() if k.startswith("peak_")},
         "area_fraction_range": [float(area.min()), float(area.max())],
         "rubber_checks": checks,
     }
