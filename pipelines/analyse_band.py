@@ -165,8 +165,11 @@ def report_rows(summary):
         if fr.get("refused"):
             rows["friction"] = fr["refused"]
         else:
-            rows["peak μ"] = sig3(fr["mu_peak"])
-            rows["speed at peak [m/s]"] = sig3(fr["v_peak_m_per_s"])
+            if fr.get("peak_at_edge"):          # no peak inside the speed range: never "peak"
+                rows["largest μ"] = f"{sig3(fr['mu_peak'])}, {fr['peak_note']}"
+            else:
+                rows["peak μ"] = sig3(fr["mu_peak"])
+                rows["speed at peak [m/s]"] = sig3(fr["v_peak_m_per_s"])
             if "extrapolated_share_at_peak" in fr:
                 rows["share of μ from beyond the last measured q (at peak)"] = \
                     f"{sig3(100 * fr['extrapolated_share_at_peak'])} %"
