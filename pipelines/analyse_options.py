@@ -13,7 +13,8 @@ import os
 
 from roadscan.errors import InputError
 
-__all__ = ["add_analysis_options", "analysis_kwargs", "options_from_kwargs", "parse_fit_band"]
+__all__ = ["add_analysis_options", "analysis_kwargs", "options_from_kwargs", "parse_fit_band",
+           "add_resolution_option", "check_resolution"]
 
 
 def add_analysis_options(p):
@@ -31,12 +32,26 @@ def add_analysis_options(p):
     p.add_argument("--mpd-spike-alpha", type=float, default=None, metavar="ALPHA",
                    help="MPD spike criterion |dh| >= ALPHA x sampling interval (ISO 13473-1 "
                         "default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep)")
+    add_resolution_option(p)
+    add_texture_options(p)    # --direction, --friction-measurement, --ifi-constants
+    add_friction_options(p)
+
+
+def add_resolution_option(p):
+    """``--resolution M``: the lateral resolution of the reliable band (analyse, batch,
+    compare, dry-vs-wet: every command that takes its friction from a scan's band)."""
     p.add_argument("--resolution", type=float, default=None, metavar="M",
                    help="the instrument's lateral resolution [m] (wavelength passed at 50 %% "
                         "amplitude; default: the file's metadata): the reliable band ends where "
                         "it still passes 80 %%")
-    add_texture_options(p)    # --direction, --friction-measurement, --ifi-constants
-    add_friction_options(p)
+
+
+def check_resolution(res):
+    """``--resolution`` [m] checked: None, or 0 < r <= 1 m (one-line InputError)."""
+    if res is not None and not (math.isfinite(res) and 0 < res <= 1.0):
+        raise InputError(None, f"--resolution {res!r}: must be a lateral resolution in metres "
+                               f"(0 < r <= 1 m, e.g. 5e-6)")
+    return res
 
 
 def parse_fit_band(text):
@@ -65,10 +80,7 @@ def analysis_kwargs(args):
         mpd = {"spike_alpha": args.mpd_spike_alpha}
     from .texture_outputs import texture_settings_from_args
 
-    res = getattr(args, "resolution", None)
-    if res is not None and not (math.isfinite(res) and 0 < res <= 1.0):
-        raise InputError(None, f"--resolution {res!r}: must be a lateral resolution in metres "
-                               f"(0 < r <= 1 m, e.g. 5e-6)")
+    res = check_resolution(getattr(args, "resolution", None))
     return {"window_alpha": args.window_alpha, "fit_band": band, "despike": args.despike,
             "mpd_settings": mpd, "texture": texture_settings_from_args(args), "resolution_m": res}
 

@@ -13,7 +13,6 @@ from . import report
 from .analyse import summarise
 from .dry_vs_wet import mu_by_speed, speed_table
 from .friction_options import FrictionSettings
-from .spectrum_bridge import analyse_surface, friction_curve
 
 __all__ = ["run_compare", "spectrum_difference", "friction_difference"]
 
@@ -49,39 +48,51 @@ def friction_difference(v, mu_ref, mu):
             "mu_peak_ratio": float(mu.max() / mu_ref.max())}
 
 
-def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
-    """Compare scans (HeightMaps or Profiles); write PNGs, report.html and comparison.json."""
+def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolution_m=None):
+    """Compare scans (HeightMaps or Profiles); write PNGs, report.html and comparison.json.
+
+    Each scan goes through the one chain (:mod:`pipelines.chain`): its reliable band (lateral
+    resolution ``resolution_m`` [m], default the file's metadata), its fit, and friction with
+    every option of ``settings`` on the first scan's speeds; mu(v) is the one ``roadscan
+    analyse`` gives for that scan. A scan whose band's fine end is not trusted has no mu
+    (``friction_refused`` says why).
+    """
+    from .chain import measure, scan_friction
+
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    analyses = [analyse_surface(s, window_alpha=window_alpha) for s in scans]
-    curves = []
+    pairs = [measure(s, window_alpha=window_alpha, resolution_m=resolution_m) for s in scans]
+    analyses = [an for an, _ in pairs]
+    outcomes = []
     if settings.enabled:
-        first = None
-        from .analyse_band import band_psd
-
-        for an in analyses:
-            psd, _ = band_psd(an, settings, window_alpha)    # the reliable band, as analyse (issue 20)
-            fr = friction_curve(psd, settings.rubber, settings.v_m_per_s if first is None else first,
-                                settings.sigma0_Pa, settings.T0_C, settings.flash)
-            first = fr.v_m_per_s
-            curves.append(fr)
+        v = None
+        for an, rb in pairs:
+            o = scan_friction(an, rb, settings, v_m_per_s=v)
+            if o.result is not None and v is None:
+                v = o.result.v_m_per_s
+            outcomes.append(o)
+    curves = [o.result for o in outcomes]
+    done = [c for c in curves if c is not None]
     result = {}
     ref = analyses[0]
     for k, (name, an) in enumerate(zip(names, analyses)):
-        s = summarise(an, curves[k] if curves else None)
+        s = summarise(an, curves[k] if curves else None, window_alpha=window_alpha)
         entry = {key: s[key] for key in ("hurst", "hurst_stderr", "rms_height_m", "band_rms_m", "h0_m",
                                          "q_min_per_m", "q_max_per_m", "fit_band_per_m", "q_roll_per_m",
                                          "roughness", "mpd_m", "mpd_note", "filled_fraction", "kind")}
-        entry["mu"] = mu_by_speed(curves[k].v_m_per_s, curves[k].mu) if curves else None
-        if curves:
-            entry["mu_peak"] = float(curves[k].mu.max())
-            entry["v_peak_m_per_s"] = float(curves[k].v_m_per_s[np.argmax(curves[k].mu)])
+        c = curves[k] if curves else None
+        entry["mu"] = mu_by_speed(c.v_m_per_s, c.mu) if c is not None else None
+        if c is not None:
+            entry["mu_peak"] = float(c.mu.max())
+            entry["v_peak_m_per_s"] = float(c.v_m_per_s[np.argmax(c.mu)])
+        elif outcomes:
+            entry["friction_refused"] = outcomes[k].provenance["refused"]
         if k > 0:
             diff = {"reference": names[0]}
             sd = spectrum_difference(ref.spectrum, an.spectrum)
             diff.update({kk: vv for kk, vv in sd.items() if kk not in ("q_per_m", "log10_ratio")})
-            if curves:
+            if curves and curves[0] is not None and curves[k] is not None:
                 diff.update(friction_difference(curves[0].v_m_per_s, curves[0].mu, curves[k].mu))
             entry["difference_from_reference"] = diff
         result[name] = entry
@@ -108,15 +119,15 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25):
         ax.legend(fontsize=8)
         figs.append(report.save_figure(fig, out_dir / "psd_ratio.png",
                                        report.fixed_margins(ax, top=report.WAVELENGTH_AXIS_TOP)))
-    if curves:
+    if done:
         from .mu_provenance import rubber_label
 
-        figs.append(report.plot_mu([(n, c.v_m_per_s, c.mu) for n, c in zip(names, curves)],
+        figs.append(report.plot_mu([(n, c.v_m_per_s, c.mu) for n, c in zip(names, curves) if c is not None],
                                    out_dir / "mu_all.png", title="μ(v) of all surfaces, " + rubber_label(
-                                       settings.rubber, settings.sigma0_Pa, curves[0].meta.get("T0_C"))))
-        if len(curves) > 1:
+                                       settings.rubber, settings.sigma0_Pa, done[0].meta.get("T0_C"))))
+        if len(done) > 1 and curves[0] is not None:
             figs.append(report.plot_mu([(f"{n} / {names[0]}", c.v_m_per_s, c.mu / curves[0].mu)
-                                        for n, c in zip(names[1:], curves[1:])],
+                                        for n, c in zip(names[1:], curves[1:]) if c is not None],
                                        out_dir / "mu_ratio.png", title="where the friction differs",
                                        ylabel="μ / μ$_{ref}$ [-]"))
     from . import validate
@@ -155,11 +166,13 @@ def _write_report(out_dir, names, result, figs, curves):
         sections.append(("Where and by how much they differ", report.table_html(
             drows, ["surface", "reference", "median PSD ratio", "q of largest PSD ratio",
                     "largest PSD ratio", "v of largest μ difference [m/s]", "largest μ difference"])))
-    if curves:
-        v = curves[0].v_m_per_s
+    done = [(n, c) for n, c in zip(names, curves) if c is not None]
+    if done:
+        v = done[0][1].v_m_per_s
         idx = speed_table(v)
         sections.append(("μ at whole decades of speed", report.table_html(
-            [[f"{v[i]:g}"] + [float(c.mu[i]) for c in curves] for i in idx], ["v [m/s]"] + list(names))))
+            [[f"{v[i]:g}"] + [float(c.mu[i]) for _, c in done] for i in idx],
+            ["v [m/s]"] + [n for n, _ in done])))
     warned = [[n, w] for n, r in result.items() if isinstance(r, dict) for w in r.get("warnings", [])]
     if warned:                            # every warning in the report too (issue 20)
         sections.insert(1, ("Warnings", report.table_html(warned, ["surface", "warning"])))

@@ -20,7 +20,7 @@ from roadscan.io.atomic import atomic_save_npy
 from . import report
 from .analyse import nominal_band
 from .friction_options import FrictionSettings
-from .spectrum_bridge import analyse_surface, friction_curve
+from .spectrum_bridge import analyse_surface
 
 __all__ = ["run_dry_vs_wet", "speed_table", "mu_by_speed"]
 
@@ -37,8 +37,15 @@ def speed_table(v_m_per_s):
 
 
 def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=None,
-                   water_film_m=None, window_alpha=0.25):
-    """Compute and write the dry-vs-wet comparison; returns the ``comparison.json`` dict."""
+                   water_film_m=None, window_alpha=0.25, resolution_m=None):
+    """Compute and write the dry-vs-wet comparison; returns the ``comparison.json`` dict.
+
+    Both surfaces go through the one chain (:mod:`pipelines.chain`) with every friction option
+    of ``settings``: the dry mu(v) is the one ``roadscan analyse`` gives for the scan (its
+    reliable band, lateral resolution ``resolution_m`` [m] or the file's, and fit); the wet
+    spectrum is integrated over the dry band with the dry fit, so that only the surface changes.
+    """
+    from .chain import measure, scan_friction
     from roadscan import level
     from roadscan.rain import rain_fill
 
@@ -51,7 +58,7 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     dry = level.level(scan, degree=1)
     rain = rain_fill(dry, connectivity=connectivity, max_depth_m=max_depth_m, water_film_m=water_film_m)
     wet = rain.wet
-    an_dry = analyse_surface(dry, window_alpha=window_alpha)
+    an_dry, rb_dry = measure(dry, window_alpha=window_alpha, resolution_m=resolution_m)
     an_wet = analyse_surface(wet, window_alpha=window_alpha)
 
     atomic_save_npy(out_dir / "wet.npy", wet.heights_m)   # NaN where unmeasured
@@ -98,16 +105,18 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     if view.warning:
         validate.warn(view.warning)
 
+    od = ow = None
     if settings.enabled:
-        from .analyse_band import band_psd
+        od = scan_friction(an_dry, rb_dry, settings)      # analyse's mu(v) of this scan
+        if od.result is not None:
+            ow = scan_friction(an_wet, rb_dry, settings, fit=an_dry.fit,
+                               v_m_per_s=od.result.v_m_per_s, name=f"{scan.name} (wet)")
+        if ow is None or ow.result is None:
+            result["friction_refused"] = (od if od.result is None else ow).provenance["refused"]
+    if ow is not None and ow.result is not None:
         from .mu_provenance import rubber_label
 
-        psd_dry, rb = band_psd(an_dry, settings, window_alpha)     # the dry scan's reliable band
-        psd_wet, _ = band_psd(an_wet, settings, window_alpha, rb=rb, fit=an_dry.fit)   # (issue 20)
-        fd = friction_curve(psd_dry, settings.rubber, settings.v_m_per_s, settings.sigma0_Pa,
-                            settings.T0_C, settings.flash)
-        fw = friction_curve(psd_wet, settings.rubber, fd.v_m_per_s, settings.sigma0_Pa,
-                            settings.T0_C, settings.flash)
+        fd, fw = od.result, ow.result
         v = fd.v_m_per_s
         result["model"] = "flash temperature" if settings.flash else "isothermal"
         result["mu_dry"] = mu_by_speed(v, fd.mu)

@@ -15,6 +15,9 @@ def add_arguments(p):
     p.add_argument("scans", nargs="+", metavar="SCAN", help="two or more height files (the first is the reference)")
     p.add_argument("--out", required=True, metavar="DIR")
     add_scan_options(p)
+    from ..analyse_options import add_resolution_option
+
+    add_resolution_option(p)
     add_friction_options(p)
 
 
@@ -27,11 +30,14 @@ def run(args):
 
     check_output_dir(args.out, inputs=args.scans)
     settings = settings_from_args(args)
+    from ..analyse_options import check_resolution
+
+    res = check_resolution(args.resolution)
     scans = [load_scan(f, args) for f in args.scans]
     names = _unique_dirs(args.scans)
     try:
         with atomic_output_dir(args.out, inputs=args.scans) as tmp:
-            r = run_compare(scans, names, tmp, settings)
+            r = run_compare(scans, names, tmp, settings, resolution_m=res)
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
     from ..units_format import length

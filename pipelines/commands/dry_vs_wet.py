@@ -16,6 +16,9 @@ def add_arguments(p):
     p.add_argument("--out", required=True, metavar="DIR")
     add_scan_options(p)
     add_water_options(p)
+    from ..analyse_options import add_resolution_option
+
+    add_resolution_option(p)
     add_friction_options(p)
 
 
@@ -27,17 +30,19 @@ def run(args):
     check_water_options(args)
     check_output_dir(args.out, inputs=[args.scan])
     settings = settings_from_args(args)
+    from ..analyse_options import check_resolution
+
+    res = check_resolution(args.resolution)
     scan = load_scan(args.scan, args)
     try:
         with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
             r = run_dry_vs_wet(scan, tmp, settings, connectivity=args.connectivity,
-                               max_depth_m=args.max_depth, water_film_m=args.water_film)
+                               max_depth_m=args.max_depth, water_film_m=args.water_film,
+                               resolution_m=res)
     except InputError as exc:
-        if exc.problem.startswith("--out") or str(exc.path or "").startswith(str(args.out)):
+        if "out" in exc.hint_option or str(exc.path or "").startswith(str(args.out)):
             raise                          # about the output, which it names: not the scan
-        raise InputError(args.scan, exc.problem) from None
-    except ValueError as exc:
-        raise InputError(args.scan, str(exc)) from None
+        raise exc.reworded(args.scan) from None
     from ..units_format import length
 
     print(f"{args.scan}: wetted {r['wetted_fraction']:.1%}, water {length(r['water_volume_m3_per_m2'])}, "
