@@ -104,7 +104,9 @@ def combine_sources(sources):
                          f"{sig3(s.band.hi_per_m)}] 1/m is under a factor 2 wide (low end: "
                          f"{s.band.lo_reason}; high end: {s.band.hi_reason})")
     parts = [SpectrumPart(s.label, s.q_per_m, s.C_m4, s.count, tuple(s.band.band),
-                          s.dof_per_count, _edge_bias(s.band)) for s in sources if s.band.valid]
+                          s.dof_per_count, _edge_bias(s.band),
+                          (s.band.q_roll_per_m,) if s.band.q_roll_per_m else ())
+             for s in sources if s.band.valid]
     if not parts:
         raise InputError(sources[0].path if len(sources) == 1 else None,
                          "no input has a reliable band at least a factor 2 wide: nothing to merge "

@@ -197,6 +197,32 @@ def _trim_leaky_start(band, q, C, dof):
     return replace(band, lo_per_m=float(start), lo_reason=reason)
 
 
+def _plateau_start(band, q, dof):
+    """The band with its low end raised to the roll-off when the rings between them carry
+    under half a merged row's degrees of freedom.
+
+    Below a roll-off the spectrum bends from its self-affine slope to a plateau; the merge
+    pools no rings across the bend (:attr:`roadscan.spectrum_merge.SpectrumPart.bends_per_m`),
+    so the rings under it make rows of their own, and under
+    :data:`roadscan.spectrum_merge.MIN_ROW_DOF` / 2 degrees of freedom such a row scatters by
+    over 10 % (sqrt(2 / dof)) on a level its few rings cannot place.
+    """
+    from dataclasses import replace
+
+    from roadscan.spectrum_merge import MIN_ROW_DOF
+
+    q_r = band.q_roll_per_m
+    if q_r is None or not band.lo_per_m < q_r < band.hi_per_m / 2:
+        return band
+    k = float(np.sum(dof[(q >= band.lo_per_m * (1 - 1e-9)) & (q < q_r)]))
+    if k >= MIN_ROW_DOF / 2:
+        return band
+    return replace(band, lo_per_m=float(q_r),
+                   lo_reason=f"{band.lo_reason}; raised to the roll-off: the rings below it "
+                             f"carry {k:.0f} degrees of freedom, too few for a row of the "
+                             f"plateau")
+
+
 def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
     """A read HeightMap or Profile -> :class:`SourceSpectrum` (see module docstring)."""
     from roadscan.heightmap import Profile
@@ -241,6 +267,7 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
                        "response, 50 % amplitude at the wavelength r)",
             "max_factor": float(1.0 / T2[inside].min()) if inside.any() else 1.0}
     band = _trim_leaky_start(band, q, C, n * dof)
+    band = _plateau_start(band, q, n * dof)
     from .scan_input import read_record
 
     meta.update(read_record(obj))           # how the file was read: channel, overrides (issue 22)

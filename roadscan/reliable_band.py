@@ -38,7 +38,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import InputError
 from .rolloff import detect_roll_off
+from .units import length as _len
 
 __all__ = ["ReliableBand", "reliable_band", "leakage_factor", "resolution_limit",
            "gaussian_response", "noise_limit", "NYQUIST_FRACTION", "RESPONSE_MIN"]
@@ -198,7 +200,7 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
     ok = (q > 0) & (C > 0) & np.isfinite(C) & (n >= min_count)
     q, C, n = q[ok], C[ok], n[ok]
     if q.size < 5:
-        raise ValueError("spectrum has fewer than 5 usable points: no reliable band")
+        raise InputError(None, "spectrum has fewer than 5 usable points: no reliable band")
     q_fov = 2 * np.pi / length_m
     q_nyq = np.pi / spacing_m
     limits = {"field_of_view": None, "roll_off": None, "nyquist": NYQUIST_FRACTION * q_nyq,
@@ -244,12 +246,6 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
                         slope=float(slope), q_roll_per_m=q_roll, noise_floor=level)
 
 
-def _len(m):
-    """A length in m, mm or µm, 3 significant digits."""
-    v, unit = (m, "m") if m >= 1.0 else (m * 1e3, "mm") if m >= 1e-3 else (m * 1e6, "µm")
-    return f"{v:#.3g}".rstrip(".") + f" {unit}"      # trailing zeros kept: "60.0 mm"
-
-
 def _middle_band(q, C, n):
     """The straight stretch of the spectrum around its middle (roadscan.fit.detect_band)."""
     from .fit import detect_band
@@ -258,7 +254,23 @@ def _middle_band(q, C, n):
     spec = Spectrum(q, C, count=np.rint(n).astype(np.int64))
     for min_count in (8, 1):              # as the fit: rings of under 8 points scatter widely
         try:
-            return detect_band(spec, min_count=min_count)
+            lo, hi = detect_band(spec, min_count=min_count)
         except ValueError:
-            pass
+            continue
+        # a roll-off in the middle third leaves a stretch of a few rings at the bend: under
+        # MIN_STRETCH_DECADES it is no self-affine line, the straight part above it is taken
+        above = q >= hi
+        if np.log10(hi / lo) < MIN_STRETCH_DECADES and above.sum() >= 5:
+            try:
+                lo2, hi2 = detect_band(Spectrum(q[above], C[above], count=np.rint(
+                    n[above]).astype(np.int64)), min_count=min_count)
+            except ValueError:
+                return lo, hi
+            if np.log10(hi2 / lo2) > np.log10(hi / lo):
+                return lo2, hi2
+        return lo, hi
     return float(q[0]), float(q[-1])
+
+
+#: a straight stretch shorter than this (decades) is a bend, not the self-affine band
+MIN_STRETCH_DECADES = 0.3

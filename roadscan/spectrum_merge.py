@@ -9,13 +9,17 @@ or 1D modes),
     C_j = sum_i n_i C_i (q_j / q_i)^s_j / sum_i n_i,    ln q_j = sum_i n_i ln q_i / sum_i n_i,
 
 the mean over every lattice point of every source that falls in the bin: each source weighs by
-its statistical weight; s_j is the local log-log slope (line through the rings within 0.6
-decade, weighted by lattice points, so that the many-point rings above a band's start set it),
-which moves each ring to q_j without bias for a power law. Where a bin holds few lattice points
-(the lowest rings of a field of view), consecutive bins are pooled into one row until it holds
-:data:`MIN_ROW_DOF` degrees of freedom (at most :data:`MAX_ROW_BINS` bins). The first row of
-each stretch sits at its lowest ring (the curve starts where the band does), the others at the
-count-weighted mean of ln q (where a slope error cancels to first order). Uncertainty: a periodogram value of a Gaussian surface is C times an
+its statistical weight; s_j is the local log-log slope (line through the rings within
+:data:`SLOPE_REACH` decade, weighted by their degrees of freedom, so that the many-point rings
+above a band's start set it), which moves each ring to q_j without bias for a power law. Where
+a bin holds few lattice points (the lowest rings of a field of view), consecutive bins are
+pooled into one row until it holds :data:`MIN_ROW_DOF` degrees of freedom (at most
+:data:`MAX_ROW_BINS` bins). A *bend* (a source's detected roll-off, ``bends_per_m``) splits the
+grid into segments: no row pools rings across one and no slope is taken across one (a straight
+move across a roll-off puts the plateau's row far above it). The first row of each stretch
+sits at its lowest ring (the curve starts where the band does), unless a bend lies within
+:data:`SLOPE_REACH` decade below or one bin above it; the others sit at the count-weighted mean
+of ln q (where a slope error cancels to first order). Uncertainty: a periodogram value of a Gaussian surface is C times an
 exponential variable (2 degrees of freedom per independent mode, reduced by the window's
 equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
 band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
@@ -23,7 +27,8 @@ Where several sources overlap, the weighted rms scatter s of their ln C_i about 
 in quadrature to each side (as 1.645 s), and so is ln(1 + b) times the share of the bin's
 lattice points lying within 0.15 decade of their source's band ends, b the bias the reliable
 band tolerates there (``SpectrumPart.edge_bias``: about 10 % for leakage, aliasing, resolution,
-25 % at a noise floor; :mod:`roadscan.reliable_band`). Bins inside the union of the bands that no source
+25 % at a noise floor; :mod:`roadscan.reliable_band`), and so is the slope's standard error
+times the row's mean lever |ln(q_j / q_i)| (a row at its lowest ring moves rings far). Bins inside the union of the bands that no source
 covers are *gaps* (a bin inside some band that holds no ring, as 1D modes sparser than the
 grid at low q, gets no row): bridged by the power law fitted (inverse-variance weights) to the
 covered rows within 0.5 decade on either side, flagged ``n_sources = 0`` and listed.
@@ -50,6 +55,8 @@ EDGE_BIAS = 0.10
 #: +-7 % at one standard deviation, sqrt(2 / 400)), over at most MAX_ROW_BINS grid bins
 MIN_ROW_DOF = 400.0
 MAX_ROW_BINS = 8
+#: decades either side of a row whose rings set its local slope
+SLOPE_REACH = 1.0
 #: one-sided 95 % point of the standard normal
 Z95 = 1.6448536269514722
 
@@ -72,6 +79,9 @@ class SpectrumPart:
     dof_per_count: float = 1.0
     #: bias the band tolerates at its (low, high) end (fractions of C)
     edge_bias: tuple = (EDGE_BIAS, EDGE_BIAS)
+    #: wave vectors [1/m] where the spectrum bends (a detected roll-off): no row pools rings
+    #: across one, nor takes its slope from rings on the other side
+    bends_per_m: tuple = ()
 
 
 @dataclass(frozen=True)
@@ -129,6 +139,8 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     """
     rows = []                       # (bin, q, C, n, dof, source index, edge ring)
     lows, highs = [], []
+    bends = sorted({float(x) for p in parts for x in p.bends_per_m
+                    if x and p.band_per_m[0] * (1 - 1e-9) <= x < p.band_per_m[1]})
     for s, p in enumerate(parts):
         q, C = np.asarray(p.q_per_m, float), np.asarray(p.C_m4, float)
         n = np.asarray(p.count, float)
@@ -150,29 +162,44 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     b = r[:, 0].astype(np.int64)
     j0 = b.min()
     n, dof = r[:, 3], r[:, 4]
-    row_of_bin, first_bin = _group_bins(np.bincount(b - j0, dof), MIN_ROW_DOF, MAX_ROW_BINS)
+    # segments between bends: a bend's grid bin starts a new segment (rows never straddle one)
+    bend_bins = np.unique(_bins(np.asarray(bends, float), per_decade)) - j0 if bends else \
+        np.zeros(0, np.int64)
+    seg_of_bin = np.searchsorted(bend_bins, np.arange(b.max() - j0 + 1), side="right")
+    row_of_bin, first_bin = _group_bins(np.bincount(b - j0, dof), MIN_ROW_DOF, MAX_ROW_BINS,
+                                        seg_of_bin)
     idx = row_of_bin[b - j0]
     nb = first_bin.size
+    seg_row, seg_ring = seg_of_bin[first_bin], seg_of_bin[b - j0]
     N = np.bincount(idx, n, nb)
     covered = N > 0
     Nc = np.where(covered, N, 1.0)
     # each row at the count-weighted mean of ln q (an error in the slope below cancels to first
     # order in the moved rings' mean), but the first of each stretch at its lowest ring: the
-    # curve starts where the band does
+    # curve starts where the band does; not so near a bend, below one (its few rings' slope is
+    # uncertain) or at one (the bend's place, chosen from the data, favours high rings above it)
     q = np.exp(np.bincount(idx, n * np.log(r[:, 1]), nb) / Nc)
     q_first = np.full(nb, np.inf)
     np.minimum.at(q_first, idx, r[:, 1])
-    q = np.where(covered & ~np.r_[False, covered[:-1]], q_first, q)
+    reach = int(round(SLOPE_REACH * per_decade))
+    near_bend = np.zeros(nb, bool)
+    for bb in bend_bins:
+        near_bend |= (first_bin <= bb + 1) & (first_bin >= bb - reach)
+    q = np.where(covered & ~np.r_[False, covered[:-1]] & ~near_bend, q_first, q)
     # each ring's C moved to its row's q along the local slope (exact for a power law)
-    Cr = r[:, 2] * (q[idx] / r[:, 1]) ** _row_slopes(r[:, 1], r[:, 2], n, q, covered)[idx]
+    slopes, slope_se = _row_slopes(r[:, 1], r[:, 2], dof, q, covered, seg_ring, seg_row)
+    lever = np.log(q[idx] / r[:, 1])
+    Cr = r[:, 2] * np.exp(slopes[idx] * lever)
     C = np.bincount(idx, n * Cr, nb) / Nc
+    # a slope error ds shifts ln C of a row by ds times its rings' mean distance in ln q
+    moved = np.bincount(idx, n * Cr * lever, nb) / np.maximum(np.bincount(idx, n * Cr, nb), 1e-300)
     k = np.bincount(idx, dof, nb)
     nsrc = np.array([np.unique(r[idx == i, 5]).size for i in range(nb)])
     # between-source scatter of ln C about the merged value (weighted rms)
     dev = np.log(Cr / np.where(covered, C, 1.0)[idx])
     s2 = np.bincount(idx, n * dev**2, nb) / Nc
     s2 = np.where(nsrc >= 2, s2, 0.0)
-    s2 = s2 + (np.bincount(idx, n * r[:, 6], nb) / Nc) / Z95**2
+    s2 = s2 + (np.bincount(idx, n * r[:, 6], nb) / Nc) / Z95**2 + (slope_se * moved) ** 2
     kk = np.maximum(k, 1.0)
     d_lo = np.log(chi2_quantile(0.95, kk) / kk)
     d_hi = np.log(kk / chi2_quantile(0.05, kk))
@@ -199,16 +226,19 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
                           (float(q[covered][0]), float(q[covered][-1])), gaps)
 
 
-def _group_bins(dof, min_dof, max_bins):
-    """Rows of the merged curve from grid bins: consecutive covered bins are pooled until a row
-    holds ``min_dof`` degrees of freedom (at most ``max_bins`` bins); an uncovered bin is a row
-    of its own. -> (row index of each bin, first bin of each row)."""
+def _group_bins(dof, min_dof, max_bins, segment=None):
+    """Rows of the merged curve from grid bins: consecutive covered bins of one segment (between
+    bends) are pooled until a row holds ``min_dof`` degrees of freedom (at most ``max_bins``
+    bins); an uncovered bin is a row of its own. -> (row index of each bin, first bin of each
+    row)."""
     row = np.empty(dof.size, np.int64)
+    seg = np.zeros(dof.size, np.int64) if segment is None else segment
     first = []
     acc, width, prev = 0.0, 0, False
     for j, d in enumerate(dof):
         cov = d > 0
-        if not (cov and prev) or acc >= min_dof or width >= max_bins:
+        if (not (cov and prev) or acc >= min_dof or width >= max_bins
+                or (j and seg[j] != seg[j - 1])):
             first.append(j)
             acc, width = 0.0, 0
         row[j] = len(first) - 1
@@ -218,18 +248,25 @@ def _group_bins(dof, min_dof, max_bins):
     return row, np.asarray(first, np.int64)
 
 
-def _row_slopes(q, C, n, q_row, covered, reach=0.6):
-    """d ln C / d ln q at each row: weighted (lattice points) line through the rings within
-    ``reach`` decades of the row's q (0 where fewer than 3 rings)."""
+def _row_slopes(q, C, dof, q_row, covered, seg_ring=None, seg_row=None, reach=None):
+    """d ln C / d ln q at each row and its standard error: the line through the rings within
+    ``reach`` decades of the row's q and in its segment (no bend between), weighted by their
+    inverse variance dof / 2 (a ring's ln C scatters by sqrt(2 / dof)); slope 0 and error 0
+    where fewer than 3 rings. -> (slopes, standard errors)."""
+    reach = SLOPE_REACH if reach is None else reach
     x, y = np.log(q), np.log(C)
-    out = np.zeros(q_row.size)
+    out, se = np.zeros(q_row.size), np.zeros(q_row.size)
     for i in np.flatnonzero(covered):
         near = np.abs(x - np.log(q_row[i])) <= reach * np.log(10)
+        if seg_ring is not None:
+            near &= seg_ring == seg_row[i]
         if near.sum() >= 3 and np.ptp(x[near]) > 0:
-            w = n[near] / n[near].sum()
-            xm, ym = w @ x[near], w @ y[near]
-            out[i] = (w @ ((x[near] - xm) * (y[near] - ym))) / (w @ (x[near] - xm) ** 2)
-    return out
+            w = dof[near] / 2.0
+            xm, ym = np.average(x[near], weights=w), np.average(y[near], weights=w)
+            sxx = w @ (x[near] - xm) ** 2
+            out[i] = (w @ ((x[near] - xm) * (y[near] - ym))) / sxx
+            se[i] = 1.0 / np.sqrt(sxx)
+    return out, se
 
 
 def _bridge(gap, q, lnC, d_lo, d_hi, covered, reach=0.5):
