@@ -78,14 +78,16 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
     ref = analyses[0]
     for k, (name, an) in enumerate(zip(names, analyses)):
         s = summarise(an, curves[k] if curves else None, window_alpha=window_alpha)
-        entry = {key: s[key] for key in ("hurst", "hurst_stderr", "rms_height_m", "band_rms_m", "h0_m",
+        entry = {key: s[key] for key in ("hurst", "hurst_stderr", "hurst_fit", "hurst_fit_stderr",
+                                         "hurst_note", "rms_height_m", "band_rms_m", "h0_m",
                                          "q_min_per_m", "q_max_per_m", "fit_band_per_m", "q_roll_per_m",
                                          "roughness", "mpd_m", "mpd_note", "filled_fraction", "kind")}
         c = curves[k] if curves else None
         entry["mu"] = mu_by_speed(c.v_m_per_s, c.mu) if c is not None else None
         if c is not None:
-            entry["mu_peak"] = float(c.mu.max())
-            entry["v_peak_m_per_s"] = float(c.v_m_per_s[np.argmax(c.mu)])
+            from .headline import peak_keys
+
+            entry.update(peak_keys(c.v_m_per_s, c.mu))   # mu_peak, v_peak_m_per_s, peak_at_edge, peak_note
         elif outcomes:
             entry["friction_refused"] = outcomes[k].provenance["refused"]
         if k > 0:
@@ -152,8 +154,12 @@ def _write_report(out_dir, names, result, figs, curves):
     from .units_format import length, quantity
 
     header = ["surface", "H", "rms height", "h0", "MPD (ISO 13473-1)", "peak μ", "v at peak [m/s]"]
-    rows = [[n, r["hurst"], length(r["rms_height_m"]), length(r["h0_m"]), length(r["mpd_m"]),
-             r.get("mu_peak"), r.get("v_peak_m_per_s")] for n, r in result.items()]
+    from .headline import hurst_text, peak_text
+
+    rows = [[n, hurst_text(r), length(r["rms_height_m"]), length(r["h0_m"]), length(r["mpd_m"]),
+             r.get("mu_peak") if not r.get("peak_at_edge") else peak_text(**{
+                 k: r[k] for k in ("mu_peak", "v_peak_m_per_s", "peak_at_edge", "peak_note")}),
+             r.get("v_peak_m_per_s")] for n, r in result.items()]
     sections = [("Surfaces", report.table_html(rows, header))]
     drows = []
     for n, r in result.items():

@@ -40,10 +40,13 @@ def run(args):
             r = run_compare(scans, names, tmp, settings, resolution_m=res)
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
+    from ..headline import hurst_text, peak_text
     from ..units_format import length
 
     for n in names:
-        print(f"{n}: H = {r[n]['hurst']:.3f}, rms height = {length(r[n]['rms_height_m'])}"
-              + (f", peak mu = {r[n]['mu_peak']:.3g}" if r[n].get("mu_peak") else ""))
+        e = r[n]
+        print(f"{n}: H = {hurst_text(e)}, rms height = {length(e['rms_height_m'])}"
+              + (f", {peak_text(e['mu_peak'], e['v_peak_m_per_s'], e.get('peak_at_edge'), e.get('peak_note'))}"
+                 if e.get("mu_peak") else ""))
     print(f"-> {args.out}/report.html")
     return 0

@@ -52,9 +52,25 @@ def friction_json(d, where, bandmap, validate=None):
                      extrapolated=d.verdict.get("extrapolated", []),
                      gap_validate=None if validate is None else _r(validate["gap_after"]),
                      gap_validate_baseline=None if validate is None else _r(validate["gap_before"]),
-                     reason=d.verdict["reason"]),
+                     reason=d.verdict["reason"], evidence=_jsonable(d.verdict.get("evidence"))),
+        next_measurement=_jsonable(d.verdict.get("next_measurement")),
         seconds=round(d.seconds, 2),
     )
+
+
+def _jsonable(x):
+    """Evidence and next-measurement dicts with numpy scalars as floats, non-finite as None."""
+    if isinstance(x, dict):
+        return {k: _jsonable(v) for k, v in x.items()}
+    if isinstance(x, (list, tuple)):
+        return [_jsonable(v) for v in x]
+    if isinstance(x, (bool, np.bool_)):
+        return bool(x)
+    if isinstance(x, (int, np.integer)):
+        return int(x)
+    if isinstance(x, (float, np.floating)):
+        return float(x) if np.isfinite(x) else None
+    return x
 
 
 def _is_nominal_single(c, d):
@@ -206,7 +222,8 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
     with tempfile.TemporaryDirectory() as t:
         figs = _plots_friction(Path(t), curve, d, where, bm_curves, validate, dense)
         v = data["verdict"]
-        verdict = _verdict_html(v)
+        nxt = data.get("next_measurement")
+        verdict = _verdict_html(dict(v, next=nxt["sentence"] if nxt else None))
         cut = [b for b in data["band_map"] if b.get("carried_by_cutoff")]
         if cut:
             verdict += ("<p><b>Warning: μ is carried by the spectrum's cut-off</b> in "
@@ -285,7 +302,8 @@ def _verdict_html(v):
             for k, x in v["calibrated"].items())) + "."
     if v.get("confidence"):
         extra += f" Confidence: {html.escape(v['confidence'])}."
-    return f"<p><b>Verdict:</b> {head}. {html.escape(v.get('reason', ''))}.{extra}</p>"
+    nxt = f"<p><b>What to measure next:</b> {html.escape(v['next'])}.</p>" if v.get("next") else ""
+    return f"<p><b>Verdict:</b> {head}. {html.escape(v.get('reason', ''))}.{extra}</p>{nxt}"
 
 
 def _fmt(x):

@@ -22,6 +22,7 @@ from . import gap as gapmod
 from .cv import evaluate, heldout_mask, holdout
 from .effects import all_effects
 from .fitting import Candidate, at_bound, fit_candidate, predict, too_many_parameters
+from .explain import pick_pair
 from .verdict import MIN_SHRINK, PAIR_GAIN, decide, rivals
 
 __all__ = ["Candidate", "Diagnosis", "heldout_mask", "fit_candidate", "diagnose_friction", "predict",
@@ -117,6 +118,64 @@ def _physical_refit(c, ctx, real_mu, ho, r0_held):
     return r if not r.implausible else c
 
 
+def _one_explanation(verdict, best, equiv, train):
+    """A named effect that the uncertain inputs continued beyond their ranges reproduce within
+    the noise is the calibration (:mod:`.equivalence`): the verdict becomes inconclusive naming
+    both. Returns the named candidate (None when it was withdrawn)."""
+    if best is None or equiv is None or verdict.get("effect") in (None, "calibration"):
+        return best
+    eq = equiv(best, rows=train)
+    if eq is None:
+        return best
+    verdict["equivalence"] = dict(equivalent=eq["equivalent"], dloglik=eq["dloglik"], inputs=eq["inputs"],
+                                  calibrated=eq["calibrated"])
+    if not eq["equivalent"]:
+        return best
+    names = best.effect_names
+    beyond = ", ".join(eq["inputs"]) or "the uncertain inputs"
+    verdict.update(effect=None, confidence=None, shrink=None, shrink_interval=None, calibrated={}, at_bound=[],
+                   inconclusive=["+".join(names), "calibration"],
+                   reason=(f"inconclusive: {'+'.join(names)} would explain it, but {beyond} continued beyond "
+                           f"the given range does the same within the noise (log-likelihood "
+                           f"{eq['dloglik']:+.2f}): the same explanation"))
+    return None
+
+
+def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say, skipped, ranges, free,
+         base, g, t0, sens):
+    """The diagnosis on fewer than 20 points: Bayesian comparison (:mod:`.verdict_few`)."""
+    from dataclasses import replace
+
+    from .calibration import intervals
+    from .equivalence import equivalence
+    from .next_measurement import next_measurement
+    from .search_few import few_candidates
+    from .verdict_few import decide_few
+
+    cal, cands, s, nu = few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say)
+    st = dict(g_all=g["g_all"], noise=noise, n=g["n"], significant=significant, p=g["p"], s=s, nu=nu)
+    equiv = (lambda c: equivalence(ctx, real_mu, c, ranges, free, s)) if free else None
+    verdict, best, expl = decide_few(ctx, real_mu, cal, cands, st, equiv=equiv,
+                                     intervals=lambda c: intervals(c, ctx, real_mu, ho.train, noise))
+    if best is not None and verdict.get("effect") not in (None, "calibration"):
+        _flash_extrapolation(ctx, best, verdict)
+        if verdict.get("extrapolated") and verdict.get("confidence") == "medium":
+            verdict["confidence"] = "low"
+    nxt = None
+    if significant and (verdict.get("inconclusive") or verdict.get("confidence") in (None, "low")):
+        pick = pick_pair(ctx, expl, s)
+        if pick is not None:
+            nxt = next_measurement(ctx, pick[0], pick[1], s)
+    verdict["next_measurement"] = nxt
+    ranked = sorted(cands + ([cal] if cal else []), key=lambda c: -c.evidence["log_z"])
+    fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
+    return Diagnosis(base, g["g_all"], g["g_tr"], g["g_ho"], noise, noise_given, significant, g["p"], ho.train,
+                     ranked, skipped, verdict, best, time.perf_counter() - t0, timings,
+                     "linearised leave-one-out (PRESS) residuals of the fit on every point; the verdict is "
+                     "a Bayesian model comparison, not a held-out score",
+                     uncertain=fitted, calibration=cal, cutoff_sensitivity=sens, ctx=ctx)
+
+
 def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=None, uncertain=None,
                       default_q1=True, carried=None):
     """Run the friction-level diagnosis of the rows of ``ctx`` against measured ``real_mu``.
@@ -140,6 +199,9 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     from dataclasses import replace
 
     from .calibration import apply_known, calibration_effect, default_q1 as add_q1, free_ranges, intervals
+    from .equivalence import equivalence
+    from .explain import heldout_evidence, top_two
+    from .next_measurement import next_measurement
     from .model import simulate
 
     t0 = time.perf_counter()
@@ -176,7 +238,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         t1 = time.perf_counter()
         k = sum(len(e.params) for e in effs)
         name = "+".join(e.name for e in effs)
-        if too_many_parameters(k, ho.n_train):
+        if not ho.cv and too_many_parameters(k, ho.n_train):
             skipped.append(dict(name=name, reason=f"{k} free parameters on {ho.n_train} training points "
                                                   f"(at most half as many parameters as points)"))
             return None
@@ -190,6 +252,9 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         say(f"  {c.name}: train {c.gap_train:.4f} held-out {c.gap_heldout:.4f} ({c.seconds:.1f} s)")
         return c
 
+    if ho.cv:
+        return _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say, skipped,
+                    ranges, free, base, dict(g_all=g_all, g_tr=g_tr, g_ho=g_ho, p=p, n=n), t0, sens)
     singles = []
     for e in usable:
         c = run((e,))
@@ -219,10 +284,23 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     ranked = sorted(singles + pair_list + ([cal] if cal else []) + calpairs, key=lambda c: c.score)
     st = dict(g_all=g_all, g_ho=g_ho, noise=noise, n=n, significant=significant, p=p, boot=ho.boot,
               default_only=bool(free) and all(ranges[k].source == "default" for k in free))
-    verdict, best = decide(singles, pair_list, cal, calpairs, st,
-                           intervals=lambda c: intervals(c, ctx, real_mu, ho.train, noise))
+    icals = lambda c: intervals(c, ctx, real_mu, ho.train, noise)  # noqa: E731
+    equiv = (lambda c, rows=None: equivalence(ctx, real_mu, c, ranges, free, noise, rows=rows)) if free else None
+    verdict, best = decide(singles, pair_list, cal, calpairs, st, intervals=icals)
+    best = _one_explanation(verdict, best, equiv, ho.train)
+    expl = None
     if best is not None and verdict.get("effect") not in (None, "calibration"):
         _flash_extrapolation(ctx, best, verdict)
+    if "evidence" not in verdict:
+        verdict["evidence"] = heldout_evidence(ho, g_ho, ranked, best)
+    if "equivalence" in verdict:
+        verdict["evidence"]["equivalence"] = verdict.pop("equivalence")
+    nxt = None
+    if significant and (verdict.get("inconclusive") or verdict.get("confidence") in (None, "low")):
+        pair = top_two(ctx, real_mu, noise, verdict, best, expl, singles, pair_list, cal, calpairs)
+        if pair is not None:
+            nxt = next_measurement(ctx, pair[0], pair[1], noise)
+    verdict["next_measurement"] = nxt
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
     return Diagnosis(base, g_all, g_tr, g_ho, noise, noise_given, significant, p, ho.train, ranked,
                      skipped, verdict, best, time.perf_counter() - t0, timings, ho.description,

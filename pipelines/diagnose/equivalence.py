@@ -1,0 +1,83 @@
+"""Equivalent explanations are one explanation: an effect that, within the data's precision, does
+what an uncertain input does beyond its range is that input's calibration, not a finding.
+
+The test: the calibration alone, with every uncertain input's range continued beyond its ends
+(q1 a decade further either way, sigma0 and the spectrum's level a factor 3, the temperature
+20 K), is fitted on the same rows, started from the effect fit's own calibrated inputs. When its
+best fit reproduces the effect's fit to within the noise (its log-likelihood, Student-t as in
+:mod:`.evidence`, lower by at most ``EQUIV_NATS``), the two explanations cannot be told apart
+from these data: fine roughness beyond q1 and a larger q1, a load and a wrong sigma0, a
+temperature offset and a shift of the master curve are the same curve.
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+__all__ = ["EXTEND", "EQUIV_NATS", "extended_ranges", "equivalence"]
+
+#: how far beyond its range each uncertain input is continued: (scale, factor or offset)
+EXTEND = {"q1": ("log", 10.0), "sigma0": ("log", 3.0), "psd_scale": ("log", 3.0), "temperature": ("lin", 20.0)}
+EQUIV_NATS = 2.0
+
+
+def extended_ranges(ranges, free):
+    """The free uncertain ranges continued beyond their ends (dict key -> Uncertain)."""
+    out = {}
+    for k, (lo, hi) in free.items():
+        scale, f = EXTEND[k]
+        if scale == "log":
+            lo2, hi2 = lo / f, hi * f
+        else:
+            lo2, hi2 = lo - f, hi + f
+        if k == "psd_scale":
+            hi2 = min(hi2, 1e6)
+        out[k] = replace(ranges[k], lo=lo2, hi=hi2)
+    return out
+
+
+def equivalence(ctx, real_mu, cand, ranges, free, noise, rows=None):
+    """Whether the calibration with extended ranges reproduces candidate ``cand``'s fit.
+
+    ``ranges``: key -> Uncertain; ``free``: key -> (lo, hi), the fitted ranges; ``rows``: the
+    rows compared (default every row). Returns None without uncertain inputs, else dict(
+    equivalent, dloglik (effect fit minus extended calibration, nats), inputs (the uncertain
+    inputs the extended fit moves beyond their ranges), calibrated (their fitted values)).
+    """
+    from .calibration import PARAM, calibration_effect
+    from .evidence import loglik, noise_scale
+    from .fitting import fit_candidate
+
+    if not free:
+        return None
+    ext = extended_ranges(ranges, free)
+    cal_x = calibration_effect(ctx, ext)
+    if cal_x is None:
+        return None
+    y = np.log10(np.asarray(real_mu, float))
+    rows = np.ones(y.size, bool) if rows is None else rows
+    starts = []
+    for e, p in zip(cand.effects, cand.params):
+        if e.name == "calibration":
+            starts.append([{pp.name: float(np.clip(p.get(pp.name, pp.init), pp.lo, pp.hi)) for pp in cal_x.params}])
+    fit = fit_candidate(ctx, real_mu, (cal_x,), rows, extra_starts=starts, cache={})
+    s = noise_scale(noise)
+    n = int(rows.sum())
+    r_c = (y - np.log10(cand.pred))[rows]
+    r_x = (y - np.log10(fit.pred))[rows]
+    dll = loglik(float(r_c @ r_c), n, s) - loglik(float(r_x @ r_x), n, s)
+    inv = {v: k for k, v in PARAM.items()}
+    outside = []
+    for pp in cal_x.params:
+        k = inv[pp.name]
+        lo, hi = free[k]
+        x = fit.params[0][pp.name]
+        if pp.scale == "lin":
+            beyond = x < lo - 1e-3 * (hi - lo) or x > hi + 1e-3 * (hi - lo)
+        else:
+            beyond = x < lo * (1 - 1e-3) or x > hi * (1 + 1e-3)
+        if beyond:
+            outside.append(k)
+    return dict(equivalent=bool(dll <= EQUIV_NATS), dloglik=float(dll), inputs=outside,
+                calibrated={inv[k]: float(x) for k, x in fit.params[0].items()}, fit=fit)

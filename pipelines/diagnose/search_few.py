@@ -1,0 +1,137 @@
+"""The candidates of a diagnosis on few measured speeds (fewer than 20, see :mod:`.verdict_few`).
+
+The baseline (the calibration of the uncertain inputs, or the nominal model when nothing is
+uncertain) is fitted first, on every point; the noise scale of the likelihood follows
+(:func:`noise_prior`); then every usable effect is fitted together with the calibration (started
+from the calibration's fit, besides cold starts), never skipped for its number of parameters:
+the evidence's Occam factor is the penalty (:mod:`.evidence`).
+
+Held-out errors reported for each candidate: linearised leave-one-out (PRESS) residuals
+r_i / (1 - h_ii), h the hat matrix J (J^T J + 12 s^2 I)^-1 J^T of the Gauss-Newton fit with the
+uniform prior's precision (Allen 1974, Technometrics 16, 125; Cook & Weisberg 1982, *Residuals
+and influence in regression*, sec 2.2): a refit per left-out point costs a fit each and, on five
+points, says no more.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .cv import boot_shrink
+
+__all__ = ["few_candidates", "noise_prior", "PRIOR_NOISE", "PRIOR_NOISE_DOF", "GIVEN_NOISE_DOF"]
+
+#: a typical repeatability of friction measurements (rms log10; 2.3 %) and its weight
+PRIOR_NOISE = 0.01
+PRIOR_NOISE_DOF = 4.0
+#: the weight of a noise given with --noise
+GIVEN_NOISE_DOF = 30.0
+
+
+def noise_prior(noise, given, r_base, k_base):
+    """(s, nu): the likelihood's noise scale and its degrees of freedom.
+
+    Given noise: (noise, 30). Estimated: the typical repeatability ``PRIOR_NOISE`` worth
+    ``PRIOR_NOISE_DOF`` pooled with the smaller of the data's estimate (smoothing spline) and the
+    baseline's residual rms (its n - k degrees of freedom): on five points a spline cannot tell
+    curvature from scatter, and the baseline's residual bounds the noise from above.
+    """
+    from .evidence import NOISE_FLOOR
+
+    if given:
+        return max(float(noise), NOISE_FLOOR), GIVEN_NOISE_DOF
+    r = np.asarray(r_base, float)
+    nu1 = max(r.size - int(k_base), 1)
+    s_base = float(np.sqrt(r @ r / nu1))
+    s1 = min(float(noise), s_base)
+    s2 = (PRIOR_NOISE_DOF * PRIOR_NOISE ** 2 + nu1 * s1 ** 2) / (PRIOR_NOISE_DOF + nu1)
+    return max(float(np.sqrt(s2)), NOISE_FLOOR), PRIOR_NOISE_DOF + nu1
+
+
+def _press(c, ev, y, s, r0_held, boot, n_eff):
+    """Fill in the held-out fields of ``c`` from its PRESS residuals (see module docstring)."""
+    r = y - np.log10(c.pred)
+    J = ev.get("J")
+    if J is not None and J.size:
+        A = J.T @ J + 12.0 * s * s * np.eye(J.shape[1])
+        h = np.einsum("ij,jk,ik->i", J, np.linalg.pinv(A), J)
+        r = r / (1.0 - np.clip(h, 0.0, 0.99))
+    c.r_held = r
+    c.gap_heldout = float(np.sqrt(np.mean(r ** 2)))
+    g0 = float(np.sqrt(np.mean(r0_held ** 2)))
+    c.shrink = 1.0 - c.gap_heldout / g0 if g0 > 0 else float("nan")
+    c.shrink_interval = boot_shrink(r, r0_held, boot)
+    c.score = c.gap_heldout * (1.0 + c.k / max(n_eff, 1))
+    return c
+
+
+def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say):
+    """(cal, cands, s, nu): the baseline's fit (None without uncertain inputs), the effects fitted
+    with it (each with ``.evidence``), and the likelihood's noise scale and degrees of freedom."""
+    import time
+
+    from .evidence import model_evidence
+    from .fitting import at_bound, fit_candidate
+    from .model import simulate
+
+    y = np.log10(np.asarray(real_mu, float))
+    n = y.size
+    r0 = y - np.log10(simulate(ctx.base, ctx))
+    every = np.ones(n, bool)
+
+    def finish(c, t1, s, nu):
+        c.at_bound = at_bound(ctx, c.effects, c.params)
+        bad = [(nm if len(c.effects) == 1 else f"{e.name}.{nm}", why)
+               for e, p in zip(c.effects, c.params) for nm, why in e.implausible(ctx, p, real_mu)]
+        c.implausible = [b[0] for b in bad]
+        c.implausible_why = [b[1] for b in bad]
+        c.evidence = model_evidence(ctx, real_mu, c, s, nu)
+        _press(c, c.evidence, y, s, r0, ho.boot, n)
+        c.seconds = time.perf_counter() - t1
+        timings[c.name] = c.seconds
+        say(f"  {c.name}: rms {c.gap_all:.4f} ln Z {c.evidence['log_z']:.2f} ({c.seconds:.1f} s)")
+        return c
+
+    cal = None
+    t1 = time.perf_counter()
+    if cal_e is not None:
+        cal = fit_candidate(ctx, real_mu, (cal_e,), every, cache={})
+        r_base, k_base = y - np.log10(cal.pred), cal.k
+    else:
+        r_base, k_base = r0, 0
+    s, nu = noise_prior(noise, noise_given, r_base, k_base)
+    if cal is not None:
+        cal = finish(cal, t1, s, nu)
+    cands = []
+    if not significant:
+        return cal, cands, s, nu
+    for e in usable:
+        t1 = time.perf_counter()
+        own = e.null_params(ctx) or {p.name: p.init for p in e.params}
+        if cal is not None:
+            effs = (cal_e, e)
+            starts = [cal.params + [own]]
+            budget = 8 if e.cost > 1 else 20 + 4 * (len(e.params) + len(cal_e.params))
+            c = fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=starts, budget=budget)
+        else:
+            c = fit_candidate(ctx, real_mu, (e,), every, cache={})
+        c = finish(c, t1, s, nu)
+        if c.implausible and e.physical is not None:
+            c = _physical(ctx, real_mu, c, every, finish, s, nu)
+        cands.append(c)
+    return cal, cands, s, nu
+
+
+def _physical(ctx, real_mu, c, every, finish, s, nu):
+    """An implausible fit refitted within its effects' physical ranges (kept when physical)."""
+    import time
+
+    from .fitting import fit_candidate
+
+    effs = tuple(e if e.name == "calibration" else e.restricted(ctx, real_mu) for e in c.effects)
+    if any(e is None for e in effs):
+        return c
+    t1 = time.perf_counter()
+    start = [{p.name: float(np.clip(q[p.name], p.lo, p.hi)) for p in e.params} for e, q in zip(effs, c.params)]
+    budget = 8 if max(e.cost for e in effs) > 1 else None
+    r = finish(fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=[start], budget=budget), t1, s, nu)
+    return r if not r.implausible else c
