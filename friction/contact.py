@@ -23,6 +23,18 @@ def cumulative_G(g, h):
     Each interval is integrated exactly for g a power of q (linear in (s, ln g)):
     ``h (g_b - g_a) / ln(g_b / g_a)``, falling back to the trapezoid when ``g_b ~ g_a`` or
     a value is zero. Returns G (..., n) with ``G[..., 0] = 0``.
+
+    Parameters
+    ----------
+    g : ndarray, shape (..., n)
+        Positive integrand on the nodes, uniform or not in s (here s = ln q).
+    h : ndarray, shape (n - 1,)
+        Widths of the intervals between consecutive nodes in s.
+
+    Returns
+    -------
+    ndarray, shape (..., n)
+        The cumulative integral, ``G[..., 0] = 0``.
     """
     ga, gb = g[..., :-1], g[..., 1:]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -35,7 +47,22 @@ def cumulative_G(g, h):
 
 
 def contact_P(G):
-    """``P = erf(1 / (2 sqrt G))`` with P(0) = 1: the fraction of the nominal area in contact."""
+    """``P = erf(1 / (2 sqrt G))`` with P(0) = 1: the fraction of the nominal area in contact.
+
+    Parameters
+    ----------
+    G : array_like
+        Persson's G(q), dimensionless, >= 0.
+
+    Returns
+    -------
+    ndarray
+        P(q), the relative contact area at magnification q / q0, shaped like ``G``.
+
+    References
+    ----------
+    B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626.
+    """
     G = np.asarray(G, dtype=float)
     with np.errstate(divide="ignore"):
         return np.where(G > 0, erf(0.5 / np.sqrt(np.maximum(G, 1e-300))), 1.0)
@@ -48,6 +75,23 @@ def contact_S(P, gamma=None):
     ``mu = 1/2 int q^3 C S P M dq`` (Persson, J. Phys.: Condens. Matter 18 (2006) 7789; Lorenz et
     al., EPL 103 (2013) 24003, gamma ~ 0.45 to 0.75); G and P are unchanged. ``gamma=None``
     means S = 1 (the thesis). Returns an array shaped like P (or the scalar 1.0).
+
+    Parameters
+    ----------
+    P : array_like
+        The relative contact area P(q).
+    gamma : float or None, optional
+        Persson's gamma, 0 <= gamma <= 1; None for no correction.
+
+    Returns
+    -------
+    ndarray or float
+        S(q), shaped like ``P``, or 1.0 when ``gamma`` is None.
+
+    References
+    ----------
+    B.N.J. Persson, J. Phys.: Condens. Matter 18, 7789 (2006), doi:10.1088/0953-8984/18/32/025.
+    B. Lorenz et al., EPL 103, 24003 (2013), doi:10.1209/0295-5075/103/24003.
     """
     if gamma is None:
         return 1.0
@@ -80,6 +124,20 @@ def p_weights(G, h):
     ``A0 = int P dt``, ``A1 = int t P dt`` come from closed-form antiderivatives of P and G P;
     where ``dG`` is small compared with ``G_a`` (P smooth there) Simpson's rule is used instead
     (avoids cancellation). Returns the weights and P at the nodes.
+
+    Parameters
+    ----------
+    G : array_like, shape (..., n)
+        Persson's G(q) on the nodes (non-decreasing along the last axis).
+    h : array_like, shape (n - 1,)
+        Interval widths in s = ln q.
+
+    Returns
+    -------
+    w : ndarray, shape (..., n)
+        Quadrature weights for ``integral f P ds``.
+    P : ndarray, shape (..., n)
+        P at the nodes.
     """
     G = np.asarray(G, dtype=float)
     Ga, Gb = G[..., :-1], G[..., 1:]

@@ -52,6 +52,25 @@ def fit_wlf(T_C, log10_aT, T_s_C=None):
     master curve's reference; if the table has no zero crossing, T_s is fitted too.
     Least squares in log10 aT (scipy.optimize.curve_fit), started from the linearised form
     ``(T - T_s)/log10 aT = -C2/C1 - (T - T_s)/C1``.
+
+    Parameters
+    ----------
+    T_C : array_like
+        Temperatures of the shift table [C].
+    log10_aT : array_like
+        Decimal log of the shift factor at each temperature.
+    T_s_C : float, optional
+        Reference temperature of the WLF form [C]; fitted when None and the table has no zero.
+
+    Returns
+    -------
+    WLF
+        The fitted constants ``C1``, ``C2_K``, ``T_s_C``.
+
+    References
+    ----------
+    M.L. Williams, R.F. Landel, J.D. Ferry, J. Am. Chem. Soc. 77, 3701 (1955),
+    doi:10.1021/ja01619a008.
     """
     T = np.asarray(T_C, dtype=float)
     y = np.asarray(log10_aT, dtype=float)

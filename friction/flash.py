@@ -57,7 +57,30 @@ def k_rule(k_lo, k_hi, per_decade=8):
 
 def heat_kernel(q_per_m, qp_per_m, D_m2_s, t0_s, per_decade=8):
     """The kernel g(q, q') [s] of the flash temperature, by the ln-k trapezoid rule
-    (used by :func:`mu_flash` in factorised form; exposed for tests)."""
+    (used by :func:`mu_flash` in factorised form; exposed for tests).
+
+    Parameters
+    ----------
+    q_per_m : array_like
+        Wave vectors q where the temperature is wanted [1/m].
+    qp_per_m : array_like
+        Source wave vectors q' [1/m].
+    D_m2_s : float
+        Thermal diffusivity lambda / (rho c_v) of the rubber [m^2/s].
+    t0_s : float
+        Contact time R / v of a macro-asperity [s].
+    per_decade : int, optional
+        Nodes per decade of the trapezoid rule in ln k.
+
+    Returns
+    -------
+    ndarray, shape (len(q), len(q'))
+        g(q, q') [s].
+
+    References
+    ----------
+    B.N.J. Persson, J. Phys.: Condens. Matter 18, 7789 (2006), doi:10.1088/0953-8984/18/32/025.
+    """
     q = np.atleast_1d(np.asarray(q_per_m, float))
     qp = np.atleast_1d(np.asarray(qp_per_m, float))
     s = D_m2_s * t0_s
@@ -72,7 +95,13 @@ def heat_kernel(q_per_m, qp_per_m, D_m2_s, t0_s, per_decade=8):
 
 class FlashConvergenceError(RuntimeError):
     """The self-consistent flash temperature was not found (the message is one line, naming the
-    speeds and the residual)."""
+    speeds and the residual).
+
+    Parameters
+    ----------
+    message : str
+        One line: the speeds that did not converge and the residual [K].
+    """
 
 
 def _anderson_step(X, R, T, r, beta, reg=1e-10):

@@ -33,6 +33,15 @@ def phi_rule(n_gl=8, panels_per_decade=1.0, u_min=1e-8):
     Returns
     -------
     cos_phi, weights : (n,) arrays with ``sum w f(phi) ~ integral_0^{pi/2} f dphi``.
+
+    Parameters
+    ----------
+    n_gl : int, optional
+        Gauss-Legendre nodes per panel.
+    panels_per_decade : float, optional
+        Panels per decade of u = pi/2 - phi.
+    u_min : float, optional
+        Lower end of the graded range of u [rad].
     """
     t, wt = np.polynomial.legendre.leggauss(int(n_gl))
     lo, hi = np.log(u_min), np.log(np.pi / 2)
@@ -51,7 +60,24 @@ def phi_rule(n_gl=8, panels_per_decade=1.0, u_min=1e-8):
 
 def q_nodes_per_decade(tol, base=40.0, ref_tol=1e-3, minimum=8):
     """q nodes per decade for a relative tolerance ``tol`` on mu (second-order rule:
-    about 40 per decade at 1e-3, scaling as tol^-1/2; measured in tests)."""
+    about 40 per decade at 1e-3, scaling as tol^-1/2; measured in tests).
+
+    Parameters
+    ----------
+    tol : float
+        Relative tolerance wanted on mu.
+    base : float, optional
+        Nodes per decade at the reference tolerance.
+    ref_tol : float, optional
+        The reference tolerance.
+    minimum : int, optional
+        Fewest nodes per decade returned.
+
+    Returns
+    -------
+    int
+        Nodes per decade of ln q.
+    """
     return max(minimum, int(np.ceil(base * np.sqrt(ref_tol / tol))))
 
 
@@ -61,7 +87,24 @@ def q_grid(breakpoints_per_m, nodes_per_decade, grade=8):
     ``s0 + h / 2^k``, k = 1..grade, where G rises from 0 and P has its 1/sqrt(q - q_min)
     shape (keeps the P integration second order).
 
-    Returns ``q`` (n,) [1/m] and ``h`` (n-1,) the interval widths in ln q."""
+    Returns ``q`` (n,) [1/m] and ``h`` (n-1,) the interval widths in ln q.
+
+    Parameters
+    ----------
+    breakpoints_per_m : array_like
+        Wave vectors that must be nodes (the band ends, a spectrum's tabulated points) [1/m].
+    nodes_per_decade : float
+        Nodes per decade between breakpoints.
+    grade : int, optional
+        Extra nodes graded towards the lowest q (0 for none).
+
+    Returns
+    -------
+    q : ndarray, shape (n,)
+        Nodes [1/m].
+    h : ndarray, shape (n - 1,)
+        Interval widths in ln q.
+    """
     bp = np.unique(np.asarray(breakpoints_per_m, dtype=float))
     parts = []
     for a, b in zip(bp[:-1], bp[1:]):
@@ -148,6 +191,19 @@ class PhiTable:
     are extended linearly in (ln x, ln m) with the end slopes. ``m`` and ``w`` are returned
     in Pa and Pa^2; Persson's M and W follow as ``4 m / ((1 - nu^2) sigma0)`` and
     ``4 w / ((1 - nu^2) sigma0)^2``.
+
+    Parameters
+    ----------
+    rubber : rubber model
+        Any rubber of :mod:`friction.rubber` (``modulus_ref``).
+    k_lo, k_hi : int
+        Lattice range of the table: ``ln x = k ln(10) / per_decade``.
+    per_decade : int, optional
+        Table nodes per decade of x.
+    n_gl : int, optional
+        Gauss-Legendre nodes per panel of the phi rule.
+    panels_per_decade : float, optional
+        Panels per decade of the phi rule.
     """
 
     def __init__(self, rubber, k_lo, k_hi, per_decade=24, n_gl=8, panels_per_decade=1.0):
@@ -188,7 +244,27 @@ _CACHE = weakref.WeakKeyDictionary()
 
 
 def phi_table(rubber, x_min, x_max, per_decade=24):
-    """A cached :class:`PhiTable` for ``rubber`` covering ``[x_min, x_max]`` (with margin)."""
+    """A cached :class:`PhiTable` for ``rubber`` covering ``[x_min, x_max]`` (with margin).
+
+    Parameters
+    ----------
+    rubber : rubber model
+        The rubber the table is for (tables are cached per rubber).
+    x_min, x_max : float
+        Range of ``x = q v aT`` that must be covered [rad/s].
+    per_decade : int, optional
+        Table nodes per decade.
+
+    Returns
+    -------
+    PhiTable
+        A table covering at least ``[x_min, x_max]``.
+
+    Raises
+    ------
+    ValueError
+        When the range is not finite and positive.
+    """
     d = np.log(10.0) / per_decade
     if not (np.isfinite(x_min) and np.isfinite(x_max) and 0 < x_min <= x_max):
         raise ValueError(f"reduced frequencies q v aT out of range ({x_min:.3g}..{x_max:.3g} rad/s): "

@@ -49,7 +49,30 @@ def _breakpoints(psd, extra=()):
 
 
 def contact_state(q, h, C, m, w, sigma0_Pa, nu):
-    """G, P and the P-integration weights on a (nv, nq) grid from tabulated m, w."""
+    """G, P and the P-integration weights on a (nv, nq) grid from tabulated m, w.
+
+    Parameters
+    ----------
+    q : ndarray, shape (nq,)
+        Wave vectors [1/m].
+    h : ndarray, shape (nq - 1,)
+        Interval widths in ln q.
+    C : ndarray, shape (nq,)
+        Spectrum at ``q`` [m^4].
+    m, w : ndarray, shape (nv, nq)
+        Tabulated quarter-range phi integrals (:class:`friction.grids.PhiTable`) [Pa, Pa^2].
+    sigma0_Pa : float
+        Nominal pressure [Pa].
+    nu : float
+        Poisson's ratio.
+
+    Returns
+    -------
+    G, P, wP : ndarray, shape (nv, nq)
+        Persson's G(q), the contact area P(q) and the exact-P quadrature weights.
+    dissipation : ndarray, shape (nv, nq)
+        ``q^4 C M`` without P, ready for the weights.
+    """
     s = (1.0 - nu * nu) * sigma0_Pa
     q4C = q ** 4 * C
     g = q4C * (4.0 * w / (s * s)) / 8.0

@@ -53,6 +53,22 @@ def group_sweeps(T_C, set_id=None, gap_C=2.0):
 
     With ``set_id`` the rows are grouped by it; otherwise rows whose temperatures, sorted, lie
     within ``gap_C`` of their neighbour form one sweep. Returns (T_mean (n,), list of index arrays).
+
+    Parameters
+    ----------
+    T_C : array_like
+        Temperature of every row [C].
+    set_id : array_like, optional
+        Sweep label of every row.
+    gap_C : float, optional
+        Largest temperature step inside one sweep [C].
+
+    Returns
+    -------
+    T_mean : ndarray, shape (n,)
+        Mean temperature of each sweep [C], ascending.
+    groups : list of ndarray
+        Row indices of each sweep.
     """
     T = np.asarray(T_C, dtype=float)
     if set_id is not None:
@@ -74,6 +90,28 @@ def fit_power_offset(f, y, b_max=2.0, nb=801):
     For each exponent b on a grid in [-b_max, b_max] the model is linear in (a, e) and solved in
     closed form; the best grid b is refined with a bounded scalar minimisation. Returns
     (a, b, e, rms residual).
+
+    Parameters
+    ----------
+    f : array_like
+        Frequencies [Hz], positive.
+    y : array_like
+        Values to fit (a modulus [Pa]).
+    b_max : float, optional
+        Largest |exponent| searched.
+    nb : int, optional
+        Exponents on the first grid.
+
+    Returns
+    -------
+    a : float
+        Amplitude at the geometric-mean frequency.
+    b : float
+        Exponent.
+    e : float
+        Offset.
+    rms : float
+        Rms residual, in the units of ``y``.
     """
     from scipy.optimize import minimize_scalar
 
@@ -196,6 +234,26 @@ def pair_shift(f_a, E1_a, E2_a, f_b, E1_b, E2_b):
     (near its peak, instrument resonances) the storage modulus does.
 
     Returns (shift, dict with both estimates and weights).
+
+    Parameters
+    ----------
+    f_a, E1_a, E2_a : ndarray
+        Frequencies [Hz], storage and loss moduli [Pa] of sweep a.
+    f_b, E1_b, E2_b : ndarray
+        The same for sweep b.
+
+    Returns
+    -------
+    shift : float
+        log10 of the frequency factor moving sweep b onto sweep a.
+    info : dict
+        ``storage``, ``loss`` (the two estimates), ``w_storage``, ``w_loss`` (their weights),
+        ``first`` and ``overlap``.
+
+    Raises
+    ------
+    ValueError
+        When neither modulus varies with frequency.
     """
     xa, xb = np.log10(f_a), np.log10(f_b)
     s_line, w1 = _line_shift(xa, np.log10(E1_a), xb, np.log10(E1_b))
@@ -229,6 +287,21 @@ def shift_factors(f_Hz, E1_Pa, E2_Pa, T_C, T_ref_C, set_id=None, max_sigma_decad
     Returns (T_sweep (n,), log10_aT (n,), groups, info) with ``log10 aT(T_ref) = 0``; info is a
     list per sweep of dicts ``method`` ("reference", "overlap" or "trend") and
     ``sigma_decades`` (standard error from the least squares; NaN for "trend").
+
+    Parameters
+    ----------
+    f_Hz, E1_Pa, E2_Pa : array_like
+        Raw sweep points: frequency [Hz], storage and loss moduli [Pa].
+    T_C : array_like
+        Temperature of each point [C].
+    T_ref_C : float
+        Reference temperature of the master curve [C].
+    set_id : array_like, optional
+        Sweep label of each point (else sweeps are grouped by temperature).
+    max_sigma_decades : float, optional
+        Pairs with a larger standard error are dropped [decades].
+    reach : int, optional
+        Neighbours compared on each side.
     """
     f, E1, E2 = (np.asarray(a, dtype=float) for a in (f_Hz, E1_Pa, E2_Pa))
     Tm, groups = group_sweeps(T_C, set_id)
@@ -306,6 +379,22 @@ def smooth_master(f_Hz, E1_Pa, E2_Pa, per_decade=10, width_decades=0.2):
     Local linear regression of log10 E on log10 f with Gaussian weights of standard deviation
     ``width_decades``, evaluated every ``1/per_decade`` decade over the points' range.
     Returns (f_grid, E1, E2) [Hz, Pa, Pa].
+
+    Parameters
+    ----------
+    f_Hz, E1_Pa, E2_Pa : array_like
+        Shifted points: frequency [Hz], storage and loss moduli [Pa].
+    per_decade : int, optional
+        Output points per decade.
+    width_decades : float, optional
+        Standard deviation of the Gaussian weights [decades].
+
+    Returns
+    -------
+    f_grid : ndarray
+        Frequencies [Hz].
+    E1, E2 : ndarray
+        Smoothed storage and loss moduli [Pa].
     """
     x = np.log10(np.asarray(f_Hz, float))
     ys = np.log10(np.column_stack([E1_Pa, E2_Pa]))
@@ -332,6 +421,27 @@ class TTSResult:
     prony : Prony series fitted to the smoothed curve; prony_rms : its rms relative misfit of
     E' and E'' (fractions).  sweep_info : per sweep, how its shift was found and its estimated
     standard error (:func:`shift_factors`).
+
+    Attributes
+    ----------
+    T_ref_C : float
+        Reference temperature [C].
+    T_sweep_C, log10_aT : ndarray
+        The shift table.
+    shifted : dict
+        Shifted raw points.
+    master : MasterCurve
+        Smoothed master curve at the reference temperature.
+    wlf : WLF
+        WLF constants fitted to the table.
+    wlf_rms_decades, wlf_max_decades : float
+        Misfit of the WLF fit [decades].
+    prony : Prony
+        Prony series fitted to the master curve.
+    prony_rms : float
+        Rms relative misfit of the Prony series.
+    sweep_info : list of dict
+        How each sweep's shift was found.
     """
 
     T_ref_C: float
@@ -349,7 +459,31 @@ class TTSResult:
 
 def build_master(f_Hz, E1_Pa, E2_Pa, T_C, T_ref_C, set_id=None, prony_per_decade=1.5):
     """Raw sweeps -> shift table, smoothed master curve, WLF fit and Prony series (see module
-    docstring). Raises ValueError with a one-line reason on unusable data."""
+    docstring). Raises ValueError with a one-line reason on unusable data.
+
+    Parameters
+    ----------
+    f_Hz, E1_Pa, E2_Pa : array_like
+        Raw sweeps: frequency [Hz], storage and loss moduli [Pa].
+    T_C : array_like
+        Temperature of each point [C].
+    T_ref_C : float
+        Reference temperature of the master curve [C].
+    set_id : array_like, optional
+        Sweep label of each point.
+    prony_per_decade : float, optional
+        Relaxation times per decade of the fitted Prony series.
+
+    Returns
+    -------
+    TTSResult
+        Shift table, master curve, WLF fit and Prony series.
+
+    References
+    ----------
+    J.D. Ferry, Viscoelastic Properties of Polymers, 3rd ed., Wiley (1980), chapter 11
+    (time-temperature superposition).
+    """
     import warnings
 
     from .fitting import fit_prony, fit_wlf

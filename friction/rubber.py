@@ -106,6 +106,27 @@ def log10_shift(rubber, T_C, wlf_form="relative", T0_C=None):
     ``literal``: thesis eq 3.7, ``E(omega, T) = E(omega aT(T), T0)``, i.e.
     ``log10 aT(T) + log10 aT(T0) - log10 aT(T_ref)`` (equals ``log10 aT(T)`` when T0 = T_ref).
     A rubber without a shift (``shift=None``) is temperature independent (factor 1).
+
+    Parameters
+    ----------
+    rubber : rubber model
+        A rubber with ``shift`` (WLF, ShiftTable or None) and ``T_ref_C``.
+    T_C : array_like
+        Temperature [C].
+    wlf_form : {"relative", "literal"}, optional
+        Which form of the shift (see above).
+    T0_C : float, optional
+        Background temperature of the literal form [C] (default ``T_ref_C``).
+
+    Returns
+    -------
+    ndarray
+        log10 of the frequency factor, shaped like ``T_C``.
+
+    References
+    ----------
+    M.L. Williams, R.F. Landel, J.D. Ferry, J. Am. Chem. Soc. 77, 3701 (1955),
+    doi:10.1021/ja01619a008.
     """
     T = np.asarray(T_C, dtype=float)
     if rubber.shift is None:
@@ -127,6 +148,15 @@ class Thermal:
     rho_kg_m3 : density [kg/m^3]; c_v_J_kgK : specific heat [J/(kg K)];
     conductivity_W_mK : heat conductivity lambda [W/(m K)]. ``diffusivity_m2_s`` is
     ``D = lambda / (rho c_v)`` [m^2/s].
+
+    Parameters
+    ----------
+    rho_kg_m3 : float, optional
+        Density [kg/m^3].
+    c_v_J_kgK : float, optional
+        Specific heat [J/(kg K)].
+    conductivity_W_mK : float, optional
+        Heat conductivity lambda [W/(m K)].
     """
 
     rho_kg_m3: float = 1200.0
@@ -171,6 +201,26 @@ class Prony(_Rubber):
     ``E(omega) = E_inf + sum_i E_i (i omega tau_i) / (1 + i omega tau_i)`` [Pa],
     so ``E(0) = E_inf`` (rubbery), ``E(inf) = E_inf + sum E_i`` (glassy),
     ``Im E = sum E_i omega tau_i / (1 + omega^2 tau_i^2) > 0``.
+
+    Parameters
+    ----------
+    E_inf_Pa : float
+        Relaxed (rubbery) modulus [Pa].
+    E_i_Pa : array_like
+        Modulus of each term [Pa].
+    tau_i_s : array_like
+        Relaxation time of each term [s].
+    T_ref_C : float, optional
+        Reference temperature of the moduli [C].
+    shift : WLF, ShiftTable or None, optional
+        Temperature shift (default: the thesis WLF).
+    thermal : Thermal, optional
+        Thermal properties for the flash-temperature model.
+
+    References
+    ----------
+    N.W. Tschoegl, The Phenomenological Theory of Linear Viscoelastic Behavior, Springer (1989),
+    doi:10.1007/978-3-642-73602-5.
     """
 
     E_inf_Pa: float
@@ -208,6 +258,25 @@ class StandardLinearSolid(_Rubber):
     ``E_inf = E1/(1+a1)``, ``E_1 = E1 a1/(1+a1)``, ``tau_1 = tau/(1+a1)`` (see :meth:`as_prony`).
     Defaults: the thesis rubber (E1 = 1e9 Pa, a1 = 1000, tau = 1e-3 s, T_ref = 60 C,
     WLF C1 = 8.86, C2 = 51.5 K, T_s = Tg + 50 = 20 C, Tg = -30 C: :meth:`WLF.thesis`).
+
+    Parameters
+    ----------
+    E1_Pa : float, optional
+        Glassy modulus E(inf) [Pa].
+    a1 : float, optional
+        Ratio of glassy to rubbery modulus minus one.
+    tau_s : float, optional
+        Time constant tau [s].
+    T_ref_C : float, optional
+        Reference temperature [C].
+    shift : WLF, ShiftTable or None, optional
+        Temperature shift (default: the thesis WLF).
+    thermal : Thermal, optional
+        Thermal properties.
+
+    References
+    ----------
+    B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626.
     """
 
     E1_Pa: float = 1e9
@@ -244,6 +313,21 @@ class MasterCurve(_Rubber):
     * ``"hold"``: E' and E'' are both held at their end values.
 
     ``E(0) = E'(f_min)``. :meth:`f_range_Hz` gives the measured range.
+
+    Parameters
+    ----------
+    f_Hz : array_like
+        Frequencies [Hz].
+    E_storage_Pa, E_loss_Pa : array_like
+        Storage and loss moduli E', E'' at ``T_ref_C`` [Pa].
+    T_ref_C : float, optional
+        Temperature of the master curve [C].
+    shift : WLF, ShiftTable or None, optional
+        Temperature shift (None: temperature independent).
+    thermal : Thermal, optional
+        Thermal properties.
+    extrapolate : {"powerlaw", "hold"}, optional
+        Behaviour outside the measured frequencies.
     """
 
     f_Hz: np.ndarray
@@ -301,5 +385,19 @@ class MasterCurve(_Rubber):
 
 def thesis_rubber():
     """The default rubber: the thesis's SLS at T_ref = 60 C with WLF (Tg = -30 C) and the
-    default thermal properties (rho 1200 kg/m^3, c_v 1500 J/(kg K), lambda 0.25 W/(m K))."""
+    default thermal properties (rho 1200 kg/m^3, c_v 1500 J/(kg K), lambda 0.25 W/(m K)).
+
+    Returns
+    -------
+    StandardLinearSolid
+        E1 = 1e9 Pa, a1 = 1000, tau = 1e-3 s at T_ref = 60 C.
+
+    Parameters
+    ----------
+    None
+
+    References
+    ----------
+    B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626.
+    """
     return StandardLinearSolid()

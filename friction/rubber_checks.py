@@ -73,6 +73,13 @@ def wlf_fit_report(shift, T_s_C=None):
     -------
     dict ``C1``, ``C2_K``, ``T_s_C``, ``rms_decades``, ``max_abs_decades``, ``n_points``; or
     None when ``shift`` is not a table or the fit fails.
+
+    Parameters
+    ----------
+    shift : object
+        The rubber's shift (only a :class:`friction.ShiftTable` is fitted).
+    T_s_C : float, optional
+        Reference temperature of the WLF form [C].
     """
     from .fitting import fit_wlf
 

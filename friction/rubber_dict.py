@@ -82,7 +82,18 @@ def _shift(d, model):
 
 def unit_shift_temperature(shift):
     """The temperature [C] where aT = 1 (log10 aT = 0): T_s of a WLF, the interpolated zero
-    crossing of a table (the first one); None without a shift or a crossing."""
+    crossing of a table (the first one); None without a shift or a crossing.
+
+    Parameters
+    ----------
+    shift : WLF, ShiftTable or None
+        A rubber's temperature shift.
+
+    Returns
+    -------
+    float or None
+        The temperature of aT = 1 [C].
+    """
     if isinstance(shift, WLF):
         return float(shift.T_s_C)
     if isinstance(shift, ShiftTable):
@@ -98,7 +109,24 @@ def unit_shift_temperature(shift):
 
 
 def rubber_from_dict(d):
-    """Rubber model from a dict (see module docstring); raises ValueError on bad content."""
+    """Rubber model from a dict (see module docstring); raises ValueError on bad content.
+
+    Parameters
+    ----------
+    d : dict
+        The parsed rubber TOML: ``model``, ``T_ref_C``, one table named after the model, optional
+        ``shift`` and ``thermal`` tables.
+
+    Returns
+    -------
+    StandardLinearSolid, Prony or MasterCurve
+        The rubber model.
+
+    Raises
+    ------
+    ValueError
+        On unknown keys or bad values (one line).
+    """
     if not isinstance(d, dict):
         raise ValueError("rubber description must be a table")
     _unknown(d, ("model", "name", "description", "source", "T_ref_C", "sls", "prony",
