@@ -13,7 +13,7 @@ from __future__ import annotations
 from ..csv_files import read_psd_csv
 from .model import FrictionContext, SimSpec
 
-__all__ = ["read_psd_csv", "write_psd_csv", "surface_from_scan", "build_context"]
+__all__ = ["read_psd_csv", "write_psd_csv", "surface_from_scan", "scan_surface", "build_context"]
 
 
 def write_psd_csv(path, q_per_m, C_m4):
@@ -28,6 +28,28 @@ def surface_from_scan(obj):
 
     an = analyse_surface(obj)
     return surface_psd(an.spectrum, an.fit), an.filled, an.spectrum, an.fit
+
+
+def scan_surface(obj, q0_per_m=None, q1_per_m=None, resolution_m=None):
+    """A measured scan's friction spectrum from the one chain (:mod:`pipelines.chain`), as
+    ``roadscan analyse`` integrates it -> (friction PSD, filled HeightMap/Profile, Spectrum, fit).
+
+    The spectrum over the scan's reliable band (or ``--q0``/``--q1`` [1/m]; above the scan C(q)
+    continues as the self-affine fit); a band whose fine end the measurement does not support
+    (:func:`pipelines.chain.judge_fine_end`) is refused in one line naming the flags.
+    """
+    from roadscan.errors import InputError
+
+    from ..chain import friction_psd, judge_fine_end, measure
+    from ..friction_options import FrictionSettings
+
+    an, rb = measure(obj, resolution_m=resolution_m)
+    settings = FrictionSettings(q0_per_m=q0_per_m, q1_per_m=q1_per_m)
+    psd, _ = friction_psd(an.spectrum, an.fit, rb, settings, an.name)
+    _, refused = judge_fine_end(psd, settings, an.name)
+    if refused is not None:
+        raise InputError(None, refused.replace("friction refused: ", "the scan's friction band is refused: "))
+    return psd, an.filled, an.spectrum, an.fit
 
 
 def build_context(curve, psd, rubber=None, scan=None, spectrum=None, fit=None, extra_inputs=()):

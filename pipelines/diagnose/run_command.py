@@ -35,7 +35,7 @@ def load_surface(args, say):
     """(psd, band, scan, spectrum, fit) of ``--psd`` or ``--scan`` with ``--q0/--q1`` applied."""
     from ..friction_options import apply_band
     from ..scan_input import load_scan
-    from .inputs import read_psd_csv, surface_from_scan
+    from .inputs import read_psd_csv, scan_surface
 
     if args.psd:
         psd, scan, spec, fit = read_psd_csv(args.psd), None, None, None
@@ -45,7 +45,7 @@ def load_surface(args, say):
         obj = load_scan(args.scan, args)
         args.scan_read = read_record(obj)
         try:
-            psd, scan, spec, fit = surface_from_scan(obj)
+            psd, scan, spec, fit = scan_surface(obj, args.q0, args.q1)   # the one chain
         except ValueError as exc:
             raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
     psd, band = apply_band(psd, args.q0, args.q1, log=say)
