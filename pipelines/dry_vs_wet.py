@@ -66,6 +66,8 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
 
     write(out_dir / "wet.npz", wet)    # the same with its spacing: heights, dx, dy, unmeasured (issue 22)
 
+    from .headline import WET_MODEL, hurst_keys, peak_keys, side_keys
+
     result = {
         "name": scan.name,
         "rms_height_dry_m": an_dry.roughness["Sq_m"],
@@ -74,6 +76,9 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         "hurst_wet": an_wet.fit.hurst,
         "hurst_stderr_dry": an_dry.fit.hurst_stderr,
         "hurst_stderr_wet": an_wet.fit.hurst_stderr,
+        # H a headline only over half a decade and within [0, 1] (pipelines.headline)
+        **side_keys(hurst_keys(an_dry.fit.hurst, an_dry.fit.hurst_stderr, an_dry.fit.fit_band_per_m), "dry"),
+        **side_keys(hurst_keys(an_wet.fit.hurst, an_wet.fit.hurst_stderr, an_wet.fit.fit_band_per_m), "wet"),
         "wetted_fraction": rain.wetted_fraction,
         "water_volume_m3_per_m2": rain.water_volume_m3_per_m2,
         "connectivity": connectivity,
@@ -126,6 +131,10 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         result["max_difference_mu"] = float(fd.mu[i] - fw.mu[i])
         result["mu_peak_dry"] = float(fd.mu.max())
         result["mu_peak_wet"] = float(fw.mu.max())
+        for side, curve in (("dry", fd), ("wet", fw)):     # largest mu at a grid end: no peak
+            result.update(side_keys({k: x for k, x in peak_keys(v, curve.mu).items()
+                                     if k.startswith("peak_")}, side))
+        result["wet_model"] = WET_MODEL           # what the wet/dry ratio covers and leaves out
         result["rubber"] = rubber_label(settings.rubber, settings.sigma0_Pa, fd.meta.get("T0_C"))
         report.write_csv(out_dir / "mu.csv", ["v_m_per_s", "mu_dry", "mu_wet"], [v, fd.mu, fw.mu])
         figs.append(report.plot_mu([("dry", v, fd.mu), ("wet (rain-filled)", v, fw.mu)],
@@ -149,11 +158,12 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
 
 
 def _write_report(out_dir, name, r, figs):
+    from .headline import hurst_text, wet_model_html
     from .units_format import length, sig3
 
     key = {
         "rms height dry / wet": f"{length(r['rms_height_dry_m'])} / {length(r['rms_height_wet_m'])}",
-        "Hurst exponent dry / wet": f"{sig3(r['hurst_dry'])} / {sig3(r['hurst_wet'])}",
+        "Hurst exponent dry / wet": " / ".join(hurst_text({"hurst": r[f"hurst_{s}"], "hurst_stderr": r[f"hurst_stderr_{s}"], "hurst_note": r.get(f"hurst_note_{s}")}) for s in ("dry", "wet")),
         "median PSD ratio wet / dry": r["psd_ratio_wet_to_dry_median"],
         "wetted area fraction": (f"{sig3(100 * r['wetted_fraction'])} %"
                                  if r["wetted_fraction"] is not None else None),
@@ -178,6 +188,8 @@ def _write_report(out_dir, name, r, figs):
         sections.append((f"Friction ({r['model']}); largest difference at v = "
                          f"{r['max_difference_v_m_per_s']:.3g} m/s",
                          report.table_html(rows, ["v [m/s]", "μ dry", "μ wet", "wet / dry"])))
+    if r.get("wet_model"):
+        sections.append(("What the wet model covers", wet_model_html()))
     sections.append(("Figures", [list(figs)]))
     note = ("Water fills every depression not connected to the border up to its spill level "
             "(grayscale imfill / morphological reconstruction)"

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 __all__ = ["RUBBER_ILLUSTRATIVE", "MIN_FIT_DECADES", "hurst_keys", "hurst_text", "peak_keys",
-           "peak_text", "WET_MODEL", "wet_model_html"]
+           "peak_text", "side_keys", "WET_MODEL", "wet_model_html"]
 
 #: the name of the built-in rubber on every mu figure, report and summary
 RUBBER_ILLUSTRATIVE = "illustrative (thesis SLS, not a tread compound)"
@@ -131,6 +131,11 @@ def peak_text(mu_peak, v_peak_m_per_s, peak_at_edge=False, peak_note=None):
     if peak_at_edge:
         return f"μ {sig3(mu_peak)}, {peak_note}"
     return f"peak μ {sig3(mu_peak)} at {sig3(v_peak_m_per_s)} m/s"
+
+
+def side_keys(keys, side):
+    """``{"hurst": ..}`` -> ``{"hurst_dry": ..}``: the keys of one side of a dry/wet pair."""
+    return {f"{k}_{side}": v for k, v in keys.items()}
 
 
 #: what the wet (rain-filled) friction of dry-vs-wet covers and leaves out
