@@ -158,12 +158,12 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
 
 
 def _write_report(out_dir, name, r, figs):
-    from .headline import hurst_text, wet_model_html
+    from .headline import hurst_pair_text, wet_model_html
     from .units_format import length, sig3
 
     key = {
         "rms height dry / wet": f"{length(r['rms_height_dry_m'])} / {length(r['rms_height_wet_m'])}",
-        "Hurst exponent dry / wet": " / ".join(hurst_text({"hurst": r[f"hurst_{s}"], "hurst_stderr": r[f"hurst_stderr_{s}"], "hurst_note": r.get(f"hurst_note_{s}")}) for s in ("dry", "wet")),
+        "Hurst exponent dry / wet": hurst_pair_text(r),
         "median PSD ratio wet / dry": r["psd_ratio_wet_to_dry_median"],
         "wetted area fraction": (f"{sig3(100 * r['wetted_fraction'])} %"
                                  if r["wetted_fraction"] is not None else None),

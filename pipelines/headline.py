@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 __all__ = ["RUBBER_ILLUSTRATIVE", "MIN_FIT_DECADES", "hurst_keys", "hurst_text", "peak_keys",
-           "peak_text", "side_keys", "WET_MODEL", "wet_model_html"]
+           "peak_text", "side_keys", "hurst_pair_text", "WET_MODEL", "wet_model_html"]
 
 #: the name of the built-in rubber on every mu figure, report and summary
 RUBBER_ILLUSTRATIVE = "illustrative (thesis SLS, not a tread compound)"
@@ -133,6 +133,13 @@ def peak_text(mu_peak, v_peak_m_per_s, peak_at_edge=False, peak_note=None):
     return f"peak μ {sig3(mu_peak)} at {sig3(v_peak_m_per_s)} m/s"
 
 
+def hurst_pair_text(result, sides=("dry", "wet")):
+    """``"0.863 ± 0.005 / 0.849 ± 0.008"`` from ``hurst_dry``, ``hurst_stderr_dry``,
+    ``hurst_note_dry``... (a side's note when its H is not a headline)."""
+    return " / ".join(hurst_text({k: result.get(f"{k}_{s}") for k in
+                                  ("hurst", "hurst_stderr", "hurst_note")}) for s in sides)
+
+
 def side_keys(keys, side):
     """``{"hurst": ..}`` -> ``{"hurst_dry": ..}``: the keys of one side of a dry/wet pair."""
     return {f"{k}_{side}": v for k, v in keys.items()}
@@ -160,5 +167,6 @@ def wet_model_html():
     import html
 
     out = ", ".join(WET_MODEL["leaves_out"])
+    then = WET_MODEL["consequence"]
     return (f"<p class='note'><b>What the wet model covers:</b> {html.escape(WET_MODEL['covers'])}. "
-            f"<b>Left out:</b> {html.escape(out)}. {html.escape(WET_MODEL['consequence'][0].upper() + WET_MODEL['consequence'][1:])}.</p>")
+            f"<b>Left out:</b> {html.escape(out)}. {html.escape(then[0].upper() + then[1:])}.</p>")
