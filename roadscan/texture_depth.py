@@ -12,7 +12,7 @@ import numpy as np
 from .heightmap import HeightMap, Profile
 
 __all__ = ["estimated_texture_depth", "ifi_speed_constant", "ifi_f60", "short_segment_depth",
-           "spike_alpha_to_pass", "SHORT_MIN_BASELINE_M"]
+           "spike_alpha_to_pass", "SHORT_MIN_BASELINE_M", "MpdSegments", "mpd_segments"]
 
 #: Shortest baseline a short-scan segment depth is given for [m].
 SHORT_MIN_BASELINE_M = 10e-3
@@ -144,3 +144,75 @@ def spike_alpha_to_pass(obj, settings=None, upper=50.0, step=0.1, max_rows=256):
             k_lo = k
     alpha = k_hi * step
     return round(alpha, 6), iso
+
+
+class MpdSegments:
+    """The ISO 13473-1 segments behind an MPD: one row per 100 mm segment of every line.
+
+    Attributes (arrays of the same length, line by line, segments in order along each line):
+    ``line`` (line index), ``start_m``, ``end_m`` (segment ends along the line [m], from the
+    line's first sample), ``msd_m`` (mean segment depth [m]), ``valid`` (bool) and ``reason``
+    (why a segment is invalid, empty when valid). ``mpd_m`` is the mean MSD of the valid
+    segments (None without any), ``mpd_valid`` is True when at least half of the segments
+    are valid (ISO 13473-1:2019, 7.9; False when there is no segment), ``n_valid``,
+    ``n_total``; ``note`` says what was done (as :func:`roadscan.roughness.mean_profile_depth`).
+    """
+
+    def __init__(self, res, note, line_length_m):
+        cfg = res["settings"]
+        valid = np.asarray(res["valid"], dtype=bool)
+        rows, n_seg = valid.shape
+        seg = cfg["segment_m"]
+        self.line = np.repeat(np.arange(rows), n_seg)
+        self.start_m = np.tile(np.arange(n_seg) * seg, rows)
+        self.end_m = self.start_m + seg
+        self.msd_m = np.asarray(res["msd_m"], dtype=float).ravel()
+        self.valid = valid.ravel()
+        drop, spk = np.asarray(res["dropout_fraction"]).ravel(), np.asarray(res["spike_fraction"]).ravel()
+        reasons = []
+        for d, sp, ok in zip(drop, spk, self.valid):
+            why = []
+            if d > cfg["max_dropout_fraction"]:
+                why.append(f"dropouts {100 * d:.3g} % > {100 * cfg['max_dropout_fraction']:g} %")
+            if sp > cfg["max_spike_fraction"]:
+                why.append(f"spikes {100 * sp:.3g} % > {100 * cfg['max_spike_fraction']:g} %")
+            reasons.append("" if ok else "; ".join(why))
+        self.reason = reasons
+        self.n_valid, self.n_total = int(self.valid.sum()), int(self.valid.size)
+        self.mpd_m = float(self.msd_m[self.valid].mean()) if self.n_valid else None
+        self.mpd_valid = bool(self.n_valid and self.n_valid >= cfg["min_valid_fraction"] * self.n_total)
+        self.line_length_m = float(line_length_m)
+        self.note = note
+
+    def validity_text(self):
+        """"valid per ISO 13473-1 (17 of 18 segments)" or "not valid per ISO 13473-1 (3 of 18
+        segments)"."""
+        what = "valid" if self.mpd_valid else "not valid"
+        return f"{what} per ISO 13473-1 ({self.n_valid} of {self.n_total} segments)"
+
+
+def mpd_segments(obj, **settings):
+    """The per-segment table of the ISO 13473-1 MPD of a profile or of a map's rows.
+
+    The segments are those of :func:`roadscan.roughness.segment_depths` (100 mm baselines
+    from each line's first sample; a segment is invalid with more than 10 % dropouts or 5 %
+    spikes); a map's rows are its lines (transpose the map for lines along y).
+
+    Returns
+    -------
+    MpdSegments, or None when no segment fits (line shorter than 100 mm, spacing coarser
+    than 1 mm).
+    """
+    from . import roughness
+
+    try:
+        if isinstance(obj, HeightMap):
+            res = roughness._segment_depths_by_bands(obj, settings)
+            what, length = f"{obj.ny} rows", obj.nx * obj.dx_m
+        else:
+            res = roughness.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **settings)
+            what, length = "a profile", obj.length_m
+    except ValueError:
+        return None
+    _, note = roughness._summarise(res, what)
+    return MpdSegments(res, note, length)

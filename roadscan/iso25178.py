@@ -1,0 +1,55 @@
+"""The road engineer's texture set beyond the height figures, in one call per scan kind.
+
+Areal (ISO 25178-2:2012 / 2021): the material-ratio family and volumes
+(:mod:`roadscan.material_ratio`), the spatial figures (:mod:`roadscan.areal_spatial`) and the
+feature figures (:mod:`roadscan.areal_features`). Profile (ISO 21920-2:2021): the Rk family and
+Rmr (:func:`roadscan.material_ratio.profile_material_parameters`).
+
+Input: a levelled (and, when asked, S- and L-filtered) HeightMap or Profile, heights in
+metres, NaN where unmeasured. Output keys are SI with their unit in the name.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .heightmap import HeightMap, Profile
+
+__all__ = ["AREAL_KEYS", "PROFILE_KEYS", "texture_parameters"]
+
+AREAL_KEYS = ("Sk_m", "Spk_m", "Svk_m", "Smr1_pct", "Smr2_pct", "Vmp_m3_per_m2", "Vmc_m3_per_m2",
+              "Vvc_m3_per_m2", "Vvv_m3_per_m2", "Sal_m", "Str", "Std_deg", "Spd_per_m2",
+              "Spc_per_m", "S10z_m", "S5p_m", "S5v_m")
+PROFILE_KEYS = ("Rk_m", "Rpk_m", "Rvk_m", "Rmr1_pct", "Rmr2_pct", "Rmr_pct")
+
+
+def texture_parameters(obj):
+    """The figures of :data:`AREAL_KEYS` (a HeightMap) or :data:`PROFILE_KEYS` (a Profile).
+
+    Returns
+    -------
+    (dict of figures, dict of notes): the notes (``spatial``, ``features``) say how the
+    spatial and feature figures were obtained and why one is null.
+    """
+    from .material_ratio import areal_material_parameters, profile_material_parameters
+
+    z = obj.heights_m
+    good = z[np.isfinite(z)]
+    if isinstance(obj, Profile):
+        if good.size < 2:
+            return dict.fromkeys(PROFILE_KEYS), {}
+        return profile_material_parameters(good), {}
+    if not isinstance(obj, HeightMap):
+        raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
+    from .areal_features import feature_parameters
+    from .areal_spatial import spatial_parameters
+
+    if good.size < 2:
+        return dict.fromkeys(AREAL_KEYS), {}
+    out = areal_material_parameters(good)
+    zc = z - good.mean()
+    sp = spatial_parameters(zc, obj.dx_m, obj.dy_m)
+    ft = feature_parameters(zc, obj.dx_m, obj.dy_m)
+    notes = {"spatial": sp.pop("spatial_note"), "features": ft.pop("features_note")}
+    out.update(sp)
+    out.update(ft)
+    return {k: out[k] for k in AREAL_KEYS}, notes
