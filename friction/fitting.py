@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.optimize import curve_fit, nnls
 
 from .rubber import WLF, Prony
 
@@ -39,6 +38,8 @@ def fit_prony(master_curve, n_terms=None, per_decade=1.0):
     A = np.vstack([np.hstack([np.ones((f.size, 1)), re]) / E1[:, None],
                    np.hstack([np.zeros((f.size, 1)), im]) / E2[:, None]])
     b = np.concatenate([np.ones(f.size), np.ones(f.size)])
+    from scipy.optimize import nnls
+
     coef, _ = nnls(A, b, maxiter=50 * A.shape[1])
     keep = coef[1:] > 0
     return Prony(float(coef[0]), coef[1:][keep], tau[keep], master_curve.T_ref_C,
@@ -72,6 +73,8 @@ def fit_wlf(T_C, log10_aT, T_s_C=None):
     M.L. Williams, R.F. Landel, J.D. Ferry, J. Am. Chem. Soc. 77, 3701 (1955),
     doi:10.1021/ja01619a008.
     """
+    from scipy.optimize import curve_fit
+
     T = np.asarray(T_C, dtype=float)
     y = np.asarray(log10_aT, dtype=float)
     o = np.argsort(T)

@@ -4,12 +4,13 @@ provides ``NAME``, ``HELP``, ``add_arguments(parser)`` and ``run(args) -> int``.
 Errors (the policy of :mod:`pipelines.validate`): whatever goes wrong, the user sees **one
 line** on stderr, never a traceback.
 
-- Bad input (:class:`roadscan.InputError`, a missing/unreadable file, a bad option, a number
-  the checks refuse, and the arithmetic errors bad input provokes: ``ValueError``,
-  ``OverflowError``, ``ZeroDivisionError``, ``FloatingPointError``, ``MemoryError``) ->
-  ``roadscan CMD: error: ...``, exit code 2. argparse's usage errors are one line too, exit 2.
-- Anything else is a bug -> ``roadscan CMD: internal error (Type: message); rerun with --debug
-  for the traceback``, exit code 1.
+- Bad input (:class:`roadscan.InputError`, the options it points at named by their flags; a
+  missing/unreadable file; a file the standard parsers refuse: ``UnicodeError``, JSON, CSV,
+  TOML; ``MemoryError``: the scan is too large) -> ``roadscan CMD: error: ...``, exit code 2.
+  argparse's usage errors are one line too, exit 2.
+- Anything else, a plain ``ValueError`` or ``ArithmeticError`` included, is a bug (the checks
+  turn bad input into an InputError before the numerics) -> ``roadscan CMD: internal error
+  (Type: message); rerun with --debug for the traceback``, exit code 1.
 - ``--debug`` (before or after the command name) shows the full traceback instead.
 - NumPy floating-point warnings are not printed as they happen: the CLI collects them and, if
   the command succeeds, prints one named line (``warning: numpy: ...``); the checks of
@@ -49,15 +50,28 @@ import warnings
 
 from roadscan.errors import InputError
 
+from .cli_hints import flag_text
+
 # subcommand modules, in the order ``roadscan --help`` lists them
 COMMAND_MODULES = (
     "analyse", "batch", "synth", "friction_cmd", "rubber", "stitch", "rainfill", "dry_vs_wet", "compare",
     "diagnose", "convert", "combine",
 )
 
-#: exceptions that bad input provokes deep inside the numerics: reported as input errors (exit 2)
-INPUT_LIKE = (ValueError, OverflowError, ZeroDivisionError, FloatingPointError, MemoryError,
-              ArithmeticError)
+def _parsing_errors():
+    """Errors of the standard parsers reading a file's text (a broken JSON, CSV, TOML or text
+    encoding): bad input even where no reader wrapped them in an InputError."""
+    import csv
+    import json
+
+    found = [UnicodeError, json.JSONDecodeError, csv.Error]
+    try:
+        import tomllib
+    except ModuleNotFoundError:   # Python < 3.11
+        pass
+    else:
+        found.append(tomllib.TOMLDecodeError)
+    return tuple(found)
 
 
 def one_line(text, limit=400):
@@ -204,7 +218,7 @@ def _main(args, cmd):
     except (SystemExit, KeyboardInterrupt):
         raise
     except InputError as exc:
-        return _fail(cmd, debug, one_line(exc))
+        return _fail(cmd, debug, one_line(flag_text(exc)))
     except (FileNotFoundError, IsADirectoryError, NotADirectoryError, PermissionError,
             FileExistsError) as exc:
         name = getattr(exc, "filename", None) or ""
@@ -215,8 +229,8 @@ def _main(args, cmd):
     except OSError as exc:
         name = getattr(exc, "filename", None) or _output_of(args, exc)
         return _fail(cmd, debug, one_line(f"{str(name) + ': ' if name else ''}{exc.strerror or exc}"))
-    except INPUT_LIKE as exc:
-        return _fail(cmd, debug, one_line(f"cannot process this input ({type(exc).__name__}: {exc})"))
+    except _parsing_errors() as exc:
+        return _fail(cmd, debug, one_line(f"cannot parse this input ({type(exc).__name__}: {exc})"))
     except Exception as exc:  # noqa: BLE001 - last resort: a bug, still one line
         if isinstance(exc, RuntimeError) and "symlink loop" in str(exc).lower():  # pathlib, a looping link
             return _fail(cmd, debug, one_line(f"{exc}: a symbolic link loop"))

@@ -1,5 +1,6 @@
 """"Did you mean ...?" for a mistyped command or option (``analyze`` -> ``analyse``,
-``--output`` -> ``--out``), and the version string of ``roadscan --version``.
+``--output`` -> ``--out``), the version string of ``roadscan --version``, and the flag names of
+the options roadscan's errors and notes point at (:func:`flag_of`, :func:`flag_text`).
 
 Suggestions come from :func:`difflib.get_close_matches` (Ratcliff/Obershelp similarity, cutoff
 0.6) over the parser's own command names and option strings, so they follow the parser as it
@@ -11,7 +12,7 @@ from __future__ import annotations
 import argparse
 import difflib
 
-__all__ = ["hint", "package_version", "subparsers"]
+__all__ = ["flag_of", "flag_text", "hint", "package_version", "subparsers"]
 
 
 def package_version():
@@ -22,6 +23,21 @@ def package_version():
         return metadata.version("roadscan")
     except metadata.PackageNotFoundError:
         return "unknown"
+
+
+def flag_of(key):
+    """The command-line flag of a library option keyword: ``"max_pixels"`` -> ``"--max-pixels"``."""
+    return "--" + str(key).replace("_", "-")
+
+
+def flag_text(message):
+    """A message for the command line: an :class:`roadscan.errors.InputError` or
+    :class:`roadscan.errors.OptionNote` with its options named by their flags (``'spacing'`` ->
+    ``--spacing``); anything else as ``str()``."""
+    render = getattr(message, "render", None)
+    if callable(render) and getattr(message, "hint_option", None) is not None:
+        return render(flag_of)
+    return str(message)
 
 
 def subparsers(parser):

@@ -51,15 +51,16 @@ def command_inputs(args):
     return found
 
 
-def command_outputs(args):
-    """``[(path, is_folder, flag)]`` of the outputs ``args`` names."""
+def command_outputs(args, keys=False):
+    """``[(path, is_folder, flag)]`` of the outputs ``args`` names (``keys``: with the option's
+    keyword as a fourth item)."""
     folder = getattr(args, "command", None) in FOLDER_COMMANDS
-    outs = [(os.fspath(v), folder, flag) for key, flag in OUTPUT_OPTIONS.items()
+    outs = [(os.fspath(v), folder, flag, key) for key, flag in OUTPUT_OPTIONS.items()
             if isinstance((v := getattr(args, key, None)), (str, os.PathLike))]
-    for out, _, flag in outs:
+    for out, _, flag, _ in outs:
         if not out.strip():
             raise InputError(None, f"{flag}: empty name; name a file or folder")
-    return outs
+    return outs if keys else [o[:3] for o in outs]
 
 
 def check_link(path):
@@ -99,7 +100,7 @@ def check_command_paths(args):
     for inp in inputs:
         check_link(inp)
         check_kind(inp)
-    for out, folder, flag in command_outputs(args):
+    for out, folder, flag, key in command_outputs(args, keys=True):
         if os.path.islink(out):
             try:
                 os.stat(out)
@@ -114,4 +115,7 @@ def check_command_paths(args):
         for parent in Path(out).parents:    # every output, before any work
             if parent.is_file():
                 raise InputError(None, f"{flag} {out}: is below the file {parent}, need a folder")
-        refuse_overwrite([(out, folder)], inputs, flag=flag)
+        try:
+            refuse_overwrite([(out, folder)], inputs, option=key)
+        except InputError as exc:     # named as this command names it (a flag or OUT)
+            raise InputError(None, exc.render(lambda _key, flag=flag: flag)) from None

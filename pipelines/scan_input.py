@@ -91,6 +91,7 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
                                "such files before reading)") from None
     except (ValueError, OSError, KeyError, IndexError) as exc:
         raise InputError(path, f"cannot read height data ({type(exc).__name__}: {exc})") from None
+    from .cli_hints import flag_text
     from .validate import check_scan, warn
 
     from roadscan.plausibility import check_plausible
@@ -105,12 +106,15 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
     from roadscan.seams import find_steps
 
     for line in [*obj.meta.get("read_warnings", ()), *find_steps(obj)]:
-        warn(f"{path}: {line}")              # on stderr and in summary.json (issue 22)
+        warn(f"{path}: {flag_text(line)}")              # on stderr and in summary.json (issue 22)
     return obj
 
 
 def read_record(obj):
     """The keys of :data:`READ_KEYS` found in ``obj.meta``: for summary.json (how the file was
     read: a flag that overrode or was set aside for its calibration, the channel used)."""
+    from .cli_hints import flag_text
+
     meta = getattr(obj, "meta", None) or {}
-    return {k: meta[k] for k in READ_KEYS if k in meta}
+    return {k: flag_text(meta[k]) if isinstance(meta[k], str) else meta[k]
+            for k in READ_KEYS if k in meta}

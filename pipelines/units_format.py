@@ -1,4 +1,7 @@
-"""Numbers in the reader's units for reports and figure labels (issue 21).
+"""Numbers in the reader's units for reports and figure labels.
+
+:func:`sig3` and :func:`length` are :mod:`roadscan.units`' (one formatter for both layers);
+this module adds the report's other quantities (dB, km/h, 1/m with its wavelength, Pa, °C).
 
 Files keep SI with the unit in the name (``mpd_m``, ``rms_height_m``); what a person reads
 says "3.28 mm", "397 µm", "45.3 dB": three significant digits, no exponent between 1e-3 and
@@ -19,46 +22,12 @@ from __future__ import annotations
 
 import math
 
+from roadscan.units import LENGTH_UNITS, length, sig3
+
 __all__ = ["sig3", "length", "height", "wavelength_of_q", "decibel", "speed_kmh", "quantity",
            "label_of", "add_wavelength_axis"]
 
-_LENGTH_UNITS = (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9))
-
-
-def sig3(x, digits=3):
-    """``x`` to ``digits`` significant digits, plain notation for 1e-4 <= |x| < 1e6 ("2530",
-    "0.0123", "3.28"), scientific otherwise; "—" for None, NaN or inf."""
-    if x is None:
-        return "—"
-    x = float(x)
-    if not math.isfinite(x):
-        return "—"
-    if x == 0:
-        return "0"
-    e = math.floor(math.log10(abs(x)))
-    if not -4 <= e < 6:
-        return f"{x:.{digits - 1}e}"
-    decimals = digits - 1 - e
-    r = round(x, decimals)
-    if r != 0 and math.floor(math.log10(abs(r))) > e:     # 999.7 -> 1000: one decimal fewer
-        decimals -= 1
-        r = round(x, decimals)
-    return f"{r:.{max(0, decimals)}f}"
-
-
-def length(x_m, unit=None):
-    """A length [m] as "1.81 m", "3.28 mm", "397 µm" or "12.0 nm" (``unit`` forces one)."""
-    if x_m is None or not math.isfinite(float(x_m)):
-        return "—"
-    x = float(x_m)
-    if x == 0 and unit is None:
-        return "0 mm"
-    if unit is None:
-        unit, f = next(((u, f) for u, f in _LENGTH_UNITS if abs(x) >= f * (1 - 5e-4)),
-                       _LENGTH_UNITS[-1])
-    else:
-        f = dict(_LENGTH_UNITS)[unit]
-    return f"{sig3(x / f)} {unit}"
+_LENGTH_UNITS = LENGTH_UNITS
 
 
 def height(x_m):

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import InputError
 from .rolloff import detect_roll_off
 from .spectrum_types import Spectrum
 
@@ -91,7 +92,7 @@ def _loglog_fit(q, C, lo, hi, weights=None):
     w = np.ones_like(x) if weights is None else np.asarray(weights, dtype=np.float64)[s]
     n = x.size
     if n < 3:
-        raise ValueError(f"only {n} spectrum points in the fit band [{lo:.4g}, {hi:.4g}] 1/m")
+        raise InputError(None, f"only {n} spectrum points in the fit band [{lo:.4g}, {hi:.4g}] 1/m")
     w = w / w.sum()
     xm, ym = np.sum(w * x), np.sum(w * y)
     sxx = np.sum(w * (x - xm) ** 2)
@@ -140,7 +141,7 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
     """
     idx = _usable(spectrum, min_count)
     if idx.size < 5:
-        raise ValueError("spectrum has fewer than 5 usable points: cannot detect a band")
+        raise InputError(None, "spectrum has fewer than 5 usable points: cannot detect a band")
     q, C = spectrum.q_per_m[idx], spectrum.C_m4[idx]
     s = local_slopes(q, C, window_decades)
     x = np.log10(q)
@@ -154,7 +155,7 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
     runs = [(a, b - 1) for a, b in zip(edges[::2], edges[1::2])]
     runs = [r for r in runs if mid[r[0]: r[1] + 1].any()] or runs
     if not runs:
-        raise ValueError("no straight stretch found in the spectrum")
+        raise InputError(None, "no straight stretch found in the spectrum")
     i0, i1 = max(runs, key=lambda r: x[r[1]] - x[r[0]])
     if i1 - i0 < 2:
         c = (i0 + i1) // 2

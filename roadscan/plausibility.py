@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import InputError
+from .units import length as _fmt
 
 __all__ = ["detrended_rms", "check_plausible", "ROUGH_MAX", "SMOOTH_MIN", "UNITS"]
 
@@ -119,13 +120,6 @@ def _problem(rms, size, dx):
     return None
 
 
-def _fmt(v):
-    for unit, f in (("m", 1.0), ("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9), ("pm", 1e-12)):
-        if abs(v) >= f:
-            return f"{v / f:.3g} {unit}"
-    return f"{v:.3g} m"
-
-
 def check_plausible(obj, path=None, units=None):
     """Refuse heights implausible for the scan (module notes) in one line with ``units?``.
 
@@ -147,7 +141,8 @@ def check_plausible(obj, path=None, units=None):
     Raises
     ------
     InputError
-        ``"... units? ... pass --units mm"`` when the heights are implausible.
+        ``"... units? ... pass {units} mm"`` (the ``units`` option named by the front end)
+        when the heights are implausible.
     """
     rms = detrended_rms(obj)
     if np.isnan(rms):
@@ -178,9 +173,9 @@ def check_plausible(obj, path=None, units=None):
     if best is None and not np.isfinite(rms):
         return rms        # beyond any unit: the caller's absolute bounds name it (spikes, 1 km)
     if best is None:
-        fix = "check the file's units and spacing (--units, --spacing)"
+        fix = "check the file's units and spacing ({units}, {spacing})"
     elif from_file:
-        fix = f"if they are {best[1]}, pass --units {best[1]} --override-calibration"
+        fix = f"if they are {best[1]}, pass {{units}} {best[1]} {{override_calibration}}"
     else:
-        fix = f"if they are {best[1]}, pass --units {best[1]}"
-    raise InputError(path, f"units? {where}: {said}; {fix}")
+        fix = f"if they are {best[1]}, pass {{units}} {best[1]}"
+    raise InputError(path, f"units? {where}: {said}; {fix}", ("units", "spacing", "override_calibration"))

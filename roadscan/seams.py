@@ -30,6 +30,7 @@ import warnings
 import numpy as np
 
 from .heightmap import HeightMap, Profile
+from .units import length as _fmt
 
 __all__ = ["find_steps", "STEP_SIGMAS", "OUTLIER_FACTOR"]
 
@@ -75,13 +76,6 @@ def _jumps(profiles, sigma):
                 if best is None or size > best[0]:
                     best = (size, j)
     return None if best is None else (best[0], best[1], count)
-
-
-def _fmt(v):
-    for unit, f in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
-        if abs(v) >= f:
-            return f"{v / f:.3g} {unit}"
-    return f"{v:.3g} m"
 
 
 def _band_profiles(z, axis, n_other):

@@ -53,7 +53,7 @@ def test_x3p_bitwise_and_profile(tmp_path):
 def test_npy_round_trip_needs_spacing(tmp_path):
     hm = _surface()
     write(tmp_path / "a.npy", hm)
-    with pytest.raises(InputError, match=r"a\.npy.*no spacing: pass --spacing DX\[,DY\] in metres"):
+    with pytest.raises(InputError, match=r"a\.npy.*no spacing: pass 'spacing' DX\[,DY\] in metres"):
         read(tmp_path / "a.npy")
     back = read(tmp_path / "a.npy", spacing=(hm.dx_m, hm.dy_m))
     _same(hm, back)
@@ -195,7 +195,7 @@ def test_gwyddion_ascii_export(tmp_path):
     text = "# Channel: Height\n# Width: 2.000 mm\n# Height: 1.500 mm\n# Value units: um\n"
     text += "\n".join("\t".join(f"{v:.6e}" for v in r) for r in h)
     (tmp_path / "g.txt").write_text(text)
-    with pytest.raises(InputError, match="states its heights in um: --units mm"):
+    with pytest.raises(InputError, match="states its heights in um: 'units' mm"):
         read(tmp_path / "g.txt", units="mm")   # never silently overridden (issue 22)
     m = read(tmp_path / "g.txt", units="mm", calibration="default")  # batch: the file wins
     assert m.dx_m == pytest.approx(0.5e-3) and m.dy_m == pytest.approx(0.5e-3)

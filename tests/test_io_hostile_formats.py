@@ -176,7 +176,7 @@ def test_ambiguous_tiffs_refused_without_channel(tiffs, name, word):
     with pytest.raises(InputError) as ei:
         read(d / f"{name}.tif", spacing=1e-4)
     msg = str(ei.value)
-    assert word in msg and "--channel" in msg and f"{name}.tif" in msg and "\n" not in msg
+    assert word in msg and "'channel'" in msg and f"{name}.tif" in msg and "\n" not in msg
 
 
 def test_tiff_channel_chooses_page_sample_or_indices(tiffs):
@@ -192,13 +192,13 @@ def test_tiff_channel_chooses_page_sample_or_indices(tiffs):
     m = read(d / "pal.tif", spacing=1e-4, channel="index")
     np.testing.assert_array_equal(m.heights_m, src["pal"].astype(np.float64))
     for bad in (3, "x"):
-        with pytest.raises(InputError, match="--channel"):
+        with pytest.raises(InputError, match="'channel'"):
             read(d / "stack.tif", spacing=1e-4, channel=bad)
 
 
 def test_channel_on_single_channel_formats_refused(tmp_path):
     np.save(tmp_path / "a.npy", H)
-    with pytest.raises(InputError, match="a.npy: --channel 1: a .npy file holds one"):
+    with pytest.raises(InputError, match="a.npy: 'channel' 1: a .npy file holds one"):
         read(tmp_path / "a.npy", spacing=1e-4, channel="1")
 
 
@@ -395,7 +395,7 @@ def test_implausible_lateral_size_refused(tmp_path):
     with pytest.raises(InputError) as ei:
         read(tmp_path / "c.nms")
     msg = str(ei.value)
-    assert "c.nms" in msg and "implausible" in msg and "--override-calibration" in msg
+    assert "c.nms" in msg and "implausible" in msg and "'override_calibration'" in msg
     m = read(tmp_path / "c.nms", spacing="1e-6", calibration="override")
     assert m.dx_m == 1e-6
 
@@ -426,7 +426,7 @@ def test_gwy_channel_by_number_or_title(tmp_path):
     assert m.meta["channels"] == ["0: Height", "1: Height retrace"]
     for ch in (1, "1", "height retrace"):
         np.testing.assert_array_equal(read(tmp_path / "two.gwy", channel=ch).heights_m, b)
-    with pytest.raises(InputError, match=r"--channel 7: no such channel \(channels: 0 \(Height\)"):
+    with pytest.raises(InputError, match=r"'channel' 7: no such channel \(channels: 0 \(Height\)"):
         read(tmp_path / "two.gwy", channel=7)
 
 

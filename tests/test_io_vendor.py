@@ -123,9 +123,9 @@ def test_issue9_plu_regression(maps):
 def test_spacing_and_units_options(formats_dir, maps):
     """A flag never silently overrides the file's calibration (issue 22): refused by default,
     used and recorded under the override policy, set aside (and recorded) in a batch."""
-    with pytest.raises(InputError, match="carries its own spacing.*--override-calibration"):
+    with pytest.raises(InputError, match="carries its own spacing.*'override_calibration'"):
         read(formats_dir / "plu-1.plu", spacing="2e-6,3e-6")
-    with pytest.raises(InputError, match="heights in .*--units mm would override"):
+    with pytest.raises(InputError, match="heights in .*'units' mm would override"):
         read(formats_dir / "plu-1.plu", units="mm")
     m = read(formats_dir / "plu-1.plu", spacing="2e-6,3e-6", units="mm", calibration="override")
     assert (m.dx_m, m.dy_m) == (2e-6, 3e-6)
@@ -146,7 +146,7 @@ def test_size_limit_refuses_before_reading(formats_dir, monkeypatch):
     monkeypatch.setattr(_common, "_MAX_PIXELS", 1000)
     called = []
     monkeypatch.setattr(vendor_channel, "_check_values", lambda *a: called.append(a))
-    with pytest.raises(InputError, match=r"declares 576 x 768 = .*--max-pixels") as ei:
+    with pytest.raises(InputError, match=r"declares 576 x 768 = .*'max_pixels'") as ei:
         read(formats_dir / "plu-1.plu")
     assert "\n" not in str(ei.value) and not called
 
@@ -216,9 +216,9 @@ def test_text_dat_through_the_plain_text_reader(tmp_path):
     need_vendor()
     rows = [[1, 2, 3, 4, 5], [6, 7, 8, 9, 10], [11, 12, 13, 14, 15]]
     p = _text_dat(tmp_path / "m.dat", rows)
-    with pytest.raises(InputError, match=r"states no length unit: pass --units"):
+    with pytest.raises(InputError, match=r"states no length unit: pass 'units'"):
         read(p, spacing=1e-6)
-    with pytest.raises(InputError, match=r"states no lateral size: pass --spacing"):
+    with pytest.raises(InputError, match=r"states no lateral size: pass 'spacing'"):
         read(p, units="um")
     m = read(p, spacing="1e-6,2e-6", units="um")
     np.testing.assert_array_equal(m.heights_m, np.array(rows, dtype=float) * 1e-6)

@@ -23,19 +23,19 @@ def test_full_step_found_where_it_is(seed):
     assert find_steps(HeightMap(h, DX, DX)) == []
     h[:, 100:] += 2e-3
     (line,) = find_steps(HeightMap(h, DX, DX))
-    assert "step of 2" in line and "along x at x = 5 mm" in line and "stitching fault" in line
+    assert "step of 2" in line and "along x at x = 5.00 mm" in line and "stitching fault" in line
     hy = fourier_surface(256, DX, 0.8, 2e-4, seed=seed)
     hy[180:, :] -= 2e-3
     (line,) = find_steps(HeightMap(hy, DX, DX))
-    assert "along y at y = 9 mm" in line
+    assert "along y at y = 9.00 mm" in line
 
 
 def test_seam_over_part_of_the_scan_found():
     h = fourier_surface(256, DX, 0.8, 2e-4, seed=7)
     h[128:, 64:] += 1e-3                                  # one tile of a 2x2 grid lifted 1 mm
     lines = find_steps(HeightMap(h, DX, DX))
-    assert any("along x at x = 3.2 mm" in s for s in lines)
-    assert any("along y at y = 6.4 mm" in s for s in lines)
+    assert any("along x at x = 3.20 mm" in s for s in lines)
+    assert any("along y at y = 6.40 mm" in s for s in lines)
 
 
 def test_profile_plate_edge_found():

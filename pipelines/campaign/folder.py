@@ -32,7 +32,7 @@ def atomic_folder(target):
     refused (InputError), never replaced."""
     from roadscan.io.atomic import atomic_output_dir
 
-    return atomic_output_dir(target, flag="--out")
+    return atomic_output_dir(target)
 
 
 def sha256_of(path, chunk=1 << 20):

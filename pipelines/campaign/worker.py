@@ -28,7 +28,9 @@ SECTION_COLUMNS = ("section", "section_start_m", "section_length_m")
 
 def _message(file, exc):
     if isinstance(exc, InputError):
-        text = str(exc) if exc.path else f"{file}: {exc}"
+        from ..cli_hints import flag_text
+
+        text = flag_text(exc) if exc.path else f"{file}: {flag_text(exc)}"
     elif isinstance(exc, (ValueError, OSError, MemoryError)):
         text = f"{file}: {exc}"
     else:
@@ -60,11 +62,8 @@ def _analyse_one(job, tmp):
         scan = load_scan(job.get("path") or job["file"], spacing=job.get("spacing"),
                          units=job.get("units"), calibration=job.get("calibration"),
                          channel=job.get("channel"))
-        try:
-            summary = run_analysis(scan, tmp, job["settings"], figures=job.get("figures", False),
-                                   **job["analysis"])
-        except ValueError as exc:
-            raise InputError(job["file"], str(exc)) from None
+        summary = run_analysis(scan, tmp, job["settings"], figures=job.get("figures", False),
+                               **job["analysis"])
     return [ok_record(job, summary, job["subdir"], _mu_at(tmp))]
 
 

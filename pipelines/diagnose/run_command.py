@@ -46,8 +46,8 @@ def load_surface(args, say):
         args.scan_read = read_record(obj)
         try:
             psd, scan, spec, fit = scan_surface(obj, args.q0, args.q1)   # the one chain
-        except ValueError as exc:
-            raise InputError(args.scan, f"cannot analyse the scan ({exc})") from None
+        except InputError as exc:     # too little spectrum to analyse: the scan's fault
+            raise InputError(args.scan, f"cannot analyse the scan ({exc.problem})") from None
     psd, band = apply_band(psd, args.q0, args.q1, log=say)
     return psd, band, scan, spec, fit
 

@@ -93,9 +93,9 @@ def _channel_option(path, reader, channel):
     import inspect
 
     if "channel" not in inspect.signature(reader).parameters:
-        raise InputError(path, f"--channel {channel}: a {Path(path).suffix.lower()} file holds one "
-                               f"height channel (--channel is for TIFF pages/colours and "
-                               f"instrument files)")
+        raise InputError(path, f"{{channel}} {channel}: a {Path(path).suffix.lower()} file holds one "
+                               f"height channel ({{channel}} is for TIFF pages/colours and "
+                               f"instrument files)", "channel")
     return _channel_value(channel)
 
 
@@ -150,4 +150,4 @@ def _check_float32_range(path, obj, dtype):
     big = float(np.finfo(np.float32).max)
     if top > big:
         raise InputError(path, f"height {top:.3g} m does not fit float32 (largest {big:.3g}); "
-                               f"write float64 (without --float32)")
+                               f"write float64 (without {{float32}})", "float32")

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, OptionNote
 from ..heightmap import HeightMap, Profile
 
 __all__ = [
@@ -32,7 +32,7 @@ UNIT_FACTORS = {
     "m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "micron": 1e-6, "nm": 1e-9,
 }
 
-NO_SPACING = "no spacing: pass --spacing DX[,DY] in metres"
+NO_SPACING = OptionNote("no spacing: pass {spacing} DX[,DY] in metres", "spacing")
 
 
 def parse_units(text, path=None):
@@ -121,8 +121,8 @@ def check_declared_size(path, shape, itemsize=8):
     if n > limit:
         shape_txt = " x ".join(str(d) for d in dims)
         raise InputError(path, f"declares {shape_txt} = {n:.3g} points ({n * itemsize / 1e9:.3g} GB), "
-                               f"above the limit of {limit:.3g} points; raise it with --max-pixels N "
-                               f"if the machine has the memory")
+                               f"above the limit of {limit:.3g} points; raise it with {{max_pixels}} N "
+                               f"if the machine has the memory", "max_pixels")
     return n
 
 

@@ -33,7 +33,7 @@ import re
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, OptionNote
 from ._common import (NO_SPACING, check_declared_size, make_heightmap, make_profile, parse_units, regular_axis,
                       resolve_spacing, unit_factor)
 from ._registry import register_reader
@@ -198,11 +198,11 @@ def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, w
         given = tuple(sp)[:len(inferred)]
         if any(abs(g - i) > 1e-6 * i for g, i in zip(given, inferred)):
             shown = " x ".join(f"{d:.6g}" for d in d_file)
-            meta.setdefault("read_warnings", []).append(
-                f"--spacing {' x '.join(f'{g:.6g}' for g in given)} m replaces the spacing inferred "
+            meta.setdefault("read_warnings", []).append(OptionNote(
+                f"{{spacing}} {' x '.join(f'{g:.6g}' for g in given)} m replaces the spacing inferred "
                 f"from the {what} column ({shown} in the file's numbers; no title line states "
-                f"their unit)")
-            meta["spacing_from"] = "--spacing (replacing the coordinates' step)"
+                f"their unit)", "spacing"))
+            meta["spacing_from"] = OptionNote("{spacing} (replacing the coordinates' step)", "spacing")
         return given
     unit = check_coordinate_units(path, max(d_file), n_nodes, z_file, units, what)
     meta["coordinate_unit"] = unit

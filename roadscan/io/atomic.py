@@ -124,7 +124,7 @@ def atomic_path(path, suffix=None):
     try:
         yield Path(tmp)
         if not _in_tmp_folder(path):
-            check_not_read([path], flag="output", exclude=tmp)
+            check_not_read([path], option=None, exclude=tmp)
         os.replace(tmp, path)
     except BaseException as exc:
         with contextlib.suppress(FileNotFoundError):
@@ -202,21 +202,21 @@ def recover_output_dir(target):
             shutil.rmtree(p, ignore_errors=True)
 
 
-def _make_folder(folder, target, flag):
+def _make_folder(folder, target, option):
     """Create ``folder`` (the output's parent) or raise a one-line InputError naming ``target``."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(None, f"{flag} {target}: cannot create the folder ({exc.strerror or exc})") from None
+        raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: cannot create the folder ({exc.strerror or exc})") from None
 
 
-def _held_temporary(folder, target, flag):
+def _held_temporary(folder, target, option):
     """A new hidden temporary folder for ``target`` inside ``folder`` and the lock that holds it
     (a concurrent run's clean-up leaves a held folder alone)."""
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=folder))
     except OSError as exc:
-        raise InputError(None, f"{flag} {target}: cannot write there ({exc.strerror or exc})") from None
+        raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: cannot write there ({exc.strerror or exc})") from None
     return tmp, _hold(tmp)
 
 
@@ -248,7 +248,7 @@ def _in_use(folder):
 
 
 @contextlib.contextmanager
-def atomic_output_dir(target, flag="--out", inputs=()):
+def atomic_output_dir(target, option="out", inputs=()):
     """Build a whole output folder in a temporary folder beside ``target``; swap it in at the end.
 
     Parameters
@@ -256,8 +256,8 @@ def atomic_output_dir(target, flag="--out", inputs=()):
     target : str or Path
         The output folder. It may be missing (created), empty, or hold an earlier roadscan run
         (replaced as a whole). See :func:`check_output_dir` for what is refused.
-    flag : str
-        The option naming the folder, for error messages.
+    option : str
+        The keyword of the option naming the folder, for error messages.
     inputs : sequence of paths
         Input files of the run (a folder holding one of them is refused).
 
@@ -270,15 +270,15 @@ def atomic_output_dir(target, flag="--out", inputs=()):
     target is left as it was. On success the target holds exactly the files written.
     """
     target = through_link(Path(target))     # a link to a folder: the folder it points to
-    check_output_dir(target, flag, inputs)
+    check_output_dir(target, option, inputs)
     parent = target.parent
-    _make_folder(parent, target, flag)
+    _make_folder(parent, target, option)
     recover_output_dir(target)
-    tmp, lock = _held_temporary(parent, target, flag)
+    tmp, lock = _held_temporary(parent, target, option)
     try:
         os.chmod(tmp, _dir_mode())
         yield tmp
-        check_not_read([target], flag=flag, exclude=tmp)
+        check_not_read([target], option=option, exclude=tmp)
         _swap_in(tmp, target)
     except BaseException as exc:
         shutil.rmtree(tmp, ignore_errors=True)
@@ -308,7 +308,7 @@ def _swap_in(tmp, target):
 
 
 @contextlib.contextmanager
-def atomic_file_set(target, flag="--out"):
+def atomic_file_set(target, option="out"):
     """Write a set of sibling files (``mu.csv`` with ``mu_summary.json`` and ``mu.png``; a
     stitched map with its overlaps table; a rubber TOML with its data files) all or none.
 
@@ -316,8 +316,8 @@ def atomic_file_set(target, flag="--out"):
     ----------
     target : str or Path
         The set's main file; the set lives in its folder.
-    flag : str
-        The option naming it, for error messages.
+    option : str
+        The keyword of the option naming it, for error messages.
 
     Yields
     ------
@@ -334,16 +334,16 @@ def atomic_file_set(target, flag="--out"):
     target = Path(target)
     folder = target.parent
     if target.is_dir():
-        raise InputError(None, f"{flag} {target}: is a folder, need a file name")
+        raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: is a folder, need a file name")
     for parent in [folder, *folder.parents]:
         if parent.exists() and not parent.is_dir():
-            raise InputError(None, f"{flag} {target}: is below the file {parent}, need a folder")
+            raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: is below the file {parent}, need a folder")
     created = [p for p in [folder, *folder.parents] if not p.exists()]
-    _make_folder(folder, target, flag)
+    _make_folder(folder, target, option)
     for old in _leftovers(target, TMP_TAG):
         if not _in_use(old):
             shutil.rmtree(old, ignore_errors=True)
-    tmp, lock = _held_temporary(folder, target, flag)
+    tmp, lock = _held_temporary(folder, target, option)
     try:
         os.chmod(tmp, _dir_mode())
         yield tmp
@@ -351,8 +351,8 @@ def atomic_file_set(target, flag="--out"):
         dests = [through_link(folder / p.name) for p in files]   # a link: where it points
         busy = [d for d in dests if d.is_dir()]
         if busy:
-            raise InputError(None, f"{flag} {target}: {busy[0]} is a folder, cannot write the file")
-        check_not_read(dests, flag=flag, exclude=tmp)
+            raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: {busy[0]} is a folder, cannot write the file")
+        check_not_read(dests, option=option, exclude=tmp)
         for p, dest in zip(files, dests):
             _place(p, dest)
         os.rmdir(tmp)

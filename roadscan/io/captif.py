@@ -47,7 +47,7 @@ def read_dat(path, spacing=None, units=None, channel=None):
     check_file(path)
     if is_captif(path):
         if channel is not None:
-            raise InputError(path, f"--channel {channel}: a CAPTIF profile holds one channel")
+            raise InputError(path, f"{{channel}} {channel}: a CAPTIF profile holds one channel", "channel")
         return read_captif(path, spacing=spacing, units=units)
     from .vendor import read_vendor, vendor_available
 
@@ -57,8 +57,8 @@ def read_dat(path, spacing=None, units=None, channel=None):
     try:
         return read_vendor(path, spacing=spacing, units=units, channel=channel)
     except InputError as exc:
-        raise InputError(path, f"not a CAPTIF profile (no '*****DATA*****' line) nor a vendor "
-                               f".dat: {exc.problem}") from None
+        raise exc.reworded(path, "not a CAPTIF profile (no '*****DATA*****' line) nor a vendor "
+                                 ".dat: ") from None
 
 
 def read_captif(path, spacing=None, units=None):

@@ -74,7 +74,7 @@ def read_by_content(path, readers, spacing=None, units=None, channel=None):
     if kind != "vendor":
         reader = readers[kind]
         if extra and "channel" not in inspect.signature(reader).parameters:
-            raise InputError(path, f"--channel {channel}: a {kind} file holds one height channel")
+            raise InputError(path, f"{{channel}} {channel}: a {kind} file holds one height channel", "channel")
         try:
             obj = reader(path, spacing=spacing, units=units, **extra)
         except InputError as exc:
@@ -83,8 +83,8 @@ def read_by_content(path, readers, spacing=None, units=None, channel=None):
                     return _read_vendor_by_content(path, ext, readers, spacing, units, extra)
                 except InputError:
                     pass
-            raise InputError(path, f"unknown file extension {ext!r}, read by its content as "
-                                   f"{kind}: {exc.problem}") from None
+            raise exc.reworded(path, f"unknown file extension {ext!r}, read by its content as "
+                                     f"{kind}: ") from None
         obj.meta["detected_by_content"] = kind.lstrip(".")
         return obj
     return _read_vendor_by_content(path, ext, readers, spacing, units, extra)
@@ -116,7 +116,7 @@ def _read_vendor_by_content(path, ext, readers, spacing, units, extra):
     try:
         obj = read_vendor(path, spacing=spacing, units=units, formats=(fmt,), **extra)
     except InputError as exc:
-        raise InputError(path, f"unknown file extension {ext!r}, read by its content as "
-                               f"{fmt}: {exc.problem}") from None
+        raise exc.reworded(path, f"unknown file extension {ext!r}, read by its content as "
+                                 f"{fmt}: ") from None
     obj.meta["detected_by_content"] = fmt
     return obj

@@ -118,7 +118,7 @@ def _choose_channel(path, channels, titles, channel):
         if hits:
             return hits[0]
     listed = ", ".join(f"{c} ({titles[c]})" if titles[c] else str(c) for c in channels)
-    raise InputError(path, f"--channel {channel}: no such channel (channels: {listed})")
+    raise InputError(path, f"{{channel}} {channel}: no such channel (channels: {listed})", "channel")
 
 
 @register_reader(".gwy")

@@ -29,6 +29,7 @@ large). When its pixel exceeds 1 mm, the spacing is divided by 1e6 and a warning
 from __future__ import annotations
 
 from ..errors import InputError
+from ..units import length as _len
 
 __all__ = ["KINDS", "kind_of", "check_lateral", "fix_reader_units"]
 
@@ -50,13 +51,6 @@ def kind_of(fmt):
     return _KIND_OF.get(str(fmt).lower())
 
 
-def _len(v):
-    for unit, f in (("m", 1.0), ("mm", 1e-3), ("um", 1e-6), ("nm", 1e-9), ("pm", 1e-12)):
-        if abs(v) >= f:
-            return f"{v / f:.3g} {unit}"
-    return f"{v:.3g} m"
-
-
 def check_lateral(path, fmt, name, dx, dy, nx, ny):
     """Refuse spacings [m] or a field implausible for the instrument kind of format ``fmt``."""
     kind = kind_of(fmt)
@@ -70,7 +64,8 @@ def check_lateral(path, fmt, name, dx, dy, nx, ny):
         raise InputError(path, f"a {name} file ({kind}) giving {_len(dx)} x {_len(dy)} pixels and "
                                f"a {_len(dx * nx)} x {_len(dy * ny)} field: implausible for that "
                                f"instrument (a unit error in the file or its reader); if you know "
-                               f"the spacing, pass --spacing DX[,DY] --override-calibration")
+                               f"the spacing, pass {{spacing}} DX[,DY] {{override_calibration}}",
+                         ("spacing", "override_calibration"))
 
 
 def fix_reader_units(fmt, dx, dy, meta):

@@ -19,40 +19,43 @@ OUTPUT_MARKERS = ("summary.json", "report.html", "rainfill.json", "summary.csv",
                   "psd.csv", "compare.csv", "diagnosis.json", "wet.npy")
 
 
-def check_output_dir(target, flag="--out", inputs=()):
+def check_output_dir(target, option="out", inputs=()):
     """Refuse an output folder that cannot or must not be (re)placed, with one line.
 
     Refused: a path that is an existing file; a path below a file; an existing non-empty folder
     that holds no earlier roadscan output (it would be replaced as a whole); the current
     folder, the home folder or a filesystem root; a folder that contains one of ``inputs``.
+    ``option`` is the keyword of the option naming the folder (named in the messages:
+    :class:`roadscan.errors.InputError`).
     """
+    label = "{" + option + "}"
     target = Path(target)
     if str(target).strip() == "":
-        raise InputError(None, f"{flag}: empty folder name")
+        raise InputError(None, hint_option=option, problem=f"{label}: empty folder name")
     for parent in [target, *target.parents]:
         if parent.exists() and not parent.is_dir():
             what = "is an existing file" if parent == target else f"is below the file {parent}"
-            raise InputError(None, f"{flag} {target}: {what}, need a folder")
+            raise InputError(None, hint_option=option, problem=f"{label} {target}: {what}, need a folder")
     resolved = target.resolve()
     if resolved in (Path.cwd().resolve(), Path.home().resolve()) or resolved == resolved.parent \
             or resolved in Path.cwd().resolve().parents:
-        raise InputError(None, f"{flag} {target}: the whole folder would be replaced; name a new "
+        raise InputError(None, hint_option=option, problem=f"{label} {target}: the whole folder would be replaced; name a new "
                                f"or earlier output folder")
     for inp in inputs:
         try:
             Path(inp).resolve().relative_to(resolved)
         except ValueError:
             continue
-        raise InputError(None, f"{flag} {target}: contains the input {inp}; name another folder")
+        raise InputError(None, hint_option=option, problem=f"{label} {target}: contains the input {inp}; name another folder")
     if target.is_dir():
         entries = [p.name for p in target.iterdir()]
         if entries and not any(m in entries for m in OUTPUT_MARKERS) and not any(
                 (target / e / m).exists() for e in entries for m in OUTPUT_MARKERS):
-            raise InputError(None, f"{flag} {target}: folder exists, is not empty and holds no "
+            raise InputError(None, hint_option=option, problem=f"{label} {target}: folder exists, is not empty and holds no "
                                    f"earlier roadscan output; name a new folder")
         foreign = _foreign_file(target)
         if foreign is not None:
-            raise InputError(None, f"{flag} {target}: holds {foreign}, which no roadscan run writes; "
+            raise InputError(None, hint_option=option, problem=f"{label} {target}: holds {foreign}, which no roadscan run writes; "
                                    f"replacing the folder would lose it: move it or name another folder")
 
 

@@ -114,7 +114,7 @@ def inside(path, folder):
     return p != f and p.startswith(os.path.join(f, ""))
 
 
-def refuse_overwrite(outputs, inputs, flag="--out"):
+def refuse_overwrite(outputs, inputs, option="out"):
     """Raise :class:`InputError` when an output would replace an input.
 
     Parameters
@@ -124,10 +124,11 @@ def refuse_overwrite(outputs, inputs, flag="--out"):
         inside it.
     inputs : iterable of paths
         Every path the command reads (missing ones are skipped: their readers report them).
-    flag : str
-        The option naming the outputs, for the message.
+    option : str
+        The keyword of the option naming the outputs, for the message.
 
-    The message is one line: ``--out OUT: is the input IN; name another output``.
+    The message is one line: ``{out} OUT: is the input IN; name another output``
+    (:class:`roadscan.errors.InputError` names the option).
     """
     inputs = [str(i) for i in inputs if i is not None and str(i) != ""]
     for out in outputs:
@@ -139,19 +140,21 @@ def refuse_overwrite(outputs, inputs, flag="--out"):
         out = str(out)
         for inp in inputs:
             if same_path(out, inp):
-                raise InputError(None, f"{flag} {out}: is the input file {inp}; name another output "
+                raise InputError(None, hint_option=option, problem=f"{{{option}}} {out}: is the input file {inp}; name another output "
                                        f"(an input is never written over)")
             if folder and inside(inp, out):
-                raise InputError(None, f"{flag} {out}: contains the input {inp}; name another "
+                raise InputError(None, hint_option=option, problem=f"{{{option}}} {out}: contains the input {inp}; name another "
                                        f"folder (an input is never written over)")
 
 
-def check_not_read(targets, flag="--out", exclude=None):
+def check_not_read(targets, option="out", exclude=None):
     """Refuse to replace a file this command has read (inside :func:`reads_tracked`).
 
     ``targets`` are final output paths (files or folders); ``exclude`` a temporary folder whose
-    own files do not count (an output read back while it was being built).
+    own files do not count (an output read back while it was being built). ``option``: the
+    keyword of the option naming the outputs (None: they are called "output").
     """
+    label = "output" if option is None else "{" + option + "}"
     reads = _READS
     if not reads:
         return
@@ -164,5 +167,5 @@ def check_not_read(targets, flag="--out", exclude=None):
             if not os.path.lexists(r):
                 continue
             if same_path(t, r) or (os.path.isdir(t) and inside(r, t)):
-                raise InputError(None, f"{flag} {t}: would replace the input {r}, "
+                raise InputError(None, hint_option=option, problem=f"{label} {t}: would replace the input {r}, "
                                        f"which this command read; name another output")

@@ -48,7 +48,8 @@ def read_text(path):
     limit = get_max_pixels() or default_max_pixels()
     if size // 2 > limit:   # a value takes at least 2 characters (digit and separator)
         raise InputError(path, f"text file of {size / 1e6:.4g} MB may hold up to {size // 2:.3g} values, "
-                               f"above the limit of {limit:.3g} points; raise it with --max-pixels N")
+                               f"above the limit of {limit:.3g} points; raise it with {{max_pixels}} N",
+                         "max_pixels")
     raw = p.read_bytes()
     if b"\x00" in raw[:4096]:
         raise InputError(path, "binary file, not a text table")

@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import InputError
+from ..units import length as _len
 
 __all__ = ["UNITS", "check_coordinate_units", "plausible_reading", "line_rms"]
 
@@ -70,13 +71,6 @@ def plausible_reading(dx_m, length_m, rms_m):
     if rms_m > SQ_MAX_M or rms_m > ROUGH_MAX * length_m:
         return False
     return rms_m == 0 or rms_m >= SMOOTH_MIN * dx_m
-
-
-def _len(v):
-    for unit, f in (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9)):
-        if abs(v) >= f:
-            return f"{v / f:.3g} {unit}"
-    return f"{v:.3g} m"
 
 
 def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x"):
@@ -122,14 +116,14 @@ def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x"):
         if fits:
             alt = fits[0] + "".join(f" (or {u})" for u in fits[1:])
             raise InputError(path, f"{what} and heights look like {alt}, not metres ({where}; no "
-                                   f"title line states the units): give --units {fits[0]}, or "
-                                   f"--units m if they are metres")
+                                   f"title line states the units): give {{units}} {fits[0]}, or "
+                                   f"{{units}} m if they are metres", "units")
         return "m"
     # heights in `units`: are the coordinates metres (the older convention)?
     for u, g in UNITS.items():
         if abs(g - f) > 1e-9 * f and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * f):
-            raise InputError(path, f"{what} {'look' if ',' in what else 'looks'} like {u} while --units {units} reads them in "
-                                   f"{units} ({where}): --units applies to coordinates and heights "
+            raise InputError(path, f"{what} {'look' if ',' in what else 'looks'} like {u} while {{units}} {units} reads them in "
+                                   f"{units} ({where}): {{units}} applies to coordinates and heights "
                                    f"alike; state each column's unit in a title line, e.g. "
-                                   f"'x ({u}), z ({units})'")
+                                   f"'x ({u}), z ({units})'", "units")
     return units

@@ -66,18 +66,19 @@ def _pick_channel(reader, path, channel=None):
         names = [str(c.name) for c in channels]
         if isinstance(channel, int):
             if not 0 <= channel < len(channels):
-                raise InputError(path, f"--channel {channel}: the file holds {len(channels)} "
-                                       f"channels (0..{len(channels) - 1}: {', '.join(names)})")
+                raise InputError(path, f"{{channel}} {channel}: the file holds {len(channels)} "
+                                       f"channels (0..{len(channels) - 1}: {', '.join(names)})",
+                                 "channel")
             ch = channels[channel]
         else:
             hits = [c for c in channels if str(c.name).lower() == str(channel).lower()]
             if not hits:
-                raise InputError(path, f"--channel {channel!r}: no such channel (channels: "
-                                       f"{', '.join(names)})")
+                raise InputError(path, f"{{channel}} {channel!r}: no such channel (channels: "
+                                       f"{', '.join(names)})", "channel")
             ch = hits[0]
         if not getattr(ch, "is_height_channel", True):
-            raise InputError(path, f"--channel {channel}: channel {ch.name!r} does not hold "
-                                   f"heights")
+            raise InputError(path, f"{{channel}} {channel}: channel {ch.name!r} does not hold "
+                                   f"heights", "channel")
         return ch, channels
     heights = [c for c in channels if getattr(c, "is_height_channel", True)]
     if not heights:
@@ -122,7 +123,8 @@ def read_channel(reader, path, version, sp, units, channel=None):
     kwargs = {}
     if file_unit is None:
         if units is None:
-            raise InputError(path, "the file states no length unit: pass --units (m, mm, um, nm)")
+            raise InputError(path, "the file states no length unit: pass {units} (m, mm, um, nm)",
+                             "units")
         unit_factor(units, path)
         file_unit = _ST_UNIT.get(units, units)
         kwargs["unit"] = file_unit
@@ -131,7 +133,8 @@ def read_channel(reader, path, version, sp, units, channel=None):
     f_heights = f_file if "unit" in kwargs else pick_units(path, units, file_unit, f_file, meta)
     if ch.physical_sizes is None:
         if sp is None:
-            raise InputError(path, "the file states no lateral size: pass --spacing DX[,DY] in metres")
+            raise InputError(path, "the file states no lateral size: pass {spacing} DX[,DY] in metres",
+                             "spacing")
         if declared is None:
             raise InputError(path, "the file states neither its grid nor its lateral size")
         ny, nx = declared
@@ -193,7 +196,7 @@ def read_channel(reader, path, version, sp, units, channel=None):
     })
     if len(channels) > 1:
         meta["channels"] = [str(c.name) for c in channels]
-        how = "chosen with --channel" if channel is not None else "the first height channel"
+        how = "chosen by the channel option" if channel is not None else "the first height channel"
         meta["channel_note"] = f"channel {ch.index} {ch.name!r} of {len(channels)} read ({how})"
     if caught:
         meta["reader_warnings"] = sorted({one_line(w.message, 160) for w in caught})[:5]
