@@ -177,8 +177,9 @@ def report_rows(summary):
 
 
 def _wl(q):
-    lam = 2 * np.pi / q
-    return f"{lam * 1e3:.3g} mm" if lam >= 1e-3 else f"{lam * 1e6:.3g} µm"
+    from .units_format import wavelength_of_q
+
+    return wavelength_of_q(q)
 
 
 def warnings_section(summary):
