@@ -58,13 +58,19 @@ def uncertain_spec(surf):
             f"psd_scale={LEVELS[0]}:{LEVELS[1]}")
 
 
-def make_offset_case(seed, effect, workdir):
-    """One world in ``workdir`` (mu.csv, psd.csv); ``case.params['offsets']`` holds the truth."""
+def few_speeds(seed):
+    """The number of measured speeds of a few-point world (5 to 10, from the seed)."""
+    return 5 + seed % 6
+
+
+def make_offset_case(seed, effect, workdir, few=False):
+    """One world in ``workdir`` (mu.csv, psd.csv); ``case.params['offsets']`` holds the truth.
+    ``few``: 5 to 10 measured speeds (:func:`few_speeds`) instead of 20 to 40."""
     rng = np.random.default_rng(seed)
     d = Path(workdir)
     d.mkdir(parents=True, exist_ok=True)
     surf = _psd_surface(rng, d)
-    v = draw_speeds(rng)
+    v = draw_speeds(rng, few_speeds(seed) if few else None)
     p = draw_params(rng, effect, surf)
     fq = float(np.exp(rng.uniform(*np.log(Q1_FACTORS))))
     fs = float(rng.uniform(*SIGMA0_FACTORS))
@@ -81,7 +87,8 @@ def make_offset_case(seed, effect, workdir):
     case = Case(seed, effect, dict(p, offsets=dict(q1_factor=fq, sigma0_factor=fs, level=fc)), surf, v,
                 mu_model, mu_clean, mu_meas, noise, d)
     case.signal_gap = _rms(np.log10(mu_clean / mu_offsets))
-    case.info = dict(offset_gap=_rms(np.log10(mu_offsets / mu_model)), uncertain=uncertain_spec(surf))
+    case.info = dict(offset_gap=_rms(np.log10(mu_offsets / mu_model)), uncertain=uncertain_spec(surf),
+                     truth=(effect, p, true_surf, s0))
     return case
 
 
@@ -98,13 +105,19 @@ def run_offset_case(case):
                 calibrated=ver.get("calibrated"), error=diag.get("error"))
 
 
-def run_offset_level(seed, n_cases, n_nulls, jobs, keep=None):
-    """``n_cases`` effect worlds and ``n_nulls`` null worlds from ``seed``; returns the rows."""
-    root = Path(keep) if keep else Path(tempfile.mkdtemp(prefix="blind_offsets_"))
+def offset_specs(seed, n_cases, n_nulls):
+    """(seed, effect or None) of the worlds of a seed set."""
     specs = [(seed + 50000 + i, OFFSET_EFFECTS[i % len(OFFSET_EFFECTS)]) for i in range(n_cases)]
-    specs += [(seed + 150000 + i, None) for i in range(n_nulls)]
+    return specs + [(seed + 150000 + i, None) for i in range(n_nulls)]
+
+
+def run_offset_level(seed, n_cases, n_nulls, jobs, keep=None, few=False):
+    """``n_cases`` effect worlds and ``n_nulls`` null worlds from ``seed``; returns the rows.
+    ``few``: 5 to 10 measured speeds per world."""
+    root = Path(keep) if keep else Path(tempfile.mkdtemp(prefix="blind_offsets_"))
+    specs = offset_specs(seed, n_cases, n_nulls)
     t0 = time.perf_counter()
-    cases = [make_offset_case(s, e, root / f"offset_{s}_{e or 'null'}") for s, e in specs]
+    cases = [make_offset_case(s, e, root / f"offset_{s}_{e or 'null'}", few=few) for s, e in specs]
     print(f"generated {len(cases)} offset worlds in {time.perf_counter() - t0:.1f} s under {root}", flush=True)
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
         rows = list(ex.map(run_offset_case, cases))
@@ -112,20 +125,22 @@ def run_offset_level(seed, n_cases, n_nulls, jobs, keep=None):
         shutil.rmtree(root, ignore_errors=True)
     for r in rows:
         r["seed_set"] = seed
+        r["n_speeds"] = next(c.v.size for c in cases if c.seed == r["seed"])
     return rows
 
 
-def offset_report(rows):
+def offset_report(rows, few=False):
     """The issue's three figures (named precision, null false positives, effect recall)."""
     eff = [r for r in rows if r["effect"] != "null"]
     nul = [r for r in rows if r["effect"] == "null"]
-    out = ["\n== worlds with unknown offsets of q1, sigma0 and the spectrum's level (--uncertain) =="]
+    out = ["\n== worlds with unknown offsets of q1, sigma0 and the spectrum's level (--uncertain)"
+           + (", 5 to 10 measured speeds ==" if few else " ==")]
     for name, sel in (("all", eff), ("strong (signal > 3 x noise)", [r for r in eff if r["strong"]])):
         nm = [r for r in sel if r["named"]]
         ok = sum(r["right"] for r in nm)
         out.append(f"  {name:28s} named {len(nm)}/{len(sel)}, of them right {ok}/{len(nm)} = "
                    f"{100 * ok / max(1, len(nm)):.0f} % (goal >= 90 %); named right {ok}/{len(sel)} = "
-                   f"{100 * ok / max(1, len(sel)):.0f} % (goal >= 50 %)")
+                   f"{100 * ok / max(1, len(sel)):.0f} % (goal >= {30 if few else 50} %)")
     fp = [r for r in nul if r["named"]]
     out.append(f"  null worlds with a named effect {len(fp)}/{len(nul)} = {100 * len(fp) / max(1, len(nul)):.0f} % "
                f"(goal <= 10 %); answered: " + ", ".join(f"{k} {n}" for k, n in

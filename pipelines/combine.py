@@ -153,8 +153,9 @@ def run_combine(args):
     from .combine_inputs import collect_inputs
     from .combine_report import draw_combine, write_combine_report
 
-    if args.resolution is not None and not (0 < args.resolution < 10):
-        raise InputError(None, f"--resolution {args.resolution!r}: a positive length in metres")
+    from .analyse_options import check_resolution
+
+    check_resolution(args.resolution)      # the bound every command shares
     entries = collect_inputs(args.inputs, args.spacing, args.units, args.resolution)
     inputs = [str(e.path) for e in entries] + [str(p) for p in args.inputs]
     check_output_dir(args.out, inputs=inputs)

@@ -72,18 +72,12 @@ class SourceSpectrum:
 def resolution_of(obj, given):
     """(lateral resolution [m] or None, where it came from): the manifest / option value,
     else the file's instrument metadata (``lateral_resolution_m``), else None."""
-    if given:
-        return float(given), "given"
-    inst = obj.meta.get("instrument") if isinstance(obj.meta.get("instrument"), dict) else {}
-    for key in ("lateral_resolution_m", "resolution_m"):
-        v = inst.get(key, obj.meta.get(key))
-        try:
-            v = float(v)
-        except (TypeError, ValueError):
-            continue
-        if np.isfinite(v) and v > 0:
-            return v, "file metadata"
-    return None, "none (no resolution given nor in the file: the band ends at Nyquist or the noise)"
+    from roadscan.resolution import resolution_of as read_resolution
+
+    res, src = read_resolution(obj, given)
+    if res is None:
+        return None, "none (no resolution given nor in the file: the band ends at Nyquist or the noise)"
+    return res, src
 
 
 def _enbw(n, alpha=WINDOW_ALPHA):
