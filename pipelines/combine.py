@@ -14,7 +14,11 @@ Outputs, all written into a temporary folder swapped in at the end
   reader takes ``q_per_m`` and ``C_m4`` and ignores the other columns);
 - ``combine.json``: per input (``inputs``) its ``reliable_band_per_m``, reasons, spacing,
   size and resolution; ``merged_band_per_m``; ``gaps`` ([lo, hi] [1/m] each: no input
-  reliable there) with ``gap_details`` (factor, rows, how bridged); ``fit``; ``warnings``;
+  reliable there) with ``gap_details`` (factor, rows, how bridged); ``disagreements`` (pairs
+  of inputs whose C differ where both measure beyond their scatter: ``labels``, ``factor``
+  C_a / C_b, ``q_from_per_m``, ``q_to_per_m``, ``rows``, ``sigma_ln``; each also a line of
+  ``warnings`` naming the two labels and the factor); ``widened_rows_per_m`` (rows whose band
+  was widened to what their neighbours say); ``fit``; ``warnings``;
 - ``combine.png`` (unless ``--no-figures``) and a self-contained ``report.html``.
 
 Reference: Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014 (2022) (merging the spectra
@@ -117,6 +121,19 @@ def combine_sources(sources):
                      f"(wavelengths {wavelength_of_q(g['q_to_per_m'])} to "
                      f"{wavelength_of_q(g['q_from_per_m'])}, a factor {g['factor']:.3g}) reliably; "
                      f"bridged by {g['bridged_by']} (n_sources = 0 in psd.csv)")
+    for c in merged.disagreements:
+        a, b = c["labels"]
+        notes.append(f"inputs {a!r} and {b!r} disagree where both measure ({sig3(c['q_from_per_m'])} "
+                     f"to {sig3(c['q_to_per_m'])} 1/m, wavelengths "
+                     f"{wavelength_of_q(c['q_to_per_m'])} to {wavelength_of_q(c['q_from_per_m'])}): "
+                     f"C of {a!r} is {c['factor']:.3g} x that of {b!r}, beyond their scatter "
+                     f"(x{np.exp(3 * c['sigma_ln']):.3g} at 3 standard deviations): not one "
+                     f"surface, or a unit or calibration error in one; the merged rows there "
+                     f"average the two")
+    if merged.widened_rows_per_m:
+        notes.append(f"{len(merged.widened_rows_per_m)} row(s) at "
+                     f"{', '.join(sig3(v) for v in merged.widened_rows_per_m)} 1/m: their 5-95 % "
+                     f"band excluded what the neighbouring rows say and was widened to it")
     for s in sources:
         if s.resolution_m is None:
             notes.append(f"{s.path}: no lateral resolution given nor in the file: its band ends "
@@ -137,6 +154,8 @@ def _summary(sources, merged, fit, warnings):
         "rows": int(merged.q_per_m.size),
         "gaps": [[g["q_from_per_m"], g["q_to_per_m"]] for g in merged.gaps],
         "gap_details": merged.gaps,
+        "disagreements": merged.disagreements,
+        "widened_rows_per_m": merged.widened_rows_per_m,
         "fit": fit,
         "method": ("C per ring of a common grid of 20 rings per decade: mean over the lattice "
                    "points of every input measuring it reliably; C_lo/C_hi the 5-95 % band from "

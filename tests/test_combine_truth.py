@@ -1,0 +1,133 @@
+"""``roadscan combine`` against a known truth: a self-affine surface with a roll-off seen by a
+coarse road laser, a mid-range instrument and a microscope (every merged row within 25 % of the
+true C(q)); two different surfaces warned; the merge's bends, neighbour check and disagreement
+test on exact power laws."""
+import csv
+import json
+
+import numpy as np
+import pytest
+
+from pipelines.cli import main
+from roadscan.reliable_band import gaussian_response
+from roadscan.spectrum_merge import SpectrumPart, disagreements, merge_spectra
+from roadscan.synth import model_psd
+from roadscan.synth_measure import measure_synthetic
+
+H, K = 0.8, 2e-5               # C = K q^-3.6 [m^4] above the roll-off, flat below
+#: (label, points per side, spacing [m], lateral resolution [m], where the white noise's C
+#: equals the blurred surface's, as a fraction of Nyquist)
+INSTRUMENTS = [("road laser", 256, 200e-6, 400e-6, 0.9), ("confocal", 256, 20e-6, 40e-6, 0.8),
+               ("microscope", 256, 1e-6, 2e-6, 0.8)]
+
+
+def _noise_sigma(dx, res, at, q_roll):
+    """rms of white noise whose C (sigma^2 a^2 / (2 pi)^2) equals the blurred surface's at
+    ``at`` x Nyquist."""
+    q = at * np.pi / dx
+    c = model_psd(q, H, K, q_roll_per_m=q_roll) * gaussian_response(q, res) ** 2
+    return float(np.sqrt(c * (2 * np.pi) ** 2 / dx**2))
+
+
+def _combine(d, q_roll, seed, scale=(1.0, 1.0, 1.0), instruments=INSTRUMENTS):
+    rows = ["file,spacing_m,resolution_m,label"]
+    for i, (label, n, dx, res, at) in enumerate(instruments):
+        hm = measure_synthetic(n, dx, H, K * scale[i], q_roll_per_m=q_roll, resolution_m=res,
+                               noise_rms_m=_noise_sigma(dx, res, at, q_roll), seed=seed + i)
+        np.save(d / f"i{i}.npy", hm.heights_m)
+        rows.append(f"i{i}.npy,{dx!r},{res!r},{label}")
+    (d / "manifest.csv").write_text("\n".join(rows) + "\n")
+    out = d / "out"
+    assert main(["combine", str(d / "manifest.csv"), "--out", str(out), "--no-figures"]) == 0
+    with open(out / "psd.csv") as f:
+        table = np.array(list(csv.reader(f))[1:], float)
+    return table, json.loads((out / "combine.json").read_text())
+
+
+@pytest.mark.parametrize("q_roll, seed", [(600.0, 10), (600.0, 40), (2000.0, 30),
+                                          (2000.0, 60)])
+def test_every_row_within_25_percent_of_a_rolled_off_truth(tmp_path, q_roll, seed):
+    """Roll-off at 5 x (600 1/m) and 16 x (2000 1/m) the laser's 2 pi / L: inside its band or
+    at its start. Before rows kept off the bend, the lowest row was 30 % to x3 above the truth
+    with a band excluding it."""
+    t, info = _combine(tmp_path, q_roll, seed)
+    q, C, lo, hi = t[:, 0], t[:, 1], t[:, 2], t[:, 3]
+    truth = model_psd(q, H, K, q_roll_per_m=q_roll)
+    err = C / truth - 1
+    assert np.all(np.abs(err) <= 0.25), np.c_[q, C / truth][np.abs(err) > 0.25]
+    held = (lo <= truth) & (truth <= hi)
+    assert held.mean() > 0.75                  # a 5-95 % band: most rows hold the truth
+    assert np.all((lo / 1.1 <= truth) & (truth <= 1.1 * hi))   # and none misses it by far
+    laser = info["inputs"][0]
+    assert laser["q_roll_per_m"] == pytest.approx(q_roll, rel=0.3)   # the roll-off is seen
+    assert q[0] <= 2 * q_roll                              # and the merged curve reaches it
+    assert info["disagreements"] == [] and not any("disagree" in w for w in info["warnings"])
+    assert info["fit"]["hurst"] == pytest.approx(H, abs=0.1)
+
+
+def test_two_different_surfaces_are_warned_with_labels_and_factor(tmp_path):
+    """Two instruments whose bands overlap over half a decade, on surfaces a factor 2.7 apart."""
+    two = [("road A", 256, 20e-6, 40e-6, 0.8), ("road B", 256, 5e-6, 10e-6, 0.8)]
+    t, info = _combine(tmp_path, None, 3, scale=(1.0, 2.7), instruments=two)
+    (c,) = info["disagreements"]
+    assert c["labels"] == ["road B", "road A"] and c["factor"] == pytest.approx(2.7, rel=0.2)
+    a, b = (s["reliable_band_per_m"] for s in info["inputs"])
+    assert max(a[0], b[0]) <= c["q_from_per_m"] < c["q_to_per_m"] <= min(a[1], b[1])
+    (line,) = [w for w in info["warnings"] if "disagree" in w]
+    assert "'road A'" in line and "'road B'" in line and f"{c['factor']:.3g} x" in line
+    # the same two instruments on one surface: no warning
+    same = tmp_path / "same"
+    same.mkdir()
+    _, info = _combine(same, None, 3, scale=(1.0, 1.0), instruments=two)
+    assert info["disagreements"] == []
+
+
+# --------------------------------------------------------------------- the merge on exact spectra
+def _broken(q, q_roll):
+    return np.minimum(q, 1e9) ** 0 * np.maximum(q, q_roll) ** -3.6
+
+
+def _rings(lo, hi, per_decade=20):
+    j = np.arange(np.floor(per_decade * np.log10(lo)), np.ceil(per_decade * np.log10(hi)))
+    return 10 ** ((j + 0.5) / per_decade)
+
+
+def test_rows_keep_off_a_bend():
+    """An exact plateau-then-q^-3.6 spectrum with few points per ring (rows pool up to 8 bins):
+    with the bend given, every row is exact; without it, rows straddling it are off."""
+    q = _rings(1e3, 1e5)
+    count = 0.5 * q**2 / 1e6                     # lattice points grow as q^2: 0.5 .. 5000
+    C = _broken(q, 3e3)
+    plain = merge_spectra([SpectrumPart("a", q, C, count, (1e3, 1e5))])
+    bent = merge_spectra([SpectrumPart("a", q, C, count, (1e3, 1e5), bends_per_m=(3e3,))])
+    off = np.abs(plain.C_m4 / _broken(plain.q_per_m, 3e3) - 1)
+    assert off.max() > 0.3
+    assert np.allclose(bent.C_m4, _broken(bent.q_per_m, 3e3), rtol=0.02)
+    assert np.all(bent.C_lo_m4 <= bent.C_m4) and np.all(bent.C_m4 <= bent.C_hi_m4)
+
+
+def test_a_row_contradicting_its_neighbours_gets_a_band_reaching_them():
+    q = _rings(1e3, 1e5)
+    C = q**-3.0
+    C[30] *= 3.0                                 # one ring 3 x off, many points: a narrow band
+    m = merge_spectra([SpectrumPart("a", q, C, np.full(q.size, 5000.0), (1e3, 1e5))])
+    i = int(np.argmin(np.abs(np.log(m.q_per_m / q[30]))))
+    assert m.widened_rows_per_m == [pytest.approx(m.q_per_m[i])]
+    assert m.C_lo_m4[i] <= 1.02 * m.q_per_m[i] ** -3.0 < m.C_m4[i]
+    clean = merge_spectra([SpectrumPart("a", q, q**-3.0, np.full(q.size, 5000.0), (1e3, 1e5))])
+    assert clean.widened_rows_per_m == []
+
+
+def test_disagreement_needs_a_factor_beyond_the_scatter():
+    q = _rings(1e3, 1e4)
+    row = np.arange(q.size)
+    both = np.r_[row, row]
+    src = np.r_[np.zeros(q.size, int), np.ones(q.size, int)]
+    n = np.full(2 * q.size, 100.0)
+    edge = np.zeros(2 * q.size)
+    for k, factor, flagged in ((100.0, 1.6, True), (100.0, 1.1, False), (2.0, 1.6, False)):
+        C = np.r_[q**-3.0, factor * q**-3.0]
+        got = disagreements(both, src, n, np.full(2 * q.size, k), C, edge, q, ["x", "y"])
+        assert bool(got) == flagged, (k, factor, got)
+        if got:
+            assert got[0]["labels"] == ["y", "x"] and got[0]["factor"] == pytest.approx(factor)
