@@ -8,7 +8,6 @@ by construction).
 from __future__ import annotations
 
 import argparse
-import math
 import os
 
 from roadscan.errors import InputError
@@ -47,10 +46,13 @@ def add_resolution_option(p):
 
 
 def check_resolution(res):
-    """``--resolution`` [m] checked: None, or 0 < r <= 1 m (one-line InputError)."""
-    if res is not None and not (math.isfinite(res) and 0 < res <= 1.0):
+    """``--resolution`` [m] checked: None, or 0 < r <= 1 m
+    (:data:`roadscan.resolution.RESOLUTION_MAX_M`; one-line InputError)."""
+    from roadscan.resolution import RESOLUTION_MAX_M, resolution_problem
+
+    if res is not None and resolution_problem(res):
         raise InputError(None, f"--resolution {res!r}: must be a lateral resolution in metres "
-                               f"(0 < r <= 1 m, e.g. 5e-6)")
+                               f"(0 < r <= {RESOLUTION_MAX_M:g} m, e.g. 5e-6)")
     return res
 
 

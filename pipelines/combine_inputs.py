@@ -68,6 +68,18 @@ def _positive(text, what, where):
     return v
 
 
+def _resolution(text, where):
+    """A manifest's ``resolution_m`` [m], bounded as ``--resolution`` is
+    (:func:`roadscan.resolution.resolution_problem`)."""
+    from roadscan.resolution import resolution_problem
+
+    v = _positive(text, "resolution_m", where)
+    why = resolution_problem(v)
+    if why:
+        raise InputError(where, f"resolution_m {text!r}: {why}")
+    return v
+
+
 def _read_manifest(path, default_resolution):
     from .csv_files import read_csv_rows
 
@@ -103,7 +115,7 @@ def _read_manifest(path, default_resolution):
         if units is not None and units not in _UNITS:
             raise InputError(where, f"units {units!r} not one of {', '.join(_UNITS)}")
         res = cell.get("resolution_m") or None
-        res = _positive(res, "resolution_m", where) if res else default_resolution
+        res = _resolution(res, where) if res else default_resolution
         out.append(CombineInput(f, cell.get("label") or f.stem, spacing, units, res, where))
     return out
 

@@ -4,31 +4,17 @@ geometry and lateral resolution filled in.
 An area's band comes from its angular average C(q) [m^4] (L = its shorter side, a = its coarser
 spacing); a line profile's from its own binned 1D spectrum C1(q) [m^3] (L = its length), whose
 slope 1 + 2H sets the window's leakage. The lateral resolution is the one given
-(``--resolution`` or a manifest's ``resolution_m``), else the file's
-``meta['instrument']['lateral_resolution_m']``, else none.
+(``--resolution`` or a manifest's ``resolution_m``), else the file's metadata, else none
+(:func:`roadscan.resolution.resolution_of`, re-exported here).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from roadscan.heightmap import Profile
+from roadscan.resolution import resolution_of
 
 __all__ = ["scan_band", "resolution_of", "geometry_of"]
-
-
-def resolution_of(obj, given_m=None):
-    """(lateral resolution [m] or None, where it came from)."""
-    if given_m is not None:
-        return float(given_m), "given"
-    inst = obj.meta.get("instrument") if isinstance(getattr(obj, "meta", None), dict) else None
-    if isinstance(inst, dict) and inst.get("lateral_resolution_m"):
-        try:
-            r = float(inst["lateral_resolution_m"])
-        except (TypeError, ValueError):
-            return None, None
-        if np.isfinite(r) and r > 0:
-            return r, "file metadata"
-    return None, None
 
 
 def geometry_of(obj):
