@@ -156,6 +156,7 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
         if an.spec2d is not None:
             drawer.submit(draw_psd2d_figure, psd2d_picture(an.spec2d), out_dir / "psd2d.png", an.name)
     texture_outputs.write_texture_csv(out_dir / "texture_spectrum.csv", tex)
+    texture_outputs.write_extras(out_dir, tex)                  # mpd_segments.csv (issue 28)
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
     report.write_json(out_dir / "psd_band.json", band_sidecar(result.reliable_band, fit,
                                                               result.window_alpha))
@@ -177,6 +178,7 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
             drawer.submit(texture_outputs.draw_texture_spectrum, texture_outputs.texture_picture(tex),
                           out_dir / "texture_spectrum.png",
                           f"{an.name}: texture spectrum (ISO 13473-4)")
+        texture_outputs.draw_extras(drawer, out_dir, an.name, summary, tex)   # mpd_segments.png
         figs = drawer.collect()
     report.write_json(out_dir / "summary.json", summary)
     _write_report(out_dir, an, summary, figs, tex, fr)
@@ -265,11 +267,12 @@ def draw_psd2d_figure(picture, path, name):
 
 def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
     from . import texture_outputs
-    from .units_format import label_of, length, quantity, sig3
+    from .units_format import length, quantity, sig3
 
     from .headline import hurst_text
+    from .texture_iso import roughness_section
 
-    rough = {label_of(k): quantity(k, v) for k, v in summary["roughness"].items()}
+    rough = roughness_section(summary)          # ISO 25178-2 / 21920-2 set, filters (issue 28)
     key = {
         "Hurst exponent H": hurst_text(summary),     # the note when the fit is no headline
         "rms height (Sq of levelled measured heights)": length(summary["rms_height_m"]),
@@ -289,7 +292,7 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
         texture.append(texture_outputs.texture_table_html(tex))
     sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
                 ("Road texture (ISO 13473-1, ISO 13473-4, ASTM E1960)", texture),
-                ("Roughness (ISO 25178-2 / 4287)", report.table_html(rough, ["parameter", "value"])),
+                ("Roughness (ISO 25178-2 / 21920-2 / 4287)", rough),
                 ("Figures", [list(figs)])]
     if not figs:
         sections.pop()

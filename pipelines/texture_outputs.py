@@ -5,7 +5,12 @@ scans under 100 mm, and an MPD note that names the spike threshold that would pa
 
 Options (``roadscan analyse`` and ``roadscan batch``): ``--direction x|y`` (driving direction
 of an area scan), ``--friction-measurement F@SPEED`` (friction F measured at slip speed SPEED
-km/h) with ``--ifi-constants A,B[,C]`` (the device's calibration constants).
+km/h) with ``--ifi-constants A,B[,C]`` (the device's calibration constants), and the ISO 25178
+texture options ``--form``, ``--s-filter``, ``--l-filter`` (:mod:`pipelines.texture_iso`).
+
+MPD validity (ISO 13473-1): ``mpd_valid`` beside ``mpd_m``; when it is false, ``etd_m``,
+``ifi_speed_constant_kmh`` and ``ifi_F60`` are null and ``etd_note`` says why; the segments go
+to ``mpd_segments.csv`` and ``mpd_segments.png`` (:mod:`pipelines.mpd_outputs`).
 """
 from __future__ import annotations
 
@@ -16,7 +21,7 @@ from roadscan.errors import InputError
 
 __all__ = ["TEXTURE_HEADER", "TextureSettings", "add_texture_options", "texture_settings_from_args",
            "texture_keys", "add_to_summary", "html_escape", "write_texture_csv", "texture_picture", "draw_texture_spectrum",
-           "texture_table_html", "depth_rows"]
+           "texture_table_html", "depth_rows", "write_extras", "draw_extras"]
 
 TEXTURE_HEADER = ["centre_wavelength_m", "band_lo_m", "band_hi_m", "level_dB"]
 #: dropout share above which the texture levels get a warning (a linear fill carries no texture)
@@ -25,16 +30,23 @@ DROPOUT_WARN = 0.10
 
 @dataclass
 class TextureSettings:
-    """Driving direction and the IFI inputs (None when not given)."""
+    """Driving direction, the IFI inputs (None when not given), and the form and filters of
+    the roughness figures (:mod:`pipelines.texture_iso`)."""
 
     direction: str = "x"
     friction: float = None          # FRS measured
     slip_speed_kmh: float = None    # S
     ifi_constants: tuple = None     # (A, B, C)
+    form: str = "plane"             # --form
+    s_filter_m: float = None        # --s-filter
+    l_filter_m: float = None        # --l-filter
 
 
 def add_texture_options(p):
-    """``--direction``, ``--friction-measurement``, ``--ifi-constants``."""
+    """``--direction``, ``--friction-measurement``, ``--ifi-constants``, ``--form``,
+    ``--s-filter``, ``--l-filter``."""
+    from .texture_iso import add_iso_options
+
     p.add_argument("--direction", choices=("x", "y"), default="x",
                    help="driving direction of an area scan for the ISO 13473-4 texture spectrum "
                         "(lines along it are analysed; default x)")
@@ -44,6 +56,7 @@ def add_texture_options(p):
     p.add_argument("--ifi-constants", default=None, metavar="A,B[,C]",
                    help="the friction device's IFI calibration constants (ASTM E1960; C "
                         "multiplies MPD in mm, default 0)")
+    add_iso_options(p)
 
 
 def _floats(text, flag, sep, n_min, n_max, form):
@@ -60,7 +73,11 @@ def _floats(text, flag, sep, n_min, n_max, form):
 def texture_settings_from_args(args):
     """Checked :class:`TextureSettings` from parsed options (InputError naming the flag)."""
     fm, ic = getattr(args, "friction_measurement", None), getattr(args, "ifi_constants", None)
-    st = TextureSettings(direction=getattr(args, "direction", None) or "x")
+    from .texture_iso import iso_settings_from_args
+
+    form, s_f, l_f = iso_settings_from_args(args)
+    st = TextureSettings(direction=getattr(args, "direction", None) or "x", form=form,
+                         s_filter_m=s_f, l_filter_m=l_f)
     if (fm is None) != (ic is None):
         given = "--friction-measurement" if fm is not None else "--ifi-constants"
         other = "--ifi-constants" if fm is not None else "--friction-measurement"
@@ -116,8 +133,18 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
         mpd, mpd_note = roughness.mean_profile_depth_area(src, **(mpd_settings or {}))
         mpd_note = f"{mpd_note} (lines along y, the driving direction)"
         out["mpd_m"], out["mpd_note"] = mpd, mpd_note
-    out["etd_m"] = td.estimated_texture_depth(mpd)
-    out["ifi_speed_constant_kmh"] = td.ifi_speed_constant(mpd)
+    seg = td.mpd_segments(src, **(mpd_settings or {}))
+    from .mpd_outputs import validity_keys
+
+    out.update(validity_keys(seg))
+    out["_segments"] = seg                       # taken out by add_to_summary
+    usable = mpd if out["mpd_valid"] else None
+    out["etd_m"] = td.estimated_texture_depth(usable)
+    out["ifi_speed_constant_kmh"] = td.ifi_speed_constant(usable)
+    if usable is None:
+        why = (f"the MPD is {seg.validity_text()}" if seg is not None and mpd is not None
+               else "there is no MPD")
+        out["etd_note"] = f"ETD and the IFI figures not computed: {why}"
     length = src.length_m if analysis.is_profile else src.nx * src.dx_m
     if mpd is None and length < 0.1:
         msd, base, note = td.short_segment_depth(src, **(mpd_settings or {}))
@@ -137,26 +164,47 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
                                f"segments fail on dropouts")
     if settings.friction is not None:
         A, B, C = settings.ifi_constants
-        res = td.ifi_f60(settings.friction, settings.slip_speed_kmh, mpd, A, B, C)
+        res = td.ifi_f60(settings.friction, settings.slip_speed_kmh, usable, A, B, C)
         out["ifi_F60"] = res[0] if res else None
         out["ifi_inputs"] = {"friction": settings.friction, "slip_speed_kmh": settings.slip_speed_kmh,
                              "A": A, "B": B, "C": C, "FR60": res[2] if res else None}
         if res is None:
-            why = out.get("mpd_note", analysis.mpd_note)
-            warn(f"{analysis.name}: no IFI F60: it needs the MPD, which is null ({why})")
+            why = out.get("etd_note") or out.get("mpd_note", analysis.mpd_note)
+            warn(f"{analysis.name}: no IFI F60: it needs a valid MPD ({why})")
     return out, ts
 
 
 def add_to_summary(summary, analysis, settings=None, mpd_settings=None):
-    """``summary`` with the keys of :func:`texture_keys`: the depth figures right after
-    ``mpd_m``/``mpd_note`` (whose note may gain the spike threshold that passes), the texture
-    spectrum at the end. Returns (new summary dict, TextureSpectrum)."""
+    """``summary`` with the keys of :func:`texture_keys`: ``mpd_valid`` and the depth figures
+    right after ``mpd_m``/``mpd_note`` (whose note may gain the spike threshold that passes),
+    the texture spectrum at the end; ``roughness`` with the ISO 25178-2 / 21920-2 texture set
+    and ``filters`` (what form and filters the roughness figures were taken with,
+    :mod:`pipelines.texture_iso`). Returns (new summary dict, TextureSpectrum); the
+    TextureSpectrum carries the MPD segments as ``mpd_segments`` (for :func:`write_extras`)."""
+    from .texture_iso import ROUGHNESS_NOTE_KEY, iso_summary
+
+    settings = settings or TextureSettings()
     keys, ts = texture_keys(analysis, settings, mpd_settings)
+    # the (frozen) TextureSpectrum carries the segments to write_extras / draw_extras
+    object.__setattr__(ts, "mpd_segments", keys.pop("_segments", None))
+    rough, filters, notes = iso_summary(analysis, settings.form, settings.s_filter_m,
+                                        settings.l_filter_m)
+    summary = dict(summary)
+    summary["roughness"] = rough
+    keys["filters"] = filters
+    if notes:
+        keys[ROUGHNESS_NOTE_KEY] = notes
     spectrum = {k: keys.pop(k) for k in ("texture_level_dB", "texture_spectrum_note",
                                          "texture_direction") if k in keys}
     out = {}
     for k, v in summary.items():
         out[k] = keys.pop(k, v) if k in ("mpd_m", "mpd_note") else v
+        if k == "mpd_m":
+            out["mpd_valid"] = keys.pop("mpd_valid")
+        if k == "roughness":
+            out["filters"] = keys.pop("filters")
+            if ROUGHNESS_NOTE_KEY in keys:
+                out[ROUGHNESS_NOTE_KEY] = keys.pop(ROUGHNESS_NOTE_KEY)
         if k == "mpd_note":
             out.update(keys)
             keys = {}
@@ -233,10 +281,19 @@ def depth_rows(summary):
     from .units_format import length, sig3, speed_kmh
 
     rows = []
-    if summary.get("mpd_m") is not None:
-        rows.append(("mean profile depth MPD (ISO 13473-1)", length(summary["mpd_m"])))
+    n, t = summary.get("mpd_valid_segments"), summary.get("mpd_total_segments")
+    if summary.get("mpd_m") is not None and summary.get("mpd_valid", True):
+        rows.append(("mean profile depth MPD (ISO 13473-1)",
+                     f"{length(summary['mpd_m'])}, valid per ISO 13473-1 ({n} of {t} segments)"
+                     if t else length(summary["mpd_m"])))
+    elif summary.get("mpd_m") is not None:
+        rows.append(("mean profile depth MPD (ISO 13473-1)",
+                     f"{length(summary['mpd_m'])}: not valid per ISO 13473-1 ({n} of {t} "
+                     f"segments)"))
     else:
         rows.append(("mean profile depth MPD (ISO 13473-1)", summary.get("mpd_note") or "—"))
+    if summary.get("etd_note"):
+        rows.append(("ETD, IFI", summary["etd_note"]))
     if summary.get("etd_m") is not None:
         rows.append(("estimated texture depth ETD = 0.2 mm + 0.8 MPD", length(summary["etd_m"])))
     if summary.get("ifi_speed_constant_kmh") is not None:
@@ -251,3 +308,26 @@ def depth_rows(summary):
                      f"{length(summary['msd_short_baseline_m'])} (NOT ISO 13473-1 MPD)",
                      length(summary["msd_short_m"])))
     return rows
+
+
+def write_extras(out_dir, ts):
+    """``mpd_segments.csv`` next to ``summary.json`` (:mod:`pipelines.mpd_outputs`)."""
+    from pathlib import Path
+
+    from . import mpd_outputs
+
+    seg = getattr(ts, "mpd_segments", None)
+    if seg is not None:
+        mpd_outputs.write_segments_csv(Path(out_dir) / "mpd_segments.csv", seg)
+
+
+def draw_extras(drawer, out_dir, name, summary, ts):
+    """``mpd_segments.png`` handed to ``drawer`` (:mod:`pipelines.figure_process`)."""
+    from pathlib import Path
+
+    from . import mpd_outputs
+
+    seg = getattr(ts, "mpd_segments", None)
+    if seg is not None and seg.n_total:
+        drawer.submit(mpd_outputs.draw_segments, mpd_outputs.segments_picture(seg),
+                      Path(out_dir) / "mpd_segments.png", mpd_outputs.segments_title(name, summary))
