@@ -14,14 +14,15 @@ and :func:`scan_friction` does both, with the judgement of the band's fine end a
 provenance (:mod:`pipelines.mu_provenance`).
 
 **The measurement decides** whether the band's fine end is trusted (:func:`judge_fine_end`):
-when the rms slope of the measured spectrum over the band, sqrt(2 pi int q^3 C dq), exceeds
-:data:`SLOPE_TRUSTED` (1.5, a mean steepness of 56 degrees) the short wavelengths are steeper
-than an optical profiler or laser resolves (beyond its acceptance angle it records noise,
-dropouts and artefacts), so friction over that band is refused whatever the rubber, naming
-``--q1`` and ``--resolution``; with ``--q1`` given the user has chosen the end. Persson puts the
-cut-off q1 where the rms slope reaches about 1 (Persson, J. Phys.: Condens. Matter 18, 7789
-(2006); Lorenz et al., Eur. Phys. J. E 34, 129 (2011)). A peak mu outside 0.3-3 stays a warning
-with its likely causes (:func:`pipelines.mu_provenance.implausible_cause`).
+when the band ends at the noise floor the spectrum itself shows (:mod:`roadscan.reliable_band`:
+C no longer falls as the self-affine line) and the rms slope over the band,
+sqrt(2 pi int q^3 C dq), exceeds :data:`SLOPE_TRUSTED` (1), the steepness comes from the
+wavelengths next to the noise, where C is already lifted by it; friction over that band is
+refused whatever the rubber, naming ``--q1`` and ``--resolution`` (with ``--q1`` given, the
+user has chosen the end). Persson puts the cut-off q1 where the rms slope reaches about 1
+(Persson, J. Phys.: Condens. Matter 18, 7789 (2006); Lorenz et al., Eur. Phys. J. E 34, 129
+(2011)). A peak mu outside 0.3-3 stays a warning with its likely causes
+(:func:`pipelines.mu_provenance.implausible_cause`), never a refusal.
 """
 from __future__ import annotations
 
@@ -30,10 +31,10 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["measure", "friction_psd", "friction_of", "scan_friction", "judge_fine_end",
-           "FrictionOutcome", "SLOPE_TRUSTED", "band_sidecar", "read_band_sidecar"]
+           "FrictionOutcome", "SLOPE_TRUSTED", "noise_floor_end", "band_sidecar", "read_band_sidecar"]
 
-#: rms slope over the band above which its short end is not trusted (see module docstring)
-SLOPE_TRUSTED = 1.5
+#: rms slope up to a noise floor above which the band's short end is not trusted (module docstring)
+SLOPE_TRUSTED = 1.0
 
 
 def measure(scan, window_alpha=0.25, fit_band=None, despike=False, mpd_settings=None,
@@ -99,19 +100,31 @@ def friction_of(psd, settings, v_m_per_s=None, tol=None):
                           settings.nu, settings.contact_gamma, warn_high=False, tol=tol)
 
 
-def judge_fine_end(psd, settings, name=""):
-    """(rms slope over the friction band, refusal line or None): rubber-independent (see the
-    module docstring); the refusal names the flags that change it."""
+def noise_floor_end(rb):
+    """True when the reliable band's short end is where the spectrum's noise floor begins
+    (:func:`roadscan.reliable_band.noise_limit`), not Nyquist or the lateral resolution."""
+    if rb is None or not getattr(rb, "valid", False):
+        return False
+    if hasattr(rb, "noise_floor_end"):        # a band read back from psd_band.json
+        return bool(rb.noise_floor_end)
+    q_noise = (getattr(rb, "limits", None) or {}).get("noise_floor")
+    return q_noise is not None and abs(q_noise - rb.hi_per_m) <= 1e-9 * rb.hi_per_m
+
+
+def judge_fine_end(psd, rb, settings, name=""):
+    """(rms slope over the friction band, refusal line or None), from the measurement alone
+    (see the module docstring): refused when q1 is the band's (no ``--q1``), the band ends at
+    the spectrum's noise floor and the rms slope up to it exceeds :data:`SLOPE_TRUSTED`."""
     from .mu_provenance import rms_slope
     from .units_format import quantity
 
     slope = rms_slope(psd)
-    if settings.q1_per_m is not None or not slope > SLOPE_TRUSTED:
+    if settings.q1_per_m is not None or not noise_floor_end(rb) or not slope > SLOPE_TRUSTED:
         return slope, None
-    return slope, (f"friction refused: the reliable band's short end likely holds noise or "
-                   f"artefacts (rms slope {slope:.3g} up to q1 = {quantity('q1_per_m', psd.q1_per_m)}, "
-                   f"steeper than {SLOPE_TRUSTED:g}, which a profiler does not resolve): a lower "
-                   f"--q1 or --resolution")
+    return slope, (f"friction refused: the reliable band's short end likely holds noise "
+                   f"(it ends at the spectrum's noise floor, and the rms slope up to q1 = "
+                   f"{quantity('q1_per_m', psd.q1_per_m)} is {slope:.3g}, over "
+                   f"{SLOPE_TRUSTED:g}): a lower --q1 or --resolution")
 
 
 @dataclass(frozen=True)
@@ -142,7 +155,7 @@ def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
     name = an.name if name is None else name
     fit = an.fit if fit is None else fit
     psd, band = friction_psd(an.spectrum, fit, rb, settings, name)
-    slope, refused = judge_fine_end(psd, settings, name)
+    slope, refused = judge_fine_end(psd, rb, settings, name)
     if refused is not None:
         warn(f"{name}: {refused}")
         label = rubber_label(settings.rubber, settings.sigma0_Pa, settings.T0_C)
@@ -170,7 +183,8 @@ def band_sidecar(rb, fit, window_alpha):
     band = None
     if rb is not None and rb.valid:
         band = {"lo_per_m": float(rb.lo_per_m), "hi_per_m": float(rb.hi_per_m),
-                "q_roll_per_m": rb.q_roll_per_m, "reasons": rb.reasons}
+                "q_roll_per_m": rb.q_roll_per_m, "noise_floor_end": noise_floor_end(rb),
+                "reasons": rb.reasons}
     d = fit.as_dict()
     d = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in d.items()}
     return {"about": "the band roadscan analyse integrated psd.csv over (q0 = lo, or the roll-off "
@@ -203,7 +217,7 @@ def read_band_sidecar(psd_path):
         b = d.get("reliable_band")
         rb = None if b is None else SimpleNamespace(
             valid=True, lo_per_m=float(b["lo_per_m"]), hi_per_m=float(b["hi_per_m"]),
-            q_roll_per_m=b.get("q_roll_per_m"))
+            q_roll_per_m=b.get("q_roll_per_m"), noise_floor_end=bool(b.get("noise_floor_end")))
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise InputError(side, f"cannot read the band of {p.name} ({type(exc).__name__}: {exc})") from None
     return rb, fit, side

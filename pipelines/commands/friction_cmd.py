@@ -85,6 +85,11 @@ def _psd(args, settings=None):
             rb, fit, path = side
             spec = Spectrum(table.q_per_m, table.C_m4, kind="table", meta={"source": str(args.psd)})
             psd, band = friction_psd(spec, fit, rb, settings, say=True)
+            from ..chain import judge_fine_end
+
+            _, refused = judge_fine_end(psd, rb, settings)     # as analyse judged the band
+            if refused is not None:
+                raise InputError(args.psd, refused)
             band = dict(band or {}, band_from=str(path))
             print(f"note: {args.psd}: integrated over the band of {path.name} "
                   f"({band['q0_per_m']:.6g} to {band['q1_per_m']:.6g} 1/m)", file=sys.stderr)

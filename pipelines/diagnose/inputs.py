@@ -46,7 +46,7 @@ def scan_surface(obj, q0_per_m=None, q1_per_m=None, resolution_m=None):
     an, rb = measure(obj, resolution_m=resolution_m)
     settings = FrictionSettings(q0_per_m=q0_per_m, q1_per_m=q1_per_m)
     psd, _ = friction_psd(an.spectrum, an.fit, rb, settings, an.name)
-    _, refused = judge_fine_end(psd, settings, an.name)
+    _, refused = judge_fine_end(psd, rb, settings, an.name)
     if refused is not None:
         raise InputError(None, refused.replace("friction refused: ", "the scan's friction band is refused: "))
     return psd, an.filled, an.spectrum, an.fit
