@@ -1,6 +1,6 @@
 """Uncertain inputs: model inputs known only within a range, calibrated on the training points.
 
-``--uncertain q1=LO:HI,sigma0=LO:HI,psd_scale=LO:HI,temperature=LO:HI`` (any subset):
+``--uncertain q1=LO:HI,sigma0=LO:HI,psd_scale=LO:HI,temperature=LO:HI`` (any subset)::
 
 ``q1``          the spectrum's upper cut-off [1/m] (the engine continues C(q) as its fitted
                 power law beyond the tabulated data, ``psd.with_q1``)
