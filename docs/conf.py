@@ -3,6 +3,7 @@
 Build it with ``pip install -e '.[docs]'`` then ``sphinx-build -W -b html docs OUT``.
 """
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -82,6 +83,13 @@ def _plain_text_safe(app, what, name, obj, options, lines):
     would read a substitution), and ``... `` in a summary line is written as an ellipsis
     character (autosummary would end the sentence there).
     """
+    if what == "module":
+        parent = name.rsplit(".", 1)[0]
+        first_blank = next((k for k, line in enumerate(lines) if not line.strip()), len(lines))
+        for k in range(first_blank):       # the summary autosummary shows
+            lines[k] = lines[k].replace("... ", "\u2026 ")
+        for k, line in enumerate(lines):   # relative module references, made absolute
+            lines[k] = re.sub(r":mod:`\.(\w+)`", lambda m: f":mod:`{parent}.{m.group(1)}`", line)
     literal_indent = None
     for i, line in enumerate(lines):
         stripped = line.lstrip()
