@@ -15,12 +15,19 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 from pathlib import Path
 
 __all__ = ["atomic_folder", "SIDECAR", "file_identity", "same_input", "read_sidecar",
-           "write_sidecar", "options_fingerprint"]
+           "write_sidecar", "options_fingerprint", "campaign_leftovers", "recover_campaign",
+           "earlier_campaign", "CAMPAIGN_FILES"]
 
 SIDECAR = ".roadscan-batch.json"
+#: the campaign-level outputs in DIR (each written atomically: a kill while one is written
+#: leaves its hidden temporary file ``.<stem>.XXXXXXXX<suffix>`` beside it)
+CAMPAIGN_FILES = ("campaign.csv", "campaign_anisotropy.csv", "campaign.parquet", "report.html")
+_TEMP_FILE = re.compile(r"^\.(%s)\.[a-z0-9_]{8}\.(csv|parquet|html)$" % "|".join(
+    re.escape(Path(n).stem) for n in CAMPAIGN_FILES))
 
 
 def atomic_folder(target):
@@ -33,6 +40,89 @@ def atomic_folder(target):
     from roadscan.io.atomic import atomic_output_dir
 
     return atomic_output_dir(target)
+
+
+def campaign_leftovers(out):
+    """What a campaign killed at any moment (``kill -9`` while its cluster starts, while workers
+    write, while the table is written) can leave in ``out``: hidden temporary and set-aside scan
+    folders (``.<name>.roadscan-tmp-*``, ``.<name>.roadscan-old-*``,
+    :func:`roadscan.io.atomic.atomic_output_dir`) and the temporary files of the campaign table
+    and report (``.campaign.XXXXXXXX.csv``...). -> sorted list of paths."""
+    from roadscan.io.atomic import OLD_TAG, TMP_TAG
+
+    out = Path(out)
+    try:
+        entries = list(out.iterdir())
+    except OSError:
+        return []
+    found = []
+    for p in entries:
+        name = p.name
+        if not name.startswith("."):
+            continue
+        if (TMP_TAG in name or OLD_TAG in name) and p.is_dir() and not p.is_symlink():
+            found.append(p)
+        elif _TEMP_FILE.match(name) and p.is_file() and not p.is_symlink():
+            found.append(p)
+    return sorted(found)
+
+
+def _target_of(p):
+    """``.s0.roadscan-tmp-ab12`` -> ``s0`` (the scan folder it was written for)."""
+    from roadscan.io.atomic import OLD_TAG, TMP_TAG
+
+    name = p.name[1:]
+    for tag in (TMP_TAG, OLD_TAG):
+        if tag in name:
+            return p.parent / name.split(tag, 1)[0]
+    return None
+
+
+def recover_campaign(out):
+    """Clean what a killed campaign left in ``out`` (:func:`campaign_leftovers`): a scan's old
+    folder that was set aside and not yet replaced is put back, hidden temporary folders are
+    deleted unless a live writer still holds them (``flock``), temporary files of the table and
+    report are deleted. A half-written scan result is never kept: only a folder swapped in
+    whole (with its sidecar) counts as done. -> list of the names removed or put back."""
+    from roadscan.io.atomic import recover_output_dir
+
+    done = []
+    for p in campaign_leftovers(out):
+        target = _target_of(p)
+        try:
+            if target is not None:
+                recover_output_dir(target)
+            else:
+                p.unlink()
+        except FileNotFoundError:
+            pass
+        except OSError:
+            continue
+        if not os.path.lexists(p):
+            done.append(p.name)
+    return done
+
+
+def earlier_campaign(out):
+    """True when ``out`` holds an earlier campaign, finished or killed: a scan folder with its
+    sidecar, the campaign table roadscan writes, or nothing but what a killed campaign leaves
+    (:func:`campaign_leftovers`: a campaign killed while its cluster started or its first scans
+    were written has no finished scan yet)."""
+    out = Path(out)
+    try:
+        entries = list(out.iterdir())
+    except OSError:
+        return False
+    if any((p / SIDECAR).is_file() for p in entries if p.is_dir()):
+        return True
+    try:
+        with open(out / "campaign.csv", encoding="utf-8") as fh:
+            if fh.readline().startswith("file,label,chainage_m,status"):
+                return True
+    except (OSError, UnicodeDecodeError):
+        pass
+    left = set(campaign_leftovers(out))
+    return bool(entries) and all(p in left for p in entries)
 
 
 def sha256_of(path, chunk=1 << 20):

@@ -92,6 +92,10 @@ def run(args):
         raise InputError(None, f"--out {out}: folder exists, is not empty and holds no earlier "
                                f"batch campaign (its campaign.csv, report.html or scan folders would "
                                f"replace files there); name a new folder")
+    if out.is_dir():          # what a killed campaign left (hidden folders, temporary files)
+        from ..campaign.folder import recover_campaign
+
+        recover_campaign(out)
     tty = sys.stderr.isatty()
 
     fingerprint = _fingerprint(args, kw)
@@ -163,17 +167,11 @@ def _clean_after_stop(out, jobs):
 
 
 def _earlier_campaign(out):
-    """True when ``out`` holds an earlier campaign: a scan folder with its sidecar, or the
-    campaign table roadscan writes."""
-    from ..campaign.folder import SIDECAR
+    """True when ``out`` holds an earlier campaign, finished or killed
+    (:func:`pipelines.campaign.folder.earlier_campaign`)."""
+    from ..campaign.folder import earlier_campaign
 
-    if any((p / SIDECAR).is_file() for p in out.iterdir() if p.is_dir()):
-        return True
-    try:
-        with open(out / "campaign.csv", encoding="utf-8") as fh:
-            return fh.readline().startswith("file,label,chainage_m,status")
-    except (OSError, UnicodeDecodeError):
-        return False
+    return earlier_campaign(out)
 
 
 def _refuse_overwrite(out, jobs, given):
