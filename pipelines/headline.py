@@ -89,7 +89,8 @@ def hurst_text(summary, short=False):
     if h is None:
         if short:
             return "not given (fit not meaningful: see the report)"
-        return summary.get("hurst_note") or "not given"
+        note = summary.get("hurst_note") or "not given"
+        return note[2:] if note.startswith("H not given") else note   # after "H = " or "H |"
     se = summary.get("hurst_stderr")
     return f"{h:.3f}" + (f" ± {se:.3f}" if se is not None else "")
 
