@@ -1,7 +1,7 @@
 """Contact mechanics of Persson's theory: G(q), P(q) and integrals against P.
 
 ``G(q) = 1/8 integral_{q_min}^{q} dq' q'^3 C(q') W(q')``, ``P(q) = erf(1 / (2 sqrt G))``
-(Persson 2001; thesis eqs 2.2, 2.3; DESIGN.md sec 5). All integrals are in s = ln q.
+(Persson 2001; thesis eqs 2.2, 2.3; docs: Theory). All integrals are in s = ln q.
 
 Near the lower end G grows linearly from 0 and P falls like 1/sqrt(q - q_min) at high speed:
 sampling P at the nodes (trapezoid) overestimates mu badly. :func:`p_weights` integrates P

@@ -138,7 +138,7 @@ def _solve_flash(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None, osc=-
       and dissipates less), with Jacobian eigenvalues down to about -2 on the reference set: the
       damped map contracts only for beta < 2/3, and Anderson removes the slow modes.
     - Oscillation guard: when two successive residuals point in opposite directions
-      (cosine < ``osc``) the row is overshooting (a 2-cycle of the undamped map, DESIGN.md sec 7):
+      (cosine < ``osc``) the row is overshooting (a 2-cycle of the undamped map, docs: Theory):
       its history is dropped and its beta cut by ``cut`` (down to 1/64); otherwise beta recovers
       by ``recover`` per step up to ``beta``. A residual that merely grows (the runaway region
       between T0 and the solution, where heating rises with T) is not an oscillation and does not

@@ -1,7 +1,7 @@
 """Quadrature grids: the wave-vector grid (uniform in ln q) and the phi rule, plus the
 tabulated phi integrals of a rubber.
 
-Phi integrals (DESIGN.md sec 5). With ``x = q v`` [rad/s] and the rubber at its reference
+Phi integrals (docs: Theory). With ``x = q v`` [rad/s] and the rubber at its reference
 state, Persson's angular integrals reduce to two functions of x alone,
 
     m(x) = integral_0^{pi/2} cos(phi) Im E(x cos phi) dphi        [Pa]

@@ -1,4 +1,4 @@
-"""Persson's isothermal friction model (Persson 2001; thesis eqs 2.1 to 2.3; DESIGN.md sec 5).
+"""Persson's isothermal friction model (Persson 2001; thesis eqs 2.1 to 2.3; docs: Theory).
 
     mu(v) = 1/2 integral_{q_min}^{q1} dq q^3 C(q) S(q) P(q) M(q)
     M(q)  = integral_0^{2pi} dphi cos(phi) Im E(q v cos phi) / ((1 - nu^2) sigma0)

@@ -4,7 +4,7 @@ A DMA run measures E'(f) and E''(f) over a few decades of frequency f [Hz] at a 
 temperatures. For a thermorheologically simple rubber the sweep at temperature T, plotted
 against ``f aT(T)``, falls on the sweep at the reference temperature T_ref (``aT(T_ref) = 1``,
 aT > 1 below T_ref): ``E(f, T) = E_ref(f aT(T))`` (Ferry, *Viscoelastic properties of
-polymers*, 1980, ch. 11; DESIGN.md sec 4, the convention of :mod:`friction.rubber`).
+polymers*, 1980, ch. 11; docs: Theory, the convention of :mod:`friction.rubber`).
 
 Shift factors (:func:`pair_shift`, :func:`shift_factors`). Each sweep is compared with its
 neighbours in temperature. A pair's relative shift is first estimated at three modulus levels

@@ -1,6 +1,6 @@
 """Isotropic surface power spectra C(q) [m^4] for the friction engine.
 
-PSD convention (Persson's, DESIGN.md sec 2): ``<h^2> = 2 pi integral q C(q) dq``.
+PSD convention (Persson's, docs: Theory): ``<h^2> = 2 pi integral q C(q) dq``.
 Each PSD exposes ``C(q)`` (vectorised, zero outside its band), ``q0_per_m`` (the wave vector
 used for the macro-asperity scale ``q_m = zeta_m q0``), ``q_min_per_m`` (lower end of the
 friction integrals: the roll-off ``q_roll`` when given, else ``q0``), ``q1_per_m`` (upper
@@ -17,7 +17,7 @@ __all__ = ["SelfAffinePSD", "TabulatedPSD"]
 
 @dataclass(frozen=True)
 class SelfAffinePSD:
-    """Self-affine spectrum, thesis appendix A / DESIGN.md sec 2:
+    """Self-affine spectrum, thesis appendix A / docs: Theory:
 
     ``C(q) = (H / 2 pi) (h0 / q0)^2 (q / q0)^(-2(H+1))`` for ``q0 <= q <= q1`` [m^4],
     ``C = C(q0)`` for ``q_roll <= q < q0`` when ``q_roll_per_m`` is given, zero elsewhere.

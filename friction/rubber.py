@@ -1,6 +1,6 @@
 """Rubber models: complex modulus E(omega, T) [Pa] and thermal properties.
 
-Conventions (DESIGN.md section 4)
+Conventions (docs: Theory)
 ---------------------------------
 * Sign: ``Im E(omega) > 0`` for ``omega > 0`` (energy is dissipated). The thesis prints the
   standard linear solid with the opposite sign; we use its complex conjugate.
@@ -32,7 +32,7 @@ class WLF:
 
     Standard form (``T_g_C=None``): ``log10 aT = -C1 (T - T_s) / (C2 + T - T_s)``.
     Thesis form (``T_g_C`` given): ``log10 aT = -C1 (T - T_s) / (C2 + T - T_g)``; the thesis
-    (DESIGN.md sec 4) uses ``log10 aT = -8.86 (T - Tg - 50) / (51.5 + T - Tg)`` with
+    (docs: Theory) uses ``log10 aT = -8.86 (T - Tg - 50) / (51.5 + T - Tg)`` with
     Tg = -30 C, T_s = Tg + 50 = 20 C, so that aT(60 C) = 10^-2.504. This equals a standard WLF
     with ``C2 + T_s - T_g`` (101.5 K) in place of C2. :meth:`thesis` builds it.
 
@@ -102,7 +102,7 @@ class ShiftTable:
 def log10_shift(rubber, T_C, wlf_form="relative", T0_C=None):
     """Decimal log of the factor multiplying omega in ``E(omega, T) = E_ref(omega * factor)``.
 
-    ``relative``: ``log10 aT(T) - log10 aT(T_ref)`` (DESIGN.md sec 4, default).
+    ``relative``: ``log10 aT(T) - log10 aT(T_ref)`` (docs: Theory, default).
     ``literal``: thesis eq 3.7, ``E(omega, T) = E(omega aT(T), T0)``, i.e.
     ``log10 aT(T) + log10 aT(T0) - log10 aT(T_ref)`` (equals ``log10 aT(T)`` when T0 = T_ref).
     A rubber without a shift (``shift=None``) is temperature independent (factor 1).
@@ -143,7 +143,7 @@ def log10_shift(rubber, T_C, wlf_form="relative", T0_C=None):
 # --------------------------------------------------------------------------- thermal
 @dataclass(frozen=True)
 class Thermal:
-    """Thermal properties of the rubber (defaults: typical tread rubber, DESIGN.md sec 5).
+    """Thermal properties of the rubber (defaults: typical tread rubber, docs: Theory).
 
     rho_kg_m3 : density [kg/m^3]; c_v_J_kgK : specific heat [J/(kg K)];
     conductivity_W_mK : heat conductivity lambda [W/(m K)]. ``diffusivity_m2_s`` is
@@ -251,7 +251,7 @@ class Prony(_Rubber):
 
 @dataclass(frozen=True, eq=False)
 class StandardLinearSolid(_Rubber):
-    """The thesis's standard linear solid (conjugated to ``Im E > 0``, DESIGN.md sec 4):
+    """The thesis's standard linear solid (conjugated to ``Im E > 0``, docs: Theory):
 
     ``E(omega) = E1 (1 + i omega tau) / (1 + a1 + i omega tau)`` [Pa];
     ``E(0) = E1 / (1 + a1)``, ``E(inf) = E1``. A one-term Prony series with

@@ -9,7 +9,7 @@ profile the isotropic 2D estimate, with the profile's own 1D PSD in ``psd1d.csv`
 ``mu.csv`` (``v_m_per_s,mu,area_fraction`` with A/A0 = P(q1); ``T_flash_max_C`` added with
 flash), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
 ``psd2d.png`` (areas), ``mu.png`` and a self-contained ``report.html``; the road engineer's
-texture figures (issue 21, :mod:`pipelines.texture_outputs`): ``texture_spectrum.csv``
+texture figures (:mod:`pipelines.texture_outputs`): ``texture_spectrum.csv``
 (``centre_wavelength_m,band_lo_m,band_hi_m,level_dB``), ``texture_spectrum.png`` and the
 ``summary.json`` keys ``texture_level_dB``, ``etd_m``, ``ifi_speed_constant_kmh`` (``ifi_F60``).
 """
@@ -79,7 +79,7 @@ def summarise(analysis, fr=None, window_alpha=0.25):
         out["instrument"] = src.meta["instrument"]
     from .scan_input import read_record
 
-    out.update(read_record(src))                      # how the file was read (issue 22)
+    out.update(read_record(src))                      # how the file was read
     if analysis.is_profile:
         out["psd_conversion"] = analysis.spectrum.meta.get("conversion")
     if analysis.anisotropy is not None:
@@ -156,7 +156,7 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
         if an.spec2d is not None:
             drawer.submit(draw_psd2d_figure, psd2d_picture(an.spec2d), out_dir / "psd2d.png", an.name)
     texture_outputs.write_texture_csv(out_dir / "texture_spectrum.csv", tex)
-    texture_outputs.write_extras(out_dir, tex)                  # mpd_segments.csv (issue 28)
+    texture_outputs.write_extras(out_dir, tex)                  # mpd_segments.csv
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
     report.write_json(out_dir / "psd_band.json", band_sidecar(result.reliable_band, fit,
                                                               result.window_alpha))
@@ -202,7 +202,7 @@ def _figures(drawer, out_dir, an, fit, fr, spec, q1_per_m, summary):
     qf = np.geomspace(lo, q_top, 60)
     curves = [("measured (angular average)" if not an.is_profile else
                "2D estimate from the profile's 1D PSD", spec.q_per_m, spec.C_m4)]
-    if "reliable_band_per_m" in summary:    # the part the fit and friction use (issue 20)
+    if "reliable_band_per_m" in summary:    # the part the fit and friction use
         rlo, rhi = summary["reliable_band_per_m"]
         inb = (spec.q_per_m >= rlo * (1 - 1e-9)) & (spec.q_per_m <= rhi * (1 + 1e-9))
         if inb.any():
@@ -213,7 +213,7 @@ def _figures(drawer, out_dir, an, fit, fr, spec, q1_per_m, summary):
                   fits=[(f"self-affine fit, λ = {wavelength_of_q(lo)} to {wavelength_of_q(hi)}"
                          + (f", extended to {wavelength_of_q(q_top)}" if q_top > hi else ""), qf, fit.model_C(qf))])
     if fr is not None:
-        rub = summary["friction"].get("rubber", "thesis rubber")   # name, T0 and sigma0 (issue 20)
+        rub = summary["friction"].get("rubber", "thesis rubber")   # name, T0 and sigma0
         drawer.submit(report.plot_mu, [(f"{summary['friction']['model']}, {rub}", fr.v_m_per_s, fr.mu)],
                       out_dir / "mu.png", title=f"{an.name}: friction μ(v)")
 
@@ -272,7 +272,7 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
     from .headline import hurst_text
     from .texture_iso import roughness_section
 
-    rough = roughness_section(summary)          # ISO 25178-2 / 21920-2 set, filters (issue 28)
+    rough = roughness_section(summary)          # ISO 25178-2 / 21920-2 set, filters
     key = {
         "Hurst exponent H": hurst_text(summary),     # the note when the fit is no headline
         "rms height (Sq of levelled measured heights)": length(summary["rms_height_m"]),
@@ -285,7 +285,7 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
     }
     from . import analyse_band
 
-    key.update(analyse_band.report_rows(summary))   # band, rubber, mu's provenance (issue 20)
+    key.update(analyse_band.report_rows(summary))   # band, rubber, mu's provenance
     texture = [report.table_html(texture_outputs.depth_rows(summary), ["quantity", "value"])]
     if tex is not None and tex.level_dB.size:
         texture.append(f"<p class='note'>{texture_outputs.html_escape(tex.note)}</p>")
@@ -296,10 +296,10 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
                 ("Figures", [list(figs)])]
     if not figs:
         sections.pop()
-    warned = analyse_band.warnings_section(summary)     # every warning in the report (issue 20)
+    warned = analyse_band.warnings_section(summary)     # every warning in the report
     if warned:
         sections.insert(1, warned)
-    shares = analyse_band.share_section(summary, fr)    # mu's provenance per speed (issue 20)
+    shares = analyse_band.share_section(summary, fr)    # mu's provenance per speed
     if shares:
         sections.insert(-1 if figs else len(sections), shares)
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,

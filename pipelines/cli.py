@@ -37,7 +37,7 @@ if __name__ == "__main__" or \
 elif __name__ == "__mp_main__" or \
         os.path.basename(getattr(sys.modules.get("__mp_main__"), "__file__", None) or "") == "roadscan":
     # a process the command spawned (a local Dask worker re-importing the script): a terminal's
-    # Ctrl-C reaches the whole group, but stopping is the parent's business (issue 22)
+    # Ctrl-C reaches the whole group, but stopping is the parent's business
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -191,7 +191,7 @@ def main(argv=None):
 
 
 def _main(args, cmd):
-    # heavy modules (numpy, the readers) only now: --help and usage errors stay fast (issue 13)
+    # heavy modules (numpy, the readers) only now: --help and usage errors stay fast
     from roadscan.io import _common as io_common
     from roadscan.io.overwrite_guard import reads_tracked
 

@@ -264,6 +264,6 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
     band = _plateau_start(band, q, n * dof)
     from .scan_input import read_record
 
-    meta.update(read_record(obj))           # how the file was read: channel, overrides (issue 22)
+    meta.update(read_record(obj))           # how the file was read: channel, overrides
     return SourceSpectrum(label, str(path), kind, list(obj.heights_m.shape), spacing_list, size,
                           res, res_src, q, C, n, band, float(dof), meta)

@@ -142,7 +142,7 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
             entry["warnings"] = mine
     from .scan_input import read_record
 
-    for sc, entry in zip(scans, result.values()):   # how each file was read (issue 22)
+    for sc, entry in zip(scans, result.values()):   # how each file was read
         if isinstance(entry, dict):
             entry.update(read_record(sc))
     report.write_json(out_dir / "comparison.json", result)
@@ -180,7 +180,7 @@ def _write_report(out_dir, names, result, figs, curves):
             [[f"{v[i]:g}"] + [float(c.mu[i]) for _, c in done] for i in idx],
             ["v [m/s]"] + [n for n, _ in done])))
     warned = [[n, w] for n, r in result.items() if isinstance(r, dict) for w in r.get("warnings", [])]
-    if warned:                            # every warning in the report too (issue 20)
+    if warned:                            # every warning in the report too
         sections.insert(1, ("Warnings", report.table_html(warned, ["surface", "warning"])))
     sections.append(("Figures", [list(figs)]))
     report.write_html(out_dir / "report.html", "roadscan compare: " + " vs ".join(names), sections)

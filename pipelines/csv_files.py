@@ -50,7 +50,7 @@ def read_psd_csv(path):
 
     A row with non-finite or non-positive q or C is refused naming the row, and so is a
     spectrum rising with q (:mod:`pipelines.validate`); rows are sorted by q. The engine
-    integrates the table from its lowest to its highest q (DESIGN.md section 5).
+    integrates the table from its lowest to its highest q (docs: Theory).
     """
     from .validate import check_psd_rows, check_psd_shape
 

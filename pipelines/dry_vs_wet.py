@@ -64,7 +64,7 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     atomic_save_npy(out_dir / "wet.npy", wet.heights_m)   # NaN where unmeasured
     from roadscan.io import write
 
-    write(out_dir / "wet.npz", wet)    # the same with its spacing: heights, dx, dy, unmeasured (issue 22)
+    write(out_dir / "wet.npz", wet)    # the same with its spacing: heights, dx, dy, unmeasured
 
     from .headline import WET_MODEL, hurst_keys, peak_keys, side_keys
 
@@ -151,7 +151,7 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     result["warnings"] = validate.warnings_list()   # every line this run printed
     from .scan_input import read_record
 
-    result.update(read_record(scan))           # how the file was read: channel, overrides (issue 22)
+    result.update(read_record(scan))           # how the file was read: channel, overrides
     report.write_json(out_dir / "comparison.json", result)
     _write_report(out_dir, scan.name, result, figs)
     return result

@@ -1,4 +1,4 @@
-"""Figures drawn by a helper process while the numbers are computed (issue 13).
+"""Figures drawn by a helper process while the numbers are computed.
 
 A one-scan ``roadscan analyse`` spends about as long importing matplotlib and drawing its four
 PNGs (0.35 s + 0.5 s, measured on the sample) as on the whole metrology chain, and the two are

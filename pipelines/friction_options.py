@@ -38,7 +38,7 @@ EXTRAPOLATE_CHOICES = ("powerlaw", "hold")
 PRESSURE_HELP = ("nominal contact pressure sigma0 = load / nominal area, with a unit: 0.3MPa, 300kPa, "
                  "3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0 in P(q) "
                  "(default 0.2MPa)")
-FRICTION_GROUP = "friction (Persson's theory; defaults as DESIGN.md section 5)"
+FRICTION_GROUP = "friction (Persson's theory; defaults: see Theory in the docs)"
 RUBBER_GROUP = "rubber (one of --rubber or --master-curve; default: the thesis SLS, T_ref 60 C)"
 SCAN_Q1_HELP = ("upper end of the friction integrals [1/m]; beyond the Nyquist wave vector the "
                 "spectrum is extended by its self-affine fit")
@@ -46,7 +46,7 @@ SCAN_Q1_HELP = ("upper end of the friction integrals [1/m]; beyond the Nyquist w
 
 @dataclass
 class FrictionSettings:
-    """How mu(v) is computed (defaults: DESIGN.md section 5); built from the flags by
+    """How mu(v) is computed (defaults: docs: Theory); built from the flags by
     :func:`settings_from_args`. SI units: pressure [Pa], temperature [C], speeds [m/s], wave
     vectors [1/m]."""
 
@@ -316,7 +316,7 @@ def run_checks(rubber, v, q0, q1, T0_C, T_max_C=None, log=None, result=None):
     msg = coverage_note(cov)
     if msg and log is not None:
         log(msg)
-    elif msg:                             # recorded for summary.json/reports too (issue 20)
+    elif msg:                             # recorded for summary.json/reports too
         from .validate import warn
 
         warn(msg.removeprefix("warning: "))

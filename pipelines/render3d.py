@@ -130,7 +130,7 @@ def render_surface_with_water(dry_hm, depth_m, path, max_points=220, exaggeratio
 
 
 def _height_unit(h_m):
-    """(factor, colour-bar title) for heights [m]: µm, or mm once they reach 1 mm (issue 21)."""
+    """(factor, colour-bar title) for heights [m]: µm, or mm once they reach 1 mm."""
     big = float(np.nanmax(np.abs(h_m))) if np.isfinite(h_m).any() else 0.0
     return (1e3, "height [mm]") if big >= 1e-3 else (1e6, "height [µm]")
 

@@ -19,7 +19,7 @@ import numpy as np
 from roadscan.io.atomic import atomic_path, atomic_write_text
 
 # Figures are files, never windows: the Agg backend. matplotlib itself (0.3 to 1 s to import)
-# is loaded only when a figure is drawn (issue 13: --no-figures, CSV/JSON-only runs and --help
+# is loaded only when a figure is drawn (--no-figures, CSV/JSON-only runs and --help
 # do without it); until then the backend is chosen through the environment.
 if "matplotlib" in sys.modules:
     sys.modules["matplotlib"].use("Agg")
@@ -67,7 +67,7 @@ def plain_log_ticks(ax):
     """Label the log axes of ``ax`` with Unicode exponents (``10⁻⁵``) instead of mathtext.
 
     The tick labels read the same; mathtext's parser costs 0.3 s or more the first time a
-    process draws a log axis (issue 13). Call it after the axis scales are set."""
+    process draws a log axis. Call it after the axis scales are set."""
     from matplotlib.ticker import LogFormatterSciNotation
 
     global _PlainLogFormatter
@@ -96,7 +96,7 @@ def display_image(data, points=DISPLAY_POINTS):
         return data
     cols = np.arange(0, data.shape[1], k)
     step = k * max(1, (1 << 22) // (8 * data.shape[1] * k))  # whole blocks, about 4 MiB a band:
-    parts = []                                             # the memory used is a band's (issue 14)
+    parts = []                                             # the memory used is a band's
     for r in range(0, data.shape[0], step):
         band = data[r:r + step]
         ok = np.isfinite(band)
@@ -129,7 +129,7 @@ def fixed_margins(ax, left=0.95, right=0.25, bottom=0.62, top=0.18):
     bottom, plus room for its title (0.19 in a line, see :func:`set_title`) above ``top``.
 
     Passed to :func:`save_figure` instead of ``tight_layout``, which draws every figure a
-    second time to measure its texts (0.05 s a figure; issue 13)."""
+    second time to measure its texts (0.05 s a figure)."""
     title = ax.get_title()
     lines = title.count("\n") + 1 if title else 0
     return {"left": left, "right": right, "bottom": bottom, "top": top + 0.19 * lines}
@@ -366,7 +366,7 @@ def write_html(path, title, sections, intro=None):
             else:
                 parts.append(str(item))
     parts.append("<p class='note'>Made by roadscan. PSD convention: Persson's, "
-                 "&lt;h²&gt; = 2π ∫ q C(q) dq; friction by Persson's theory (DESIGN.md).</p>")
+                 "&lt;h²&gt; = 2π ∫ q C(q) dq; friction by Persson's theory (docs: Theory).</p>")
     parts.append("</body></html>")
     atomic_write_text(path, "\n".join(parts))
     return Path(path)

@@ -7,7 +7,7 @@ from roadscan.errors import InputError
 
 __all__ = ["add_scan_options", "load_scan", "read_options", "read_record"]
 
-#: what summary.json records of how a file was read (issue 22)
+#: what summary.json records of how a file was read
 READ_KEYS = ("calibration_override", "calibration_ignored", "channel", "channels")
 
 _UNITS = ("m", "mm", "um", "nm")
@@ -77,7 +77,7 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
         raise InputError(path, "is a directory, expected a height file")
     from .overwrite_check import check_kind
 
-    check_kind(path)      # /dev/zero, a FIFO: refused, not read forever (issue 22)
+    check_kind(path)      # /dev/zero, a FIFO: refused, not read forever
     if spacing is not None:
         from .validate import check_spacing_option
 
@@ -102,11 +102,11 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
         if "units?" in str(exc):           # the absolute bound: name the flag that fixes it
             check_plausible(obj, path, units)
         raise
-    check_plausible(obj, path, units)      # a units slip refused before any figure (issue 22)
+    check_plausible(obj, path, units)      # a units slip refused before any figure
     from roadscan.seams import find_steps
 
     for line in [*obj.meta.get("read_warnings", ()), *find_steps(obj)]:
-        warn(f"{path}: {flag_text(line)}")              # on stderr and in summary.json (issue 22)
+        warn(f"{path}: {flag_text(line)}")              # on stderr and in summary.json
     return obj
 
 

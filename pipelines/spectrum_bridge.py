@@ -2,7 +2,7 @@
 
 read -> level (plane, ignoring unmeasured points) -> roughness of the levelled measured heights
 -> fill unmeasured points -> Tukey-windowed PSD -> self-affine fit; plus the bridge from a
-measured spectrum to the friction engine's PSD (DESIGN.md section 5, "which spectrum").
+measured spectrum to the friction engine's PSD (docs: Theory, "which spectrum").
 """
 from __future__ import annotations
 
@@ -113,7 +113,7 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
         spec, spec2d, psd1d = spectrum_of(filled, window_alpha)
     else:
         # a big scan is not copied for the fill: the FFT step reads the levelled map with the
-        # filled values put in band by band (issue 14); ``filled`` is rebuilt when asked for
+        # filled values put in band by band; ``filled`` is rebuilt when asked for
         from roadscan.spectrum import psd_area
 
         values = inpaint.unmeasured_fill(levelled)
@@ -134,7 +134,7 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
 
     Integrates the measured angular average from its lowest ring to its highest (the Nyquist
     wave vector pi/a), with q0 (for the macro-asperity wave vector q_m = zeta_m q0) at the
-    detected roll-off, else the lowest wave vector (DESIGN.md section 5). With ``q1_per_m``
+    detected roll-off, else the lowest wave vector (docs: Theory). With ``q1_per_m``
     beyond the measured band, the spectrum is continued by the fitted self-affine power law
     (:func:`roadscan.fit.extend_spectrum`) up to q1: roughness below the scan's resolution;
     with q1 inside the band the spectrum is cut at its first ring at or above q1 (``apply_band``
@@ -170,7 +170,7 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
 
 def default_velocities(lo=1e-4, hi=1e2, per_decade=10):
     """Default sliding speeds: 1e-4 to 1e2 m/s at 10 per decade (61 points), the range tyres
-    slide at on roads (issue 20; DESIGN.md section 5 had 1e-8..1e4, still one ``--velocities
+    slide at on roads (the thesis's range was 1e-8..1e4, still one ``--velocities
     1e-8:1e4:121`` away)."""
     n = int(round(np.log10(hi / lo) * per_decade)) + 1
     return np.logspace(np.log10(lo), np.log10(hi), n)

@@ -1,4 +1,4 @@
-"""What road engineers report for one scan (issue 21): the ISO 13473-4 texture spectrum
+"""What road engineers report for one scan: the ISO 13473-4 texture spectrum
 (``texture_spectrum.csv``, ``texture_spectrum.png``, ``summary.json`` key ``texture_level_dB``),
 ETD, the IFI speed constant and F60 (ASTM E1960), a labelled short-baseline segment depth for
 scans under 100 mm, and an MPD note that names the spike threshold that would pass.

@@ -3,7 +3,7 @@
 Every grid-sized pass of roadscan (levelling, the FFT step, ring bookkeeping, roughness sums,
 the fill's statistics, the input checks of ``pipelines.validate``) reads a map in bands of
 rows of about :data:`CHUNK_BYTES` of float64, so its temporaries stay in cache and its peak
-memory is a band's, not the map's (issue 14). This module is their one home (issue 23).
+memory is a band's, not the map's. This module is their one home.
 
 Reference: the memory measurements of issue 14 (README, "Big scans").
 """
@@ -16,7 +16,7 @@ import numpy as np
 __all__ = ["row_chunks", "measured_stats", "measured_mean_range", "MeasuredStats", "CHUNK_BYTES"]
 
 #: rows per chunk of the grid-sized passes: about 2 MiB of float64 per chunk, so temporaries
-#: stay in cache and the peak memory does not grow with the map (issue 14)
+#: stay in cache and the peak memory does not grow with the map
 CHUNK_BYTES = 1 << 21
 
 

@@ -1,6 +1,6 @@
 """Self-affine fit of an angular-averaged PSD, band detection, roll-off and extension.
 
-Model (DESIGN.md section 2, thesis appendix A), Persson's normalisation:
+Model (docs: Theory, thesis appendix A), Persson's normalisation:
 
     C(q) = (H / 2 pi) (h0 / q0)^2 (q / q0)^(-2(H+1))       q0 <= q <= q1,
 
@@ -11,7 +11,7 @@ h0 = sqrt(2) h_band / sqrt(1 - (q1/q0)^(-2H)) with h_band the rms height of the 
 The fit is ordinary least squares of log10 C against log10 q over the band (log-spaced rings
 weigh every decade alike); H = -slope/2 - 1 and its standard error is half the slope's
 standard error from the regression. q0 is the roll-off wave vector where one is detected,
-else the lowest wave vector of the spectrum (DESIGN.md section 5); q1 is the highest.
+else the lowest wave vector of the spectrum (docs: Theory); q1 is the highest.
 """
 from __future__ import annotations
 
@@ -198,7 +198,7 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_o
         counts = None
     slope, icpt, se, n = _loglog_fit(q, C, lo, hi, weights=None if counts is None else np.sqrt(counts))
     hurst = -slope / 2.0 - 1.0
-    # the broken-line test of roadscan.rolloff (issue 20: the older median test of the rings
+    # the broken-line test of roadscan.rolloff (the older median test of the rings
     # below the band missed the coarse sample's 14 mm roll-off); the first ring stands for 2 pi / L
     if roll_off is not None:
         q_roll = float(roll_off)

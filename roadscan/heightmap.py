@@ -61,7 +61,7 @@ class _Measured:
         For roadscan's own steps that build a fresh float64 array of this shape with NaN
         exactly where ``unmeasured`` is True (the caller guarantees it); ``unmeasured``
         defaults to this object's mask, shared, not copied. Saves the constructor's copy and
-        its full passes over the map (issue 14: big scans).
+        its full passes over the map (big scans).
         """
         new = object.__new__(type(self))
         new.__dict__.update(self.__dict__)

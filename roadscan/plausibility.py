@@ -1,4 +1,4 @@
-"""Are these heights plausible for this scan? A units slip caught before any figure (issue 22).
+"""Are these heights plausible for this scan? A units slip caught before any figure.
 
 A scan written in mm and read as metres is 1000 times too rough and still "valid" numbers:
 0.415 m rms on a 12.8 mm scan. The heights are judged against the scan itself (its detrended

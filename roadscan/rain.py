@@ -1,6 +1,6 @@
 """Rain fill: the surface that sliding rubber feels when water fills the road's cavities.
 
-Thesis section 4.4 and DESIGN.md section 3. Water fills every local depression of the height
+Thesis section 4.4 and docs: Theory. Water fills every local depression of the height
 map that is not connected to the border up to its spill level (Matlab's ``imfill`` on a
 grayscale image). That is grayscale morphological reconstruction by erosion, seeded from the
 border,
@@ -229,7 +229,7 @@ class RainFill:
 
 
 def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None, method="auto"):
-    """Fill the depressions of a height map with water (thesis section 4.4, DESIGN.md sec. 3).
+    """Fill the depressions of a height map with water (thesis section 4.4, docs: Theory).
 
     Parameters
     ----------

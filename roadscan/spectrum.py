@@ -1,6 +1,6 @@
 """Power spectral densities of height maps (Persson's normalisation): the public entry.
 
-2D (DESIGN.md section 2). With the window w, H_m = FFT2(w h) and A = L_x L_y = n_x dx n_y dy,
+2D (docs: Theory). With the window w, H_m = FFT2(w h) and A = L_x L_y = n_x dx n_y dy,
 
     C(q_m) = (dx dy)^2 |H_m|^2 / ((2 pi)^2 A <w^2>)          [m^4]
 

@@ -1,7 +1,7 @@
 """Small containers for power spectral densities (no computation here beyond rebuilding the
 full 2D map from its rfft half lattice).
 
-PSD convention (Persson's, DESIGN.md section 2): for an isotropic surface
+PSD convention (Persson's, docs: Theory): for an isotropic surface
 ``<h^2> = integral d^2q C(q) = 2 pi integral q C(q) dq``; C [m^4]. A 1D (profile) PSD C1 [m^3]
 satisfies ``<h^2> = 2 integral_0^inf C1(q) dq``.
 """
@@ -15,7 +15,7 @@ __all__ = ["Spectrum", "Spectrum2D", "HalfLattice", "NORMALISATION_2D", "NORMALI
 
 #: the normalisations written into every spectrum's ``meta`` (:mod:`roadscan.spectrum`,
 #: :mod:`roadscan.profile_spectrum`)
-NORMALISATION_2D = "C = (dx dy)^2 |FFT2(w h)|^2 / ((2 pi)^2 A <w^2>) [m^4] (Persson; DESIGN.md sec 2)"
+NORMALISATION_2D = "C = (dx dy)^2 |FFT2(w h)|^2 / ((2 pi)^2 A <w^2>) [m^4] (Persson; docs: Theory)"
 NORMALISATION_1D = "C1 = dx^2 |FFT(w h)|^2 / (2 pi L <w^2>) [m^3]; <h^2> = 2 int_0^inf C1 dq"
 
 

@@ -1,6 +1,6 @@
 """Synthetic self-affine (fractal) surfaces by Fourier filtering.
 
-The target spectrum (Persson's normalisation, DESIGN.md section 2) is
+The target spectrum (Persson's normalisation, docs: Theory) is
 
     C(q) = K q^(-2(H+1))            for q_roll <= q <= q1
     C(q) = K q_roll^(-2(H+1))       for q0 <= q < q_roll  (roll-off plateau, if q_roll given)

@@ -1,5 +1,5 @@
 """Small signal-processing helpers written on numpy alone, so that importing roadscan does not
-load ``scipy.signal`` (about a second of start-up on a busy 2-core machine; issue 13).
+load ``scipy.signal`` (about a second of start-up on a busy 2-core machine).
 
 Each function reproduces the scipy.signal function named in its docstring to float round-off
 (checked against scipy.signal in ``tests/test_windows.py``).

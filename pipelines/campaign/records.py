@@ -6,7 +6,7 @@
 
 Flattening (the column names of ``campaign.csv``): top-level scalar keys keep their names
 (``hurst``, ``rms_height_m``, ``mpd_m``...); ``warnings`` is one column, the scan's warnings
-joined by " | " (issue 20); a nested dict's scalars are joined with a dot
+joined by " | "; a nested dict's scalars are joined with a dot
 (``roughness.Sq_m``, ``friction.mu_peak``, ``anisotropy.ratio``); a list of scalars gives one
 column per element with its index (``fit_band_per_m.0``, ``fit_band_per_m.1``,
 ``shape.0``...). Nothing else is dropped: every scalar of ``summary.json`` has a column
@@ -73,7 +73,7 @@ def ok_record(job, summary, subdir, mu_at=None, extra=None, chainage_m=None):
     values = dict(extra or {})
     flat = flatten_summary(summary)
     values.update({k: v for k, v in flat.items() if not k.startswith(_LIST_COLUMNS_DROPPED)})
-    values["warnings"] = " | ".join(summary.get("warnings") or [])     # issue 20
+    values["warnings"] = " | ".join(summary.get("warnings") or [])
     return {"file": job["file"], "label": job.get("label") or "",
             "chainage_m": job.get("chainage_m") if chainage_m is None else chainage_m,
             "status": "ok", "error": "", "dir": subdir, "values": values, "mu_at": mu_at or {}}

@@ -27,7 +27,7 @@ def QUANTITIES(speeds):
     q = [("hurst", "Hurst exponent H [-]", 1.0, lambda r: r["values"].get("hurst")),
          ("rms_height_m", "Sq, rms height [µm]", 1e6, lambda r: r["values"].get("rms_height_m")),
          ("mpd_m", "MPD (ISO 13473-1) [mm]", 1e3, lambda r: r["values"].get("mpd_m"))]
-    for band in ("80", "5"):       # what noise studies plot along chainage (ISO 13473-4, issue 21)
+    for band in ("80", "5"):       # what noise studies plot along chainage (ISO 13473-4)
         key = f"texture_level_dB.{band}"
         q.append((key, f"texture level {band} mm [dB re 1 µm]", 1.0,
                   lambda r, key=key: r["values"].get(key)))
@@ -77,7 +77,7 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
     from matplotlib.ticker import MaxNLocator
 
     shown = [q for q in quantities if np.isfinite(vals[q[0]]).any()]
-    quantities = shown or quantities[:1]           # no panel of "no values" (issue 21)
+    quantities = shown or quantities[:1]           # no panel of "no values"
     n = len(quantities)
     ncol = 3
     nrow = int(np.ceil((n + (chain is not None)) / ncol))   # along chainage: a spare for the legend
@@ -128,7 +128,7 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
 
 def _reader_units(quantities, vals):
     """Heights shown in µm switch to mm for the whole column when their median is 1 mm or more
-    (CAPTIF profiles: "2.53", not "2530"; issue 21)."""
+    (CAPTIF profiles: "2.53", not "2530")."""
     out = []
     for key, label, scale, get in quantities:
         v = vals[key]
@@ -179,7 +179,7 @@ def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campa
         sections.append(("Along chainage", [pngs[1]]))
     sections.append(("Scans", _table(records, quantities, vals, masks)))
     warned = [r for r in records if r["status"] == "ok" and r["values"].get("warnings")]
-    if warned:                            # every warning of every scan (issue 20)
+    if warned:                            # every warning of every scan
         sections.append(("Warnings", report.table_html(
             [[r.get("dir") or r["file"], w] for r in warned
              for w in r["values"]["warnings"].split(" | ")], ["scan", "warning"])))

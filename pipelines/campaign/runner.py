@@ -81,7 +81,7 @@ def _finished_on_worker(job):
 _TRIM_ENV = "MALLOC_TRIM_THRESHOLD_"
 _TRIM_KEY = "distributed.nanny.pre-spawn-environ." + _TRIM_ENV
 #: local workers log errors only: their INFO records ("Received 'close-stream'...") reached the
-#: terminal after the one-line "interrupted" of a stopped campaign (issue 22); a scan's failure
+#: terminal after the one-line "interrupted" of a stopped campaign; a scan's failure
 #: reaches us through its future
 _WORKER_LOG_KEY = "distributed.nanny.pre-spawn-environ.DASK_LOGGING__DISTRIBUTED"
 

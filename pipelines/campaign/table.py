@@ -9,7 +9,7 @@ values as empty cells.
 The anisotropy sectors of area scans (``anisotropy.sector_angle_deg.*``,
 ``anisotropy.sector_power_fraction.*``: 72 columns) go to a side file,
 ``campaign_anisotropy.csv`` (``file``, ``label``, ``chainage_m``, ``status`` and the sector
-columns, same rows), so that ``campaign.csv`` stays readable (issue 21); the summary figures
+columns, same rows), so that ``campaign.csv`` stays readable; the summary figures
 of the anisotropy (``anisotropy.power_ratio_x_to_y``...) stay in ``campaign.csv``.
 """
 from __future__ import annotations

@@ -79,7 +79,7 @@ def _analyse_sections(job, tmp):
         sub = f"section_{k:05d}"
         extra = {"section": k, "section_start_m": start, "section_length_m": prof.length_m}
         chain = base + start
-        if k == 0:      # a units slip refuses the file before any section (issue 22)
+        if k == 0:      # a units slip refuses the file before any section
             from roadscan.plausibility import check_plausible
 
             check_plausible(prof, job["file"], job.get("units"))

@@ -2,7 +2,7 @@
 
 A terminal's Ctrl-C goes to every process of the foreground group, so each local worker got
 SIGINT too and printed its own KeyboardInterrupt traceback after the parent's one-line
-"interrupted" (issue 22). The workers ignore SIGINT; the parent cancels their scans and closes
+"interrupted". The workers ignore SIGINT; the parent cancels their scans and closes
 the cluster, which stops them. Loaded through ``distributed.worker.preload`` by
 :func:`pipelines.campaign.runner._client` (local clusters only; an existing cluster's workers
 are left as their owner started them).

@@ -96,7 +96,7 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
 
         lines = [",".join(header)] + [",".join("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))
                                                for c in r) for r in table]
-        # each scan's warnings, one quoted cell joined by " | " (issue 20)
+        # each scan's warnings, one quoted cell joined by " | "
         lines = [lines[0] + ",warnings"] + [
             f'{ln},"{" | ".join(w).replace(chr(34), chr(34) * 2)}"' for ln, w in zip(lines[1:], own)]
         atomic_write_text(out / "summary.csv", "\n".join(lines) + "\n")

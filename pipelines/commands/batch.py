@@ -104,7 +104,7 @@ def run(args):
         job = {"file": j.file, "path": os.path.abspath(j.file), "label": j.label,
                "chainage_m": j.chainage_m, "error": j.error, "subdir": j.subdir,
                "out": str(out.resolve()), "spacing": args.spacing, "units": args.units,
-               # shared flags fill in what a file lacks, never replace what it carries (issue 22)
+               # shared flags fill in what a file lacks, never replace what it carries
                "calibration": "override" if getattr(args, "override_calibration", False) else "default",
                "channel": getattr(args, "channel", None),
                "settings": settings, "analysis": kw, "figures": args.figures,
@@ -146,7 +146,7 @@ def summary_line(jobs, results, out):
     failed = sum(any(r["status"] != "ok" for r in recs) for recs in results)
     done = len(jobs) - skipped - failed
     warned = sum(any(r["status"] == "ok" and r["values"].get("warnings") for r in recs)
-                 for recs in results)          # scans with warnings (issue 20)
+                 for recs in results)          # scans with warnings
     return (f"roadscan batch: {done} done, {skipped} skipped, {failed} failed, "
             f"{warned} with warnings -> "
             f"{out / 'campaign.csv'}, {out / 'report.html'}")
@@ -176,7 +176,7 @@ def _earlier_campaign(out):
 
 def _refuse_overwrite(out, jobs, given):
     """No campaign output (campaign.csv/.parquet, report.html, a scan's folder) replaces an
-    input file or the manifest (issue 22)."""
+    input file or the manifest."""
     from roadscan.io.overwrite_guard import refuse_overwrite
 
     outputs = [out / n for n in ("campaign.csv", "campaign.parquet", "report.html")]

@@ -82,7 +82,7 @@ def run(args):
     from roadscan.plausibility import check_plausible
 
     scan = read(inp, **read_options(args))
-    check_plausible(scan, inp, args.units)   # a units slip is not converted (issue 22)
+    check_plausible(scan, inp, args.units)   # a units slip is not converted
     ext = out.suffix.lower()
     if ext in (".tif", ".tiff") and not isinstance(scan, HeightMap):
         raise InputError(inp, "is a line profile: TIFF holds area scans; use .x3p, .npy or .npz")

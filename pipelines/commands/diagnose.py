@@ -1,4 +1,4 @@
-"""``roadscan diagnose``: the sim-to-real gap (issue 5).
+"""``roadscan diagnose``: the sim-to-real gap.
 
 Friction level: ``roadscan diagnose --measured MU.csv (--scan FILE | --psd FILE)
 [--rubber FILE.toml | --master-curve MC.csv --shift-table aT.csv [--reference-temperature C]]
@@ -38,7 +38,7 @@ def add_arguments(p):
     p.add_argument("--uncertain", default=None, metavar="KEY=LO:HI,...",
                    help="inputs known only within a range, calibrated on the training points: q1=LO:HI [1/m] "
                         "(q1=known: q1 fixed), sigma0=LO:HI (units as --sigma0), psd_scale=LO:HI (factor on C(q)), "
-                        "temperature=LO:HI [C]; any subset (issue 19)")
+                        "temperature=LO:HI [C]; any subset")
     p.add_argument("--measurements", metavar="M.csv", default=None,
                    help="several measurements at once: CSV measured,rubber,label[,temperature_C,sigma0_Pa] "
                         "(paths relative to M.csv); q1, psd_scale and sigma0 shared")

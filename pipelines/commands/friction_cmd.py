@@ -4,9 +4,9 @@ Outputs: ``--out mu.csv`` with columns ``v_m_per_s,mu,area_fraction`` (A/A0 = P(
 speed; with ``--flash`` also ``T_flash_max_C``, the hottest flash temperature over all length
 scales, then ``T_C_zeta_1``, ``T_C_zeta_max`` and ``T_C_zeta_<z>`` per ``--magnifications``
 value), a PNG plot beside it (same stem) and ``<stem>_summary.json`` (inputs, the integration
-band, the master-curve frequency coverage and the WLF fit of a shift table). Defaults (DESIGN.md
+band, the master-curve frequency coverage and the WLF fit of a shift table). Defaults (docs: Theory
 sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis rubber at T0 = T_ref, isothermal, speeds 1e-4 to
-1e2 m/s at 10 per decade (61 points; issue 20), the spectrum's own band.
+1e2 m/s at 10 per decade (61 points), the spectrum's own band.
 """
 from __future__ import annotations
 
@@ -157,7 +157,7 @@ def run(args):
         raise
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
-    prov = _provenance(args, psd, band, res, rubber, settings, v, kw)   # issue 20
+    prov = _provenance(args, psd, band, res, rubber, settings, v, kw)
     out = Path(args.out)
     if out.suffix.lower() == ".png":
         raise InputError(None, f"--out {out}: name the CSV (the plot is written beside it as {out.stem}.png)")
@@ -171,7 +171,7 @@ def run(args):
         for z in zetas:
             header.append(f"T_C_zeta_{z:g}")
             cols.append(res.temperature_at(z))
-    header.append("extrapolated_share")                  # after the existing columns (issue 20)
+    header.append("extrapolated_share")                  # after the existing columns
     cols.append(prov["extrapolated_share"])
     checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, res.meta["T0_C"],
                         None if T_max is None else float(T_max.max()), result=res)
@@ -249,7 +249,7 @@ def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area
         "area_fraction_range": [float(area.min()), float(area.max())],
         "rubber_checks": checks,
     }
-    if prov is not None:                  # where mu comes from (issue 20)
+    if prov is not None:                  # where mu comes from
         summary["rubber_label"] = prov["rubber"]
         summary["extrapolated_share"] = [float(x) for x in prov["extrapolated_share"]]
         summary["extrapolated_share_at_peak"] = prov["extrapolated_share_at_peak"]

@@ -31,7 +31,7 @@ def add_arguments(p):
 
 
 def add_water_options(p):
-    """``--connectivity 4|8`` and ``--max-depth M`` / ``--water-film M`` (DESIGN.md section 3)."""
+    """``--connectivity 4|8`` and ``--max-depth M`` / ``--water-film M`` (docs: Theory)."""
     p.add_argument("--connectivity", type=int, choices=(4, 8), default=4,
                    help="connectivity of the fill (default 4, as Matlab's imfill)")
     g = p.add_mutually_exclusive_group()
@@ -87,7 +87,7 @@ def _write(out, args, scan, r):
     atomic_save_npy(out / "wet.npy", r.wet.heights_m)
     atomic_save_npy(out / "depth.npy", r.depth_m)
     # the same maps with their spacing (heights, dx, dy, unmeasured): read back by roadscan or
-    # numpy without --spacing (issue 22)
+    # numpy without --spacing
     write(out / "wet.npz", r.wet)
     write(out / "depth.npz", r.wet.with_heights(r.depth_m, name="depth"))
     summary = {
@@ -111,7 +111,7 @@ def _write(out, args, scan, r):
     }
     from ..scan_input import read_record
 
-    summary.update(read_record(scan))          # how the file was read (issue 22)
+    summary.update(read_record(scan))          # how the file was read
     from ..validate import warnings_list
 
     if warnings_list():

@@ -80,7 +80,7 @@ def _tiles_and_positions(args):
 
 
 def _refuse_overwrite(args, out):
-    """The map and its overlaps table never replace a tile or the manifest (issue 22)."""
+    """The map and its overlaps table never replace a tile or the manifest."""
     from roadscan.io.overwrite_guard import refuse_overwrite
     from roadscan.stitch import read_manifest
 

@@ -1,4 +1,4 @@
-"""Sim-to-real gap diagnosis (``roadscan diagnose``, issue 5).
+"""Sim-to-real gap diagnosis (``roadscan diagnose``).
 
 Where a model and a measurement disagree, which unmodelled effect causes it, and how much
 adding that effect closes the gap. One idea per module:

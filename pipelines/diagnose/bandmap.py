@@ -1,6 +1,6 @@
 """Which length scales and frequencies carry the friction in each speed band.
 
-Persson's mu(v) = 1/2 ∫ dq q^3 C(q) P(q) M(q) (DESIGN.md sec 5), so per unit ln q the
+Persson's mu(v) = 1/2 ∫ dq q^3 C(q) P(q) M(q) (docs: Theory), so per unit ln q the
 contribution is ``dmu/dln q = 1/2 q^4 C(q) P(q) M(q)`` with
 ``M(q) = 4 / ((1 - nu^2) sigma0) ∫_0^{pi/2} dphi cos(phi) Im E(q v cos(phi), T0)``
 (Im E > 0 for omega > 0; Gauss-Legendre in phi here, accurate enough for a map). P(q) comes

@@ -3,7 +3,7 @@ assembled into a :class:`model.FrictionContext`.
 
 ``psd.csv``: header with columns ``q_per_m`` [1/m] and ``C_m4`` [m^4] (Persson's normalisation,
 as written by ``roadscan analyse``); rows with C <= 0 are dropped. The engine integrates it from
-its lowest to its highest q (DESIGN.md sec 5).
+its lowest to its highest q (docs: Theory).
 """
 from __future__ import annotations
 
@@ -53,7 +53,7 @@ def scan_surface(obj, q0_per_m=None, q1_per_m=None, resolution_m=None):
 
 
 def build_context(curve, psd, rubber=None, scan=None, spectrum=None, fit=None, extra_inputs=()):
-    """The baseline model (engine defaults of DESIGN.md sec 5) on the rows of ``curve``."""
+    """The baseline model (the engine's defaults, see Theory in the docs) on the rows of ``curve``."""
     import friction
 
     from roadscan.heightmap import HeightMap

@@ -17,7 +17,7 @@ noise and, in noise units, one family's gap counts as much as another's.
 Effects (``effects/`` level "surface") modify the twin's prediction; parameters are fitted on some
 blocks and scored on the held-out one (k-fold, :mod:`.surface_search`).
 
-The mu(v) the measured spectrum and the pure power law produce (isothermal, DESIGN.md sec 5
+The mu(v) the measured spectrum and the pure power law produce (isothermal, docs: Theory
 defaults) is reported as ``mu_gap`` (rms log10 ratio over 1e-6..10 m/s), and ``where`` gives the
 whole scan's spectrum against the power law per half decade of q.
 """

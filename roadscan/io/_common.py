@@ -57,7 +57,7 @@ def unit_factor(units, path=None, default="m"):
 
 
 # ------------------------------------------------------------------------------ size limits
-#: peak memory of an analysis in float64 copies of the scan (issue 14: at most 6x; margin 8x)
+#: peak memory of an analysis in float64 copies of the scan (at most 6x; margin 8x)
 PEAK_COPIES = 8
 _MAX_PIXELS = None  # None -> default_max_pixels()
 

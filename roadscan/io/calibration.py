@@ -1,6 +1,6 @@
 """What wins when a flag and a file both state a calibration (spacing or height unit).
 
-A flag never silently overrides what a file carries (issue 22). Three policies, chosen by the
+A flag never silently overrides what a file carries. Three policies, chosen by the
 caller of :func:`roadscan.io.read` (``calibration=``) and seen by the readers through a context
 variable:
 

@@ -42,7 +42,7 @@ def _read_header(fh, path, member=None):
         elif version in ((2, 0), (3, 0)):
             # format 3.0 differs from 2.0 only by a UTF-8 (not Latin-1) header, which matters
             # for structured field names alone (refused below as not heights): numpy's public
-            # 2.0 header reader reads it (no private numpy function, issue 22)
+            # 2.0 header reader reads it (no private numpy function)
             shape, _, dtype = np.lib.format.read_array_header_2_0(fh)
         else:
             raise ValueError(f"unknown .npy format version {version[0]}.{version[1]}")
@@ -96,7 +96,7 @@ def read_npy(path, spacing=None, units=None):
 
 def _scaled_float64(arr, factor):
     """``arr`` (freshly loaded, owned here) as float64 heights [m] times ``factor``, in place
-    where it can be: one array of the scan's size, not three (issue 14)."""
+    where it can be: one array of the scan's size, not three."""
     h = arr.astype(np.float64, copy=False)
     if factor != 1.0:
         if h is arr and not arr.flags.writeable:
@@ -155,7 +155,7 @@ def _check_npz_members(path):
         with zipfile.ZipFile(path) as zf:
             names = [info.filename for info in zf.infolist()]
             dup = sorted({n for n in names if names.count(n) > 1})
-            if dup:        # numpy would take the last one silently (issue 22)
+            if dup:        # numpy would take the last one silently
                 raise InputError(path, f".npz archive holds several members named {dup[0]!r} "
                                        f"(which one is meant is undefined): refused")
             for info in zf.infolist():

@@ -3,7 +3,7 @@
 A TIFF may hold several images (pages: a stack, a time series, an ImageJ hyperstack), several
 samples per pixel (RGB, RGBA, grey + alpha) or palette indices (colours looked up in a colour
 map). None of these is a height map by itself, and picking the first silently is how a colour
-picture of a surface comes out as "heights" (issue 22). The rule:
+picture of a surface comes out as "heights". The rule:
 
 - one page of one sample, not a palette: read, ``channel`` may be 0 (or absent);
 - several pages (reduced-resolution thumbnails not counted): ``channel`` = page index

@@ -38,7 +38,7 @@ __all__ = ["read_vendor", "VENDOR_EXTENSIONS", "OWN_EXTENSIONS", "vendor_availab
            "vendor_version", "instrument_block", "LENGTH_UNITS", "MIN_VERSION", "MAX_ABS_M",
            "MIN_NONZERO_M"]
 
-#: oldest SurfaceTopography whose readers are tested here (the shared real files, issue 9)
+#: oldest SurfaceTopography whose readers are tested here (the shared real files)
 MIN_VERSION = (1, 27)
 
 #: extensions SurfaceTopography 1.27 reads that roadscan routes to it, with its reader's format

@@ -1,9 +1,9 @@
 """``flash_temperature``: frictional heating of the rubber at each length scale (Persson 2006;
-thesis chapter 3; DESIGN.md sec 5), which the isothermal model lacks.
+thesis chapter 3; docs: Theory), which the isothermal model lacks.
 
 The engine's self-consistent flash-temperature model replaces the isothermal one. Free
 parameters: zeta_m = q_m / q0, the magnification of the macro-asperity contact spots
-(DESIGN.md: 2 < zeta_m < 5; the bounds are a little wider), and ``heat_scale``, a factor on the
+(Persson 2006: 2 < zeta_m < 5; the bounds are a little wider), and ``heat_scale``, a factor on the
 heat source (``friction.mu_flash(heat_scale=...)``): the temperature rise scales with the
 frictional heat over the rubber's heat capacity and conductivity, which a measurement's rubber
 need not share with the model's defaults. heat_scale -> 1e-3 is no effect (a temperature rise a

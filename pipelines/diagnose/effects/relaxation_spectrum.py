@@ -1,7 +1,7 @@
 """``relaxation_spectrum``: the rubber has a spread of relaxation times, not one (the thesis's
 main recommendation). A width of 0.01 decade is the rubber itself (no effect).
 
-Each Prony term (the standard linear solid is a one-term Prony series, DESIGN.md sec 4) of
+Each Prony term (the standard linear solid is a one-term Prony series, docs: Theory) of
 strength E_i and relaxation time tau_i is replaced by ``n_terms`` terms with log10 tau normally
 distributed around log10 tau_i with standard deviation ``width_decades`` (a log-normal
 relaxation spectrum), strengths summing to E_i. The rubbery and glassy limits E(0), E(inf),

@@ -1,5 +1,5 @@
 """``rolloff`` (surface level): the spectrum flattens below a roll-off wave vector q_r (the
-usual extension for real surfaces, DESIGN.md sec 2): C(q) = C(q_r) for q < q_r, which a pure
+usual extension for real surfaces, docs: Theory): C(q) = C(q_r) for q < q_r, which a pure
 power law lacks. Applied to the twin's ring spectrum as the ratio of the rolled-off to the pure
 law, log10 C -> log10 C - 2 (H + 1) log10(q_r / q) for q < q_r (H the twin's Hurst exponent),
 so that what levelling and the window do to the lowest rings of the twin stays in the

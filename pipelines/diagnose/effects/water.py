@@ -1,4 +1,4 @@
-"""``water``: water in the road's cavities (thesis section 4.4, DESIGN.md sec 3).
+"""``water``: water in the road's cavities (thesis section 4.4, docs: Theory).
 
 Sliding rubber seals the cavities and "feels" the rain-filled surface: the wet rows use the
 spectrum of the rain-filled scan with a limited water film w = ``fill_fraction`` x the full
