@@ -1,7 +1,7 @@
 """friction: B.N.J. Persson's rubber friction theory on a surface spectrum C(q).
 
 Isothermal (Persson 2001) and flash-temperature (Persson 2006) models as in the thesis
-(seeds/000, chapters 2 and 3) with the conventions of the documentation's Theory page: SI units,
+(chapters 2 and 3) with the conventions of the documentation's Theory page: SI units,
 Persson's PSD normalisation, ``Im E > 0`` for ``omega > 0``, and temperature shifts relative to
 the rubber's reference temperature. This package reads no files and imports neither roadscan
 nor pipelines.

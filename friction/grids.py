@@ -119,8 +119,7 @@ def q_grid(breakpoints_per_m, nodes_per_decade, grade=8):
 class _NotAKnotSpline:
     """Cubic interpolating spline with not-a-knot end conditions (the same spline as
     ``scipy.interpolate.CubicSpline``'s default, equal to it to rounding; written here because
-    importing ``scipy.interpolate`` costs 0.1 s, which every ``roadscan`` run would pay,
-    issue 13).
+    importing ``scipy.interpolate`` costs 0.1 s, which every ``roadscan`` run would pay).
 
     The slopes s_i at the nodes x_0 < ... < x_{n-1} solve the tridiagonal system of C2
     continuity, for i = 1..n-2 (h_i = x_{i+1} - x_i, d_i = (y_{i+1} - y_i) / h_i)

@@ -43,7 +43,7 @@ def nominal_band(obj):
 
 
 def summarise(analysis, fr=None, window_alpha=0.25):
-    """The ``summary.json`` dictionary of one analysed scan (contract keys of issue 2)."""
+    """The ``summary.json`` dictionary of one analysed scan (its keys are a contract)."""
     from .headline import hurst_keys, peak_keys
 
     fit = analysis.fit

@@ -134,7 +134,7 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
                                        ylabel="μ / μ$_{ref}$ [-]"))
     from . import validate
 
-    said = validate.warnings_list()          # what this run printed (readers, seams: issue 22)
+    said = validate.warnings_list()          # what this run printed (readers, seams)
     srcs = [str(sc.meta.get("source", "\0")) for sc in scans]
     for src, entry in zip(srcs, result.values()):   # each scan's own, and those naming none
         mine = [w for w in said if w.startswith(src) or not any(w.startswith(t) for t in srcs)]

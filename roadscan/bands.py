@@ -5,7 +5,7 @@ the fill's statistics, the input checks of ``pipelines.validate``) reads a map i
 rows of about :data:`CHUNK_BYTES` of float64, so its temporaries stay in cache and its peak
 memory is a band's, not the map's. This module is their one home.
 
-Reference: the memory measurements of issue 14 (README, "Big scans").
+Reference: the memory measurements in ``benchmarks/bench_scale.py``.
 """
 from __future__ import annotations
 

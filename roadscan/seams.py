@@ -1,7 +1,7 @@
 """Steps and seams far above the texture: a stitching fault or a plate edge, not roughness.
 
 A 2 mm step across a 0.2 mm-rms scan adds a ``1/q^2`` tail to the spectrum (a step's Fourier
-transform falls as ``1/q``) and pulls the fitted Hurst exponent towards 0.5 (H 0.42 in issue 22)
+transform falls as ``1/q``) and pulls the fitted Hurst exponent towards 0.5 (H 0.42 on one real stitched scan)
 without a word. The step is found in the scan's median profiles:
 
 - ``m_x[j]``: the median over rows of column ``j`` (in up to 4 bands of rows, so that a seam

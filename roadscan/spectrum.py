@@ -87,7 +87,7 @@ def _half_psd(hm, window_alpha, fill_values=None):
     h, bad = hm.heights_m, hm.unmeasured
     fft = fft_backend(ny * nx)
     # maps on numpy's FFT (up to 4 Mpx, 32 MiB) are done in one band: one rfft2, no copies
-    # of band spectra; larger maps band by band (the memory of issue 14)
+    # of band spectra; larger maps band by band (bounded memory)
     bands = [slice(0, ny)] if fft is _NumpyFFT else row_chunks(ny, nx, _FFT_BAND_BYTES)
     F = np.empty((ny, nx // 2 + 1), dtype=np.complex128) if len(bands) > 1 else None
     k = 0

@@ -1,4 +1,4 @@
-"""Outputs of a diagnosis: ``diagnosis.json`` (the contract of issue 5) and ``report.html``
+"""Outputs of a diagnosis: ``diagnosis.json`` (its keys are a contract) and ``report.html``
 (self-contained: PNGs embedded base64, opens offline), via :mod:`pipelines.report`."""
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 """Lateral size of an instrument file checked against the kind of instrument that wrote it.
 
 A vendor file read with the wrong length unit does not look wrong to a reader: the NanoFocus
-``.nms`` files of issue 22 came out of SurfaceTopography 1.27 with 0.31 m pixels, a 160 m field
+``.nms`` files once came out of SurfaceTopography 1.27 with 0.31 m pixels, a 160 m field
 from a confocal microscope. Each SurfaceTopography format id maps to an instrument kind with
 the pixel and field ranges such instruments can have:
 

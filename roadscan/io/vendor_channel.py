@@ -211,7 +211,7 @@ def _check_values(path, h_file, f, undefined):
     """Refuse what an instrument does not write, among the defined heights ``h_file`` (in the
     file's unit, ``f`` metres each): infinities; denormals (0 < |h| below float32's smallest
     normal number, 1.2e-38, in the file's unit, or below 1e-30 m: misread bytes, such as the
-    shifted Sensofar values of issue 9); heights beyond 10 km (an unmasked invalid-point marker
+    shifted Sensofar values once seen); heights beyond 10 km (an unmasked invalid-point marker
     or a wrong unit)."""
     vals = h_file[~undefined]
     inf = ~np.isfinite(vals)

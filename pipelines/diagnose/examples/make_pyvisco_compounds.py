@@ -1,5 +1,5 @@
 """Make ``compounds/``: several self-made "measured" compounds on one road, with hidden offsets of
-the inputs a tribologist does not know (the NEXEN-style workflow of issue 19).
+the inputs a tribologist does not know (a tyre maker's workflow).
 
 One spectrum (the sample asphalt's, ``sample_scans/asphalt_psd.csv``) and four rubbers of
 ``sample_scans/rubbers/`` (NREL pyvisco's measured master curve with its WLF fit and with its
