@@ -283,7 +283,8 @@ def test_undefined_h0_is_null_with_a_warning_not_a_nan(monkeypatch, capsys, tmp_
     rc, err = _run(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--no-friction"])
     assert rc == 0
     s = written[-1]
-    assert s["hurst"] < 0 and s["h0_m"] is None          # not float("nan")
+    assert s["hurst_fit"] < 0 and s["hurst"] is None and s["h0_m"] is None   # not float("nan")
+    assert "outside [0, 1]" in s["hurst_note"]
     assert "h0 is undefined" in err and "h0 is undefined" in s["warnings"][0]
 
 
