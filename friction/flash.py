@@ -280,6 +280,11 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
     FlashConvergenceError (a RuntimeError) if the fixed point is not reached within ``max_iter``
     map evaluations; its one-line message names the speeds, and says "runs away" when the
     iterates rose more than :data:`T_RISE_MAX_K` above T0 (no solution in the model's range).
+
+    References
+    ----------
+    B.N.J. Persson, "Rubber friction: role of the flash temperature", J. Phys.: Condens. Matter 18,
+    7789 (2006), doi:10.1088/0953-8984/18/32/025.
     """
     v = _check(psd, v_m_per_s, sigma0_Pa, nu, contact_gamma)
     if not (np.isfinite(heat_scale) and heat_scale >= 0):

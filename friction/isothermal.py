@@ -100,6 +100,19 @@ def mu_isothermal(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, to
     Returns
     -------
     FrictionResult (T_q_C None).
+
+    References
+    ----------
+    B.N.J. Persson, "Theory of rubber friction and contact mechanics", J. Chem. Phys. 115, 3840
+    (2001), doi:10.1063/1.1388626.
+
+    Examples
+    --------
+    >>> import numpy as np, friction
+    >>> psd = friction.SelfAffinePSD(0.85, 5e-4, 2000, 2e5)
+    >>> r = friction.mu_isothermal(psd, friction.thesis_rubber(), np.logspace(-4, 2, 7))
+    >>> r.mu.shape
+    (7,)
     """
     v = _check(psd, v_m_per_s, sigma0_Pa, nu, contact_gamma)
     T0 = rubber.T_ref_C if T0_C is None else float(T0_C)

@@ -36,6 +36,17 @@ def anisotropy(spec2d, q_min=None, q_max=None, rings_per_decade=10, n_sectors=36
         ``anisotropy_index`` = (l1 - l2) / (l1 + l2) of M's eigenvalues (0 isotropic, 1 fully
         one-directional); ``sector_angle_deg`` and ``sector_power_fraction``: weights summed
         in ``n_sectors`` sectors of wave-vector direction over [0, 180) (centres, fractions).
+
+    Parameters
+    ----------
+    spec2d : Spectrum2D
+        The 2D spectrum.
+    q_min, q_max : float, optional
+        Range of |q| [1/m].
+    rings_per_decade : int, optional
+        Rings for the normalising ring means.
+    n_sectors : int, optional
+        Direction sectors over 180 degrees.
     """
     qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
     Lx, Ly, dx, dy = _grid_of(spec2d)

@@ -107,7 +107,22 @@ def _loglog_fit(q, C, lo, hi, weights=None):
 
 def local_slopes(q, C, window_decades=0.4):
     """Slope of log C vs log q by least squares in a window of ``window_decades`` around
-    each point (vectorised with prefix sums)."""
+    each point (vectorised with prefix sums).
+
+    Parameters
+    ----------
+    q : ndarray
+        Wave vectors [1/m], increasing.
+    C : ndarray
+        Spectrum [m^4].
+    window_decades : float, optional
+        Width of the window in decades of q.
+
+    Returns
+    -------
+    ndarray
+        d log C / d log q at every point.
+    """
     x, y = np.log10(q), np.log10(C)
     lo = np.searchsorted(x, x - window_decades / 2, side="left")
     hi = np.searchsorted(x, x + window_decades / 2, side="right")
@@ -138,6 +153,22 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
     Returns
     -------
     (lo, hi) : wave vectors [1/m] of the first and last point of the band.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        An angular-averaged spectrum.
+    tolerance : float, optional
+        Largest departure of a local slope from the median slope.
+    window_decades : float, optional
+        Window of the local slopes [decades].
+    min_count : int, optional
+        Fewest lattice points a ring needs to count.
+
+    Returns
+    -------
+    tuple of float
+        The band (q_lo, q_hi) [1/m].
     """
     idx = _usable(spectrum, min_count)
     if idx.size < 5:
@@ -231,6 +262,17 @@ def extend_spectrum(spectrum, fit, q1_per_m, points_per_decade=20):
     -------
     Spectrum
         kind ``"extended"``; ``meta['extended_from_per_m']`` marks the join.
+
+    Parameters
+    ----------
+    spectrum : Spectrum
+        The measured spectrum.
+    fit : SelfAffineFit
+        Its self-affine fit.
+    q1_per_m : float
+        Wave vector to extend to [1/m].
+    points_per_decade : int, optional
+        Model points per decade above the measured range.
     """
     q_top = spectrum.q_max_per_m
     meta = dict(spectrum.meta)

@@ -172,6 +172,18 @@ def require_filled(obj, fill_values=None):
 
     With ``fill_values`` (one finite height per unmeasured point, raster order, as
     :func:`roadscan.inpaint.unmeasured_fill` gives them) the map counts as filled.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+    fill_values : ndarray, optional
+        Heights for its unmeasured points.
+
+    Returns
+    -------
+    None
+        Raises ValueError when points are unmeasured and not filled.
     """
     if fill_values is not None:
         n = int(np.count_nonzero(obj.unmeasured))

@@ -169,6 +169,13 @@ def unmeasured_fill(obj, method="biharmonic"):
         ``h[obj.unmeasured] = values`` fills the map (and :func:`roadscan.spectrum.psd_area`
         takes them as ``fill_values``). The biharmonic fill works band by band of rows
         (float64); its memory is a band plus the cluster labels (int32), not the map.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan [m].
+    method : str, optional
+        ``"biharmonic"`` (default).
     """
     if not isinstance(obj, (HeightMap, Profile)):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")

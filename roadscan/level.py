@@ -29,7 +29,15 @@ def _powers(u, p_max):
 class PolynomialForm:
     """A fitted polynomial form z(x, y) = sum_{i + j <= d} c_ij u^i v^j on a grid (u, v the
     column and row coordinates mapped to [-1, 1]); :meth:`rows` evaluates it on a band of
-    rows, so callers never need the whole form in memory."""
+    rows, so callers never need the whole form in memory.
+
+    Parameters
+    ----------
+    C : ndarray
+        Coefficients c_ij.
+    U, V : ndarray
+        Column and row coordinates mapped to [-1, 1].
+    """
 
     def __init__(self, C, U, V):
         self.C, self.U, self.V = C, U, V              # C[j, i]; U (nx, d+1); V (ny, d+1)
@@ -62,6 +70,20 @@ def fit_polynomial(heights_m, unmeasured, degree=1):
     The moment sums S[j, i] = sum m v^j u^i and R[j, i] = sum m h v^j u^i (m the measured
     indicator) are accumulated over bands of rows (float64 throughout), so the memory used
     is a few rows whatever the size of the map; the normal equations are then solved once.
+
+    Parameters
+    ----------
+    heights_m : ndarray
+        Heights [m].
+    unmeasured : ndarray of bool
+        Points not measured.
+    degree : int, optional
+        Total degree of the polynomial.
+
+    Returns
+    -------
+    PolynomialForm
+        The fitted form.
     """
     if degree < 0:
         raise ValueError(f"degree must be >= 0, got {degree}")

@@ -33,7 +33,18 @@ _lgamma = np.vectorize(math.lgamma, otypes=[float])
 
 
 def profile_to_area_factor(hurst):
-    """Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)): C(q) = C1(q) / q times this (power law)."""
+    """Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)): C(q) = C1(q) / q times this (power law).
+
+    Parameters
+    ----------
+    hurst : float or array_like
+        Hurst exponent H.
+
+    Returns
+    -------
+    float or ndarray
+        The factor.
+    """
     h = np.asarray(hurst, dtype=float)
     out = np.exp(_lgamma(1.0 + h) - _lgamma(h + 0.5)) / np.sqrt(np.pi)
     return float(out) if out.ndim == 0 else out

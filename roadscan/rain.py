@@ -58,7 +58,18 @@ __all__ = ["RainFill", "rain_fill", "full_fill", "footprint", "capped_levels", "
 
 
 def footprint(connectivity):
-    """Structuring element for 4- (cross) or 8- (3x3 square) connectivity."""
+    """Structuring element for 4- (cross) or 8- (3x3 square) connectivity.
+
+    Parameters
+    ----------
+    connectivity : {4, 8}
+        Neighbourhood.
+
+    Returns
+    -------
+    ndarray of bool, shape (3, 3)
+        The structuring element.
+    """
     if connectivity == 4:
         return ndimage.generate_binary_structure(2, 1).astype(np.uint8)
     if connectivity == 8:
@@ -159,7 +170,26 @@ def _depressions(h, filled, connectivity):
 
 
 def capped_levels(h, filled, labels, lowest, max_depth_m):
-    """Water level min(F, m_k + d) on wet points, h elsewhere (NaN stays NaN)."""
+    """Water level min(F, m_k + d) on wet points, h elsewhere (NaN stays NaN).
+
+    Parameters
+    ----------
+    h : ndarray
+        Heights [m].
+    filled : ndarray
+        Spill levels F of the full fill [m].
+    labels : ndarray of int
+        Depression label of every point (0: dry).
+    lowest : ndarray
+        Lowest height m_k of each depression [m].
+    max_depth_m : float
+        Depth cap d [m].
+
+    Returns
+    -------
+    ndarray
+        Water levels [m].
+    """
     cap = lowest[labels] + max_depth_m
     level = np.where(labels > 0, np.minimum(filled, cap), h)
     return np.maximum(level, h)  # points of a depression above m_k + d stay dry

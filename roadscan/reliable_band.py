@@ -65,6 +65,21 @@ class ReliableBand:
 
     ``limits`` holds every candidate end (``field_of_view``, ``roll_off``, ``nyquist``,
     ``resolution``, ``noise_floor``; None when absent), ``reasons`` one line for each end.
+
+    Attributes
+    ----------
+    lo_per_m, hi_per_m : float
+        Ends of the band [1/m].
+    lo_reason, hi_reason : str
+        Why each end is where it is (one line each).
+    limits : dict
+        Every candidate end [1/m] or None.
+    slope : float
+        Slope of log C against log q inside the band.
+    q_roll_per_m : float or None
+        Detected roll-off [1/m].
+    noise_floor : float or None
+        White noise level of C [m^4], when one was found.
     """
 
     lo_per_m: float
@@ -97,7 +112,20 @@ class ReliableBand:
 def leakage_factor(beta, window_alpha=0.25):
     """k(beta): C is within about 10 % of the truth from k x 2 pi / L on (see module doc), for a
     Tukey window of ``window_alpha`` (tables at 0.25, 0.5 and 1, interpolated in alpha; below
-    0.25 the 0.25 table, which is optimistic for a rectangular window)."""
+    0.25 the 0.25 table, which is optimistic for a rectangular window).
+
+    Parameters
+    ----------
+    beta : float
+        Slope magnitude of the spectrum, C ~ q^-beta.
+    window_alpha : float, optional
+        Tukey taper fraction.
+
+    Returns
+    -------
+    float
+        k: the band starts at k x 2 pi / L.
+    """
     alphas = sorted(_LEAKAGE_TABLES)
     ks = [np.interp(beta, *zip(*_LEAKAGE_TABLES[a])) for a in alphas]
     k = np.interp(window_alpha, alphas, ks)
@@ -106,12 +134,38 @@ def leakage_factor(beta, window_alpha=0.25):
 
 def gaussian_response(q_per_m, resolution_m):
     """Amplitude response T(q) = exp(-ln 2 (q r / 2 pi)^2) of a lateral resolution r [m]
-    (T = 0.5 at the wavelength r); C is attenuated by T^2."""
+    (T = 0.5 at the wavelength r); C is attenuated by T^2.
+
+    Parameters
+    ----------
+    q_per_m : array_like
+        Wave vectors [1/m].
+    resolution_m : float
+        Lateral resolution r [m], the wavelength passed at 50 % amplitude.
+
+    Returns
+    -------
+    ndarray
+        T(q), between 0 and 1.
+    """
     return np.exp(-np.log(2.0) * (np.asarray(q_per_m, float) * resolution_m / (2 * np.pi)) ** 2)
 
 
 def resolution_limit(resolution_m, response_min=RESPONSE_MIN):
-    """Wave vector [1/m] where :func:`gaussian_response` falls to ``response_min``."""
+    """Wave vector [1/m] where :func:`gaussian_response` falls to ``response_min``.
+
+    Parameters
+    ----------
+    resolution_m : float
+        Lateral resolution [m].
+    response_min : float, optional
+        Amplitude response at the limit.
+
+    Returns
+    -------
+    float
+        Wave vector [1/m].
+    """
     return 2 * np.pi / resolution_m * np.sqrt(np.log(1.0 / response_min) / np.log(2.0))
 
 
@@ -130,6 +184,15 @@ def noise_limit(q, C, slope, intercept, q_from):
     line ``10**(intercept + slope log10 q)`` by :data:`NOISE_EXCESS`, or before the first ring
     (from the bottom) where C is within :data:`WHITE_SHARE` of the white level (median C of the
     top 0.2 decade when its local slope is above -1), whichever comes first.
+
+    Parameters
+    ----------
+    q, C : ndarray
+        Spectrum: wave vectors [1/m] and C [m^4].
+    slope, intercept : float
+        The line log10 C = intercept + slope log10 q fitted below the noise.
+    q_from : float
+        Wave vector [1/m] above which the floor is looked for.
     """
     from .fit import local_slopes
 

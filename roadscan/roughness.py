@@ -49,6 +49,18 @@ def area_parameters(hm, level_degree=1):
     Returns
     -------
     dict with keys Sa_m, Sq_m, Ssk, Sku, Sp_m, Sv_m, Sz_m, Sdq, Sdr.
+
+    Parameters
+    ----------
+    hm : HeightMap
+        Height map [m].
+    level_degree : int or None, optional
+        Degree of the least-squares form removed first (None: none).
+
+    References
+    ----------
+    ISO 25178-2:2021, Geometrical product specifications (GPS) -- Surface texture: Areal -- Part 2:
+    Terms, definitions and surface texture parameters.
     """
     h, bad = hm.heights_m, hm.unmeasured
     ny, nx = h.shape
@@ -100,6 +112,17 @@ def profile_parameters(profile, level_degree=1):
     Returns
     -------
     dict with keys Ra_m, Rq_m, Rsk, Rku, Rp_m, Rv_m, Rt_m, Rdq.
+
+    Parameters
+    ----------
+    profile : Profile
+        Line profile [m].
+    level_degree : int or None, optional
+        Degree of the least-squares line or polynomial removed first.
+
+    References
+    ----------
+    ISO 4287:1997 (ISO 21920-2:2021), profile surface texture parameters.
     """
     if level_degree is not None:
         profile = level(profile, level_degree)
@@ -261,6 +284,25 @@ def mean_profile_depth(profile, **settings):
     -------
     (mpd_m or None, note) : the note says how many segments were valid and what was done, or
     why no MPD could be computed.
+
+    Parameters
+    ----------
+    profile : Profile
+        Line profile [m], spacing at most 1 mm, at least 100 mm long.
+    **settings
+        Overrides of :data:`MPD_SETTINGS` (e.g. ``spike_alpha=6``).
+
+    References
+    ----------
+    ISO 13473-1:2019, Characterization of pavement texture by use of surface profiles -- Part 1:
+    Determination of mean profile depth.
+
+    Examples
+    --------
+    >>> from roadscan.io import read
+    >>> from roadscan.roughness import mean_profile_depth
+    >>> mpd_m, note = mean_profile_depth(read("sample_scans/captif_station_1_excerpt.dat"),
+    ...                                  spike_alpha=6)   # doctest: +SKIP
     """
     if not isinstance(profile, Profile):
         raise TypeError(f"expected a Profile, got {type(profile).__name__}")
@@ -286,6 +328,17 @@ def mean_profile_depth_area(hm, **settings):
     Returns
     -------
     (mpd_m or None, note)
+
+    Parameters
+    ----------
+    hm : HeightMap
+        Height map [m]; its rows are the profiles.
+    **settings
+        Overrides of :data:`MPD_SETTINGS`.
+
+    References
+    ----------
+    ISO 13473-1:2019.
     """
     if not isinstance(hm, HeightMap):
         raise TypeError(f"expected a HeightMap, got {type(hm).__name__}")

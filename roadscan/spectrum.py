@@ -44,7 +44,22 @@ __all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",
 
 
 def window_2d(ny, nx, alpha=0.25):
-    """The 2D Tukey window (outer product of two 1D Tukey windows) and its mean square <w^2>."""
+    """The 2D Tukey window (outer product of two 1D Tukey windows) and its mean square <w^2>.
+
+    Parameters
+    ----------
+    ny, nx : int
+        Rows and columns of the map.
+    alpha : float, optional
+        Tukey taper fraction (0 rectangular, 1 Hann).
+
+    Returns
+    -------
+    w : ndarray, shape (ny, nx)
+        The window.
+    w2 : float
+        Its mean square <w^2>.
+    """
     wy, wx = _tukey(ny, float(alpha)), _tukey(nx, float(alpha))
     return np.outer(wy, wx), _window_mean_square(ny, nx, alpha)
 
@@ -154,6 +169,17 @@ def psd_2d(hm, window_alpha=0.25):
         fftshifted lattice wave vectors ``qx_per_m`` (nx,), ``qy_per_m`` (ny,) [1/m] and the
         map ``C_m4`` (ny, nx), built from the rfft2 half lattice when first read;
         ``meta`` holds the window, <w^2> and the normalisation.
+
+    Parameters
+    ----------
+    hm : HeightMap
+        Levelled height map without unmeasured points [m].
+    window_alpha : float, optional
+        Tukey taper fraction.
+
+    References
+    ----------
+    B.N.J. Persson et al., J. Phys.: Condens. Matter 17, R1 (2005), doi:10.1088/0953-8984/17/1/R01.
     """
     _require_filled(hm)
     P, scale, w2 = _half_psd(hm, window_alpha)
@@ -180,6 +206,15 @@ def angular_average(spec2d, rings_per_decade=20, q_min=None, q_max=None):
     -------
     Spectrum
         kind ``"area"``; ``meta`` carries the ring edges and the 2D map's meta.
+
+    Parameters
+    ----------
+    spec2d : Spectrum2D
+        The 2D spectrum map.
+    rings_per_decade : int, optional
+        Log-spaced rings per decade of |q|.
+    q_min, q_max : float, optional
+        Range of |q| [1/m] (defaults 2 pi / L and pi / a).
     """
     qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
     Lx, Ly, dx, dy = _grid_of(spec2d)
@@ -221,6 +256,34 @@ def psd_area(hm, window_alpha=0.25, rings_per_decade=20, q_min=None, q_max=None,
     Returns
     -------
     (Spectrum, Spectrum2D)
+
+    Parameters
+    ----------
+    hm : HeightMap
+        Levelled height map [m], filled or with ``fill_values`` for its unmeasured points.
+    window_alpha : float, optional
+        Tukey taper fraction of the 2D window (0.25).
+    rings_per_decade : int, optional
+        Log-spaced rings per decade of |q|.
+    q_min, q_max : float, optional
+        Range of |q| [1/m] (defaults 2 pi / L and pi / a).
+    fill_values : ndarray, optional
+        Heights for the unmeasured points in raster order.
+
+    References
+    ----------
+    B.N.J. Persson et al., "On the nature of surface roughness with application to contact
+    mechanics, sealing, rubber friction and adhesion", J. Phys.: Condens. Matter 17, R1 (2005),
+    doi:10.1088/0953-8984/17/1/R01 (the normalisation <h^2> = 2 pi int q C dq).
+
+    Examples
+    --------
+    >>> from roadscan.io import read
+    >>> from roadscan.level import level
+    >>> from roadscan.inpaint import fill_unmeasured
+    >>> from roadscan import psd_area
+    >>> flat, _ = fill_unmeasured(level(read("sample_scans/asphalt.x3p")))  # doctest: +SKIP
+    >>> spectrum, spectrum_2d = psd_area(flat)                              # doctest: +SKIP
     """
     _require_filled(hm, fill_values)
     ny, nx = hm.shape

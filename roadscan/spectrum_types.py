@@ -78,7 +78,17 @@ def _full_from_half(P, nx):
 class HalfLattice:
     """A 2D PSD stored on the rfft2 half lattice: ``C = scale * P`` at the unshifted lattice
     points with q_x >= 0 (columns 0 .. nx // 2), the rest following from C(-q) = C(q).
-    Half the memory of the full map, which is built only when asked for."""
+    Half the memory of the full map, which is built only when asked for.
+
+    Parameters
+    ----------
+    P : ndarray
+        Unscaled |FFT2|^2 on the half lattice.
+    scale : float
+        Factor making P a PSD [m^4].
+    nx : int
+        Columns of the full lattice.
+    """
 
     P: np.ndarray          # (ny, nx // 2 + 1), unscaled |FFT2(w h)|^2
     scale: float           # C [m^4] = scale * P
@@ -109,6 +119,17 @@ class Spectrum2D:
     ``C_m4`` is either given, or (from :func:`roadscan.spectrum.psd_area` and ``psd_2d``)
     built from the rfft2 half lattice ``half`` the first time it is read and then kept;
     :meth:`central` reads the part around q = 0 without building the whole map.
+
+    Parameters
+    ----------
+    qx_per_m, qy_per_m : ndarray
+        Shifted lattice wave vectors [1/m].
+    C_m4 : ndarray, optional
+        The map [m^4] (else built from ``half``).
+    meta : dict, optional
+        Window, normalisation, spacing.
+    half : HalfLattice, optional
+        The half-lattice storage.
     """
 
     __slots__ = ("qx_per_m", "qy_per_m", "meta", "half", "_C")

@@ -29,6 +29,24 @@ def model_psd(q_per_m, hurst, prefactor_m4=1.0, q0_per_m=0.0, q1_per_m=np.inf, q
     """The piecewise self-affine spectrum above, C [m^4] at wave vectors ``q_per_m`` [1/m].
 
     ``prefactor_m4`` is K in C = K q^(-2(H+1)) (units m^4 when q is in 1/m, times m^(-2(H+1))).
+
+    Parameters
+    ----------
+    q_per_m : array_like
+        Wave vectors [1/m].
+    hurst : float
+        Hurst exponent H.
+    prefactor_m4 : float, optional
+        K.
+    q0_per_m, q1_per_m : float, optional
+        Band of the power law [1/m] (zero outside).
+    q_roll_per_m : float, optional
+        Roll-off: C constant below it.
+
+    Returns
+    -------
+    ndarray
+        C [m^4].
     """
     q = np.asarray(q_per_m, dtype=np.float64)
     qr = q0_per_m if q_roll_per_m is None else q_roll_per_m

@@ -23,6 +23,20 @@ def estimated_texture_depth(mpd_m):
 
     ETD estimates the volumetric (sand patch, ISO 10844 / EN 13036-1) mean texture depth from
     the MPD. None when ``mpd_m`` is None.
+
+    Parameters
+    ----------
+    mpd_m : float or None
+        Mean profile depth [m].
+
+    Returns
+    -------
+    float or None
+        ETD [m].
+
+    References
+    ----------
+    ISO 13473-1:2019, eq. (1).
     """
     if mpd_m is None:
         return None
@@ -33,6 +47,21 @@ def ifi_speed_constant(mpd_m):
     """IFI speed constant Sp [km/h], ASTM E1960-07: Sp = 14.2 + 89.7 MPD, MPD in mm.
 
     None when ``mpd_m`` is None.
+
+    Parameters
+    ----------
+    mpd_m : float or None
+        Mean profile depth [m].
+
+    Returns
+    -------
+    float or None
+        Sp [km/h].
+
+    References
+    ----------
+    ASTM E1960-07, Standard Practice for Calculating International Friction Index of a Pavement
+    Surface.
     """
     if mpd_m is None:
         return None
@@ -50,6 +79,21 @@ def ifi_f60(friction, slip_speed_kmh, mpd_m, A, B, C=0.0):
     Returns
     -------
     (F60, Sp_kmh, FR60), or None when ``mpd_m`` is None.
+
+    Parameters
+    ----------
+    friction : float
+        Friction FRS measured at the slip speed.
+    slip_speed_kmh : float
+        Slip speed S [km/h].
+    mpd_m : float or None
+        Mean profile depth [m].
+    A, B, C : float
+        The device's calibration constants.
+
+    References
+    ----------
+    ASTM E1960-07.
     """
     sp = ifi_speed_constant(mpd_m)
     if sp is None:
@@ -78,6 +122,18 @@ def short_segment_depth(obj, **settings):
     Returns
     -------
     (msd_short_m or None, baseline_m or None, note)
+
+    Parameters
+    ----------
+    obj : Profile or HeightMap
+        A scan shorter than 100 mm [m].
+    **settings
+        Overrides of the ISO 13473-1 settings.
+
+    Returns
+    -------
+    tuple
+        (depth_m or None, baseline_m, note).
     """
     from . import roughness
 
@@ -120,6 +176,24 @@ def spike_alpha_to_pass(obj, settings=None, upper=50.0, step=0.1, max_rows=256):
     -------
     (alpha or None, iso_valid): None when even ``upper`` leaves no valid segment (the
     segments fail on dropouts, not spikes).
+
+    Parameters
+    ----------
+    obj : Profile or HeightMap
+        The scan.
+    settings : dict, optional
+        ISO 13473-1 settings.
+    upper : float, optional
+        Largest alpha tried.
+    step : float, optional
+        Resolution of alpha.
+    max_rows : int, optional
+        Rows of a map searched at most.
+
+    Returns
+    -------
+    float or None
+        The smallest alpha, or None when none up to ``upper`` works.
     """
     from .roughness import MPD_SETTINGS
 
@@ -156,6 +230,15 @@ class MpdSegments:
     segments (None without any), ``mpd_valid`` is True when at least half of the segments
     are valid (ISO 13473-1:2019, 7.9; False when there is no segment), ``n_valid``,
     ``n_total``; ``note`` says what was done (as :func:`roadscan.roughness.mean_profile_depth`).
+
+    Parameters
+    ----------
+    res : dict
+        The result of :func:`roadscan.roughness.segment_depths`.
+    note : str
+        How the MPD was computed.
+    line_length_m : float
+        Length of each line [m].
     """
 
     def __init__(self, res, note, line_length_m):
@@ -202,6 +285,13 @@ def mpd_segments(obj, **settings):
     -------
     MpdSegments, or None when no segment fits (line shorter than 100 mm, spacing coarser
     than 1 mm).
+
+    Parameters
+    ----------
+    obj : Profile or HeightMap
+        The scan [m].
+    **settings
+        Overrides of the ISO 13473-1 settings.
     """
     from . import roughness
 

@@ -61,12 +61,38 @@ _HALF = 10 ** (1 / 20)         # band edge factor
 
 
 def nominal_label(nominal_mm):
-    """The label of a nominal centre wavelength: "0.63", "2.5", "80", "31.5" (as in the series)."""
+    """The label of a nominal centre wavelength: "0.63", "2.5", "80", "31.5" (as in the series).
+
+    Parameters
+    ----------
+    nominal_mm : float
+        Nominal centre wavelength [mm].
+
+    Returns
+    -------
+    str
+        The label.
+    """
     return f"{nominal_mm:g}"
 
 
 def third_octave_bands():
-    """All bands of the series -> (nominal_mm, centre_m, lo_m, hi_m), arrays of 31."""
+    """All bands of the series -> (nominal_mm, centre_m, lo_m, hi_m), arrays of 31.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    nominal_mm, centre_m, lo_m, hi_m : ndarray
+        Nominal centres [mm], exact centres and band edges [m].
+
+    References
+    ----------
+    ISO 13473-4:2008, Characterization of pavement texture by use of surface profiles -- Part 4:
+    Spectral analysis of surface profiles.
+    """
     k = np.arange(len(NOMINAL_MM)) + _K0
     centre = 10.0 ** (k / 10.0) * 1e-3
     return np.array(NOMINAL_MM, float), centre, centre / _HALF, centre * _HALF
@@ -79,6 +105,19 @@ class TextureSpectrum:
     ``nominal_mm``, ``centre_m``, ``lo_m``, ``hi_m``: the bands; ``rms_m``: a [m];
     ``level_dB``: 20 log10(a / 1e-6 m); ``note``: what was done (lines, dropouts filled,
     resolved range); ``dropout_fraction``: the share of unmeasured points filled.
+
+    Attributes
+    ----------
+    nominal_mm, centre_m, lo_m, hi_m : ndarray
+        The resolved bands.
+    rms_m : ndarray
+        Rms amplitude in each band [m].
+    level_dB : ndarray
+        Texture level [dB re 1 um].
+    note : str
+        What was done.
+    dropout_fraction : float
+        Share of unmeasured points filled.
     """
 
     nominal_mm: np.ndarray

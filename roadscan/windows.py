@@ -18,6 +18,18 @@ def tukey(n, alpha=0.5):
 
     w[k] = 1/2 (1 + cos(pi (2 k / (alpha (n - 1)) - 1))) for k <= alpha (n - 1) / 2, 1 in the
     middle, mirrored at the end; alpha <= 0 is rectangular, alpha >= 1 the Hann window.
+
+    Parameters
+    ----------
+    n : int
+        Points.
+    alpha : float, optional
+        Taper fraction.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The window.
     """
     n = int(n)
     if n <= 0:
@@ -54,6 +66,11 @@ def butter2_lowpass(wn):
     Returns
     -------
     b, a : (3,) arrays (a[0] = 1)
+
+    Parameters
+    ----------
+    wn : float
+        Cut-off as a fraction of Nyquist.
     """
     if not 0 < wn < 1:
         raise ValueError(f"cut-off must be within (0, 1) of Nyquist, got {wn}")
@@ -83,7 +100,20 @@ def filtfilt2(b, a, x):
     """Zero-phase forward-backward filter of a second-order section along the last axis, as
     ``scipy.signal.sosfiltfilt`` (and ``filtfilt``) with their defaults: odd extension by
     9 = 3 (2 + 1) samples at each end and the steady-state initial conditions scaled by the
-    first sample of each pass. Needs more than 9 samples."""
+    first sample of each pass. Needs more than 9 samples.
+
+    Parameters
+    ----------
+    b, a : ndarray, shape (3,)
+        Filter coefficients.
+    x : ndarray
+        Signal, filtered along the last axis.
+
+    Returns
+    -------
+    ndarray
+        The filtered signal.
+    """
     x = np.asarray(x, dtype=np.float64)
     pad = 9
     if x.shape[-1] <= pad:

@@ -122,6 +122,20 @@ def write(path, heightmap, **options):
         Unknown extension (naming the path).
     TypeError
         If the object is neither a HeightMap nor a Profile, or the format cannot hold it.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file; its extension picks the format.
+    heightmap : HeightMap or Profile
+        What to write [m].
+    **options
+        ``dtype`` (float32 or float64) where the format allows.
+
+    Returns
+    -------
+    Path
+        The file written.
     """
     p = Path(path)
     ext = p.suffix.lower()
