@@ -164,11 +164,6 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
         Window of the local slopes [decades].
     min_count : int, optional
         Fewest lattice points a ring needs to count.
-
-    Returns
-    -------
-    tuple of float
-        The band (q_lo, q_hi) [1/m].
     """
     idx = _usable(spectrum, min_count)
     if idx.size < 5:
