@@ -14,9 +14,10 @@ integral), on lags |tx| <= Lx / 2, |ty| <= Ly / 2.
   central region above s) has decayed to s; 1 for an isotropic surface, towards 0 for a
   strongly directional one;
 - Std [deg], texture direction: the lay, i.e. the direction of the ridges, perpendicular to the
-  absolute maximum of the angular power spectrum f_APS(theta) = sum of |Z(q)|^2 over the wave
-  vectors of direction theta (1 degree sectors); measured from the +x axis (columns) towards +y
-  (rows), in [0, 180).
+  absolute maximum of the angular power spectrum f_APS(theta) = integral |Z(r cos theta,
+  r sin theta)|^2 r dr (rays every 0.25 degree, peak refined by a parabola); measured from the
+  +x axis (columns) towards +y (rows), in [0, 180). On an isotropic surface (Str > 0.5) it is
+  the direction of a random fluctuation, and the note says so.
 
 Decay distances are refined to a fraction of a pixel by linear interpolation of f_ACF along
 the ray through the boundary point. Unmeasured points are set to the mean (zero) and do not
@@ -117,22 +118,33 @@ def _ray(acf, iy, ix, dy, dx, s):
     return _crossing(acf, iy, ix, s) * r_m / r_px
 
 
-def _texture_direction(P, shape, dy, dx):
-    """Std [deg] from |Z(q)|^2 on the rfft2 grid of ``shape``: lay = APS maximum + 90 deg."""
-    qy = np.fft.fftfreq(shape[0], dy)[:, None]
-    qx = np.fft.rfftfreq(shape[1], dx)[None, :]
-    ang = np.degrees(np.arctan2(qy, qx)) % 180.0          # direction of the wave vector
-    keep = (qy != 0) | (qx != 0)
-    bins = np.minimum((ang * 1.0).astype(np.int64), 179)
-    aps = np.bincount(bins[np.broadcast_to(keep, P.shape)], weights=P[np.broadcast_to(keep, P.shape)],
-                      minlength=180)
-    # a light circular smoothing over 3 sectors: lattice directions are unevenly populated
-    sm = (np.roll(aps, 1) + aps + np.roll(aps, -1)) / 3.0
-    k = int(np.argmax(sm))
-    # parabolic refinement of the peak sector
-    a, b, c = sm[(k - 1) % 180], sm[k], sm[(k + 1) % 180]
-    off = 0.5 * (a - c) / (a - 2 * b + c) if (a - 2 * b + c) != 0 else 0.0
-    theta_q = (k + 0.5 + off) % 180.0
+def _texture_direction(P, shape, dy, dx, step_deg=0.25):
+    """Std [deg] from |Z(q)|^2 on the rfft2 grid of ``shape``: the lay is perpendicular to the
+    maximum of the angular power spectrum f_APS(theta) = integral P(r cos theta, r sin theta)
+    r dr, sampled along each ray by bilinear interpolation (rays, not lattice sectors: a
+    sector of 1 degree holds lattice points unevenly at small |q|, which would favour the
+    axes and diagonals)."""
+    from scipy.ndimage import map_coordinates
+
+    ny = shape[0]
+    Ps = np.fft.fftshift(P, axes=0)                       # rows: ky from -ny/2
+    dqy, dqx = 1.0 / (shape[0] * dy), 1.0 / (shape[1] * dx)
+    q_top = min(0.5 / dx, 0.5 / dy)
+    dq = min(dqx, dqy)
+    r = np.arange(1.0, q_top / dq) * dq                   # [1/m], from the first ring outwards
+    theta = np.radians(np.arange(0.0, 180.0, step_deg))
+    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    sign = np.where(c < 0, -1.0, 1.0)                     # P(q) = P(-q): keep qx >= 0
+    kx = sign * c * r[None, :] / dqx
+    ky = sign * s * r[None, :] / dqy + ny // 2
+    vals = map_coordinates(Ps, [ky.ravel(), kx.ravel()], order=1, mode="nearest").reshape(kx.shape)
+    aps = (vals * r[None, :]).sum(axis=1)
+    k = int(np.argmax(aps))
+    n = aps.size
+    a, b, cc = aps[(k - 1) % n], aps[k], aps[(k + 1) % n]
+    den = a - 2 * b + cc
+    off = 0.5 * (a - cc) / den if den != 0 else 0.0
+    theta_q = (k + off) * step_deg
     return float((theta_q + 90.0) % 180.0)
 
 
@@ -185,5 +197,7 @@ def spatial_parameters(heights_m, dx_m, dy_m, s=S_THRESHOLD):
             note += ("; along its slowest direction it has not decayed to s within half the "
                      "field: too small to decide the texture aspect ratio, Str null")
             ratio = None
+    if ratio is not None and ratio > 0.5:
+        note += "; isotropic (Str > 0.5): Std is the direction of a random fluctuation"
     return {"Sal_m": float(sal), "Str": None if ratio is None else float(min(ratio, 1.0)),
             "Std_deg": std, "spatial_note": note}
