@@ -129,11 +129,6 @@ def short_segment_depth(obj, **settings):
         A scan shorter than 100 mm [m].
     **settings
         Overrides of the ISO 13473-1 settings.
-
-    Returns
-    -------
-    tuple
-        (depth_m or None, baseline_m, note).
     """
     from . import roughness
 
@@ -189,11 +184,6 @@ def spike_alpha_to_pass(obj, settings=None, upper=50.0, step=0.1, max_rows=256):
         Resolution of alpha.
     max_rows : int, optional
         Rows of a map searched at most.
-
-    Returns
-    -------
-    float or None
-        The smallest alpha, or None when none up to ``upper`` works.
     """
     from .roughness import MPD_SETTINGS
 
