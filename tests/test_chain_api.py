@@ -1,0 +1,145 @@
+"""One chain, one answer: ``pipelines.analyse`` equals ``roadscan analyse``; every door that
+computes mu(v) from a scan agrees; warnings belong to their run; the band's fine end is judged
+by the measurement, whatever the rubber."""
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pipelines.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+RUBBER = ROOT / "sample_scans" / "rubbers" / "pyvisco_master_wlf.toml"
+DX = "1e-4"
+#: non-default friction flags (a measured rubber, pressure, Poisson ratio, S(q), extrapolation)
+FLAGS = ["--rubber", str(RUBBER), "--sigma0", "0.25MPa", "--nu", "0.45", "--contact-gamma", "0.6",
+         "--extrapolate", "hold", "--temperature", "30", "--velocities", "1e-3:10:9"]
+OPTIONS = dict(rubber=str(RUBBER), sigma0="0.25MPa", nu=0.45, contact_gamma=0.6,
+               extrapolate="hold", temperature=30, velocities="1e-3:10:9")
+
+
+@pytest.fixture(scope="module")
+def scan(tmp_path_factory):
+    from roadscan.synth import self_affine_surface
+
+    hm = self_affine_surface(160, 160, dx_m=1e-4, hurst=0.8, rms_height_m=3e-4,
+                             q_roll_per_m=2 * np.pi / 6e-3, seed=7, name="s")
+    p = tmp_path_factory.mktemp("scan") / "s.npy"
+    np.save(p, hm.heights_m)
+    return p
+
+
+def _run(argv):
+    assert main([str(a) for a in argv]) == 0, argv
+
+
+def _mu_csv(path, col=1):
+    return np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)[:, col]
+
+
+def test_api_summary_equals_cli_summary_json(scan, tmp_path):
+    import pipelines
+
+    _run(["analyse", scan, "--spacing", DX, "--window-alpha", "0.3", "--no-figures",
+          "--out", tmp_path / "cli", *FLAGS])
+    r = pipelines.analyse(scan, spacing=DX, window_alpha=0.3, no_figures=True, **OPTIONS)
+    cli = json.loads((tmp_path / "cli" / "summary.json").read_text())
+    assert r.summary == cli
+    assert "alpha 0.3 " in r.summary["psd_convention"]       # the window actually used
+    assert r.summary["friction"]["nu"] == 0.45 and r.summary["friction"]["sigma0_Pa"] == 2.5e5
+    np.testing.assert_allclose(r.mu, _mu_csv(tmp_path / "cli" / "mu.csv"), rtol=1e-9)
+    np.testing.assert_allclose(r.area_fraction, _mu_csv(tmp_path / "cli" / "mu.csv", 2), rtol=1e-9)
+    lo, hi = r.reliable_band_per_m
+    assert [lo, hi] == pytest.approx(cli["reliable_band_per_m"])
+    assert r.q_per_m.shape == r.C_m4.shape and r.fit.hurst == cli["hurst"]
+    r.write(tmp_path / "api")                                  # the very files of the command
+    assert sorted(p.name for p in (tmp_path / "api").iterdir()) == \
+        sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert json.loads((tmp_path / "api" / "summary.json").read_text()) == cli
+
+
+def test_unknown_option_is_a_type_error_naming_it(scan):
+    import pipelines
+
+    with pytest.raises(TypeError, match="sigma_0"):
+        pipelines.analyse(scan, spacing=DX, sigma_0="0.2MPa")
+    from roadscan.errors import InputError
+
+    with pytest.raises(InputError, match="--nu"):
+        pipelines.analyse(scan, spacing=DX, nu=0.7)
+
+
+def test_every_door_gives_the_same_mu(scan, tmp_path):
+    """analyse, friction --psd on analyse's psd.csv, compare, dry-vs-wet (dry), batch and
+    pipelines.analyse, with a measured rubber and non-default flags: equal to 1e-6."""
+    import pipelines
+
+    out = tmp_path
+    _run(["analyse", scan, "--spacing", DX, "--no-figures", "--out", out / "a", *FLAGS])
+    ref = _mu_csv(out / "a" / "mu.csv")
+    _run(["friction", "--psd", out / "a" / "psd.csv", "--out", out / "f" / "mu.csv", *FLAGS])
+    _run(["compare", scan, scan, "--spacing", DX, "--out", out / "c", *FLAGS])
+    _run(["dry-vs-wet", scan, "--spacing", DX, "--out", out / "w", *FLAGS])
+    # the campaign's mu.csv (its report's exit code is the campaign tests' business)
+    main([str(a) for a in ["batch", scan, "--spacing", DX, "--workers", "1", "--out", out / "b", *FLAGS]])
+    comp = json.loads((out / "c" / "comparison.json").read_text())
+    first = next(iter(comp.values()))["mu"]
+    doors = {
+        "friction --psd": _mu_csv(out / "f" / "mu.csv"),
+        "compare": np.array(list(first.values())),
+        "dry-vs-wet": _mu_csv(out / "w" / "mu.csv"),
+        "batch": _mu_csv(out / "b" / "s" / "mu.csv"),
+        "pipelines.analyse": pipelines.analyse(scan, spacing=DX, **OPTIONS).mu,
+    }
+    for door, mu in doors.items():
+        np.testing.assert_allclose(mu, ref, rtol=1e-6, err_msg=door)
+
+
+def test_diagnose_scan_takes_the_chains_spectrum(scan):
+    """diagnose --scan integrates the spectrum analyse integrates (same band, same nodes)."""
+    import pipelines
+    from pipelines.diagnose.inputs import scan_surface
+    from pipelines.scan_input import load_scan
+
+    r = pipelines.analyse(scan, spacing=DX)
+    psd, *_ = scan_surface(load_scan(scan, spacing=DX))
+    np.testing.assert_allclose(psd.q_per_m, r.friction_outcome.psd.q_per_m, rtol=1e-12)
+    np.testing.assert_allclose(psd.C_m4, r.friction_outcome.psd.C_m4, rtol=1e-12)
+
+
+#: flag -> value that must change mu(v) (against the defaults)
+CHANGES = [("--nu", "0.3"), ("--contact-gamma", "0.5"), ("--sigma0", "0.5MPa"),
+           ("--temperature", "20"), ("--q1", "2e4"), ("--q0", "1500"), ("--flash", None),
+           ("--rubber", str(ROOT / "sample_scans" / "rubbers" / "pyvisco_master_table.toml"))]
+
+
+def _mu_of(cmd, scan, out, extra):
+    if cmd == "friction":
+        _run(["friction", "--psd", out.parent / "base_a" / "psd.csv", "--out", out / "mu.csv",
+              "--velocities", "1e-3:10:5", *extra])
+        return _mu_csv(out / "mu.csv")
+    if cmd == "analyse":
+        _run(["analyse", scan, "--spacing", DX, "--no-figures", "--out", out,
+              "--velocities", "1e-3:10:5", *extra])
+        return _mu_csv(out / "mu.csv")
+    if cmd == "compare":
+        _run(["compare", scan, scan, "--spacing", DX, "--out", out, "--velocities", "1e-3:10:5", *extra])
+        return np.array(list(next(iter(json.loads((out / "comparison.json").read_text()).values()))["mu"].values()))
+    _run(["dry-vs-wet", scan, "--spacing", DX, "--out", out, "--velocities", "1e-3:10:5", *extra])
+    return _mu_csv(out / "mu.csv")
+
+
+@pytest.mark.parametrize("cmd", ["analyse", "friction", "compare", "dry-vs-wet"])
+def test_every_friction_flag_changes_the_result(cmd, scan, tmp_path):
+    _run(["analyse", scan, "--spacing", DX, "--no-figures", "--out", tmp_path / "base_a"])
+    base = _mu_of(cmd, scan, tmp_path / "base", [])
+    for k, (flag, value) in enumerate(CHANGES):
+        extra = [flag] + ([value] if value is not None else [])
+        mu = _mu_of(cmd, scan, tmp_path / f"o{k}", extra)
+        assert np.max(np.abs(mu / base - 1)) > 1e-3, (cmd, flag)
+    # --extrapolate acts on a master curve beyond its data (slow speeds, hot: 2.6 decades below)
+    mc = ["--rubber", str(RUBBER), "--velocities", "1e-9:1e-6:4", "--temperature", "60"]
+    a = _mu_of(cmd, scan, tmp_path / "e1", mc + ["--extrapolate", "powerlaw"])
+    b = _mu_of(cmd, scan, tmp_path / "e2", mc + ["--extrapolate", "hold"])
+    assert np.max(np.abs(a / b - 1)) > 1e-3, (cmd, "--extrapolate")
