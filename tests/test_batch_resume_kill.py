@@ -138,11 +138,13 @@ def test_leftovers_are_cleaned_and_an_old_set_put_back(tmp_path):
     _scan_folder(out / ".k1.roadscan-old-ef56gh78", "old k1")   # set aside, new one not in yet
     (out / ".campaign.abcd_123.csv").write_text("file,label")  # the table's temporary file
     (out / ".report.zz99yy88.html").write_text("<html>")
+    (out / ".campaign_distributions.png").write_bytes(b"\x89PNG")   # the report's figure
+    (out / "..campaign_chainage.k2j4h5g6.png").write_bytes(b"\x89PNG")
     assert earlier_campaign(out)                      # only a killed campaign's leftovers
     removed = recover_campaign(out)
     assert sorted(os.listdir(out)) == ["k1"]          # the old complete set is back
     assert (out / "k1" / "summary.json").read_text() == "old k1"
-    assert len(removed) == 4 and campaign_leftovers(out) == []
+    assert len(removed) == 6 and campaign_leftovers(out) == []
 
 
 def test_a_held_temporary_folder_and_user_files_are_left_alone(tmp_path):

@@ -26,8 +26,10 @@ SIDECAR = ".roadscan-batch.json"
 #: the campaign-level outputs in DIR (each written atomically: a kill while one is written
 #: leaves its hidden temporary file ``.<stem>.XXXXXXXX<suffix>`` beside it)
 CAMPAIGN_FILES = ("campaign.csv", "campaign_anisotropy.csv", "campaign.parquet", "report.html")
-_TEMP_FILE = re.compile(r"^\.(%s)\.[a-z0-9_]{8}\.(csv|parquet|html)$" % "|".join(
-    re.escape(Path(n).stem) for n in CAMPAIGN_FILES))
+#: hidden files a killed campaign leaves in DIR: the temporary files of CAMPAIGN_FILES and the
+#: report's figures (``.campaign_distributions.png``, embedded then deleted) and theirs
+_TEMP_FILE = re.compile(r"^\.{1,2}(campaign[a-z_]*|report)(\.[a-z0-9_]{8})?\."
+                        r"(csv|parquet|html|png)$")
 
 
 def atomic_folder(target):
@@ -46,8 +48,9 @@ def campaign_leftovers(out):
     """What a campaign killed at any moment (``kill -9`` while its cluster starts, while workers
     write, while the table is written) can leave in ``out``: hidden temporary and set-aside scan
     folders (``.<name>.roadscan-tmp-*``, ``.<name>.roadscan-old-*``,
-    :func:`roadscan.io.atomic.atomic_output_dir`) and the temporary files of the campaign table
-    and report (``.campaign.XXXXXXXX.csv``...). -> sorted list of paths."""
+    :func:`roadscan.io.atomic.atomic_output_dir`), the temporary files of the campaign table
+    and report (``.campaign.XXXXXXXX.csv``...) and the report's figures before they are
+    embedded (``.campaign_distributions.png``). -> sorted list of paths."""
     from roadscan.io.atomic import OLD_TAG, TMP_TAG
 
     out = Path(out)
