@@ -141,6 +141,26 @@ def priority_flood_fill(h, low, connectivity):
 
     Returns a new float64 (ny, nx) array; unmeasured cells get the level water passes through
     them at (the caller puts NaN back).
+
+    Parameters
+    ----------
+    h : ndarray, shape (ny, nx)
+        Heights [m].
+    low : float
+        Level given to non-finite cells (below every height).
+    connectivity : {4, 8}
+        Neighbourhood.
+
+    Returns
+    -------
+    ndarray, shape (ny, nx)
+        Spill level of every cell [m].
+
+    References
+    ----------
+    R. Barnes, C. Lehman, D. Mulla, "Priority-flood: an optimal depression-filling and
+    watershed-labeling algorithm for digital elevation models", Computers & Geosciences 62, 117
+    (2014), doi:10.1016/j.cageo.2013.04.024.
     """
     h = np.ascontiguousarray(h, dtype=np.float64)
     if h.size >= 2 ** 31 - 1:

@@ -45,7 +45,22 @@ STR_ANISOTROPIC = 0.3
 
 def autocorrelation(z):
     """(f_ACF on lags |t| <= L/2, centred; |Z(q)|^2 of the padded field) of a 2D field with
-    NaN where unmeasured. f_ACF[cy, cx] = 1 at the centre (cy, cx) = (ny // 2, nx // 2)."""
+    NaN where unmeasured. f_ACF[cy, cx] = 1 at the centre (cy, cx) = (ny // 2, nx // 2).
+
+    Parameters
+    ----------
+    z : ndarray, shape (ny, nx)
+        Levelled heights [m], NaN where unmeasured.
+
+    Returns
+    -------
+    acf : ndarray
+        Normalised autocorrelation on lags up to half the size, centred.
+    P : ndarray
+        |Z(q)|^2 of the zero-padded field.
+    shape : tuple of int
+        Shape of the padded field.
+    """
     from scipy import fft
 
     z = np.asarray(z, dtype=np.float64)

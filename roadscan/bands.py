@@ -25,13 +25,35 @@ def row_chunks(ny, nx, chunk_bytes=CHUNK_BYTES):
 
     A band holds ``max(1, chunk_bytes // (8 nx))`` rows of an (ny, nx) grid; the last one
     may be shorter.
+
+    Parameters
+    ----------
+    ny, nx : int
+        Grid shape.
+    chunk_bytes : int, optional
+        Target size of a band of float64 rows [bytes].
+
+    Returns
+    -------
+    list of slice
+        Consecutive row ranges covering ``0 .. ny``.
     """
     step = max(1, chunk_bytes // (8 * max(nx, 1)))
     return [slice(r, min(r + step, ny)) for r in range(0, ny, step)]
 
 
 class MeasuredStats(NamedTuple):
-    """Number, minimum, maximum [m] and (when asked for) sum [m] of the measured heights."""
+    """Number, minimum, maximum [m] and (when asked for) sum [m] of the measured heights.
+
+    Attributes
+    ----------
+    count : int
+        Number of measured heights.
+    min, max : float
+        Smallest and largest measured height [m].
+    sum : float or None
+        Sum of the measured heights [m], when asked for.
+    """
 
     count: int
     min: float
@@ -84,6 +106,19 @@ def measured_stats(h, unmeasured=None, chunk_bytes=CHUNK_BYTES, with_sum=False):
 
 def measured_mean_range(h, unmeasured):
     """(mean, min, max) [m] of the measured heights of a map, read band by band (float64):
-    the reference and the clip range of the biharmonic fill (:mod:`roadscan.inpaint`)."""
+    the reference and the clip range of the biharmonic fill (:mod:`roadscan.inpaint`).
+
+    Parameters
+    ----------
+    h : ndarray
+        Heights [m].
+    unmeasured : ndarray of bool
+        Points not measured.
+
+    Returns
+    -------
+    mean, min, max : float
+        Of the measured heights [m].
+    """
     s = measured_stats(h, unmeasured, with_sum=True)
     return s.mean, s.min, s.max

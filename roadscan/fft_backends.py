@@ -65,5 +65,16 @@ def fft_backend(npoints):
     """The FFT used for ``npoints`` samples: numpy's up to :data:`NUMPY_FFT_MAX_POINTS`,
     scipy's with every core above (``.rfft(x, axis)``, ``.rfft2(x)``, ``.fft(F, axis)``, in place
     for scipy);
-    :mod:`benchmarks.bench_psd` takes its floor from the same one."""
+    :mod:`benchmarks.bench_psd` takes its floor from the same one.
+
+    Parameters
+    ----------
+    npoints : int
+        Number of samples of the transform.
+
+    Returns
+    -------
+    class
+        An object with ``rfft``, ``rfft2`` and ``fft`` static methods.
+    """
     return _NumpyFFT if npoints <= NUMPY_FFT_MAX_POINTS else _ScipyFFT

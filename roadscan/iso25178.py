@@ -29,6 +29,15 @@ def texture_parameters(obj):
     -------
     (dict of figures, dict of notes): the notes (``spatial``, ``features``) say how the
     spatial and feature figures were obtained and why one is null.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        Levelled scan [m].
+
+    References
+    ----------
+    ISO 25178-2:2021; ISO 21920-2:2021.
     """
     from .material_ratio import areal_material_parameters, profile_material_parameters
 

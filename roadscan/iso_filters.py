@@ -39,7 +39,24 @@ END_EFFECTS = ("masked normalised Gaussian convolution: weights renormalised ove
 
 
 def gaussian_transmission(wavelength_m, cutoff_m):
-    """Amplitude transmission of the Gaussian low-pass, exp(-pi (alpha lambda_c / lambda)^2)."""
+    """Amplitude transmission of the Gaussian low-pass, exp(-pi (alpha lambda_c / lambda)^2).
+
+    Parameters
+    ----------
+    wavelength_m : array_like
+        Wavelengths [m].
+    cutoff_m : float
+        Cut-off wavelength lambda_c [m].
+
+    Returns
+    -------
+    ndarray
+        Transmission between 0 and 1.
+
+    References
+    ----------
+    ISO 16610-21:2011 (Gaussian profile filter); ISO 16610-61:2015 (areal).
+    """
     return np.exp(-np.pi * (ALPHA * cutoff_m / np.asarray(wavelength_m, dtype=float)) ** 2)
 
 
@@ -118,6 +135,24 @@ def apply_filters(obj, s_filter_m=None, l_filter_m=None):
     ------
     ValueError when a nesting index is not positive, when S >= L, or when a nesting index
     is shorter than two sampling intervals (S) or longer than the field (L).
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        Levelled scan [m].
+    s_filter_m : float, optional
+        S-filter nesting index [m].
+    l_filter_m : float, optional
+        L-filter nesting index [m].
+
+    Returns
+    -------
+    HeightMap or Profile
+        The filtered scan.
+
+    References
+    ----------
+    ISO 25178-2:2021; ISO 16610-61:2015.
     """
     for name, v in (("S-filter", s_filter_m), ("L-filter", l_filter_m)):
         if v is not None and not (math.isfinite(v) and v > 0):

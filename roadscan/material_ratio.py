@@ -31,6 +31,13 @@ class MaterialRatioCurve:
 
     Smr(c) = 100 x (share of the heights above c) [%] (ISO 25178-2:2012, 3.1.7); the inverse
     c(mr) [m] is tabulated on ``mr_pct`` = 0, 0.01, ..., 100 %.
+
+    Parameters
+    ----------
+    z : array_like
+        Heights [m].
+    n_bins : int, optional
+        Histogram bins of the curve.
     """
 
     def __init__(self, z, n_bins=N_BINS):
@@ -64,7 +71,23 @@ class MaterialRatioCurve:
 
 
 def material_ratio_curve(z, n_bins=N_BINS):
-    """:class:`MaterialRatioCurve` of the finite heights in ``z`` [m]."""
+    """:class:`MaterialRatioCurve` of the finite heights in ``z`` [m].
+
+    Parameters
+    ----------
+    z : array_like
+        Heights [m]; non-finite values are ignored.
+    n_bins : int, optional
+        Histogram bins.
+
+    Returns
+    -------
+    MaterialRatioCurve
+
+    References
+    ----------
+    ISO 25178-2:2012, 3.1.7.
+    """
     return MaterialRatioCurve(z, n_bins)
 
 
@@ -127,6 +150,13 @@ def volume_parameters(curve, p_pct=10.0, q_pct=80.0):
     Returns
     -------
     dict with keys ``Vmp_m3_per_m2``, ``Vmc_m3_per_m2``, ``Vvc_m3_per_m2``, ``Vvv_m3_per_m2``.
+
+    Parameters
+    ----------
+    curve : MaterialRatioCurve
+        The material ratio curve.
+    p_pct, q_pct : float, optional
+        Material ratios p and q [%].
     """
     mr, c = curve.mr_pct, curve.c_m
 
@@ -143,7 +173,22 @@ def volume_parameters(curve, p_pct=10.0, q_pct=80.0):
 
 def areal_material_parameters(z):
     """Sk family and volumes (:func:`functional_parameters`, :func:`volume_parameters`) of the
-    measured heights ``z`` [m] of a levelled (S-L or S-F) surface; NaN points are ignored."""
+    measured heights ``z`` [m] of a levelled (S-L or S-F) surface; NaN points are ignored.
+
+    Parameters
+    ----------
+    z : array_like
+        Levelled heights [m].
+
+    Returns
+    -------
+    dict
+        Sk, Spk, Svk, Smr1, Smr2 and the volume parameters.
+
+    References
+    ----------
+    ISO 25178-2:2012, 4.4 and 4.5; ISO 13565-2.
+    """
     curve = MaterialRatioCurve(z)
     return {**functional_parameters(curve), **volume_parameters(curve)}
 
@@ -158,6 +203,11 @@ def profile_material_parameters(z):
     Returns
     -------
     dict with keys ``Rk_m``, ``Rpk_m``, ``Rvk_m``, ``Rmr1_pct``, ``Rmr2_pct``, ``Rmr_pct``.
+
+    Parameters
+    ----------
+    z : array_like
+        Levelled profile heights [m].
     """
     curve = MaterialRatioCurve(z)
     f = functional_parameters(curve)

@@ -193,6 +193,15 @@ def noise_limit(q, C, slope, intercept, q_from):
         The line log10 C = intercept + slope log10 q fitted below the noise.
     q_from : float
         Wave vector [1/m] above which the floor is looked for.
+
+    Returns
+    -------
+    q_end : float or None
+        End of the band [1/m].
+    level : float or None
+        White noise level [m^4].
+    why : str
+        One line.
     """
     from .fit import local_slopes
 

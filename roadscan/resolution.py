@@ -61,6 +61,16 @@ def resolution_problem(value_m):
     """Why ``value_m`` [m] is no lateral resolution, or None when it is one.
 
     Accepted: finite, 0 < r <= :data:`RESOLUTION_MAX_M`.
+
+    Parameters
+    ----------
+    value_m : float
+        Candidate lateral resolution [m].
+
+    Returns
+    -------
+    str or None
+        The problem, or None.
     """
     try:
         v = float(value_m)

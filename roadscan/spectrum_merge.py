@@ -69,6 +69,21 @@ class SpectrumPart:
     ``band_per_m`` its reliable band [lo, hi] [1/m], ``dof_per_count`` the degrees of freedom
     one unit of ``count`` carries (an area's full-lattice count: 1 / ENBW^2; profiles' 1D
     modes: 2 / ENBW).
+
+    Attributes
+    ----------
+    label : str
+        The source's name.
+    q_per_m, C_m4, count : ndarray
+        Its rings: wave vector [1/m], C [m^4], lattice points.
+    band_per_m : tuple of float
+        Its reliable band [1/m].
+    dof_per_count : float
+        Degrees of freedom per unit of ``count``.
+    edge_bias : tuple of float
+        Relative bias allowed at the band's ends.
+    bends_per_m : tuple of float
+        Detected roll-offs [1/m].
     """
 
     label: str
@@ -86,7 +101,27 @@ class SpectrumPart:
 
 @dataclass(frozen=True)
 class MergedSpectrum:
-    """Result of :func:`merge_spectra`: rows of the merged C(q) and the gaps bridged."""
+    """Result of :func:`merge_spectra`: rows of the merged C(q) and the gaps bridged.
+
+    Attributes
+    ----------
+    q_per_m, C_m4 : ndarray
+        Merged rows [1/m, m^4].
+    C_lo_m4, C_hi_m4 : ndarray
+        5-95 % band of each row [m^4].
+    n_sources : ndarray of int
+        Sources measuring each row.
+    count : ndarray
+        Lattice points of each row.
+    band_per_m : tuple of float
+        The merged band [1/m].
+    gaps : list
+        Ranges no source measures, bridged by a power law.
+    disagreements : list
+        Source pairs that disagree.
+    widened_rows_per_m : list
+        Rows whose band was widened by the disagreement.
+    """
 
     q_per_m: np.ndarray
     C_m4: np.ndarray
@@ -104,7 +139,20 @@ class MergedSpectrum:
 
 def aligned_range(q_min_per_m, q_max_per_m, per_decade=RINGS_PER_DECADE):
     """(q_lo, q_hi) on the common grid 10^(j / per_decade) enclosing [q_min, q_max]: rings
-    :func:`roadscan.rings._ring_edges` lays from q_lo to q_hi are then grid bins."""
+    :func:`roadscan.rings._ring_edges` lays from q_lo to q_hi are then grid bins.
+
+    Parameters
+    ----------
+    q_min_per_m, q_max_per_m : float
+        The range [1/m].
+    per_decade : int, optional
+        Grid points per decade.
+
+    Returns
+    -------
+    tuple of float
+        (q_lo, q_hi) [1/m].
+    """
     j0 = np.floor(per_decade * np.log10(q_min_per_m) + 1e-9)
     j1 = np.ceil(per_decade * np.log10(q_max_per_m) - 1e-9)
     j1 = max(j1, j0 + 1)
@@ -113,7 +161,19 @@ def aligned_range(q_min_per_m, q_max_per_m, per_decade=RINGS_PER_DECADE):
 
 def chi2_quantile(p, k):
     """Quantile p of the chi-square law with k degrees of freedom: 2 P^-1(k / 2, p), P the
-    regularised lower incomplete gamma function (scipy.special.gammaincinv)."""
+    regularised lower incomplete gamma function (scipy.special.gammaincinv).
+
+    Parameters
+    ----------
+    p : float
+        Probability.
+    k : array_like
+        Degrees of freedom.
+
+    Returns
+    -------
+    ndarray
+    """
     from scipy.special import gammaincinv
 
     return 2.0 * gammaincinv(np.asarray(k, float) / 2.0, p)
@@ -301,6 +361,27 @@ def disagreements(row, source, count, dof, C, edge, q_row, labels):
     |D| > :data:`DISAGREE_SIGMAS` standard deviations and exp|D| > :data:`DISAGREE_FACTOR`: two
     measurements of one surface agree within their scatter (Jacobs, Junge, Pastewka 2017,
     sec. 3: a ring's periodogram mean is chi-square distributed).
+
+    Parameters
+    ----------
+    row : ndarray of int
+        Row of every ring of every source.
+    source : ndarray of int
+        Source of every ring.
+    count, dof : ndarray
+        Lattice points and degrees of freedom of every ring.
+    C : ndarray
+        C of every ring [m^4].
+    edge : ndarray of bool
+        Rings at a band's edge.
+    q_row : ndarray
+        Wave vector of every row [1/m].
+    labels : list of str
+        Source names.
+
+    Returns
+    -------
+    list of dict
     """
     S = len(labels)
     nb = int(row.max()) + 1

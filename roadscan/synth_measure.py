@@ -43,6 +43,11 @@ def measure_synthetic(n, spacing_m, hurst, prefactor_m4, q_roll_per_m=None, reso
         rms of the white measurement noise [m].
     seed : int
         numpy Generator seed.
+
+    Returns
+    -------
+    HeightMap
+        The recorded heights [m].
     """
     rng = np.random.default_rng(seed)
     m = n * pad * oversample

@@ -62,6 +62,11 @@ def read_manifest(path):
     ------
     InputError
         Bad header, malformed row, non-finite position, missing tile file or empty manifest.
+
+    Parameters
+    ----------
+    path : str or Path
+        The manifest CSV.
     """
     path = Path(path)
     try:

@@ -25,7 +25,19 @@ from .windows import tukey   # scipy.signal's, without importing scipy.signal
 __all__ = ["register_pair", "overlap_rect", "check_connected", "plane_removed", "highpass"]
 
 def plane_removed(z, ok):
-    """z minus its least-squares plane over the points ``ok``; unmeasured -> 0."""
+    """z minus its least-squares plane over the points ``ok``; unmeasured -> 0.
+
+    Parameters
+    ----------
+    z : ndarray
+        Tile heights [m].
+    ok : ndarray of bool
+        Measured points.
+
+    Returns
+    -------
+    ndarray
+    """
     if np.count_nonzero(ok) < 3:
         return np.zeros_like(z)
     return np.where(ok, z - polynomial_form(z, ~ok, degree=1), 0.0)
@@ -36,6 +48,19 @@ def highpass(z, ok, sigma=2.0):
 
     A plane passes through the smoothing unchanged, so relative tilts vanish and the
     correlation peak of a self-affine surface (otherwise very broad) becomes sharp.
+
+    Parameters
+    ----------
+    z : ndarray
+        Tile heights [m].
+    ok : ndarray of bool
+        Measured points.
+    sigma : float, optional
+        Gaussian width [points].
+
+    Returns
+    -------
+    ndarray
     """
     okf = ok.astype(float)
     num = ndimage.gaussian_filter(np.where(ok, z, 0.0), sigma, mode="constant")
@@ -46,7 +71,20 @@ def highpass(z, ok, sigma=2.0):
 
 
 def overlap_rect(shape_i, shape_j, t):
-    """Overlap of tile i (origin 0) and tile j at integer offset t=(dr, dc), in i's coordinates."""
+    """Overlap of tile i (origin 0) and tile j at integer offset t=(dr, dc), in i's coordinates.
+
+    Parameters
+    ----------
+    shape_i, shape_j : tuple of int
+        Tile shapes.
+    t : tuple of int
+        Offset (rows, columns) of tile j.
+
+    Returns
+    -------
+    r0, r1, c0, c1 : int
+        The overlap rectangle in tile i.
+    """
     r0, c0 = max(0, t[0]), max(0, t[1])
     r1, c1 = min(shape_i[0], t[0] + shape_j[0]), min(shape_i[1], t[1] + shape_j[1])
     return r0, r1, c0, c1
@@ -57,6 +95,26 @@ def register_pair(zi, oki, zj, okj, t0, m, hpi, hpj):
 
     ``zi, zj`` are plane-levelled tiles, ``hpi, hpj`` their high-passed versions (used for
     the integer search). Returns (T, registered).
+
+    Parameters
+    ----------
+    zi, zj : ndarray
+        Plane-levelled tiles [m].
+    oki, okj : ndarray of bool
+        Their measured points.
+    t0 : tuple of int
+        Starting offset.
+    m : int
+        Search margin [points].
+    hpi, hpj : ndarray
+        Their high-passed versions.
+
+    Returns
+    -------
+    T : ndarray, shape (2,)
+        Offset (rows, columns).
+    registered : bool
+        Whether the correlation found it.
     """
     r0, r1, c0, c1 = overlap_rect(zi.shape, zj.shape, t0)
     R0, R1 = max(0, r0 - m), min(zi.shape[0], r1 + m)
@@ -97,7 +155,23 @@ def register_pair(zi, oki, zj, okj, t0, m, hpi, hpj):
 
 def check_connected(n, pairs, labels, how=""):
     """Raise InputError naming a tile cut off from tile 0 in the overlap graph (``how`` is
-    appended to the message)."""
+    appended to the message).
+
+    Parameters
+    ----------
+    n : int
+        Number of tiles.
+    pairs : list of tuple
+        Registered pairs (i, j).
+    labels : list of str
+        Tile names.
+    how : str, optional
+        Appended to the message.
+
+    Returns
+    -------
+    None
+    """
     if pairs:
         ii = [p[0] for p in pairs]
         jj = [p[1] for p in pairs]

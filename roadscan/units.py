@@ -92,5 +92,17 @@ def length(x_m, unit=None):
 
 
 def lengths(values_m, sep=" x "):
-    """Several lengths [m] joined: ``(5e-5, 5e-5)`` -> "50.0 µm x 50.0 µm"."""
+    """Several lengths [m] joined: ``(5e-5, 5e-5)`` -> "50.0 µm x 50.0 µm".
+
+    Parameters
+    ----------
+    values_m : iterable of float
+        Lengths [m].
+    sep : str, optional
+        Separator.
+
+    Returns
+    -------
+    str
+    """
     return sep.join(length(v) for v in values_m)

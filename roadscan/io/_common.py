@@ -42,6 +42,18 @@ def parse_units(text, path=None):
     ------
     InputError
         For any other string (naming ``path`` when given).
+
+    Parameters
+    ----------
+    text : str
+        ``"m"``, ``"mm"``, ``"um"`` or ``"nm"``.
+    path : str or Path, optional
+        File named in the error.
+
+    Returns
+    -------
+    float
+        Metres per unit.
     """
     key = str(text).strip()
     if key in UNIT_FACTORS:
@@ -52,7 +64,22 @@ def parse_units(text, path=None):
 
 
 def unit_factor(units, path=None, default="m"):
-    """Like :func:`parse_units`, with ``None`` meaning ``default``."""
+    """Like :func:`parse_units`, with ``None`` meaning ``default``.
+
+    Parameters
+    ----------
+    units : str or None
+        Units string, or None for ``default``.
+    path : str or Path, optional
+        File named in the error.
+    default : str, optional
+        Unit when ``units`` is None.
+
+    Returns
+    -------
+    float
+        Metres per unit.
+    """
     return parse_units(default if units is None else units, path)
 
 
@@ -80,17 +107,47 @@ def _available_bytes():
 def default_max_pixels():
     """Largest scan [points] read by default: the available memory over the peak of an analysis,
     ``MemAvailable / (8 bytes x PEAK_COPIES)`` (about 380 Mpx on a machine with 24 GiB free),
-    never below 4 Mpx."""
+    never below 4 Mpx.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    int
+        Points.
+    """
     return max(int(_available_bytes() // (8 * PEAK_COPIES)), 4 * 1024**2)
 
 
 def get_max_pixels():
-    """The current limit [points] (set by ``--max-pixels``; ``None`` means the default)."""
+    """The current limit [points] (set by ``--max-pixels``; ``None`` means the default).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    int or None
+        Points, or None for the memory-based default.
+    """
     return _MAX_PIXELS
 
 
 def set_max_pixels(n):
-    """Set the reader size limit [points]; ``None`` restores the memory-based default."""
+    """Set the reader size limit [points]; ``None`` restores the memory-based default.
+
+    Parameters
+    ----------
+    n : int or None
+        Largest number of points a reader accepts.
+
+    Returns
+    -------
+    None
+    """
     global _MAX_PIXELS
     _MAX_PIXELS = None if n is None else int(n)
 
@@ -110,6 +167,11 @@ def check_declared_size(path, shape, itemsize=8):
     InputError
         Negative dimensions, or more points than :func:`get_max_pixels` (default
         :func:`default_max_pixels`), naming the file, the shape and ``--max-pixels``.
+
+    Returns
+    -------
+    int
+        The number of points declared.
     """
     dims = tuple(int(d) for d in np.atleast_1d(shape))
     if any(d < 0 for d in dims):
@@ -129,7 +191,24 @@ def check_declared_size(path, shape, itemsize=8):
 def check_compression_ratio(path, declared_bytes, stored_bytes, max_ratio=200.0):
     """Zip-bomb guard: refuse data that claim ``declared_bytes`` uncompressed from only
     ``stored_bytes`` on disk, beyond ``max_ratio`` (real height data compress 2-10x; a scan of
-    constant zeros compresses ~1000x), unless the declared size is small (< 64 MiB)."""
+    constant zeros compresses ~1000x), unless the declared size is small (< 64 MiB).
+
+    Parameters
+    ----------
+    path : str or Path
+        File named in the error.
+    declared_bytes : int
+        Uncompressed size the file declares.
+    stored_bytes : int
+        Size on disk.
+    max_ratio : float, optional
+        Largest accepted ratio.
+
+    Returns
+    -------
+    None
+        Raises :class:`roadscan.InputError` beyond the ratio.
+    """
     if declared_bytes > 64 * 1024**2 and declared_bytes > max_ratio * max(int(stored_bytes), 1):
         raise InputError(path, f"declares {declared_bytes / 1e6:.4g} MB of data stored in "
                                f"{stored_bytes / 1e6:.3g} MB (ratio {declared_bytes / max(stored_bytes, 1):.0f}): "
@@ -151,6 +230,18 @@ def parse_spacing(text, path=None):
 
     A single number gives a square grid (DY = DX). Non-numeric or non-positive values raise
     :class:`InputError`.
+
+    Parameters
+    ----------
+    text : str
+        ``"DX"`` or ``"DX,DY"`` in metres.
+    path : str or Path, optional
+        File named in the error.
+
+    Returns
+    -------
+    tuple of float
+        (dx_m, dy_m).
     """
     parts = [p for p in str(text).replace(";", ",").split(",")]
     if len(parts) not in (1, 2) or any(not p.strip() for p in parts):
@@ -160,7 +251,20 @@ def parse_spacing(text, path=None):
 
 
 def resolve_spacing(spacing, path=None):
-    """Normalise the ``spacing`` argument of the readers to ``None`` or ``(dx_m, dy_m)``."""
+    """Normalise the ``spacing`` argument of the readers to ``None`` or ``(dx_m, dy_m)``.
+
+    Parameters
+    ----------
+    spacing : None, float, tuple or str
+        As the readers take it.
+    path : str or Path, optional
+        File named in the error.
+
+    Returns
+    -------
+    tuple of float or None
+        (dx_m, dy_m).
+    """
     if spacing is None:
         return None
     if isinstance(spacing, str):
@@ -176,7 +280,18 @@ def resolve_spacing(spacing, path=None):
 
 
 def check_file(path):
-    """Raise :class:`InputError` unless ``path`` is an existing, non-empty regular file."""
+    """Raise :class:`InputError` unless ``path`` is an existing, non-empty regular file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    Path
+        The path.
+    """
     p = Path(path)
     if not p.exists():
         raise InputError(path, "no such file")
@@ -190,7 +305,25 @@ def check_file(path):
 
 
 def make_heightmap(path, heights_m, dx_m, dy_m, unmeasured=None, meta=None):
-    """Build a :class:`HeightMap`, turning shape/NaN/spacing problems into :class:`InputError`."""
+    """Build a :class:`HeightMap`, turning shape/NaN/spacing problems into :class:`InputError`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file read (for messages and the name).
+    heights_m : ndarray
+        Heights [m], NaN unmeasured.
+    dx_m, dy_m : float
+        Spacings [m].
+    unmeasured : ndarray of bool, optional
+        Mask of unmeasured points.
+    meta : dict, optional
+        Reader metadata.
+
+    Returns
+    -------
+    HeightMap
+    """
     h = np.asarray(heights_m)
     if h.ndim != 2:
         raise InputError(path, f"expected a 2D height array, got shape {h.shape}")
@@ -212,7 +345,25 @@ def make_heightmap(path, heights_m, dx_m, dy_m, unmeasured=None, meta=None):
 
 
 def make_profile(path, heights_m, dx_m, unmeasured=None, meta=None):
-    """Build a :class:`Profile`, turning problems into :class:`InputError`."""
+    """Build a :class:`Profile`, turning problems into :class:`InputError`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file read.
+    heights_m : ndarray
+        Heights [m], NaN unmeasured.
+    dx_m : float
+        Spacing [m].
+    unmeasured : ndarray of bool, optional
+        Mask of unmeasured points.
+    meta : dict, optional
+        Reader metadata.
+
+    Returns
+    -------
+    Profile
+    """
     h = np.asarray(heights_m, dtype=np.float64)
     bad = ~np.isfinite(h)
     if unmeasured is not None:

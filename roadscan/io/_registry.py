@@ -12,7 +12,18 @@ WRITERS = {}
 
 
 def register_reader(*extensions):
-    """Decorator registering a reader for lower-case extensions such as ``".npy"``."""
+    """Decorator registering a reader for lower-case extensions such as ``".npy"``.
+
+    Parameters
+    ----------
+    *extensions : str
+        Extensions with their dot.
+
+    Returns
+    -------
+    callable
+        The decorator.
+    """
     def deco(func):
         for ext in extensions:
             READERS[ext.lower()] = func
@@ -21,7 +32,18 @@ def register_reader(*extensions):
 
 
 def register_writer(*extensions):
-    """Decorator registering a writer for lower-case extensions."""
+    """Decorator registering a writer for lower-case extensions.
+
+    Parameters
+    ----------
+    *extensions : str
+        Extensions with their dot.
+
+    Returns
+    -------
+    callable
+        The decorator.
+    """
     def deco(func):
         for ext in extensions:
             WRITERS[ext.lower()] = func

@@ -94,7 +94,21 @@ def _float(value, path, key):
 
 @register_reader(".txt", ".csv", ".asc", ".xyz")
 def read_text_heights(path, spacing=None, units=None):
-    """Read a text height file (grid, x,y,z list or x,z profile; see the module notes)."""
+    """Read a text height file (grid, x,y,z list or x,z profile; see the module notes).
+
+    Parameters
+    ----------
+    path : str or Path
+        The text file.
+    spacing : float or tuple, optional
+        Spacing [m] for files that carry none.
+    units : str, optional
+        Height unit for files that carry none.
+
+    Returns
+    -------
+    HeightMap or Profile
+    """
     text = read_text(path)
     table = read_table(path, text)
     sp = resolve_spacing(spacing, path)
@@ -246,6 +260,13 @@ def grid_from_points(path, x, y, z):
     Returns ``(heights (ny, nx) with NaN at missing nodes, x0, dx, y0, dy)`` in the units of
     the input. Raises :class:`InputError` when the points are not on a regular grid, when two
     points share a node, or when fewer than half of the nodes are present.
+
+    Parameters
+    ----------
+    path : str or Path
+        File named in errors.
+    x, y, z : ndarray
+        Point coordinates and heights.
     """
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
         raise InputError(path, "x or y column contains NaN")

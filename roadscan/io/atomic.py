@@ -53,7 +53,18 @@ OLD_TAG = ".roadscan-old-"
 def through_link(path):
     """The path a write to ``path`` should replace: where a symbolic link points (followed to
     the end, a dangling link's target included), else ``path`` itself. A link loop is refused
-    (:class:`InputError`): writing "through" it has no meaning."""
+    (:class:`InputError`): writing "through" it has no meaning.
+
+    Parameters
+    ----------
+    path : str or Path
+        The output path.
+
+    Returns
+    -------
+    Path
+        The path that will be replaced.
+    """
     path = Path(path)
     if not os.path.islink(path):
         return path
@@ -65,7 +76,18 @@ def through_link(path):
 
 def final_name(path):
     """Where a file being written inside a temporary output folder ends up
-    (``.out.roadscan-tmp-ab12/psd.csv`` -> ``out/psd.csv``), for messages."""
+    (``.out.roadscan-tmp-ab12/psd.csv`` -> ``out/psd.csv``), for messages.
+
+    Parameters
+    ----------
+    path : str or Path
+        A path inside a temporary output folder.
+
+    Returns
+    -------
+    Path
+        Its final name.
+    """
     parts = list(Path(path).parts)
     for i, part in enumerate(parts):
         if part.startswith(".") and TMP_TAG in part:
@@ -88,7 +110,17 @@ def _named(exc, path):
 
 
 def file_mode():
-    """Permission bits of a newly created file under the current umask (``0o666 & ~umask``)."""
+    """Permission bits of a newly created file under the current umask (``0o666 & ~umask``).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    int
+        Permission bits.
+    """
     mask = os.umask(0)
     os.umask(mask)
     return 0o666 & ~mask
@@ -135,17 +167,57 @@ def atomic_path(path, suffix=None):
 
 
 def atomic_write_text(path, text, encoding="utf-8"):
+    """Write ``text`` to ``path`` through a temporary file renamed into place.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    text : str
+        Its content.
+    encoding : str, optional
+        Text encoding.
+
+    Returns
+    -------
+    None
+    """
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding=encoding)
 
 
 def atomic_write_bytes(path, data):
+    """Write ``data`` to ``path`` through a temporary file renamed into place.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    data : bytes
+        Its content.
+
+    Returns
+    -------
+    None
+    """
     with atomic_path(path) as tmp:
         tmp.write_bytes(data)
 
 
 def atomic_save_npy(path, array):
-    """``numpy.save`` through a temporary file (float64 heights in metres, NaN kept)."""
+    """``numpy.save`` through a temporary file (float64 heights in metres, NaN kept).
+
+    Parameters
+    ----------
+    path : str or Path
+        Output ``.npy`` file.
+    array : ndarray
+        The array.
+
+    Returns
+    -------
+    None
+    """
     import numpy as np
 
     with atomic_path(path) as tmp:

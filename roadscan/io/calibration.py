@@ -45,7 +45,17 @@ def calibration_policy(policy):
 
 
 def current_policy():
-    """The policy readers apply now (``"strict"`` outside :func:`calibration_policy`)."""
+    """The policy readers apply now (``"strict"`` outside :func:`calibration_policy`).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    str
+        ``"strict"``, ``"override"`` or ``"fill"``.
+    """
     return _POLICY.get()
 
 
@@ -86,6 +96,11 @@ def pick_spacing(path, given, from_file, meta):
         The spacing the file carries [m], or None.
     meta : dict
         The reader's meta; receives ``calibration_override`` / ``calibration_ignored``.
+
+    Returns
+    -------
+    tuple of float
+        The spacing [m].
     """
     if given is None:
         return from_file
@@ -107,6 +122,24 @@ def pick_units(path, given, file_unit, file_factor, meta):
     ``given`` is ``--units`` (m, mm, um, nm) or None; ``file_unit`` the file's unit as it spells
     it. Records ``meta["height_unit"]`` (unit, metres per unit, from "file" or "flag") and
     ``meta["units_ignored"]`` when the file's unit is kept against a flag.
+
+    Parameters
+    ----------
+    path : str or Path
+        File named in errors.
+    given : str or None
+        ``--units``.
+    file_unit : str or None
+        The file's unit as spelled there.
+    file_factor : float
+        Metres per file unit.
+    meta : dict
+        Reader metadata (updated).
+
+    Returns
+    -------
+    float
+        Metres per height unit.
     """
     from ._common import unit_factor
 

@@ -35,7 +35,17 @@ MARKER = b"*****DATA*****"
 
 
 def is_captif(path):
-    """True if the file's first 8 kB hold the ``*****DATA*****`` marker."""
+    """True if the file's first 8 kB hold the ``*****DATA*****`` marker.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    bool
+    """
     with open(path, "rb") as f:
         return MARKER in f.read(8192)
 
@@ -62,7 +72,22 @@ def read_dat(path, spacing=None, units=None, channel=None):
 
 
 def read_captif(path, spacing=None, units=None):
-    """Read a CAPTIF SLP ``.dat`` file into a :class:`roadscan.Profile` (heights in m)."""
+    """Read a CAPTIF SLP ``.dat`` file into a :class:`roadscan.Profile` (heights in m).
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.dat`` file.
+    spacing : optional
+        Only to check against the file's own (refused when it contradicts).
+    units : optional
+        Likewise for the height unit (mm).
+
+    Returns
+    -------
+    Profile
+        Heights [m], header in ``meta["header"]``.
+    """
     p = check_file(path)
     text = p.read_bytes().decode("utf-8-sig", errors="replace")
     lines = text.splitlines()

@@ -32,7 +32,18 @@ _CAPTIF_MARK = b"*****DATA*****"
 
 def sniff_extension(path):
     """The roadscan extension whose reader fits the content of ``path``, ``"vendor"`` for a
-    binary file left to SurfaceTopography, or None for an empty file."""
+    binary file left to SurfaceTopography, or None for an empty file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    str or None
+        An extension such as ``".npy"``, ``"vendor"``, or None.
+    """
     with open(path, "rb") as f:
         head = f.read(4096)
     if not head:
@@ -65,7 +76,21 @@ def sniff_extension(path):
 
 
 def read_by_content(path, readers, spacing=None, units=None, channel=None):
-    """Read ``path`` (an unknown extension) with the reader its content calls for."""
+    """Read ``path`` (an unknown extension) with the reader its content calls for.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    readers : dict
+        Extension -> reader.
+    spacing, units, channel : optional
+        As :func:`roadscan.io.read` takes them.
+
+    Returns
+    -------
+    HeightMap or Profile
+    """
     kind = sniff_extension(path)
     ext = Path(path).suffix.lower() or "(none)"
     if kind is None:

@@ -124,7 +124,21 @@ def _choose_channel(path, channels, titles, channel):
 @register_reader(".gwy")
 def read_gwy(path, spacing=None, units=None, channel=None):
     """Read a data channel of a Gwyddion ``.gwy`` file: the first, or ``channel`` (its number
-    ``/N/data``, or its title); ``meta["channels"]`` lists the titles when there are several."""
+    ``/N/data``, or its title); ``meta["channels"]`` lists the titles when there are several.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.gwy`` file.
+    spacing, units : optional
+        For fields without SI units.
+    channel : int or str, optional
+        Channel number or title.
+
+    Returns
+    -------
+    HeightMap
+    """
     import gwyfile
 
     p = check_file(path)

@@ -47,12 +47,42 @@ _KIND_OF = {**{f: "scanning-probe microscope" for f in _SPM},
 
 
 def kind_of(fmt):
-    """Instrument kind of a SurfaceTopography format id, or None (any scale)."""
+    """Instrument kind of a SurfaceTopography format id, or None (any scale).
+
+    Parameters
+    ----------
+    fmt : str
+        SurfaceTopography format id.
+
+    Returns
+    -------
+    str or None
+        The instrument kind.
+    """
     return _KIND_OF.get(str(fmt).lower())
 
 
 def check_lateral(path, fmt, name, dx, dy, nx, ny):
-    """Refuse spacings [m] or a field implausible for the instrument kind of format ``fmt``."""
+    """Refuse spacings [m] or a field implausible for the instrument kind of format ``fmt``.
+
+    Parameters
+    ----------
+    path : str or Path
+        File named in the error.
+    fmt : str
+        Format id.
+    name : str
+        Format name for the message.
+    dx, dy : float
+        Spacings [m].
+    nx, ny : int
+        Grid size.
+
+    Returns
+    -------
+    None
+        Raises :class:`roadscan.InputError` when implausible.
+    """
     kind = kind_of(fmt)
     if kind is None:
         return
@@ -70,7 +100,22 @@ def check_lateral(path, fmt, name, dx, dy, nx, ny):
 
 def fix_reader_units(fmt, dx, dy, meta):
     """(dx, dy) [m] with the known unit slips of SurfaceTopography's readers corrected; the
-    correction is noted in ``meta["read_warnings"]`` and ``meta["reader_unit_fix"]``."""
+    correction is noted in ``meta["read_warnings"]`` and ``meta["reader_unit_fix"]``.
+
+    Parameters
+    ----------
+    fmt : str
+        Format id.
+    dx, dy : float
+        Spacings as read [m].
+    meta : dict
+        Reader metadata (updated).
+
+    Returns
+    -------
+    tuple of float
+        (dx, dy) [m].
+    """
     if str(fmt).lower() == "nms" and max(dx, dy) > 1e-3:
         fixed = (dx * 1e-6, dy * 1e-6)
         note = (f"NanoFocus header spacing read as nanometres ({_len(fixed[0])} pixels; "

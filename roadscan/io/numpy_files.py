@@ -72,7 +72,21 @@ def _check_header(path, shape, dtype, stored_bytes=None, member=None):
 
 @register_reader(".npy")
 def read_npy(path, spacing=None, units=None):
-    """Read a ``.npy`` height array; ``spacing`` [m] is required."""
+    """Read a ``.npy`` height array; ``spacing`` [m] is required.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.npy`` file.
+    spacing : float or tuple
+        Spacing [m] (required).
+    units : str, optional
+        Height unit (default m).
+
+    Returns
+    -------
+    HeightMap or Profile
+    """
     check_file(path)
     with open(path, "rb") as fh:
         shape, dtype = _read_header(fh, path)
@@ -116,7 +130,21 @@ def _npz_spacing(path, z, key):
 
 @register_reader(".npz")
 def read_npz(path, spacing=None, units=None):
-    """Read a ``.npz`` with keys ``heights``, ``dx``, ``dy`` [m] and optional ``unmeasured``."""
+    """Read a ``.npz`` with keys ``heights``, ``dx``, ``dy`` [m] and optional ``unmeasured``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.npz`` file.
+    spacing : optional
+        Only where the file has no ``dx``.
+    units : str, optional
+        Height unit (default m).
+
+    Returns
+    -------
+    HeightMap or Profile
+    """
     check_file(path)
     factor = unit_factor(units, path)
     sp = resolve_spacing(spacing, path)
@@ -180,7 +208,21 @@ def _float_dtype(dtype):
 @register_writer(".npy")
 def write_npy(path, obj, dtype="float64"):
     """Heights [m] with NaN at unmeasured points (float64, or float32 on request); the spacing
-    is not stored."""
+    is not stored.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    obj : HeightMap or Profile
+        The scan.
+    dtype : str, optional
+        ``"float64"`` or ``"float32"``.
+
+    Returns
+    -------
+    None
+    """
     with open(path, "wb") as f:
         np.save(f, obj.heights_m.astype(_float_dtype(dtype), copy=False))
 
@@ -188,7 +230,21 @@ def write_npy(path, obj, dtype="float64"):
 @register_writer(".npz")
 def write_npz(path, obj, dtype="float64"):
     """``heights`` [m, NaN unmeasured; float64 or float32 on request], ``dx`` (and ``dy`` for a
-    map) [m], ``unmeasured``; compressed."""
+    map) [m], ``unmeasured``; compressed.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    obj : HeightMap or Profile
+        The scan.
+    dtype : str, optional
+        ``"float64"`` or ``"float32"``.
+
+    Returns
+    -------
+    None
+    """
     arrays = {"heights": obj.heights_m.astype(_float_dtype(dtype), copy=False), "dx": np.float64(obj.dx_m), "unmeasured": obj.unmeasured}
     if isinstance(obj, HeightMap):
         arrays["dy"] = np.float64(obj.dy_m)

@@ -27,6 +27,20 @@ def check_output_dir(target, option="out", inputs=()):
     folder, the home folder or a filesystem root; a folder that contains one of ``inputs``.
     ``option`` is the keyword of the option naming the folder (named in the messages:
     :class:`roadscan.errors.InputError`).
+
+    Parameters
+    ----------
+    target : str or Path
+        The output folder.
+    option : str, optional
+        Option name used in the message.
+    inputs : iterable of path, optional
+        The command's inputs.
+
+    Returns
+    -------
+    None
+        Raises :class:`roadscan.InputError` when refused.
     """
     label = "{" + option + "}"
     target = Path(target)

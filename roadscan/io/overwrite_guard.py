@@ -87,13 +87,33 @@ def reads_tracked():
 
 
 def tracked_reads():
-    """The files read so far in the current :func:`reads_tracked` block (empty outside one)."""
+    """The files read so far in the current :func:`reads_tracked` block (empty outside one).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    set of str
+        Paths read.
+    """
     reads = _READS
     return set() if reads is None else set(reads)
 
 
 def same_path(a, b):
-    """True when ``a`` and ``b`` are the same file: ``samefile`` (links) or equal resolved paths."""
+    """True when ``a`` and ``b`` are the same file: ``samefile`` (links) or equal resolved paths.
+
+    Parameters
+    ----------
+    a, b : str or Path
+        Two paths.
+
+    Returns
+    -------
+    bool
+    """
     try:
         if os.path.exists(a) and os.path.exists(b) and os.path.samefile(a, b):
             return True
@@ -106,7 +126,17 @@ def same_path(a, b):
 
 
 def inside(path, folder):
-    """True when ``path`` (resolved) lies inside ``folder`` (resolved), at any depth."""
+    """True when ``path`` (resolved) lies inside ``folder`` (resolved), at any depth.
+
+    Parameters
+    ----------
+    path, folder : str or Path
+        The paths.
+
+    Returns
+    -------
+    bool
+    """
     try:
         p, f = os.path.realpath(path), os.path.realpath(folder)
     except (OSError, ValueError):
@@ -129,6 +159,10 @@ def refuse_overwrite(outputs, inputs, option="out"):
 
     The message is one line: ``{out} OUT: is the input IN; name another output``
     (:class:`roadscan.errors.InputError` names the option).
+
+    Returns
+    -------
+    None
     """
     inputs = [str(i) for i in inputs if i is not None and str(i) != ""]
     for out in outputs:
@@ -153,6 +187,19 @@ def check_not_read(targets, option="out", exclude=None):
     ``targets`` are final output paths (files or folders); ``exclude`` a temporary folder whose
     own files do not count (an output read back while it was being built). ``option``: the
     keyword of the option naming the outputs (None: they are called "output").
+
+    Parameters
+    ----------
+    targets : iterable of path
+        Output paths.
+    option : str, optional
+        Option naming the outputs, for the message.
+    exclude : str or Path, optional
+        A temporary folder whose files do not count.
+
+    Returns
+    -------
+    None
     """
     label = "output" if option is None else "{" + option + "}"
     reads = _READS

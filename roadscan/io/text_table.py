@@ -33,7 +33,19 @@ _SPLIT = re.compile(r"[,;\s]+")
 
 @dataclass
 class Table:
-    """Numbers of a text table and the lines above them."""
+    """Numbers of a text table and the lines above them.
+
+    Attributes
+    ----------
+    values : ndarray, shape (rows, columns)
+        The numbers.
+    header : list of str
+        The lines above them.
+    first_line : int
+        Line number of the first numeric row.
+    decimal : str
+        Decimal mark.
+    """
 
     values: np.ndarray                      # (rows, columns) float64
     header: list = field(default_factory=list)   # header lines (stripped), comments included
@@ -42,7 +54,17 @@ class Table:
 
 
 def read_text(path):
-    """The file's text (UTF-8, with or without BOM; Latin-1 as fallback)."""
+    """The file's text (UTF-8, with or without BOM; Latin-1 as fallback).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    str
+    """
     p = check_file(path)
     size = p.stat().st_size
     limit = get_max_pixels() or default_max_pixels()
@@ -91,6 +113,18 @@ def decimal_mark(path, block):
     The rule (module notes): commas are decimal marks when the fields are separated by
     semicolons or tabs, or by spaces with no comma separating fields; else they separate
     fields. Thousands separators, mixed marks and ambiguous commas raise :class:`InputError`.
+
+    Parameters
+    ----------
+    path : str or Path
+        File named in errors.
+    block : str
+        The data lines.
+
+    Returns
+    -------
+    str
+        ``"."`` or ``","``.
     """
     if "," not in block:
         _check_grouped_thousands(path, block, ".")
@@ -156,7 +190,19 @@ def _check_grouped_thousands(path, block, mark):
 
 def read_table(path, text=None):
     """Parse ``path`` into a :class:`Table`; raises :class:`InputError` for ragged or non-numeric
-    rows, or when there is no numeric row at all."""
+    rows, or when there is no numeric row at all.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+    text : str, optional
+        Its text, when already read.
+
+    Returns
+    -------
+    Table
+    """
     if text is None:
         text = read_text(path)
     lines = text.splitlines()
@@ -235,6 +281,15 @@ def column_units(header_line):
     """Units named in a column-title line, e.g. ``"x (mm), z (mm)"`` -> ``["mm", "mm"]``.
 
     Returns None when the last header line is not a list of titles with units for every column.
+
+    Parameters
+    ----------
+    header_line : str
+        A title line.
+
+    Returns
+    -------
+    list of str or None
     """
     if header_line is None or header_line.startswith("#"):
         return None

@@ -42,7 +42,17 @@ SMOOTH_MIN = 1e-5
 
 def line_rms(z):
     """rms about a least-squares line (2D ``z``: plane) of the finite values of ``z`` (in its
-    own unit), the lowest and highest 1 % left out (spikes do not decide a unit)."""
+    own unit), the lowest and highest 1 % left out (spikes do not decide a unit).
+
+    Parameters
+    ----------
+    z : ndarray
+        Heights (1D or 2D) in their own unit.
+
+    Returns
+    -------
+    float
+    """
     z = np.asarray(z, float)
     idx = np.indices(z.shape, dtype=float).reshape(z.ndim, -1)
     z = z.ravel()
@@ -63,7 +73,17 @@ def line_rms(z):
 
 def plausible_reading(dx_m, length_m, rms_m):
     """True when a scan with spacing ``dx_m``, length ``length_m`` and rms height ``rms_m``
-    [m] is one a road or microscope profiler can give (module notes)."""
+    [m] is one a road or microscope profiler can give (module notes).
+
+    Parameters
+    ----------
+    dx_m, length_m, rms_m : float
+        Spacing, length and rms height [m].
+
+    Returns
+    -------
+    bool
+    """
     if not (np.isfinite(rms_m) and np.isfinite(dx_m)):
         return True                      # nothing to judge: other checks refuse it
     if not DX_RANGE_M[0] <= dx_m <= DX_RANGE_M[1]:

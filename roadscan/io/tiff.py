@@ -109,7 +109,21 @@ def _tifffile_notes(notes):
 @register_reader(".tif", ".tiff")
 def read_tiff(path, spacing=None, units=None, channel=None):
     """Read a TIFF height image (see the module notes for the spacing rules; ``channel``
-    chooses a page, sample or palette indices: :mod:`roadscan.io.tiff_pages`)."""
+    chooses a page, sample or palette indices: :mod:`roadscan.io.tiff_pages`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The TIFF file.
+    spacing, units : optional
+        For files that carry none.
+    channel : int or str, optional
+        Page, sample or palette choice.
+
+    Returns
+    -------
+    HeightMap
+    """
     import tifffile
 
     check_file(path)
@@ -165,7 +179,21 @@ def read_tiff(path, spacing=None, units=None, channel=None):
 
 @register_writer(".tif", ".tiff")
 def write_tiff(path, hmap, dtype="float64"):
-    """Write heights [m] as float64 (or ``dtype="float32"``, half the size) with spacing tags."""
+    """Write heights [m] as float64 (or ``dtype="float32"``, half the size) with spacing tags.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    hmap : HeightMap
+        The map.
+    dtype : str, optional
+        ``"float64"`` or ``"float32"``.
+
+    Returns
+    -------
+    None
+    """
     import tifffile
 
     if getattr(hmap, "dy_m", None) is None:

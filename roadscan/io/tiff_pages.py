@@ -44,7 +44,25 @@ def _main_pages(tif):
 
 def select_page(path, tif, channel, meta):
     """The page to read. ``channel`` is None, an int or a str; fills ``meta``; the page's
-    samples and palette are then checked by :func:`select_sample`."""
+    samples and palette are then checked by :func:`select_sample`.
+
+    Parameters
+    ----------
+    path : str or Path
+        File named in errors.
+    tif : tifffile.TiffFile
+        The open file.
+    channel : int, str or None
+        The choice.
+    meta : dict
+        Reader metadata (updated).
+
+    Returns
+    -------
+    page : tifffile.TiffPage
+    channel_left : int, str or None
+        What of ``channel`` remains to choose a sample.
+    """
     pages = _main_pages(tif)
     if len(pages) == 1:
         return tif.pages[pages[0]], channel
@@ -61,7 +79,25 @@ def select_page(path, tif, channel, meta):
 
 def select_sample(path, page, arr, channel, meta):
     """The 2D height array of ``arr`` (the page's data) given what is left of ``channel``
-    after :func:`select_page` (None when the page was chosen by it)."""
+    after :func:`select_page` (None when the page was chosen by it).
+
+    Parameters
+    ----------
+    path : str or Path
+        File named in errors.
+    page : tifffile.TiffPage
+        The page.
+    arr : ndarray
+        Its data.
+    channel : int, str or None
+        What is left of the choice.
+    meta : dict
+        Reader metadata (updated).
+
+    Returns
+    -------
+    ndarray, shape (ny, nx)
+    """
     samples = int(getattr(page, "samplesperpixel", 1) or 1)
     palette = int(getattr(page, "photometric", 0) or 0) == _PALETTE
     chosen_page = "channel" in meta

@@ -65,7 +65,16 @@ OWN_EXTENSIONS = (".x3p", ".gwy", ".npy", ".npz", ".tif", ".tiff", ".txt", ".asc
 
 
 def vendor_version():
-    """Installed SurfaceTopography version string, or None (without importing it)."""
+    """Installed SurfaceTopography version string, or None (without importing it).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    str or None
+    """
     from importlib import metadata
 
     try:
@@ -75,7 +84,16 @@ def vendor_version():
 
 
 def vendor_available():
-    """True if SurfaceTopography can be imported."""
+    """True if SurfaceTopography can be imported.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    bool
+    """
     try:
         import SurfaceTopography.IO  # noqa: F401
     except ImportError:

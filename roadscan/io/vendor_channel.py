@@ -111,7 +111,27 @@ def _declared_grid(ch, path):
 
 
 def read_channel(reader, path, version, sp, units, channel=None):
-    """The chosen height channel of the open ``reader`` as a HeightMap [m] (module notes)."""
+    """The chosen height channel of the open ``reader`` as a HeightMap [m] (module notes).
+
+    Parameters
+    ----------
+    reader : SurfaceTopography reader
+        The open reader.
+    path : str or Path
+        The file.
+    version : str
+        SurfaceTopography version.
+    sp : tuple or None
+        Spacing [m] given by the user.
+    units : str or None
+        Height unit given by the user.
+    channel : int or str, optional
+        Channel choice.
+
+    Returns
+    -------
+    HeightMap
+    """
     ch, channels = _pick_channel(reader, path, channel)
     declared = _declared_grid(ch, path)
     if declared is not None:

@@ -23,7 +23,19 @@ LENGTH_UNITS = {
 
 
 def one_line(exc, limit=240):
-    """``exc`` (or any object) as one line of at most ``limit`` characters."""
+    """``exc`` (or any object) as one line of at most ``limit`` characters.
+
+    Parameters
+    ----------
+    exc : object
+        Usually an exception.
+    limit : int, optional
+        Largest length.
+
+    Returns
+    -------
+    str
+    """
     text = f"{type(exc).__name__}: {exc}"
     s = " ".join(part.strip() for part in text.splitlines() if part.strip())
     s = "".join(c if c.isprintable() else "?" for c in s)   # a reader quoting binary junk: no ESC, BEL, NUL
@@ -32,7 +44,19 @@ def one_line(exc, limit=240):
 
 
 def info_dict(topo, ch):
-    """The reader's ``info`` of a topography (or its channel) as a plain dict."""
+    """The reader's ``info`` of a topography (or its channel) as a plain dict.
+
+    Parameters
+    ----------
+    topo : object
+        A SurfaceTopography topography or reader.
+    ch : object
+        Its channel.
+
+    Returns
+    -------
+    dict
+    """
     info = getattr(topo, "info", None)
     if info is None:
         info = getattr(ch, "info", None)
@@ -99,6 +123,25 @@ def instrument_block(info, units=None, undefined_points=None, reader=None, chann
     ``acquired`` (ISO 8601), ``objective``, ``magnification``, ``lateral_resolution_m``,
     ``tip_radius_m``, ``comment``, and always ``format``, ``units``, ``undefined_points``,
     ``reader``, ``channel`` when given. Strings are one line, at most 200 characters.
+
+    Parameters
+    ----------
+    info : dict
+        SurfaceTopography ``info``.
+    units : str, optional
+        Height unit of the file.
+    undefined_points : int, optional
+        Count of undefined points.
+    reader : str, optional
+        Reader name.
+    channel : str, optional
+        Channel name.
+    format_name : str, optional
+        Format name.
+
+    Returns
+    -------
+    dict
     """
     info = info or {}
     inst = info.get("instrument") or {}

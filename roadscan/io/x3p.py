@@ -108,7 +108,23 @@ def _point_data_checksum_ok(path):
 @register_reader(".x3p")
 def read_x3p(path, spacing=None, units=None):
     """Read an X3P profile or surface (first layer); the declared size is checked first
-    (:func:`precheck_x3p`)."""
+    (:func:`precheck_x3p`).
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.x3p`` file.
+    spacing, units : optional
+        Only to check against what the file carries.
+
+    Returns
+    -------
+    HeightMap or Profile
+
+    References
+    ----------
+    ISO 25178-72:2017, XML file format x3p.
+    """
     import x3pio
 
     check_file(path)
@@ -263,7 +279,27 @@ def x3p_metadata(meta, comment=None):
 def write_x3p(path, obj, dtype="float64", comment=None):
     """Write a height map (surface) or profile as X3P: metres, NaN unmeasured, float64 (exact)
     or ``dtype="float32"`` (half the size). Record2 comes from ``obj.meta["instrument"]`` when
-    present (:func:`x3p_metadata`; instrument, acquisition date, objective, ``comment``)."""
+    present (:func:`x3p_metadata`; instrument, acquisition date, objective, ``comment``).
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    obj : HeightMap or Profile
+        The scan [m].
+    dtype : str, optional
+        ``"float64"`` or ``"float32"``.
+    comment : str, optional
+        Record2 comment.
+
+    Returns
+    -------
+    None
+
+    References
+    ----------
+    ISO 25178-72:2017, XML file format x3p.
+    """
     import x3pio
 
     dtype = np.dtype(dtype)
