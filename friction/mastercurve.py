@@ -302,6 +302,17 @@ def shift_factors(f_Hz, E1_Pa, E2_Pa, T_C, T_ref_C, set_id=None, max_sigma_decad
         Pairs with a larger standard error are dropped [decades].
     reach : int, optional
         Neighbours compared on each side.
+
+    Returns
+    -------
+    T_sweep : ndarray
+        Mean temperature of each sweep [C].
+    log10_aT : ndarray
+        Shift of each sweep, 0 at T_ref.
+    groups : list of ndarray
+        Rows of each sweep.
+    info : list of dict
+        How each shift was found, and its standard error [decades].
     """
     f, E1, E2 = (np.asarray(a, dtype=float) for a in (f_Hz, E1_Pa, E2_Pa))
     Tm, groups = group_sweeps(T_C, set_id)

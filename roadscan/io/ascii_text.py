@@ -267,6 +267,13 @@ def grid_from_points(path, x, y, z):
         File named in errors.
     x, y, z : ndarray
         Point coordinates and heights.
+
+    Returns
+    -------
+    heights : ndarray, shape (ny, nx)
+        Heights, NaN at missing nodes.
+    x0, dx, y0, dy : float
+        Grid origin and steps, in the input's units.
     """
     if not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
         raise InputError(path, "x or y column contains NaN")

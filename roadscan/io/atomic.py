@@ -138,6 +138,18 @@ def atomic_path(path, suffix=None):
 
     The temporary file keeps the final suffix (writers that pick a format from the
     extension still work) and gets mode ``0o666 & ~umask``. On an exception it is removed.
+
+    Parameters
+    ----------
+    path : str or Path
+        The final file.
+    suffix : str, optional
+        Suffix of the temporary file (default: that of ``path``).
+
+    Yields
+    ------
+    Path
+        The temporary path to write.
     """
     shown = Path(path)
     path = through_link(shown)

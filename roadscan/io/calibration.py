@@ -34,7 +34,17 @@ _REL = 1e-6
 
 @contextmanager
 def calibration_policy(policy):
-    """Context in which readers apply ``policy`` (one of :data:`POLICIES`)."""
+    """Context in which readers apply ``policy`` (one of :data:`POLICIES`).
+
+    Parameters
+    ----------
+    policy : str
+        One of :data:`POLICIES`.
+
+    Yields
+    ------
+    None
+    """
     if policy not in POLICIES:
         raise ValueError(f"calibration policy must be one of {POLICIES}, got {policy!r}")
     token = _POLICY.set(policy)

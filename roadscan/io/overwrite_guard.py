@@ -70,6 +70,14 @@ def reads_tracked():
     """Record every file opened for reading inside the block (see the module docstring).
 
     Nesting is allowed; the outermost block starts and ends the record.
+
+    Parameters
+    ----------
+    None
+
+    Yields
+    ------
+    None
     """
     global _READS, _HOOKED
     with _LOCK:
