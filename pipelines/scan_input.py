@@ -27,7 +27,8 @@ def add_scan_options(parser):
     )
     parser.add_argument(
         "--units", choices=_UNITS, default=None,
-        help="units of the heights in files that carry no units (default m)",
+        help="units of the heights in files that carry no units, and of the x (and y) columns of "
+             "text files without unit titles (default m)",
     )
     parser.add_argument(
         "--override-calibration", action="store_true",
