@@ -7,6 +7,8 @@ Conventions (all readers)
 - ``units`` is the unit of the heights of a file that carries no units of its own
   ("m", "mm", "um" or "nm"); a file that states its units (X3P, Gwyddion, CAPTIF, vendor
   formats) is read in its own units; a contradicting ``units`` follows :mod:`roadscan.io.calibration`.
+  The x (and y) columns of a text file without unit titles are in ``units`` too, a reading
+  checked by :mod:`roadscan.io.text_units`.
 - ``spacing`` is ``None``, a number DX (then DY = DX), a pair (DX, DY), or the CLI string
   ``"DX"`` / ``"DX,DY"``, always in metres.
 """
