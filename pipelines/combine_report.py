@@ -86,8 +86,7 @@ def write_combine_report(path, summary, figure=None):
                      if fit.get("q_roll_per_m") else "none found"),
     })
     warn = summary.get("warnings") or []
-    warn_html = ("<p>none</p>" if not warn else
-                 "<ul>" + "".join(f"<li>{html.escape(w)}</li>" for w in warn) + "</ul>")
+    warn_html = "<p>none</p>" if not warn else report.list_html(warn)
     sections = [("Inputs and their reliable bands", inputs),
                 ("Merged spectrum", [f"<p>merged band: {_band_text(summary['merged_band_per_m'])}; "
                                      f"{summary['rows']} rows in psd.csv "

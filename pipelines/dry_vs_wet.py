@@ -8,7 +8,6 @@ for both, so that only the surface changes.
 """
 from __future__ import annotations
 
-import html
 from pathlib import Path
 
 import numpy as np
@@ -178,8 +177,7 @@ def _write_report(out_dir, name, r, figs):
     sections = [("Key figures", report.table_html(key, ["quantity", "value"]))]
     notes = list(r.get("warnings") or []) + ([r["render_note"]] if r.get("render_note") else [])
     if notes:
-        sections.append(("Warnings and notes", "<ul>" + "".join(
-            f"<li>{html.escape(n)}</li>" for n in notes) + "</ul>"))
+        sections.append(("Warnings and notes", report.list_html(notes)))
     if r.get("mu_dry"):
         vs = list(r["mu_dry"])
         v = np.array([float(s) for s in vs])

@@ -5,7 +5,6 @@ report embeds its PNGs (base64) so that ``report.html`` opens offline from anywh
 """
 from __future__ import annotations
 
-import base64
 import html
 import io
 import json
@@ -28,7 +27,7 @@ else:
 
 __all__ = [
     "pyplot", "save_figure", "fixed_margins", "plot_heightmap", "plot_profile", "plot_psd", "plot_mu", "write_html",
-    "write_json", "write_csv", "table_html",
+    "write_json", "write_csv", "table_html", "list_html",
 ]
 
 FIGSIZE = (6.4, 4.4)
@@ -286,6 +285,7 @@ def plot_mu(curves, path, title="friction coefficient", ylabel="friction coeffic
 
 
 def _fmt(x):
+    """A table cell as text (floats to 3 significant digits; the template escapes it)."""
     if x is None:
         return "—"
     if isinstance(x, float):
@@ -294,25 +294,28 @@ def _fmt(x):
         return sig3(x)
     if isinstance(x, (list, tuple)):
         return ", ".join(_fmt(v) for v in x)
-    return html.escape(str(x))
+    return str(x)
 
 
 def table_html(rows, header=None):
-    """An HTML table from rows of cells (or a dict: one row per key)."""
+    """An HTML table (``templates/table.html.j2``) from rows of cells (or a dict: one row per
+    key); every cell is text, escaped."""
+    from .templates import render
+
     if isinstance(rows, dict):
         rows = [(k, v) for k, v in rows.items()]
-    out = ["<table>"]
-    if header:
-        out.append("<tr>" + "".join(f"<th>{html.escape(str(h))}</th>" for h in header) + "</tr>")
-    for row in rows:
-        out.append("<tr>" + "".join(f"<td>{_fmt(c)}</td>" for c in row) + "</tr>")
-    out.append("</table>")
-    return "\n".join(out)
+    return render("table.html.j2", header=[str(h) for h in header or ()],
+                  rows=[[_fmt(c) for c in row] for row in rows])
 
 
-def _img(path):
-    data = base64.b64encode(Path(path).read_bytes()).decode("ascii")
-    return f'<img src="data:image/png;base64,{data}" alt="{html.escape(Path(path).stem)}">'
+def list_html(items, links=None):
+    """An HTML list (``templates/list.html.j2``) of text items, escaped; ``links``: an href per
+    item (None: plain items)."""
+    from .templates import render
+
+    items = [str(i) for i in items]
+    hrefs = [str(h) if h else None for h in links] if links is not None else [None] * len(items)
+    return render("list.html.j2", items=list(zip(items, hrefs)))
 
 
 _CSS = """body{font-family:system-ui,sans-serif;max-width:1100px;margin:2em auto;color:#222}
@@ -344,31 +347,36 @@ def instrument_html(block):
     return "<b>Instrument</b> — " + html.escape(" · ".join(parts)) if parts else None
 
 
-def write_html(path, title, sections, intro=None):
-    """Write a self-contained report.
+def _is_png(item):
+    return isinstance(item, Path) or (isinstance(item, str) and item.endswith(".png"))
 
-    ``sections``: list of (heading, items); each item is a PNG path (embedded as base64), or a
-    string of HTML, or a list of PNG paths (shown side by side).
+
+def write_html(path, title, sections, intro=None):
+    """Write a self-contained report (``templates/page.html.j2``, written atomically).
+
+    ``title``: text (escaped). ``intro``: HTML (e.g. :func:`instrument_html`) or None.
+    ``sections``: list of (heading, items); each item is a PNG path (embedded as base64), a
+    list of PNG paths (shown side by side), or a string of HTML built by this module's writers
+    (:func:`table_html`, :func:`list_html`) and inserted as it is.
     """
-    parts = [f"<!doctype html><html><head><meta charset='utf-8'><title>{html.escape(title)}</title>",
-             f"<style>{_CSS}</style></head><body><h1>{html.escape(title)}</h1>"]
-    if intro:
-        parts.append(f"<p>{intro}</p>")
+    from .templates import embedded_image, html_block, render
+
+    page = []
     for heading, items in sections:
-        parts.append(f"<h2>{html.escape(heading)}</h2>")
         if not isinstance(items, (list, tuple)):
             items = [items]
+        shown = []
         for item in items:
             if isinstance(item, (list, tuple)):
-                parts.append("<div class='grid'>" + "".join(_img(p) for p in item) + "</div>")
-            elif isinstance(item, Path) or (isinstance(item, str) and item.endswith(".png")):
-                parts.append(_img(item))
+                shown.append(("grid", [embedded_image(p) for p in item]))
+            elif _is_png(item):
+                shown.append(("image", embedded_image(item)))
             else:
-                parts.append(str(item))
-    parts.append("<p class='note'>Made by roadscan. PSD convention: Persson's, "
-                 "&lt;h²&gt; = 2π ∫ q C(q) dq; friction by Persson's theory (docs: Theory).</p>")
-    parts.append("</body></html>")
-    atomic_write_text(path, "\n".join(parts))
+                shown.append(("html", html_block(item)))
+        page.append((str(heading), shown))
+    text = render("page.html.j2", title=str(title), css=html_block(_CSS), sections=page,
+                  intro=html_block(intro) if intro else None)
+    atomic_write_text(path, text)
     return Path(path)
 
 

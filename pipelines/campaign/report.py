@@ -9,7 +9,6 @@ non-zero MAD). They are drawn red in every plot and flagged in the table.
 """
 from __future__ import annotations
 
-import html
 from pathlib import Path
 
 import numpy as np
@@ -140,27 +139,21 @@ def _reader_units(quantities, vals):
 
 
 def _table(records, quantities, vals, masks):
+    """The scans' table (``templates/campaign_table.html.j2``): outliers in red, links to each
+    scan's folder and report."""
+    from ..templates import render
+
     head = ["#", "file", "label", "chainage [m]", "status"] + [q[1] for q in quantities] + ["outlier in", "outputs"]
-    rows = ["<table>", "<tr>" + "".join(f"<th>{html.escape(h)}</th>" for h in head) + "</tr>"]
+    rows = []
     for i, r in enumerate(records):
-        flags = [q[0] for q in quantities if masks[q[0]][i]]
-        cells = [str(i + 1), html.escape(Path(r["file"]).name), html.escape(r["label"] or ""),
-                 "—" if r["chainage_m"] is None else f"{r['chainage_m']:.6g}",
-                 "ok" if r["status"] == "ok" else f"<span style='color:#b00'>error: {html.escape(r['error'])}</span>"]
-        for q in quantities:
-            v = vals[q[0]][i]
-            s = sig3(v)
-            cells.append(f"<b style='color:#c00'>{s}</b>" if masks[q[0]][i] else s)
-        cells.append(html.escape(", ".join(flags)))
-        if r.get("dir"):
-            d = html.escape(r["dir"])
-            cells.append(f"<a href='{d}/'>{d}/</a> (<a href='{d}/report.html'>report</a>)")
-        else:
-            cells.append("—")
-        style = " style='background:#fee'" if flags else ""
-        rows.append(f"<tr{style}>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
-    rows.append("</table>")
-    return "\n".join(rows)
+        rows.append({
+            "n": i + 1, "file": Path(r["file"]).name, "label": r["label"] or "",
+            "chainage": "—" if r["chainage_m"] is None else f"{r['chainage_m']:.6g}",
+            "error": None if r["status"] == "ok" else str(r["error"]),
+            "cells": [(sig3(vals[q[0]][i]), bool(masks[q[0]][i])) for q in quantities],
+            "flags": [q[0] for q in quantities if masks[q[0]][i]],
+            "dir": r.get("dir") or None})
+    return render("campaign_table.html.j2", header=head, rows=rows)
 
 
 def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campaign"):

@@ -100,8 +100,8 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
         lines = [lines[0] + ",warnings"] + [
             f'{ln},"{" | ".join(w).replace(chr(34), chr(34) * 2)}"' for ln, w in zip(lines[1:], own)]
         atomic_write_text(out / "summary.csv", "\n".join(lines) + "\n")
-        links = "".join(f"<li><a href='{s}/report.html'>{s}</a></li>" for s, _ in rows)
-        sections = [("Scans", _scans_html(table, header)), ("Reports", f"<ul>{links}</ul>")]
+        links = report.list_html([s for s, _ in rows], links=[f"{s}/report.html" for s, _ in rows])
+        sections = [("Scans", _scans_html(table, header)), ("Reports", links)]
         warned = [[s, w] for (s, _), ws in zip(rows, own) for w in ws]
         if warned:
             sections.insert(1, ("Warnings", report.table_html(warned, ["scan", "warning"])))
