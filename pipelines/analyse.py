@@ -35,7 +35,18 @@ PSD1D_HEADER = ["q_per_m", "C1_m3"]
 
 
 def nominal_band(obj):
-    """(2 pi / L of the longer side, pi / a of the coarser spacing) [1/m]."""
+    """(2 pi / L of the longer side, pi / a of the coarser spacing) [1/m].
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+
+    Returns
+    -------
+    tuple of float
+        (q_min, q_max) [1/m].
+    """
     if isinstance(obj, Profile):
         return 2 * np.pi / obj.length_m, np.pi / obj.dx_m
     lx, ly = obj.size_m
@@ -43,7 +54,22 @@ def nominal_band(obj):
 
 
 def summarise(analysis, fr=None, window_alpha=0.25):
-    """The ``summary.json`` dictionary of one analysed scan (its keys are a contract)."""
+    """The ``summary.json`` dictionary of one analysed scan (its keys are a contract).
+
+    Parameters
+    ----------
+    analysis : pipelines.spectrum_bridge.SurfaceAnalysis
+        The analysed scan.
+    fr : friction.FrictionResult, optional
+        Its friction (None: not computed).
+    window_alpha : float, optional
+        Tukey window used.
+
+    Returns
+    -------
+    dict
+        The summary (JSON-ready).
+    """
     from .headline import hurst_keys, peak_keys
 
     fit = analysis.fit
@@ -108,6 +134,36 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     the CSV/JSON files and ``report.html`` (tables only) are the same. ``drawer``: where the
     figures are drawn (:mod:`pipelines.figure_process`; default in this process): the height
     map and the 2D spectrum are handed to it as soon as they exist.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan [m].
+    out_dir : str or Path
+        Output folder.
+    settings : FrictionSettings, optional
+        Friction options.
+    window_alpha : float, optional
+        Tukey window.
+    fit_band : tuple of float, optional
+        Band of the self-affine fit [1/m].
+    despike : bool, optional
+        Replace spikes before the spectrum.
+    mpd_settings : dict, optional
+        ISO 13473-1 settings.
+    figures : bool, optional
+        Draw the PNGs.
+    drawer : object, optional
+        Figure process (:mod:`pipelines.figure_process`).
+    texture : TextureSettings, optional
+        Texture options.
+    resolution_m : float, optional
+        Lateral resolution [m].
+
+    Returns
+    -------
+    dict
+        The summary.
     """
     from .api import analyse_scan
     from .figure_process import InProcess
@@ -140,7 +196,26 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
     """Write the files of one analysed scan (:class:`pipelines.api.AnalysisResult`) into
     ``out_dir``: summary.json, psd.csv and its band (psd_band.json), mu.csv, the texture
     spectrum, the figures and report.html. ``early``: the height map and 2D spectrum were
-    already handed to ``drawer``."""
+    already handed to ``drawer``.
+
+    Parameters
+    ----------
+    result : pipelines.api.AnalysisResult
+        The analysed scan.
+    out_dir : str or Path
+        Output folder.
+    figures : bool, optional
+        Draw the PNGs.
+    drawer : object, optional
+        Figure process.
+    early : bool, optional
+        Whether the early figures were already handed over.
+
+    Returns
+    -------
+    Path
+        The output folder.
+    """
     from . import texture_outputs
     from .chain import band_sidecar
     from .figure_process import InProcess

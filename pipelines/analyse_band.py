@@ -26,6 +26,21 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
     ``fit_band`` or the whole spectrum) and returns the
     :class:`roadscan.reliable_band.ReliableBand` (None when the spectrum has too few points for
     one).
+
+    Parameters
+    ----------
+    an : SurfaceAnalysis
+        The analysed scan.
+    resolution_m : float, optional
+        Lateral resolution [m].
+    window_alpha : float, optional
+        Tukey window of the spectrum.
+    fit_band : tuple of float, optional
+        User's fit band [1/m].
+
+    Returns
+    -------
+    roadscan.reliable_band.ReliableBand or None
     """
     from roadscan.fit import detect_band, fit_self_affine
     from roadscan.spectrum_types import Spectrum
@@ -69,7 +84,22 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
 
 def friction_ends(rb, fit, settings):
     """(q0, q1) [1/m] of the friction integrals: the flags where given, else the band's ends
-    (q0 at a roll-off inside the band); (None, None) without a band."""
+    (q0 at a roll-off inside the band); (None, None) without a band.
+
+    Parameters
+    ----------
+    rb : ReliableBand or None
+        The band.
+    fit : SelfAffineFit
+        The fit.
+    settings : FrictionSettings
+        The friction options.
+
+    Returns
+    -------
+    tuple
+        (q0, q1) [1/m] or (None, None).
+    """
     if rb is None or not rb.valid:
         return settings.q0_per_m, settings.q1_per_m
     q0 = settings.q0_per_m
@@ -84,7 +114,19 @@ def friction_ends(rb, fit, settings):
 
 def summary_keys(rb, name=""):
     """The ``summary.json`` keys of the band (empty without one); warns (once, after the
-    friction's own checks) when the band is under a factor 2 wide."""
+    friction's own checks) when the band is under a factor 2 wide.
+
+    Parameters
+    ----------
+    rb : ReliableBand or None
+        The band.
+    name : str, optional
+        Scan name for the warning.
+
+    Returns
+    -------
+    dict
+    """
     if rb is None:
         return {}
     if not rb.valid:

@@ -18,7 +18,17 @@ __all__ = ["add_analysis_options", "analysis_kwargs", "options_from_kwargs", "pa
 
 def add_analysis_options(p):
     """Every per-scan option of ``analyse``, friction included (``roadscan batch`` takes the
-    very same)."""
+    very same).
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser to extend.
+
+    Returns
+    -------
+    None
+    """
     from .friction_options import add_friction_options
     from .scan_input import add_scan_options
     from .texture_outputs import add_texture_options
@@ -38,7 +48,17 @@ def add_analysis_options(p):
 
 def add_resolution_option(p):
     """``--resolution M``: the lateral resolution of the reliable band (analyse, batch,
-    compare, dry-vs-wet: every command that takes its friction from a scan's band)."""
+    compare, dry-vs-wet: every command that takes its friction from a scan's band).
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser to extend.
+
+    Returns
+    -------
+    None
+    """
     p.add_argument("--resolution", type=float, default=None, metavar="M",
                    help="the instrument's lateral resolution [m] (wavelength passed at 50 %% "
                         "amplitude; default: the file's metadata): the reliable band ends where "
@@ -47,7 +67,17 @@ def add_resolution_option(p):
 
 def check_resolution(res):
     """``--resolution`` [m] checked: None, or 0 < r <= 1 m
-    (:data:`roadscan.resolution.RESOLUTION_MAX_M`; one-line InputError)."""
+    (:data:`roadscan.resolution.RESOLUTION_MAX_M`; one-line InputError).
+
+    Parameters
+    ----------
+    res : float or None
+        ``--resolution`` [m].
+
+    Returns
+    -------
+    float or None
+    """
     from roadscan.resolution import RESOLUTION_MAX_M, resolution_problem
 
     if res is not None and resolution_problem(res):
@@ -57,7 +87,17 @@ def check_resolution(res):
 
 
 def parse_fit_band(text):
-    """``"QLO,QHI"`` [1/m] -> (lo, hi), or None; one-line InputError naming --fit-band."""
+    """``"QLO,QHI"`` [1/m] -> (lo, hi), or None; one-line InputError naming --fit-band.
+
+    Parameters
+    ----------
+    text : str or None
+        ``"QLO,QHI"``.
+
+    Returns
+    -------
+    tuple of float or None
+    """
     if text is None:
         return None
     try:
@@ -71,7 +111,17 @@ def parse_fit_band(text):
 
 def analysis_kwargs(args):
     """Checked keyword arguments of :func:`pipelines.analyse.run_analysis` from the options of
-    :func:`add_analysis_options` (InputError naming the flag when one is out of range)."""
+    :func:`add_analysis_options` (InputError naming the flag when one is out of range).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    dict
+    """
     if not 0 <= args.window_alpha <= 1:
         raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
     band = parse_fit_band(args.fit_band)
@@ -107,6 +157,17 @@ def options_from_kwargs(options, caller="analyse"):
     (``nu=0.45``), a path, a pair (``fit_band=(1e3, 1e4)``), True/False for a switch; None is
     the flag's default. TypeError naming an unknown keyword; InputError (one line) for a value
     the flag refuses.
+
+    Parameters
+    ----------
+    options : dict
+        Keyword arguments.
+    caller : str, optional
+        Name used in messages.
+
+    Returns
+    -------
+    argparse.Namespace
     """
     p = _parser()
     argv = []

@@ -118,6 +118,31 @@ def analyse_scan(scan, settings=None, window_alpha=0.25, fit_band=None, despike=
     """Analyse a read HeightMap/Profile with checked options -> :class:`AnalysisResult`.
 
     The warnings are those of the current scope (:func:`pipelines.validate.collecting`).
+
+    Parameters
+    ----------
+    scan : HeightMap or Profile
+        The scan [m].
+    settings : FrictionSettings, optional
+        Friction options (default: the defaults).
+    window_alpha : float, optional
+        Tukey window.
+    fit_band : tuple of float, optional
+        Fit band [1/m].
+    despike : bool, optional
+        Replace spikes first.
+    mpd_settings : dict, optional
+        ISO 13473-1 settings.
+    texture : TextureSettings, optional
+        Texture options.
+    resolution_m : float, optional
+        Lateral resolution [m].
+    on_levelled, on_spectrum2d : callable, optional
+        Hooks called with the levelled map and the 2D spectrum.
+
+    Returns
+    -------
+    AnalysisResult
     """
     from . import analyse_band, texture_outputs
     from .analyse import summarise

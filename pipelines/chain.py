@@ -45,6 +45,30 @@ def measure(scan, window_alpha=0.25, fit_band=None, despike=False, mpd_settings=
     resolution [m] (default: the file's metadata); the hooks as in
     :func:`pipelines.spectrum_bridge.analyse_surface`. Warns (:func:`pipelines.validate.check_fit`)
     when the Hurst exponent is outside [0, 1].
+
+    Parameters
+    ----------
+    scan : HeightMap or Profile
+        The scan [m].
+    window_alpha : float, optional
+        Tukey window.
+    fit_band : tuple of float, optional
+        Fit band [1/m].
+    despike : bool, optional
+        Replace spikes first.
+    mpd_settings : dict, optional
+        ISO 13473-1 settings.
+    resolution_m : float, optional
+        Lateral resolution [m].
+    on_levelled, on_spectrum2d : callable, optional
+        Hooks.
+
+    Returns
+    -------
+    SurfaceAnalysis
+        The metrology.
+    ReliableBand or None
+        Its reliable band.
     """
     from .analyse_band import reliable_fit
     from .spectrum_bridge import analyse_surface
@@ -64,6 +88,26 @@ def friction_psd(spectrum, fit, rb, settings, name="", say=True):
     [q0, q1] are ``settings.q0_per_m``/``q1_per_m`` where given, else the reliable band's ends
     (q0 at a roll-off inside the band; :func:`pipelines.analyse_band.friction_ends`); above the
     spectrum's last wave vector C(q) continues as ``fit`` (:func:`roadscan.fit.extend_spectrum`).
+
+    Parameters
+    ----------
+    spectrum : roadscan.Spectrum
+        The measured spectrum.
+    fit : SelfAffineFit
+        Its fit.
+    rb : ReliableBand or None
+        Its band.
+    settings : FrictionSettings
+        Friction options.
+    name : str, optional
+        Scan name for messages.
+    say : bool, optional
+        Print the extension note.
+
+    Returns
+    -------
+    psd : friction.TabulatedPSD
+    band : dict
     """
     from .analyse_band import friction_ends
     from .friction_options import apply_band
@@ -90,7 +134,28 @@ def friction_psd(spectrum, fit, rb, settings, name="", say=True):
 def friction_of(psd, settings, v_m_per_s=None, tol=None):
     """mu(v) of friction spectrum ``psd`` with every option of ``settings``
     (:class:`pipelines.friction_options.FrictionSettings`): the engine's result
-    (``v_m_per_s``, ``mu``, ``P`` (A/A0 per speed and q), ``T_q_C`` with flash)."""
+    (``v_m_per_s``, ``mu``, ``P`` (A/A0 per speed and q), ``T_q_C`` with flash).
+
+    Parameters
+    ----------
+    psd : friction.TabulatedPSD or SelfAffinePSD
+        The spectrum.
+    settings : FrictionSettings
+        Friction options.
+    v_m_per_s : array_like, optional
+        Speeds [m/s].
+    tol : float, optional
+        Relative tolerance.
+
+    Returns
+    -------
+    friction.FrictionResult
+
+    References
+    ----------
+    B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626; J. Phys.: Condens.
+    Matter 18, 7789 (2006), doi:10.1088/0953-8984/18/32/025.
+    """
     from .friction_options import with_extrapolation
     from .spectrum_bridge import friction_curve
 
@@ -102,7 +167,17 @@ def friction_of(psd, settings, v_m_per_s=None, tol=None):
 
 def noise_floor_end(rb):
     """True when the reliable band's short end is where the spectrum's noise floor begins
-    (:func:`roadscan.reliable_band.noise_limit`), not Nyquist or the lateral resolution."""
+    (:func:`roadscan.reliable_band.noise_limit`), not Nyquist or the lateral resolution.
+
+    Parameters
+    ----------
+    rb : ReliableBand or None
+        The band.
+
+    Returns
+    -------
+    bool
+    """
     if rb is None or not getattr(rb, "valid", False):
         return False
     if hasattr(rb, "noise_floor_end"):        # a band read back from psd_band.json
@@ -114,7 +189,26 @@ def noise_floor_end(rb):
 def judge_fine_end(psd, rb, settings, name=""):
     """(rms slope over the friction band, refusal line or None), from the measurement alone
     (see the module docstring): refused when q1 is the band's (no ``--q1``), the band ends at
-    the spectrum's noise floor and the rms slope up to it exceeds :data:`SLOPE_TRUSTED`."""
+    the spectrum's noise floor and the rms slope up to it exceeds :data:`SLOPE_TRUSTED`.
+
+    Parameters
+    ----------
+    psd : friction.TabulatedPSD
+        The friction spectrum.
+    rb : ReliableBand or None
+        The band.
+    settings : FrictionSettings
+        Friction options.
+    name : str, optional
+        Scan name.
+
+    Returns
+    -------
+    slope : float
+        Rms slope over the band.
+    refusal : str or None
+        One line when friction is refused.
+    """
     from .mu_provenance import rms_slope
     from .units_format import quantity
 
@@ -131,7 +225,21 @@ def judge_fine_end(psd, rb, settings, name=""):
 class FrictionOutcome:
     """Friction of one scan: ``result`` (the engine's, None when refused), ``psd`` (the
     integrated spectrum), ``band`` (its [q0, q1] and extension), ``provenance``
-    (:func:`pipelines.analyse_band.friction_provenance`), ``checks`` (rubber checks)."""
+    (:func:`pipelines.analyse_band.friction_provenance`), ``checks`` (rubber checks).
+
+    Attributes
+    ----------
+    result : friction.FrictionResult or None
+        The engine's result (None when refused).
+    psd : friction.TabulatedPSD
+        The integrated spectrum.
+    band : dict
+        Its [q0, q1] and extension.
+    provenance : dict
+        Where mu comes from.
+    checks : dict or None
+        Rubber checks.
+    """
 
     result: object
     psd: object
@@ -146,6 +254,25 @@ def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
     ``fit`` and ``rb`` may be another scan's (dry-vs-wet integrates the wet spectrum over the
     dry scan's band, with its fit); ``v_m_per_s`` overrides the speeds (compare puts every scan
     on the first one's).
+
+    Parameters
+    ----------
+    an : SurfaceAnalysis
+        The analysed scan.
+    rb : ReliableBand or None
+        The band to integrate over.
+    settings : FrictionSettings
+        Friction options.
+    fit : SelfAffineFit, optional
+        Fit used above the spectrum (default the scan's).
+    v_m_per_s : array_like, optional
+        Speeds [m/s].
+    name : str, optional
+        Scan name.
+
+    Returns
+    -------
+    FrictionOutcome
     """
     from .analyse_band import friction_provenance
     from .friction_options import run_checks, with_extrapolation
@@ -179,7 +306,21 @@ BAND_SIDECAR_SUFFIX = "_band.json"
 def band_sidecar(rb, fit, window_alpha):
     """What ``roadscan friction --psd psd.csv`` needs to integrate analyse's spectrum exactly as
     analyse did: the reliable band, its roll-off and the self-affine fit (for C(q) above the
-    scan). Written as ``psd_band.json`` beside ``psd.csv``."""
+    scan). Written as ``psd_band.json`` beside ``psd.csv``.
+
+    Parameters
+    ----------
+    rb : ReliableBand
+        The band.
+    fit : SelfAffineFit
+        The fit.
+    window_alpha : float
+        Tukey window.
+
+    Returns
+    -------
+    dict
+    """
     band = None
     if rb is not None and rb.valid:
         band = {"lo_per_m": float(rb.lo_per_m), "hi_per_m": float(rb.hi_per_m),
@@ -195,7 +336,17 @@ def band_sidecar(rb, fit, window_alpha):
 
 def read_band_sidecar(psd_path):
     """(band-like object or None, SelfAffineFit) from the sidecar of ``psd_path``, or None
-    when there is none. InputError naming the sidecar when it cannot be read."""
+    when there is none. InputError naming the sidecar when it cannot be read.
+
+    Parameters
+    ----------
+    psd_path : str or Path
+        The ``psd.csv``.
+
+    Returns
+    -------
+    tuple or None
+    """
     import json
     from pathlib import Path
     from types import SimpleNamespace

@@ -16,7 +16,16 @@ __all__ = ["flag_of", "flag_text", "hint", "package_version", "subparsers"]
 
 
 def package_version():
-    """The installed package's version (``importlib.metadata``), ``unknown`` when not installed."""
+    """The installed package's version (``importlib.metadata``), ``unknown`` when not installed.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    str
+    """
     from importlib import metadata
 
     try:
@@ -26,14 +35,34 @@ def package_version():
 
 
 def flag_of(key):
-    """The command-line flag of a library option keyword: ``"max_pixels"`` -> ``"--max-pixels"``."""
+    """The command-line flag of a library option keyword: ``"max_pixels"`` -> ``"--max-pixels"``.
+
+    Parameters
+    ----------
+    key : str
+        Option keyword.
+
+    Returns
+    -------
+    str
+    """
     return "--" + str(key).replace("_", "-")
 
 
 def flag_text(message):
     """A message for the command line: an :class:`roadscan.errors.InputError` or
     :class:`roadscan.errors.OptionNote` with its options named by their flags (``'spacing'`` ->
-    ``--spacing``); anything else as ``str()``."""
+    ``--spacing``); anything else as ``str()``.
+
+    Parameters
+    ----------
+    message : object
+        An error or note.
+
+    Returns
+    -------
+    str
+    """
     render = getattr(message, "render", None)
     if callable(render) and getattr(message, "hint_option", None) is not None:
         return render(flag_of)
@@ -41,7 +70,17 @@ def flag_text(message):
 
 
 def subparsers(parser):
-    """The sub-command parsers of ``parser`` by name (empty when it has none)."""
+    """The sub-command parsers of ``parser`` by name (empty when it has none).
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser.
+
+    Returns
+    -------
+    dict
+    """
     for action in parser._actions:                     # noqa: SLF001 - argparse has no public API
         if isinstance(action, argparse._SubParsersAction):
             return action.choices
@@ -77,6 +116,19 @@ def hint(parser, message, argv):
     ``argv`` are the command-line words. An invalid command choice is matched against the
     command names; an unknown option (or a missing required one, when the user typed something
     close to it) against the options of the command the words select.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser.
+    message : str
+        Argparse's error.
+    argv : list of str
+        The command-line words.
+
+    Returns
+    -------
+    str
     """
     argv = [str(a) for a in (argv or [])]
     if "invalid choice:" in message:

@@ -95,7 +95,19 @@ def _fit(spec, band):
 
 def combine_sources(sources):
     """Merge the reliable parts of :class:`~pipelines.combine_sources.SourceSpectrum` s and fit
-    the result -> (MergedSpectrum, fit dict or None, warnings)."""
+    the result -> (MergedSpectrum, fit dict or None, warnings).
+
+    Parameters
+    ----------
+    sources : list of SourceSpectrum
+        The inputs.
+
+    Returns
+    -------
+    merged : MergedSpectrum
+    fit : dict or None
+    warnings : list of str
+    """
     from roadscan.spectrum_merge import SpectrumPart, merge_spectra
     from roadscan.spectrum_types import Spectrum
 
@@ -165,7 +177,18 @@ def _summary(sources, merged, fit, warnings):
 
 
 def run_combine(args):
-    """``roadscan combine`` (see module docstring); returns the exit code."""
+    """``roadscan combine`` (see module docstring); returns the exit code.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    int
+        Exit code.
+    """
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
     from . import report, validate

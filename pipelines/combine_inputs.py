@@ -24,7 +24,23 @@ _UNITS = ("m", "mm", "um", "nm")
 
 @dataclass(frozen=True)
 class CombineInput:
-    """One measurement to combine: its file and what the manifest or the options say of it."""
+    """One measurement to combine: its file and what the manifest or the options say of it.
+
+    Attributes
+    ----------
+    path : Path
+        The file.
+    label : str
+        Its label.
+    spacing : str or None
+        Spacing [m].
+    units : str or None
+        Height unit.
+    resolution_m : float or None
+        Lateral resolution [m].
+    origin : str or None
+        Manifest it came from.
+    """
 
     path: Path
     label: str
@@ -48,7 +64,17 @@ def _header(path):
 
 def is_manifest(path):
     """True for a ``.csv`` file whose header names the column ``file`` (a height table never
-    does)."""
+    does).
+
+    Parameters
+    ----------
+    path : str or Path
+        A file.
+
+    Returns
+    -------
+    bool
+    """
     path = Path(path)
     if path.suffix.lower() != ".csv" or not path.is_file():
         return False
@@ -127,6 +153,19 @@ def collect_inputs(items, spacing=None, units=None, resolution_m=None):
     directly and fill a manifest's empty cells. Labels are made unique (``name``, ``name-2``).
     Raises :class:`InputError` (one line naming the file) for a missing file, a manifest
     naming itself or another manifest, and every bad cell.
+
+    Parameters
+    ----------
+    items : iterable of str
+        Files and manifests.
+    spacing, units : str, optional
+        Command-line defaults.
+    resolution_m : float, optional
+        Command-line resolution [m].
+
+    Returns
+    -------
+    list of CombineInput
     """
     found = []
     for item in items:

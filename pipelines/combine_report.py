@@ -15,7 +15,23 @@ __all__ = ["draw_combine", "write_combine_report"]
 
 
 def draw_combine(sources, merged, fit, path):
-    """Draw ``combine.png``; returns its path."""
+    """Draw ``combine.png``; returns its path.
+
+    Parameters
+    ----------
+    sources : list of SourceSpectrum
+        The inputs.
+    merged : MergedSpectrum
+        The merged spectrum.
+    fit : dict or None
+        Its fit.
+    path : str or Path
+        Output PNG.
+
+    Returns
+    -------
+    Path
+    """
     from . import report
 
     fig, ax = report.pyplot().subplots(figsize=(7.2, 4.8))
@@ -58,7 +74,21 @@ def _band_text(band):
 
 
 def write_combine_report(path, summary, figure=None):
-    """The self-contained ``report.html`` from the ``combine.json`` dictionary."""
+    """The self-contained ``report.html`` from the ``combine.json`` dictionary.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output HTML.
+    summary : dict
+        ``combine.json``.
+    figure : str or Path, optional
+        ``combine.png``.
+
+    Returns
+    -------
+    Path
+    """
     from . import report
     from .units_format import length, sig3, wavelength_of_q
 

@@ -40,7 +40,27 @@ VARIANCE_EXCESS = 1.3
 
 @dataclass
 class SourceSpectrum:
-    """What ``combine`` keeps of one input (no heights)."""
+    """What ``combine`` keeps of one input (no heights).
+
+    Attributes
+    ----------
+    label, path, kind : str
+        Name, file and ``"area"`` or ``"profile"``.
+    shape, spacing_m, size_m : list
+        Grid, spacing [m], size [m].
+    resolution_m : float or None
+        Lateral resolution [m].
+    resolution_source : str
+        Where it came from.
+    q_per_m, C_m4, count : ndarray
+        Its rings.
+    band : ReliableBand
+        Its reliable band.
+    dof_per_count : float
+        Degrees of freedom per lattice point.
+    meta : dict
+        Reader metadata.
+    """
 
     label: str
     path: str
@@ -71,7 +91,20 @@ class SourceSpectrum:
 
 def resolution_of(obj, given):
     """(lateral resolution [m] or None, where it came from): the manifest / option value,
-    else the file's instrument metadata (``lateral_resolution_m``), else None."""
+    else the file's instrument metadata (``lateral_resolution_m``), else None.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+    given : float or None
+        Given resolution [m].
+
+    Returns
+    -------
+    resolution_m : float or None
+    source : str
+    """
     from roadscan.resolution import resolution_of as read_resolution
 
     res, src = read_resolution(obj, given)
@@ -218,7 +251,25 @@ def _plateau_start(band, q, dof):
 
 
 def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
-    """A read HeightMap or Profile -> :class:`SourceSpectrum` (see module docstring)."""
+    """A read HeightMap or Profile -> :class:`SourceSpectrum` (see module docstring).
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan [m].
+    path : str or Path
+        Its file.
+    label : str
+        Its label.
+    resolution_m : float, optional
+        Lateral resolution [m].
+    per_decade : int, optional
+        Rings per decade.
+
+    Returns
+    -------
+    SourceSpectrum
+    """
     from roadscan.heightmap import Profile
     from roadscan.reliable_band import gaussian_response, reliable_band
 

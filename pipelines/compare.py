@@ -22,6 +22,11 @@ def spectrum_difference(spec_ref, spec):
 
     Returns a dict: ``q_per_m`` and ``log10_ratio`` arrays, the largest |log10 ratio| and the
     wave vector where it occurs, and the median ratio.
+
+    Parameters
+    ----------
+    spec_ref, spec : roadscan.Spectrum
+        Reference and compared spectra.
     """
     lo = max(spec_ref.q_per_m[0], spec.q_per_m[0])
     hi = min(spec_ref.q_per_m[-1], spec.q_per_m[-1])
@@ -38,7 +43,19 @@ def spectrum_difference(spec_ref, spec):
 
 
 def friction_difference(v, mu_ref, mu):
-    """Where two mu(v) curves differ most (absolute and relative) and by how much."""
+    """Where two mu(v) curves differ most (absolute and relative) and by how much.
+
+    Parameters
+    ----------
+    v : ndarray
+        Speeds [m/s].
+    mu_ref, mu : ndarray
+        Reference and compared mu.
+
+    Returns
+    -------
+    dict
+    """
     d = mu - mu_ref
     i = int(np.argmax(np.abs(d)))
     rel = np.divide(mu, mu_ref, out=np.full_like(mu, np.nan), where=mu_ref > 0)
@@ -56,6 +73,26 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
     every option of ``settings`` on the first scan's speeds; mu(v) is the one ``roadscan
     analyse`` gives for that scan. A scan whose band's fine end is not trusted has no mu
     (``friction_refused`` says why).
+
+    Parameters
+    ----------
+    scans : list of HeightMap or Profile
+        The scans.
+    names : list of str
+        Their names.
+    out_dir : str or Path
+        Output folder.
+    settings : FrictionSettings, optional
+        Friction options.
+    window_alpha : float, optional
+        Tukey window.
+    resolution_m : float, optional
+        Lateral resolution [m].
+
+    Returns
+    -------
+    dict
+        ``comparison.json``.
     """
     from .chain import measure, scan_friction
 

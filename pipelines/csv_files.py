@@ -19,6 +19,18 @@ def read_csv_rows(path, expected="a header line and data rows"):
     """-> (header cells, data rows), every cell stripped of surrounding blanks.
 
     ``expected`` is named in the message when the file has no header.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file.
+    expected : str, optional
+        What the message says is expected.
+
+    Returns
+    -------
+    header : list of str
+    rows : list of list of str
     """
     path = Path(path)
     if not path.exists():
@@ -51,6 +63,15 @@ def read_psd_csv(path):
     A row with non-finite or non-positive q or C is refused naming the row, and so is a
     spectrum rising with q (:mod:`pipelines.validate`); rows are sorted by q. The engine
     integrates the table from its lowest to its highest q (docs: Theory).
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``psd.csv``.
+
+    Returns
+    -------
+    friction.TabulatedPSD
     """
     from .validate import check_psd_rows, check_psd_shape
 

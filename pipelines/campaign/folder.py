@@ -38,7 +38,18 @@ def atomic_folder(target):
     target is always either the complete old set or the complete new one, even after
     ``kill -9``; on an exception, KeyboardInterrupt included, the temporary folder is removed
     and ``target`` is left as it was). An existing ``target`` that holds no roadscan output is
-    refused (InputError), never replaced."""
+    refused (InputError), never replaced.
+
+    Parameters
+    ----------
+    target : str or Path
+        The folder to replace.
+
+    Returns
+    -------
+    contextmanager
+        Yielding the temporary folder.
+    """
     from roadscan.io.atomic import atomic_output_dir
 
     return atomic_output_dir(target)
@@ -50,7 +61,17 @@ def campaign_leftovers(out):
     folders (``.<name>.roadscan-tmp-*``, ``.<name>.roadscan-old-*``,
     :func:`roadscan.io.atomic.atomic_output_dir`), the temporary files of the campaign table
     and report (``.campaign.XXXXXXXX.csv``...) and the report's figures before they are
-    embedded (``.campaign_distributions.png``). -> sorted list of paths."""
+    embedded (``.campaign_distributions.png``). -> sorted list of paths.
+
+    Parameters
+    ----------
+    out : str or Path
+        The campaign folder.
+
+    Returns
+    -------
+    list of Path
+    """
     from roadscan.io.atomic import OLD_TAG, TMP_TAG
 
     out = Path(out)
@@ -86,7 +107,18 @@ def recover_campaign(out):
     folder that was set aside and not yet replaced is put back, hidden temporary folders are
     deleted unless a live writer still holds them (``flock``), temporary files of the table and
     report are deleted. A half-written scan result is never kept: only a folder swapped in
-    whole (with its sidecar) counts as done. -> list of the names removed or put back."""
+    whole (with its sidecar) counts as done. -> list of the names removed or put back.
+
+    Parameters
+    ----------
+    out : str or Path
+        The campaign folder.
+
+    Returns
+    -------
+    list
+        What was done.
+    """
     from roadscan.io.atomic import recover_output_dir
 
     done = []
@@ -110,7 +142,17 @@ def earlier_campaign(out):
     """True when ``out`` holds an earlier campaign, finished or killed: a scan folder with its
     sidecar, the campaign table roadscan writes, or nothing but what a killed campaign leaves
     (:func:`campaign_leftovers`: a campaign killed while its cluster started or its first scans
-    were written has no finished scan yet)."""
+    were written has no finished scan yet).
+
+    Parameters
+    ----------
+    out : str or Path
+        The folder.
+
+    Returns
+    -------
+    bool
+    """
     out = Path(out)
     try:
         entries = list(out.iterdir())
@@ -137,7 +179,19 @@ def sha256_of(path, chunk=1 << 20):
 
 
 def file_identity(path, with_hash=True):
-    """``{"path", "size", "mtime_ns"[, "sha256"]}`` of an input file."""
+    """``{"path", "size", "mtime_ns"[, "sha256"]}`` of an input file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The input file.
+    with_hash : bool, optional
+        Include its SHA-256.
+
+    Returns
+    -------
+    dict
+    """
     st = os.stat(path)
     out = {"path": str(Path(path).resolve()), "size": st.st_size, "mtime_ns": st.st_mtime_ns}
     if with_hash:
@@ -147,7 +201,19 @@ def file_identity(path, with_hash=True):
 
 def same_input(path, recorded):
     """True when ``path`` is the input recorded: same size and, unless the mtime is also the
-    same, the same SHA-256 (a copied or touched but unchanged file still counts as unchanged)."""
+    same, the same SHA-256 (a copied or touched but unchanged file still counts as unchanged).
+
+    Parameters
+    ----------
+    path : str or Path
+        The input file now.
+    recorded : dict
+        Its :func:`file_identity` then.
+
+    Returns
+    -------
+    bool
+    """
     try:
         now = file_identity(path, with_hash=False)
     except OSError:
@@ -160,17 +226,56 @@ def same_input(path, recorded):
 
 
 def options_fingerprint(options):
-    """A stable hash of the options that change a scan's outputs (a dict of plain values)."""
+    """A stable hash of the options that change a scan's outputs (a dict of plain values).
+
+    Parameters
+    ----------
+    options : dict
+        Plain values.
+
+    Returns
+    -------
+    str
+        16 hex digits.
+    """
     text = json.dumps(options, sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def write_sidecar(folder, identity, fingerprint, records):
+    """Write a scan folder's sidecar (input identity, options fingerprint, records) for ``--resume``.
+
+    Parameters
+    ----------
+    folder : str or Path
+        The scan's folder.
+    identity : dict
+        :func:`file_identity` of the input.
+    fingerprint : str
+        :func:`options_fingerprint`.
+    records : list of dict
+        The scan's campaign rows.
+
+    Returns
+    -------
+    None
+    """
     data = {"input": identity, "options": fingerprint, "records": records}
     (Path(folder) / SIDECAR).write_text(json.dumps(data, default=_plain), encoding="utf-8")
 
 
 def read_sidecar(folder):
+    """The sidecar of a scan folder (see :func:`write_sidecar`), or None when missing or unreadable.
+
+    Parameters
+    ----------
+    folder : str or Path
+        The scan's folder.
+
+    Returns
+    -------
+    dict or None
+    """
     try:
         return json.loads((Path(folder) / SIDECAR).read_text(encoding="utf-8"))
     except (OSError, ValueError):

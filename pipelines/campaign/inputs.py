@@ -26,7 +26,21 @@ _GLOB_CHARS = set("*?[")
 
 @dataclass
 class Job:
-    """One input of the campaign (``error`` set: it failed before any reading)."""
+    """One input of the campaign (``error`` set: it failed before any reading).
+
+    Attributes
+    ----------
+    file : str
+        The input path.
+    label : str
+        Its label.
+    chainage_m : float or None
+        Its chainage [m].
+    error : str or None
+        Why it failed before reading.
+    subdir : str or None
+        Its output folder name.
+    """
 
     file: str
     label: str = ""
@@ -48,7 +62,17 @@ def _header_cells(path):
 
 
 def is_manifest(path):
-    """True for a ``.csv`` whose header holds ``file`` and only manifest column names."""
+    """True for a ``.csv`` whose header holds ``file`` and only manifest column names.
+
+    Parameters
+    ----------
+    path : str or Path
+        A file.
+
+    Returns
+    -------
+    bool
+    """
     path = Path(path)
     if path.suffix.lower() != ".csv" or not path.is_file():
         return False
@@ -94,6 +118,15 @@ def expand_inputs(items):
 
     The output folder of each job is ``subdir`` (the file's stem; ``stem_2``, ``stem_3``... when
     stems repeat, numbered in input order as ``roadscan analyse`` does).
+
+    Parameters
+    ----------
+    items : iterable of str
+        Files, glob patterns and manifests.
+
+    Returns
+    -------
+    list of Job
     """
     jobs = []
     for item in items:

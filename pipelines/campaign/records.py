@@ -35,7 +35,19 @@ def _plain(v):
 
 
 def flatten_summary(summary, prefix=""):
-    """``summary.json`` dict -> flat {column: scalar} (see module docstring)."""
+    """``summary.json`` dict -> flat {column: scalar} (see module docstring).
+
+    Parameters
+    ----------
+    summary : dict
+        A ``summary.json``.
+    prefix : str, optional
+        Prefix of the keys.
+
+    Returns
+    -------
+    dict
+    """
     out = {}
     for key, v in summary.items():
         name = f"{prefix}{key}"
@@ -55,7 +67,20 @@ def flatten_summary(summary, prefix=""):
 
 
 def mu_at_speeds(v_m_per_s, mu, speeds=REPORT_SPEEDS_M_PER_S):
-    """mu interpolated linearly in log10 v at ``speeds`` (None outside the computed range)."""
+    """mu interpolated linearly in log10 v at ``speeds`` (None outside the computed range).
+
+    Parameters
+    ----------
+    v_m_per_s, mu : array_like
+        The friction curve.
+    speeds : tuple of float, optional
+        Speeds [m/s].
+
+    Returns
+    -------
+    dict
+        Speed -> mu or None.
+    """
     v, mu = np.asarray(v_m_per_s, float), np.asarray(mu, float)
     out = {}
     for s in speeds:
@@ -70,6 +95,27 @@ _LIST_COLUMNS_DROPPED = ("warnings.", "friction.extrapolated_share.")
 
 
 def ok_record(job, summary, subdir, mu_at=None, extra=None, chainage_m=None):
+    """The campaign row of a scan analysed without error.
+
+    Parameters
+    ----------
+    job : dict
+        The job.
+    summary : dict
+        Its summary.
+    subdir : str
+        Its output folder.
+    mu_at : dict, optional
+        mu at the report speeds.
+    extra : dict, optional
+        More columns.
+    chainage_m : float, optional
+        Chainage [m].
+
+    Returns
+    -------
+    dict
+    """
     values = dict(extra or {})
     flat = flatten_summary(summary)
     values.update({k: v for k, v in flat.items() if not k.startswith(_LIST_COLUMNS_DROPPED)})
@@ -80,6 +126,25 @@ def ok_record(job, summary, subdir, mu_at=None, extra=None, chainage_m=None):
 
 
 def error_record(job, message, subdir=None, extra=None, chainage_m=None):
+    """The campaign row of an input that failed (``status=error`` and the one-line ``error``).
+
+    Parameters
+    ----------
+    job : dict
+        The job.
+    message : str
+        The error.
+    subdir : str, optional
+        Its output folder.
+    extra : dict, optional
+        More columns.
+    chainage_m : float, optional
+        Chainage [m].
+
+    Returns
+    -------
+    dict
+    """
     msg = " ".join(str(message).split()) or "failed"
     return {"file": job["file"], "label": job.get("label") or "",
             "chainage_m": job.get("chainage_m") if chainage_m is None else chainage_m,

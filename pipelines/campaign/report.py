@@ -22,7 +22,17 @@ Z_OUTLIER = 3.5
 
 
 def QUANTITIES(speeds):
-    """(key, label, scale to display units, getter) for the report's quantities."""
+    """(key, label, scale to display units, getter) for the report's quantities.
+
+    Parameters
+    ----------
+    speeds : sequence of float
+        Speeds of the mu columns [m/s].
+
+    Returns
+    -------
+    list of tuple
+    """
     q = [("hurst", "Hurst exponent H [-]", 1.0, lambda r: r["values"].get("hurst")),
          ("rms_height_m", "Sq, rms height [µm]", 1e6, lambda r: r["values"].get("rms_height_m")),
          ("mpd_m", "MPD (ISO 13473-1) [mm]", 1e3, lambda r: r["values"].get("mpd_m"))]
@@ -36,7 +46,22 @@ def QUANTITIES(speeds):
 
 
 def outlier_mask(x):
-    """Modified z-score outliers of ``x`` (NaN ignored) -> bool array."""
+    """Modified z-score outliers of ``x`` (NaN ignored) -> bool array.
+
+    Parameters
+    ----------
+    x : array_like
+        Values.
+
+    Returns
+    -------
+    ndarray of bool
+
+    References
+    ----------
+    B. Iglewicz, D. Hoaglin, How to Detect and Handle Outliers, ASQC (1993): modified z-score
+    above 3.5.
+    """
     x = np.asarray(x, float)
     ok = np.isfinite(x)
     out = np.zeros(x.shape, bool)
@@ -157,7 +182,24 @@ def _table(records, quantities, vals, masks):
 
 
 def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campaign"):
-    """Write ``out_dir/report.html`` (figures embedded; PNGs written beside it are removed)."""
+    """Write ``out_dir/report.html`` (figures embedded; PNGs written beside it are removed).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Campaign folder.
+    records : list of dict
+        The rows.
+    speeds : sequence of float
+        Speeds of the mu columns [m/s].
+    title : str, optional
+        Page title.
+
+    Returns
+    -------
+    Path
+        The report.
+    """
     out_dir = Path(out_dir)
     quantities = QUANTITIES([f"{s:g}" for s in speeds])
     quantities, vals = _reader_units(quantities, _values(records, quantities))

@@ -25,7 +25,13 @@ __all__ = ["default_workers", "resumed_records", "run_campaign", "Interrupted"]
 
 
 class Interrupted(Exception):
-    """Ctrl-C during a campaign; ``records`` holds what finished (others marked)."""
+    """Ctrl-C during a campaign; ``records`` holds what finished (others marked).
+
+    Parameters
+    ----------
+    records : list
+        What finished.
+    """
 
     def __init__(self, records):
         super().__init__("interrupted")
@@ -33,7 +39,16 @@ class Interrupted(Exception):
 
 
 def default_workers():
-    """One worker per core available to this process."""
+    """One worker per core available to this process.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    int
+    """
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not Linux
@@ -42,7 +57,17 @@ def default_workers():
 
 def resumed_records(job):
     """The records of a finished scan when its outputs exist, the options are the same and the
-    input is unchanged (size and mtime, or SHA-256); else None."""
+    input is unchanged (size and mtime, or SHA-256); else None.
+
+    Parameters
+    ----------
+    job : dict
+        The job.
+
+    Returns
+    -------
+    list of dict or None
+    """
     from pathlib import Path
 
     folder = Path(job["out"]) / job["subdir"]
@@ -202,6 +227,21 @@ def run_campaign(jobs, workers=None, scheduler=None, progress=None):
     of records. Jobs may carry ``"records"`` already (resumed): those are not submitted.
 
     ``progress`` None: a bar when stderr is a terminal. Raises :class:`Interrupted` on Ctrl-C.
+
+    Parameters
+    ----------
+    jobs : list of dict
+        The jobs.
+    workers : int, optional
+        Local worker processes.
+    scheduler : str, optional
+        Address of an existing Dask scheduler.
+    progress : bool, optional
+        Show a progress bar.
+
+    Returns
+    -------
+    list of list of dict
     """
     from distributed import as_completed
 

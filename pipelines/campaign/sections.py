@@ -212,6 +212,22 @@ def iter_sections(path, section_m, spacing=None, units=None):
 
     ``start_m`` is the section's start relative to the profile's first sample [m]. Raises
     InputError when the file is not a line profile or cannot be read.
+
+    Parameters
+    ----------
+    path : str or Path
+        A line-profile file.
+    section_m : float
+        Section length [m].
+    spacing, units : optional
+        As the readers take them.
+
+    Yields
+    ------
+    start_m : float
+        Section start [m].
+    profile : Profile
+        The section.
     """
     from roadscan.io._common import check_file, resolve_spacing, unit_factor
 

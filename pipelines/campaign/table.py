@@ -33,7 +33,19 @@ def _side(k):
 
 
 def columns_of(records, side=False):
-    """The columns of ``campaign.csv`` (``side=True``: of ``campaign_anisotropy.csv``)."""
+    """The columns of ``campaign.csv`` (``side=True``: of ``campaign_anisotropy.csv``).
+
+    Parameters
+    ----------
+    records : list of dict
+        The rows.
+    side : bool, optional
+        The anisotropy table's columns.
+
+    Returns
+    -------
+    list of str
+    """
     cols = list(FIXED_COLUMNS) if not side else ["file", "label", "chainage_m", "status"]
     seen = set(cols)
     for r in records:
@@ -71,7 +83,20 @@ def _write_table(path, records, cols):
 
 def write_campaign_csv(path, records):
     """``campaign.csv`` and, when some scan has anisotropy sectors, ``campaign_anisotropy.csv``
-    next to it. Returns the columns of ``campaign.csv``."""
+    next to it. Returns the columns of ``campaign.csv``.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output CSV.
+    records : list of dict
+        The rows.
+
+    Returns
+    -------
+    list of str
+        The columns.
+    """
     cols = columns_of(records)
     _write_table(path, records, cols)
     side = columns_of(records, side=True)
@@ -84,7 +109,19 @@ def write_campaign_csv(path, records):
 
 def write_campaign_parquet(path, records):
     """Write ``campaign.parquet`` (every column, the anisotropy sectors too) if pyarrow is
-    importable; return True when written."""
+    importable; return True when written.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    records : list of dict
+        The rows.
+
+    Returns
+    -------
+    bool
+    """
     try:
         import pyarrow as pa
         import pyarrow.parquet as pq

@@ -124,6 +124,16 @@ def run_job(job):
     ``job`` keys: ``file``, ``label``, ``chainage_m``, ``subdir``, ``out`` (campaign folder),
     ``spacing``, ``units``, ``settings`` (FrictionSettings), ``analysis`` (run_analysis keyword
     arguments), ``figures``, ``section_length_m`` (None: whole scan), ``fingerprint``.
+
+    Parameters
+    ----------
+    job : dict
+        The job.
+
+    Returns
+    -------
+    list of dict
+        Its records.
     """
     if job.get("error"):
         return [error_record(job, job["error"])]

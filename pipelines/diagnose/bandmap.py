@@ -26,7 +26,29 @@ CUT_STEP = 1.25
 
 
 def integrand(result, psd, rubber, sigma0_Pa, T0_C=None, nu=0.5, n_phi=48):
-    """dmu/dln q on the result's (nv, nq) grid [-] (see module docstring)."""
+    """dmu/dln q on the result's (nv, nq) grid [-] (see module docstring).
+
+    Parameters
+    ----------
+    result : friction.FrictionResult
+        The engine's result.
+    psd : spectrum
+        Its spectrum.
+    rubber : rubber model
+        The rubber.
+    sigma0_Pa : float
+        Nominal pressure [Pa].
+    T0_C : float, optional
+        Temperature [C].
+    nu : float, optional
+        Poisson's ratio.
+    n_phi : int, optional
+        Angular nodes.
+
+    Returns
+    -------
+    ndarray, shape (nv, nq)
+    """
     q = result.q_per_m
     v = result.v_m_per_s
     x, w = np.polynomial.legendre.leggauss(n_phi)
@@ -43,6 +65,24 @@ def band_map(spec, bands, sigma0_Pa=0.2e6, T0_C=None, share=0.8):
     carrying ``share`` of mu, the peak q, the length scales [m] and frequencies [rad/s].
 
     Also returns the curves (q, dmu/dln q per band) for the figure.
+
+    Parameters
+    ----------
+    spec : SimSpec
+        The model.
+    bands : list of tuple
+        Speed bands (v_min, v_max, n) [m/s].
+    sigma0_Pa : float, optional
+        Nominal pressure [Pa].
+    T0_C : float, optional
+        Temperature [C].
+    share : float, optional
+        Share of mu the q range carries.
+
+    Returns
+    -------
+    rows : list of dict
+    curves : tuple
     """
     import friction
 

@@ -70,7 +70,21 @@ FAMILIES = ("spectrum", "height", "anisotropy", "seams", "rain")
 
 @dataclass(eq=False)
 class Geometry:
-    """Block layout and ring bookkeeping shared by every block (all blocks have one shape)."""
+    """Block layout and ring bookkeeping shared by every block (all blocks have one shape).
+
+    Attributes
+    ----------
+    is_profile : bool
+        Line profile or area.
+    shape : tuple of int
+        Block shape.
+    dx_m, dy_m : float
+        Spacings [m].
+    starts : list of tuple of slice
+        Where each block lies.
+    rain : bool
+        Compute the rain-fill family.
+    """
 
     is_profile: bool
     shape: tuple          # block shape (ny, nx) or (n,)
@@ -186,6 +200,19 @@ def geometry(obj, n_blocks=None, rain=True):
     """Block layout of a levelled HeightMap or Profile.
 
     Areas: ``nb x nb`` equal tiles, nb = 2 below 600 points a side, else 3. Profiles: sections of at least 256 points, 4 to 8 of them.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        Levelled scan.
+    n_blocks : int, optional
+        Blocks (per side for areas).
+    rain : bool, optional
+        Rain-fill family.
+
+    Returns
+    -------
+    Geometry
     """
     from roadscan.heightmap import Profile
 
@@ -210,7 +237,19 @@ def geometry(obj, n_blocks=None, rain=True):
 
 
 def split(heights, geo):
-    """The blocks of a height array: (block with its own mean plane / line removed, block as cut)."""
+    """The blocks of a height array: (block with its own mean plane / line removed, block as cut).
+
+    Parameters
+    ----------
+    heights : ndarray
+        Heights [m].
+    geo : Geometry
+        Layout.
+
+    Returns
+    -------
+    list of tuple of ndarray
+    """
     return [(_detrend(np.array(heights[s], float)), np.array(heights[s], float)) for s in geo.starts]
 
 
@@ -378,7 +417,23 @@ def block_descriptors(h, geo, rain=True, raw=None):
     """The descriptor families of one detrended block ``h`` -> dict family -> 1D array, plus
     ``spec_rings`` (the ring-level log10 spectrum the spectrum family averages). The height
     family uses ``raw`` (the block as cut from the levelled scan, default ``h``): removing each
-    block's own plane would remove much of the long-wavelength height distribution."""
+    block's own plane would remove much of the long-wavelength height distribution.
+
+    Parameters
+    ----------
+    h : ndarray
+        Detrended block [m].
+    geo : Geometry
+        Layout.
+    rain : bool, optional
+        Rain-fill family.
+    raw : ndarray, optional
+        The block as cut.
+
+    Returns
+    -------
+    dict
+    """
     P = _psd_map(h, geo)
     rings = _ring_log(P, geo)
     hv = (h if raw is None else raw).ravel()

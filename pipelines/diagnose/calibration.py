@@ -45,7 +45,17 @@ DEFAULT_Q1_DECADES = 1.0
 @dataclass(frozen=True)
 class Uncertain:
     """One uncertain input: ``key`` (of :data:`KEYS`), range [lo, hi] in SI (temperature in C),
-    ``source`` "given" or "default"; lo == hi means known (fixed at that value)."""
+    ``source`` "given" or "default"; lo == hi means known (fixed at that value).
+
+    Attributes
+    ----------
+    key : str
+        Input name.
+    lo, hi : float
+        Range (SI; temperature in C).
+    source : str
+        ``"given"`` or ``"default"``.
+    """
 
     key: str
     lo: float
@@ -69,7 +79,18 @@ def _number(text, key, whole):
 
 def parse_uncertain(text):
     """``"q1=1e4:1e6,sigma0=0.15MPa:0.3MPa"`` -> dict key -> :class:`Uncertain` (InputError, one
-    line, on an unknown key, a missing ``:``, a repeated key, LO > HI or a non-physical bound)."""
+    line, on an unknown key, a missing ``:``, a repeated key, LO > HI or a non-physical bound).
+
+    Parameters
+    ----------
+    text : str
+        The ``--uncertain`` value.
+
+    Returns
+    -------
+    dict
+        Key -> Uncertain.
+    """
     from ..friction_options import parse_pressure
 
     out = {}
@@ -111,7 +132,19 @@ def parse_uncertain(text):
 
 
 def scale_psd(psd, s):
-    """The spectrum with C(q) multiplied by ``s`` (h0 by sqrt(s) for a self-affine law)."""
+    """The spectrum with C(q) multiplied by ``s`` (h0 by sqrt(s) for a self-affine law).
+
+    Parameters
+    ----------
+    psd : spectrum
+        TabulatedPSD or SelfAffinePSD.
+    s : float
+        Factor on C.
+
+    Returns
+    -------
+    spectrum
+    """
     from dataclasses import replace
 
     from friction.psd import TabulatedPSD
@@ -145,7 +178,22 @@ def cutoff_sensitivity(ctx, n_max=8, step=1.25):
 def default_q1(ctx, ranges, carried=None):
     """Add the default q1 range (a decade either side) when mu is carried by the cut-off
     (``carried``: the band map's verdict; None: d ln mu / d ln q1 above the band map's flag at a
-    measured speed) and q1 was not declared known. Returns (ranges, sensitivity or None)."""
+    measured speed) and q1 was not declared known. Returns (ranges, sensitivity or None).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        The model context.
+    ranges : dict
+        Uncertain ranges so far.
+    carried : bool, optional
+        Band map's verdict.
+
+    Returns
+    -------
+    ranges : dict
+    sensitivity : float or None
+    """
     from .bandmap import CUTOFF_FLAG
 
     if "q1" in ranges:
@@ -186,7 +234,19 @@ def apply_known(ctx, ranges):
 
 
 def calibration_effect(ctx, ranges):
-    """The ``calibration`` pseudo-effect over the free uncertain inputs (None when none is free)."""
+    """The ``calibration`` pseudo-effect over the free uncertain inputs (None when none is free).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        The model context.
+    ranges : dict
+        Uncertain ranges.
+
+    Returns
+    -------
+    Effect or None
+    """
     free = free_ranges(ctx, ranges)
     if not free:
         return None
@@ -232,7 +292,27 @@ def intervals(c, ctx, real_mu, train, noise, z=1.96):
     """Approximate 95 % intervals of the calibration parameters of candidate ``c``: the Gauss-
     Newton covariance s^2 (J^T J)^-1 in the unit cube at the fit (s^2 = max(RSS / (n - k), noise^2),
     J by forward differences of step 0.02), mapped back through each parameter's scale and clipped
-    to its range. Returns dict name -> dict(value, interval, range)."""
+    to its range. Returns dict name -> dict(value, interval, range).
+
+    Parameters
+    ----------
+    c : Candidate
+        The fitted candidate.
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    train : ndarray of bool
+        Training points.
+    noise : float
+        Noise [log10].
+    z : float, optional
+        Normal quantile.
+
+    Returns
+    -------
+    dict
+    """
     from .fitting import pack, predict
 
     i0, cal = 0, None

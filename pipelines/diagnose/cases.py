@@ -53,7 +53,27 @@ RANGES = {
 
 @dataclass(eq=False)
 class Case:
-    """One generated case: the blind inputs (curve, psd, scan) and the hidden truth."""
+    """One generated case: the blind inputs (curve, psd, scan) and the hidden truth.
+
+    Attributes
+    ----------
+    seed : int
+        Seed.
+    effect : str or None
+        Hidden effect.
+    params : dict
+        Its parameters.
+    noise_rel : float
+        Relative noise.
+    curve : MeasuredCurve
+        The "measured" curve.
+    psd, scan, spectrum, fit : object
+        Blind inputs.
+    truth_mu, base_mu : ndarray
+        Noiseless truth and baseline.
+    info : dict
+        Notes.
+    """
 
     seed: int
     effect: str | None
@@ -101,7 +121,21 @@ def _adhesion_truth(v, p):
 
 
 def make_case(seed, effect=None, scan=None):
-    """Generate the case of ``seed`` with hidden ``effect`` (a registered name) or none."""
+    """Generate the case of ``seed`` with hidden ``effect`` (a registered name) or none.
+
+    Parameters
+    ----------
+    seed : int
+        Seed.
+    effect : str, optional
+        Hidden effect.
+    scan : HeightMap, optional
+        Scan for the water effect.
+
+    Returns
+    -------
+    Case
+    """
     rng = np.random.default_rng(seed)
     want_scan = (effect == "water") or (scan if scan is not None else rng.random() < 0.25)
     psd, hm, spec, fit = _surface(rng, want_scan)
@@ -138,7 +172,22 @@ def make_case(seed, effect=None, scan=None):
 def identifiable(case, move=2.0, effects=None):
     """The issue's filter. Returns (ok, info): ok when the hidden effect moves the noiseless mu
     by more than ``move`` x the noise (rms log10 of (1 + noise N)) and every other effect, best
-    fitted to the noiseless curve (all points), stays further than the noise from it."""
+    fitted to the noiseless curve (all points), stays further than the noise from it.
+
+    Parameters
+    ----------
+    case : Case
+        The case.
+    move : float, optional
+        Signal threshold in noise units.
+    effects : list, optional
+        Effects tried.
+
+    Returns
+    -------
+    ok : bool
+    info : dict
+    """
     from .search import fit_candidate
 
     if case.effect is None:
@@ -171,7 +220,26 @@ def draw_cases(n_effect, n_null, seed0=0, effects=None, max_tries=6, log=None):
     ``seed0``. Hidden effects cycle through the friction effects; an effect whose draws fail
     the filter ``max_tries`` times in a row gives its turn to the next one (load and water
     often move mu too little, or like another effect, to be told apart).
-    Returns (cases, rejected count)."""
+    Returns (cases, rejected count).
+
+    Parameters
+    ----------
+    n_effect, n_null : int
+        Cases wanted.
+    seed0 : int, optional
+        First seed.
+    effects : list, optional
+        Effects cycled.
+    max_tries : int, optional
+        Tries per effect.
+    log : callable, optional
+        Progress.
+
+    Returns
+    -------
+    cases : list of Case
+    rejected : list
+    """
     say = log or (lambda *_: None)
     names = [e.name for e in (effects or all_effects("friction"))]
     cases, rejected, seed, turn = [], 0, seed0, 0

@@ -19,7 +19,19 @@ N_DENSE = 40
 
 
 def dense_context(ctx, n=N_DENSE):
-    """A :class:`FrictionContext` on ``n`` log-spaced speeds over ``ctx``'s measured range."""
+    """A :class:`FrictionContext` on ``n`` log-spaced speeds over ``ctx``'s measured range.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Context.
+    n : int, optional
+        Speeds.
+
+    Returns
+    -------
+    FrictionContext
+    """
     v = np.geomspace(float(ctx.v_m_per_s.min()), float(ctx.v_m_per_s.max()), n)
     T = ctx.T0_C[np.isfinite(ctx.T0_C)]
     T0 = float(np.median(T)) if T.size else np.nan
@@ -38,7 +50,21 @@ def _safe(fn):
 
 def report_curves(ctx, d, n=N_DENSE):
     """dict(v, base, corrected (or None), band_lo, band_hi (or None)) on the dense grid of ``ctx``
-    for the :class:`search.Diagnosis` ``d``."""
+    for the :class:`search.Diagnosis` ``d``.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Context.
+    d : Diagnosis
+        The diagnosis.
+    n : int, optional
+        Speeds.
+
+    Returns
+    -------
+    dict
+    """
     from .calibration import calibration_effect
     from .fitting import predict
 

@@ -32,7 +32,19 @@ HELDOUT_EVERY = 3
 
 
 def heldout_mask(n, every=HELDOUT_EVERY):
-    """Deterministic held-out subset: indices 1, 1 + every, ... (the end points stay in training)."""
+    """Deterministic held-out subset: indices 1, 1 + every, ... (the end points stay in training).
+
+    Parameters
+    ----------
+    n : int
+        Points.
+    every : int, optional
+        Step.
+
+    Returns
+    -------
+    ndarray of bool
+    """
     m = np.zeros(n, bool)
     m[1:n - 1:every] = True
     return m
@@ -40,7 +52,21 @@ def heldout_mask(n, every=HELDOUT_EVERY):
 
 @dataclass
 class Holdout:
-    """How the points are held out (see module docstring)."""
+    """How the points are held out (see module docstring).
+
+    Attributes
+    ----------
+    cv : bool
+        Cross-validation (few points) or a fixed held-out set.
+    folds : list
+        The folds.
+    train, held : ndarray of bool
+        Training and held-out points.
+    n_train : int
+        Training points.
+    boot : ndarray
+        Bootstrap resamples.
+    """
 
     cv: bool
     folds: list
@@ -60,7 +86,17 @@ class Holdout:
 
 
 def holdout(n):
-    """The :class:`Holdout` of ``n`` measured points."""
+    """The :class:`Holdout` of ``n`` measured points.
+
+    Parameters
+    ----------
+    n : int
+        Measured points.
+
+    Returns
+    -------
+    Holdout
+    """
     if n < CV_BELOW:
         k = min(n, CV_FOLDS)
         folds = [np.arange(i, n, k) for i in range(k)]
@@ -77,7 +113,19 @@ def holdout(n):
 
 
 def boot_shrink(r_num, r_den, boot):
-    """5-95 % bootstrap interval of 1 - rms(r_num) / rms(r_den) over paired resamples."""
+    """5-95 % bootstrap interval of 1 - rms(r_num) / rms(r_den) over paired resamples.
+
+    Parameters
+    ----------
+    r_num, r_den : ndarray
+        Residuals with and without the effect.
+    boot : ndarray
+        Resample indices.
+
+    Returns
+    -------
+    tuple of float
+    """
     num = np.sqrt(np.mean(r_num[boot] ** 2, axis=1))
     den = np.sqrt(np.mean(r_den[boot] ** 2, axis=1))
     sb = 1.0 - num / np.where(den > 0, den, np.nan)
@@ -89,7 +137,27 @@ def boot_shrink(r_num, r_den, boot):
 
 def evaluate(c, ctx, real_mu, ho, r0_held, cache=None):
     """Fill in the held-out residuals, gap, shrink, interval, score, at_bound and plausibility of
-    candidate ``c`` (fitted on ``ho.train``); ``r0_held``: the baseline's held-out residuals."""
+    candidate ``c`` (fitted on ``ho.train``); ``r0_held``: the baseline's held-out residuals.
+
+    Parameters
+    ----------
+    c : Candidate
+        The candidate.
+    ctx : FrictionContext
+        Context.
+    real_mu : ndarray
+        Measured mu.
+    ho : Holdout
+        Hold-out scheme.
+    r0_held : ndarray
+        Baseline held-out residuals.
+    cache : dict, optional
+        Model cache.
+
+    Returns
+    -------
+    Candidate
+    """
     y = np.log10(real_mu)
     n = y.size
     c.at_bound = at_bound(ctx, c.effects, c.params)

@@ -38,7 +38,19 @@ __all__ = ["Param", "Effect", "register", "all_effects", "get", "temperature_ext
 
 @dataclass(frozen=True)
 class Param:
-    """One effect parameter: ``name`` (with units), bounds, initial value, ``scale`` log|lin."""
+    """One effect parameter: ``name`` (with units), bounds, initial value, ``scale`` log|lin.
+
+    Attributes
+    ----------
+    name : str
+        Name with units.
+    lo, hi : float
+        Bounds.
+    init : float
+        Initial value.
+    scale : str
+        ``"log"`` or ``"lin"``.
+    """
 
     name: str
     lo: float
