@@ -125,6 +125,9 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
             from .headline import peak_keys
 
             entry.update(peak_keys(c.v_m_per_s, c.mu))   # mu_peak, v_peak_m_per_s, peak_at_edge, peak_note
+            from .mu_provenance import rubber_label
+
+            entry["rubber"] = rubber_label(settings.rubber, settings.sigma0_Pa, c.meta.get("T0_C"))
         elif outcomes:
             entry["friction_refused"] = outcomes[k].provenance["refused"]
         if k > 0:
@@ -213,7 +216,9 @@ def _write_report(out_dir, names, result, figs, curves):
     if done:
         v = done[0][1].v_m_per_s
         idx = speed_table(v)
-        sections.append(("μ at whole decades of speed", report.table_html(
+        rub = next((r["rubber"] for r in result.values() if isinstance(r, dict) and r.get("rubber")), "")
+        title = f"μ at whole decades of speed, {rub}" if rub else "μ at whole decades of speed"
+        sections.append((title, report.table_html(
             [[f"{v[i]:g}"] + [float(c.mu[i]) for _, c in done] for i in idx],
             ["v [m/s]"] + [n for n, _ in done])))
     warned = [[n, w] for n, r in result.items() if isinstance(r, dict) for w in r.get("warnings", [])]
