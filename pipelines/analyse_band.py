@@ -232,22 +232,6 @@ def warnings_section(summary):
     return ("Warnings", report.table_html([[x] for x in w], ["warning"])) if w else None
 
 
-def band_psd(an, settings, window_alpha=0.25, rb=None, fit=None):
-    """The friction PSD of analysed scan ``an`` over its reliable band (``--q0/--q1`` where
-    given), as analyse makes it -> (TabulatedPSD, band). ``rb``/``fit`` given: another scan's
-    (dry-vs-wet integrates the wet spectrum over the dry scan's band, with the dry fit)."""
-    from .friction_options import apply_band
-    from .spectrum_bridge import surface_psd
-
-    if rb is None:
-        rb = reliable_fit(an, None, window_alpha, None)
-    fit = an.fit if fit is None else fit
-    q0, q1 = friction_ends(rb, fit, settings)
-    psd = surface_psd(an.spectrum, fit, q1_per_m=q1)
-    psd, _ = apply_band(psd, q0, q1)
-    return psd, rb
-
-
 def share_section(summary, fr):
     """("μ and its extrapolated share", table at whole decades of speed) for the report, or
     None without friction."""

@@ -175,9 +175,10 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
     from . import validate
 
     said = validate.warnings_list()          # what this run printed (readers, seams)
-    srcs = [str(sc.meta.get("source", "\0")) for sc in scans]
-    for src, entry in zip(srcs, result.values()):   # each scan's own, and those naming none
-        mine = [w for w in said if w.startswith(src) or not any(w.startswith(t) for t in srcs)]
+    srcs = [(str(sc.meta.get("source", "\0")), f"{sc.name}:") for sc in scans]
+    for (src, own), entry in zip(srcs, result.values()):   # each scan's own, and those naming none
+        mine = [w for w in said if w.startswith((src, own))
+                or not any(w.startswith(t) for pair in srcs for t in pair)]
         if mine and isinstance(entry, dict):
             entry["warnings"] = mine
     from .scan_input import read_record

@@ -14,7 +14,7 @@ from roadscan.errors import InputError
 
 from ..friction_options import settings_from_args
 from ..scan_input import add_inputs_and_out
-from .analyse import add_analysis_options, analysis_kwargs
+from ..analyse_options import add_analysis_options, analysis_kwargs
 
 NAME = "batch"
 HELP = "analyse many scans (files, globs, manifest CSV) on a local or existing Dask cluster"
