@@ -164,3 +164,19 @@ def test_dry_vs_wet_says_what_the_wet_model_covers(tmp_path, capsys):
     page = (out / "report.html").read_text()
     assert "What the wet model covers" in page and "squeeze-out" in page
     assert RUBBER_ILLUSTRATIVE in c["rubber"]
+
+
+def test_compare_names_rubber_and_edge_per_surface(tmp_path, capsys):
+    out = tmp_path / "cmp"
+    rc, err = run_cli(capsys, ["compare", SAMPLE, ROOT / "sample_scans" / "coarse_asphalt.x3p",
+                               "--out", out, "--velocities", "1e-4:1:20"])
+    assert rc == 0, err
+    c = json.loads((out / "comparison.json").read_text())
+    entries = [e for e in c.values() if isinstance(e, dict) and e.get("mu")]
+    assert entries
+    for e in entries:
+        mu = np.array(list(e["mu"].values()), float)
+        assert e["peak_at_edge"] is (int(np.argmax(mu)) in (0, mu.size - 1))
+        assert RUBBER_ILLUSTRATIVE in e["rubber"]
+        assert e["hurst"] is None or 0.0 <= e["hurst"] <= 1.0
+    assert RUBBER_ILLUSTRATIVE in (out / "report.html").read_text()
