@@ -27,6 +27,11 @@ def spectrum_difference(spec_ref, spec):
     ----------
     spec_ref, spec : roadscan.Spectrum
         Reference and compared spectra.
+
+    Returns
+    -------
+    dict
+        ``common_band_per_m``, ``q_per_m``, ``log10_ratio`` and their extremes.
     """
     lo = max(spec_ref.q_per_m[0], spec.q_per_m[0])
     hi = min(spec_ref.q_per_m[-1], spec.q_per_m[-1])

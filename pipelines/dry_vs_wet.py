@@ -25,12 +25,33 @@ __all__ = ["run_dry_vs_wet", "speed_table", "mu_by_speed"]
 
 
 def mu_by_speed(v_m_per_s, mu):
-    """{f"{v:g}": mu} (the JSON form of a mu(v) curve in comparison reports)."""
+    """{f"{v:g}": mu} (the JSON form of a mu(v) curve in comparison reports).
+
+    Parameters
+    ----------
+    v_m_per_s, mu : array_like
+        The curve.
+
+    Returns
+    -------
+    dict
+    """
     return {f"{float(v):g}": float(m) for v, m in zip(v_m_per_s, mu)}
 
 
 def speed_table(v_m_per_s):
-    """Speeds at whole decades within the grid (for the report's table)."""
+    """Speeds at whole decades within the grid (for the report's table).
+
+    Parameters
+    ----------
+    v_m_per_s : array_like
+        Speeds [m/s].
+
+    Returns
+    -------
+    list of int
+        Indices.
+    """
     lv = np.log10(v_m_per_s)
     return [i for i, x in enumerate(lv) if abs(x - round(x)) < 1e-6]
 
@@ -43,6 +64,28 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     of ``settings``: the dry mu(v) is the one ``roadscan analyse`` gives for the scan (its
     reliable band, lateral resolution ``resolution_m`` [m] or the file's, and fit); the wet
     spectrum is integrated over the dry band with the dry fit, so that only the surface changes.
+
+    Parameters
+    ----------
+    scan : HeightMap
+        The scan [m].
+    out_dir : str or Path
+        Output folder.
+    settings : FrictionSettings, optional
+        Friction options.
+    connectivity : {4, 8}, optional
+        Rain-fill neighbourhood.
+    max_depth_m, water_film_m : float, optional
+        Limited water [m].
+    window_alpha : float, optional
+        Tukey window.
+    resolution_m : float, optional
+        Lateral resolution [m].
+
+    Returns
+    -------
+    dict
+        ``comparison.json``.
     """
     from .chain import measure, scan_friction
     from roadscan import level

@@ -32,7 +32,13 @@ ENV_SWITCH = "ROADSCAN_FIGURE_PROCESS"
 
 
 class InProcess:
-    """Draw each figure when it is submitted; :meth:`collect` returns the results in order."""
+    """Draw each figure when it is submitted; :meth:`collect` returns the results in order.
+
+    Attributes
+    ----------
+    None
+        It holds only the figures submitted.
+    """
 
     def __init__(self):
         self._done = []
@@ -60,7 +66,13 @@ class InProcess:
 
 
 class FigureProcess(InProcess):
-    """Figures drawn by a helper Python process (see the module docstring)."""
+    """Figures drawn by a helper Python process (see the module docstring).
+
+    Attributes
+    ----------
+    None
+        It holds the helper process and the figures submitted.
+    """
 
     def __init__(self):
         super().__init__()
@@ -153,6 +165,15 @@ def figure_drawer(figures=True):
     commands one after another through :func:`pipelines.cli.main` pays matplotlib's import once,
     on its second command, instead of a new helper each time), and not switched off by
     ``ROADSCAN_FIGURE_PROCESS=0``.
+
+    Parameters
+    ----------
+    figures : bool, optional
+        Figures wanted.
+
+    Returns
+    -------
+    FigureProcess or InProcess
     """
     if (figures and (os.cpu_count() or 1) >= 2 and "matplotlib.pyplot" not in sys.modules
             and not _started and os.environ.get(ENV_SWITCH, "1") != "0"):

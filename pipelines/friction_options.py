@@ -48,7 +48,31 @@ SCAN_Q1_HELP = ("upper end of the friction integrals [1/m]; beyond the Nyquist w
 class FrictionSettings:
     """How mu(v) is computed (defaults: docs: Theory); built from the flags by
     :func:`settings_from_args`. SI units: pressure [Pa], temperature [C], speeds [m/s], wave
-    vectors [1/m]."""
+    vectors [1/m].
+
+    Attributes
+    ----------
+    rubber : rubber model or None
+        None: the thesis rubber.
+    sigma0_Pa : float
+        Nominal pressure [Pa].
+    T0_C : float or None
+        Background temperature [C] (None: the rubber's reference).
+    flash : bool
+        Flash-temperature model.
+    v_m_per_s : ndarray or None
+        Speeds [m/s].
+    q1_per_m, q0_per_m : float or None
+        Band ends [1/m].
+    enabled : bool
+        Compute friction.
+    nu : float
+        Poisson's ratio.
+    contact_gamma : float or None
+        Persson's gamma of S(q).
+    extrapolate : str
+        Master-curve extrapolation.
+    """
 
     rubber: object = None          # friction rubber; None -> thesis rubber
     sigma0_Pa: float = 0.2e6
@@ -68,6 +92,18 @@ def parse_pressure(text, flag="--sigma0"):
 
     Raises InputError (one line) on a malformed or non-positive value, and on a bare number
     below :data:`MIN_BARE_PA` with a hint (``--sigma0 0.3`` -> "did you mean 0.3MPa?").
+
+    Parameters
+    ----------
+    text : str
+        The value.
+    flag : str, optional
+        Flag named in errors.
+
+    Returns
+    -------
+    float
+        Pressure [Pa].
     """
     if isinstance(text, (int, float)):
         text = repr(float(text))
@@ -88,7 +124,18 @@ def parse_pressure(text, flag="--sigma0"):
 
 def parse_velocities(text):
     """``"LO:HI:N"`` -> N log-spaced speeds [m/s] from LO to HI; ``"V1,V2,..."`` -> those speeds
-    (a tabulated grid, e.g. another program's), sorted. InputError when malformed."""
+    (a tabulated grid, e.g. another program's), sorted. InputError when malformed.
+
+    Parameters
+    ----------
+    text : str
+        ``LO:HI:N`` or a list.
+
+    Returns
+    -------
+    ndarray
+        Speeds [m/s].
+    """
     import numpy as np
 
     if "," in text or ":" not in text:
@@ -113,7 +160,21 @@ def parse_velocities(text):
 
 
 def add_contact_options(g, q1_help=None, nu=True):
-    """--q0, --q1, --contact-gamma, --nu and --extrapolate on a parser or argument group."""
+    """--q0, --q1, --contact-gamma, --nu and --extrapolate on a parser or argument group.
+
+    Parameters
+    ----------
+    g : argparse parser or group
+        Where to add them.
+    q1_help : str, optional
+        Help of --q1.
+    nu : bool, optional
+        Add --nu.
+
+    Returns
+    -------
+    None
+    """
     g.add_argument("--q0", type=float, default=None, metavar="PER_M",
                    help="lower end of the friction integrals [1/m], inside the spectrum "
                         "(default: its lowest wave vector)")
@@ -133,7 +194,17 @@ def add_contact_options(g, q1_help=None, nu=True):
 
 
 def add_master_curve_options(g):
-    """--master-curve, --shift-table, --reference-temperature (a measured rubber without a TOML)."""
+    """--master-curve, --shift-table, --reference-temperature (a measured rubber without a TOML).
+
+    Parameters
+    ----------
+    g : argparse parser or group
+        Where to add them.
+
+    Returns
+    -------
+    None
+    """
     g.add_argument("--master-curve", metavar="FILE.csv", default=None,
                    help="master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa' or "
                         "header E_stor_MPa; default Pa) at --reference-temperature")
@@ -147,7 +218,17 @@ def add_master_curve_options(g):
 
 def rubber_from_args(args):
     """The rubber of ``--rubber FILE.toml`` or ``--master-curve/--shift-table/--reference-temperature``;
-    None when neither is given (the caller's default). One-line InputErrors on bad combinations."""
+    None when neither is given (the caller's default). One-line InputErrors on bad combinations.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    rubber model or None
+    """
     mc = getattr(args, "master_curve", None)
     shift = getattr(args, "shift_table", None)
     t_ref = getattr(args, "reference_temperature", None)
@@ -172,7 +253,17 @@ def rubber_from_args(args):
 
 
 def check_contact_args(args):
-    """One-line InputErrors for --q0, --q1, --contact-gamma, --nu."""
+    """One-line InputErrors for --q0, --q1, --contact-gamma, --nu.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    None
+    """
     from .validate import check_wave_vector
 
     for flag, val in (("--q0", getattr(args, "q0", None)), ("--q1", getattr(args, "q1", None))):
@@ -192,7 +283,22 @@ def check_contact_args(args):
 
 def apply_band(psd, q0, q1, log=None):
     """The spectrum restricted/extended to [q0, q1] (``friction.band.integration_band``) and its
-    info dict; prints one line when C(q) is extended above the spectrum's last point."""
+    info dict; prints one line when C(q) is extended above the spectrum's last point.
+
+    Parameters
+    ----------
+    psd : spectrum
+        The spectrum.
+    q0, q1 : float or None
+        Band ends [1/m].
+    log : callable, optional
+        Prints one line.
+
+    Returns
+    -------
+    psd : spectrum
+    info : dict or None
+    """
     from friction import TabulatedPSD
     from friction.band import integration_band
 
@@ -214,7 +320,19 @@ def apply_band(psd, q0, q1, log=None):
 
 
 def coverage_note(cov, flag_hint=True):
-    """One warning line when a master curve is extrapolated by more than one decade, else None."""
+    """One warning line when a master curve is extrapolated by more than one decade, else None.
+
+    Parameters
+    ----------
+    cov : dict
+        Frequency coverage.
+    flag_hint : bool, optional
+        Name the flag.
+
+    Returns
+    -------
+    str or None
+    """
     if not cov or cov.get("extrapolated_decades") is None or cov["extrapolated_decades"] <= 1.0:
         return None
     lo, hi = cov["f_needed_Hz"]
@@ -242,6 +360,23 @@ def add_friction_options(p, master_curve=False, sliding=True, optional=True, q1_
     flags in a "rubber" group, the rest on ``p``; ``sliding=False`` drops --flash and
     --velocities (diagnose takes the measured speeds), ``optional=False`` drops --no-friction,
     ``q1_help=None`` the spectrum's (not the scan's) meaning of --q1.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser.
+    master_curve : bool, optional
+        Add the master-curve flags.
+    sliding : bool, optional
+        Add --velocities and --flash.
+    optional : bool, optional
+        Add --no-friction.
+    q1_help : str, optional
+        Help of --q1.
+
+    Returns
+    -------
+    None
     """
     if master_curve:
         rub, g = p.add_argument_group(RUBBER_GROUP), p
@@ -268,7 +403,17 @@ def add_friction_options(p, master_curve=False, sliding=True, optional=True, q1_
 def settings_from_args(args):
     """The flags of :func:`add_friction_options` -> :class:`FrictionSettings` [SI], checked:
     one-line InputErrors naming the flag (contact options, rubber files, pressure, speeds,
-    temperature against the rubber's WLF pole). A flag the command lacks takes its default."""
+    temperature against the rubber's WLF pole). A flag the command lacks takes its default.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    FrictionSettings
+    """
     check_contact_args(args)
     rubber = rubber_from_args(args)
     # a command that records whether --sigma0 was given (diagnose) defaults it to None
@@ -290,7 +435,19 @@ def settings_from_args(args):
 
 
 def with_extrapolation(rubber, mode):
-    """The rubber with ``--extrapolate`` applied (master curves only; other models unchanged)."""
+    """The rubber with ``--extrapolate`` applied (master curves only; other models unchanged).
+
+    Parameters
+    ----------
+    rubber : rubber model
+        The rubber.
+    mode : str
+        ``"powerlaw"`` or ``"hold"``.
+
+    Returns
+    -------
+    rubber model
+    """
     from dataclasses import replace
 
     from friction import MasterCurve
@@ -302,7 +459,29 @@ def with_extrapolation(rubber, mode):
 
 def run_checks(rubber, v, q0, q1, T0_C, T_max_C=None, log=None, result=None):
     """The ``rubber_checks`` of a run: frequency coverage (warned once, in one line, beyond
-    one decade of extrapolation) and the WLF fit of a shift table. Returns a dict for JSON."""
+    one decade of extrapolation) and the WLF fit of a shift table. Returns a dict for JSON.
+
+    Parameters
+    ----------
+    rubber : rubber model
+        The rubber.
+    v : ndarray
+        Speeds [m/s].
+    q0, q1 : float
+        Band [1/m].
+    T0_C : float or None
+        Temperature [C].
+    T_max_C : float, optional
+        Hottest flash temperature [C].
+    log : callable, optional
+        Prints one line.
+    result : FrictionResult, optional
+        The engine's result.
+
+    Returns
+    -------
+    dict
+    """
     import warnings
 
     from friction.rubber_checks import frequency_coverage, wlf_fit_report

@@ -23,7 +23,19 @@ EQUIV_NATS = 2.0
 
 
 def extended_ranges(ranges, free):
-    """The free uncertain ranges continued beyond their ends (dict key -> Uncertain)."""
+    """The free uncertain ranges continued beyond their ends (dict key -> Uncertain).
+
+    Parameters
+    ----------
+    ranges : dict
+        Key -> Uncertain.
+    free : dict
+        Key -> (lo, hi) fitted ranges.
+
+    Returns
+    -------
+    dict
+    """
     out = {}
     for k, (lo, hi) in free.items():
         scale, f = EXTEND[k]
@@ -44,6 +56,27 @@ def equivalence(ctx, real_mu, cand, ranges, free, noise, rows=None):
     rows compared (default every row). Returns None without uncertain inputs, else dict(
     equivalent, dloglik (effect fit minus extended calibration, nats), inputs (the uncertain
     inputs the extended fit moves beyond their ranges), calibrated (their fitted values)).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    cand : Candidate
+        The effect's fit.
+    ranges : dict
+        Key -> Uncertain.
+    free : dict
+        Key -> (lo, hi).
+    noise : float
+        Noise [log10].
+    rows : ndarray, optional
+        Rows compared.
+
+    Returns
+    -------
+    dict or None
     """
     from .calibration import PARAM, calibration_effect
     from .evidence import loglik, noise_scale

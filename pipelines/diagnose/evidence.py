@@ -52,7 +52,23 @@ def noise_scale(noise):
 
 
 def loglik(rss, n, s, nu=NU):
-    """Student-t log-likelihood (constants common to every model dropped), see module docstring."""
+    """Student-t log-likelihood (constants common to every model dropped), see module docstring.
+
+    Parameters
+    ----------
+    rss : float
+        Residual sum of squares [log10^2].
+    n : int
+        Points.
+    s : float
+        Noise scale.
+    nu : float, optional
+        Student-t degrees of freedom.
+
+    Returns
+    -------
+    float
+    """
     return -0.5 * (nu + n) * float(np.log1p(rss / (nu * s * s)))
 
 
@@ -72,7 +88,30 @@ def model_evidence(ctx, real_mu, cand, noise, nu=NU):
 
     Returns dict(name, k, rss, loglik, occam, log_z, cov, H, J) (``cov``: the unit-cube posterior
     covariance of the Laplace approximation, ``H`` its Gauss-Newton Hessian, ``J`` d log10 mu / d u;
-    None for k = 0)."""
+    None for k = 0).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    cand : Candidate or None
+        Fitted candidate (None: nominal model).
+    noise : float
+        Noise scale.
+    nu : float, optional
+        Student-t degrees of freedom.
+
+    Returns
+    -------
+    dict
+
+    References
+    ----------
+    D.J.C. MacKay, Information Theory, Inference, and Learning Algorithms, Cambridge University
+    Press (2003), chapter 28 (Laplace approximation of the evidence).
+    """
     from .fitting import pack
     from .model import simulate
 
@@ -104,7 +143,20 @@ def model_evidence(ctx, real_mu, cand, noise, nu=NU):
 
 def posteriors(ev0, evs):
     """Posterior probabilities of the null explanation ``ev0`` and of each of ``evs`` (dicts of
-    :func:`model_evidence`), prior odds as in the module docstring. Returns (p0, [p])."""
+    :func:`model_evidence`), prior odds as in the module docstring. Returns (p0, [p]).
+
+    Parameters
+    ----------
+    ev0 : dict
+        Evidence of the null explanation.
+    evs : list of dict
+        Evidence of the others.
+
+    Returns
+    -------
+    p0 : float
+    p : list of float
+    """
     m = len(evs)
     logs = [np.log(PRIOR_NULL if m else 1.0) + ev0["log_z"]]
     logs += [np.log((1 - PRIOR_NULL) / m) + e["log_z"] for e in evs]

@@ -13,7 +13,25 @@ def _f(x):
 
 def heldout_evidence(ho, g_ho, ranked, best, top=6):
     """``verdict.evidence`` of a held-out verdict (20 points or more): the method and the held-out
-    numbers of the best-scored candidates."""
+    numbers of the best-scored candidates.
+
+    Parameters
+    ----------
+    ho : Holdout
+        Hold-out scheme.
+    g_ho : float
+        Baseline held-out gap.
+    ranked : list of Candidate
+        Candidates, best first.
+    best : Candidate or None
+        The named one.
+    top : int, optional
+        How many are listed.
+
+    Returns
+    -------
+    dict
+    """
     rows = [dict(name=c.name, k=c.k, gap_heldout=_f(c.gap_heldout), shrink=_f(c.shrink),
                  shrink_interval=[_f(x) for x in c.shrink_interval], score=_f(c.score),
                  shrink_beyond_calibration=_f(getattr(c, "beyond", None)))
@@ -42,7 +60,29 @@ def top_two(ctx, real_mu, noise, verdict, best, expl, singles, pairs, cal, calpa
 
     Few points (``expl`` given, ranked by posterior): its first two. Held-out verdicts: the
     inconclusive pair; else the named (or best-scored) candidate and the best-scored one that
-    does not share its effects (the calibration when the named fit carries it)."""
+    does not share its effects (the calibration when the named fit carries it).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    noise : float
+        Noise.
+    verdict : dict
+        The verdict.
+    best : Candidate or None
+        Named candidate.
+    expl : list or None
+        Explanations ranked by posterior (few points).
+    singles, pairs, cal, calpairs : list or Candidate
+        The candidates.
+
+    Returns
+    -------
+    tuple of dict or None
+    """
     from .evidence import model_evidence
 
     if expl is not None:
@@ -83,7 +123,21 @@ def _at_null(ctx, c):
 
 def pick_pair(ctx, expl, s):
     """The two most probable distinct explanations of ``expl`` (ranked by posterior): the first
-    and the next one that is not the first at its no-effect point. None when there is none."""
+    and the next one that is not the first at its no-effect point. None when there is none.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    expl : list of dict
+        Explanations ranked by posterior.
+    s : float
+        Noise scale.
+
+    Returns
+    -------
+    tuple of dict or None
+    """
     if not expl:
         return None
     a = expl[0]

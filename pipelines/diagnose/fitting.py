@@ -34,13 +34,53 @@ STEP = 0.02
 
 
 def too_many_parameters(k, n_train):
-    """True when ``k`` free parameters exceed half of ``n_train`` training rows."""
+    """True when ``k`` free parameters exceed half of ``n_train`` training rows.
+
+    Parameters
+    ----------
+    k : int
+        Free parameters.
+    n_train : int
+        Training rows.
+
+    Returns
+    -------
+    bool
+    """
     return 2 * int(k) > int(n_train)
 
 
 @dataclass
 class Candidate:
-    """A fitted effect (or pair, or calibration) and its errors."""
+    """A fitted effect (or pair, or calibration) and its errors.
+
+    Attributes
+    ----------
+    effects : tuple of Effect
+        The effects fitted together.
+    params : list of dict
+        Their parameters.
+    pred : ndarray
+        Predicted mu at every row.
+    gap_train, gap_heldout, gap_all : float
+        Gaps [rms log10].
+    shrink : float
+        Held-out shrink.
+    score : float
+        Ranking score.
+    nfev : int
+        Model evaluations.
+    seconds : float
+        Fit time [s].
+    r_held : ndarray
+        Held-out residuals.
+    shrink_interval : tuple of float
+        5-95 % bootstrap interval.
+    at_bound, implausible, implausible_why : list
+        Parameters on a bound, outside the physical range, and why.
+    n_train : int
+        Training rows.
+    """
 
     effects: tuple
     params: list           # one dict per effect
@@ -85,7 +125,19 @@ class Candidate:
 
 
 def unpack(effects, u):
-    """Unit-cube vector -> one parameter dict per effect."""
+    """Unit-cube vector -> one parameter dict per effect.
+
+    Parameters
+    ----------
+    effects : tuple of Effect
+        The effects.
+    u : ndarray
+        Unit-cube vector.
+
+    Returns
+    -------
+    list of dict
+    """
     out, i = [], 0
     for e in effects:
         out.append({p.name: p.from_unit(u[i + j]) for j, p in enumerate(e.params)})
@@ -94,12 +146,39 @@ def unpack(effects, u):
 
 
 def pack(effects, params):
-    """One parameter dict per effect -> unit-cube vector."""
+    """One parameter dict per effect -> unit-cube vector.
+
+    Parameters
+    ----------
+    effects : tuple of Effect
+        The effects.
+    params : list of dict
+        Their parameters.
+
+    Returns
+    -------
+    ndarray
+    """
     return np.array([p.to_unit(d[p.name]) for e, d in zip(effects, params) for p in e.params], float)
 
 
 def predict(ctx, effects, params):
-    """mu at every row of ``ctx`` with ``effects`` applied in order (pairs compose)."""
+    """mu at every row of ``ctx`` with ``effects`` applied in order (pairs compose).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    effects : tuple of Effect
+        The effects.
+    params : list of dict
+        Their parameters.
+
+    Returns
+    -------
+    ndarray
+        mu at every row.
+    """
     from .model import simulate
 
     if len(effects) == 1 and effects[0].apply_fn is not None:
@@ -119,7 +198,23 @@ def null_u(ctx, effects):
 
 
 def at_bound(ctx, effects, params, tol=1e-3):
-    """Names of fitted parameters on a bound of their range (the no-effect value excepted)."""
+    """Names of fitted parameters on a bound of their range (the no-effect value excepted).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    effects : tuple of Effect
+        The effects.
+    params : list of dict
+        Their fitted parameters.
+    tol : float, optional
+        Distance to a bound in the unit cube.
+
+    Returns
+    -------
+    list of str
+    """
     out = []
     for e, p in zip(effects, params):
         null = e.null_params(ctx) or {}
@@ -155,6 +250,31 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
     ``cache``: a dict shared between fits of the same ``effects`` on the same rows.
     ``max_starts``: at most this many local fits (cross-validation folds use one).
     Returns a :class:`Candidate` (errors on all, train and held-out rows filled in).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    effects : tuple of Effect
+        The effects.
+    train : ndarray of bool
+        Training rows.
+    start : list of dict, optional
+        Starting parameters.
+    budget : int, optional
+        Model evaluations allowed.
+    cache : dict, optional
+        Model cache.
+    extra_starts : sequence, optional
+        Further starts.
+    max_starts : int, optional
+        Cold starts at most.
+
+    Returns
+    -------
+    Candidate
     """
     from scipy import optimize
 

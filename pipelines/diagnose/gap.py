@@ -18,12 +18,32 @@ __all__ = ["log_ratio", "gap", "estimate_noise", "chi2_pvalue", "is_significant"
 
 
 def log_ratio(real, sim):
-    """``log10(real / sim)`` elementwise (both positive)."""
+    """``log10(real / sim)`` elementwise (both positive).
+
+    Parameters
+    ----------
+    real, sim : array_like
+        Measured and simulated mu.
+
+    Returns
+    -------
+    ndarray
+    """
     return np.log10(np.asarray(real, float)) - np.log10(np.asarray(sim, float))
 
 
 def gap(real, sim):
-    """rms of log10(real/sim) over the points [-, decimal log]."""
+    """rms of log10(real/sim) over the points [-, decimal log].
+
+    Parameters
+    ----------
+    real, sim : array_like
+        Measured and simulated mu.
+
+    Returns
+    -------
+    float
+    """
     r = log_ratio(real, sim)
     return float(np.sqrt(np.mean(r ** 2))) if r.size else float("nan")
 
@@ -35,6 +55,23 @@ def estimate_noise(v_m_per_s, mu, floor=1e-4):
     ``make_smoothing_spline``); sigma^2 = RSS / (n - tr(S)) with the smoother's trace found by
     smoothing unit vectors at the same smoothing parameter. Repeated speeds are averaged
     first (their scatter is added as pure-error information). Returns at least ``floor``.
+
+    Parameters
+    ----------
+    v_m_per_s, mu : array_like
+        Measured curve.
+    floor : float, optional
+        Smallest noise returned.
+
+    Returns
+    -------
+    float
+        Rms log10 noise.
+
+    References
+    ----------
+    P. Craven, G. Wahba, Numer. Math. 31, 377 (1979), doi:10.1007/BF01404567 (generalized
+    cross-validation).
     """
     x = np.log10(np.asarray(v_m_per_s, float))
     y = np.log10(np.asarray(mu, float))
@@ -82,21 +119,65 @@ def _gcv_lambda(x, y, gamma=1.4):
 
 
 def chi2_pvalue(gap_value, noise, n):
-    """p-value of ``n gap^2 / noise^2`` under chi-square with n degrees of freedom."""
+    """p-value of ``n gap^2 / noise^2`` under chi-square with n degrees of freedom.
+
+    Parameters
+    ----------
+    gap_value : float
+        Gap.
+    noise : float
+        Noise.
+    n : int
+        Points.
+
+    Returns
+    -------
+    float
+    """
     if not (noise > 0) or n < 1:
         return float("nan")
     return float(stats.chi2.sf(n * (gap_value / noise) ** 2, n))
 
 
 def is_significant(gap_value, noise, n, alpha=1e-3, min_ratio=1.3):
-    """True when a gap is beyond the noise: p < alpha and gap > min_ratio * noise."""
+    """True when a gap is beyond the noise: p < alpha and gap > min_ratio * noise.
+
+    Parameters
+    ----------
+    gap_value, noise : float
+        Gap and noise.
+    n : int
+        Points.
+    alpha : float, optional
+        Significance level.
+    min_ratio : float, optional
+        Smallest gap / noise.
+
+    Returns
+    -------
+    bool
+    """
     return bool(chi2_pvalue(gap_value, noise, n) < alpha and gap_value > min_ratio * noise)
 
 
 def decade_bands(v_m_per_s, width_decades=1.0, min_points=3):
     """Contiguous speed bands [v_lo, v_hi) of ``width_decades`` aligned on whole decades,
     covering the data; bands without points are dropped and bands with fewer than
-    ``min_points`` points are merged into a neighbour."""
+    ``min_points`` points are merged into a neighbour.
+
+    Parameters
+    ----------
+    v_m_per_s : array_like
+        Speeds [m/s].
+    width_decades : float, optional
+        Band width.
+    min_points : int, optional
+        Fewest points per band.
+
+    Returns
+    -------
+    list of tuple
+    """
     lv = np.log10(np.asarray(v_m_per_s, float))
     lo = np.floor(lv.min() / width_decades) * width_decades
     hi = np.ceil((lv.max() + 1e-12) / width_decades) * width_decades
@@ -125,6 +206,19 @@ def gap_by_band(v_m_per_s, real, sim, noise, width_decades=1.0):
 
     Returns a list of dicts ``{v_min_m_per_s, v_max_m_per_s, n, gap, mean_log_ratio, p_value,
     significant}`` (mean_log_ratio > 0: the measurement is above the simulation).
+
+    Parameters
+    ----------
+    v_m_per_s, real, sim : array_like
+        Speeds [m/s], measured and simulated mu.
+    noise : float
+        Noise [rms log10].
+    width_decades : float, optional
+        Band width.
+
+    Returns
+    -------
+    list of dict
     """
     r = log_ratio(real, sim)
     out = []

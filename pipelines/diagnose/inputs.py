@@ -17,13 +17,37 @@ __all__ = ["read_psd_csv", "write_psd_csv", "surface_from_scan", "scan_surface",
 
 
 def write_psd_csv(path, q_per_m, C_m4):
+    """Write ``q_per_m,C_m4`` (Persson's normalisation) to ``path``.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output CSV.
+    q_per_m, C_m4 : array_like
+        The spectrum.
+
+    Returns
+    -------
+    Path
+    """
     from ..report import write_csv
 
     return write_csv(path, ["q_per_m", "C_m4"], [q_per_m, C_m4])
 
 
 def surface_from_scan(obj):
-    """Analyse a scan -> (friction PSD, filled HeightMap/Profile, Spectrum, fit)."""
+    """Analyse a scan -> (friction PSD, filled HeightMap/Profile, Spectrum, fit).
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+
+    Returns
+    -------
+    tuple
+        (psd, filled scan, Spectrum, fit).
+    """
     from ..spectrum_bridge import analyse_surface, surface_psd
 
     an = analyse_surface(obj)
@@ -37,6 +61,20 @@ def scan_surface(obj, q0_per_m=None, q1_per_m=None, resolution_m=None):
     The spectrum over the scan's reliable band (or ``--q0``/``--q1`` [1/m]; above the scan C(q)
     continues as the self-affine fit); a band whose fine end the measurement does not support
     (:func:`pipelines.chain.judge_fine_end`) is refused in one line naming the flags.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+    q0_per_m, q1_per_m : float, optional
+        Band ends [1/m].
+    resolution_m : float, optional
+        Lateral resolution [m].
+
+    Returns
+    -------
+    tuple
+        (psd, filled scan, Spectrum, fit).
     """
     from roadscan.errors import InputError
 
@@ -53,7 +91,27 @@ def scan_surface(obj, q0_per_m=None, q1_per_m=None, resolution_m=None):
 
 
 def build_context(curve, psd, rubber=None, scan=None, spectrum=None, fit=None, extra_inputs=()):
-    """The baseline model (the engine's defaults, see Theory in the docs) on the rows of ``curve``."""
+    """The baseline model (the engine's defaults, see Theory in the docs) on the rows of ``curve``.
+
+    Parameters
+    ----------
+    curve : MeasuredCurve
+        The measurement.
+    psd : spectrum
+        Road spectrum.
+    rubber : rubber model, optional
+        Default the thesis rubber.
+    scan : HeightMap, optional
+        For the water effect.
+    spectrum, fit : optional
+        The scan's spectrum and fit.
+    extra_inputs : iterable of str, optional
+        Further inputs available.
+
+    Returns
+    -------
+    FrictionContext
+    """
     import friction
 
     from roadscan.heightmap import HeightMap

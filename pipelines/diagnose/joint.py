@@ -34,7 +34,21 @@ SHARED = ("q1", "psd_scale", "sigma0")
 
 @dataclass(eq=False)
 class Row:
-    """One measurement of M.csv: its label, curve, rubber and files."""
+    """One measurement of M.csv: its label, curve, rubber and files.
+
+    Attributes
+    ----------
+    label : str
+        Its label.
+    curve : MeasuredCurve
+        The measurement.
+    rubber : rubber model
+        Its rubber.
+    measured_path, rubber_path : Path
+        Its files.
+    line : int
+        Line in M.csv.
+    """
 
     label: str
     curve: object
@@ -46,7 +60,21 @@ class Row:
 
 def read_measurements(path, sigma0_Pa=0.2e6, T0_C=None):
     """Read M.csv (see module docstring) -> list of :class:`Row` (InputError, one line, naming
-    M.csv and the line, on a missing column, an empty or repeated label, or a bad row file)."""
+    M.csv and the line, on a missing column, an empty or repeated label, or a bad row file).
+
+    Parameters
+    ----------
+    path : str or Path
+        M.csv.
+    sigma0_Pa : float, optional
+        Default pressure [Pa].
+    T0_C : float, optional
+        Default temperature [C].
+
+    Returns
+    -------
+    list of Row
+    """
     from ..csv_files import read_csv_rows
     from ..rubber_file import load_rubber
     from .measured import read_measured
@@ -100,7 +128,28 @@ def _opt(r, col, name, path, k):
 
 def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
     """Fit the shared inputs over every row. Returns dict PARAM name -> dict(value, interval,
-    range) and the per-row calibration effects (None when no shared input is free)."""
+    range) and the per-row calibration effects (None when no shared input is free).
+
+    Parameters
+    ----------
+    ctxs : list of FrictionContext
+        One per row.
+    mus : list of ndarray
+        Measured mu.
+    trains : list of ndarray
+        Training rows.
+    ranges : dict
+        Uncertain ranges.
+    noise : float
+        Noise.
+    log : callable, optional
+        Progress.
+
+    Returns
+    -------
+    calibrated : dict
+    effects : list or None
+    """
     from scipy import optimize
 
     from .fitting import pack, unpack
@@ -175,7 +224,26 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
 def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
     """Diagnose every row with the shared inputs calibrated jointly.
 
-    Returns (joint dict, list of (row, Diagnosis, where, bm, bm_curves))."""
+    Returns (joint dict, list of (row, Diagnosis, where, bm, bm_curves)).
+
+    Parameters
+    ----------
+    rows : list of Row
+        Measurements.
+    ctxs : list of FrictionContext
+        Their contexts.
+    noise : float, optional
+        Noise.
+    uncertain : dict, optional
+        Uncertain ranges.
+    log : callable, optional
+        Progress.
+
+    Returns
+    -------
+    joint : dict
+    results : list of tuple
+    """
     from .cv import holdout
     from .run import diagnose_curve
 

@@ -73,6 +73,23 @@ def read_measured(path, sigma0_Pa=0.2e6, T0_C=None, min_points=5, min_speeds=4):
     (``T0_C=None``: the rubber's reference temperature, stored as NaN).
     Raises :class:`InputError` on a missing column, a non-number, v <= 0, mu <= 0, fewer than
     ``min_points`` rows or ``min_speeds`` distinct speeds, or an unknown condition.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV.
+    sigma0_Pa : float, optional
+        Default pressure [Pa].
+    T0_C : float, optional
+        Default temperature [C].
+    min_points : int, optional
+        Fewest rows.
+    min_speeds : int, optional
+        Fewest distinct speeds.
+
+    Returns
+    -------
+    MeasuredCurve
     """
     path = Path(path)
     header, body = read_csv_rows(path, "a header v_m_per_s,mu")

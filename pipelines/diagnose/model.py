@@ -18,7 +18,16 @@ __all__ = ["SimSpec", "FrictionContext", "simulate", "engine"]
 
 
 def engine():
-    """The friction engine's public names (``friction`` package)."""
+    """The friction engine's public names (``friction`` package).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    module
+    """
     import friction
 
     return friction
@@ -112,6 +121,19 @@ def simulate(spec, ctx, full=False):
     """mu at every row of ``ctx`` under ``spec`` (one engine call per condition group).
 
     Returns the (n,) mu array, or with ``full=True`` also the list of (rows, FrictionResult).
+
+    Parameters
+    ----------
+    spec : SimSpec
+        Model spec.
+    ctx : FrictionContext
+        Rows.
+    full : bool, optional
+        Also return the engine results.
+
+    Returns
+    -------
+    ndarray or tuple
     """
     fr = engine()
     mu = np.empty(ctx.n)

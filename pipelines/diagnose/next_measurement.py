@@ -75,6 +75,19 @@ def next_measurement(ctx, a, b, noise):
     Gauss-Newton Hessian in the unit cube)); ``noise``: rms log10 noise. Returns dict(between,
     speeds_m_per_s, temperature_C (None without a shift table), separation_sigma (per speed),
     separation_sigma_combined, sentence, method) or None when a prediction fails.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    a, b : dict
+        The two explanations.
+    noise : float
+        Noise [rms log10].
+
+    Returns
+    -------
+    dict or None
     """
     from .evidence import noise_scale
 

@@ -21,7 +21,17 @@ KEYS = ("sigma0_Pa", "q0_per_m", "q1_per_m", "temperature_C", "psd_scale")
 
 
 def sha256(path):
-    """Hex SHA-256 of a file's bytes (streamed in 1 MiB chunks)."""
+    """Hex SHA-256 of a file's bytes (streamed in 1 MiB chunks).
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    str
+    """
     h = hashlib.sha256()
     with open(path, "rb") as f:
         for chunk in iter(lambda: f.read(1 << 20), b""):
@@ -30,7 +40,17 @@ def sha256(path):
 
 
 def file_entries(files):
-    """[(role, path)] -> [{role, path, sha256}] for the files that exist."""
+    """[(role, path)] -> [{role, path, sha256}] for the files that exist.
+
+    Parameters
+    ----------
+    files : iterable of tuple
+        (role, path).
+
+    Returns
+    -------
+    list of dict
+    """
     out = []
     for role, path in files:
         if path and Path(path).is_file():
@@ -40,7 +60,21 @@ def file_entries(files):
 
 def inputs_json(ctx, d, given=None):
     """The ``inputs`` dict of a diagnosis (``given``: dict with ``files`` [(role, path)] and
-    ``given`` (names of :data:`KEYS` the user set); None: judged from the data alone)."""
+    ``given`` (names of :data:`KEYS` the user set); None: judged from the data alone).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    d : Diagnosis
+        The diagnosis.
+    given : dict, optional
+        Files and keys the user set.
+
+    Returns
+    -------
+    dict
+    """
     from .calibration import nominal
 
     given = given or {}

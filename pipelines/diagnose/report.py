@@ -19,7 +19,23 @@ def _r(x, nd=6):
 
 
 def friction_json(d, where, bandmap, validate=None):
-    """The diagnosis.json content for a friction-level :class:`search.Diagnosis`."""
+    """The diagnosis.json content for a friction-level :class:`search.Diagnosis`.
+
+    Parameters
+    ----------
+    d : Diagnosis
+        The diagnosis.
+    where : list of dict
+        Gap per band.
+    bandmap : list of dict
+        Band map.
+    validate : dict, optional
+        ``--validate`` result.
+
+    Returns
+    -------
+    dict
+    """
     return dict(
         level="friction",
         baseline_gap=_r(d.baseline_gap),
@@ -214,7 +230,29 @@ def inputs_html(inp):
 
 
 def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=None):
-    """Write ``report.html`` for a friction-level diagnosis (``data``: the JSON dict)."""
+    """Write ``report.html`` for a friction-level diagnosis (``data``: the JSON dict).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Output folder.
+    curve : MeasuredCurve
+        The measurement.
+    d : Diagnosis
+        The diagnosis.
+    data : dict
+        ``diagnosis.json``.
+    where : list of dict
+        Gap per band.
+    bm_curves : tuple
+        Band-map curves.
+    validate : dict, optional
+        ``--validate`` result.
+
+    Returns
+    -------
+    None
+    """
     from .curves import report_curves
 
     out_dir = Path(out_dir)
@@ -311,7 +349,23 @@ def _fmt(x):
 
 
 def write_surface_report(out_dir, name, data, figs):
-    """Write ``report.html`` for a surface-level diagnosis."""
+    """Write ``report.html`` for a surface-level diagnosis.
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Output folder.
+    name : str
+        Scan name.
+    data : dict
+        ``diagnosis.json``.
+    figs : dict
+        Figures.
+
+    Returns
+    -------
+    None
+    """
     v = data["verdict"]
     verdict = _verdict_html(v)
     summary = rep.table_html({"baseline gap, held out (noise units)": data["baseline_gap"],

@@ -14,7 +14,25 @@ __all__ = ["joint_json", "write_joint_report"]
 
 def joint_json(joint, results, settings, given, psd_files):
     """The diagnosis.json dict (``settings``: engine_settings per label; ``given``: provenance
-    hints; ``psd_files``: [(role, path)] of the shared surface)."""
+    hints; ``psd_files``: [(role, path)] of the shared surface).
+
+    Parameters
+    ----------
+    joint : dict
+        Joint calibration.
+    results : list of tuple
+        Per row results.
+    settings : dict
+        Engine settings per label.
+    given : dict
+        Provenance hints.
+    psd_files : list of tuple
+        (role, path) of the surface.
+
+    Returns
+    -------
+    dict
+    """
     from .provenance import inputs_json
     from .report import friction_json
 
@@ -46,7 +64,21 @@ def _files(measurements):
 
 def write_joint_report(out_dir, data, results):
     """``report.html``: the shared inputs and their joint calibration, a verdict table, and per
-    compound its μ(v) figure (band of the uncertain inputs, held-out points, corrected curve)."""
+    compound its μ(v) figure (band of the uncertain inputs, held-out points, corrected curve).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Output folder.
+    data : dict
+        ``diagnosis.json``.
+    results : list of tuple
+        Per row results.
+
+    Returns
+    -------
+    None
+    """
     import matplotlib.pyplot as plt
 
     from .curves import report_curves

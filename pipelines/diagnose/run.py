@@ -27,6 +27,19 @@ def validate(ctx, d, other_curve):
     """Predict a separate measurement with the corrected model, no refitting.
 
     Returns dict(gap_before, gap_after, v, mu, pred) (gap_after = baseline when no verdict).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    d : Diagnosis
+        The diagnosis.
+    other_curve : MeasuredCurve
+        The separate measurement.
+
+    Returns
+    -------
+    dict
     """
     vctx = FrictionContext.from_measured(other_curve, ctx.base, scan=ctx.scan, spectrum=ctx.spectrum,
                                          fit=ctx.fit, inputs=ctx.inputs)
@@ -39,7 +52,25 @@ def validate(ctx, d, other_curve):
 
 def diagnose_curve(curve, ctx, noise=None, log=None, uncertain=None):
     """The diagnosis of one curve with its where-table and band map (computed first: where mu is
-    carried by the cut-off, q1 is uncertain by default). Returns (Diagnosis, where, bm, bm_curves)."""
+    carried by the cut-off, q1 is uncertain by default). Returns (Diagnosis, where, bm, bm_curves).
+
+    Parameters
+    ----------
+    curve : MeasuredCurve
+        The measurement.
+    ctx : FrictionContext
+        Model context.
+    noise : float, optional
+        Noise [rms log10] (estimated when None).
+    log : callable, optional
+        Progress.
+    uncertain : dict, optional
+        Uncertain ranges.
+
+    Returns
+    -------
+    Diagnosis, where, bm, bm_curves : tuple
+    """
     bands = [(a, b) for a, b, _ in gapmod.decade_bands(curve.v_m_per_s)]
     T0 = ctx.T0_C[np.isfinite(ctx.T0_C)]
     from .calibration import apply_known
@@ -60,6 +91,34 @@ def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=T
     ``uncertain``: dict key -> calibration.Uncertain; ``inputs``: provenance (:mod:`.provenance`).
 
     Returns the JSON dict.
+
+    Parameters
+    ----------
+    curve : MeasuredCurve
+        The measurement.
+    ctx : FrictionContext
+        Model context.
+    out_dir : str or Path
+        Output folder.
+    noise : float, optional
+        Noise.
+    other : MeasuredCurve, optional
+        ``--validate`` measurement.
+    log : callable, optional
+        Progress.
+    report : bool, optional
+        Write report.html.
+    extra : dict, optional
+        Run settings for the JSON.
+    uncertain : dict, optional
+        Uncertain ranges.
+    inputs : dict, optional
+        Provenance.
+
+    Returns
+    -------
+    dict
+        ``diagnosis.json``.
     """
     from .. import report as rep
     from .report import friction_json, write_friction_report

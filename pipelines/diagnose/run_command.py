@@ -9,7 +9,21 @@ __all__ = ["provenance_hints", "run_measurements", "load_surface"]
 
 
 def provenance_hints(args, uncertain, measured=True):
-    """dict(files=[(role, path)], given=[inputs keys the user set]) for :mod:`.provenance`."""
+    """dict(files=[(role, path)], given=[inputs keys the user set]) for :mod:`.provenance`.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+    uncertain : dict
+        Uncertain ranges.
+    measured : bool, optional
+        A ``--measured`` run.
+
+    Returns
+    -------
+    dict
+    """
     files = [("measured", getattr(args, "measured", None) if measured else None), ("psd", args.psd),
              ("scan", args.scan), ("rubber", args.rubber), ("master_curve", getattr(args, "master_curve", None)),
              ("shift_table", getattr(args, "shift_table", None)), ("validate", getattr(args, "validate", None)),
@@ -32,7 +46,20 @@ def provenance_hints(args, uncertain, measured=True):
 
 
 def load_surface(args, say):
-    """(psd, band, scan, spectrum, fit) of ``--psd`` or ``--scan`` with ``--q0/--q1`` applied."""
+    """(psd, band, scan, spectrum, fit) of ``--psd`` or ``--scan`` with ``--q0/--q1`` applied.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+    say : callable
+        Prints one line.
+
+    Returns
+    -------
+    tuple
+        (psd, band, scan, spectrum, fit).
+    """
     from ..friction_options import apply_band
     from ..scan_input import load_scan
     from .inputs import read_psd_csv, scan_surface
@@ -55,7 +82,24 @@ def load_surface(args, say):
 def run_measurements(args, uncertain, settings_fn, report_fn, say):
     """``roadscan diagnose --measurements M.csv (--psd P | --scan S) --out DIR``: every row's
     verdict with the shared inputs calibrated jointly; writes DIR/diagnosis.json (``joint``,
-    ``measurements``) and DIR/report.html."""
+    ``measurements``) and DIR/report.html.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+    uncertain : dict
+        Uncertain ranges.
+    settings_fn, report_fn : callable
+        Engine settings and report writers.
+    say : callable
+        Prints one line.
+
+    Returns
+    -------
+    int
+        Exit code.
+    """
     from dataclasses import replace
 
     from roadscan.io.atomic import atomic_output_dir, check_output_dir

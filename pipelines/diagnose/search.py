@@ -31,7 +31,47 @@ __all__ = ["Candidate", "Diagnosis", "heldout_mask", "fit_candidate", "diagnose_
 
 @dataclass
 class Diagnosis:
-    """Everything the friction-level diagnosis found (see :func:`diagnose_friction`)."""
+    """Everything the friction-level diagnosis found (see :func:`diagnose_friction`).
+
+    Attributes
+    ----------
+    baseline_mu : ndarray
+        Baseline model's mu.
+    baseline_gap, baseline_gap_train, baseline_gap_heldout : float
+        Gaps [rms log10].
+    noise : float
+        Noise.
+    noise_given : bool
+        Given or estimated.
+    significant : bool
+        Gap beyond the noise.
+    p_value : float
+        Its p-value.
+    train : ndarray of bool
+        Training rows.
+    candidates : list of Candidate
+        Every fit, best first.
+    skipped : list
+        Effects not tried and why.
+    verdict : dict
+        The verdict.
+    best : Candidate or None
+        Named candidate.
+    seconds : float
+        Run time [s].
+    timings : dict
+        Per candidate.
+    heldout : str
+        Hold-out scheme.
+    uncertain : dict
+        Uncertain ranges.
+    calibration : Candidate or None
+        Calibration alone.
+    cutoff_sensitivity : float or None
+        d ln mu / d ln q1.
+    ctx : FrictionContext
+        Model context.
+    """
 
     baseline_mu: np.ndarray
     baseline_gap: float

@@ -34,6 +34,22 @@ def noise_prior(noise, given, r_base, k_base):
     ``PRIOR_NOISE_DOF`` pooled with the smaller of the data's estimate (smoothing spline) and the
     baseline's residual rms (its n - k degrees of freedom): on five points a spline cannot tell
     curvature from scatter, and the baseline's residual bounds the noise from above.
+
+    Parameters
+    ----------
+    noise : float
+        Noise.
+    given : bool
+        Given by the user.
+    r_base : ndarray
+        Baseline residuals.
+    k_base : int
+        Baseline's free parameters.
+
+    Returns
+    -------
+    s : float
+    nu : float
     """
     from .evidence import NOISE_FLOOR
 
@@ -66,7 +82,34 @@ def _press(c, ev, y, s, r0_held, boot, n_eff):
 
 def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say):
     """(cal, cands, s, nu): the baseline's fit (None without uncertain inputs), the effects fitted
-    with it (each with ``.evidence``), and the likelihood's noise scale and degrees of freedom."""
+    with it (each with ``.evidence``), and the likelihood's noise scale and degrees of freedom.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    usable : list of Effect
+        Effects tried.
+    cal_e : Effect or None
+        Calibration effect.
+    ho : Holdout
+        Hold-out scheme.
+    noise : float
+        Noise.
+    noise_given, significant : bool
+        Flags.
+    timings : dict
+        Filled with times.
+    say : callable
+        Progress.
+
+    Returns
+    -------
+    tuple
+        (cal, cands, s, nu).
+    """
     import time
 
     from .evidence import model_evidence

@@ -21,7 +21,23 @@ STEP = 0.02
 
 def jacobian(f, u, f0=None, step=STEP):
     """(m, k) forward-difference Jacobian of the vector function ``f`` at unit-cube point ``u``
-    (a step of ``step``, taken backwards where it would leave the cube); ``f0 = f(u)`` if known."""
+    (a step of ``step``, taken backwards where it would leave the cube); ``f0 = f(u)`` if known.
+
+    Parameters
+    ----------
+    f : callable
+        Vector function of the unit cube.
+    u : ndarray
+        Point.
+    f0 : ndarray, optional
+        f(u).
+    step : float, optional
+        Step.
+
+    Returns
+    -------
+    ndarray, shape (m, k)
+    """
     u = np.asarray(u, float)
     f0 = np.asarray(f(u) if f0 is None else f0, float)
     J = np.empty((f0.size, u.size))
@@ -35,7 +51,21 @@ def jacobian(f, u, f0=None, step=STEP):
 
 def gauss_newton_cov(J, r, floor):
     """Gauss-Newton covariance s^2 (J^T J)^+ of the unit-cube parameters (see module docstring):
-    ``J`` (n, k), ``r`` the n residuals at the fit, ``floor`` the noise [same units as r]."""
+    ``J`` (n, k), ``r`` the n residuals at the fit, ``floor`` the noise [same units as r].
+
+    Parameters
+    ----------
+    J : ndarray, shape (n, k)
+        Jacobian.
+    r : ndarray
+        Residuals.
+    floor : float
+        Noise floor.
+
+    Returns
+    -------
+    ndarray, shape (k, k)
+    """
     n, k = J.shape
     dof = max(n - k, 1)
     s2 = max(float(r @ r) / dof, float(floor) ** 2)
@@ -43,5 +73,19 @@ def gauss_newton_cov(J, r, floor):
 
 
 def unit_interval(u, sd, z=1.96):
-    """(lo, hi) of u -/+ z sd in the unit cube (the caller maps it back through the parameter)."""
+    """(lo, hi) of u -/+ z sd in the unit cube (the caller maps it back through the parameter).
+
+    Parameters
+    ----------
+    u : float
+        Parameter in the unit cube.
+    sd : float
+        Its standard deviation.
+    z : float, optional
+        Normal quantile.
+
+    Returns
+    -------
+    tuple of float
+    """
     return float(u - z * sd), float(u + z * sd)

@@ -41,7 +41,33 @@ SKEW_GRID = (-3.0, -2.0, -1.2, -0.6, 0.0, 0.6, 1.2, 2.0, 3.0)
 
 @dataclass(eq=False)
 class SurfaceContext:
-    """What the surface-level effects and the k-fold search work on."""
+    """What the surface-level effects and the k-fold search work on.
+
+    Attributes
+    ----------
+    geo : Geometry
+        Block layout.
+    families : tuple of str
+        Descriptor families.
+    meas, twin_mean, sigma : dict
+        Measured descriptors, twins' mean and noise per family.
+    twin_rings, twin_bands, ring_q : ndarray
+        Twins' ring spectra, bands and ring wave vectors.
+    fit : SelfAffineFit
+        The scan's fit.
+    is_profile : bool
+        Line profile.
+    inputs : set of str
+        Inputs available.
+    skew_table, moments, noise_inflation : dict
+        Lookup tables.
+    whole_twins : ndarray
+        Twins' whole-scan spectra.
+    whole_height : dict
+        Whole-scan height statistics.
+    cache : dict
+        Cache.
+    """
 
     geo: object                 # blocks.Geometry
     families: tuple
@@ -71,7 +97,23 @@ def _power_law(fit, q):
 
 
 def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
-    """Build the :class:`SurfaceContext` of a :class:`spectrum_bridge.SurfaceAnalysis`."""
+    """Build the :class:`SurfaceContext` of a :class:`spectrum_bridge.SurfaceAnalysis`.
+
+    Parameters
+    ----------
+    an : SurfaceAnalysis
+        The analysed scan.
+    seed : int, optional
+        Seed of the twins.
+    log : callable, optional
+        Progress.
+    n_twins : int, optional
+        Twins.
+
+    Returns
+    -------
+    SurfaceContext
+    """
     from . import blocks as bl
     from .twin import skewed_set, twin_heights
 
@@ -229,7 +271,24 @@ def _mu_gap(an, q, C_pl):
 
 
 def run_surface(obj, out_dir, log=None, seed=0):
-    """Surface-level diagnosis of a HeightMap or Profile; writes DIR/diagnosis.json, report.html."""
+    """Surface-level diagnosis of a HeightMap or Profile; writes DIR/diagnosis.json, report.html.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+    out_dir : str or Path
+        Output folder.
+    log : callable, optional
+        Progress.
+    seed : int, optional
+        Seed.
+
+    Returns
+    -------
+    dict
+        ``diagnosis.json``.
+    """
     import tempfile
 
     import matplotlib.pyplot as plt

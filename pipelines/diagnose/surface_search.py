@@ -133,7 +133,19 @@ def _shrink(g2_before, g2_after):
 
 def surface_search(ctx, rng_seed=0):
     """Run every usable surface effect (and greedy pairs); returns a dict with the baseline,
-    the candidates (best first) and the verdict (see module docstring)."""
+    the candidates (best first) and the verdict (see module docstring).
+
+    Parameters
+    ----------
+    ctx : SurfaceContext
+        Context.
+    rng_seed : int, optional
+        Seed.
+
+    Returns
+    -------
+    dict
+    """
     from .effects import all_effects
 
     fams = ctx.families

@@ -45,7 +45,19 @@ LOG10E = float(np.log10(np.e))
 def whole_spectrum_check(an, twins=None):
     """Fit the spectral effects to the whole scan's spectrum; ``twins``: (n, n_rings) log10 C of
     the twins' whole-scan spectra on the scan's rings (:func:`.surface.twin_whole_spectra`).
-    Returns a dict (gap, noise, significant, candidates best first with held-out shrink)."""
+    Returns a dict (gap, noise, significant, candidates best first with held-out shrink).
+
+    Parameters
+    ----------
+    an : SurfaceAnalysis
+        The analysed scan.
+    twins : ndarray, optional
+        Twins' log10 spectra on its rings.
+
+    Returns
+    -------
+    dict
+    """
     from scipy import stats
     from scipy import optimize
 
@@ -116,7 +128,17 @@ def whole_spectrum_check(an, twins=None):
 
 
 def whole_height_stats(h):
-    """The whole scan's height-law statistics (:data:`HEIGHT_STATS`) of a levelled height array."""
+    """The whole scan's height-law statistics (:data:`HEIGHT_STATS`) of a levelled height array.
+
+    Parameters
+    ----------
+    h : ndarray
+        Levelled heights.
+
+    Returns
+    -------
+    ndarray
+    """
     from .blocks import curvature_l_skewness, l_moment_ratios
 
     h = np.asarray(h, float)
@@ -135,7 +157,23 @@ def whole_height_check(measured, twins, skew_s, skew_tab):
     and 8 through the skewed twins' table (``skew_s`` grid, ``skew_tab`` (n_grid, 5) statistics
     of the skewed twins minus their unskewed value); the curvature at lags 1 and 4 is held out.
     Significance: likelihood ratio of the fit on the training statistics, chi-square(1),
-    p < 1e-3. Returns a dict (z of each statistic, fitted skewness, held-out gaps, shrink)."""
+    p < 1e-3. Returns a dict (z of each statistic, fitted skewness, held-out gaps, shrink).
+
+    Parameters
+    ----------
+    measured : ndarray
+        The scan's statistics.
+    twins : ndarray
+        The twins' statistics.
+    skew_s : ndarray
+        Skewness grid.
+    skew_tab : ndarray
+        Statistics of skewed twins.
+
+    Returns
+    -------
+    dict
+    """
     from scipy import optimize, stats
 
     tw = np.asarray(twins, float)
@@ -169,7 +207,17 @@ def whole_height_check(measured, twins, skew_s, skew_tab):
 def whole_seam_stats(h):
     """Line scores (:func:`.blocks.line_score`) of the whole scan by halves: the rows of its left
     and right halves, the columns of its top and bottom halves. A straight seam along x crosses
-    both the left and the right half, so the halves that share it see it twice."""
+    both the left and the right half, so the halves that share it see it twice.
+
+    Parameters
+    ----------
+    h : ndarray
+        Levelled heights.
+
+    Returns
+    -------
+    ndarray
+    """
     from .blocks import line_score
 
     h = np.asarray(h, float)
@@ -188,7 +236,19 @@ def whole_seams_check(measured, twins):
     (log10 line-score ratio, per direction) is fitted on one half and predicts the other
     (two-fold). Reference and noise: the Gaussian twins' mean and scatter (sigma^2 = var
     (1 + 1 / n)). Significant when the four statistics' chi-square against the twins has
-    p < 1e-3. Returns a dict (z, excess per direction, held-out gaps, shrink)."""
+    p < 1e-3. Returns a dict (z, excess per direction, held-out gaps, shrink).
+
+    Parameters
+    ----------
+    measured : ndarray
+        The scan's line scores.
+    twins : ndarray
+        The twins' line scores.
+
+    Returns
+    -------
+    dict
+    """
     from scipy import stats
 
     tw = np.asarray(twins, float)

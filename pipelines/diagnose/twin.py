@@ -21,7 +21,21 @@ def _K(fit):
 
 
 def twin_heights(levelled, fit, seed):
-    """Heights of one twin of ``levelled`` (HeightMap or Profile) [m], levelled."""
+    """Heights of one twin of ``levelled`` (HeightMap or Profile) [m], levelled.
+
+    Parameters
+    ----------
+    levelled : HeightMap or Profile
+        Levelled scan.
+    fit : SelfAffineFit
+        Its fit.
+    seed : int
+        Seed.
+
+    Returns
+    -------
+    ndarray
+    """
     from roadscan.heightmap import Profile
 
     H = float(fit.hurst)
@@ -59,7 +73,19 @@ def twin_heights(levelled, fit, seed):
 def skewed(h, skewness):
     """``h`` rank-transformed onto a gamma law of the given skewness (same mean and std):
     a monotone map that keeps the ordering of heights (so the spectrum changes little) and
-    sets the height distribution; skewness 0 gives the normal law."""
+    sets the height distribution; skewness 0 gives the normal law.
+
+    Parameters
+    ----------
+    h : ndarray
+        Heights.
+    skewness : float
+        Target skewness.
+
+    Returns
+    -------
+    ndarray
+    """
     from scipy import stats
 
     flat = h.ravel()
@@ -92,7 +118,19 @@ def _law_quantiles(n, skewness):
 def skewed_set(heights, grid):
     """``{s: [skewed(h, s) for h in heights]}`` for every s in ``grid``, the quantiles of each law
     computed once and the ordering of each array once (same result as :func:`skewed` for arrays
-    without ties)."""
+    without ties).
+
+    Parameters
+    ----------
+    heights : list of ndarray
+        Height arrays.
+    grid : iterable of float
+        Skewnesses.
+
+    Returns
+    -------
+    dict
+    """
     flat = [np.asarray(h, float).ravel() for h in heights]
     order = [np.argsort(f, kind="stable") for f in flat]
     out = {}

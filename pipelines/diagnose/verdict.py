@@ -43,7 +43,27 @@ def rivals(best, pool, noise, names=None, margin=0.1, tie=0.0):
     """Candidates of ``pool`` (not sharing an effect with ``best``) explaining the held-out points
     as well within the noise: their mean squared held-out residual exceeds the best's by less than
     a quarter of its paired standard error (or their held-out gaps differ by at most ``tie`` x the
-    noise), and their held-out gap by less than ``margin`` x the noise."""
+    noise), and their held-out gap by less than ``margin`` x the noise.
+
+    Parameters
+    ----------
+    best : Candidate
+        Best candidate.
+    pool : list of Candidate
+        Others.
+    noise : float
+        Noise.
+    names : iterable of str, optional
+        Names considered.
+    margin : float, optional
+        Share of the standard error.
+    tie : float, optional
+        Gap tie in noise units.
+
+    Returns
+    -------
+    list of Candidate
+    """
     out = []
     names = set(best.effect_names) if names is None else names
     for c in pool:
@@ -147,6 +167,24 @@ def decide(singles, pairs, cal, calpairs, st, intervals=None):
     (None without uncertain inputs); ``calpairs``: calibration+effect candidates; ``st``: dict of
     g_all, g_ho, noise, n, significant, p, boot (bootstrap indices); ``intervals(c)`` gives the
     calibrated inputs of a candidate with their intervals.
+
+    Parameters
+    ----------
+    singles, pairs : list of Candidate
+        Effects at the nominal inputs.
+    cal : Candidate or None
+        Calibration alone.
+    calpairs : list of Candidate
+        Calibration + effect.
+    st : dict
+        Statistics.
+    intervals : dict, optional
+        Calibration intervals.
+
+    Returns
+    -------
+    verdict : dict
+    named : Candidate or None
     """
     v = _empty()
     every = list(singles) + list(pairs) + ([cal] if cal else []) + list(calpairs)

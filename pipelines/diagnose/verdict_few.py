@@ -62,6 +62,28 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
     significant, p, s, nu) (s, nu: the likelihood's noise scale and degrees of freedom); ``equiv(c)``: :func:`equivalence.equivalence` bound to the ranges (None
     without uncertain inputs); ``intervals(c)``: calibrated inputs with intervals.
     ``explanations``: the explanations ranked by posterior, dicts(name, candidate, H, posterior).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    cal : Candidate or None
+        Calibration alone.
+    cands : list of Candidate
+        Effects fitted on every point.
+    st : dict
+        Statistics.
+    equiv : dict, optional
+        Equivalence test.
+    intervals : dict, optional
+        Calibration intervals.
+
+    Returns
+    -------
+    tuple
+        (verdict, named candidate or None, explanations).
     """
     intervals = intervals or (lambda c: {})
     n = np.asarray(real_mu).size

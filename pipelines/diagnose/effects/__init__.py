@@ -72,7 +72,33 @@ class Param:
 
 @dataclass(frozen=True, eq=False)
 class Effect:
-    """A candidate unmodelled effect (see the package docstring)."""
+    """A candidate unmodelled effect (see the package docstring).
+
+    Attributes
+    ----------
+    name : str
+        Effect name.
+    level : str
+        ``"friction"`` or ``"surface"``.
+    params : tuple of Param
+        Its parameters.
+    modify : callable, optional
+        Changes the model spec (friction level).
+    apply_fn : callable, optional
+        Computes mu or descriptors directly.
+    requires : frozenset of str
+        Inputs it needs (``"scan"``...).
+    prepare : callable, optional
+        One-off preparation.
+    cost : float
+        Relative cost.
+    description : str
+        One line.
+    null : callable, optional
+        Its no-effect parameters.
+    plausible, physical : callable, optional
+        Physical range checks.
+    """
 
     name: str
     level: str
@@ -133,7 +159,19 @@ class Effect:
 
 def temperature_extrapolated(context, T_C):
     """A one-line reason when a temperature [C] lies outside the rubber's shift table (the
-    master curve is then extrapolated in temperature), else None (also for a WLF shift)."""
+    master curve is then extrapolated in temperature), else None (also for a WLF shift).
+
+    Parameters
+    ----------
+    context : FrictionContext
+        Model context (its rubber).
+    T_C : float
+        Temperature [C].
+
+    Returns
+    -------
+    str or None
+    """
     shift = getattr(context.base.rubber, "shift", None)
     T = getattr(shift, "T_C", None)
     if T is None or not np.size(T):
@@ -148,7 +186,17 @@ _REGISTRY: dict = {}
 
 
 def register(effect):
-    """Add ``effect`` to the registry (called at import of its module); returns it."""
+    """Add ``effect`` to the registry (called at import of its module); returns it.
+
+    Parameters
+    ----------
+    effect : Effect
+        The effect.
+
+    Returns
+    -------
+    Effect
+    """
     if effect.level not in ("friction", "surface"):
         raise ValueError(f"effect {effect.name}: level must be friction or surface")
     _REGISTRY[effect.name] = effect
@@ -162,11 +210,32 @@ def _load_all():
 
 
 def all_effects(level=None):
-    """Every registered effect (of ``level`` if given), in name order."""
+    """Every registered effect (of ``level`` if given), in name order.
+
+    Parameters
+    ----------
+    level : str, optional
+        ``"friction"`` or ``"surface"``.
+
+    Returns
+    -------
+    list of Effect
+    """
     _load_all()
     return [e for _, e in sorted(_REGISTRY.items()) if level is None or e.level == level]
 
 
 def get(name):
+    """The registered effect called ``name`` (KeyError when there is none).
+
+    Parameters
+    ----------
+    name : str
+        Effect name.
+
+    Returns
+    -------
+    Effect
+    """
     _load_all()
     return _REGISTRY[name]
