@@ -84,7 +84,19 @@ def hurst_keys(hurst, hurst_stderr, fit_band_per_m):
 
 def hurst_text(summary, short=False):
     """``"0.812 ± 0.004"`` when ``summary['hurst']`` is a headline, else its ``hurst_note``
-    (``short``: ``"not given (see hurst_note)"``, for figure titles)."""
+    (``short``: ``"not given (see hurst_note)"``, for figure titles).
+
+    Parameters
+    ----------
+    summary : dict
+        A summary with ``hurst``, ``hurst_stderr`` and ``hurst_note``.
+    short : bool, optional
+        The short form for figure titles.
+
+    Returns
+    -------
+    str
+    """
     h = summary.get("hurst")
     if h is None:
         if short:
@@ -105,6 +117,11 @@ def peak_keys(v_m_per_s, mu):
         ``peak_at_edge`` (true when that is the first or last speed of the grid: no peak inside
         it) and ``peak_note`` (null, or "still rising at ... m/s" / "largest at the slowest
         speed ..." ).
+
+    Parameters
+    ----------
+    v_m_per_s, mu : array_like
+        The friction curve.
     """
     v = np.asarray(v_m_per_s, float)
     m = np.asarray(mu, float)
@@ -126,7 +143,23 @@ def peak_keys(v_m_per_s, mu):
 
 def peak_text(mu_peak, v_peak_m_per_s, peak_at_edge=False, peak_note=None):
     """``"peak μ 1.23 at 4.56 m/s"``, or, when the largest mu sits at an end of the speed grid,
-    ``"μ 1.81, still rising at 100 m/s ..."`` (never "peak")."""
+    ``"μ 1.81, still rising at 100 m/s ..."`` (never "peak").
+
+    Parameters
+    ----------
+    mu_peak : float
+        Largest mu.
+    v_peak_m_per_s : float
+        Its speed [m/s].
+    peak_at_edge : bool, optional
+        At an end of the speed grid.
+    peak_note : str, optional
+        The note then.
+
+    Returns
+    -------
+    str
+    """
     from .units_format import sig3
 
     if peak_at_edge:
@@ -136,13 +169,37 @@ def peak_text(mu_peak, v_peak_m_per_s, peak_at_edge=False, peak_note=None):
 
 def hurst_pair_text(result, sides=("dry", "wet")):
     """``"0.863 ± 0.005 / 0.849 ± 0.008"`` from ``hurst_dry``, ``hurst_stderr_dry``,
-    ``hurst_note_dry``... (a side's note when its H is not a headline)."""
+    ``hurst_note_dry``... (a side's note when its H is not a headline).
+
+    Parameters
+    ----------
+    result : dict
+        Keys with ``_dry``/``_wet`` suffixes.
+    sides : tuple of str, optional
+        The suffixes.
+
+    Returns
+    -------
+    str
+    """
     return " / ".join(hurst_text({k: result.get(f"{k}_{s}") for k in
                                   ("hurst", "hurst_stderr", "hurst_note")}) for s in sides)
 
 
 def side_keys(keys, side):
-    """``{"hurst": ..}`` -> ``{"hurst_dry": ..}``: the keys of one side of a dry/wet pair."""
+    """``{"hurst": ..}`` -> ``{"hurst_dry": ..}``: the keys of one side of a dry/wet pair.
+
+    Parameters
+    ----------
+    keys : dict
+        Keys of one side.
+    side : str
+        ``"dry"`` or ``"wet"``.
+
+    Returns
+    -------
+    dict
+    """
     return {f"{k}_{side}": v for k, v in keys.items()}
 
 
@@ -164,7 +221,17 @@ WET_MODEL = {
 
 
 def wet_model_html():
-    """The report paragraph saying what the wet model covers and what it leaves out."""
+    """The report paragraph saying what the wet model covers and what it leaves out.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    str
+        HTML.
+    """
     import html
 
     out = ", ".join(WET_MODEL["leaves_out"])

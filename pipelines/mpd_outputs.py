@@ -27,7 +27,17 @@ SEGMENTS_HEADER = ["start_m", "end_m", "msd_m", "valid", "reason"]
 
 def validity_keys(seg):
     """``mpd_valid``, ``mpd_valid_segments``, ``mpd_total_segments`` of an
-    :class:`roadscan.texture_depth.MpdSegments` (None: no segment fits the scan)."""
+    :class:`roadscan.texture_depth.MpdSegments` (None: no segment fits the scan).
+
+    Parameters
+    ----------
+    seg : MpdSegments or None
+        The segments.
+
+    Returns
+    -------
+    dict
+    """
     if seg is None:
         return {"mpd_valid": False, "mpd_valid_segments": 0, "mpd_total_segments": 0}
     return {"mpd_valid": seg.mpd_valid, "mpd_valid_segments": seg.n_valid,
@@ -35,7 +45,19 @@ def validity_keys(seg):
 
 
 def write_segments_csv(path, seg):
-    """``mpd_segments.csv`` (module docstring); nothing written when ``seg`` is None."""
+    """``mpd_segments.csv`` (module docstring); nothing written when ``seg`` is None.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output CSV.
+    seg : MpdSegments or None
+        The segments.
+
+    Returns
+    -------
+    Path or None
+    """
     if seg is None:
         return None
     from roadscan.io.atomic import atomic_write_text
@@ -50,7 +72,19 @@ def write_segments_csv(path, seg):
 
 
 def segments_title(name, summary):
-    """Figure title: the MPD and its validity in the reader's units."""
+    """Figure title: the MPD and its validity in the reader's units.
+
+    Parameters
+    ----------
+    name : str
+        Scan name.
+    summary : dict
+        Its summary.
+
+    Returns
+    -------
+    str
+    """
     from .units_format import length
 
     n, t = summary.get("mpd_valid_segments"), summary.get("mpd_total_segments")
@@ -61,7 +95,19 @@ def segments_title(name, summary):
 
 def segments_picture(seg, line_spacing_m=None):
     """What :func:`draw_segments` needs (small, picklable): per segment for one line, per line
-    (mean MSD of its valid segments, share valid) for several."""
+    (mean MSD of its valid segments, share valid) for several.
+
+    Parameters
+    ----------
+    seg : MpdSegments
+        The segments.
+    line_spacing_m : float, optional
+        Spacing of the lines of a map [m].
+
+    Returns
+    -------
+    dict
+    """
     lines = int(seg.line.max()) + 1 if seg.line.size else 0
     if lines <= 1:
         return {"kind": "profile", "start_mm": seg.start_m * 1e3, "end_mm": seg.end_m * 1e3,
@@ -81,7 +127,21 @@ def segments_picture(seg, line_spacing_m=None):
 
 def draw_segments(picture, path, title):
     """Segment plot [mm]: a profile's MSD per 100 mm segment (valid in blue, invalid hatched
-    grey), or an area's mean MSD of each line's valid segments; the MPD as a line."""
+    grey), or an area's mean MSD of each line's valid segments; the MPD as a line.
+
+    Parameters
+    ----------
+    picture : dict
+        From :func:`segments_picture`.
+    path : str or Path
+        Output PNG.
+    title : str
+        Title.
+
+    Returns
+    -------
+    Path
+    """
     from . import report
 
     plt = report.pyplot()

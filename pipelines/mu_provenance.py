@@ -36,7 +36,24 @@ RMS_RANGE_M = (1e-6, 20e-3)
 
 def extrapolated_share(psd, mu, q_measured, recompute):
     """Per speed, the share of ``mu`` from q above ``q_measured`` [1/m] (None: a model
-    spectrum, every share 0). ``recompute(psd_cut)`` returns mu on the same speeds."""
+    spectrum, every share 0). ``recompute(psd_cut)`` returns mu on the same speeds.
+
+    Parameters
+    ----------
+    psd : spectrum
+        The integrated spectrum.
+    mu : ndarray
+        mu per speed.
+    q_measured : float or None
+        Last measured wave vector [1/m].
+    recompute : callable
+        mu of a cut spectrum.
+
+    Returns
+    -------
+    ndarray
+        Share in [0, 1] per speed.
+    """
     mu = np.asarray(mu, float)
     if q_measured is None or not psd.q1_per_m > q_measured * (1 + 1e-9):
         return np.zeros_like(mu)
@@ -55,7 +72,21 @@ def extrapolated_share(psd, mu, q_measured, recompute):
 
 def rms_slope(psd, q0=None, q1=None, n=400):
     """rms slope sqrt(2 pi int q^3 C dq) of ``psd`` over [q0, q1] [1/m] (an area's; a profile's
-    is 1/sqrt(2) of it)."""
+    is 1/sqrt(2) of it).
+
+    Parameters
+    ----------
+    psd : spectrum
+        The spectrum.
+    q0, q1 : float, optional
+        Band [1/m].
+    n : int, optional
+        Quadrature nodes.
+
+    Returns
+    -------
+    float
+    """
     q0 = psd.q_min_per_m if q0 is None else q0
     q1 = psd.q1_per_m if q1 is None else q1
     lq = np.linspace(np.log(q0), np.log(q1), n)
@@ -66,7 +97,21 @@ def rms_slope(psd, q0=None, q1=None, n=400):
 
 def rubber_label(rubber, sigma0_Pa, T0_C):
     """'thesis SLS rubber, T0 = 60 C, sigma0 = 0.2 MPa' (the name, temperature and pressure
-    printed on every friction figure and report)."""
+    printed on every friction figure and report).
+
+    Parameters
+    ----------
+    rubber : rubber model
+        The rubber.
+    sigma0_Pa : float
+        Nominal pressure [Pa].
+    T0_C : float
+        Temperature [C].
+
+    Returns
+    -------
+    str
+    """
     if rubber is None:
         from .headline import RUBBER_ILLUSTRATIVE
 
@@ -85,7 +130,27 @@ def rubber_label(rubber, sigma0_Pa, T0_C):
 def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=None,
                       default_rubber=True, q1_per_m=None):
     """None when ``mu_peak`` is within :data:`MU_PLAUSIBLE`, else one line: the likely cause
-    and the flag that changes it."""
+    and the flag that changes it.
+
+    Parameters
+    ----------
+    mu_peak : float
+        Largest mu.
+    share_at_peak : float, optional
+        Extrapolated share there.
+    slope : float, optional
+        Rms slope of the band.
+    rms_height_m : float, optional
+        Rms height [m].
+    default_rubber : bool, optional
+        The thesis rubber was used.
+    q1_per_m : float, optional
+        Upper band end [1/m].
+
+    Returns
+    -------
+    str or None
+    """
     lo, hi = MU_PLAUSIBLE
     if lo <= mu_peak <= hi:
         return None

@@ -40,7 +40,17 @@ def _strings(value):
 
 def command_inputs(args):
     """Every option value of ``args`` (an argparse namespace) that names an existing path
-    (a dangling or looping link included), outputs excepted."""
+    (a dangling or looping link included), outputs excepted.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    list of str
+    """
     found = []
     for key, value in vars(args).items():
         if key in OUTPUT_OPTIONS or key in _NOT_PATHS or key.startswith("_"):
@@ -53,7 +63,19 @@ def command_inputs(args):
 
 def command_outputs(args, keys=False):
     """``[(path, is_folder, flag)]`` of the outputs ``args`` names (``keys``: with the option's
-    keyword as a fourth item)."""
+    keyword as a fourth item).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+    keys : bool, optional
+        Add the option keyword.
+
+    Returns
+    -------
+    list of tuple
+    """
     folder = getattr(args, "command", None) in FOLDER_COMMANDS
     outs = [(os.fspath(v), folder, flag, key) for key, flag in OUTPUT_OPTIONS.items()
             if isinstance((v := getattr(args, key, None)), (str, os.PathLike))]
@@ -64,7 +86,17 @@ def command_outputs(args, keys=False):
 
 
 def check_link(path):
-    """Refuse (one line) an input that is a symbolic link loop or a dangling link."""
+    """Refuse (one line) an input that is a symbolic link loop or a dangling link.
+
+    Parameters
+    ----------
+    path : str or Path
+        An input.
+
+    Returns
+    -------
+    None
+    """
     if not os.path.islink(path):
         return
     try:
@@ -95,7 +127,17 @@ def check_kind(path, advice="save the data to a file first"):
 
 
 def check_command_paths(args):
-    """The checks of the module docstring on a parsed command line; InputError (exit 2)."""
+    """The checks of the module docstring on a parsed command line; InputError (exit 2).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    None
+    """
     inputs = command_inputs(args)
     for inp in inputs:
         check_link(inp)

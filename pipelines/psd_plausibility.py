@@ -48,7 +48,20 @@ _SLIPS = (("q in 1/mm and C in mm^4", 1e3, 1e-12),
 def spectrum_figures(q, C):
     """-> (shortest wavelength [m], longest [m], rms height [m], rms slope [-]) of a table
     ``q`` [1/m] (increasing), ``C`` [m^4]: ``h^2 = 2 pi int q C dq``, ``s^2 = 2 pi int q^3 C dq``
-    by the trapezoidal rule over the rows."""
+    by the trapezoidal rule over the rows.
+
+    Parameters
+    ----------
+    q : ndarray
+        Wave vectors [1/m], increasing.
+    C : ndarray
+        Spectrum [m^4].
+
+    Returns
+    -------
+    tuple of float
+        (shortest wavelength, longest wavelength, rms height, rms slope).
+    """
     q, C = np.asarray(q, float), np.asarray(C, float)
     h2 = 2 * np.pi * np.trapezoid(q * C, q)
     s2 = 2 * np.pi * np.trapezoid(q ** 3 * C, q)
@@ -112,6 +125,15 @@ def check_psd_table(path, q, C):
 
 def normalisation_cause():
     """The likely cause named when a spectrum file gives an implausible mu: C in another
-    normalisation (module notes)."""
+    normalisation (module notes).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    str
+    """
     return ("PSD normalisation (a C in SurfaceTopography's convention, <h^2> = (1/2 pi) int q C dq, "
             "is (2 pi)^2 = 39.5 times Persson's: divide C_m4 by 39.5)")

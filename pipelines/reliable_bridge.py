@@ -19,7 +19,18 @@ __all__ = ["scan_band", "resolution_of", "geometry_of"]
 
 def geometry_of(obj):
     """(field of view L [m], spacing a [m]) used for the band: an area's shorter side and
-    coarser spacing, a profile's length and spacing."""
+    coarser spacing, a profile's length and spacing.
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+
+    Returns
+    -------
+    tuple of float
+        (L, a) [m].
+    """
     if isinstance(obj, Profile):
         return float(obj.length_m), float(obj.dx_m)
     return float(min(obj.size_m)), float(max(obj.dx_m, obj.dy_m))
@@ -30,6 +41,21 @@ def scan_band(obj, spectrum, resolution_m=None, window_alpha=0.25):
 
     ``spectrum`` is the scan's :class:`roadscan.Spectrum` (for a profile the 2D estimate, whose
     ``meta['C1_binned_m3']`` holds the 1D spectrum on the same wave vectors).
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+    spectrum : roadscan.Spectrum
+        Its spectrum.
+    resolution_m : float, optional
+        Lateral resolution [m] (default: the file's metadata).
+    window_alpha : float, optional
+        Tukey window of the spectrum.
+
+    Returns
+    -------
+    ReliableBand or None
     """
     from roadscan.reliable_band import reliable_band
 

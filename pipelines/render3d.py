@@ -20,7 +20,19 @@ NEEDS_PYVISTA = "3D view needs pyvista: pip install 'roadscan[3d]'"
 class View3D:
     """Outcome of :func:`render_3d_view`: the PNG (None when not drawn), the renderer used
     (``"pyvista"``, ``"matplotlib"`` or None), a note on why it was not drawn, and the warning
-    line to print and record (None when there is none)."""
+    line to print and record (None when there is none).
+
+    Attributes
+    ----------
+    path : Path or None
+        The PNG.
+    renderer : str or None
+        ``"pyvista"`` or ``"matplotlib"``.
+    note : str or None
+        Why it was not drawn.
+    warning : str or None
+        Warning line.
+    """
 
     path: object = None
     renderer: str = None
@@ -42,6 +54,21 @@ def render_3d_view(dry_hm, depth_m, path, title="surface and water"):
     pyvista when importable (its failure to render, e.g. without OpenGL, gives a note, as
     before); without pyvista, matplotlib (:func:`render_surface_with_water_mpl`); when that
     fails too, no view and the warning :data:`NEEDS_PYVISTA`. Returns a :class:`View3D`.
+
+    Parameters
+    ----------
+    dry_hm : HeightMap
+        The dry surface [m].
+    depth_m : ndarray
+        Water depth [m].
+    path : str or Path
+        Output PNG.
+    title : str, optional
+        Title.
+
+    Returns
+    -------
+    View3D
     """
     if _have_pyvista():
         try:
@@ -93,6 +120,25 @@ def render_surface_with_water(dry_hm, depth_m, path, max_points=220, exaggeratio
 
     Heights are vertically exaggerated so that texture is visible (the factor is printed in
     the image). Grids larger than ``max_points`` per side are subsampled for speed.
+
+    Parameters
+    ----------
+    dry_hm : HeightMap
+        The dry surface [m].
+    depth_m : ndarray
+        Water depth [m].
+    path : str or Path
+        Output PNG.
+    max_points : int, optional
+        Points per side at most.
+    exaggeration : float, optional
+        Vertical exaggeration.
+    title : str, optional
+        Title.
+
+    Returns
+    -------
+    Path
     """
     import pyvista as pv
 
@@ -140,7 +186,27 @@ def render_surface_with_water_mpl(dry_hm, depth_m, path, max_points=100, exagger
     """The view of :func:`render_surface_with_water` drawn with matplotlib's mplot3d
     (``plot_surface``, Agg, off-screen) on a map downsampled to ``max_points`` per side:
     ground coloured by height [um] (copper), water blue on top, unmeasured points left out,
-    heights exaggerated as said in the title."""
+    heights exaggerated as said in the title.
+
+    Parameters
+    ----------
+    dry_hm : HeightMap
+        The dry surface [m].
+    depth_m : ndarray
+        Water depth [m].
+    path : str or Path
+        Output PNG.
+    max_points : int, optional
+        Points per side at most.
+    exaggeration : float, optional
+        Vertical exaggeration.
+    title : str, optional
+        Title.
+
+    Returns
+    -------
+    Path
+    """
     from matplotlib import cm, colors
 
     from .report import DPI, pyplot

@@ -40,7 +40,16 @@ DISPLAY_POINTS = 500
 
 
 def pyplot():
-    """``matplotlib.pyplot`` on the Agg backend, imported on first use."""
+    """``matplotlib.pyplot`` on the Agg backend, imported on first use.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    module
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -128,7 +137,19 @@ def fixed_margins(ax, left=0.95, right=0.25, bottom=0.62, top=0.18):
     bottom, plus room for its title (0.19 in a line, see :func:`set_title`) above ``top``.
 
     Passed to :func:`save_figure` instead of ``tight_layout``, which draws every figure a
-    second time to measure its texts (0.05 s a figure)."""
+    second time to measure its texts (0.05 s a figure).
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        The axes.
+    left, right, bottom, top : float, optional
+        Margins [in].
+
+    Returns
+    -------
+    dict
+    """
     title = ax.get_title()
     lines = title.count("\n") + 1 if title else 0
     return {"left": left, "right": right, "bottom": bottom, "top": top + 0.19 * lines}
@@ -138,7 +159,21 @@ def save_figure(fig, path, margins=None):
     """Save ``fig`` as PNG atomically and close it.
 
     ``margins``: ``{"left", "right", "bottom", "top"}`` in inches (:func:`fixed_margins`);
-    None lays the figure out with ``tight_layout``."""
+    None lays the figure out with ``tight_layout``.
+
+    Parameters
+    ----------
+    fig : matplotlib Figure
+        The figure.
+    path : str or Path
+        Output PNG.
+    margins : dict, optional
+        Margins [in].
+
+    Returns
+    -------
+    Path
+    """
     plt = pyplot()
     if margins is None:
         fig.tight_layout()
@@ -193,12 +228,42 @@ def draw_heightmap(picture, path, title=None):
 
 
 def plot_heightmap(hm, path, title=None, depth_m=None):
-    """Height map image: x, y in mm, heights in um, unmeasured points grey."""
+    """Height map image: x, y in mm, heights in um, unmeasured points grey.
+
+    Parameters
+    ----------
+    hm : HeightMap
+        The map [m].
+    path : str or Path
+        Output PNG.
+    title : str, optional
+        Title.
+    depth_m : ndarray, optional
+        Water depth [m] drawn on top.
+
+    Returns
+    -------
+    Path
+    """
     return draw_heightmap(heightmap_picture(hm, depth_m), path, title)
 
 
 def plot_profile(profile, path, title=None):
-    """Line profile: distance in mm, height in mm."""
+    """Line profile: distance in mm, height in mm.
+
+    Parameters
+    ----------
+    profile : Profile
+        The profile [m].
+    path : str or Path
+        Output PNG.
+    title : str, optional
+        Title.
+
+    Returns
+    -------
+    Path
+    """
     fig, ax = pyplot().subplots(figsize=(7.5, 3.4))
     start = (getattr(profile, "meta", None) or {}).get("section_start_m")
     if start is None:
@@ -214,7 +279,23 @@ def plot_profile(profile, path, title=None):
 
 
 def plot_psd(curves, path, title="power spectral density", fits=()):
-    """Log-log C(q). ``curves``: iterable of (label, q_per_m, C_m4); ``fits`` the same, dashed."""
+    """Log-log C(q). ``curves``: iterable of (label, q_per_m, C_m4); ``fits`` the same, dashed.
+
+    Parameters
+    ----------
+    curves : iterable of tuple
+        (label, q_per_m, C_m4).
+    path : str or Path
+        Output PNG.
+    title : str, optional
+        Title.
+    fits : iterable of tuple, optional
+        Dashed curves.
+
+    Returns
+    -------
+    Path
+    """
     fig, ax = pyplot().subplots(figsize=FIGSIZE)
     for i, (label, q, C) in enumerate(curves):
         ok = np.asarray(C) > 0
@@ -258,7 +339,25 @@ def wavelength_axis(ax):
 def plot_mu(curves, path, title="friction coefficient", ylabel="friction coefficient μ [-]",
             logy=False):
     """mu(v) on a log speed axis. ``curves``: iterable of (label, v_m_per_s, mu) or with a 4th
-    element, a matplotlib style string."""
+    element, a matplotlib style string.
+
+    Parameters
+    ----------
+    curves : iterable of tuple
+        (label, v_m_per_s, mu[, style]).
+    path : str or Path
+        Output PNG.
+    title : str, optional
+        Title.
+    ylabel : str, optional
+        Y label.
+    logy : bool, optional
+        Logarithmic mu axis.
+
+    Returns
+    -------
+    Path
+    """
     fig, ax = pyplot().subplots(figsize=FIGSIZE)
     for i, curve in enumerate(curves):
         label, v, mu = curve[:3]
@@ -299,7 +398,19 @@ def _fmt(x):
 
 def table_html(rows, header=None):
     """An HTML table (``templates/table.html.j2``) from rows of cells (or a dict: one row per
-    key); every cell is text, escaped."""
+    key); every cell is text, escaped.
+
+    Parameters
+    ----------
+    rows : list or dict
+        Rows of cells.
+    header : list of str, optional
+        Header.
+
+    Returns
+    -------
+    str
+    """
     from .templates import render
 
     if isinstance(rows, dict):
@@ -310,7 +421,19 @@ def table_html(rows, header=None):
 
 def list_html(items, links=None):
     """An HTML list (``templates/list.html.j2``) of text items, escaped; ``links``: an href per
-    item (None: plain items)."""
+    item (None: plain items).
+
+    Parameters
+    ----------
+    items : list of str
+        Items.
+    links : list of str, optional
+        Hrefs.
+
+    Returns
+    -------
+    str
+    """
     from .templates import render
 
     items = [str(i) for i in items]
@@ -358,6 +481,21 @@ def write_html(path, title, sections, intro=None):
     ``sections``: list of (heading, items); each item is a PNG path (embedded as base64), a
     list of PNG paths (shown side by side), or a string of HTML built by this module's writers
     (:func:`table_html`, :func:`list_html`) and inserted as it is.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output HTML.
+    title : str
+        Title.
+    sections : list of tuple
+        (heading, items).
+    intro : str, optional
+        HTML at the top.
+
+    Returns
+    -------
+    Path
     """
     from .templates import embedded_image, html_block, render
 
@@ -398,13 +536,39 @@ def _jsonable(obj):
 
 
 def write_json(path, data):
-    """Write JSON atomically; numpy scalars/arrays converted, non-finite floats -> null."""
+    """Write JSON atomically; numpy scalars/arrays converted, non-finite floats -> null.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    data : dict
+        Content.
+
+    Returns
+    -------
+    Path
+    """
     atomic_write_text(path, json.dumps(_jsonable(data), indent=2) + "\n")
     return Path(path)
 
 
 def write_csv(path, header, columns):
-    """Write columns (equal-length 1D arrays) as CSV with ``header`` (list of names)."""
+    """Write columns (equal-length 1D arrays) as CSV with ``header`` (list of names).
+
+    Parameters
+    ----------
+    path : str or Path
+        Output file.
+    header : list of str
+        Column names.
+    columns : list of array_like
+        Columns.
+
+    Returns
+    -------
+    Path
+    """
     buf = io.StringIO()
     buf.write(",".join(header) + "\n")
     np.savetxt(buf, np.column_stack([np.asarray(c, dtype=float) for c in columns]),

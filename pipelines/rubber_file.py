@@ -136,6 +136,17 @@ def read_master_curve_csv(path, units=None):
     the units line, the header (``E_stor_MPa``, ``E' [MPa]``) or ``units`` (which overrides
     both); default Pa. Any of them may be given as its decimal logarithm (``log10_omega``,
     ``log10_E_stor_Pa``, ``log(E'') [MPa]``).
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV.
+    units : str, optional
+        Modulus unit when the file names none.
+
+    Returns
+    -------
+    f_Hz, E_storage_Pa, E_loss_Pa : ndarray
     """
     names, urow, d = _unlog(*_read_table(path), _F_NAMES + _OMEGA_NAMES + _E1_NAMES + _E2_NAMES)
     i_f = _col(names, _F_NAMES, path, "frequency", required=False)
@@ -190,6 +201,15 @@ def read_shift_csv(path):
     decimal log of the shift factor (``log_aT``, ``log10_aT``) or the shift factor itself
     (``aT``, linear, must be positive; converted with log10). Convention: ``E(omega, T) =
     E(omega aT(T) / aT(T_ref), T_ref)``, so aT falls as T rises.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV.
+
+    Returns
+    -------
+    T_C, log10_aT : ndarray
     """
     names, urow, d = _read_table(path)
     T = _temperature_C(names, urow, d, path)
@@ -208,7 +228,21 @@ def read_shift_csv(path):
 
 def orient_shift(T_C, log10_aT, path, log=None):
     """aT must fall as T rises (relaxation speeds up when warm). A table rising with T uses the
-    inverse convention (the factor divides omega): it is inverted, with a one-line note."""
+    inverse convention (the factor divides omega): it is inverted, with a one-line note.
+
+    Parameters
+    ----------
+    T_C, log10_aT : ndarray
+        The table.
+    path : str or Path
+        File named in the note.
+    log : callable, optional
+        Prints the note.
+
+    Returns
+    -------
+    T_C, log10_aT : ndarray
+    """
     T, y = np.asarray(T_C, float), np.asarray(log10_aT, float)
     if T.size >= 2 and np.ptp(T) > 0 and np.polyfit(T, y, 1)[0] > 0:
         import sys
@@ -239,7 +273,17 @@ def _not_toml(path, exc):
 
 
 def load_rubber(path):
-    """Rubber model from a TOML file; raises :class:`roadscan.errors.InputError` on bad input."""
+    """Rubber model from a TOML file; raises :class:`roadscan.errors.InputError` on bad input.
+
+    Parameters
+    ----------
+    path : str or Path
+        Rubber TOML file.
+
+    Returns
+    -------
+    StandardLinearSolid, Prony or MasterCurve
+    """
     import friction
 
     path = Path(path)
@@ -285,7 +329,23 @@ def _check_modulus_range(path, rubber):
 
 def rubber_from_csv_files(master_csv, shift_csv=None, T_ref_C=None, units=None):
     """MasterCurve rubber from a master-curve CSV and an optional shift-table CSV (the
-    ``roadscan friction --master-curve/--shift-table/--reference-temperature`` path)."""
+    ``roadscan friction --master-curve/--shift-table/--reference-temperature`` path).
+
+    Parameters
+    ----------
+    master_csv : str or Path
+        Master-curve CSV.
+    shift_csv : str or Path, optional
+        Shift table or WLF CSV.
+    T_ref_C : float, optional
+        Reference temperature [C].
+    units : str, optional
+        Modulus unit.
+
+    Returns
+    -------
+    MasterCurve
+    """
     import friction
 
     f, E1, E2 = read_master_curve_csv(master_csv, units)
@@ -315,6 +375,16 @@ def read_dma_sweeps_csv(path):
     such as ``Hz, MPa, MPa, C, -``, or the header, ``E_stor_MPa``; default Pa), ``T`` [C] (or
     K) and optionally ``Set`` (the sweep each row belongs to; without it rows are grouped by
     temperature). The pyvisco layout (BOM, spaces after commas, units line) is one such file.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV.
+
+    Returns
+    -------
+    tuple
+        (f_Hz, E_storage_Pa, E_loss_Pa, T_C, set_id or None).
     """
     f, E1, E2 = read_master_curve_csv(path)
     names, urow, d = _read_table(path)
@@ -326,7 +396,17 @@ def read_dma_sweeps_csv(path):
 
 def read_wlf_csv(path):
     """WLF constants from a one-row CSV ``C1,C2_K,T_s_C[,T_g_C]`` (``C2`` and ``T_s``/``T_ref``
-    are accepted as names) -> dict for ``[shift] kind = "wlf"``; None when the file is a table."""
+    are accepted as names) -> dict for ``[shift] kind = "wlf"``; None when the file is a table.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV.
+
+    Returns
+    -------
+    dict or None
+    """
     head, body = read_csv_rows(path)
     names = [h.strip().lower() for h in head]
     if "c1" not in names:

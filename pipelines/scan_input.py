@@ -20,7 +20,17 @@ def add_inputs_and_out(parser, inputs_help, out_help):
 
 
 def add_scan_options(parser):
-    """Add ``--spacing DX[,DY]`` [m] and ``--units {m,mm,um,nm}`` to an argparse parser."""
+    """Add ``--spacing DX[,DY]`` [m] and ``--units {m,mm,um,nm}`` to an argparse parser.
+
+    Parameters
+    ----------
+    parser : argparse.ArgumentParser
+        The parser.
+
+    Returns
+    -------
+    None
+    """
     parser.add_argument(
         "--spacing", metavar="DX[,DY]", default=None,
         help="grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or 5e-5,6e-5)",
@@ -45,7 +55,19 @@ def add_scan_options(parser):
 def read_options(args=None, spacing=None, units=None, calibration=None, channel=None):
     """Keyword arguments of :func:`roadscan.io.read` from the parsed ``add_scan_options`` flags
     (explicit arguments win): ``spacing``, ``units``, ``calibration`` ("override" with
-    ``--override-calibration``, else "strict") and ``channel``."""
+    ``--override-calibration``, else "strict") and ``channel``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace, optional
+        Parsed flags.
+    spacing, units, calibration, channel : optional
+        Explicit values.
+
+    Returns
+    -------
+    dict
+    """
     if args is not None:
         spacing = getattr(args, "spacing", None) if spacing is None else spacing
         units = getattr(args, "units", None) if units is None else units
@@ -66,6 +88,19 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
     reader's warnings (``meta["read_warnings"]``) and steps far above the texture
     (:func:`roadscan.seams.find_steps`: stitching faults, plate edges) go to stderr and
     ``summary.json``.
+
+    Parameters
+    ----------
+    path : str or Path
+        Height file.
+    args : argparse.Namespace, optional
+        Parsed flags.
+    spacing, units, calibration, channel : optional
+        Explicit values.
+
+    Returns
+    -------
+    HeightMap or Profile
     """
     from roadscan.io import read
 
@@ -113,7 +148,17 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
 
 def read_record(obj):
     """The keys of :data:`READ_KEYS` found in ``obj.meta``: for summary.json (how the file was
-    read: a flag that overrode or was set aside for its calibration, the channel used)."""
+    read: a flag that overrode or was set aside for its calibration, the channel used).
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        A read scan.
+
+    Returns
+    -------
+    dict
+    """
     from .cli_hints import flag_text
 
     meta = getattr(obj, "meta", None) or {}

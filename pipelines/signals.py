@@ -28,7 +28,13 @@ CAUGHT = tuple(getattr(signal, n) for n in ("SIGTERM", "SIGHUP") if hasattr(sign
 
 
 class Terminated(KeyboardInterrupt):
-    """A stop request by signal; ``signum`` is the signal's number."""
+    """A stop request by signal; ``signum`` is the signal's number.
+
+    Parameters
+    ----------
+    signum : int
+        Signal number.
+    """
 
     def __init__(self, signum):
         super().__init__(signum)
@@ -68,16 +74,46 @@ def _signum(exc):
 
 def received():
     """The signal number a stop request arrived with inside :func:`signals_as_interrupt`
-    (None when none did): a library that swallowed the exception cannot turn it into exit 0."""
+    (None when none did): a library that swallowed the exception cannot turn it into exit 0.
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    int or None
+    """
     return _LAST["signum"]
 
 
 def exit_code(exc):
-    """``128 + n`` for the signal behind ``exc`` (SIGINT for a plain KeyboardInterrupt)."""
+    """``128 + n`` for the signal behind ``exc`` (SIGINT for a plain KeyboardInterrupt).
+
+    Parameters
+    ----------
+    exc : BaseException
+        The interruption.
+
+    Returns
+    -------
+    int
+    """
     return 128 + _signum(exc)
 
 
 def signal_name(exc):
+    """The name of the signal behind ``exc`` (``"SIGTERM"``), or ``"signal N"``.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The interruption.
+
+    Returns
+    -------
+    str
+    """
     n = _signum(exc)
     try:
         return signal.Signals(n).name
@@ -123,7 +159,17 @@ def after_interrupt(code):
     """After an interruption was reported: any further SIGINT/SIGTERM/SIGHUP exits with
     ``code`` at once, and what libraries print while the interpreter shuts down (log records,
     "Exception ignored in atexit callback" of a Dask cluster that was closing when the signal
-    came) is not shown: the user has the one line already. Call from the main thread."""
+    came) is not shown: the user has the one line already. Call from the main thread.
+
+    Parameters
+    ----------
+    code : int
+        Exit code.
+
+    Returns
+    -------
+    None
+    """
     _quiet()
 
     def _now(signum, frame):
@@ -142,7 +188,17 @@ def exit_early_on_signals(prog="roadscan"):
     """Until :func:`signals_as_interrupt` takes over: SIGINT/SIGTERM/SIGHUP print one line and
     exit with 128 + signal at once (the program is still importing: nothing to clean up, and
     Python's own SIGINT handler would print a traceback from the import machinery). Signals the
-    parent set to be ignored stay ignored."""
+    parent set to be ignored stay ignored.
+
+    Parameters
+    ----------
+    prog : str, optional
+        Program name in the line.
+
+    Returns
+    -------
+    None
+    """
     def _early(signum, frame):
         name = "" if signum == signal.SIGINT else f" ({signal.Signals(signum).name})"
         with contextlib.suppress(Exception):

@@ -22,6 +22,33 @@ class SurfaceAnalysis:
 
     ``filled`` (levelled and inpainted: what the FFT saw) is rebuilt from ``levelled`` and
     the filled values when first read, so that a big scan is not held three times over.
+
+    Attributes
+    ----------
+    source : HeightMap or Profile
+        The scan as read.
+    levelled : HeightMap or Profile
+        Levelled scan.
+    fill : tuple
+        Filled values.
+    filled_fraction : float
+        Share of points filled.
+    spectrum : roadscan.Spectrum
+        The spectrum.
+    spec2d : Spectrum2D or None
+        2D spectrum (areas).
+    psd1d : tuple or None
+        1D spectrum (profiles).
+    fit : SelfAffineFit or None
+        The fit.
+    roughness : dict
+        Roughness figures.
+    mpd_m : float or None
+        Mean profile depth [m].
+    mpd_note : str
+        How it was computed.
+    anisotropy : dict or None
+        Directional distribution.
     """
 
     source: object            # HeightMap or Profile as read
@@ -61,7 +88,20 @@ class SurfaceAnalysis:
 
 
 def spectrum_of(obj, window_alpha=0.25):
-    """PSD of an already levelled, fully measured HeightMap/Profile -> (Spectrum, spec2d, psd1d)."""
+    """PSD of an already levelled, fully measured HeightMap/Profile -> (Spectrum, spec2d, psd1d).
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        Levelled, fully measured scan.
+    window_alpha : float, optional
+        Tukey window.
+
+    Returns
+    -------
+    tuple
+        (Spectrum, spec2d or None, psd1d or None).
+    """
     from roadscan import spectrum as sp
 
     if isinstance(obj, Profile):
@@ -81,6 +121,29 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     ``on_spectrum2d(spec2d)`` as soon as a map's 2D spectrum exists (before the fit and the
     anisotropy). ``fit=False`` leaves ``fit`` None (:func:`pipelines.chain.measure` fits once,
     inside the reliable band).
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan [m].
+    window_alpha : float, optional
+        Tukey window.
+    level_degree : int, optional
+        Form removed.
+    despike : bool, optional
+        Replace spikes.
+    fit_band : tuple of float, optional
+        Fit band [1/m].
+    mpd_settings : dict, optional
+        ISO 13473-1 settings.
+    on_levelled, on_spectrum2d : callable, optional
+        Hooks.
+    fit : bool, optional
+        Fit the self-affine model.
+
+    Returns
+    -------
+    SurfaceAnalysis
     """
     from roadscan import fit as fitmod
     from roadscan import inpaint, level, roughness
@@ -140,6 +203,19 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     with q1 inside the band the spectrum is cut at its first ring at or above q1 (``apply_band``
     then cuts at q1 exactly); q1 at or below the lowest measured wave
     vector is refused (:func:`pipelines.validate.check_q1`).
+
+    Parameters
+    ----------
+    spectrum : roadscan.Spectrum
+        The measured spectrum.
+    fit : SelfAffineFit, optional
+        Its fit.
+    q1_per_m : float, optional
+        Extension [1/m].
+
+    Returns
+    -------
+    friction.TabulatedPSD
     """
     from friction import TabulatedPSD
     from roadscan.fit import extend_spectrum
@@ -171,7 +247,19 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
 def default_velocities(lo=1e-4, hi=1e2, per_decade=10):
     """Default sliding speeds: 1e-4 to 1e2 m/s at 10 per decade (61 points), the range tyres
     slide at on roads (the thesis's range was 1e-8..1e4, still one ``--velocities
-    1e-8:1e4:121`` away)."""
+    1e-8:1e4:121`` away).
+
+    Parameters
+    ----------
+    lo, hi : float, optional
+        Range [m/s].
+    per_decade : int, optional
+        Speeds per decade.
+
+    Returns
+    -------
+    ndarray
+    """
     n = int(round(np.log10(hi / lo) * per_decade)) + 1
     return np.logspace(np.log10(lo), np.log10(hi), n)
 
@@ -180,7 +268,39 @@ def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None,
                    nu=0.5, contact_gamma=None, warn_high=True, tol=None):
     """mu(v) from the shared engine (Persson's theory; :func:`friction.mu_isothermal`,
     :func:`friction.mu_flash`) with the defaults nu = 0.5, S = 1, the thesis rubber at its
-    T_ref, and the engine's accuracy target ``tol`` (relative, 1e-3) unless given."""
+    T_ref, and the engine's accuracy target ``tol`` (relative, 1e-3) unless given.
+
+    Parameters
+    ----------
+    psd : spectrum
+        The spectrum.
+    rubber : rubber model, optional
+        Default the thesis rubber.
+    v_m_per_s : array_like, optional
+        Speeds [m/s].
+    sigma0_Pa : float, optional
+        Nominal pressure [Pa].
+    T0_C : float, optional
+        Temperature [C].
+    flash : bool, optional
+        Flash-temperature model.
+    nu : float, optional
+        Poisson's ratio.
+    contact_gamma : float, optional
+        Persson's gamma.
+    warn_high : bool, optional
+        Warn when mu > 5.
+    tol : float, optional
+        Relative tolerance.
+
+    Returns
+    -------
+    friction.FrictionResult
+
+    References
+    ----------
+    B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626.
+    """
     import friction
 
     from .validate import check_mu, check_temperature

@@ -26,7 +26,17 @@ ROUGHNESS_NOTE_KEY = "roughness_notes"
 
 
 def add_iso_options(p):
-    """``--form``, ``--s-filter``, ``--l-filter``."""
+    """``--form``, ``--s-filter``, ``--l-filter``.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser.
+
+    Returns
+    -------
+    None
+    """
     p.add_argument("--form", choices=tuple(FORMS), default="plane",
                    help="form removed before the roughness figures: least-squares plane "
                         "(default), or polynomial of degree 2 or 3 (ISO 25178-2 F-operator)")
@@ -40,7 +50,18 @@ def add_iso_options(p):
 
 
 def iso_settings_from_args(args):
-    """(form, s_filter_m, l_filter_m) checked (InputError naming the flag)."""
+    """(form, s_filter_m, l_filter_m) checked (InputError naming the flag).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    tuple
+        (form, s_filter_m, l_filter_m).
+    """
     form = getattr(args, "form", None) or "plane"
     s, l_ = getattr(args, "s_filter", None), getattr(args, "l_filter", None)
     for flag, v in (("--s-filter", s), ("--l-filter", l_)):
@@ -59,6 +80,20 @@ def texture_surface(analysis, form="plane", s_filter_m=None, l_filter_m=None):
     polynomial of that degree removed from it (the same as removing it from the raw heights:
     the plane is in its span); then the S- and L-filters (:func:`roadscan.iso_filters.
     apply_filters`). Raises InputError (naming the flag) when a filter does not fit the scan.
+
+    Parameters
+    ----------
+    analysis : SurfaceAnalysis
+        The analysed scan.
+    form : str, optional
+        Form removed.
+    s_filter_m, l_filter_m : float, optional
+        Filter nesting indices [m].
+
+    Returns
+    -------
+    surface : HeightMap or Profile
+    filters : dict
     """
     from roadscan import level
     from roadscan.iso_filters import END_EFFECTS, apply_filters
@@ -85,6 +120,24 @@ def iso_summary(analysis, form="plane", s_filter_m=None, l_filter_m=None):
     With the default plane and no filter the height figures of the analysis are kept and the
     new figures added; otherwise every roughness figure is recomputed on the filtered surface
     (``rms_height_m`` stays the plane-levelled, unfiltered Sq).
+
+    Parameters
+    ----------
+    analysis : SurfaceAnalysis
+        The analysed scan.
+    form : str, optional
+        Form removed.
+    s_filter_m, l_filter_m : float, optional
+        Filter nesting indices [m].
+
+    Returns
+    -------
+    tuple of dict
+        (roughness, filters, notes).
+
+    References
+    ----------
+    ISO 25178-2:2021; ISO 21920-2:2021.
     """
     from roadscan import roughness
     from roadscan.iso25178 import texture_parameters
@@ -102,7 +155,17 @@ def iso_summary(analysis, form="plane", s_filter_m=None, l_filter_m=None):
 
 
 def filters_text(filters):
-    """One line for titles and reports: "form plane, S-filter none, L-filter 8 mm"."""
+    """One line for titles and reports: "form plane, S-filter none, L-filter 8 mm".
+
+    Parameters
+    ----------
+    filters : dict
+        The filters record.
+
+    Returns
+    -------
+    str
+    """
     from .units_format import length
 
     if not filters:
@@ -153,7 +216,17 @@ _LABELS = {
 
 def roughness_rows(summary):
     """{label: value} of ``summary['roughness']`` in mm / µm / % with three significant
-    digits (volumes per area in µm³/µm², densities per mm²)."""
+    digits (volumes per area in µm³/µm², densities per mm²).
+
+    Parameters
+    ----------
+    summary : dict
+        A summary.
+
+    Returns
+    -------
+    dict
+    """
     from .units_format import label_of
 
     out = {}
@@ -163,7 +236,17 @@ def roughness_rows(summary):
 
 
 def roughness_section(summary):
-    """The report's roughness section: what the figures were taken on, the table, the notes."""
+    """The report's roughness section: what the figures were taken on, the table, the notes.
+
+    Parameters
+    ----------
+    summary : dict
+        A summary.
+
+    Returns
+    -------
+    list
+    """
     import html
 
     from .report import table_html

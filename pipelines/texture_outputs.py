@@ -31,7 +31,23 @@ DROPOUT_WARN = 0.10
 @dataclass
 class TextureSettings:
     """Driving direction, the IFI inputs (None when not given), and the form and filters of
-    the roughness figures (:mod:`pipelines.texture_iso`)."""
+    the roughness figures (:mod:`pipelines.texture_iso`).
+
+    Attributes
+    ----------
+    direction : str
+        ``"x"`` or ``"y"``.
+    friction : float or None
+        Measured friction FRS.
+    slip_speed_kmh : float or None
+        Its slip speed [km/h].
+    ifi_constants : tuple or None
+        A, B[, C].
+    form : str
+        Form removed.
+    s_filter_m, l_filter_m : float or None
+        Filters [m].
+    """
 
     direction: str = "x"
     friction: float = None          # FRS measured
@@ -44,7 +60,17 @@ class TextureSettings:
 
 def add_texture_options(p):
     """``--direction``, ``--friction-measurement``, ``--ifi-constants``, ``--form``,
-    ``--s-filter``, ``--l-filter``."""
+    ``--s-filter``, ``--l-filter``.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser.
+
+    Returns
+    -------
+    None
+    """
     from .texture_iso import add_iso_options
 
     p.add_argument("--direction", choices=("x", "y"), default="x",
@@ -71,7 +97,17 @@ def _floats(text, flag, sep, n_min, n_max, form):
 
 
 def texture_settings_from_args(args):
-    """Checked :class:`TextureSettings` from parsed options (InputError naming the flag)."""
+    """Checked :class:`TextureSettings` from parsed options (InputError naming the flag).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    TextureSettings
+    """
     fm, ic = getattr(args, "friction_measurement", None), getattr(args, "ifi_constants", None)
     from .texture_iso import iso_settings_from_args
 
@@ -106,6 +142,15 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
     Returns
     -------
     (dict of keys, roadscan.texture_spectrum.TextureSpectrum)
+
+    Parameters
+    ----------
+    analysis : SurfaceAnalysis
+        The analysed scan.
+    settings : TextureSettings, optional
+        Texture options.
+    mpd_settings : dict, optional
+        ISO 13473-1 settings.
     """
     from roadscan import texture_depth as td
     from roadscan.texture_spectrum import texture_spectrum
@@ -180,7 +225,24 @@ def add_to_summary(summary, analysis, settings=None, mpd_settings=None):
     the texture spectrum at the end; ``roughness`` with the ISO 25178-2 / 21920-2 texture set
     and ``filters`` (what form and filters the roughness figures were taken with,
     :mod:`pipelines.texture_iso`). Returns (new summary dict, TextureSpectrum); the
-    TextureSpectrum carries the MPD segments as ``mpd_segments`` (for :func:`write_extras`)."""
+    TextureSpectrum carries the MPD segments as ``mpd_segments`` (for :func:`write_extras`).
+
+    Parameters
+    ----------
+    summary : dict
+        The summary.
+    analysis : SurfaceAnalysis
+        The analysed scan.
+    settings : TextureSettings, optional
+        Texture options.
+    mpd_settings : dict, optional
+        ISO 13473-1 settings.
+
+    Returns
+    -------
+    summary : dict
+    ts : TextureSpectrum
+    """
     from .texture_iso import ROUGHNESS_NOTE_KEY, iso_summary
 
     settings = settings or TextureSettings()
@@ -214,20 +276,53 @@ def add_to_summary(summary, analysis, settings=None, mpd_settings=None):
 
 
 def html_escape(text):
+    """``str(text)`` escaped for HTML.
+
+    Parameters
+    ----------
+    text : object
+        Any value.
+
+    Returns
+    -------
+    str
+    """
     import html
 
     return html.escape(str(text))
 
 
 def write_texture_csv(path, ts):
-    """``texture_spectrum.csv``: one row per resolved band, SI."""
+    """``texture_spectrum.csv``: one row per resolved band, SI.
+
+    Parameters
+    ----------
+    path : str or Path
+        Output CSV.
+    ts : TextureSpectrum
+        The spectrum.
+
+    Returns
+    -------
+    Path
+    """
     from .report import write_csv
 
     return write_csv(path, TEXTURE_HEADER, [ts.centre_m, ts.lo_m, ts.hi_m, ts.level_dB])
 
 
 def texture_picture(ts):
-    """What :func:`draw_texture_spectrum` needs (small, picklable)."""
+    """What :func:`draw_texture_spectrum` needs (small, picklable).
+
+    Parameters
+    ----------
+    ts : TextureSpectrum
+        The spectrum.
+
+    Returns
+    -------
+    dict
+    """
     import numpy as np
 
     return {"nominal_mm": np.asarray(ts.nominal_mm), "level_dB": np.asarray(ts.level_dB)}
@@ -235,7 +330,21 @@ def texture_picture(ts):
 
 def draw_texture_spectrum(picture, path, title):
     """Third-octave bar chart as in ISO 13473-4: wavelength bands [mm] descending from left
-    to right, texture level [dB re 1 µm] as bars."""
+    to right, texture level [dB re 1 µm] as bars.
+
+    Parameters
+    ----------
+    picture : dict
+        From :func:`texture_picture`.
+    path : str or Path
+        Output PNG.
+    title : str
+        Title.
+
+    Returns
+    -------
+    Path
+    """
     import numpy as np
 
     from . import report
@@ -265,7 +374,17 @@ def draw_texture_spectrum(picture, path, title):
 
 
 def texture_table_html(ts):
-    """The band table of the report (mm and dB)."""
+    """The band table of the report (mm and dB).
+
+    Parameters
+    ----------
+    ts : TextureSpectrum
+        The spectrum.
+
+    Returns
+    -------
+    str
+    """
     from .report import table_html
     from .units_format import decibel, sig3
 
@@ -277,7 +396,17 @@ def texture_table_html(ts):
 
 
 def depth_rows(summary):
-    """Report rows (label, text) for MPD, ETD, IFI and the short-baseline depth."""
+    """Report rows (label, text) for MPD, ETD, IFI and the short-baseline depth.
+
+    Parameters
+    ----------
+    summary : dict
+        A summary.
+
+    Returns
+    -------
+    list of tuple
+    """
     from .units_format import length, sig3, speed_kmh
 
     rows = []
@@ -311,7 +440,19 @@ def depth_rows(summary):
 
 
 def write_extras(out_dir, ts):
-    """``mpd_segments.csv`` next to ``summary.json`` (:mod:`pipelines.mpd_outputs`)."""
+    """``mpd_segments.csv`` next to ``summary.json`` (:mod:`pipelines.mpd_outputs`).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Output folder.
+    ts : object
+        The analysis' texture result.
+
+    Returns
+    -------
+    None
+    """
     from pathlib import Path
 
     from . import mpd_outputs
@@ -322,7 +463,25 @@ def write_extras(out_dir, ts):
 
 
 def draw_extras(drawer, out_dir, name, summary, ts):
-    """``mpd_segments.png`` handed to ``drawer`` (:mod:`pipelines.figure_process`)."""
+    """``mpd_segments.png`` handed to ``drawer`` (:mod:`pipelines.figure_process`).
+
+    Parameters
+    ----------
+    drawer : object
+        Figure process.
+    out_dir : str or Path
+        Output folder.
+    name : str
+        Scan name.
+    summary : dict
+        Its summary.
+    ts : object
+        The texture result.
+
+    Returns
+    -------
+    None
+    """
     from pathlib import Path
 
     from . import mpd_outputs

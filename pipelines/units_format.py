@@ -31,26 +31,66 @@ _LENGTH_UNITS = LENGTH_UNITS
 
 
 def height(x_m):
-    """A height [m]: mm from 1 mm, µm below (as :func:`length`, never metres below 1 m)."""
+    """A height [m]: mm from 1 mm, µm below (as :func:`length`, never metres below 1 m).
+
+    Parameters
+    ----------
+    x_m : float
+        Height [m].
+
+    Returns
+    -------
+    str
+    """
     return length(x_m)
 
 
 def wavelength_of_q(q_per_m):
-    """The wavelength 2 pi / q of a wave vector [1/m], as a length."""
+    """The wavelength 2 pi / q of a wave vector [1/m], as a length.
+
+    Parameters
+    ----------
+    q_per_m : float
+        Wave vector [1/m].
+
+    Returns
+    -------
+    str
+    """
     if q_per_m is None or not float(q_per_m) > 0:
         return "—"
     return length(2 * math.pi / float(q_per_m))
 
 
 def decibel(x):
-    """A level in dB with one decimal ("45.3 dB")."""
+    """A level in dB with one decimal ("45.3 dB").
+
+    Parameters
+    ----------
+    x : float or None
+        Level [dB].
+
+    Returns
+    -------
+    str
+    """
     if x is None or not math.isfinite(float(x)):
         return "—"
     return f"{float(x):.1f} dB"
 
 
 def speed_kmh(x):
-    """A speed in km/h with three significant digits."""
+    """A speed in km/h with three significant digits.
+
+    Parameters
+    ----------
+    x : float or None
+        Speed [km/h].
+
+    Returns
+    -------
+    str
+    """
     return "—" if x is None else f"{sig3(x)} km/h"
 
 
@@ -69,7 +109,19 @@ _SUFFIXES = (
 def quantity(key, value):
     """A summary value formatted by its key's unit suffix (``mpd_m`` -> "3.28 mm",
     ``q_roll_per_m`` -> "1.2e+03 1/m (λ = 5.2 mm)"); lists element by element; other numbers
-    to three significant digits; text as is."""
+    to three significant digits; text as is.
+
+    Parameters
+    ----------
+    key : str
+        Summary key with its unit suffix.
+    value : object
+        Its value.
+
+    Returns
+    -------
+    str
+    """
     if isinstance(value, (list, tuple)):
         return ", ".join(quantity(key, v) for v in value)
     if value is None:
@@ -85,7 +137,17 @@ def quantity(key, value):
 
 
 def label_of(key):
-    """A key without its unit suffix, underscores as spaces (``rms_height_m`` -> "rms height")."""
+    """A key without its unit suffix, underscores as spaces (``rms_height_m`` -> "rms height").
+
+    Parameters
+    ----------
+    key : str
+        Summary key.
+
+    Returns
+    -------
+    str
+    """
     for suffix, _ in _SUFFIXES:
         if key.endswith(suffix) and len(key) > len(suffix):
             key = key[: -len(suffix)]
@@ -94,7 +156,20 @@ def label_of(key):
 
 
 def add_wavelength_axis(ax, label="wavelength λ = 2π/q [mm]"):
-    """A secondary x axis on a log wave-vector axis [1/m]: lambda = 2 pi / q in mm."""
+    """A secondary x axis on a log wave-vector axis [1/m]: lambda = 2 pi / q in mm.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        Axes with a log wave-vector x axis [1/m].
+    label : str, optional
+        Axis label.
+
+    Returns
+    -------
+    matplotlib Axes
+        The secondary axis.
+    """
     def q_to_mm(q):
         import numpy as np
 

@@ -84,7 +84,13 @@ class Warnings:
     """The warnings of one run (one scan, one command): lines in the order first said, each
     once. :func:`warn` records into the collector of the innermost :func:`collecting` scope
     (a :mod:`contextvars` variable: each thread, task and nested run has its own), so two runs
-    in one process, or many files in one call, never share a warning."""
+    in one process, or many files in one call, never share a warning.
+
+    Parameters
+    ----------
+    prefix : str, optional
+        Program name printed before each line.
+    """
 
     def __init__(self, prefix="roadscan"):
         self.prefix = prefix
@@ -110,7 +116,16 @@ _CURRENT = contextvars.ContextVar("roadscan_warnings", default=None)
 
 
 def current_warnings():
-    """The collector :func:`warn` records into (one is started in this context if none is)."""
+    """The collector :func:`warn` records into (one is started in this context if none is).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    Warnings
+    """
     w = _CURRENT.get()
     if w is None:
         w = Warnings()
@@ -137,17 +152,46 @@ def collecting(into=None, prefix=None):
 
 
 def reset_warnings(prefix="roadscan"):
-    """Start a new collector in this context (the CLI calls this at the start of every command)."""
+    """Start a new collector in this context (the CLI calls this at the start of every command).
+
+    Parameters
+    ----------
+    prefix : str, optional
+        Program name.
+
+    Returns
+    -------
+    None
+    """
     _CURRENT.set(Warnings(prefix))
 
 
 def warn(message):
-    """Print one warning line on stderr and record it in this run's collector."""
+    """Print one warning line on stderr and record it in this run's collector.
+
+    Parameters
+    ----------
+    message : str
+        One line.
+
+    Returns
+    -------
+    None
+    """
     current_warnings().add(" ".join(str(message).split()))
 
 
 def warnings_list():
-    """The warnings of the current scope (a new list)."""
+    """The warnings of the current scope (a new list).
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    list of str
+    """
     return list(current_warnings().lines)
 
 
@@ -157,7 +201,23 @@ def _where(flag=None, path=None):
 
 
 def finite_number(value, flag=None, path=None, what="value"):
-    """``float(value)``, refusing NaN, infinity and non-numbers (one line naming flag/file)."""
+    """``float(value)``, refusing NaN, infinity and non-numbers (one line naming flag/file).
+
+    Parameters
+    ----------
+    value : object
+        The value.
+    flag : str, optional
+        Flag named in errors.
+    path : str or Path, optional
+        File named in errors.
+    what : str, optional
+        What it is.
+
+    Returns
+    -------
+    float
+    """
     try:
         v = float(value)
     except (TypeError, ValueError, OverflowError):
@@ -168,7 +228,23 @@ def finite_number(value, flag=None, path=None, what="value"):
 
 
 def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
-    """Grid spacing [m]: refused outside [1e-9, 1] m, warned outside [1e-7, 1e-2] m."""
+    """Grid spacing [m]: refused outside [1e-9, 1] m, warned outside [1e-7, 1e-2] m.
+
+    Parameters
+    ----------
+    dx_m : float
+        Spacing [m].
+    dy_m : float, optional
+        Spacing along y [m].
+    flag : str, optional
+        Flag named.
+    path : str or Path, optional
+        File named.
+
+    Returns
+    -------
+    None
+    """
     for v in (dx_m,) if dy_m is None else (dx_m, dy_m):
         v = finite_number(v, flag, path, "spacing")
         lo, hi = SPACING_RANGE_M
@@ -183,7 +259,19 @@ def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
 
 def check_spacing_option(text, flag="--spacing"):
     """The CLI's ``--spacing DX[,DY]`` [m]: parsed by :func:`roadscan.io.resolve_spacing` and
-    checked by :func:`check_spacing`; every refusal names the flag and the value given."""
+    checked by :func:`check_spacing`; every refusal names the flag and the value given.
+
+    Parameters
+    ----------
+    text : str
+        ``DX[,DY]``.
+    flag : str, optional
+        Flag named.
+
+    Returns
+    -------
+    tuple of float
+    """
     from roadscan.io import resolve_spacing
 
     try:
@@ -196,7 +284,19 @@ def check_spacing_option(text, flag="--spacing"):
 
 def check_rms_height(rms_m, flag="--rms"):
     """An rms height [m] asked for (``roadscan synth``): within [1e-12, 1e3] m. Below a
-    picometre the heights underflow to zeros on rescaling; above MAX_ABS_HEIGHT_M no road."""
+    picometre the heights underflow to zeros on rescaling; above MAX_ABS_HEIGHT_M no road.
+
+    Parameters
+    ----------
+    rms_m : float
+        Rms height [m].
+    flag : str, optional
+        Flag named.
+
+    Returns
+    -------
+    float
+    """
     v = finite_number(rms_m, flag)
     if not MIN_RMS_HEIGHT_M <= v <= MAX_ABS_HEIGHT_M:
         raise InputError(None, f"{flag} {v:g} m: implausible rms height (expected "
@@ -205,7 +305,19 @@ def check_rms_height(rms_m, flag="--rms"):
 
 
 def check_pressure(sigma0_Pa, flag="--sigma0"):
-    """Nominal contact pressure [Pa] in (0, 1e9]."""
+    """Nominal contact pressure [Pa] in (0, 1e9].
+
+    Parameters
+    ----------
+    sigma0_Pa : float
+        Pressure [Pa].
+    flag : str, optional
+        Flag named.
+
+    Returns
+    -------
+    float
+    """
     v = finite_number(sigma0_Pa, flag)
     lo, hi = PRESSURE_RANGE_PA
     if not lo < v <= hi:
@@ -214,7 +326,19 @@ def check_pressure(sigma0_Pa, flag="--sigma0"):
 
 
 def check_poisson(nu, flag="--nu"):
-    """Poisson ratio in [0, 0.5] (rubber is nearly incompressible, 0.5)."""
+    """Poisson ratio in [0, 0.5] (rubber is nearly incompressible, 0.5).
+
+    Parameters
+    ----------
+    nu : float
+        Poisson's ratio.
+    flag : str, optional
+        Flag named.
+
+    Returns
+    -------
+    float
+    """
     v = finite_number(nu, flag)
     lo, hi = POISSON_RANGE
     if not lo <= v <= hi:
@@ -239,7 +363,21 @@ def wlf_pole_C(rubber):
 
 def check_temperature(T_C, rubber=None, flag="--temperature"):
     """Temperature [C]: above absolute zero, below 1000 C, and more than 5 K above the
-    rubber's WLF pole ``T_d - C2`` (at the pole log a_T diverges; below it WLF is meaningless)."""
+    rubber's WLF pole ``T_d - C2`` (at the pole log a_T diverges; below it WLF is meaningless).
+
+    Parameters
+    ----------
+    T_C : float or None
+        Temperature [C].
+    rubber : rubber model, optional
+        Its WLF pole is checked.
+    flag : str, optional
+        Flag named.
+
+    Returns
+    -------
+    float or None
+    """
     if T_C is None:
         return None
     v = finite_number(T_C, flag)
@@ -256,7 +394,23 @@ def check_temperature(T_C, rubber=None, flag="--temperature"):
 
 # ------------------------------------------------------------------------------ scans
 def check_heights(heights_m, path=None, unmeasured=None, area=True):
-    """Plausibility of a height array [m] (see the module table); refuses with one line."""
+    """Plausibility of a height array [m] (see the module table); refuses with one line.
+
+    Parameters
+    ----------
+    heights_m : ndarray
+        Heights [m].
+    path : str or Path, optional
+        File named.
+    unmeasured : ndarray of bool, optional
+        Mask.
+    area : bool, optional
+        A map rather than a profile.
+
+    Returns
+    -------
+    None
+    """
     h = np.asarray(heights_m)
     if np.iscomplexobj(h):
         raise InputError(path, "heights are complex numbers")
@@ -303,7 +457,19 @@ def _measured_range(h, unmeasured=None, chunk_bytes=4 << 20):
 
 
 def check_scan(obj, path=None):
-    """Check a read :class:`HeightMap` or :class:`Profile` (spacing and heights)."""
+    """Check a read :class:`HeightMap` or :class:`Profile` (spacing and heights).
+
+    Parameters
+    ----------
+    obj : HeightMap or Profile
+        The scan.
+    path : str or Path, optional
+        File named.
+
+    Returns
+    -------
+    HeightMap or Profile
+    """
     from roadscan.heightmap import HeightMap
 
     area = isinstance(obj, HeightMap)
@@ -318,7 +484,19 @@ def check_scan(obj, path=None):
 # ------------------------------------------------------------------------------ spectra
 def check_psd_rows(q, C, path=None):
     """Every row of a tabulated PSD must have finite q > 0 and finite C > 0; the first bad row
-    is refused by its number among the data rows (1 = first row after the header)."""
+    is refused by its number among the data rows (1 = first row after the header).
+
+    Parameters
+    ----------
+    q, C : ndarray
+        Wave vectors [1/m] and C [m^4].
+    path : str or Path, optional
+        File named.
+
+    Returns
+    -------
+    None
+    """
     q = np.asarray(q, dtype=float)
     C = np.asarray(C, dtype=float)
     bad = ~(np.isfinite(q) & (q > 0) & np.isfinite(C) & (C > 0))
@@ -335,7 +513,19 @@ def check_psd_rows(q, C, path=None):
 
 def check_psd_shape(q, C, path=None):
     """A surface's PSD falls with q: refuse a spectrum whose least-squares log-log slope over
-    its band is above +1 (e.g. rising as q^3)."""
+    its band is above +1 (e.g. rising as q^3).
+
+    Parameters
+    ----------
+    q, C : ndarray
+        Wave vectors [1/m] and C [m^4].
+    path : str or Path, optional
+        File named.
+
+    Returns
+    -------
+    None
+    """
     q = np.asarray(q, dtype=float)
     C = np.asarray(C, dtype=float)
     ok = np.isfinite(q) & np.isfinite(C) & (q > 0) & (C > 0)
@@ -353,7 +543,19 @@ def check_psd_shape(q, C, path=None):
 def check_wave_vector(q_per_m, flag):
     """A wave vector [1/m] given by a flag: finite, from 1e-4 1/m (2 pi / q = 63 km, longer
     than any surveyed line) to 1e11 1/m (0.06 nm: Persson's cut-offs stop at the atomic scale,
-    about 1e10 1/m). Below, the self-affine C(q0) overflows (a fuzz finding: q0 = 2.2e-308)."""
+    about 1e10 1/m). Below, the self-affine C(q0) overflows (a fuzz finding: q0 = 2.2e-308).
+
+    Parameters
+    ----------
+    q_per_m : float
+        Wave vector [1/m].
+    flag : str
+        Flag named.
+
+    Returns
+    -------
+    float
+    """
     v = finite_number(q_per_m, flag)
     if not Q_MIN_PER_M <= v <= Q_MAX_PER_M:
         raise InputError(None, f"{flag}{'' if flag.endswith('=') else ' '}{v:g} 1/m: must be a wave vector from "
@@ -363,7 +565,21 @@ def check_wave_vector(q_per_m, flag):
 
 
 def check_q1(q1_per_m, q_lo_per_m, flag="--q1"):
-    """q1 [1/m] must be finite and above the spectrum's lowest wave vector ``q_lo``."""
+    """q1 [1/m] must be finite and above the spectrum's lowest wave vector ``q_lo``.
+
+    Parameters
+    ----------
+    q1_per_m : float or None
+        q1 [1/m].
+    q_lo_per_m : float
+        Lowest wave vector of the spectrum [1/m].
+    flag : str, optional
+        Flag named.
+
+    Returns
+    -------
+    float or None
+    """
     if q1_per_m is None:
         return None
     v = finite_number(q1_per_m, flag)
@@ -375,7 +591,19 @@ def check_q1(q1_per_m, q_lo_per_m, flag="--q1"):
 
 def check_fit(fit, name=""):
     """Warn when a self-affine fit is outside its meaning: Hurst exponent outside [0, 1]
-    (e.g. a white-noise or a trend-dominated scan) or a non-finite h0."""
+    (e.g. a white-noise or a trend-dominated scan) or a non-finite h0.
+
+    Parameters
+    ----------
+    fit : SelfAffineFit
+        The fit.
+    name : str, optional
+        Scan name.
+
+    Returns
+    -------
+    None
+    """
     h = getattr(fit, "hurst", None)
     if h is None or not np.isfinite(h):
         raise InputError(name or None, "the self-affine fit failed (Hurst exponent not finite)")
@@ -388,7 +616,21 @@ def check_fit(fit, name=""):
 def check_mu(mu, what="mu", warn_high=True):
     """Friction results: refuse non-finite values and mu > 100 (no physical meaning);
     warn when mu > 5 (unless ``warn_high`` is False: the caller diagnoses it, as analyse does
-    with :mod:`pipelines.mu_provenance`)."""
+    with :mod:`pipelines.mu_provenance`).
+
+    Parameters
+    ----------
+    mu : ndarray
+        Friction coefficients.
+    what : str, optional
+        Name in messages.
+    warn_high : bool, optional
+        Warn above 5.
+
+    Returns
+    -------
+    ndarray
+    """
     mu = np.asarray(mu, dtype=float)
     if mu.size and not np.all(np.isfinite(mu)):
         n = int(np.count_nonzero(~np.isfinite(mu)))

@@ -27,19 +27,51 @@ def _environment():
 
 
 def render(name, **context):
-    """The template ``name`` (e.g. ``"table.html.j2"``) rendered with ``context`` (plain text)."""
+    """The template ``name`` (e.g. ``"table.html.j2"``) rendered with ``context`` (plain text).
+
+    Parameters
+    ----------
+    name : str
+        Template file name.
+    **context
+        Template variables.
+
+    Returns
+    -------
+    str
+    """
     return str(_environment().get_template(name).render(**context))
 
 
 def html_block(text):
     """``text`` marked as HTML (inserted as it is, not escaped): only for HTML that the report
-    writers built themselves (a rendered template)."""
+    writers built themselves (a rendered template).
+
+    Parameters
+    ----------
+    text : str
+        HTML.
+
+    Returns
+    -------
+    markupsafe.Markup
+    """
     from markupsafe import Markup
 
     return Markup(str(text))
 
 
 def embedded_image(path):
-    """``{"data": base64 of the PNG, "alt": its file stem}`` for the page template."""
+    """``{"data": base64 of the PNG, "alt": its file stem}`` for the page template.
+
+    Parameters
+    ----------
+    path : str or Path
+        A PNG.
+
+    Returns
+    -------
+    dict
+    """
     p = Path(path)
     return {"data": base64.b64encode(p.read_bytes()).decode("ascii"), "alt": p.stem}
