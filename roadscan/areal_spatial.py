@@ -10,8 +10,8 @@ integral), on lags |tx| <= Lx / 2, |ty| <= Ly / 2.
 
 - Sal [m], autocorrelation length: the shortest lag distance at which f_ACF has decayed to
   s = 0.2 (ISO 25178-3 default);
-- Str, texture aspect ratio: Sal divided by the longest lag distance at which f_ACF (its
-  central region above s) has decayed to s; 1 for an isotropic surface, towards 0 for a
+- Str, texture aspect ratio: Sal divided by the longest lag distance at which f_ACF has
+  decayed to s (over all directions); 1 for an isotropic surface, towards 0 for a
   strongly directional one;
 - Std [deg], texture direction: the lay, i.e. the direction of the ridges, perpendicular to the
   absolute maximum of the angular power spectrum f_APS(theta) = integral |Z(r cos theta,
@@ -19,8 +19,9 @@ integral), on lags |tx| <= Lx / 2, |ty| <= Ly / 2.
   +x axis (columns) towards +y (rows), in [0, 180). On an isotropic surface (Str > 0.5) it is
   the direction of a random fluctuation, and the note says so.
 
-Decay distances are refined to a fraction of a pixel by linear interpolation of f_ACF along
-the ray through the boundary point. Unmeasured points are set to the mean (zero) and do not
+Decay distances are taken along rays from the origin every 0.5 degree (the first lag at which
+the bilinearly interpolated f_ACF falls below s, refined linearly between samples a quarter
+pixel apart). Numpy only (its FFT). Unmeasured points are set to the mean (zero) and do not
 count in the normalisation's area.
 
 Large maps: the ACF of a map of more than :data:`MAX_POINTS` points is computed on every k-th
@@ -61,16 +62,14 @@ def autocorrelation(z):
     shape : tuple of int
         Shape of the padded field.
     """
-    from scipy import fft
-
     z = np.asarray(z, dtype=np.float64)
     bad = ~np.isfinite(z)
     zz = np.where(bad, 0.0, z - np.nanmean(z) if bad.any() else z - z.mean())
     ny, nx = zz.shape
-    shape = (fft.next_fast_len(2 * ny, real=True), fft.next_fast_len(2 * nx, real=True))
-    F = fft.rfft2(zz, shape, workers=-1)
+    shape = (_fast_len(2 * ny), _fast_len(2 * nx))
+    F = np.fft.rfft2(zz, shape)
     P = F.real ** 2 + F.imag ** 2
-    R = fft.irfft2(P, shape, workers=-1)
+    R = np.fft.irfft2(P, shape)
     R /= R[0, 0]
     hy, hx = ny // 2, nx // 2
     acf = np.concatenate([R[-hy:], R[: hy + 1]], axis=0)
@@ -78,59 +77,64 @@ def autocorrelation(z):
     return acf, P, shape
 
 
-def _crossing(acf, iy, ix, s, step=0.05):
-    """Distance [pixels] from the centre along the ray through pixel (iy, ix) at which the
-    bilinear f_ACF first falls below s (outward from the centre)."""
-    from scipy.ndimage import map_coordinates
-
-    cy, cx = (acf.shape[0] - 1) // 2, (acf.shape[1] - 1) // 2
-    r_end = np.hypot(iy - cy, ix - cx)
-    if r_end == 0:
-        return 0.0
-    t = np.arange(0.0, r_end + step / 2, step) / r_end
-    vals = map_coordinates(acf, [cy + t * (iy - cy), cx + t * (ix - cx)], order=1)
-    below = np.flatnonzero(vals < s)
-    if below.size == 0:
-        return float(r_end)
-    k = below[0]
-    if k == 0:
-        return 0.0
-    f = (vals[k - 1] - s) / (vals[k - 1] - vals[k])
-    return float((t[k - 1] + f * (t[k] - t[k - 1])) * r_end)
+def _fast_len(n):
+    """Smallest 2^a 3^b 5^c >= n (a fast FFT length)."""
+    best = 1 << int(np.ceil(np.log2(n)))
+    p5 = 1
+    while p5 < best:
+        p35 = p5
+        while p35 < best:
+            p = p35
+            while p < n:
+                p *= 2
+            best = min(best, p)
+            p35 *= 3
+        p5 *= 5
+    return best
 
 
-def _decay_lengths(acf, dy, dx, s):
-    """(Sal, longest decay, touches_edge) [m] of a centred f_ACF with pixel spacings dy, dx."""
-    from scipy import ndimage as ndi
-
-    ny, nx = acf.shape
-    cy, cx = (ny - 1) // 2, (nx - 1) // 2
-    lab, _ = ndi.label(acf >= s)
-    centre = lab == lab[cy, cx]
-    yy, xx = np.mgrid[0:ny, 0:nx]
-    dist = np.hypot((yy - cy) * dy, (xx - cx) * dx)
-    out = ~centre
-    if not out.any():
-        return None, None, True
-    # nearest points outside the central region: refine along a few rays
-    d_out = np.where(out, dist, np.inf).ravel()
-    near = np.argsort(d_out)[:16]
-    sal = min(_ray(acf, i // nx, i % nx, dy, dx, s) for i in near)
-    edge = centre[0].any() or centre[-1].any() or centre[:, 0].any() or centre[:, -1].any()
-    d_in = np.where(centre, dist, -np.inf).ravel()
-    far = np.argsort(d_in)[::-1][:16]
-    longest = max(_ray(acf, i // nx, i % nx, dy, dx, s) for i in far)
-    return sal, longest, bool(edge)
+def _bilinear(img, y, x):
+    """Bilinear interpolation of ``img`` at fractional (row, column) positions inside it."""
+    y0 = np.clip(np.floor(y).astype(np.int64), 0, img.shape[0] - 2)
+    x0 = np.clip(np.floor(x).astype(np.int64), 0, img.shape[1] - 2)
+    fy, fx = y - y0, x - x0
+    return ((1 - fy) * ((1 - fx) * img[y0, x0] + fx * img[y0, x0 + 1])
+            + fy * ((1 - fx) * img[y0 + 1, x0] + fx * img[y0 + 1, x0 + 1]))
 
 
-def _ray(acf, iy, ix, dy, dx, s):
-    """:func:`_crossing` in metres (the ray's pixel length converted with its direction)."""
-    cy, cx = (acf.shape[0] - 1) // 2, (acf.shape[1] - 1) // 2
-    r_px = np.hypot(iy - cy, ix - cx)
-    if r_px == 0:
-        return 0.0
-    r_m = np.hypot((iy - cy) * dy, (ix - cx) * dx)
-    return _crossing(acf, iy, ix, s) * r_m / r_px
+def _decay_lengths(acf, dy, dx, s, step_deg=0.5):
+    """Along rays from the origin every ``step_deg`` (the ACF is even: 0 to 180 degrees), the
+    first lag distance [m] at which the bilinear f_ACF falls below s.
+
+    Returns
+    -------
+    (Sal or None, longest decay among the rays that decay, longest lag reached by a ray that
+    does not decay or None)
+    """
+    hy, hx = (acf.shape[0] - 1) // 2, (acf.shape[1] - 1) // 2
+    theta = np.radians(np.arange(0.0, 180.0, step_deg))
+    c, sn = np.cos(theta), np.sin(theta)
+    with np.errstate(divide="ignore"):
+        r_max = np.minimum(np.where(c != 0, hx * dx / np.abs(c), np.inf),
+                           np.where(sn != 0, hy * dy / np.abs(sn), np.inf))      # [m]
+    dr = 0.25 * min(dx, dy)
+    r = np.arange(0.0, r_max.max() + dr, dr)
+    inside = r[None, :] <= r_max[:, None] * (1 + 1e-12)
+    rr = np.minimum(r[None, :], r_max[:, None])
+    vals = _bilinear(acf, hy + rr * sn[:, None] / dy, hx + rr * c[:, None] / dx)
+    below = (vals < s) & inside
+    hit = below.any(axis=1)
+    k = np.argmax(below, axis=1)
+    k = np.maximum(k, 1)
+    rows = np.arange(theta.size)
+    v0, v1 = vals[rows, k - 1], vals[rows, k]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        f = np.clip((v0 - s) / (v0 - v1), 0.0, 1.0)
+    d = r[k - 1] + f * dr
+    if not hit.any():
+        return None, None, float(r_max.max())
+    open_ = float(r_max[~hit].max()) if (~hit).any() else None
+    return float(d[hit].min()), float(d[hit].max()), open_
 
 
 def _texture_direction(P, shape, dy, dx, step_deg=0.25):
@@ -139,8 +143,6 @@ def _texture_direction(P, shape, dy, dx, step_deg=0.25):
     r dr, sampled along each ray by bilinear interpolation (rays, not lattice sectors: a
     sector of 1 degree holds lattice points unevenly at small |q|, which would favour the
     axes and diagonals)."""
-    from scipy.ndimage import map_coordinates
-
     ny = shape[0]
     Ps = np.fft.fftshift(P, axes=0)                       # rows: ky from -ny/2
     dqy, dqx = 1.0 / (shape[0] * dy), 1.0 / (shape[1] * dx)
@@ -152,7 +154,7 @@ def _texture_direction(P, shape, dy, dx, step_deg=0.25):
     sign = np.where(c < 0, -1.0, 1.0)                     # P(q) = P(-q): keep qx >= 0
     kx = sign * c * r[None, :] / dqx
     ky = sign * s * r[None, :] / dqy + ny // 2
-    vals = map_coordinates(Ps, [ky.ravel(), kx.ravel()], order=1, mode="nearest").reshape(kx.shape)
+    vals = _bilinear(Ps, ky, kx)
     aps = (vals * r[None, :]).sum(axis=1)
     k = int(np.argmax(aps))
     n = aps.size
@@ -189,14 +191,14 @@ def spatial_parameters(heights_m, dx_m, dy_m, s=S_THRESHOLD):
         k += 1
     how = "whole field"
     acf, P, shape = autocorrelation(z[::k, ::k])
-    sal, longest, edge = _decay_lengths(acf, dy_m * k, dx_m * k, s)
+    sal, longest, open_ = _decay_lengths(acf, dy_m * k, dx_m * k, s)
     std = _texture_direction(P, shape, dy_m * k, dx_m * k)
     if k > 1:
         how = f"points of one row and column in {k}"
         if sal is not None and sal < 10 * k * min(dx_m, dy_m):
             y0, x0 = max(0, (ny - MAX_SIDE) // 2), max(0, (nx - MAX_SIDE) // 2)
             acf, _, _ = autocorrelation(z[y0:y0 + MAX_SIDE, x0:x0 + MAX_SIDE])
-            sal, longest, edge = _decay_lengths(acf, dy_m, dx_m, s)
+            sal, longest, open_ = _decay_lengths(acf, dy_m, dx_m, s)
             how = f"central {min(ny, MAX_SIDE)} x {min(nx, MAX_SIDE)} points at full resolution"
     note = f"autocorrelation (s = {s:g}) over the {how}"
     if sal is None:
@@ -204,10 +206,12 @@ def spatial_parameters(heights_m, dx_m, dy_m, s=S_THRESHOLD):
                 "spatial_note": note + "; it does not decay to s within half the field: "
                                        "Sal and Str undefined (field too small)"}
     ratio = sal / longest if longest > 0 else None
-    if edge:
-        if ratio is not None and ratio < STR_ANISOTROPIC:
-            note += (f"; along the lay it has not decayed to s within half the field: Str is an "
-                     f"upper bound (strongly anisotropic)")
+    if open_ is not None:
+        bound = sal / open_
+        if bound < STR_ANISOTROPIC:
+            ratio = bound
+            note += ("; along the lay it has not decayed to s within half the field: Str is an "
+                     "upper bound (strongly anisotropic)")
         else:
             note += ("; along its slowest direction it has not decayed to s within half the "
                      "field: too small to decide the texture aspect ratio, Str null")
