@@ -128,7 +128,17 @@ def signals_as_interrupt(restore=True):
     parent set to be ignored stays ignored (``nohup`` ignores SIGHUP). Outside the main thread
     this does nothing (Python allows handlers only there). With ``restore`` the handlers, the
     logging switch and ``sys.unraisablehook`` are as before after the block (a program calling
-    ``main()``); the command line passes False (the process ends with the block)."""
+    ``main()``); the command line passes False (the process ends with the block).
+
+    Parameters
+    ----------
+    restore : bool, optional
+        Restore the handlers after the block.
+
+    Yields
+    ------
+    None
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return

@@ -138,7 +138,20 @@ def collecting(into=None, prefix=None):
     """A scope of its own for warnings: ``with collecting() as w: ...`` records every
     :func:`warn` inside into ``w`` (a :class:`Warnings`; ``into`` re-enters a given one). On
     leaving, the lines are also handed to the enclosing scope (not printed again), so a
-    command that runs several scans still sees them all."""
+    command that runs several scans still sees them all.
+
+    Parameters
+    ----------
+    into : Warnings, optional
+        Collector to re-enter.
+    prefix : str, optional
+        Program name.
+
+    Yields
+    ------
+    Warnings
+        The scope's collector.
+    """
     parent = _CURRENT.get()
     w = into if into is not None else Warnings(prefix or (parent.prefix if parent else "roadscan"))
     token = _CURRENT.set(w)

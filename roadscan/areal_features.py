@@ -91,7 +91,24 @@ def _saddles(z, lab, m):
 def prominences(z):
     """(flattened summit indices, their prominence [m]) of every local maximum of ``z``: the
     height of the summit above the highest saddle through which a higher summit is reached
-    (infinite for the highest). Module docstring: the change tree over the hill graph."""
+    (infinite for the highest). Module docstring: the change tree over the hill graph.
+
+    Parameters
+    ----------
+    z : ndarray, shape (ny, nx)
+        Heights [m].
+
+    Returns
+    -------
+    summits : ndarray of int
+        Flattened indices of the local maxima.
+    prominence : ndarray
+        Their prominence [m].
+
+    References
+    ----------
+    ISO 25178-2:2021, 5.4 (feature parameters, Wolf pruning by prominence).
+    """
     lab, summits = _hill_labels(z)
     m = summits.size
     top = z.ravel()[summits]
