@@ -137,7 +137,7 @@ def _spectrum_input(analysis):
 
 
 def texture_keys(analysis, settings=None, mpd_settings=None):
-    """The issue-21 ``summary.json`` keys of one analysed scan and its texture spectrum.
+    """The road-texture ``summary.json`` keys of one analysed scan and its texture spectrum.
 
     Returns
     -------
