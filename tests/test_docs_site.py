@@ -1,0 +1,45 @@
+"""The documentation site's sources: the API pages name the entry points the site must
+document, and the gallery has examples that draw figures. (The site itself is built by CI:
+``sphinx-build -W -b html docs OUT``.)"""
+import ast
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs"
+
+
+def test_api_pages_name_the_entry_points():
+    text = {p.stem: p.read_text() for p in (DOCS / "api").glob("*.rst")}
+    assert "pipelines.analyse" in text["pipelines"]
+    assert re.search(r"^\s+mu_isothermal$", text["friction"], flags=re.M)
+    assert re.search(r"^\s+mu_flash$", text["friction"], flags=re.M)
+    assert re.search(r"^\s+psd_area$", text["roadscan"], flags=re.M)
+
+
+def test_the_documented_names_exist():
+    import friction
+    import pipelines
+    import roadscan
+
+    assert callable(pipelines.analyse) and callable(roadscan.psd_area)
+    assert callable(friction.mu_isothermal) and callable(friction.mu_flash)
+    assert "psd_area" in roadscan.__all__
+
+
+def test_gallery_examples_draw_figures_and_parse():
+    examples = sorted((DOCS / "examples").glob("plot_*.py"))
+    assert len(examples) >= 3
+    for path in examples:
+        src = path.read_text()
+        tree = ast.parse(src)
+        assert ast.get_docstring(tree), path.name          # the title block of the page
+        assert "plt.subplots" in src or "plt.figure" in src, path.name
+
+
+def test_ci_builds_the_site_after_the_tests():
+    lines = [l for l in (ROOT / ".ci" / "run").read_text().splitlines()
+             if l.strip() and not l.startswith("#")]
+    test_line = next(i for i, l in enumerate(lines) if "pytest" in l)
+    build_line = next(i for i, l in enumerate(lines) if "sphinx-build -W" in l)
+    assert build_line > test_line and ".[docs]" in lines[build_line]
