@@ -14,17 +14,14 @@ failure is reported exactly as without the helper. :class:`InProcess` is the sam
 without a helper (``roadscan batch`` workers, library use, one core, or
 ``ROADSCAN_FIGURE_PROCESS=0``).
 
-Protocol: pickled ``(module, function name, args, kwargs)`` on the helper's stdin, one pickled
-``("ok", result)`` or ``("error", message)`` back on a private copy of its stdout (the helper's
-own ``sys.stdout`` goes to its stderr, so a stray print cannot corrupt the stream).
+The helper is a :class:`concurrent.futures.ProcessPoolExecutor` with one worker, started
+with the ``spawn`` method (a fresh interpreter: nothing of this process's open files, locks or
+threads is inherited) as soon as the drawer is made; its initializer imports matplotlib.
 """
 from __future__ import annotations
 
 import os
-import pickle
-import subprocess
 import sys
-from pathlib import Path
 
 __all__ = ["InProcess", "FigureProcess", "figure_drawer"]
 
@@ -66,7 +63,7 @@ class InProcess:
 
 
 class FigureProcess(InProcess):
-    """Figures drawn by a helper Python process (see the module docstring).
+    """Figures drawn by a helper process (see the module docstring).
 
     Attributes
     ----------
@@ -76,81 +73,64 @@ class FigureProcess(InProcess):
 
     def __init__(self):
         super().__init__()
-        root = str(Path(__file__).resolve().parents[1])
-        env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-            [root, *[p for p in os.environ.get("PYTHONPATH", "").split(os.pathsep) if p]]))
-        self._pending = []            # (fn, args, kwargs) sent and not yet answered
+        self._pending = []            # (future, fn, args, kwargs) submitted, not yet collected
+        self._pool = self._proc = None
         try:
-            self._proc = subprocess.Popen([sys.executable, "-m", "pipelines.figure_process"],
-                                          stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                          stderr=subprocess.DEVNULL, env=env)
-        except OSError:
-            self._proc = None
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            self._pool = ProcessPoolExecutor(max_workers=1, initializer=_warm_up,
+                                             mp_context=multiprocessing.get_context("spawn"))
+            self._pool.submit(os.getpid)          # starts the worker now (it imports matplotlib)
+            self._proc = next(iter(getattr(self._pool, "_processes", {}).values()), None)
+        except (OSError, RuntimeError, ValueError, ImportError):
+            self._stop()
 
     def submit(self, fn, *args, **kwargs):
-        if self._proc is not None:
+        if self._pool is not None:
             try:
-                pickle.dump((fn.__module__, fn.__name__, args, kwargs), self._proc.stdin,
-                            protocol=pickle.HIGHEST_PROTOCOL)
-                self._proc.stdin.flush()
-                self._pending.append((fn, args, kwargs))
+                self._pending.append((self._pool.submit(fn, *args, **kwargs), fn, args, kwargs))
                 return
-            except (OSError, pickle.PicklingError, AttributeError, TypeError):
+            except RuntimeError:      # BrokenProcessPool included: the helper is gone
                 self._stop()
         self._flush_locally()
         super().submit(fn, *args, **kwargs)
 
     def collect(self):
-        while self._pending:
-            fn, args, kwargs = self._pending[0]
-            reply = None
-            if self._proc is not None:
-                try:
-                    reply = pickle.load(self._proc.stdout)
-                except Exception:  # noqa: BLE001 - the helper died: draw the rest here
-                    self._stop()
-            self._pending.pop(0)
-            if reply is not None and reply[0] == "ok":
-                self._done.append(reply[1])
-            else:                   # a figure that failed in the helper fails here, as usual
+        pending, self._pending = self._pending, []
+        for future, fn, args, kwargs in pending:
+            try:
+                self._done.append(future.result())
+            except Exception:  # noqa: BLE001 - failed or died in the helper: drawn (or failing) here
                 self._done.append(fn(*args, **kwargs))
         return super().collect()
 
     def discard(self):
-        while self._pending and self._proc is not None:
-            self._pending.pop(0)
-            try:
-                pickle.load(self._proc.stdout)
-            except Exception:  # noqa: BLE001
-                self._stop()
-        self._pending = []
+        pending, self._pending = self._pending, []
+        for future, *_ in pending:    # wait: no figure is still being written after this
+            future.exception()
         super().discard()
 
     def _flush_locally(self):
         pending, self._pending = self._pending, []
-        for fn, args, kwargs in pending:
-            self._done.append(fn(*args, **kwargs))
-
-    def _stop(self, wait=True):
-        proc, self._proc = self._proc, None
-        if proc is None:
-            return
-        for f in (proc.stdin, proc.stdout):
+        for future, fn, args, kwargs in pending:
             try:
-                f.close()
-            except OSError:
-                pass
-        if not wait:       # it ends on the closed stdin; subprocess reaps it later (no zombie
-            return         # is waited for: its interpreter's shutdown took 0.1 s of the command)
-        try:
-            proc.wait(timeout=5)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+                self._done.append(future.result())
+            except Exception:  # noqa: BLE001
+                self._done.append(fn(*args, **kwargs))
+
+    def _stop(self):
+        pool, self._pool = self._pool, None
+        proc, self._proc = self._proc, None
+        if pool is None:
+            return
+        pool.shutdown(wait=False, cancel_futures=True)
+        if proc is not None and proc.is_alive():   # idle or importing: not waited for at exit
+            proc.terminate()
 
     def close(self):
         self._pending = []
-        self._stop(wait=False)
+        self._stop()
         super().close()
 
 
@@ -182,36 +162,12 @@ def figure_drawer(figures=True):
     return InProcess()
 
 
-def _serve():
-    import importlib
+def _warm_up():
+    """The helper's initializer: matplotlib imported while the parent computes; warnings off."""
     import warnings
 
-    out = os.fdopen(os.dup(sys.stdout.fileno()), "wb")
-    os.dup2(sys.stderr.fileno(), sys.stdout.fileno())   # prints go to stderr, not the replies
     warnings.simplefilter("ignore")
+    sys.stdout = sys.stderr              # a stray print never mixes into the command's output
     from . import report
 
-    report.pyplot()                      # import matplotlib now, while the parent computes
-    inp = sys.stdin.buffer
-    while True:
-        try:
-            module, name, args, kwargs = pickle.load(inp)
-        except (EOFError, OSError, ValueError, pickle.UnpicklingError):
-            return
-        try:
-            fn = getattr(importlib.import_module(module), name)
-            reply = ("ok", fn(*args, **kwargs))
-        except Exception as exc:  # noqa: BLE001 - the parent draws this figure itself
-            reply = ("error", f"{type(exc).__name__}: {exc}")
-        try:
-            pickle.dump(reply, out, protocol=pickle.HIGHEST_PROTOCOL)
-            out.flush()
-        except (OSError, pickle.PicklingError):
-            return
-
-
-if __name__ == "__main__":
-    try:
-        _serve()
-    except KeyboardInterrupt:
-        pass
+    report.pyplot()

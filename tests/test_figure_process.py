@@ -47,8 +47,8 @@ def test_results_in_order_and_a_dead_helper_falls_back():
         d.submit(math.hypot, 5, 12)
         assert d.collect() == [5.0, 13.0]
         d.submit(math.hypot, 8, 15)
-        d._proc.kill()
-        d._proc.wait()
+        d._proc.kill()                      # the helper process dies
+        d._proc.join()
         d.submit(math.hypot, 6, 8)          # cannot be sent: drawn here, after the pending one
         assert d.collect() == [17.0, 10.0]
 
