@@ -13,7 +13,7 @@ import os
 from roadscan.errors import InputError
 
 __all__ = ["add_analysis_options", "analysis_kwargs", "options_from_kwargs", "parse_fit_band",
-           "add_resolution_option", "check_resolution"]
+           "add_resolution_option", "check_resolution", "add_spectrum_options", "spectrum_kwargs"]
 
 
 def add_analysis_options(p):
@@ -34,16 +34,34 @@ def add_analysis_options(p):
     from .texture_outputs import add_texture_options
 
     add_scan_options(p)
-    p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
-    p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
-                   help="self-affine fit band [1/m] (default: detected)")
-    p.add_argument("--despike", action="store_true", help="mark spikes as unmeasured before levelling")
+    add_spectrum_options(p, resolution=False)
     p.add_argument("--mpd-spike-alpha", type=float, default=None, metavar="ALPHA",
                    help="MPD spike criterion |dh| >= ALPHA x sampling interval (ISO 13473-1 "
                         "default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep)")
     add_resolution_option(p)
     add_texture_options(p)    # --direction, --friction-measurement, --ifi-constants
     add_friction_options(p)
+
+
+def add_spectrum_options(p, resolution=True):
+    """--window-alpha, --fit-band, --despike (and --resolution): how a scan becomes its
+    spectrum, band and fit (:func:`pipelines.chain.measure`); analyse, batch, compare and
+    dry-vs-wet take the very same."""
+    p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
+    p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
+                   help="self-affine fit band [1/m] (default: detected)")
+    p.add_argument("--despike", action="store_true", help="mark spikes as unmeasured before levelling")
+    if resolution:
+        add_resolution_option(p)
+
+
+def spectrum_kwargs(args):
+    """Checked keyword arguments of :func:`pipelines.chain.measure` from
+    :func:`add_spectrum_options` (one-line InputError naming the flag)."""
+    if not 0 <= args.window_alpha <= 1:
+        raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
+    return {"window_alpha": args.window_alpha, "fit_band": parse_fit_band(args.fit_band),
+            "despike": bool(args.despike), "resolution_m": check_resolution(args.resolution)}
 
 
 def add_resolution_option(p):
@@ -122,9 +140,7 @@ def analysis_kwargs(args):
     -------
     dict
     """
-    if not 0 <= args.window_alpha <= 1:
-        raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
-    band = parse_fit_band(args.fit_band)
+    sk = spectrum_kwargs(args)
     mpd = None
     if args.mpd_spike_alpha is not None:
         if not args.mpd_spike_alpha > 0:
@@ -132,9 +148,9 @@ def analysis_kwargs(args):
         mpd = {"spike_alpha": args.mpd_spike_alpha}
     from .texture_outputs import texture_settings_from_args
 
-    res = check_resolution(getattr(args, "resolution", None))
-    return {"window_alpha": args.window_alpha, "fit_band": band, "despike": args.despike,
-            "mpd_settings": mpd, "texture": texture_settings_from_args(args), "resolution_m": res}
+    return {"window_alpha": sk["window_alpha"], "fit_band": sk["fit_band"], "despike": sk["despike"],
+            "mpd_settings": mpd, "texture": texture_settings_from_args(args),
+            "resolution_m": sk["resolution_m"]}
 
 
 class _Parser(argparse.ArgumentParser):

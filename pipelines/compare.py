@@ -70,11 +70,13 @@ def friction_difference(v, mu_ref, mu):
             "mu_peak_ratio": float(mu.max() / mu_ref.max())}
 
 
-def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolution_m=None):
+def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolution_m=None,
+                fit_band=None, despike=False):
     """Compare scans (HeightMaps or Profiles); write PNGs, report.html and comparison.json.
 
     Each scan goes through the one chain (:mod:`pipelines.chain`): its reliable band (lateral
-    resolution ``resolution_m`` [m], default the file's metadata), its fit, and friction with
+    resolution ``resolution_m`` [m], default the file's metadata), its fit (over ``fit_band``
+    when given; ``despike`` as analyse), and friction with
     every option of ``settings`` on the first scan's speeds; mu(v) is the one ``roadscan
     analyse`` gives for that scan. A scan whose band's fine end is not trusted has no mu
     (``friction_refused`` says why).
@@ -104,7 +106,8 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    pairs = [measure(s, window_alpha=window_alpha, resolution_m=resolution_m) for s in scans]
+    pairs = [measure(s, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
+                     resolution_m=resolution_m) for s in scans]
     analyses = [an for an, _ in pairs]
     outcomes = []
     if settings.enabled:

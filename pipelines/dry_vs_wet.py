@@ -57,12 +57,14 @@ def speed_table(v_m_per_s):
 
 
 def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=None,
-                   water_film_m=None, window_alpha=0.25, resolution_m=None):
+                   water_film_m=None, window_alpha=0.25, resolution_m=None, fit_band=None,
+                   despike=False):
     """Compute and write the dry-vs-wet comparison; returns the ``comparison.json`` dict.
 
     Both surfaces go through the one chain (:mod:`pipelines.chain`) with every friction option
     of ``settings``: the dry mu(v) is the one ``roadscan analyse`` gives for the scan (its
-    reliable band, lateral resolution ``resolution_m`` [m] or the file's, and fit); the wet
+    reliable band, lateral resolution ``resolution_m`` [m] or the file's, and fit, over
+    ``fit_band`` when given; ``despike`` marks the dry scan's spikes as analyse does); the wet
     spectrum is integrated over the dry band with the dry fit, so that only the surface changes.
 
     Parameters
@@ -100,7 +102,8 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     dry = level.level(scan, degree=1)
     rain = rain_fill(dry, connectivity=connectivity, max_depth_m=max_depth_m, water_film_m=water_film_m)
     wet = rain.wet
-    an_dry, rb_dry = measure(dry, window_alpha=window_alpha, resolution_m=resolution_m)
+    an_dry, rb_dry = measure(dry, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
+                             resolution_m=resolution_m)
     an_wet = analyse_surface(wet, window_alpha=window_alpha)
 
     atomic_save_npy(out_dir / "wet.npy", wet.heights_m)   # NaN where unmeasured

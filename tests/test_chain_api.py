@@ -76,13 +76,16 @@ def test_every_door_gives_the_same_mu(scan, tmp_path):
     import pipelines
 
     out = tmp_path
-    _run(["analyse", scan, "--spacing", DX, "--no-figures", "--out", out / "a", *FLAGS])
+    scan_flags = ["--spacing", DX, "--window-alpha", "0.3", "--resolution", "4e-4", *FLAGS]
+    _run(["analyse", scan, "--no-figures", "--out", out / "a", *scan_flags])
     ref = _mu_csv(out / "a" / "mu.csv")
+    assert json.loads((out / "a" / "summary.json").read_text())["reliable_band_reasons"]["hi"] \
+        .startswith("lateral resolution")                      # the flag shaped the band
     _run(["friction", "--psd", out / "a" / "psd.csv", "--out", out / "f" / "mu.csv", *FLAGS])
-    _run(["compare", scan, scan, "--spacing", DX, "--out", out / "c", *FLAGS])
-    _run(["dry-vs-wet", scan, "--spacing", DX, "--out", out / "w", *FLAGS])
+    _run(["compare", scan, scan, "--out", out / "c", *scan_flags])
+    _run(["dry-vs-wet", scan, "--out", out / "w", *scan_flags])
     # the campaign's mu.csv (its report's exit code is the campaign tests' business)
-    main([str(a) for a in ["batch", scan, "--spacing", DX, "--workers", "1", "--out", out / "b", *FLAGS]])
+    main([str(a) for a in ["batch", scan, "--workers", "1", "--out", out / "b", *scan_flags]])
     comp = json.loads((out / "c" / "comparison.json").read_text())
     first = next(iter(comp.values()))["mu"]
     doors = {
@@ -90,7 +93,8 @@ def test_every_door_gives_the_same_mu(scan, tmp_path):
         "compare": np.array(list(first.values())),
         "dry-vs-wet": _mu_csv(out / "w" / "mu.csv"),
         "batch": _mu_csv(out / "b" / "s" / "mu.csv"),
-        "pipelines.analyse": pipelines.analyse(scan, spacing=DX, **OPTIONS).mu,
+        "pipelines.analyse": pipelines.analyse(scan, spacing=DX, window_alpha=0.3, resolution=4e-4,
+                                               **OPTIONS).mu,
     }
     for door, mu in doors.items():
         np.testing.assert_allclose(mu, ref, rtol=1e-6, err_msg=door)

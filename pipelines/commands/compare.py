@@ -15,9 +15,9 @@ def add_arguments(p):
     p.add_argument("scans", nargs="+", metavar="SCAN", help="two or more height files (the first is the reference)")
     p.add_argument("--out", required=True, metavar="DIR")
     add_scan_options(p)
-    from ..analyse_options import add_resolution_option
+    from ..analyse_options import add_spectrum_options
 
-    add_resolution_option(p)
+    add_spectrum_options(p)        # --window-alpha, --fit-band, --despike, --resolution
     add_friction_options(p)
 
 
@@ -30,14 +30,14 @@ def run(args):
 
     check_output_dir(args.out, inputs=args.scans)
     settings = settings_from_args(args)
-    from ..analyse_options import check_resolution
+    from ..analyse_options import spectrum_kwargs
 
-    res = check_resolution(args.resolution)
+    sk = spectrum_kwargs(args)
     scans = [load_scan(f, args) for f in args.scans]
     names = _unique_dirs(args.scans)
     try:
         with atomic_output_dir(args.out, inputs=args.scans) as tmp:
-            r = run_compare(scans, names, tmp, settings, resolution_m=res)
+            r = run_compare(scans, names, tmp, settings, **sk)
     except ValueError as exc:
         raise InputError(None, str(exc)) from None
     from ..headline import hurst_text, peak_text

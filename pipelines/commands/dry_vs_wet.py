@@ -16,9 +16,9 @@ def add_arguments(p):
     p.add_argument("--out", required=True, metavar="DIR")
     add_scan_options(p)
     add_water_options(p)
-    from ..analyse_options import add_resolution_option
+    from ..analyse_options import add_spectrum_options
 
-    add_resolution_option(p)
+    add_spectrum_options(p)        # --window-alpha, --fit-band, --despike, --resolution
     add_friction_options(p)
 
 
@@ -30,15 +30,15 @@ def run(args):
     check_water_options(args)
     check_output_dir(args.out, inputs=[args.scan])
     settings = settings_from_args(args)
-    from ..analyse_options import check_resolution
+    from ..analyse_options import spectrum_kwargs
 
-    res = check_resolution(args.resolution)
+    sk = spectrum_kwargs(args)
     scan = load_scan(args.scan, args)
     try:
         with atomic_output_dir(args.out, inputs=[args.scan]) as tmp:
             r = run_dry_vs_wet(scan, tmp, settings, connectivity=args.connectivity,
                                max_depth_m=args.max_depth, water_film_m=args.water_film,
-                               resolution_m=res)
+                               **sk)
     except InputError as exc:
         if "out" in exc.hint_option or str(exc.path or "").startswith(str(args.out)):
             raise                          # about the output, which it names: not the scan

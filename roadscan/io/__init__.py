@@ -28,7 +28,7 @@ __all__ = [
 ]
 
 
-def read(path, spacing=None, units=None, calibration="strict", channel=None):
+def read(path, spacing=None, units=None, calibration="strict", channel=None, x_units=None):
     """Read a height map or line profile, choosing the reader by the file's extension.
 
     Parameters
@@ -48,6 +48,10 @@ def read(path, spacing=None, units=None, calibration="strict", channel=None):
         Page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or channel (index or
         name) of an instrument file with several; recorded in ``meta["channel"]``. Images with
         several pages or channels are refused without it.
+    x_units : {"m", "mm", "um", "nm"}, optional
+        Unit of the x (and y) columns of an x,z or x,y,z text file without unit titles; by
+        default they are in ``units``, a reading checked by :mod:`roadscan.io.text_units`.
+        Refused for other files.
 
     Returns
     -------
@@ -69,17 +73,23 @@ def read(path, spacing=None, units=None, calibration="strict", channel=None):
     reader = READERS.get(ext)
     if units is not None:
         parse_units(units, path)
+    if x_units is not None:
+        parse_units(x_units, path)
     resolve_spacing(spacing, path)
     try:
         if reader is None:          # unknown extension: the content decides (roadscan/io/detect.py)
             from .detect import read_by_content
 
-            with calibration_policy(calibration):
+            with calibration_policy(calibration, x_units):
                 return read_by_content(path, READERS, spacing=spacing, units=units,
                                        channel=None if channel is None else _channel_value(channel))
         extra = {} if channel is None else {"channel": _channel_option(path, reader, channel)}
-        with calibration_policy(calibration):
-            return reader(path, spacing=spacing, units=units, **extra)
+        with calibration_policy(calibration, x_units):
+            obj = reader(path, spacing=spacing, units=units, **extra)
+        if x_units is not None and "coordinate_unit" not in obj.meta:
+            raise InputError(path, "{x_units} applies to x,z and x,y,z text files without unit "
+                                   "titles only", "x_units")
+        return obj
     except InputError:
         raise
     except (MemoryError, KeyboardInterrupt):
