@@ -2,12 +2,12 @@
 
 ``--uncertain q1=LO:HI,sigma0=LO:HI,psd_scale=LO:HI,temperature=LO:HI`` (any subset)::
 
-``q1``          the spectrum's upper cut-off [1/m] (the engine continues C(q) as its fitted
-                power law beyond the tabulated data, ``psd.with_q1``)
-``sigma0``      the nominal pressure, with units as ``--sigma0`` (``0.15MPa:0.3MPa``)
-``psd_scale``   a factor on C(q) (instrument level; h_rms scales as its square root)
-``temperature`` the background temperature T0 [C] of every row (a shift of all rows by the same
-                amount when rows carry their own T0_C)
+    ``q1``          the spectrum's upper cut-off [1/m] (the engine continues C(q) as its fitted
+                    power law beyond the tabulated data, ``psd.with_q1``)
+    ``sigma0``      the nominal pressure, with units as ``--sigma0`` (``0.15MPa:0.3MPa``)
+    ``psd_scale``   a factor on C(q) (instrument level; h_rms scales as its square root)
+    ``temperature`` the background temperature T0 [C] of every row (a shift of all rows by the same
+                    amount when rows carry their own T0_C)
 
 ``q1=known`` (or ``q1=Q:Q``) declares q1 known. The calibration is a pseudo-effect named
 ``calibration`` whose parameters are the uncertain inputs within their ranges, its "no effect"
