@@ -41,6 +41,11 @@ def add_scan_options(parser):
              "text files without unit titles (default m)",
     )
     parser.add_argument(
+        "--x-units", choices=_UNITS, default=None,
+        help="units of the x (and y) columns of an x,z or x,y,z text file without unit titles, "
+             "when they differ from --units (e.g. x in m, heights in mm)",
+    )
+    parser.add_argument(
         "--override-calibration", action="store_true",
         help="let --spacing/--units replace the spacing/units a file carries (X3P, vendor, .npz "
              "with dx/dy...; refused otherwise); recorded as calibration_override in summary.json",
@@ -74,8 +79,12 @@ def read_options(args=None, spacing=None, units=None, calibration=None, channel=
         channel = getattr(args, "channel", None) if channel is None else channel
         if calibration is None and getattr(args, "override_calibration", False):
             calibration = "override"
-    return {"spacing": spacing, "units": units, "calibration": calibration or "strict",
+    opts = {"spacing": spacing, "units": units, "calibration": calibration or "strict",
             "channel": channel}
+    x_units = getattr(args, "x_units", None) if args is not None else None
+    if x_units is not None:               # text coordinates' own unit (roadscan.io.read x_units)
+        opts["x_units"] = x_units
+    return opts
 
 
 def load_scan(path, args=None, spacing=None, units=None, calibration=None, channel=None):

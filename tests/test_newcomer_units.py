@@ -118,6 +118,10 @@ def test_units_on_metre_coordinates_refused_naming_a_title_line(tmp_path):
     with pytest.raises(InputError) as e:
         read(tmp_path / "p.txt", units="mm")
     assert "x (m), z (mm)" in str(e.value) and "\n" not in str(e.value)
+    assert "'x_units' m" in str(e.value)
+    given = read(tmp_path / "p.txt", units="mm", x_units="m")     # x's own unit stated
+    assert given.dx_m == pytest.approx(0.05e-3, rel=1e-6)
+    np.testing.assert_allclose(given.heights_m, np.round(z, 9) * 1e-3, atol=1e-12)
     with open(tmp_path / "t.txt", "w") as f:
         f.write("x (m), z (mm)\n")
         for a, b in zip(x, z):
@@ -157,3 +161,30 @@ def test_line_rms_removes_a_line_and_a_plane():
     yy, xx = np.mgrid[0:60, 0:70].astype(float)
     zz = 1.0 + 0.5 * xx - 0.3 * yy + np.cos(xx + yy)
     assert line_rms(zz) == pytest.approx(np.sqrt(0.5), rel=0.05)
+
+
+def test_x_units_refused_where_it_means_nothing(tmp_path):
+    np.save(tmp_path / "a.npy", np.zeros((16, 16)))
+    with pytest.raises(InputError, match="x_units"):
+        read(tmp_path / "a.npy", spacing=1e-4, x_units="mm")
+    with open(tmp_path / "t.txt", "w") as f:                   # titles state x in mm
+        f.write("x (mm), z (mm)\n" + "".join(f"{0.05 * k:.3f}, {np.sin(k):.6f}\n" for k in range(100)))
+    with pytest.raises(InputError, match="title line states the coordinates in mm"):
+        read(tmp_path / "t.txt", x_units="m")
+    assert read(tmp_path / "t.txt", x_units="mm").dx_m == pytest.approx(5e-5, rel=1e-6)
+
+
+def test_cli_x_units_reads_metre_coordinates_with_mm_heights(tmp_path, capsys):
+    rng = np.random.default_rng(4)
+    x = np.arange(4000) * 5e-5                                  # metres
+    z = np.cumsum(rng.normal(size=x.size)) * 0.01               # mm
+    np.savetxt(tmp_path / "p.csv", np.column_stack([x, z]), fmt="%.8g", delimiter=",")
+    out = tmp_path / "out"
+    rc, err = run_cli(capsys, ["analyse", tmp_path / "p.csv", "--out", out, "--units", "mm",
+                               "--no-friction", "--no-figures"])
+    assert_one_line_error(rc, err, words=["--x-units m"])
+    rc, err = run_cli(capsys, ["analyse", tmp_path / "p.csv", "--out", out, "--units", "mm",
+                               "--x-units", "m", "--no-friction", "--no-figures"])
+    assert rc == 0, err
+    s = json.loads((out / "summary.json").read_text())
+    assert s["spacing_m"] == [pytest.approx(5e-5, rel=1e-6)]

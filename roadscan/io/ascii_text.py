@@ -188,13 +188,24 @@ def _gwy_matrix(path, values, gwy, sp, factor, units, meta):
 
 def _column_factors(path, titles, ncol, factor, units, meta):
     """Scale factors to metres of each column: from the title line's units when it names them,
-    else every column (coordinates and heights) in ``units`` (default m), a reading checked by
-    :func:`_unstated_spacing`."""
+    else the coordinates in ``x_units`` (:func:`roadscan.io.read`) or, by default, with the heights
+    in ``units`` (default m), a reading checked by :func:`_unstated_spacing`."""
+    from .calibration import current_x_units
+
+    xu = current_x_units()
     if titles is not None:
+        if xu is not None and any(abs(parse_units(t, path) - unit_factor(xu, path)) > 1e-12
+                                  for t in titles[:-1]):
+            raise InputError(path, f"the title line states the coordinates in {titles[0]}: drop "
+                                   f"{{x_units}} {xu}", "x_units")
         meta["units"] = ",".join(titles)
+        meta["coordinate_unit"] = titles[0]
         factors = [parse_units(t, path) for t in titles]
         factors[-1] = pick_units(path, units, titles[-1], factors[-1], meta)
         return factors
+    if xu is not None:
+        meta["units"] = f"coordinates {xu}, heights {units or 'm'}"
+        return [unit_factor(xu, path)] * (ncol - 1) + [factor]
     meta["units"] = f"coordinates and heights {units or 'm'}"
     return [factor] * ncol
 
@@ -205,9 +216,12 @@ def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, w
     ``--spacing`` replaces the spacing inferred from the coordinates (with a note); without it
     the coordinates are read in ``units`` (default m), refused in one line when that reading is
     implausible for a profiler and another unit is plausible."""
+    from .calibration import current_x_units
     from .text_units import check_coordinate_units
 
     inferred = tuple(d * f for d, f in zip(d_file, factors))
+    xu = current_x_units()
+    meta["coordinate_unit"] = xu              # stated by x_units, else judged below
     if sp is not None:
         given = tuple(sp)[:len(inferred)]
         if any(abs(g - i) > 1e-6 * i for g, i in zip(given, inferred)):
@@ -218,8 +232,9 @@ def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, w
                 f"their unit)", "spacing"))
             meta["spacing_from"] = OptionNote("{spacing} (replacing the coordinates' step)", "spacing")
         return given
-    unit = check_coordinate_units(path, max(d_file), n_nodes, z_file, units, what)
-    meta["coordinate_unit"] = unit
+    if xu is None:
+        meta["coordinate_unit"] = check_coordinate_units(path, max(d_file), n_nodes, z_file, units,
+                                                         what)
     return inferred
 
 

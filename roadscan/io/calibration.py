@@ -25,21 +25,27 @@ from contextlib import contextmanager
 
 from ..errors import InputError, OptionNote
 
-__all__ = ["POLICIES", "calibration_policy", "current_policy", "pick_spacing", "pick_units"]
+__all__ = ["POLICIES", "calibration_policy", "current_policy", "current_x_units", "pick_spacing",
+           "pick_units"]
 
 POLICIES = ("strict", "override", "default")
 _POLICY = contextvars.ContextVar("roadscan_calibration_policy", default="strict")
+#: the unit of a text file's coordinate columns when no title states it (``x_units``)
+_X_UNITS = contextvars.ContextVar("roadscan_x_units", default=None)
 _REL = 1e-6
 
 
 @contextmanager
-def calibration_policy(policy):
+def calibration_policy(policy, x_units=None):
     """Context in which readers apply ``policy`` (one of :data:`POLICIES`).
 
     Parameters
     ----------
     policy : str
         One of :data:`POLICIES`.
+    x_units : str or None
+        Unit (m, mm, um, nm) of the coordinate columns of text files without unit titles
+        (``read(..., x_units=)``); None: the heights' unit (:mod:`roadscan.io.text_units`).
 
     Yields
     ------
@@ -48,10 +54,22 @@ def calibration_policy(policy):
     if policy not in POLICIES:
         raise ValueError(f"calibration policy must be one of {POLICIES}, got {policy!r}")
     token = _POLICY.set(policy)
+    token_x = _X_UNITS.set(x_units)
     try:
         yield
     finally:
+        _X_UNITS.reset(token_x)
         _POLICY.reset(token)
+
+
+def current_x_units():
+    """The ``x_units`` of the current :func:`calibration_policy` context (None: not given).
+
+    Returns
+    -------
+    str or None
+    """
+    return _X_UNITS.get()
 
 
 def current_policy():

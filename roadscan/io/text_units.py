@@ -144,6 +144,6 @@ def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x"):
         if abs(g - f) > 1e-9 * f and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * f):
             raise InputError(path, f"{what} {'look' if ',' in what else 'looks'} like {u} while {{units}} {units} reads them in "
                                    f"{units} ({where}): {{units}} applies to coordinates and heights "
-                                   f"alike; state each column's unit in a title line, e.g. "
-                                   f"'x ({u}), z ({units})'", "units")
+                                   f"alike; give {{x_units}} {u}, or state each column's unit in a "
+                                   f"title line, e.g. 'x ({u}), z ({units})'", ("units", "x_units"))
     return units
