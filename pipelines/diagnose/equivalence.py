@@ -2,8 +2,7 @@
 what an uncertain input does beyond its range is that input's calibration, not a finding.
 
 The test: the calibration alone, with every uncertain input's range continued beyond its ends
-(q1 a decade further either way, sigma0 and the spectrum's level a factor 3, the temperature
-20 K), is fitted on the same rows, started from the effect fit's own calibrated inputs. When its
+by half its width (:func:`extended_ranges`), is fitted on the same rows, started from the effect fit's own calibrated inputs. When its
 best fit reproduces the effect's fit to within the noise (its log-likelihood, Student-t as in
 :mod:`.evidence`, lower by at most ``EQUIV_NATS``), the two explanations cannot be told apart
 from these data: fine roughness beyond q1 and a larger q1, a load and a wrong sigma0, a
@@ -15,34 +14,38 @@ from dataclasses import replace
 
 import numpy as np
 
-__all__ = ["EXTEND", "EQUIV_NATS", "extended_ranges", "equivalence"]
+__all__ = ["EQUIV_NATS", "extended_ranges", "equivalence"]
 
-#: how far beyond its range each uncertain input is continued: (scale, factor or offset)
-EXTEND = {"q1": ("log", 10.0), "sigma0": ("log", 3.0), "psd_scale": ("log", 3.0), "temperature": ("lin", 20.0)}
 EQUIV_NATS = 2.0
+#: the least continuation of a range on each side: a factor (log-scaled inputs) or kelvins
+MIN_FACTOR = 1.5
+MIN_KELVIN = 5.0
 
 
 def extended_ranges(ranges, free):
-    """The free uncertain ranges continued beyond their ends (dict key -> Uncertain).
+    """The free uncertain ranges continued beyond each end by half their width (in log for q1,
+    sigma0 and the spectrum's level; at least a factor ``MIN_FACTOR`` or ``MIN_KELVIN``).
 
     Parameters
     ----------
     ranges : dict
-        Key -> Uncertain.
+        key -> calibration.Uncertain.
     free : dict
-        Key -> (lo, hi) fitted ranges.
+        key -> (lo, hi), the fitted ranges.
 
     Returns
     -------
     dict
+        key -> Uncertain with the continued range.
     """
     out = {}
     for k, (lo, hi) in free.items():
-        scale, f = EXTEND[k]
-        if scale == "log":
-            lo2, hi2 = lo / f, hi * f
+        if k == "temperature":
+            d = max(0.5 * (hi - lo), MIN_KELVIN)
+            lo2, hi2 = lo - d, hi + d
         else:
-            lo2, hi2 = lo - f, hi + f
+            f = max(float(np.sqrt(hi / lo)), MIN_FACTOR)
+            lo2, hi2 = lo / f, hi * f
         if k == "psd_scale":
             hi2 = min(hi2, 1e6)
         out[k] = replace(ranges[k], lo=lo2, hi=hi2)

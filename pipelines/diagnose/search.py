@@ -181,7 +181,7 @@ def _one_explanation(verdict, best, equiv, train):
     return None
 
 
-def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say, skipped, ranges, free,
+def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skipped, ranges, free,
          base, g, t0, sens):
     """The diagnosis on fewer than 20 points: Bayesian comparison (:mod:`.verdict_few`)."""
     from dataclasses import replace
@@ -192,8 +192,10 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timin
     from .search_few import few_candidates
     from .verdict_few import decide_few
 
-    cal, cands, s, nu = few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say)
-    st = dict(g_all=g["g_all"], noise=noise, n=g["n"], significant=significant, p=g["p"], s=s, nu=nu)
+    cal, cands, s, nu, significant = few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
+                                                    say)
+    p = gapmod.chi2_pvalue(g["g_all"], s, g["n"])
+    st = dict(g_all=g["g_all"], noise=s, n=g["n"], significant=significant, p=p, s=s, nu=nu)
     equiv = (lambda c: equivalence(ctx, real_mu, c, ranges, free, s)) if free else None
     verdict, best, expl = decide_few(ctx, real_mu, cal, cands, st, equiv=equiv,
                                      intervals=lambda c: intervals(c, ctx, real_mu, ho.train, noise))
@@ -209,7 +211,7 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timin
     verdict["next_measurement"] = nxt
     ranked = sorted(cands + ([cal] if cal else []), key=lambda c: -c.evidence["log_z"])
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
-    return Diagnosis(base, g["g_all"], g["g_tr"], g["g_ho"], noise, noise_given, significant, g["p"], ho.train,
+    return Diagnosis(base, g["g_all"], g["g_tr"], g["g_ho"], noise, noise_given, significant, p, ho.train,
                      ranked, skipped, verdict, best, time.perf_counter() - t0, timings,
                      "linearised leave-one-out (PRESS) residuals of the fit on every point; the verdict is "
                      "a Bayesian model comparison, not a held-out score",
@@ -293,7 +295,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         return c
 
     if ho.cv:
-        return _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say, skipped,
+        return _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skipped,
                     ranges, free, base, dict(g_all=g_all, g_tr=g_tr, g_ho=g_ho, p=p, n=n), t0, sens)
     singles = []
     for e in usable:

@@ -18,49 +18,43 @@ import numpy as np
 
 from .cv import boot_shrink
 
-__all__ = ["few_candidates", "noise_prior", "PRIOR_NOISE", "PRIOR_NOISE_DOF", "GIVEN_NOISE_DOF"]
+__all__ = ["few_candidates", "noise_prior", "NOISE_RANGE", "PRIOR_NOISE_DOF", "GIVEN_NOISE_DOF"]
 
-#: a typical repeatability of friction measurements (rms log10; 2.3 %) and its weight
-PRIOR_NOISE = 0.01
+#: the range of noise scales a friction test's repeatability takes (rms log10; 1.2 % to 7 %)
+NOISE_RANGE = (0.005, 0.03)
+#: the weight (degrees of freedom) of the noise scale in the Student-t likelihood
 PRIOR_NOISE_DOF = 4.0
 #: the weight of a noise given with --noise
 GIVEN_NOISE_DOF = 30.0
 
 
-def noise_prior(noise, given, r_base, k_base):
-    """(s, nu): the likelihood's noise scale and its degrees of freedom.
+def noise_prior(noise, given):
+    """The likelihood's noise scale and its degrees of freedom.
 
-    Given noise: (noise, 30). Estimated: the typical repeatability ``PRIOR_NOISE`` worth
-    ``PRIOR_NOISE_DOF`` pooled with the smaller of the data's estimate (smoothing spline) and the
-    baseline's residual rms (its n - k degrees of freedom): on five points a spline cannot tell
-    curvature from scatter, and the baseline's residual bounds the noise from above.
+    Given noise: (noise, 30). Estimated: the data's estimate (smoothing spline) clipped into
+    ``NOISE_RANGE``, worth ``PRIOR_NOISE_DOF``: on five points a spline cannot tell curvature from
+    scatter, so the estimate is only a guide; the Student-t likelihood then lets each model's own
+    residuals set its noise (:mod:`.evidence`).
 
     Parameters
     ----------
     noise : float
-        Noise.
+        The noise estimate or the given noise (rms log10).
     given : bool
-        Given by the user.
-    r_base : ndarray
-        Baseline residuals.
-    k_base : int
-        Baseline's free parameters.
+        Whether it was given (``--noise``).
 
     Returns
     -------
     s : float
+        Noise scale (rms log10).
     nu : float
+        Its degrees of freedom.
     """
     from .evidence import NOISE_FLOOR
 
     if given:
         return max(float(noise), NOISE_FLOOR), GIVEN_NOISE_DOF
-    r = np.asarray(r_base, float)
-    nu1 = max(r.size - int(k_base), 1)
-    s_base = float(np.sqrt(r @ r / nu1))
-    s1 = min(float(noise), s_base)
-    s2 = (PRIOR_NOISE_DOF * PRIOR_NOISE ** 2 + nu1 * s1 ** 2) / (PRIOR_NOISE_DOF + nu1)
-    return max(float(np.sqrt(s2)), NOISE_FLOOR), PRIOR_NOISE_DOF + nu1
+    return float(np.clip(noise, *NOISE_RANGE)), PRIOR_NOISE_DOF
 
 
 def _press(c, ev, y, s, r0_held, boot, n_eff):
@@ -80,9 +74,11 @@ def _press(c, ev, y, s, r0_held, boot, n_eff):
     return c
 
 
-def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, significant, timings, say):
-    """(cal, cands, s, nu): the baseline's fit (None without uncertain inputs), the effects fitted
-    with it (each with ``.evidence``), and the likelihood's noise scale and degrees of freedom.
+def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say):
+    """The baseline's fit, the effects fitted with it and the likelihood's noise scale.
+
+    Effects are fitted only when the baseline gap is significant against the noise scale s
+    (chi-square p < 1e-3 and gap > 1.3 s, :func:`gap.is_significant`).
 
     Parameters
     ----------
@@ -98,8 +94,8 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, signific
         Hold-out scheme.
     noise : float
         Noise.
-    noise_given, significant : bool
-        Flags.
+    noise_given : bool
+        Whether the noise was given (``--noise``).
     timings : dict
         Filled with times.
     say : callable
@@ -108,10 +104,13 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, signific
     Returns
     -------
     tuple
-        (cal, cands, s, nu).
+        (cal, cands, s, nu, significant): the calibration's fit (None without uncertain inputs),
+        the effects fitted (each with ``.evidence``), the noise scale and its degrees of freedom,
+        and whether the baseline gap is significant.
     """
     import time
 
+    from . import gap as gapmod
     from .evidence import model_evidence
     from .fitting import at_bound, fit_candidate
     from .model import simulate
@@ -136,17 +135,13 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, signific
 
     cal = None
     t1 = time.perf_counter()
+    s, nu = noise_prior(noise, noise_given)
     if cal_e is not None:
-        cal = fit_candidate(ctx, real_mu, (cal_e,), every, cache={})
-        r_base, k_base = y - np.log10(cal.pred), cal.k
-    else:
-        r_base, k_base = r0, 0
-    s, nu = noise_prior(noise, noise_given, r_base, k_base)
-    if cal is not None:
-        cal = finish(cal, t1, s, nu)
+        cal = finish(fit_candidate(ctx, real_mu, (cal_e,), every, cache={}), t1, s, nu)
     cands = []
+    significant = gapmod.is_significant(float(np.sqrt(np.mean(r0 ** 2))), s, n)
     if not significant:
-        return cal, cands, s, nu
+        return cal, cands, s, nu, significant
     for e in usable:
         t1 = time.perf_counter()
         own = e.null_params(ctx) or {p.name: p.init for p in e.params}
@@ -161,7 +156,7 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, signific
         if c.implausible and e.physical is not None:
             c = _physical(ctx, real_mu, c, every, finish, s, nu)
         cands.append(c)
-    return cal, cands, s, nu
+    return cal, cands, s, nu, significant
 
 
 def _physical(ctx, real_mu, c, every, finish, s, nu):
