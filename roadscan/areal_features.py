@@ -35,57 +35,69 @@ PRUNE_FRACTION = 0.05
 
 def _steepest_ascent(z):
     """Index of the highest of each point's 8 neighbours when higher than the point, else the
-    point's own index (flattened)."""
+    point's own index (flattened, int32 below 2^31 points)."""
     ny, nx = z.shape
     pad = np.full((ny + 2, nx + 2), -np.inf)
     pad[1:-1, 1:-1] = z
     best = z.copy()
-    own = np.arange(ny * nx, dtype=np.int64).reshape(ny, nx)
-    ptr = own.copy()
+    code = np.zeros((ny, nx), dtype=np.int8)      # which neighbour is the highest (0: none)
+    offsets = [0]
+    up = np.empty((ny, nx), dtype=bool)
     for dy in (-1, 0, 1):
         for dx in (-1, 0, 1):
             if dy or dx:
                 nb = pad[1 + dy:ny + 1 + dy, 1 + dx:nx + 1 + dx]
-                up = nb > best
-                best[up] = nb[up]
-                ptr[up] = own[up] + (dy * nx + dx)
-    return ptr.ravel()
+                np.greater(nb, best, out=up)
+                np.copyto(best, nb, where=up)
+                np.copyto(code, len(offsets), where=up)
+                offsets.append(dy * nx + dx)
+    itype = np.int32 if ny * nx < 2 ** 31 else np.int64
+    ptr = np.arange(ny * nx, dtype=itype)
+    ptr += np.asarray(offsets, dtype=itype)[code.ravel()]
+    return ptr
 
 
 def _hill_labels(z):
     """(hill label of each point, flattened index of each hill's summit)."""
     ptr = _steepest_ascent(z)
-    while True:                                   # pointer jumping to the summits
-        nxt = ptr[ptr]
-        if np.array_equal(nxt, ptr):
-            break
-        ptr = nxt
-    summits = np.flatnonzero(ptr == np.arange(ptr.size))
-    return np.searchsorted(summits, ptr).reshape(z.shape), summits
+    active = np.flatnonzero(ptr[ptr] != ptr)      # points not yet pointing at their summit
+    while active.size:                            # pointer jumping on those only
+        ptr[active] = ptr[ptr[active]]
+        active = active[ptr[ptr[active]] != ptr[active]]
+    summits = np.flatnonzero(ptr == np.arange(ptr.size, dtype=ptr.dtype))
+    lut = np.empty(ptr.size, dtype=np.int32 if summits.size < 2 ** 31 else np.int64)
+    lut[summits] = np.arange(summits.size)
+    return lut[ptr].reshape(z.shape), summits
 
 
 def _saddles(z, lab, m):
     """(hill a, hill b, saddle height) of every pair of adjacent hills, each pair once with its
-    highest saddle."""
+    highest saddle.
+
+    One sort of 64-bit words: the pair (a, b) in the high bits, the saddle height quantised to
+    2^20 levels between the lowest and the highest height in the low bits (a resolution of
+    Sz / 10^6, far below the pruning threshold); the exact height is then read back."""
     ny, nx = z.shape
-    keys, sad = [], []
+    lo = float(z.min())
+    scale = ((1 << 20) - 1) / max(float(z.max()) - lo, 1e-300)
+    words, exact = [], []
     for dy, dx in ((0, 1), (1, 0), (1, 1), (1, -1)):
         j0, j1 = max(0, -dx), nx - max(0, dx)
         a, b = lab[:ny - dy, j0:j1], lab[dy:, j0 + dx:j1 + dx]
         cross = a != b
-        if cross.any():
-            la, lb = a[cross], b[cross]
-            keys.append(np.minimum(la, lb).astype(np.int64) * m + np.maximum(la, lb))
-            sad.append(np.minimum(z[:ny - dy, j0:j1][cross], z[dy:, j0 + dx:j1 + dx][cross]))
-    if not keys:
+        if not cross.any():
+            continue
+        la, lb = a[cross].astype(np.int64), b[cross].astype(np.int64)
+        sad = np.minimum(z[:ny - dy, j0:j1][cross], z[dy:, j0 + dx:j1 + dx][cross])
+        q = ((sad - lo) * scale).astype(np.int64)
+        words.append(((np.minimum(la, lb) * m + np.maximum(la, lb)) << 20) | q)
+    if not words:
         return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)
-    keys, sad = np.concatenate(keys), np.concatenate(sad)
-    order = np.argsort(keys)
-    keys, sad = keys[order], sad[order]
-    starts = np.flatnonzero(np.r_[True, keys[1:] != keys[:-1]])
-    sad = np.maximum.reduceat(sad, starts)        # each pair's highest saddle
-    keys = keys[starts]
-    return keys // m, keys % m, sad
+    w = np.sort(np.concatenate(words))
+    pair = w >> 20
+    last = np.r_[pair[1:] != pair[:-1], True]     # each pair's highest saddle sorts last
+    pair, q = pair[last], w[last] & ((1 << 20) - 1)
+    return pair // m, pair % m, lo + q / scale
 
 
 def prominences(z):

@@ -1,0 +1,93 @@
+"""The road engineer's texture set on a 2048^2 map (issue 28: within 1.5x of the time of the
+height figures and the MPD before it).
+
+Baseline, run in the same process on the same levelled map, interleaved, best of N:
+``area_parameters`` (Sa ... Sdr) + ``mean_profile_depth_area`` (the ISO 13473-1 MPD of every
+row): what ``summary.json`` held before. Candidate: the same two, plus the per-segment MPD table
+(``mpd_segments``) and ``texture_parameters`` (material ratio and volumes, Sal/Str/Std,
+Spd/Spc/S5p/S5v/S10z). Printed: each step's time, the ratio candidate / baseline, and, as an
+independent reference for the feature step, scikit-image's ``h_maxima`` (morphological
+reconstruction, peaks only) on the same map.
+
+The map: a self-affine surface (H = 0.8, roll-off at 3 mm, rms 0.5 mm) of 2048 x 2048 points
+at 0.05 mm (102 mm: one ISO 13473-1 segment per row).
+
+Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_texture.py [N] [--size 2048]
+"""
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+GOAL = 1.5
+
+
+def _best(fn, n):
+    best = np.inf
+    for _ in range(n):
+        t = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t)
+    return best
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("n", nargs="?", type=int, default=3)
+    ap.add_argument("--size", type=int, default=2048)
+    a = ap.parse_args()
+    from roadscan import level, roughness
+    from roadscan.areal_features import feature_parameters
+    from roadscan.areal_spatial import spatial_parameters
+    from roadscan.iso25178 import texture_parameters
+    from roadscan.material_ratio import areal_material_parameters
+    from roadscan.synth import self_affine_surface
+    from roadscan.texture_depth import mpd_segments
+
+    hm = self_affine_surface(a.size, dx_m=5e-5, rms_height_m=5e-4, q_roll_per_m=2 * np.pi / 3e-3)
+    lev = level.level(hm)
+    z = lev.heights_m
+
+    def baseline():
+        roughness.area_parameters(lev)
+        roughness.mean_profile_depth_area(hm)
+
+    def candidate():
+        baseline()
+        mpd_segments(hm)
+        texture_parameters(lev)
+
+    steps = {
+        "area_parameters": lambda: roughness.area_parameters(lev),
+        "mean_profile_depth_area": lambda: roughness.mean_profile_depth_area(hm),
+        "mpd_segments": lambda: mpd_segments(hm),
+        "material ratio + volumes": lambda: areal_material_parameters(z),
+        "Sal, Str, Std": lambda: spatial_parameters(z, lev.dx_m, lev.dy_m),
+        "Spd, Spc, S5p, S5v, S10z": lambda: feature_parameters(z, lev.dx_m, lev.dy_m),
+    }
+    candidate()                                  # warm-up (imports, page faults)
+    tb, tc = np.inf, np.inf
+    for _ in range(a.n):                         # interleaved
+        tb = min(tb, _best(baseline, 1))
+        tc = min(tc, _best(candidate, 1))
+    print(f"map {a.size} x {a.size}, best of {a.n}")
+    for name, fn in steps.items():
+        print(f"  {name:28s} {_best(fn, a.n):7.3f} s")
+    try:
+        from skimage.morphology import h_maxima
+
+        T = 0.05 * float(np.ptp(z))
+        print(f"  {'(skimage h_maxima, peaks)':28s} {_best(lambda: h_maxima(z, T), 1):7.3f} s")
+    except ImportError:
+        pass
+    ratio = tc / tb
+    verdict = "PASS" if ratio <= GOAL else "FAIL"
+    print(f"baseline (height figures + MPD) {tb:.3f} s, with the texture set {tc:.3f} s")
+    print(f"RATIO | texture set + MPD / height figures + MPD at {a.size}^2 | {ratio:.2f} | "
+          f"<= {GOAL} | {verdict} | baseline {tb:.3f} s, candidate {tc:.3f} s")
+
+
+if __name__ == "__main__":
+    main()
