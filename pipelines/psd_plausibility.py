@@ -11,8 +11,9 @@ against what road and microscope profilers measure:
 - rms height ``h = (2 pi int q C dq)^(1/2)`` at most :data:`RMS_MAX_M` = 50 mm (road
   textures reach a few mm, ISO 13473-1), at most half the longest wavelength and at least
   1e-5 of the shortest (the scan-against-itself bounds of :mod:`roadscan.plausibility`),
-- rms slope ``s = (2 pi int q^3 C dq)^(1/2)`` between :data:`SLOPE_RANGE` 1e-4 and 50 (polished
-  microscope samples to a road's texture up to its noise floor, a few units).
+- rms slope ``s = (2 pi int q^3 C dq)^(1/2)`` between :data:`SLOPE_RANGE` 1e-6 and 50 (a
+  polished optical flat or wafer over millimetre wavelengths to a road's texture up to its noise
+  floor, a few units).
 
 An implausible table is refused in one line naming the file, what is wrong and the unit slip
 that would make it plausible (q in 1/mm and C in mm^4, q in 1/mm alone, C in mm^4 alone...).
@@ -35,7 +36,7 @@ __all__ = ["spectrum_figures", "check_psd_table", "normalisation_cause", "LAMBDA
 
 LAMBDA_RANGE_M = (1e-9, 10.0)
 RMS_MAX_M = 0.05
-SLOPE_RANGE = (1e-4, 50.0)
+SLOPE_RANGE = (1e-6, 50.0)
 #: the unit slips named, as (description, factor on q, factor on C) giving SI values
 _SLIPS = (("q in 1/mm and C in mm^4", 1e3, 1e-12),
           ("q in 1/um and C in um^4", 1e6, 1e-24),
