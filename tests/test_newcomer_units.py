@@ -109,26 +109,42 @@ def test_explicit_units_m_accepts_a_long_unevenness_profile(tmp_path):
     assert prof.dx_m == pytest.approx(DX_MM, rel=1e-6)
 
 
-def test_units_on_metre_coordinates_refused_naming_a_title_line(tmp_path):
-    """x in metres, heights in mm, --units mm: the coordinates would be read as mm (a 10 um
-    profile with 660 um heights): refused, naming the title line that states each unit."""
+def test_units_on_metre_coordinates_read_as_metres_with_a_warning(tmp_path):
+    """x in metres, heights in mm, --units mm (the older convention): read in mm the x column
+    would give a 10 um profile with 660 um heights, impossible; metres is the one plausible
+    reading: taken, with a warning naming --x-units."""
     x = np.arange(200) * 0.05e-3
     z = np.sin(np.arange(200) * 0.05)
     np.savetxt(tmp_path / "p.txt", np.column_stack([x, z]), fmt="%.6e %.9f")
-    with pytest.raises(InputError) as e:
-        read(tmp_path / "p.txt", units="mm")
-    assert "x (m), z (mm)" in str(e.value) and "\n" not in str(e.value)
-    assert "'x_units' m" in str(e.value)
-    given = read(tmp_path / "p.txt", units="mm", x_units="m")     # x's own unit stated
-    assert given.dx_m == pytest.approx(0.05e-3, rel=1e-6)
-    np.testing.assert_allclose(given.heights_m, np.round(z, 9) * 1e-3, atol=1e-12)
-    with open(tmp_path / "t.txt", "w") as f:
+    prof = read(tmp_path / "p.txt", units="mm")
+    assert prof.dx_m == pytest.approx(0.05e-3, rel=1e-6)
+    np.testing.assert_allclose(prof.heights_m, np.round(z, 9) * 1e-3, atol=1e-12)
+    notes = [str(w) for w in prof.meta["read_warnings"]]
+    assert len(notes) == 1 and "x read as metres" in notes[0] and "'x_units' m" in notes[0]
+    assert prof.meta["coordinate_unit"] == "m"
+    given = read(tmp_path / "p.txt", units="mm", x_units="m")     # stated: no warning
+    assert given.dx_m == prof.dx_m and not given.meta.get("read_warnings")
+    with open(tmp_path / "t.txt", "w") as f:                       # or a title line
         f.write("x (m), z (mm)\n")
         for a, b in zip(x, z):
             f.write(f"{a:.6e}, {b:.9f}\n")
-    prof = read(tmp_path / "t.txt")
-    assert prof.dx_m == pytest.approx(0.05e-3, rel=1e-6)
-    np.testing.assert_allclose(prof.heights_m, np.round(z, 9) * 1e-3, atol=1e-12)
+    titled = read(tmp_path / "t.txt")
+    assert titled.dx_m == pytest.approx(0.05e-3, rel=1e-6)
+    np.testing.assert_allclose(titled.heights_m, prof.heights_m, atol=1e-12)
+
+
+def test_units_on_coordinates_in_another_unit_refused(tmp_path):
+    """x in um, heights in mm (5 nm rms, a microscope's), --units mm: read in mm x gives a 2 m
+    profile at 1 mm with heights 1e-5 of its spacing, below any instrument; in um it is a
+    microscope's field. Not the older metre convention: refused naming --x-units um."""
+    rng = np.random.default_rng(5)
+    x = np.arange(2000) * 1.0                                  # um
+    z = rng.normal(size=x.size) * 5e-6                         # mm
+    np.savetxt(tmp_path / "u.txt", np.column_stack([x, z]), fmt="%.6f %.9f")
+    with pytest.raises(InputError) as e:
+        read(tmp_path / "u.txt", units="mm")
+    msg = str(e.value)
+    assert "\n" not in msg and "'x_units' um" in msg and "x (um), z (mm)" in msg
 
 
 def test_xyz_in_mm_without_titles_refused_then_read_with_units(tmp_path):
@@ -182,7 +198,11 @@ def test_cli_x_units_reads_metre_coordinates_with_mm_heights(tmp_path, capsys):
     out = tmp_path / "out"
     rc, err = run_cli(capsys, ["analyse", tmp_path / "p.csv", "--out", out, "--units", "mm",
                                "--no-friction", "--no-figures"])
-    assert_one_line_error(rc, err, words=["--x-units m"])
+    assert rc == 0 and "--x-units m" in err, err                 # read so, with a warning
+    s = json.loads((out / "summary.json").read_text())
+    assert s["spacing_m"] == [pytest.approx(5e-5, rel=1e-6)]
+    assert any("x read as metres" in w for w in s["warnings"])
+    out = tmp_path / "out2"
     rc, err = run_cli(capsys, ["analyse", tmp_path / "p.csv", "--out", out, "--units", "mm",
                                "--x-units", "m", "--no-friction", "--no-figures"])
     assert rc == 0, err

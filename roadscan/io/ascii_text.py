@@ -233,8 +233,17 @@ def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, w
             meta["spacing_from"] = OptionNote("{spacing} (replacing the coordinates' step)", "spacing")
         return given
     if xu is None:
-        meta["coordinate_unit"] = check_coordinate_units(path, max(d_file), n_nodes, z_file, units,
-                                                         what)
+        unit = check_coordinate_units(path, max(d_file), n_nodes, z_file, units, what,
+                                      notes=meta.setdefault("read_warnings", []))
+        meta["coordinate_unit"] = unit
+        if unit != (units or "m"):                 # metre coordinates beside --units heights
+            scale = unit_factor(unit, path) / unit_factor(units, path)
+            inferred = tuple(i * scale for i in inferred)
+            for key in ("x0_m", "y0_m"):
+                if key in meta:
+                    meta[key] *= scale
+        if not meta["read_warnings"]:
+            del meta["read_warnings"]
     return inferred
 
 

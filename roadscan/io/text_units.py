@@ -17,9 +17,11 @@ refused in one line naming that unit and the flag (``--units mm``). Plausible me
 
 A file whose coordinates really are metres and heights metres with a large rms (a long
 unevenness profile) is read with ``--units m`` given explicitly: the unit is then stated.
-When heights are given in ``units`` and the coordinates are plausible only as metres (the
-older convention of coordinates always in metres), the refusal says so and asks for a title
-line naming each column's unit (``x (m), z (mm)``).
+When heights are given in ``units`` and the coordinates read in ``units`` are impossible, the
+other units are tried for the coordinates alone: metres as the one plausible reading (the older
+convention of unitless coordinates in metres) is taken with a warning naming ``--x-units m``;
+any other plausible unit is refused, naming ``--x-units`` and the title line that states each
+column's unit (``x (um), z (mm)``).
 
 Reference: ISO 13473-1:2019 (texture profile sampling and MPD); ISO 25178-2:2012 (``Sq``).
 """
@@ -27,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, OptionNote
 from ..units import length as _len
 
 __all__ = ["UNITS", "check_coordinate_units", "plausible_reading", "line_rms"]
@@ -93,7 +95,7 @@ def plausible_reading(dx_m, length_m, rms_m):
     return rms_m == 0 or rms_m >= SMOOTH_MIN * dx_m
 
 
-def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x"):
+def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x", notes=None):
     """Check the reading of coordinates with no stated unit in the heights' unit.
 
     Parameters
@@ -110,6 +112,9 @@ def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x"):
         ``--units`` (m, mm, um, nm) or None (not given: metres assumed).
     what : str
         ``"x"`` or ``"x, y"`` (for the message).
+    notes : list, optional
+        Receives the warning when the coordinates are read as metres with heights in ``units``
+        (the one plausible reading, the older convention); without it that case is refused.
 
     Returns
     -------
@@ -139,11 +144,22 @@ def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x"):
                                    f"title line states the units): give {{units}} {fits[0]}, or "
                                    f"{{units}} m if they are metres", "units")
         return "m"
-    # heights in `units`: are the coordinates metres (the older convention)?
-    for u, g in UNITS.items():
-        if abs(g - f) > 1e-9 * f and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * f):
-            raise InputError(path, f"{what} {'look' if ',' in what else 'looks'} like {u} while {{units}} {units} reads them in "
-                                   f"{units} ({where}): {{units}} applies to coordinates and heights "
-                                   f"alike; give {{x_units}} {u}, or state each column's unit in a "
-                                   f"title line, e.g. 'x ({u}), z ({units})'", ("units", "x_units"))
+    # heights in `units`: are the coordinates in another unit?
+    fits = [u for u, g in UNITS.items()
+            if abs(g - f) > 1e-9 * f and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * f)]
+    if fits == ["m"] and notes is not None:
+        # the one plausible reading is the older convention (unitless coordinates in metres,
+        # --units for the heights only): read so, and say it
+        notes.append(OptionNote(
+            f"{what} read as metres, heights as {units}: read in {units} too ({{units}} applies to "
+            f"both) the {what} would give {where[len(f'read as {units}, the file gives '):]}, "
+            f"impossible; pass {{x_units}} m to state it", ("units", "x_units")))
+        return "m"
+    if fits:
+        u = fits[0]
+        raise InputError(path, f"{what} {'look' if ',' in what else 'looks'} like {u} while "
+                               f"{{units}} {units} reads them in {units} ({where}): {{units}} applies "
+                               f"to coordinates and heights alike; give {{x_units}} {u}, or state "
+                               f"each column's unit in a title line, e.g. 'x ({u}), z ({units})'",
+                         ("units", "x_units"))
     return units
