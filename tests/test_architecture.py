@@ -249,6 +249,23 @@ def test_roadscan_names_no_flags():
     assert flag_names(_module_files()) == []
 
 
+def printing(modules, tops=FOUNDATIONS):
+    """``module: line`` of every ``print(...)`` call in the foundation packages."""
+    hits = []
+    for name, path in modules.items():
+        if name.split(".")[0] not in tops:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "print":
+                hits.append(f"{name}: {node.lineno}")
+    return sorted(hits)
+
+
+def test_foundations_do_not_print():
+    # roadscan and friction return numbers and raise errors; pipelines says things
+    assert printing(_module_files()) == []
+
+
 def test_heavy_libraries_are_imported_where_used():
     assert heavy_at_import(_module_files()) == []
 
@@ -271,7 +288,9 @@ def test_the_rule_checks_catch_what_they_guard_against(tmp_path):
     (tmp_path / "roadscan" / "a.py").write_text('"""Use --spacing."""\nimport matplotlib\n'
                                                 'X = "pass --spacing DX"\nY = "a -- b, x--y"\n')
     (tmp_path / "pipelines" / "commands" / "c.py").write_text("def run():\n    import numpy\n")
+    (tmp_path / "roadscan" / "b.py").write_text("def f():\n    print('x')\n")
     mods = _module_files(tmp_path)
     assert flag_names(mods) == ["roadscan.a: 'pass --spacing DX'"]
     assert heavy_at_import(mods) == ["roadscan.a imports matplotlib"]
     assert computing_commands(mods) == {"pipelines.commands.c": ["numpy"]}
+    assert printing(mods) == ["roadscan.b: 2"]
