@@ -78,6 +78,8 @@ def test_campaign_rows_status_and_outputs(campaign):
                 assert float(r[k]) == v, k
             elif v is None:
                 assert r[k] == ""
+            elif isinstance(v, bool):                   # mpd_valid, peak_at_edge
+                assert r[k] == ("true" if v else "false"), k
             else:
                 assert r[k] == str(v)
         assert "hurst" in head and "rms_height_m" in head and "friction.mu_peak" in head

@@ -175,7 +175,9 @@ def _table(records, quantities, vals, masks):
             "n": i + 1, "file": Path(r["file"]).name, "label": r["label"] or "",
             "chainage": "—" if r["chainage_m"] is None else f"{r['chainage_m']:.6g}",
             "error": None if r["status"] == "ok" else str(r["error"]),
-            "cells": [(sig3(vals[q[0]][i]), bool(masks[q[0]][i])) for q in quantities],
+            "cells": [(sig3(vals[q[0]][i]) + (" not valid (ISO 13473-1)" if q[0] == "mpd_m" and
+                       r["values"].get("mpd_valid") is False and r["values"].get("mpd_m") is not None
+                       else ""), bool(masks[q[0]][i])) for q in quantities],
             "flags": [q[0] for q in quantities if masks[q[0]][i]],
             "dir": r.get("dir") or None})
     return render("campaign_table.html.j2", header=head, rows=rows)

@@ -11,6 +11,14 @@ The anisotropy sectors of area scans (``anisotropy.sector_angle_deg.*``,
 ``campaign_anisotropy.csv`` (``file``, ``label``, ``chainage_m``, ``status`` and the sector
 columns, same rows), so that ``campaign.csv`` stays readable; the summary figures
 of the anisotropy (``anisotropy.power_ratio_x_to_y``...) stay in ``campaign.csv``.
+
+The road engineer's texture set is there too: ``mpd_valid`` (``true``/``false``: whether the
+MPD is valid per ISO 13473-1) right after ``mpd_m``, ``etd_m`` (empty when the MPD is not
+valid), and the ISO 25178-2 / 21920-2 figures ``roughness.Sk_m`` ... ``roughness.S5v_m``
+(``roughness.Rk_m`` ... for profiles) with the ``filters`` they were taken with. ``roadscan
+batch --columns`` picks the columns (names or shell-style patterns, comma separated, e.g.
+``mpd_m,mpd_valid,etd_m,roughness.S*``): the fixed columns always come first, then the chosen
+ones in their usual order.
 """
 from __future__ import annotations
 
@@ -20,7 +28,7 @@ import io
 from roadscan.io.atomic import atomic_path, atomic_write_text
 
 __all__ = ["FIXED_COLUMNS", "SIDE_PREFIXES", "ANISOTROPY_FILE", "columns_of", "write_campaign_csv",
-           "write_campaign_parquet"]
+           "write_campaign_parquet", "pick_columns", "parse_columns"]
 
 FIXED_COLUMNS = ("file", "label", "chainage_m", "status", "error")
 #: columns that go to ``campaign_anisotropy.csv`` instead of ``campaign.csv``
@@ -81,7 +89,59 @@ def _write_table(path, records, cols):
     atomic_write_text(path, buf.getvalue())
 
 
-def write_campaign_csv(path, records):
+def parse_columns(text):
+    """``--columns`` text -> list of names or patterns (None: all columns).
+
+    Parameters
+    ----------
+    text : str or None
+        Comma-separated column names or shell-style patterns.
+
+    Returns
+    -------
+    list of str or None
+
+    Raises
+    ------
+    roadscan.InputError
+        When the text holds no name.
+    """
+    if text is None:
+        return None
+    from roadscan.errors import InputError
+
+    pats = [t.strip() for t in str(text).split(",") if t.strip()]
+    if not pats:
+        raise InputError(None, f"--columns {text!r}: expected column names or patterns, comma "
+                               f"separated (e.g. mpd_m,mpd_valid,roughness.S*)")
+    return pats
+
+
+def pick_columns(cols, patterns):
+    """The fixed columns and those of ``cols`` matching a pattern, in ``cols``' order.
+
+    Parameters
+    ----------
+    cols : list of str
+        All columns.
+    patterns : list of str or None
+        Names or shell-style patterns (``fnmatch``, case-sensitive); None keeps all.
+
+    Returns
+    -------
+    (list of str, list of str)
+        The kept columns, and the patterns that matched no column.
+    """
+    from fnmatch import fnmatchcase
+
+    if not patterns:
+        return cols, []
+    keep = [c for c in cols if c in FIXED_COLUMNS or any(fnmatchcase(c, p) for p in patterns)]
+    unused = [p for p in patterns if not any(fnmatchcase(c, p) for c in cols)]
+    return keep, unused
+
+
+def write_campaign_csv(path, records, columns=None):
     """``campaign.csv`` and, when some scan has anisotropy sectors, ``campaign_anisotropy.csv``
     next to it. Returns the columns of ``campaign.csv``.
 
@@ -91,6 +151,9 @@ def write_campaign_csv(path, records):
         Output CSV.
     records : list of dict
         The rows.
+    columns : list of str, optional
+        Names or patterns of the columns to keep (:func:`pick_columns`; None: all); a pattern
+        that matches nothing is named in a note on stderr.
 
     Returns
     -------
@@ -98,6 +161,13 @@ def write_campaign_csv(path, records):
         The columns.
     """
     cols = columns_of(records)
+    if columns:
+        cols, unused = pick_columns(cols, columns)
+        if unused:
+            import sys
+
+            print(f"note: --columns {', '.join(unused)}: no such column in this campaign",
+                  file=sys.stderr)
     _write_table(path, records, cols)
     side = columns_of(records, side=True)
     if any(_side(c) for c in side):

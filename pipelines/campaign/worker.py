@@ -99,7 +99,8 @@ def _analyse_sections(job, tmp):
 
 
 def _write_sections_csv(path, recs):
-    cols = ["chainage_m", *SECTION_COLUMNS, "status", "error", "mpd_m", "hurst", "rms_height_m",
+    cols = ["chainage_m", *SECTION_COLUMNS, "status", "error", "mpd_m", "mpd_valid", "hurst",
+            "rms_height_m",
             "mpd_note", "etd_m", "texture_level_dB.80", "texture_level_dB.5"]
     with open(path, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
@@ -113,6 +114,8 @@ def _write_sections_csv(path, recs):
 def _cell(x):
     if x is None:
         return ""
+    if isinstance(x, bool):
+        return "true" if x else "false"
     if isinstance(x, float):
         return repr(x)
     return str(x)

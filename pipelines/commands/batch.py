@@ -38,6 +38,10 @@ def add_arguments(p):
     g.add_argument("--section-length", type=float, default=None, metavar="M",
                    help="cut long line profiles into sections of M metres along chainage, one "
                         "row each (MPD per ISO 13473-1, PSD, H, rms per section)")
+    g.add_argument("--columns", default=None, metavar="LIST",
+                   help="columns of campaign.csv after file,label,chainage_m,status,error: names "
+                        "or patterns, comma separated (e.g. 'mpd_m,mpd_valid,roughness.S*'; "
+                        "default all)")
 
 
 def _rubber_identity(path):
@@ -75,7 +79,7 @@ def run(args):
     from ..campaign.records import REPORT_SPEEDS_M_PER_S
     from ..campaign.report import write_campaign_report
     from ..campaign.runner import Interrupted, resumed_records, run_campaign
-    from ..campaign.table import write_campaign_csv, write_campaign_parquet
+    from ..campaign.table import parse_columns, write_campaign_csv, write_campaign_parquet
 
     kw = analysis_kwargs(args)
     settings = settings_from_args(args)
@@ -127,7 +131,7 @@ def run(args):
         results, interrupted = exc.records, True
         _clean_after_stop(out, jobs)
     records = [r for recs in results for r in recs]
-    write_campaign_csv(out / "campaign.csv", records)
+    write_campaign_csv(out / "campaign.csv", records, parse_columns(getattr(args, "columns", None)))
     write_campaign_parquet(out / "campaign.parquet", records)
     write_campaign_report(out, records, REPORT_SPEEDS_M_PER_S)
     failed = [r for r in records if r["status"] != "ok"]
