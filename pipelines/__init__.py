@@ -13,8 +13,8 @@ import importlib
 
 __all__ = ["analyse", "AnalysisResult", "analyse_scan", "chain"]
 
-_LAZY = {"AnalysisResult": ("pipelines.api", "AnalysisResult"),
-         "analyse_scan": ("pipelines.api", "analyse_scan")}
+_LAZY = {"AnalysisResult": ("pipelines.analysis_result", "AnalysisResult"),
+         "analyse_scan": ("pipelines.analyse", "analyse_scan")}
 
 
 def __getattr__(name):
