@@ -75,6 +75,12 @@ html_show_sourcelink = False
 
 suppress_warnings = ["misc.highlighting_failure"]
 
+# MathJax comes from its CDN when the pages are read; a local copy can be named instead
+# (``ROADSCAN_DOCS_MATHJAX=/usr/share/javascript/mathjax/MathJax.js?config=TeX-AMS_CHTML``,
+# e.g. to look at the pages offline).
+if os.environ.get("ROADSCAN_DOCS_MATHJAX"):
+    mathjax_path = os.environ["ROADSCAN_DOCS_MATHJAX"]
+
 
 def _plain_text_safe(app, what, name, obj, options, lines):
     """Keep plain-text formulas of docstrings from being read as reST markup.
@@ -103,6 +109,9 @@ def _plain_text_safe(app, what, name, obj, options, lines):
         for k in range(0, len(parts), 2):
             parts[k] = parts[k].replace("\\|", "|").replace("|", "\\|").replace("... ", "\u2026 ")
         lines[i] = "``".join(parts)
+        underlined = i + 1 < len(lines) and re.fullmatch(r"([-=~^])\1{2,}", lines[i + 1].strip())
+        if not underlined:                 # a citation of the theory page becomes a link
+            lines[i] = lines[i].replace("docs: Theory", ":doc:`docs: Theory </theory>`")
         if stripped.endswith("::") or stripped.startswith(".. math::") or stripped.startswith(".. code"):
             literal_indent = indent
 

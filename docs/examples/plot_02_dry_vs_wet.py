@@ -29,24 +29,32 @@ print(f"wetted fraction {wet.wetted_fraction:.1%}, water {wet.water_volume_m3_pe
 dry_result = pipelines.analyse(scan)
 wet_result = pipelines.analyse(wet.wet)
 
-fig, axes = plt.subplots(1, 3, figsize=(13, 4))
-depth_mm = wet.depth_m * 1e3
-im = axes[0].imshow(depth_mm, origin="lower", cmap="Blues",
-                    extent=[0, scan.heights_m.shape[1] * scan.dx_m * 1e3,
-                            0, scan.heights_m.shape[0] * scan.dy_m * 1e3])
-fig.colorbar(im, ax=axes[0], label="water depth [mm]")
-axes[0].set_xlabel("x [mm]")
-axes[0].set_ylabel("y [mm]")
+fig, ax = plt.subplots(figsize=(6, 5))
+im = ax.imshow(wet.depth_m * 1e3, origin="lower", cmap="Blues",
+               extent=[0, scan.heights_m.shape[1] * scan.dx_m * 1e3,
+                       0, scan.heights_m.shape[0] * scan.dy_m * 1e3])
+fig.colorbar(im, ax=ax, label="water depth [mm]")
+ax.set_xlabel("x [mm]")
+ax.set_ylabel("y [mm]")
+ax.set_title("where the water stands")
+fig.tight_layout()
+
+# %%
+# Spectra and friction, dry and wet
+# ---------------------------------
+# Filling the cavities removes roughness at every wavelength shorter than the water pools, so
+# the wet spectrum lies below the dry one and the wet :math:`\mu(v)` follows it.
+fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
 for r, label in ((dry_result, "dry"), (wet_result, "wet")):
-    axes[1].loglog(r.q_per_m, r.C_m4, label=label)
+    ax1.loglog(r.q_per_m, r.C_m4, label=label)
     if r.mu is not None:
-        axes[2].semilogx(r.v_m_per_s, r.mu, label=label)
-axes[1].set_xlabel("q [1/m]")
-axes[1].set_ylabel("C(q) [m$^4$]")
-axes[1].legend()
-axes[2].set_xlabel("v [m/s]")
-axes[2].set_ylabel("$\\mu$")
-axes[2].legend()
+        ax2.semilogx(r.v_m_per_s, r.mu, label=label)
+ax1.set_xlabel("q [1/m]")
+ax1.set_ylabel("C(q) [m$^4$]")
+ax1.legend()
+ax2.set_xlabel("v [m/s]")
+ax2.set_ylabel("$\\mu$")
+ax2.legend()
 fig.tight_layout()
 
 # %%

@@ -7,7 +7,9 @@ model with 3 % noise, ``sample_scans/measured_mu_example.csv``) is compared with
 isothermal engine. ``roadscan diagnose`` answers: where do they disagree, which unmodelled
 effect explains it, and how much of the held-out gap does it close?
 """
+import contextlib
 import csv
+import io
 import json
 import tempfile
 from pathlib import Path
@@ -21,10 +23,12 @@ from pipelines.cli import main
 ROOT = Path(pipelines.__file__).resolve().parents[1]
 measured = ROOT / "sample_scans" / "measured_mu_example.csv"
 out = Path(tempfile.mkdtemp()) / "diag"
-code = main(["diagnose", "--measured", str(measured),
-             "--psd", str(ROOT / "sample_scans" / "asphalt_psd.csv"), "--out", str(out)])
+console = io.StringIO()               # the command's progress lines: only its verdict is shown
+with contextlib.redirect_stdout(console), contextlib.redirect_stderr(console):
+    code = main(["diagnose", "--measured", str(measured),
+                 "--psd", str(ROOT / "sample_scans" / "asphalt_psd.csv"), "--out", str(out)])
 d = json.loads((out / "diagnosis.json").read_text())
-print("exit code", code)
+print("exit code", code, "|", next(l for l in console.getvalue().splitlines() if "verdict" in l))
 
 # %%
 # Step 1: is there a gap, and where?
