@@ -172,10 +172,13 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     drawer = drawer if drawer is not None else InProcess()
     drawer.discard()                      # nothing of an earlier scan is taken for this one's
 
+    from .texture_iso import figure_note
+
     def draw_map(levelled):               # the height map is drawn while the spectrum is made
         if figures and not isinstance(levelled, Profile):
             drawer.submit(report.draw_heightmap, report.heightmap_picture(levelled),
-                          out_dir / "heightmap.png", title=f"{obj.name}: levelled heights")
+                          out_dir / "heightmap.png",
+                          title=f"{obj.name}: levelled heights{figure_note(texture)}")
 
     def draw_psd2d(spec2d):               # and the 2D spectrum while the fit is made
         if figures:

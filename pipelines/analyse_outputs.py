@@ -48,6 +48,7 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
     from . import texture_outputs
     from .chain import band_sidecar
     from .figure_process import InProcess
+    from .texture_iso import figure_note
 
     drawer = drawer if drawer is not None else InProcess()
     an, summary, tex = result.analysis, result.summary, result.texture
@@ -56,7 +57,8 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
     if figures and not early:
         if not an.is_profile:
             drawer.submit(report.draw_heightmap, report.heightmap_picture(an.levelled),
-                          out_dir / "heightmap.png", title=f"{an.name}: levelled heights")
+                          out_dir / "heightmap.png",
+                          title=f"{an.name}: levelled heights{figure_note(summary.get('filters'))}")
         if an.spec2d is not None:
             drawer.submit(draw_psd2d_figure, psd2d_picture(an.spec2d), out_dir / "psd2d.png", an.name)
     texture_outputs.write_texture_csv(out_dir / "texture_spectrum.csv", tex)
@@ -93,13 +95,14 @@ def _figures(drawer, out_dir, an, fit, fr, spec, q1_per_m, summary):
     """The PNGs of one scan after its height map and 2D spectrum (skipped by ``roadscan batch``
     without ``--figures``), submitted to ``drawer`` in the report's order."""
     from .headline import hurst_text
+    from .texture_iso import figure_note
     from .units_format import wavelength_of_q
 
     if an.is_profile:
         q1d, c1d = an.psd1d
         keep = (q1d > 0) & (c1d > 0)
         drawer.submit(report.plot_profile, an.levelled, out_dir / "profile.png",
-                      title=f"{an.name}: levelled profile")
+                      title=f"{an.name}: levelled profile{figure_note(summary.get('filters'))}")
         drawer.submit(_plot_psd1d, q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name)
     lo, hi = fit.fit_band_per_m
     q_top = max(hi, q1_per_m or 0.0)

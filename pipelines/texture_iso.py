@@ -18,7 +18,7 @@ from roadscan.errors import InputError
 
 __all__ = ["FORMS", "add_iso_options", "iso_settings_from_args", "texture_surface",
            "iso_summary", "roughness_rows", "roughness_section", "filters_text",
-           "ROUGHNESS_NOTE_KEY"]
+           "figure_note", "ROUGHNESS_NOTE_KEY"]
 
 #: --form choice -> polynomial degree
 FORMS = {"plane": 1, "poly2": 2, "poly3": 3}
@@ -260,3 +260,28 @@ def roughness_section(summary):
     for what, note in (summary.get(ROUGHNESS_NOTE_KEY) or {}).items():
         parts.append(f"<p class='note'>{html.escape(what)}: {html.escape(str(note))}</p>")
     return parts
+
+
+def figure_note(filters):
+    """"" with the default form and no filter; else what a figure's title adds, e.g.
+    " (unfiltered; roughness figures: form poly2, S-filter none, L-filter 8.00 mm)".
+
+    Parameters
+    ----------
+    filters : dict, TextureSettings or None
+        ``summary.json`` ``filters``, or the texture settings of the run.
+
+    Returns
+    -------
+    str
+    """
+    if filters is None:
+        return ""
+    if not isinstance(filters, dict):
+        filters = {"form": getattr(filters, "form", "plane"),
+                   "s_filter_m": getattr(filters, "s_filter_m", None),
+                   "l_filter_m": getattr(filters, "l_filter_m", None)}
+    if filters.get("form", "plane") == "plane" and not filters.get("s_filter_m") \
+            and not filters.get("l_filter_m"):
+        return ""
+    return f" (unfiltered; roughness figures: {filters_text(filters)})"
