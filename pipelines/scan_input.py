@@ -134,7 +134,7 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
     except MemoryError:
         raise InputError(path, "too large for the available memory (lower --max-pixels to refuse "
                                "such files before reading)") from None
-    except (ValueError, OSError, KeyError, IndexError) as exc:
+    except OSError as exc:      # (roadscan.io.read turns what a broken file raises into InputError)
         raise InputError(path, f"cannot read height data ({type(exc).__name__}: {exc})") from None
     from .cli_hints import flag_text
     from .validate import check_scan, warn

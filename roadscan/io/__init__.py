@@ -28,6 +28,12 @@ __all__ = [
 ]
 
 
+#: exceptions that a reader's own code raises, never a file's content (the readers wrap the
+#: third-party parsers they call, whose errors on broken files can be of any type)
+_CODE_ERRORS = (TypeError, AttributeError, NameError, AssertionError, ImportError, RecursionError,
+                NotImplementedError)
+
+
 def read(path, spacing=None, units=None, calibration="strict", channel=None, x_units=None):
     """Read a height map or line profile, choosing the reader by the file's extension.
 
@@ -93,6 +99,8 @@ def read(path, spacing=None, units=None, calibration="strict", channel=None, x_u
     except InputError:
         raise
     except (MemoryError, KeyboardInterrupt):
+        raise
+    except _CODE_ERRORS:       # a mistake in roadscan's code, not in the file: not bad input
         raise
     except Exception as exc:  # noqa: BLE001 - never a traceback for a bad file
         raise InputError(path, f"cannot read {ext} file ({exc.__class__.__name__}: {exc})") from None
