@@ -253,38 +253,65 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
              max_iter=400, beta=0.5, memory=6, heat_scale=1.0, contact_gamma=None):
     """Kinetic friction with flash heating, solved self-consistently for T_q at every speed.
 
+    The rubber at length scale 2 pi / q is at ``T_q = T0 + int_0^inf dq' g(q, q') f(q')``
+    (see the module docstring for the kernel g [s] and the heat source f [K m/s]); the moduli in
+    mu, P and G are taken at T_q. The fixed point is found by damped, Anderson-accelerated
+    iteration over all speeds at once.
+
     Parameters
     ----------
-    psd, rubber, v_m_per_s, sigma0_Pa, nu, T0_C, wlf_form : as :func:`mu_isothermal`.
-    zeta_m : float, macro-asperity magnification, ``q_m = zeta_m q0`` (2 < zeta_m < 5).
-    asperity_abc : (a, b, c), ``R = (a + b P(q_m)^c) / q_m`` [m]; the default
-        (0, 2 sqrt(pi), 1/2) means spots at areal density (q_m/2pi)^2 covering P(q_m).
-        (a, b, c) = (R q_m, 0, 0) fixes R.
-    tol : relative accuracy target (sets the q grid, ~40 nodes/decade at 1e-3); the fixed point
-        is converged to ``max |Phi(T) - T| <= 1e-2 tol max(1 K, max(T - T0))``.
-    max_iter, beta, memory : solver controls (map evaluations, initial damping, Anderson
-        memory); see :func:`_solve_flash`.
-    heat_scale : float >= 0, multiplies the heat source f (default 1, the model). 0 switches the
-        heating off exactly (T_q = T0, mu equals the isothermal model on this q grid); values in
-        between give a continuous path to it (e.g. for a fit whose "no effect" must be reachable).
-    contact_gamma : None or gamma of Persson's ``S = gamma + (1 - gamma) P^2``
-        (:func:`friction.contact.contact_S`), applied to mu and to the heat source alike.
+    psd : SelfAffinePSD or TabulatedPSD
+        Surface spectrum C(q) [m^4].
+    rubber : StandardLinearSolid, Prony or MasterCurve
+        The rubber; its ``thermal`` properties give rho, c_v and lambda.
+    v_m_per_s : array_like
+        Sliding speeds [m/s].
+    sigma0_Pa : float, optional
+        Nominal pressure [Pa] (default 0.2 MPa).
+    nu : float, optional
+        Poisson's ratio (0.5).
+    T0_C : float, optional
+        Background temperature [C]; None means ``rubber.T_ref_C``.
+    zeta_m : float, optional
+        Macro-asperity magnification, ``q_m = zeta_m q0`` (2 < zeta_m < 5; default 3).
+    asperity_abc : tuple of float, optional
+        (a, b, c) of ``R = (a + b P(q_m)^c) / q_m`` [m]; the default (0, 2 sqrt(pi), 1/2) means
+        spots at areal density (q_m / 2 pi)^2 covering P(q_m); (R q_m, 0, 0) fixes R.
+    tol : float, optional
+        Relative accuracy target; the fixed point is converged to
+        ``max |Phi(T) - T| <= 1e-2 tol max(1 K, max(T - T0))``.
+    wlf_form : {"relative", "literal"}, optional
+        As in :func:`mu_isothermal`.
+    max_iter : int, optional
+        Map evaluations allowed.
+    beta : float, optional
+        Initial damping.
+    memory : int, optional
+        Anderson memory.
+    heat_scale : float, optional
+        Factor on the heat source (1: the model; 0: no heating, exactly the isothermal result).
+    contact_gamma : float, optional
+        Persson's gamma of ``S = gamma + (1 - gamma) P^2``, applied to mu and the heat source.
 
     Returns
     -------
-    FrictionResult with ``T_q_C`` (nv, nq), ``iterations`` and ``residual`` [K];
-    ``meta['R_m']`` (nv,) the macro-asperity radius.
+    FrictionResult
+        With ``T_q_C`` (nv, nq) [C], ``iterations``, ``residual`` [K] and ``meta['R_m']`` (nv,),
+        the macro-asperity radius [m].
 
     Raises
     ------
-    FlashConvergenceError (a RuntimeError) if the fixed point is not reached within ``max_iter``
-    map evaluations; its one-line message names the speeds, and says "runs away" when the
-    iterates rose more than :data:`T_RISE_MAX_K` above T0 (no solution in the model's range).
+    FlashConvergenceError
+        A RuntimeError, when the fixed point is not reached within ``max_iter`` evaluations; its
+        one-line message names the speeds ("runs away" when the iterates rose more than
+        :data:`T_RISE_MAX_K` above T0).
 
     References
     ----------
     B.N.J. Persson, "Rubber friction: role of the flash temperature", J. Phys.: Condens. Matter 18,
     7789 (2006), doi:10.1088/0953-8984/18/32/025.
+    H.F. Walker, P. Ni, "Anderson acceleration for fixed-point iterations", SIAM J. Numer. Anal.
+    49, 1715 (2011), doi:10.1137/10078356X.
     """
     v = _check(psd, v_m_per_s, sigma0_Pa, nu, contact_gamma)
     if not (np.isfinite(heat_scale) and heat_scale >= 0):

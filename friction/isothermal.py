@@ -85,21 +85,42 @@ def mu_isothermal(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, to
                   contact_gamma=None, wlf_form="relative"):
     """Isothermal kinetic friction mu(v) by Persson's theory.
 
+    With ``s = (1 - nu^2) sigma0`` and the rubber's modulus E(omega) at the background
+    temperature::
+
+        mu(v) = 1/2 int_{q0}^{q1} dq q^3 C(q) S(q) P(q) M(q)
+        M(q)  = int_0^{2 pi} dphi cos(phi) Im E(q v cos phi) / s
+        P(q)  = erf(1 / (2 sqrt(G(q)))),  G(q) = 1/8 int_{q0}^{q} dq' q'^3 C(q') W(q')
+        W(q)  = int_0^{2 pi} dphi |E(q v cos phi)|^2 / s^2
+
+    integrated in ln q with P integrated exactly over each interval.
+
     Parameters
     ----------
     psd : SelfAffinePSD or TabulatedPSD
-        Surface spectrum C(q) [m^4]; integrated from ``psd.q_min_per_m`` to ``psd.q1_per_m``.
+        Surface spectrum C(q) [m^4] (Persson's normalisation); integrated from
+        ``psd.q_min_per_m`` to ``psd.q1_per_m``.
     rubber : StandardLinearSolid, Prony or MasterCurve
-    v_m_per_s : array of sliding speeds [m/s].
-    sigma0_Pa : nominal pressure [Pa] (default 0.2 MPa).  nu : Poisson ratio (0.5).
-    T0_C : background temperature [C]; None means ``rubber.T_ref_C``.
-    tol : relative accuracy target for mu (sets the q grid: ~40 nodes/decade at 1e-3).
-    contact_gamma : None (thesis) or gamma for ``S = gamma + (1 - gamma) P^2``.
-    wlf_form : "relative" (default) or "literal" (thesis eq 3.7).
+        The rubber, with its reference temperature and shift.
+    v_m_per_s : array_like
+        Sliding speeds [m/s].
+    sigma0_Pa : float, optional
+        Nominal pressure [Pa] (default 0.2 MPa).
+    nu : float, optional
+        Poisson's ratio (0.5).
+    T0_C : float, optional
+        Background temperature [C]; None means ``rubber.T_ref_C``.
+    tol : float, optional
+        Relative accuracy target for mu; sets the q grid (about 40 nodes per decade at 1e-3).
+    contact_gamma : float, optional
+        Persson's gamma of ``S = gamma + (1 - gamma) P^2``; None for S = 1.
+    wlf_form : {"relative", "literal"}, optional
+        Temperature shift ``E_ref(omega aT(T) / aT(T_ref))`` (default) or the thesis's eq 3.7.
 
     Returns
     -------
-    FrictionResult (T_q_C None).
+    FrictionResult
+        ``mu`` (nv,), ``P`` and ``G`` (nv, nq) on ``q_per_m``; ``T_q_C`` is None.
 
     References
     ----------

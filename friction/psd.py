@@ -17,7 +17,7 @@ __all__ = ["SelfAffinePSD", "TabulatedPSD"]
 
 @dataclass(frozen=True)
 class SelfAffinePSD:
-    """Self-affine spectrum, thesis appendix A / docs: Theory:
+    """Self-affine spectrum (Persson's form; see the theory page of the docs).
 
     ``C(q) = (H / 2 pi) (h0 / q0)^2 (q / q0)^(-2(H+1))`` for ``q0 <= q <= q1`` [m^4],
     ``C = C(q0)`` for ``q_roll <= q < q0`` when ``q_roll_per_m`` is given, zero elsewhere.
@@ -25,8 +25,18 @@ class SelfAffinePSD:
 
     Parameters
     ----------
-    hurst : float, 0 < H < 1.  h0_m : float [m].  q0_per_m, q1_per_m : float [1/m].
-    q_roll_per_m : float or None [1/m], < q0.
+    hurst : float
+        Hurst exponent H, 0 < H < 1.
+    h0_m : float
+        Amplitude h0 [m] (about sqrt(2) times the band's rms height when q1 >> q0).
+    q0_per_m, q1_per_m : float
+        Ends of the power law [1/m].
+    q_roll_per_m : float, optional
+        Roll-off [1/m], below q0: C is constant between it and q0.
+
+    References
+    ----------
+    B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626, appendix.
     """
 
     hurst: float
@@ -70,17 +80,20 @@ class SelfAffinePSD:
 class TabulatedPSD:
     """A measured angular-averaged spectrum, interpolated linearly in (log q, log C).
 
+    ``C(q)`` is zero below the lowest tabulated q and above q1.
+
     Parameters
     ----------
-    q_per_m : (n,) array, increasing [1/m].  C_m4 : (n,) array, > 0 [m^4] (Persson's normalisation).
+    q_per_m : array_like, shape (n,)
+        Wave vectors [1/m], increasing.
+    C_m4 : array_like, shape (n,)
+        Spectrum [m^4], > 0, in Persson's normalisation ``<h^2> = 2 pi int q C dq``.
     q0_per_m : float, optional
         Wave vector for ``q_m = zeta_m q0`` (roll-off); default: the lowest q.
     q1_per_m : float, optional
         Upper cut-off; default: the highest q. Beyond the highest tabulated q the spectrum
         continues as the power law fitted (least squares in log-log) to the top decade of the
         data (at least 4 points), which is how ``with_q1(q1 > q_max)`` extends a scan.
-
-    ``C(q)`` is zero below the lowest tabulated q and above q1.
     """
 
     q_per_m: np.ndarray

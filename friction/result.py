@@ -14,15 +14,24 @@ class FrictionResult:
 
     Attributes
     ----------
-    v_m_per_s : (nv,) sliding speeds [m/s].
-    mu : (nv,) kinetic friction coefficient (viscoelastic contribution, Persson's theory).
-    q_per_m : (nq,) wave-vector nodes [1/m] (uniform in ln q from q_min to q1).
-    P : (nv, nq) relative contact area P(q) at each speed.
-    G : (nv, nq) Persson's G(q).
-    T_q_C : (nv, nq) flash temperature [C] at each length scale, or None (isothermal).
-    iterations : int, fixed-point iterations (0 for the isothermal model).
-    residual : float, final max |T - Phi(T)| [K] (0 for the isothermal model).
-    meta : dict, the parameters and grid sizes used.
+    v_m_per_s : ndarray, shape (nv,)
+        Sliding speeds [m/s].
+    mu : ndarray, shape (nv,)
+        Kinetic friction coefficient (viscoelastic contribution, Persson's theory).
+    q_per_m : ndarray, shape (nq,)
+        Wave-vector nodes [1/m], uniform in ln q from q_min to q1.
+    P : ndarray, shape (nv, nq)
+        Relative contact area P(q) at each speed; ``P[:, -1]`` is A/A0.
+    G : ndarray, shape (nv, nq)
+        Persson's G(q).
+    T_q_C : ndarray, shape (nv, nq), or None
+        Flash temperature [C] at each length scale (None: isothermal).
+    iterations : int
+        Fixed-point iterations (0 for the isothermal model).
+    residual : float
+        Final max |T - Phi(T)| [K] (0 for the isothermal model).
+    meta : dict
+        The parameters and grid sizes used.
     """
 
     v_m_per_s: np.ndarray

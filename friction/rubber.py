@@ -31,17 +31,27 @@ class WLF:
     """Williams-Landel-Ferry shift factor.
 
     Standard form (``T_g_C=None``): ``log10 aT = -C1 (T - T_s) / (C2 + T - T_s)``.
-    Thesis form (``T_g_C`` given): ``log10 aT = -C1 (T - T_s) / (C2 + T - T_g)``; the thesis
-    (docs: Theory) uses ``log10 aT = -8.86 (T - Tg - 50) / (51.5 + T - Tg)`` with
-    Tg = -30 C, T_s = Tg + 50 = 20 C, so that aT(60 C) = 10^-2.504. This equals a standard WLF
-    with ``C2 + T_s - T_g`` (101.5 K) in place of C2. :meth:`thesis` builds it.
+    Thesis form (``T_g_C`` given): ``log10 aT = -C1 (T - T_s) / (C2 + T - T_g)``; the thesis uses
+    ``log10 aT = -8.86 (T - Tg - 50) / (51.5 + T - Tg)`` with Tg = -30 C, T_s = Tg + 50 = 20 C, so
+    that aT(60 C) = 10^-2.504. This equals a standard WLF with ``C2 + T_s - T_g`` (101.5 K) in
+    place of C2. :meth:`thesis` builds it. Where the denominator vanishes (far below T_s) it is
+    clipped at 1e-3 K.
 
     Parameters
     ----------
-    C1 : float, dimensionless.   C2_K : float [K].
-    T_s_C : float [C], where aT = 1.   T_g_C : float or None [C] (see above).
+    C1 : float
+        Dimensionless constant.
+    C2_K : float
+        Constant [K].
+    T_s_C : float
+        Temperature where aT = 1 [C].
+    T_g_C : float, optional
+        Glass temperature of the thesis form [C].
 
-    Where the denominator vanishes (far below T_s) it is clipped at 1e-3 K.
+    References
+    ----------
+    M.L. Williams, R.F. Landel, J.D. Ferry, J. Am. Chem. Soc. 77, 3701 (1955),
+    doi:10.1021/ja01619a008.
     """
 
     C1: float = 8.86
