@@ -224,6 +224,46 @@ def _trim_leaky_start(band, q, C, dof):
     return replace(band, lo_per_m=float(start), lo_reason=reason)
 
 
+#: a white level fitted under the band's top is taken off only when over this many standard
+#: errors above zero
+WHITE_SIGMAS = 3.0
+
+
+def _white_level(q, measured, dof, band, resolution_m):
+    """The white noise level N of a spectrum whose top shows no floor of its own, or None.
+
+    White measurement noise adds a constant N to every ring of the periodogram; near the top of
+    the band it is still far below C but biases it (by 15 % at a ring where N = 0.15 C). With
+    the band's power law of slope s (fitted on the measured spectrum) and the resolution's
+    response T(q)^2 (1 without a resolution), C_i = A q_i^s T_i^2 + N is linear in A and N:
+    fitted by weighted least squares (weights dof_i / C_i^2: each ring's relative variance
+    2 / dof_i) to the rings from the band's geometric middle to Nyquist. N is returned when it
+    is over :data:`WHITE_SIGMAS` standard errors above zero (Jacobs, Junge, Pastewka, Surf.
+    Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 3: noise adds a white floor).
+    """
+    from roadscan.reliable_band import gaussian_response
+
+    if not np.isfinite(band.slope):
+        return None
+    sel = (q >= np.sqrt(band.lo_per_m * band.hi_per_m)) & (measured > 0) & (dof > 0)
+    if sel.sum() < 5:
+        return None
+    qs, cs, k = q[sel], measured[sel], dof[sel]
+    t2 = gaussian_response(qs, resolution_m) ** 2 if resolution_m else np.ones_like(qs)
+    shape = (qs / qs[0]) ** band.slope * t2
+    w = k / cs**2
+    X = np.column_stack([shape, np.ones_like(qs)])
+    M = X.T @ (X * w[:, None])
+    try:
+        cov = np.linalg.inv(M)
+    except np.linalg.LinAlgError:
+        return None
+    a, level = cov @ (X.T @ (w * cs))
+    if not (a > 0 and level > WHITE_SIGMAS * np.sqrt(cov[1, 1])):
+        return None
+    return float(level)
+
+
 def _plateau_start(band, q, dof):
     """The band with its low end raised to the roll-off when the rings between them carry
     under half a merged row's degrees of freedom.
@@ -293,14 +333,19 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
                              window_alpha=alpha)
     except ValueError as exc:
         raise InputError(path, f"no reliable band in its spectrum ({exc})") from None
-    level = band.noise_floor
+    level, how = band.noise_floor, ("the white level of the spectrum's top rings taken off C "
+                                     "before the resolution correction")
+    if level is None:
+        level = _white_level(q, measured, n * dof, band, res)
+        how = ("the white level fitted with the power law times the resolution's response, "
+               "C = A q^s T(q)^2 + N, to the rings from the band's middle to Nyquist, taken "
+               "off C before the resolution correction")
     if level is not None and level > 0:
         # a white floor adds its level to every ring: taken off (C scales as the measured C)
         C = C * (1.0 - level / measured)
         meta["noise_floor_subtracted"] = {
             "level": float(level), "units": "m^4" if kind == "area" else "m^3 (of C1)",
-            "applied": "the white level of the spectrum's top rings taken off C before the "
-                       "resolution correction"}
+            "applied": how}
     if res is not None:
         # the instrument's Gaussian low-pass undone inside the band (C / T^2 <= 1 / 0.64 there)
         T2 = gaussian_response(q, res) ** 2
