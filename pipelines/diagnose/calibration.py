@@ -323,21 +323,14 @@ def intervals(c, ctx, real_mu, train, noise, z=1.96):
         i0 += len(e.params)
     if cal is None:
         return {}
+    from .fitting import unpack
+    from .stats import gauss_newton_cov, jacobian
+
     u = pack(c.effects, c.params)
     y = np.log10(real_mu)[train]
     base = np.log10(predict(ctx, c.effects, [dict(p) for p in c.params]))[train]
-    J = np.empty((y.size, u.size))
-    from .fitting import unpack
-
-    for j in range(u.size):
-        du = 0.02 if u[j] + 0.02 <= 1 else -0.02
-        uu = u.copy()
-        uu[j] += du
-        J[:, j] = (np.log10(predict(ctx, c.effects, unpack(c.effects, uu)))[train] - base) / du
-    r = y - base
-    dof = max(y.size - u.size, 1)
-    s2 = max(float(r @ r) / dof, noise ** 2)
-    cov = s2 * np.linalg.pinv(J.T @ J)
+    J = jacobian(lambda uu: np.log10(predict(ctx, c.effects, unpack(c.effects, uu)))[train], u, f0=base)
+    cov = gauss_newton_cov(J, y - base, noise)
     e, p = cal
     out = {}
     for j, pp in enumerate(e.params):

@@ -278,6 +278,8 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
     """
     from scipy import optimize
 
+    from .stats import jacobian
+
     t0 = time.perf_counter()
     effects = tuple(effects)
     k = sum(len(e.params) for e in effects)
@@ -303,14 +305,7 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
         return np.where(np.isfinite(r), r, 1e3)
 
     def jac(u):
-        r0 = resid(u)
-        J = np.empty((r0.size, u.size))
-        for j in range(u.size):
-            du = STEP if u[j] + STEP <= 1.0 else -STEP
-            uu = u.copy()
-            uu[j] += du
-            J[:, j] = (resid(uu) - r0) / du
-        return J
+        return jacobian(resid, u, step=STEP)
 
     null = null_u(ctx, effects)
     starts = []

@@ -154,6 +154,7 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
 
     from .fitting import pack, unpack
     from .model import simulate
+    from .stats import gauss_newton_cov, jacobian
 
     effs = [calibration_effect(c, ranges) for c in ctxs]
     if any(e is None for e in effs):
@@ -201,14 +202,8 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
         except (ValueError, np.linalg.LinAlgError):
             pass
     r = resid(best_u)
-    J = np.empty((r.size, k))
-    for j in range(k):
-        du = 0.02 if best_u[j] + 0.02 <= 1 else -0.02
-        uu = best_u.copy()
-        uu[j] += du
-        J[:, j] = -(resid(uu) - r) / du
-    s2 = max(float(r @ r) / max(r.size - k, 1), noise ** 2)
-    cov = s2 * np.linalg.pinv(J.T @ J)
+    J = -jacobian(resid, best_u, f0=r)
+    cov = gauss_newton_cov(J, r, noise)
     out = {}
     if log:
         log(f"joint calibration over {len(ctxs)} measurements: " + ", ".join(
