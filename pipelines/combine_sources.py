@@ -10,7 +10,9 @@ Areas: levelled (plane), unmeasured points filled (biharmonic), Tukey-windowed (
 estimate C(q) = C1(q) / q Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)) (the H psd_profile fitted).
 The reliable band (:func:`roadscan.reliable_band.reliable_band`) is found on what was measured:
 an area's C, a profile's C1. Where it finds a white noise floor (the top rings flatter than
-q^-1), that level is taken off C (white noise adds a constant to the periodogram). With a lateral resolution r (given, or from the file), C is then
+q^-1), that level is taken off C (white noise adds a constant to the periodogram); where it
+finds none, a white level fitted under the top (:func:`_white_level`) is taken off when
+significant. With a lateral resolution r (given, or from the file), C is then
 divided by the Gaussian response T(q)^2 = exp(-2 ln 2 (q r / 2 pi)^2) inside the band, where
 T^2 >= 0.64 (``RESPONSE_MIN`` squared): the merged curve is not pulled down at each band's top (Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001
 (2017)).
