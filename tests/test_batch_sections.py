@@ -1,5 +1,6 @@
 """``roadscan batch --section-length``: a long line profile cut along chainage, read in chunks."""
 import csv
+import json
 import tracemalloc
 
 import numpy as np
