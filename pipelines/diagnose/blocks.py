@@ -75,15 +75,10 @@ class Geometry:
     Attributes
     ----------
     is_profile : bool
-        Line profile or area.
     shape : tuple of int
-        Block shape.
     dx_m, dy_m : float
-        Spacings [m].
     starts : list of tuple of slice
-        Where each block lies.
     rain : bool
-        Compute the rain-fill family.
     """
 
     is_profile: bool
@@ -204,11 +199,8 @@ def geometry(obj, n_blocks=None, rain=True):
     Parameters
     ----------
     obj : HeightMap or Profile
-        Levelled scan.
     n_blocks : int, optional
-        Blocks (per side for areas).
     rain : bool, optional
-        Rain-fill family.
 
     Returns
     -------
@@ -242,9 +234,7 @@ def split(heights, geo):
     Parameters
     ----------
     heights : ndarray
-        Heights [m].
     geo : Geometry
-        Layout.
 
     Returns
     -------
@@ -422,13 +412,9 @@ def block_descriptors(h, geo, rain=True, raw=None):
     Parameters
     ----------
     h : ndarray
-        Detrended block [m].
     geo : Geometry
-        Layout.
     rain : bool, optional
-        Rain-fill family.
     raw : ndarray, optional
-        The block as cut.
 
     Returns
     -------
