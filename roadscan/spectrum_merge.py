@@ -79,17 +79,11 @@ class SpectrumPart:
     Attributes
     ----------
     label : str
-        The source's name.
     q_per_m, C_m4, count : ndarray
-        Its rings: wave vector [1/m], C [m^4], lattice points.
     band_per_m : tuple of float
-        Its reliable band [1/m].
     dof_per_count : float
-        Degrees of freedom per unit of ``count``.
     edge_bias : tuple of float
-        Relative bias allowed at the band's ends.
     bends_per_m : tuple of float
-        Detected roll-offs [1/m].
     """
 
     label: str
@@ -112,21 +106,13 @@ class MergedSpectrum:
     Attributes
     ----------
     q_per_m, C_m4 : ndarray
-        Merged rows [1/m, m^4].
     C_lo_m4, C_hi_m4 : ndarray
-        5-95 % band of each row [m^4].
     n_sources : ndarray of int
-        Sources measuring each row.
     count : ndarray
-        Lattice points of each row.
     band_per_m : tuple of float
-        The merged band [1/m].
     gaps : list
-        Ranges no source measures, bridged by a power law.
     disagreements : list
-        Source pairs that disagree.
     widened_rows_per_m : list
-        Rows whose band was widened by the disagreement.
     """
 
     q_per_m: np.ndarray
@@ -150,9 +136,7 @@ def aligned_range(q_min_per_m, q_max_per_m, per_decade=RINGS_PER_DECADE):
     Parameters
     ----------
     q_min_per_m, q_max_per_m : float
-        The range [1/m].
     per_decade : int, optional
-        Grid points per decade.
 
     Returns
     -------
@@ -172,9 +156,7 @@ def chi2_quantile(p, k):
     Parameters
     ----------
     p : float
-        Probability.
     k : array_like
-        Degrees of freedom.
 
     Returns
     -------
@@ -372,19 +354,12 @@ def disagreements(row, source, count, dof, C, edge, q_row, labels):
     Parameters
     ----------
     row : ndarray of int
-        Row of every ring of every source.
     source : ndarray of int
-        Source of every ring.
     count, dof : ndarray
-        Lattice points and degrees of freedom of every ring.
     C : ndarray
-        C of every ring [m^4].
     edge : ndarray of bool
-        Rings at a band's edge.
     q_row : ndarray
-        Wave vector of every row [1/m].
     labels : list of str
-        Source names.
 
     Returns
     -------
