@@ -19,11 +19,22 @@ def fit_prony(master_curve, n_terms=None, per_decade=1.0):
     Parameters
     ----------
     master_curve : MasterCurve
+        The measured master curve.
     n_terms : int, optional
+        Number of relaxation times (default: ``per_decade`` per decade of the curve).
+    per_decade : float, optional
+        Relaxation times per decade when ``n_terms`` is None.
 
     Returns
     -------
-    Prony with the master curve's ``T_ref_C``, ``shift`` and ``thermal``.
+    Prony
+        With the master curve's ``T_ref_C``, ``shift`` and ``thermal``.
+
+    References
+    ----------
+    N.W. Tschoegl, The Phenomenological Theory of Linear Viscoelastic Behavior, Springer (1989),
+    doi:10.1007/978-3-642-73602-5; C.L. Lawson, R.J. Hanson, Solving Least Squares Problems,
+    SIAM (1995), doi:10.1137/1.9781611971217 (non-negative least squares).
     """
     f = master_curve.f_Hz
     w = 2 * np.pi * f

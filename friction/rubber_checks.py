@@ -23,18 +23,26 @@ def frequency_coverage(rubber, v_m_per_s, q0_per_m, q1_per_m, T0_C=None, T_max_C
 
     Parameters
     ----------
-    rubber : any rubber model; the curve range is reported for a :class:`MasterCurve` only.
-    v_m_per_s : speeds [m/s].  q0_per_m, q1_per_m : integration band [1/m].
-    T0_C : background temperature [C] (None: ``T_ref``).  T_max_C : hottest flash temperature [C]
-        (None: isothermal).
-    T_q_C, q_per_m : optional flash temperatures (nv, nq) on the run's wave vectors (nq,): the
-        needed range is then the exact one, min/max of ``v q aT(T_q(v, q)) / 2 pi``.
+    rubber : rubber model
+        Any rubber; the curve's range is reported for a :class:`MasterCurve` only.
+    v_m_per_s : array_like
+        Speeds [m/s].
+    q0_per_m, q1_per_m : float
+        Integration band [1/m].
+    T0_C : float, optional
+        Background temperature [C] (None: ``T_ref``).
+    T_max_C : float, optional
+        Hottest flash temperature [C] (None: isothermal).
+    T_q_C, q_per_m : ndarray, optional
+        Flash temperatures (nv, nq) on the run's wave vectors (nq,): the needed range is then the
+        exact one, min/max of ``v q aT(T_q(v, q)) / 2 pi``.
 
     Returns
     -------
-    dict with ``f_needed_Hz`` [lo, hi] (at T_ref, i.e. ``v q a / 2 pi``), ``log10_shift``
-    [at T0, at T_max], ``f_curve_Hz`` [lo, hi] or None, ``extrapolated_decades_below`` and
-    ``_above`` (>= 0; None without a curve) and ``extrapolated_decades`` (their max).
+    dict
+        ``f_needed_Hz`` [lo, hi] (at T_ref, i.e. ``v q a / 2 pi``), ``log10_shift`` [at T0, at
+        T_max], ``f_curve_Hz`` [lo, hi] or None, ``extrapolated_decades_below`` and ``_above``
+        (>= 0; None without a curve) and ``extrapolated_decades`` (their max).
     """
     v = np.asarray(v_m_per_s, dtype=float)
     T0 = rubber.T_ref_C if T0_C is None else float(T0_C)
