@@ -17,10 +17,8 @@ from __future__ import annotations
 import csv
 import io
 
-import numpy as np
-
 __all__ = ["SEGMENTS_HEADER", "validity_keys", "write_segments_csv", "segments_picture",
-           "draw_segments", "segments_title"]
+           "draw_segments", "segments_title", "depth_rows", "write_extras", "draw_extras"]
 
 SEGMENTS_HEADER = ["start_m", "end_m", "msd_m", "valid", "reason"]
 
@@ -108,6 +106,8 @@ def segments_picture(seg, line_spacing_m=None):
     -------
     dict
     """
+    import numpy as np
+
     lines = int(seg.line.max()) + 1 if seg.line.size else 0
     if lines <= 1:
         return {"kind": "profile", "start_mm": seg.start_m * 1e3, "end_mm": seg.end_m * 1e3,
@@ -142,6 +142,8 @@ def draw_segments(picture, path, title):
     -------
     Path
     """
+    import numpy as np
+
     from . import report
 
     plt = report.pyplot()
@@ -172,3 +174,96 @@ def draw_segments(picture, path, title):
     ax.legend(fontsize=8, loc="upper center", ncol=3)
     report.set_title(ax, title)
     return report.save_figure(fig, path, report.fixed_margins(ax))
+
+
+def depth_rows(summary):
+    """Report rows (label, text) for MPD, ETD, IFI and the short-baseline depth.
+
+    Parameters
+    ----------
+    summary : dict
+        A summary.
+
+    Returns
+    -------
+    list of tuple
+    """
+    from .units_format import length, sig3, speed_kmh
+
+    rows = []
+    n, t = summary.get("mpd_valid_segments"), summary.get("mpd_total_segments")
+    if summary.get("mpd_m") is not None and summary.get("mpd_valid", True):
+        rows.append(("mean profile depth MPD (ISO 13473-1)",
+                     f"{length(summary['mpd_m'])}, valid per ISO 13473-1 ({n} of {t} segments)"
+                     if t else length(summary["mpd_m"])))
+    elif summary.get("mpd_m") is not None:
+        rows.append(("mean profile depth MPD (ISO 13473-1)",
+                     f"{length(summary['mpd_m'])}: not valid per ISO 13473-1 ({n} of {t} "
+                     f"segments)"))
+    else:
+        rows.append(("mean profile depth MPD (ISO 13473-1)", summary.get("mpd_note") or "—"))
+    if summary.get("etd_note"):
+        rows.append(("ETD, IFI", summary["etd_note"]))
+    if summary.get("etd_m") is not None:
+        rows.append(("estimated texture depth ETD = 0.2 mm + 0.8 MPD", length(summary["etd_m"])))
+    if summary.get("ifi_speed_constant_kmh") is not None:
+        rows.append(("IFI speed constant Sp = 14.2 + 89.7 MPD[mm] (ASTM E1960)",
+                     speed_kmh(summary["ifi_speed_constant_kmh"])))
+    if "ifi_F60" in summary:
+        inp = summary.get("ifi_inputs") or {}
+        rows.append((f"IFI F60 (ASTM E1960; F = {sig3(inp.get('friction'))} at "
+                     f"{sig3(inp.get('slip_speed_kmh'))} km/h)", sig3(summary["ifi_F60"])))
+    if summary.get("msd_short_m") is not None:
+        rows.append((f"short-baseline mean segment depth over "
+                     f"{length(summary['msd_short_baseline_m'])} (NOT ISO 13473-1 MPD)",
+                     length(summary["msd_short_m"])))
+    return rows
+
+
+def write_extras(out_dir, ts):
+    """``mpd_segments.csv`` next to ``summary.json`` (:mod:`pipelines.mpd_outputs`).
+
+    Parameters
+    ----------
+    out_dir : str or Path
+        Output folder.
+    ts : object
+        The analysis' texture result.
+
+    Returns
+    -------
+    None
+    """
+    from pathlib import Path
+
+    seg = getattr(ts, "mpd_segments", None)
+    if seg is not None:
+        write_segments_csv(Path(out_dir) / "mpd_segments.csv", seg)
+
+
+def draw_extras(drawer, out_dir, name, summary, ts):
+    """``mpd_segments.png`` handed to ``drawer`` (:mod:`pipelines.figure_process`).
+
+    Parameters
+    ----------
+    drawer : object
+        Figure process.
+    out_dir : str or Path
+        Output folder.
+    name : str
+        Scan name.
+    summary : dict
+        Its summary.
+    ts : object
+        The texture result.
+
+    Returns
+    -------
+    None
+    """
+    from pathlib import Path
+
+    seg = getattr(ts, "mpd_segments", None)
+    if seg is not None and seg.n_total:
+        drawer.submit(draw_segments, segments_picture(seg),
+                      Path(out_dir) / "mpd_segments.png", segments_title(name, summary))
