@@ -28,16 +28,15 @@ the target ends up holding one complete set, the last one swapped in.
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import ctypes.util
 import errno
-import fcntl
 import os
 import shutil
 import tempfile
 from pathlib import Path
 
 from ..errors import InputError
+from .folder_swap import (OLD_TAG, TMP_TAG, _hold, _in_use, _leftovers, _swap_in,  # noqa: F401
+                          recover_output_dir)
 from .output_folder import OUTPUT_MARKERS, OUTPUT_SUFFIXES, check_output_dir  # noqa: F401 (re-exported)
 from .overwrite_guard import check_not_read
 
@@ -45,10 +44,6 @@ __all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_sav
            "atomic_output_dir", "atomic_file_set", "check_output_dir", "file_mode", "TMP_TAG", "OLD_TAG",
            "through_link", "final_name"]
 
-#: marker in the names of temporary output folders (``.<target>.roadscan-tmp-XXXX``)
-TMP_TAG = ".roadscan-tmp-"
-#: marker of an old output folder set aside during a swap (``.<target>.roadscan-old-XXXX``)
-OLD_TAG = ".roadscan-old-"
 
 def through_link(path):
     """The path a write to ``path`` should replace: where a symbolic link points (followed to
@@ -239,59 +234,13 @@ def atomic_save_npy(path, array):
 
 # ---------------------------------------------------------------------------- output folders
 
-_RENAME_EXCHANGE = 2
-_AT_FDCWD = -100
-
-
-def _renameat2():
-    try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
-        fn = libc.renameat2
-    except (OSError, AttributeError):
-        return None
-    fn.argtypes = [ctypes.c_int, ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_uint]
-    fn.restype = ctypes.c_int
-    return fn
-
-
-_RENAMEAT2 = _renameat2()
-
-
-def _exchange(a, b):
-    """Atomically swap two existing paths; False when the system cannot."""
-    if _RENAMEAT2 is None:
-        return False
-    rc = _RENAMEAT2(_AT_FDCWD, os.fsencode(str(a)), _AT_FDCWD, os.fsencode(str(b)), _RENAME_EXCHANGE)
-    return rc == 0
-
-
-def _leftovers(target, tag):
-    prefix = f".{target.name}{tag}"
-    try:
-        return [p for p in target.parent.iterdir() if p.name.startswith(prefix)]
-    except OSError:
-        return []
-
-
-def recover_output_dir(target):
-    """Clean what a killed run left beside ``target``: put back an old set that was set aside
-    (when the target is missing), then delete temporary and set-aside folders."""
-    target = Path(target)
-    olds = _leftovers(target, OLD_TAG)
-    if olds and not os.path.lexists(target):
-        os.rename(olds[0], target)
-        olds = olds[1:]
-    for p in olds + _leftovers(target, TMP_TAG):
-        if not _in_use(p):                    # another run writing there now: leave it
-            shutil.rmtree(p, ignore_errors=True)
-
-
 def _make_folder(folder, target, option):
     """Create ``folder`` (the output's parent) or raise a one-line InputError naming ``target``."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: cannot create the folder ({exc.strerror or exc})") from None
+        raise InputError(None, f"{{{option}}} {target}: cannot create the folder "
+                               f"({exc.strerror or exc})", option) from None
 
 
 def _held_temporary(folder, target, option):
@@ -300,35 +249,9 @@ def _held_temporary(folder, target, option):
     try:
         tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=folder))
     except OSError as exc:
-        raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: cannot write there ({exc.strerror or exc})") from None
+        raise InputError(None, f"{{{option}}} {target}: cannot write there ({exc.strerror or exc})",
+                         option) from None
     return tmp, _hold(tmp)
-
-
-def _hold(folder):
-    """Lock ``folder`` (``flock``, released when the descriptor closes or the process dies):
-    a concurrent run's clean-up then knows it is being written, not left by a killed run."""
-    fd = os.open(folder, os.O_RDONLY)
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX)
-    except OSError:
-        pass
-    return fd
-
-
-def _in_use(folder):
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:
-        return False
-    try:
-        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        return False
-    except BlockingIOError:
-        return True
-    except OSError:
-        return False
-    finally:
-        os.close(fd)
 
 
 @contextlib.contextmanager
@@ -373,24 +296,6 @@ def atomic_output_dir(target, option="out", inputs=()):
         os.close(lock)
 
 
-def _swap_in(tmp, target):
-    if not os.path.lexists(target):
-        try:
-            os.rename(tmp, target)
-            return
-        except OSError as exc:            # a concurrent run put its set there first
-            if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):
-                raise
-    if _exchange(tmp, target):       # tmp now holds the old set
-        shutil.rmtree(tmp, ignore_errors=True)
-        return
-    old = Path(tempfile.mkdtemp(prefix=f".{target.name}{OLD_TAG}", dir=target.parent))
-    os.rmdir(old)
-    os.rename(target, old)
-    os.rename(tmp, target)
-    shutil.rmtree(old, ignore_errors=True)
-
-
 @contextlib.contextmanager
 def atomic_file_set(target, option="out"):
     """Write a set of sibling files (``mu.csv`` with ``mu_summary.json`` and ``mu.png``; a
@@ -418,10 +323,11 @@ def atomic_file_set(target, option="out"):
     target = Path(target)
     folder = target.parent
     if target.is_dir():
-        raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: is a folder, need a file name")
+        raise InputError(None, f"{{{option}}} {target}: is a folder, need a file name", option)
     for parent in [folder, *folder.parents]:
         if parent.exists() and not parent.is_dir():
-            raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: is below the file {parent}, need a folder")
+            raise InputError(None, f"{{{option}}} {target}: is below the file {parent}, need a folder",
+                             option)
     created = [p for p in [folder, *folder.parents] if not p.exists()]
     _make_folder(folder, target, option)
     for old in _leftovers(target, TMP_TAG):
@@ -435,7 +341,8 @@ def atomic_file_set(target, option="out"):
         dests = [through_link(folder / p.name) for p in files]   # a link: where it points
         busy = [d for d in dests if d.is_dir()]
         if busy:
-            raise InputError(None, hint_option=option, problem=f"{{{option}}} {target}: {busy[0]} is a folder, cannot write the file")
+            raise InputError(None, f"{{{option}}} {target}: {busy[0]} is a folder, cannot write the "
+                                 f"file", option)
         check_not_read(dests, option=option, exclude=tmp)
         for p, dest in zip(files, dests):
             _place(p, dest)
