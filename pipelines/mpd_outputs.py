@@ -265,5 +265,7 @@ def draw_extras(drawer, out_dir, name, summary, ts):
 
     seg = getattr(ts, "mpd_segments", None)
     if seg is not None and seg.n_total:
-        drawer.submit(draw_segments, segments_picture(seg),
+        sp = summary.get("spacing_m") or []
+        across = None if len(sp) < 2 else (sp[0] if summary.get("texture_direction") == "y" else sp[1])
+        drawer.submit(draw_segments, segments_picture(seg, across),
                       Path(out_dir) / "mpd_segments.png", segments_title(name, summary))
