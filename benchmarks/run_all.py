@@ -38,6 +38,7 @@ SCRIPTS = [
     ("bench_rainfill.py", [], ["--sizes", "1024,2048", "--repeats", "1"],
      "rain fill against scikit-image, 1024^2 to 4096^2"),
     ("bench_friction.py", [], ["--quick"], "isothermal and flash engines against independent references"),
+    ("bench_texture.py", ["3"], ["1"], "ISO 25178-2 texture set + MPD against height figures + MPD, 2048^2"),
 ]
 
 RATIO = re.compile(r"^RATIO \| (.+?) \| (.+?) \| (.+?) \| (PASS|FAIL) \| ?(.*)$")
