@@ -34,7 +34,7 @@ from scipy import stats as sps
 
 from .stats import jacobian
 
-__all__ = ["NU", "NOISE_FLOOR", "METHOD", "REFERENCE", "loglik", "model_evidence", "posteriors"]
+__all__ = ["NU", "NOISE_FLOOR", "METHOD", "REFERENCE", "loglik", "log_occam", "model_evidence", "posteriors"]
 
 NU = 4.0
 NOISE_FLOOR = 0.004
@@ -81,6 +81,25 @@ def _log10_model(ctx, effects):
         except (ValueError, ArithmeticError, RuntimeError):
             return np.full(ctx.n, np.nan)
     return f
+
+
+def log_occam(H, u):
+    """ln of the Laplace integral of exp(-(v - u)^T H (v - u) / 2) over the unit cube (the Occam
+    factor of a uniform prior there), and the posterior covariance pinv(H).
+
+    Each eigen-direction contributes min(1, sqrt(2 pi / lambda)) (a direction wider than the cube
+    keeps the cube's width), each parameter the mass of its marginal normal inside [0, 1] (its sd
+    at most 1 / sqrt(2 pi), the width of the cube).
+    """
+    u = np.asarray(u, float)
+    lam = np.clip(np.linalg.eigvalsh(H), 0.0, None)
+    occam = float(np.sum(0.5 * np.log(np.minimum(1.0, 2 * np.pi / np.maximum(lam, 1e-300)))))
+    cov = np.linalg.pinv(H)
+    sd = np.minimum(np.sqrt(np.clip(np.diag(cov), 0, None)), 1 / np.sqrt(2 * np.pi))
+    sd = np.maximum(sd, 1e-12)
+    mass = sps.norm.cdf((1 - u) / sd) - sps.norm.cdf(-u / sd)
+    occam += float(np.sum(np.log(np.maximum(mass, 1e-300))))
+    return occam, cov
 
 
 def model_evidence(ctx, real_mu, cand, noise, nu=NU):
@@ -131,13 +150,7 @@ def model_evidence(ctx, real_mu, cand, noise, nu=NU):
     J = np.where(np.isfinite(J), J, 0.0)
     s_eff2 = (nu * s * s + rss) / (nu + n)
     H = J.T @ J / s_eff2
-    lam = np.clip(np.linalg.eigvalsh(H), 0.0, None)
-    occam = float(np.sum(0.5 * np.log(np.minimum(1.0, 2 * np.pi / np.maximum(lam, 1e-300)))))
-    cov = np.linalg.pinv(H)
-    sd = np.minimum(np.sqrt(np.clip(np.diag(cov), 0, None)), 1 / np.sqrt(2 * np.pi))
-    sd = np.maximum(sd, 1e-12)
-    mass = sps.norm.cdf((1 - u) / sd) - sps.norm.cdf(-u / sd)
-    occam += float(np.sum(np.log(np.maximum(mass, 1e-300))))
+    occam, cov = log_occam(H, u)
     return dict(name=cand.name, k=cand.k, rss=rss, loglik=ll, occam=occam, log_z=ll + occam, cov=cov, H=H, J=J)
 
 
