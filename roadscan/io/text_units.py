@@ -61,20 +61,23 @@ def line_rms(z):
     step = max(1, int(np.ceil((z.size / _MAX_POINTS) ** (1 / max(z.ndim, 1)))))
     if step > 1:                      # a regular subsample: a unit is not decided by detail
         z = z[(slice(None, None, step),) * z.ndim]
-    idx = np.indices(z.shape, dtype=float).reshape(z.ndim, -1)
-    z = z.ravel()
-    ok = np.isfinite(z)
-    cols = np.vstack([np.ones(z.size), idx])[:, ok].T
-    z = z[ok]
-    if z.size < cols.shape[1] + 1:
-        return float(np.std(z)) if z.size else float("nan")
-    lo, hi = np.percentile(z, [1.0, 99.0])
-    keep = (z >= lo) & (z <= hi)
-    if keep.sum() < cols.shape[1] + 1:
+    flat = z.ravel()
+    pos = np.flatnonzero(np.isfinite(flat))
+    zv = flat[pos]
+    ncoef = 1 + z.ndim
+    if zv.size < ncoef + 1:
+        return float(np.std(zv)) if zv.size else float("nan")
+    lo, hi = np.percentile(zv, [1.0, 99.0])
+    keep = (zv >= lo) & (zv <= hi)
+    if keep.sum() < ncoef + 1:
         keep[:] = True
-    zk = z[keep] - np.median(z[keep])
-    coef, *_ = np.linalg.lstsq(cols[keep], zk, rcond=None)
-    r = zk - cols[keep] @ coef
+    pos, zk = pos[keep], zv[keep]
+    coords = [pos] if z.ndim == 1 else list(np.divmod(pos, z.shape[-1]))
+    a = np.column_stack([np.ones(zk.size)] + [c - c.mean() for c in coords])   # centred
+    zk = zk - zk.mean()
+    coef = np.linalg.lstsq(a.T @ a, a.T @ zk, rcond=None)[0]   # normal equations (a 2 x 2 or
+    # 3 x 3 system; lstsq: a single measured row or column leaves it singular)
+    r = zk - a @ coef
     return float(np.sqrt(np.mean(r * r)))
 
 
