@@ -35,7 +35,7 @@ PRUNE_FRACTION = 0.05
 
 def _steepest_ascent(z):
     """Index of the highest of each point's 8 neighbours when higher than the point, else the
-    point's own index (flattened, int32 below 2^31 points)."""
+    point's own index (flattened, int32 below 2^31 points); heights compared as (z, index)."""
     ny, nx = z.shape
     pad = np.full((ny + 2, nx + 2), -np.inf)
     pad[1:-1, 1:-1] = z
@@ -43,11 +43,19 @@ def _steepest_ascent(z):
     code = np.zeros((ny, nx), dtype=np.int8)      # which neighbour is the highest (0: none)
     offsets = [0]
     up = np.empty((ny, nx), dtype=bool)
+    tie = np.empty((ny, nx), dtype=bool)
+    # equal heights are ordered by their flattened index (a flat plateau drains to one point):
+    # neighbours come in increasing offset, so a later one wins a tie, except against the
+    # point itself when it lies before it
     for dy in (-1, 0, 1):
         for dx in (-1, 0, 1):
             if dy or dx:
                 nb = pad[1 + dy:ny + 1 + dy, 1 + dx:nx + 1 + dx]
                 np.greater(nb, best, out=up)
+                np.equal(nb, best, out=tie)
+                if dy * nx + dx < 0:
+                    tie &= code != 0
+                up |= tie
                 np.copyto(best, nb, where=up)
                 np.copyto(code, len(offsets), where=up)
                 offsets.append(dy * nx + dx)

@@ -156,3 +156,27 @@ def test_significant_peaks_match_scikit_image_h_maxima():
         # within one peak in a thousand: h_maxima's float reconstruction misses the odd peak
         # whose prominence clearly exceeds T (checked against the union-find count above)
         assert abs(int((prom >= T).sum()) - n) <= max(1, n // 1000)
+
+
+def test_flat_plateaus_count_once():
+    """Two flat mesas of equal height on a sloping floor: each is one peak (a plateau drains
+    to a single point, not one hill per point), and a flat-topped (clipped) random surface
+    gives the same peaks as its union-find count."""
+    from scipy.ndimage import gaussian_filter
+
+    from roadscan.areal_features import prominences
+
+    y, x = np.mgrid[0:120, 0:160]
+    z = 1e-3 * (x / 160.0) * 0.01
+    z[(x - 40) ** 2 + (y - 60) ** 2 < 15 ** 2] = 1e-3
+    z[(x - 110) ** 2 + (y - 60) ** 2 < 20 ** 2] = 1e-3
+    summits, prom = prominences(z)
+    assert summits.size < 20
+    assert feature_parameters(z, 1e-4, 1e-4)["Spd_per_m2"] * (120e-4 * 160e-4) == pytest.approx(2)
+    w = gaussian_filter(np.random.default_rng(11).normal(size=(90, 90)), 2.0)
+    edge = np.minimum(np.minimum(y[:90, :90], 89 - y[:90, :90]), np.minimum(x[:90, :90], 89 - x[:90, :90]))
+    w = w - 2.0 * np.exp(-edge / 3.0)             # low borders: no plateau reaches the edge
+    w = np.minimum(w, np.quantile(w, 0.7))
+    T = 0.05 * (w.max() - w.min())
+    r = feature_parameters(w, 1e-4, 1e-4)
+    assert r["Spd_per_m2"] * (90e-4) ** 2 == pytest.approx(_prominent_peaks(w, T))
