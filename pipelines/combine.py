@@ -48,11 +48,10 @@ def _spectra(entries, args):
         obj = load_scan(e.path, args, spacing=e.spacing, units=e.units)
         try:
             out.append(source_spectrum(obj, e.path, e.label, e.resolution_m))
-        except InputError:
-            raise
-        except (ValueError, ArithmeticError) as exc:
-            raise InputError(e.path, f"cannot compute its spectrum ({type(exc).__name__}: "
-                                     f"{exc})") from None
+        except InputError as exc:   # the scan's spectrum cannot carry a band or fit: name it
+            if exc.path:
+                raise
+            raise exc.reworded(e.path, "cannot compute its spectrum: ") from None
         del obj
     return out
 

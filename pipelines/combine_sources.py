@@ -333,8 +333,8 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
     try:
         band = reliable_band(q, measured, n, length, spacing, resolution_m=res,
                              window_alpha=alpha)
-    except ValueError as exc:
-        raise InputError(path, f"no reliable band in its spectrum ({exc})") from None
+    except InputError as exc:    # too few usable points (roadscan.reliable_band)
+        raise InputError(path, f"no reliable band in its spectrum ({exc.problem})") from None
     level, how = band.noise_floor, ("the white level of the spectrum's top rings taken off C "
                                      "before the resolution correction")
     if level is None:
