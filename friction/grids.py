@@ -32,7 +32,8 @@ def phi_rule(n_gl=8, panels_per_decade=1.0, u_min=1e-8):
 
     Returns
     -------
-    cos_phi, weights : (n,) arrays with ``sum w f(phi) ~ integral_0^{pi/2} f dphi``.
+    cos_phi, weights : ndarray, shape (n,)
+        Nodes and weights with ``sum w f(phi) ~ integral_0^{pi/2} f dphi``.
 
     Parameters
     ----------

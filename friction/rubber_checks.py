@@ -79,8 +79,9 @@ def wlf_fit_report(shift, T_s_C=None):
 
     Returns
     -------
-    dict ``C1``, ``C2_K``, ``T_s_C``, ``rms_decades``, ``max_abs_decades``, ``n_points``; or
-    None when ``shift`` is not a table or the fit fails.
+    dict or None
+        ``C1``, ``C2_K``, ``T_s_C``, ``rms_decades``, ``max_abs_decades``, ``n_points``; None
+        when ``shift`` is not a table or the fit fails.
 
     Parameters
     ----------

@@ -48,7 +48,8 @@ def area_parameters(hm, level_degree=1):
 
     Returns
     -------
-    dict with keys Sa_m, Sq_m, Ssk, Sku, Sp_m, Sv_m, Sz_m, Sdq, Sdr.
+    dict
+        Keys ``Sa_m``, ``Sq_m``, ``Ssk``, ``Sku``, ``Sp_m``, ``Sv_m``, ``Sz_m``, ``Sdq``, ``Sdr``.
 
     Parameters
     ----------
@@ -111,7 +112,8 @@ def profile_parameters(profile, level_degree=1):
 
     Returns
     -------
-    dict with keys Ra_m, Rq_m, Rsk, Rku, Rp_m, Rv_m, Rt_m, Rdq.
+    dict
+        Keys ``Ra_m``, ``Rq_m``, ``Rsk``, ``Rku``, ``Rp_m``, ``Rv_m``, ``Rt_m``, ``Rdq``.
 
     Parameters
     ----------
@@ -282,8 +284,10 @@ def mean_profile_depth(profile, **settings):
 
     Returns
     -------
-    (mpd_m or None, note) : the note says how many segments were valid and what was done, or
-    why no MPD could be computed.
+    mpd_m : float or None
+        Mean profile depth [m].
+    note : str
+        How many segments were valid and what was done, or why no MPD could be computed.
 
     Parameters
     ----------

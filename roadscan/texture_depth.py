@@ -78,7 +78,8 @@ def ifi_f60(friction, slip_speed_kmh, mpd_m, A, B, C=0.0):
 
     Returns
     -------
-    (F60, Sp_kmh, FR60), or None when ``mpd_m`` is None.
+    tuple of float or None
+        (F60, Sp_kmh, FR60), or None when ``mpd_m`` is None.
 
     Parameters
     ----------
@@ -121,7 +122,12 @@ def short_segment_depth(obj, **settings):
 
     Returns
     -------
-    (msd_short_m or None, baseline_m or None, note)
+    msd_short_m : float or None
+        Mean segment depth [m].
+    baseline_m : float or None
+        The baseline used [m].
+    note : str
+        What was done.
 
     Parameters
     ----------
@@ -169,8 +175,11 @@ def spike_alpha_to_pass(obj, settings=None, upper=50.0, step=0.1, max_rows=256):
 
     Returns
     -------
-    (alpha or None, iso_valid): None when even ``upper`` leaves no valid segment (the
-    segments fail on dropouts, not spikes).
+    alpha : float or None
+        None when even ``upper`` leaves no valid segment (the segments fail on dropouts, not
+        spikes).
+    iso_valid : bool
+        Whether the MPD at ``alpha`` is valid per ISO 13473-1.
 
     Parameters
     ----------
@@ -273,8 +282,8 @@ def mpd_segments(obj, **settings):
 
     Returns
     -------
-    MpdSegments, or None when no segment fits (line shorter than 100 mm, spacing coarser
-    than 1 mm).
+    MpdSegments or None
+        None when no segment fits (line shorter than 100 mm, spacing coarser than 1 mm).
 
     Parameters
     ----------
