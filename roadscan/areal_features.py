@@ -206,8 +206,10 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
         zxx = (z[r, c + 1] - 2 * z[r, c] + z[r, c - 1]) / dx_m ** 2
         zyy = (z[r + 1, c] - 2 * z[r, c] + z[r - 1, c]) / dy_m ** 2
         spc = float(-0.5 * np.mean(zxx + zyy))
+    from .units import length
+
     note = (f"watershed segmentation with Wolf pruning at {100 * prune_fraction:g} % of Sz "
-            f"({T * 1e6:.3g} µm): {len(hp)} significant peaks, {len(hv)} pits")
+            f"({length(T)}): {len(hp)} significant peaks, {len(hv)} pits")
     return {"Spd_per_m2": len(hp) / area, "Spc_per_m": spc,
             "S10z_m": None if s5p is None or s5v is None else s5p + s5v,
             "S5p_m": s5p, "S5v_m": s5v, "features_note": note}

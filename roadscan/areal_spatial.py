@@ -186,6 +186,11 @@ def spatial_parameters(heights_m, dx_m, dy_m, s=S_THRESHOLD):
     """
     z = np.asarray(heights_m, dtype=np.float64)
     ny, nx = z.shape
+    good = z[np.isfinite(z)]
+    if good.size < 4 or not np.ptp(good) > 0 or min(ny, nx) < 4:
+        return {"Sal_m": None, "Str": None, "Std_deg": None,
+                "spatial_note": "no autocorrelation: the field is flat or smaller than 4 x 4 "
+                                "measured points"}
     k = 1
     while -(-ny // k) * -(-nx // k) > MAX_POINTS:
         k += 1

@@ -125,6 +125,8 @@ def functional_parameters(curve, window_pct=40.0):
     dict with keys ``Sk_m``, ``Spk_m``, ``Svk_m``, ``Smr1_pct``, ``Smr2_pct``.
     """
     mr, c = curve.mr_pct, curve.c_m
+    if curve.z_max_m <= curve.z_min_m:             # flat: no core, no peaks, no dales
+        return {"Sk_m": 0.0, "Spk_m": 0.0, "Svk_m": 0.0, "Smr1_pct": 0.0, "Smr2_pct": 100.0}
     k = int(round(window_pct / MR_STEP_PCT))
     slope = (c[:-k] - c[k:]) / window_pct                 # >= 0: c falls with mr
     i = int(np.argmin(slope))
@@ -159,6 +161,8 @@ def volume_parameters(curve, p_pct=10.0, q_pct=80.0):
         Material ratios p and q [%].
     """
     mr, c = curve.mr_pct, curve.c_m
+    if curve.z_max_m <= curve.z_min_m:
+        return dict.fromkeys(("Vmp_m3_per_m2", "Vmc_m3_per_m2", "Vvc_m3_per_m2", "Vvv_m3_per_m2"), 0.0)
 
     def vm(x):
         return _integral(mr, c - curve.height_at(x), 0.0, x) / 100.0
