@@ -101,3 +101,19 @@ def test_sdr_exact_on_a_tilted_plane_and_a_sine():
     r = area_parameters(HeightMap(A * np.sin(k * x), 5e-6, 5e-6), level_degree=None)
     want = integrate.quad(lambda t: np.sqrt(1 + (A * k * np.cos(t)) ** 2), 0, 2 * np.pi)[0] / (2 * np.pi) - 1
     assert r["Sdr"] == pytest.approx(want, rel=2e-3)
+
+
+def test_flat_and_tiny_fields_give_zeros_or_null_with_a_note():
+    import warnings
+
+    from roadscan.heightmap import Profile
+    from roadscan.iso25178 import texture_parameters
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")                 # no division by zero on the way
+        f, notes = texture_parameters(HeightMap(np.zeros((20, 20)), 1e-4, 1e-4))
+        p, _ = texture_parameters(Profile(np.zeros(10), 1e-4))
+    assert f["Sk_m"] == 0 and f["Smr2_pct"] == 100 and f["Vvv_m3_per_m2"] == 0
+    assert f["Sal_m"] is None and f["Str"] is None and "flat" in notes["spatial"]
+    assert f["Spd_per_m2"] == 0 and "flat" in notes["features"]
+    assert p["Rk_m"] == 0 and p["Rpk_m"] == 0
