@@ -12,7 +12,6 @@ scans of a campaign). :mod:`pipelines.report` re-exports the writers.
 from __future__ import annotations
 
 import base64
-import html
 from functools import lru_cache
 from pathlib import Path
 
@@ -147,21 +146,31 @@ img{max-width:100%;margin:.4em 0}.grid{display:flex;flex-wrap:wrap;gap:8px}
 _INSTRUMENT_LABELS = (
     ("vendor", "vendor"), ("name", "instrument"), ("serial", "serial"), ("software", "software"),
     ("acquired", "acquired"), ("objective", "objective"), ("magnification", "magnification"),
-    ("lateral_resolution_m", "lateral resolution [m]"), ("tip_radius_m", "tip radius [m]"),
+    ("lateral_resolution_m", "lateral resolution"), ("tip_radius_m", "tip radius"),
     ("format", "file format"), ("units", "file units"), ("undefined_points", "undefined points"),
     ("channel", "channel"), ("reader", "read by"), ("comment", "comment"),
 )
 
 
+def _instrument_value(key, value):
+    from roadscan.units import length
+
+    if isinstance(value, (int, float)) and not isinstance(value, bool) and key.endswith("_m"):
+        return length(value)                       # "5.00 µm", not "5e-06"
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
+
+
 def instrument_html(block):
     """One escaped line for a report's header from a scan's ``meta["instrument"]`` block
-    (instrument, date, objective, units, undefined points, reader); None when there is none."""
+    (instrument, date, objective, units, lateral resolution, undefined points, reader); None
+    when there is none."""
     if not isinstance(block, dict) or not block:
         return None
-    parts = [f"{label}: {block[key]:.4g}" if isinstance(block[key], float) else
-             f"{label}: {block[key]}" for key, label in _INSTRUMENT_LABELS
+    parts = [f"{label}: {_instrument_value(key, block[key])}" for key, label in _INSTRUMENT_LABELS
              if block.get(key) not in (None, "")]
-    return "<b>Instrument</b> — " + html.escape(" · ".join(parts)) if parts else None
+    if not parts:
+        return None
+    return str(render("instrument.html.j2", line=" · ".join(parts)))
 
 
 def _is_png(item):
