@@ -43,3 +43,34 @@ def test_ci_builds_the_site_after_the_tests():
     test_line = next(i for i, l in enumerate(lines) if "pytest" in l)
     build_line = next(i for i, l in enumerate(lines) if "sphinx-build -W" in l)
     assert build_line > test_line and ".[docs]" in lines[build_line]
+
+
+def _rst_blocks(text, language):
+    """The ``.. code-block:: language`` blocks of a reST page, dedented."""
+    blocks, lines = [], text.splitlines()
+    for i, line in enumerate(lines):
+        if line.strip() == f".. code-block:: {language}":
+            body = []
+            for nxt in lines[i + 2:]:
+                if nxt.strip() and not nxt.startswith("   "):
+                    break
+                body.append(nxt[3:])
+            blocks.append("\n".join(body).strip() + "\n")
+    return blocks
+
+
+def test_guide_python_examples_run(monkeypatch):
+    """Every Python block of the guide and the getting-started page runs as written from the
+    repository root (the pipelines.analyse examples write into a temporary folder)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    monkeypatch.chdir(ROOT)
+    pages = [DOCS / "getting_started.rst", DOCS / "index.rst", *sorted((DOCS / "guide").glob("*.rst"))]
+    ran = 0
+    for page in pages:
+        for block in _rst_blocks(page.read_text(), "python"):
+            block = block.replace('"out/asphalt"', 'str(__import__("tempfile").mkdtemp())')
+            exec(compile(block, str(page.relative_to(ROOT)), "exec"), {})
+            ran += 1
+    assert ran >= 5
