@@ -278,6 +278,7 @@ def analyse(source, **options):
         ``roadscan analyse``'s long flags with dashes as underscores, taking what the flag
         takes: ``analyse("s.npy", spacing="2e-5", rubber="r.toml", sigma0="0.25MPa", nu=0.45,
         contact_gamma=0.6)``; switches take True (``no_friction=True``, ``flash=True``).
+        ``out=DIR`` also writes the command's files there (as ``.write(DIR)``).
 
     Returns
     -------
@@ -306,6 +307,7 @@ def analyse(source, **options):
     from .friction_options import settings_from_args
     from .validate import check_scan, collecting
 
+    out = options.pop("out", None)
     args = options_from_kwargs(options)
     path = None
     with collecting():
@@ -331,7 +333,10 @@ def analyse(source, **options):
             raise InputError(path, str(exc)) from None
     from dataclasses import replace
 
-    return replace(result, figures=not args.no_figures, source_path=path)
+    result = replace(result, figures=not args.no_figures, source_path=path)
+    if out is not None:
+        result.write(out)
+    return result
 
 
 class _CallableModule(types.ModuleType):
