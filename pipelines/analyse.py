@@ -35,7 +35,10 @@ from .analyse_outputs import (MU_EXTRA, MU_HEADER, PSD1D_HEADER, PSD_HEADER,  # 
 
 
 def nominal_band(obj):
-    """(2 pi / L of the longer side, pi / a of the coarser spacing) [1/m].
+    """(2 pi / L of the longer side, pi / a of the coarser spacing) [1/m]: the wave vectors the
+    scan holds at all (``q_min_per_m``, ``q_max_per_m`` of summary.json). The reliable band
+    (:func:`pipelines.reliable_bridge.geometry_of`) takes the shorter side instead: window
+    leakage comes from the side with the fewest modes.
 
     Parameters
     ----------
