@@ -276,9 +276,7 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
     -------
     Candidate
     """
-    from scipy import optimize
-
-    from .stats import jacobian
+    from .stats import jacobian, multistart_lsq
 
     t0 = time.perf_counter()
     effects = tuple(effects)
@@ -327,21 +325,9 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
             if all(np.max(np.abs(grid[i] - s0)) > 0.2 for s0 in starts):
                 starts.append(grid[i])
     max_nfev = budget or (8 if cost > 1 else 30 + 10 * k)
-    u, c_best = null, (float(np.sum(resid(null) ** 2)) if null is not None else np.inf)
-    if u is None:
-        u = starts[0]
-    for u0 in starts:
-        c0 = float(np.sum(resid(u0) ** 2))
-        if c0 < c_best:
-            u, c_best = u0, c0
-        try:
-            sol = optimize.least_squares(resid, u0, jac=jac, bounds=(0.0, 1.0), method="trf",
-                                         max_nfev=max_nfev, x_scale=0.1, xtol=1e-4, ftol=1e-6)
-            c1 = float(np.sum(resid(sol.x) ** 2))
-            if c1 < c_best:
-                u, c_best = sol.x, c1
-        except (ValueError, np.linalg.LinAlgError):
-            pass
+    c_null = float(np.sum(resid(null) ** 2)) if null is not None else np.inf
+    u, _ = multistart_lsq(resid, starts, u_best=null, c_best=c_null, jac=jac, method="trf",
+                          max_nfev=max_nfev, x_scale=0.1, xtol=1e-4, ftol=1e-6)
     params = unpack(effects, u)
     pred = 10.0 ** model(u)
     held = ~train

@@ -150,11 +150,9 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
     calibrated : dict
     effects : list or None
     """
-    from scipy import optimize
-
     from .fitting import pack, unpack
     from .model import simulate
-    from .stats import gauss_newton_cov, jacobian
+    from .stats import gauss_newton_cov, jacobian, multistart_lsq
 
     effs = [calibration_effect(c, ranges) for c in ctxs]
     if any(e is None for e in effs):
@@ -192,15 +190,8 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
     for i in np.argsort(costs):
         if len(starts) < 3 and all(np.max(np.abs(grid[i] - s0)) > 0.2 for s0 in starts):
             starts.append(grid[i])
-    for u0 in starts:
-        try:
-            sol = optimize.least_squares(resid, u0, bounds=(0.0, 1.0), diff_step=0.02, max_nfev=20 * k,
-                                         x_scale=0.1, xtol=1e-4, ftol=1e-6)
-            c1 = float(np.sum(resid(sol.x) ** 2))
-            if c1 < best_c:
-                best_u, best_c = sol.x, c1
-        except (ValueError, np.linalg.LinAlgError):
-            pass
+    best_u, best_c = multistart_lsq(resid, starts, u_best=best_u, c_best=best_c, diff_step=0.02, max_nfev=20 * k,
+                                    x_scale=0.1, xtol=1e-4, ftol=1e-6)
     r = resid(best_u)
     J = -jacobian(resid, best_u, f0=r)
     cov = gauss_newton_cov(J, r, noise)

@@ -1,5 +1,5 @@
-"""The statistics the friction-level diagnosis shares: a forward-difference Jacobian in the unit
-cube, the Gauss-Newton covariance of a least-squares fit and its Laplace-approximated evidence.
+"""The statistics the diagnosis shares: bounded multi-start least squares in the unit cube, a
+forward-difference Jacobian there and the Gauss-Newton covariance of a least-squares fit.
 
 Parameters live on the unit cube (each mapped onto its bounds, log or linear, see
 :class:`effects.Param`). Derivatives are forward differences of a fixed step (0.02 in the unit
@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["STEP", "jacobian", "gauss_newton_cov", "unit_interval"]
+__all__ = ["STEP", "jacobian", "gauss_newton_cov", "unit_interval", "multistart_lsq"]
 
 STEP = 0.02
 
@@ -89,3 +89,38 @@ def unit_interval(u, sd, z=1.96):
     tuple of float
     """
     return float(u - z * sd), float(u + z * sd)
+
+
+def multistart_lsq(resid, starts, u_best=None, c_best=np.inf, cost=None, **kw):
+    """Bounded least squares in the unit cube from several starts; the best point wins.
+
+    ``scipy.optimize.least_squares`` (trust-region reflective, bounds [0, 1]) from each start;
+    each start itself and each local optimum compete on ``cost`` (default sum of resid^2), so the
+    result is never worse than the best start (a fit that starts at "no effect" never loses to
+    it). ``u_best``/``c_best``: a point already known (e.g. the no-effect point) and its cost;
+    ``kw`` go to ``least_squares`` (``jac``, ``diff_step``, ``max_nfev``, ...). A start whose
+    local fit fails (``ValueError``, ``LinAlgError``) keeps its own cost.
+
+    Returns
+    -------
+    u : ndarray
+        The best point.
+    cost : float
+        Its cost.
+    """
+    from scipy import optimize
+
+    cost = cost or (lambda u: float(np.sum(np.asarray(resid(u)) ** 2)))
+    for u0 in starts:
+        u0 = np.asarray(u0, float)
+        c0 = cost(u0)
+        if u_best is None or c0 < c_best - 1e-12:
+            u_best, c_best = u0, c0
+        try:
+            sol = optimize.least_squares(resid, u0, bounds=(0.0, 1.0), **kw)
+        except (ValueError, np.linalg.LinAlgError):
+            continue
+        c1 = cost(sol.x)
+        if c1 < c_best - 1e-12:
+            u_best, c_best = sol.x, c1
+    return u_best, c_best

@@ -66,22 +66,12 @@ def _pack(effs, params):
 
 def _fit(ctx, effs, blocks, starts):
     """Bounded least squares from several starts; never worse than the first start (the null)."""
-    from scipy import optimize
+    from .stats import multistart_lsq
 
     def res(u):
         return _train_resid(ctx, _predict(ctx, effs, _unpack(effs, u)), blocks)
 
-    cost = lambda u: float(np.sum(res(u) ** 2))  # noqa: E731
-    best_u, best_c = starts[0], cost(starts[0])
-    for u0 in starts:
-        try:
-            sol = optimize.least_squares(res, u0, bounds=(0.0, 1.0), diff_step=1e-3, max_nfev=100)
-            u, c = sol.x, cost(sol.x)
-        except (ValueError, np.linalg.LinAlgError):
-            u, c = u0, cost(u0)
-        if c < best_c - 1e-12:
-            best_u, best_c = u, c
-    return best_u
+    return multistart_lsq(res, starts, diff_step=1e-3, max_nfev=100)[0]
 
 
 def _starts(ctx, effs, blocks, extra=None):

@@ -59,7 +59,7 @@ def whole_spectrum_check(an, twins=None):
     dict
     """
     from scipy import stats
-    from scipy import optimize
+    from .stats import multistart_lsq
 
     from .effects import get
 
@@ -104,12 +104,8 @@ def whole_spectrum_check(an, twins=None):
         null = np.array([pp.to_unit(e.null_params(ctx)[pp.name]) for pp in e.params])
         k = null.size
         grid = np.array(np.meshgrid(*([np.linspace(0.02, 0.98, 9 if k == 1 else 5)] * k), indexing="ij")).reshape(k, -1).T
-        u_best, c_best = null, float(np.sum(resid(null)[train] ** 2))
-        for u0 in [null, grid[int(np.argmin([np.sum(resid(g)[train] ** 2) for g in grid]))]]:
-            sol = optimize.least_squares(lambda u: resid(u)[train], u0, bounds=(0, 1), diff_step=1e-3, max_nfev=200)
-            c = float(np.sum(resid(sol.x)[train] ** 2))
-            if c < c_best:
-                u_best, c_best = sol.x, c
+        starts = [null, grid[int(np.argmin([np.sum(resid(g)[train] ** 2) for g in grid]))]]
+        u_best, c_best = multistart_lsq(lambda u: resid(u)[train], starts, diff_step=1e-3, max_nfev=200)
         r = resid(u_best)
         gh = float(np.sqrt(np.mean(r[held] ** 2)))
         # likelihood-ratio test on the training rings: the chi-square the effect removes with
