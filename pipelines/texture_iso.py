@@ -64,12 +64,13 @@ def iso_settings_from_args(args):
     """
     form = getattr(args, "form", None) or "plane"
     s, l_ = getattr(args, "s_filter", None), getattr(args, "l_filter", None)
-    for flag, v in (("--s-filter", s), ("--l-filter", l_)):
+    for key, v in (("s_filter", s), ("l_filter", l_)):
         if v is not None and not (math.isfinite(v) and 0 < v <= 10.0):
-            raise InputError(None, f"{flag} {v!r}: must be a nesting index in metres "
-                                   f"(0 < M <= 10, e.g. 0.008)")
+            raise InputError(None, f"{{{key}}} {v!r}: must be a nesting index in metres "
+                                   f"(0 < M <= 10, e.g. 0.008)", hint_option=key)
     if s is not None and l_ is not None and s >= l_:
-        raise InputError(None, f"--s-filter {s:g} must be shorter than --l-filter {l_:g}")
+        raise InputError(None, f"{{s_filter}} {s:g} must be shorter than {{l_filter}} {l_:g}",
+                         hint_option=("s_filter", "l_filter"))
     return form, s, l_
 
 
@@ -105,8 +106,8 @@ def texture_surface(analysis, form="plane", s_filter_m=None, l_filter_m=None):
         try:
             surf = apply_filters(surf, s_filter_m, l_filter_m)
         except ValueError as err:
-            flag = "--s-filter" if "S-filter" in str(err) else "--l-filter"
-            raise InputError(None, f"{flag}: {err}") from None
+            key = "s_filter" if "S-filter" in str(err) else "l_filter"
+            raise InputError(None, f"{{{key}}}: {err}", hint_option=key) from None
     filters = {"form": form, "s_filter_m": s_filter_m, "l_filter_m": l_filter_m,
                "end_effects": END_EFFECTS if (s_filter_m or l_filter_m) else None,
                "applies_to": "roughness figures; the spectrum, fit and friction use the "

@@ -112,8 +112,9 @@ def parse_columns(text):
 
     pats = [t.strip() for t in str(text).split(",") if t.strip()]
     if not pats:
-        raise InputError(None, f"--columns {text!r}: expected column names or patterns, comma "
-                               f"separated (e.g. mpd_m,mpd_valid,roughness.S*)")
+        raise InputError(None, f"{{columns}} {text!r}: expected column names or patterns, "
+                               f"comma separated (e.g. mpd_m,mpd_valid,roughness.S*)",
+                         hint_option="columns")
     return pats
 
 
