@@ -15,8 +15,9 @@ temperatures it is the drop of mu when the extension is removed.
 Phys. J. E 34, 129 (2011); dry to wet, 0.3 to 2 in road tests). Outside it,
 :func:`implausible_cause` names the most likely cause and the flag that changes it: units
 (rms height outside 1 um..20 mm: ``--units``), cut-off (over 30 % of mu from extrapolated
-wave vectors: ``--q1``), band (rms slope over the integrated band above 1: its short end holds
-noise or artefacts: ``--q1``/``--resolution``), rubber (the default thesis rubber is not a
+wave vectors: ``--q1``), band (rms slope over the integrated band above 1: ``--q1``; whether
+the band's fine end holds noise is the measurement's call, :func:`pipelines.chain.judge_fine_end`,
+the same whatever the rubber), rubber (the default thesis rubber is not a
 tread compound: ``--rubber``).
 """
 from __future__ import annotations
@@ -162,8 +163,9 @@ def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=No
         causes.append(f"cut-off ({100 * share_at_peak:.0f} % of mu from wave vectors beyond the "
                       f"scan: a lower --q1)")
     if mu_peak > hi and slope is not None and slope > SLOPE_BAND:
-        causes.append(f"band (rms slope {slope:.3g} up to q1 = {quantity('q1_per_m', q1_per_m)}: its short end "
-                      f"likely holds noise or artefacts: a lower --q1 or --resolution)")
+        causes.append(f"band (rms slope {slope:.3g} up to q1 = {quantity('q1_per_m', q1_per_m)}: "
+                      f"steep roughness carries much of mu; a lower --q1 if the finest "
+                      f"wavelengths are not road texture)")
     if mu_peak < lo and slope is not None and slope < 0.1:
         causes.append(f"band (rms slope {slope:.3g}: too smooth or too short a band: --q1)")
     if default_rubber:
