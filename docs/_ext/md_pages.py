@@ -12,7 +12,10 @@ from pathlib import Path
 PAGES = [
     ("FORMATS.md", "formats/height_files.rst"),
     ("friction/RUBBER_TOML.md", "formats/rubber_toml.rst"),
+    ("pipelines/diagnose/CAPTIF_EXAMPLE.md", "reference/captif_diagnosis.rst"),
 ]
+#: every docs/md/NAME.md becomes reference/NAME.rst
+MD_FOLDER, MD_TARGET = "docs/md", "reference"
 _UNDERLINE = {1: "=", 2: "-", 3: "~", 4: "^"}
 
 
@@ -66,7 +69,8 @@ def _link(text, url):
 
 
 def _table(rows):
-    cells = [[c.strip() for c in r.strip().strip("|").split("|")] for r in rows]
+    cells = [[c.strip().replace("\x02", "|") for c in
+              r.replace("\\|", "\x02").strip().strip("|").split("|")] for r in rows]
     header, body = cells[0], [r for r in cells[2:]]
     n = len(header)
     lines = [".. list-table::", "   :header-rows: 1", ""]
@@ -86,6 +90,10 @@ def md_to_rst(md):
         if m:
             title = _inline(m.group(2).strip())
             out += [title, _UNDERLINE[len(m.group(1))] * max(len(title), 4), ""]
+            i += 1
+        elif line.startswith("<!--"):
+            while i < len(lines) and "-->" not in lines[i]:
+                i += 1
             i += 1
         elif line.startswith("```"):
             lang = line[3:].strip() or "text"
@@ -146,7 +154,9 @@ def generate(app):
     """Write the generated pages (called when Sphinx starts reading)."""
     docs = Path(app.srcdir)
     root = docs.parent
-    for src, dest in PAGES:
+    pages = list(PAGES) + [(f"{MD_FOLDER}/{p.name}", f"{MD_TARGET}/{p.stem}.rst")
+                           for p in sorted((root / MD_FOLDER).glob("*.md"))]
+    for src, dest in pages:
         target = docs / dest
         target.parent.mkdir(parents=True, exist_ok=True)
         text = md_to_rst((root / src).read_text(encoding="utf-8"))
