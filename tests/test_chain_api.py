@@ -147,3 +147,19 @@ def test_every_friction_flag_changes_the_result(cmd, scan, tmp_path):
     a = _mu_of(cmd, scan, tmp_path / "e1", mc + ["--extrapolate", "powerlaw"])
     b = _mu_of(cmd, scan, tmp_path / "e2", mc + ["--extrapolate", "hold"])
     assert np.max(np.abs(a / b - 1)) > 1e-3, (cmd, "--extrapolate")
+
+
+def test_friction_psd_extends_like_analyse_beyond_the_scan(scan, tmp_path):
+    """--q1 above Nyquist: analyse continues C(q) by its self-affine fit; friction --psd on
+    analyse's psd.csv (with psd_band.json beside it) does the same, and without the sidecar it
+    cannot (the table's own tail), which is why the sidecar exists."""
+    q1 = ["--q1", "3e5", "--velocities", "1e-3:10:5"]
+    _run(["analyse", scan, "--spacing", DX, "--no-figures", "--out", tmp_path / "a", *q1])
+    _run(["friction", "--psd", tmp_path / "a" / "psd.csv", "--out", tmp_path / "f" / "mu.csv", *q1])
+    ref = _mu_csv(tmp_path / "a" / "mu.csv")
+    np.testing.assert_allclose(_mu_csv(tmp_path / "f" / "mu.csv"), ref, rtol=1e-6)
+    bare = tmp_path / "bare"
+    bare.mkdir()
+    (bare / "psd.csv").write_bytes((tmp_path / "a" / "psd.csv").read_bytes())
+    _run(["friction", "--psd", bare / "psd.csv", "--out", tmp_path / "g" / "mu.csv", *q1])
+    assert np.max(np.abs(_mu_csv(tmp_path / "g" / "mu.csv") / ref - 1)) > 1e-3
