@@ -22,6 +22,10 @@ _UNDERLINE = {1: "=", 2: "-", 3: "~", 4: "^"}
 def _inline(text):
     """Markdown inline text -> reST: `code`, **bold**, [text](url); everything else escaped."""
     out = []
+    # a link whose text is code: the code alone (a relative link has no target on the site)
+    text = re.sub(r"\[(`[^`]+`)\]\(([^)]+)\)",
+                  lambda m: m.group(1) if not m.group(2).startswith("http") else m.group(1) + f" ({m.group(2)})",
+                  text)
     for i, part in enumerate(re.split(r"(`[^`]+`)", text)):
         if i % 2:
             code = part[1:-1].strip()
@@ -73,7 +77,9 @@ def _table(rows):
               r.replace("\\|", "\x02").strip().strip("|").split("|")] for r in rows]
     header, body = cells[0], [r for r in cells[2:]]
     n = len(header)
-    lines = [".. list-table::", "   :header-rows: 1", ""]
+    width = [max(len(r[j]) if j < len(r) else 0 for r in [header] + body) for j in range(n)]
+    width = [max(4, round(10 * w ** 0.5)) for w in width]   # long cells wrap, short ones stay narrow
+    lines = [".. list-table::", "   :header-rows: 1", "   :widths: " + " ".join(map(str, width)), ""]
     for row in [header] + body:
         row = (row + [""] * n)[:n]
         for j, c in enumerate(row):
