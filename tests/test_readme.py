@@ -1,4 +1,5 @@
-"""The README's Python example runs as written (from the repository root)."""
+"""The README's Python example runs as written (from the repository root); the example commands of
+the README and of the Markdown documentation pages write only into out/."""
 import re
 from pathlib import Path
 
@@ -39,11 +40,17 @@ import subprocess
 import sys
 
 
+def example_pages():
+    """The README and the documentation pages written in Markdown (``docs/md/*.md``, where the
+    README's long sections live), whose examples must run as written."""
+    return [ROOT / "README.md", *sorted((ROOT / "docs" / "md").glob("*.md"))]
+
+
 def readme_commands(text=None, tables=True):
-    """Every example command of the README: the lines of its ```bash blocks (continuations
-    joined, comments dropped, ``&&`` chains split) and the ``roadscan ...`` commands of its
-    tables (backquoted)."""
-    text = text if text is not None else (ROOT / "README.md").read_text()
+    """Every example command of the README and of the Markdown documentation pages: the lines
+    of their ```bash blocks (continuations joined, comments dropped, ``&&`` chains split) and
+    the ``roadscan ...`` commands of their tables (backquoted)."""
+    text = text if text is not None else "\n".join(p.read_text() for p in example_pages())
     cmds = []
     for block in re.findall(r"```bash\n(.*?)```", text, flags=re.S):
         for line in re.sub(r"\s*\\\n\s*", " ", block).splitlines():
