@@ -268,7 +268,8 @@ def _white_level(q, measured, dof, band, resolution_m):
 
 def _plateau_start(band, q, dof):
     """The band with its low end raised to the roll-off when the rings between them carry
-    under half a merged row's degrees of freedom.
+    under half a merged row's degrees of freedom (the band may then be under a factor 2 wide:
+    the input is left out, with a warning).
 
     Below a roll-off the spectrum bends from its self-affine slope to a plateau; the merge
     pools no rings across the bend (:attr:`roadscan.spectrum_merge.SpectrumPart.bends_per_m`),
@@ -281,7 +282,7 @@ def _plateau_start(band, q, dof):
     from roadscan.spectrum_merge import MIN_ROW_DOF
 
     q_r = band.q_roll_per_m
-    if q_r is None or not band.lo_per_m < q_r < band.hi_per_m / 2:
+    if q_r is None or not band.lo_per_m < q_r < band.hi_per_m:
         return band
     k = float(np.sum(dof[(q >= band.lo_per_m * (1 - 1e-9)) & (q < q_r)]))
     if k >= MIN_ROW_DOF / 2:

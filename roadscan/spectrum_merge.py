@@ -18,8 +18,9 @@ pooled into one row until it holds :data:`MIN_ROW_DOF` degrees of freedom (at mo
 grid into segments: no row pools rings across one and no slope is taken across one (a straight
 move across a roll-off puts the plateau's row far above it). The first row of each stretch
 sits at its lowest ring (the curve starts where the band does), unless a bend lies within
-:data:`SLOPE_REACH` decade below or one bin above it; the others sit at the count-weighted mean
-of ln q (where a slope error cancels to first order). Uncertainty: a periodogram value of a Gaussian surface is C times an
+:data:`SLOPE_REACH` decade above or :data:`BEND_AHEAD` decade below it, or the stretch spans
+under :data:`MIN_STRETCH_DECADES`; the others sit at the count-weighted mean of ln q (where a
+slope error cancels to first order). Uncertainty: a periodogram value of a Gaussian surface is C times an
 exponential variable (2 degrees of freedom per independent mode, reduced by the window's
 equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
 band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
@@ -33,6 +34,10 @@ covers are *gaps* (a bin inside some band that holds no ring, as 1D modes sparse
 grid at low q, gets no row): bridged by the power law fitted (inverse-variance weights) to the
 covered rows within 0.5 decade on either side, flagged ``n_sources = 0`` and listed.
 
+Inputs whose C disagree where both measure beyond their scatter are listed
+(``MergedSpectrum.disagreements``), and a measured row whose band excludes the line through its
+neighbours gets a band reaching it (``widened_rows_per_m``): :mod:`roadscan.spectrum_agreement`.
+
 Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 3
 (periodogram statistics, windows); Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014
 (2022) (merging the spectra of several instruments, reliability cut-offs).
@@ -42,6 +47,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
+
+from .spectrum_agreement import Z95, disagreements, widen_outliers   # Z95, disagreements re-exported
 
 __all__ = ["SpectrumPart", "MergedSpectrum", "merge_spectra", "aligned_range", "disagreements",
            "chi2_quantile", "RINGS_PER_DECADE", "Z95"]
@@ -63,8 +70,9 @@ SLOPE_REACH = 1.0
 #: rounds the bend over a few 2 pi / L and the bend's place, chosen from the data, favours
 #: high rings above it
 BEND_AHEAD = 0.2
-#: one-sided 95 % point of the standard normal
-Z95 = 1.6448536269514722
+#: a stretch of rows (between gaps) spanning less than this (decades) starts at its first
+#: row's mean ln q, not its lowest ring: its own rings cannot show the slope to move them by
+MIN_STRETCH_DECADES = 0.5
 
 
 @dataclass(frozen=True)
@@ -125,7 +133,8 @@ class MergedSpectrum:
     gaps: list = field(default_factory=list)
     #: pairs of sources whose overlap disagrees beyond their scatter (:func:`disagreements`)
     disagreements: list = field(default_factory=list)
-    #: rows whose 5-95 % band was widened to what their neighbours say (:func:`_widen_outliers`)
+    #: rows whose 5-95 % band was widened to what their neighbours say
+    #: (:func:`roadscan.spectrum_agreement.widen_outliers`)
     widened_rows_per_m: list = field(default_factory=list)
 
 
@@ -238,7 +247,17 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     near_bend = np.zeros(nb, bool)
     for bb in bend_bins:
         near_bend |= (first_bin <= bb + ahead) & (first_bin >= bb - reach)
-    q = np.where(covered & ~np.r_[False, covered[:-1]] & ~near_bend, q_first, q)
+    # stretches: runs of covered rows; one too short to show its own slope beyond its first row
+    # starts at its mean (a single row at its lowest ring over a roll-off was 9 x the truth)
+    starts = covered & ~np.r_[False, covered[:-1]]
+    stretch = np.cumsum(starts)
+    ln_top = np.full(stretch.max() + 1, -np.inf)
+    np.maximum.at(ln_top, stretch[idx], np.log10(r[:, 1]))
+    ln_bot = np.full(stretch.max() + 1, np.inf)
+    np.minimum.at(ln_bot, stretch[idx], np.log10(r[:, 1]))
+    with np.errstate(invalid="ignore"):         # a stretch index without rings: -inf - inf
+        long_enough = (ln_top - ln_bot)[stretch] >= MIN_STRETCH_DECADES
+    q = np.where(starts & ~near_bend & long_enough, q_first, q)
     # each ring's C moved to its row's q along the local slope (exact for a power law)
     slopes, slope_se = _row_slopes(r[:, 1], r[:, 2], dof, q, covered, seg_ring, seg_row)
     lever = np.log(q[idx] / r[:, 1])
@@ -272,7 +291,7 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
         a[row] for a in (np.where(covered, q, centre), C, N, covered, d_lo, d_hi, nsrc, seg_row))
     gaps = _gaps(covered, q)
     lnC = np.log(np.where(covered, C, 1.0))
-    widened = _widen_outliers(q, lnC, d_lo, d_hi, covered, seg)
+    widened = widen_outliers(q, lnC, d_lo, d_hi, covered, seg)
     for g in gaps:
         _bridge(g, q, lnC, d_lo, d_hi, covered)
     _gap_edges(gaps, lows, highs)
@@ -280,126 +299,6 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     return MergedSpectrum(q, Cm, Cm * np.exp(-d_lo), Cm * np.exp(d_hi), nsrc.astype(np.int64),
                           np.where(covered, N, 0.0),
                           (float(q[covered][0]), float(q[covered][-1])), gaps, clash, widened)
-
-
-#: decades either side of a row whose rows predict it (:func:`_widen_outliers`)
-NEIGHBOUR_REACH = 0.3
-
-
-def _widen_outliers(q, lnC, d_lo, d_hi, covered, seg):
-    """Widen, in place, the band of each measured row that excludes what its neighbours say
-    -> [q of each row widened].
-
-    The neighbours are the measured rows of its segment within :data:`NEIGHBOUR_REACH` decade
-    (at least one on each side, or three on one side); the line ln C = a + b ln q through them
-    (weights 1 / sigma^2, sigma the row's band half-width over 1.645) predicts the row with a
-    standard error se. While some prediction lies beyond its row's band by more than 1.645 se,
-    the worst such row (in units of se) has its band widened to reach it, and the others are
-    tested again (its widened band then weighs less in theirs): a row is not given with a band
-    that its neighbours, and through them the other inputs, contradict.
-    """
-    x = np.log(q)
-    out = []
-    for _ in range(int(covered.sum())):
-        sig = (d_lo + d_hi) / (2 * Z95)
-        worst = None
-        for i in np.flatnonzero(covered):
-            near = covered & (seg == seg[i]) & (np.abs(x - x[i]) <= NEIGHBOUR_REACH * np.log(10))
-            near[i] = False
-            below, above = int(np.sum(near & (x < x[i]))), int(np.sum(near & (x > x[i])))
-            if not ((below and above) or max(below, above) >= 3) or near.sum() < 2:
-                continue
-            w = 1.0 / np.maximum(sig[near], 1e-6) ** 2
-            xm = np.sum(w * x[near]) / np.sum(w)
-            sxx = np.sum(w * (x[near] - xm) ** 2)
-            ym = np.sum(w * lnC[near]) / np.sum(w)
-            b = np.sum(w * (x[near] - xm) * (lnC[near] - ym)) / sxx if sxx > 0 else 0.0
-            pred = ym + b * (x[i] - xm)
-            se = np.sqrt(1.0 / np.sum(w) + ((x[i] - xm) ** 2 / sxx if sxx > 0 else 0.0))
-            miss = max(lnC[i] - d_lo[i] - pred, pred - lnC[i] - d_hi[i]) / se
-            if miss > Z95 and (worst is None or miss > worst[0]):
-                worst = (miss, i, pred)
-        if worst is None:
-            break
-        _, i, pred = worst
-        if pred < lnC[i]:
-            d_lo[i] = lnC[i] - pred
-        else:
-            d_hi[i] = pred - lnC[i]
-        out.append(float(q[i]))
-    return sorted(out)
-
-
-#: two sources disagree when the mean ratio of their C over the rows both measure is beyond
-#: this many standard deviations of it and beyond DISAGREE_FACTOR
-DISAGREE_SIGMAS = 3.0
-DISAGREE_FACTOR = 1.25
-
-
-def disagreements(row, source, count, dof, C, edge, q_row, labels):
-    """Pairs of sources whose C disagree where both measure: [{labels, factor, q_from_per_m,
-    q_to_per_m, rows, sigma_ln}].
-
-    In each row both sources measure, each source's C is the count-weighted mean of its rings
-    (moved to the row's q) and ln C scatters by sqrt(2 / k), k its degrees of freedom there. The
-    difference d = ln C_a - ln C_b is averaged over the rows with weights 1 / (2 / k_a + 2 / k_b)
-    into D; its variance is the larger of the weights' and the rows' own scatter of d, plus
-    the bias each band tolerates at its ends (``edge``: ln(1 + b)^2, taken as 1.645 standard
-    deviations; it does not average out). ``factor`` is exp|D| >= 1, the C of the first label
-    over that of the second (the higher first), reported when
-    |D| > :data:`DISAGREE_SIGMAS` standard deviations and exp|D| > :data:`DISAGREE_FACTOR`: two
-    measurements of one surface agree within their scatter (Jacobs, Junge, Pastewka 2017,
-    sec. 3: a ring's periodogram mean is chi-square distributed).
-
-    Parameters
-    ----------
-    row : ndarray of int
-    source : ndarray of int
-    count, dof : ndarray
-    C : ndarray
-    edge : ndarray of bool
-    q_row : ndarray
-    labels : list of str
-
-    Returns
-    -------
-    list of dict
-    """
-    S = len(labels)
-    nb = int(row.max()) + 1
-    key = row * S + source
-
-    def per(v):
-        return np.bincount(key, v, nb * S).reshape(nb, S)
-
-    N = per(count)
-    have = N > 0
-    Ns = np.where(have, N, 1.0)
-    lnC = np.log(np.maximum(per(count * C) / Ns, 1e-300))
-    k = np.maximum(per(dof), 1e-9)
-    e = per(count * edge) / Ns
-    out = []
-    for a in range(S):
-        for b in range(a + 1, S):
-            both = have[:, a] & have[:, b]
-            m = int(both.sum())
-            if not m:
-                continue
-            d = lnC[both, a] - lnC[both, b]
-            w = 1.0 / (2.0 / k[both, a] + 2.0 / k[both, b])
-            D = float(np.sum(w * d) / np.sum(w))
-            var = 1.0 / np.sum(w)
-            if m > 1:
-                var = max(var, float(np.sum(w * (d - D) ** 2) / np.sum(w) / (m - 1)))
-            var += float(np.mean(e[both, a] + e[both, b])) / Z95**2
-            sd = float(np.sqrt(var))
-            if abs(D) > DISAGREE_SIGMAS * sd and abs(D) > np.log(DISAGREE_FACTOR):
-                qs = q_row[:nb][both]
-                hi_, lo_ = (a, b) if D > 0 else (b, a)       # the higher C first: factor > 1
-                out.append({"labels": [labels[hi_], labels[lo_]], "factor": float(np.exp(abs(D))),
-                            "q_from_per_m": float(qs.min()), "q_to_per_m": float(qs.max()),
-                            "rows": m, "sigma_ln": sd})
-    return out
 
 
 def _group_bins(dof, min_dof, max_bins, segment=None):
