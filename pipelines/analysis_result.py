@@ -3,7 +3,7 @@ run's warnings, the arrays, and :meth:`AnalysisResult.write`.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 __all__ = ["AnalysisResult"]
@@ -49,7 +49,6 @@ class AnalysisResult:
     settings: object = None
     figures: bool = True
     source_path: object = None
-    _extra: dict = field(default_factory=dict, repr=False)
 
     @property
     def spectrum(self):
