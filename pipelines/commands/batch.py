@@ -55,7 +55,8 @@ def _rubber_identity(path):
         return str(path)
 
 
-_NOT_OPTIONS = {"inputs", "out", "workers", "scheduler", "resume", "command", "_run", "debug"}
+_NOT_OPTIONS = {"inputs", "out", "workers", "scheduler", "resume", "command", "_run", "debug",
+                "columns"}    # --columns shapes campaign.csv only, not a scan's outputs
 
 
 def _fingerprint(args, kw):
