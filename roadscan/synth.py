@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.fft as sfft
 
+from .errors import InputError
 from .heightmap import HeightMap
 
 __all__ = ["self_affine_surface", "model_psd"]
@@ -109,7 +110,8 @@ def self_affine_surface(nx, ny=None, dx_m=55.4e-6, hurst=0.8, rms_height_m=0.5e-
     h -= h.mean()
     std = h.std()
     if std == 0:
-        raise ValueError("no lattice wave vector lies inside [q0, q1]: empty spectrum")
+        raise InputError(None, "no lattice wave vector lies inside [{q0}, {q1}]: empty spectrum",
+                         ("q0", "q1"))
     h *= rms_height_m / std
     # prefactor: rms^2 = sum_full_lattice K shape (2 pi)^2 / A (rfft half counted with weights)
     w = np.full(qx.size, 2.0)

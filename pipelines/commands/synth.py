@@ -39,12 +39,9 @@ def run(args):
     check_rms_height(args.rms, flag="--rms")
     if args.seed < 0:
         raise InputError(None, f"--seed {args.seed}: must be a non-negative whole number")
-    try:
-        hm = self_affine_surface(args.nx, args.ny, dx_m=args.spacing, hurst=args.hurst,
-                                 rms_height_m=args.rms, q_roll_per_m=args.q_roll,
-                                 q0_per_m=args.q0, q1_per_m=args.q1, seed=args.seed)
-    except ValueError as exc:
-        raise InputError(None, str(exc)) from None
+    hm = self_affine_surface(args.nx, args.ny, dx_m=args.spacing, hurst=args.hurst,
+                             rms_height_m=args.rms, q_roll_per_m=args.q_roll,
+                             q0_per_m=args.q0, q1_per_m=args.q1, seed=args.seed)
     write(args.out, hm)
     from ..units_format import length
 
