@@ -173,7 +173,8 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
 
     Parameters
     ----------
-    heights_m : (ny, nx) array [m] (mean plane at zero), NaN where unmeasured
+    heights_m : ndarray, shape (ny, nx)
+        Heights [m] (mean plane at zero), NaN where unmeasured.
     dx_m, dy_m : float
         Spacings along x (columns) and y (rows) [m].
     prune_fraction : float
@@ -181,8 +182,9 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
 
     Returns
     -------
-    dict with keys ``Spd_per_m2``, ``Spc_per_m``, ``S10z_m``, ``S5p_m``, ``S5v_m`` and
-    ``features_note`` (the threshold, the counts and the block size used).
+    dict
+        Keys ``Spd_per_m2``, ``Spc_per_m``, ``S10z_m``, ``S5p_m``, ``S5v_m`` and ``features_note``
+        (the threshold, the counts and the block size used).
     """
     z = np.asarray(heights_m, dtype=np.float64)
     if np.isnan(z).any():

@@ -170,7 +170,8 @@ def spatial_parameters(heights_m, dx_m, dy_m, s=S_THRESHOLD):
 
     Parameters
     ----------
-    heights_m : (ny, nx) array [m], NaN where unmeasured
+    heights_m : ndarray, shape (ny, nx)
+        Heights [m], NaN where unmeasured.
     dx_m, dy_m : float
         Spacings along x (columns) and y (rows) [m].
     s : float
@@ -178,11 +179,12 @@ def spatial_parameters(heights_m, dx_m, dy_m, s=S_THRESHOLD):
 
     Returns
     -------
-    dict with keys ``Sal_m``, ``Str``, ``Std_deg`` and ``spatial_note`` (what was decided
-    and why a figure is null): ``Sal_m`` and ``Str`` are None when f_ACF does not decay to s
-    within half the field; ``Str`` is None when its central region reaches the edge of the lag
-    window and the ratio it allows is not below 0.3 (the field is too small to decide whether
-    the surface is isotropic), and is an upper bound, said in the note, when it is below 0.3.
+    dict
+        Keys ``Sal_m``, ``Str``, ``Std_deg`` and ``spatial_note`` (what was decided and why a
+        figure is null): ``Sal_m`` and ``Str`` are None when f_ACF does not decay to s within half
+        the field; ``Str`` is None when its central region reaches the edge of the lag window and
+        the ratio it allows is not below 0.3 (the field is too small to decide whether the surface
+        is isotropic), and is an upper bound, said in the note, when it is below 0.3.
     """
     z = np.asarray(heights_m, dtype=np.float64)
     ny, nx = z.shape

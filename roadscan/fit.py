@@ -152,7 +152,8 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
 
     Returns
     -------
-    (lo, hi) : wave vectors [1/m] of the first and last point of the band.
+    lo, hi : float
+        Wave vectors [1/m] of the first and last point of the band.
 
     Parameters
     ----------

@@ -27,8 +27,10 @@ def texture_parameters(obj):
 
     Returns
     -------
-    (dict of figures, dict of notes): the notes (``spatial``, ``features``) say how the
-    spatial and feature figures were obtained and why one is null.
+    figures : dict
+        The texture figures.
+    notes : dict
+        ``spatial`` and ``features``: how those figures were obtained and why one is null.
 
     Parameters
     ----------

@@ -95,15 +95,18 @@ def gaussian_lowpass(heights_m, spacings_m, cutoff_m, unmeasured=None):
 
     Parameters
     ----------
-    heights_m : (n,) or (ny, nx) array [m], NaN where unmeasured
-    spacings_m : sequence of the grid spacings [m], (dx,) or (dy, dx)
+    heights_m : ndarray, shape (n,) or (ny, nx)
+        Heights [m], NaN where unmeasured.
+    spacings_m : sequence of float
+        Grid spacings [m], (dx,) or (dy, dx).
     cutoff_m : float
         Nesting index lambda_c [m].
     unmeasured : bool array, optional
 
     Returns
     -------
-    array of the input's shape [m], NaN where unmeasured.
+    ndarray
+        Filtered heights of the input's shape [m], NaN where unmeasured.
     """
     z = np.asarray(heights_m, dtype=np.float64)
     bad = ~np.isfinite(z)

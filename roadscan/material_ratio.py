@@ -122,7 +122,8 @@ def functional_parameters(curve, window_pct=40.0):
 
     Returns
     -------
-    dict with keys ``Sk_m``, ``Spk_m``, ``Svk_m``, ``Smr1_pct``, ``Smr2_pct``.
+    dict
+        Keys ``Sk_m``, ``Spk_m``, ``Svk_m``, ``Smr1_pct``, ``Smr2_pct``.
     """
     mr, c = curve.mr_pct, curve.c_m
     if curve.z_max_m <= curve.z_min_m:             # flat: no core, no peaks, no dales
@@ -151,7 +152,8 @@ def volume_parameters(curve, p_pct=10.0, q_pct=80.0):
 
     Returns
     -------
-    dict with keys ``Vmp_m3_per_m2``, ``Vmc_m3_per_m2``, ``Vvc_m3_per_m2``, ``Vvv_m3_per_m2``.
+    dict
+        Keys ``Vmp_m3_per_m2``, ``Vmc_m3_per_m2``, ``Vvc_m3_per_m2``, ``Vvv_m3_per_m2``.
 
     Parameters
     ----------
@@ -206,7 +208,8 @@ def profile_material_parameters(z):
 
     Returns
     -------
-    dict with keys ``Rk_m``, ``Rpk_m``, ``Rvk_m``, ``Rmr1_pct``, ``Rmr2_pct``, ``Rmr_pct``.
+    dict
+        Keys ``Rk_m``, ``Rpk_m``, ``Rvk_m``, ``Rmr1_pct``, ``Rmr2_pct``, ``Rmr_pct``.
 
     Parameters
     ----------

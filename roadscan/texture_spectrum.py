@@ -172,7 +172,10 @@ def line_band_power(lines, dx_m, lo_m, hi_m):
 
     Returns
     -------
-    (b,) array of a^2 [m^2] averaged over the lines with data, and the number of such lines.
+    a2 : ndarray, shape (b,)
+        Band power a^2 [m^2] averaged over the lines with data.
+    n_lines : int
+        The number of such lines.
     """
     z = np.atleast_2d(np.asarray(lines, dtype=np.float64))
     n = z.shape[1]
