@@ -244,24 +244,21 @@ def split(heights, geo):
 
 
 def _detrend(h):
-    if h.ndim == 1:
-        x = np.linspace(-1, 1, h.size)
-        A = np.column_stack([np.ones_like(x), x])
-    else:
-        ny, nx = h.shape
-        Y, X = np.meshgrid(np.linspace(-1, 1, ny), np.linspace(-1, 1, nx), indexing="ij")
-        A = np.column_stack([np.ones(h.size), X.ravel(), Y.ravel()])
-    c, *_ = np.linalg.lstsq(A, h.ravel(), rcond=None)
-    return h - (A @ c).reshape(h.shape)
+    """The block less its least-squares mean plane (line for a profile): roadscan's form removal
+    (:func:`roadscan.level.polynomial_form`, degree 1)."""
+    from roadscan.level import polynomial_form
+
+    return h - polynomial_form(h, np.zeros(h.shape, bool), 1)
 
 
 def _window(shape, alpha=0.25):
-    from scipy.signal.windows import tukey
+    """The Tukey window of a block and its mean square (roadscan's, :func:`roadscan.spectrum.window_2d`)."""
+    from roadscan.spectrum import window_2d
 
-    w = tukey(shape[0], alpha)
-    if len(shape) == 2:
-        w = np.outer(w, tukey(shape[1], alpha))
-    return w, float(np.mean(w ** 2))
+    if len(shape) == 1:
+        w, w2 = window_2d(1, shape[0], alpha)
+        return w[0], w2
+    return window_2d(shape[0], shape[1], alpha)
 
 
 def _psd_map(h, geo):
@@ -301,11 +298,9 @@ def _laplacian(h):
 
 def anisotropy_components(h, geo):
     """(a, b) of a detrended block (see the module docstring, ``anisotropy``)."""
-    from scipy.signal.windows import tukey
-
     lat = geo.lap_lattice
     L = _laplacian(h)
-    w = np.outer(tukey(L.shape[0], 0.5), tukey(L.shape[1], 0.5))
+    w, _ = _window(L.shape, 0.5)
     F = np.fft.fftshift(np.fft.fft2((L - L.mean()) * w))
     C = (F.real ** 2 + F.imag ** 2)[lat["sel"]]
     r = lat["ring"]

@@ -110,7 +110,9 @@ def write_joint_report(out_dir, data, results):
             fig, ax = plt.subplots(figsize=rep.FIGSIZE)
             mu_axes(ax, row.curve, d, report_curves(d.ctx, d), title=f"{row.label}: measured, simulated, corrected μ(v)")
             png = rep.save_figure(fig, Path(t) / f"mu_{i}.png")
-            sections.append((f"Compound {row.label}", [_verdict_html(data["measurements"][row.label]["verdict"]),
+            m = data["measurements"][row.label]
+            nxt = m.get("next_measurement")
+            sections.append((f"Compound {row.label}", [_verdict_html(dict(m["verdict"], next=nxt and nxt["sentence"])),
                                                        inputs_html(data["measurements"][row.label]["inputs"]), png]))
         rep.write_html(Path(out_dir) / "report.html", "Sim-to-real gap diagnosis of several compounds", sections,
                        intro="Several measured μ(v) on one road: q1, the spectrum's level and the nominal pressure "
