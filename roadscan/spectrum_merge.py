@@ -293,7 +293,7 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     lnC = np.log(np.where(covered, C, 1.0))
     widened = widen_outliers(q, lnC, d_lo, d_hi, covered, seg)
     for g in gaps:
-        _bridge(g, q, lnC, d_lo, d_hi, covered)
+        _bridge(g, q, lnC, d_lo, d_hi, covered, seg)
     _gap_edges(gaps, lows, highs)
     Cm = np.exp(lnC)
     return MergedSpectrum(q, Cm, Cm * np.exp(-d_lo), Cm * np.exp(d_hi), nsrc.astype(np.int64),
@@ -344,15 +344,21 @@ def _row_slopes(q, C, dof, q_row, covered, seg_ring=None, seg_row=None, reach=No
     return out, se
 
 
-def _bridge(gap, q, lnC, d_lo, d_hi, covered, reach=0.5):
+def _bridge(gap, q, lnC, d_lo, d_hi, covered, seg=None, reach=0.5):
     """Fill the rows of one gap in place: the line ln C = a + b ln q fitted to the covered rows
     within ``reach`` decades on either side (inverse-variance weights from each row's band, so
     that a band end's tolerated bias weighs less), so that the bridge does not rest on the two
-    noisiest edge rows alone; the band there is the widest of the edges'."""
+    noisiest edge rows alone; only rows of the gap's own segment when two or more are there
+    (the plateau under a roll-off says nothing of the slope above it); the band there is the
+    widest of the edges'."""
     x = np.log10(q)
     lo, hi = np.log10(gap["q_from_per_m"]), np.log10(gap["q_to_per_m"])
     inside = (x > lo + 1e-12) & (x < hi - 1e-12)
     near = covered & (((x <= lo + 1e-12) & (x >= lo - reach)) | ((x >= hi - 1e-12) & (x <= hi + reach)))
+    if seg is not None and inside.any():
+        own = near & (seg == seg[np.argmax(inside)])
+        if own.sum() >= 2:
+            near = own
     sigma = (d_lo[near] + d_hi[near]) / (2 * Z95)
     w = 1.0 / np.maximum(sigma, 1e-6) ** 2
     A = np.column_stack([np.ones(w.size), np.log(q[near])])
