@@ -165,6 +165,18 @@ def _parser():
     return p
 
 
+def _text(value):
+    """A number as the command line would give it (numpy scalars too: ``np.float64(0.3)`` ->
+    ``0.3``, exactly: repr of a float round-trips)."""
+    import numbers
+
+    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        return repr(float(value))
+    return str(value)
+
+
 def options_from_kwargs(options, caller="analyse"):
     """``pipelines.analyse``'s keyword arguments -> the parsed flags (an argparse Namespace).
 
@@ -198,11 +210,13 @@ def options_from_kwargs(options, caller="analyse"):
             if value:
                 argv.append(flag)
             continue
-        if isinstance(value, (list, tuple)):
-            value = ",".join(repr(float(v)) if isinstance(v, float) else str(v) for v in value)
-        elif isinstance(value, os.PathLike):
+        if isinstance(value, os.PathLike):
             value = os.fspath(value)
-        elif isinstance(value, float):
-            value = repr(value)
+        elif isinstance(value, str):
+            pass
+        elif hasattr(value, "__iter__"):      # a pair, a list or an array of numbers
+            value = ",".join(_text(v) for v in value)
+        else:
+            value = _text(value)
         argv.append(f"{flag}={value}")
     return p.parse_args(argv)
