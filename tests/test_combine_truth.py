@@ -47,12 +47,16 @@ def _combine(d, q_roll, seed, scale=(1.0, 1.0, 1.0), instruments=INSTRUMENTS):
 #: a coarse laser with a narrow band (128 points, its noise reaching the surface at 0.3 x
 #: Nyquist): the band, 0.44 decade, holds the roll-off
 NARROW = [("road laser", 128, 200e-6, 400e-6, 0.3)] + INSTRUMENTS[1:]
+#: instruments a factor 5 apart: the laser's band ends above its roll-off and a gap follows,
+#: bridged from the rows above the roll-off (from the plateau too, it was 0.47 x the truth)
+APART = [("road laser", 256, 100e-6, 200e-6, 0.6), ("confocal", 256, 4e-6, 10e-6, 0.5),
+         ("afm", 256, 0.2e-6, 0.6e-6, 0.7)]
 
 
 @pytest.mark.parametrize("q_roll, seed, instruments", [
     (600.0, 10, INSTRUMENTS), (600.0, 40, INSTRUMENTS), (2000.0, 30, INSTRUMENTS),
-    (2000.0, 60, INSTRUMENTS), (2000.0, 20, NARROW)], ids=["600-a", "600-b", "2000-a", "2000-b",
-                                                          "2000-narrow-laser"])
+    (2000.0, 60, INSTRUMENTS), (2000.0, 20, NARROW), (5000.0, 11, APART)],
+    ids=["600-a", "600-b", "2000-a", "2000-b", "2000-narrow-laser", "5000-gap-above-roll-off"])
 def test_every_row_within_25_percent_of_a_rolled_off_truth(tmp_path, q_roll, seed, instruments):
     """Roll-off at 5 x (600 1/m) and 16 x (2000 1/m) the laser's 2 pi / L: inside its band or
     at its start. Before rows kept off the bend, the lowest row was 30 % to x3 above the truth
@@ -66,7 +70,9 @@ def test_every_row_within_25_percent_of_a_rolled_off_truth(tmp_path, q_roll, see
     assert held.mean() > 0.75                  # a 5-95 % band: most rows hold the truth
     assert np.all((lo / 1.1 <= truth) & (truth <= 1.1 * hi))   # and none misses it by far
     laser = info["inputs"][0]
-    if instruments is INSTRUMENTS:
+    if instruments is APART:
+        assert info["gaps"] and info["gaps"][0][0] > q_roll       # the gap lies above it
+    if instruments is not NARROW:
         assert laser["q_roll_per_m"] == pytest.approx(q_roll, rel=0.3)   # the roll-off is seen
         assert q[0] <= 3 * q_roll                          # and the merged curve comes near it
     assert info["disagreements"] == [] and not any("disagree" in w for w in info["warnings"])
