@@ -13,7 +13,8 @@ import os
 from roadscan.errors import InputError
 
 __all__ = ["add_analysis_options", "analysis_kwargs", "options_from_kwargs", "parse_fit_band",
-           "add_resolution_option", "check_resolution", "add_spectrum_options", "spectrum_kwargs"]
+           "add_resolution_option", "check_resolution", "add_spectrum_options", "spectrum_kwargs",
+           "add_compare_options", "unique_stems"]
 
 
 def add_analysis_options(p):
@@ -158,11 +159,39 @@ class _Parser(argparse.ArgumentParser):
         raise InputError(None, message)
 
 
-def _parser():
-    p = _Parser(prog="pipelines.analyse", add_help=False)
-    p.add_argument("--no-figures", action="store_true")
-    add_analysis_options(p)
+def _parser(add_options=None):
+    p = _Parser(prog="pipelines", add_help=False)
+    if add_options is None:              # analyse's own
+        p.add_argument("--no-figures", action="store_true")
+        add_analysis_options(p)
+    else:
+        add_options(p)
     return p
+
+
+def add_compare_options(p):
+    """The per-scan options of ``roadscan compare`` (and :func:`pipelines.api.compare`): how a
+    scan is read, its spectrum options and the friction options."""
+    from .friction_options import add_friction_options
+    from .scan_input import add_scan_options
+
+    add_scan_options(p)
+    add_spectrum_options(p)        # --window-alpha, --fit-band, --despike, --resolution
+    add_friction_options(p)
+
+
+def unique_stems(paths):
+    """Each path's stem, made unique in order (``a``, ``a_2``, ...): the per-scan folder names
+    of a many-scan run."""
+    from pathlib import Path
+
+    seen, out = {}, []
+    for p in paths:
+        stem = Path(p).stem
+        n = seen.get(stem, 0)
+        seen[stem] = n + 1
+        out.append(stem if n == 0 else f"{stem}_{n + 1}")
+    return out
 
 
 def _text(value):
@@ -177,7 +206,7 @@ def _text(value):
     return str(value)
 
 
-def options_from_kwargs(options, caller="analyse"):
+def options_from_kwargs(options, caller="analyse", add_options=None):
     """``pipelines.analyse``'s keyword arguments -> the parsed flags (an argparse Namespace).
 
     Each keyword is a long flag of ``roadscan analyse`` with dashes as underscores and takes
@@ -197,7 +226,7 @@ def options_from_kwargs(options, caller="analyse"):
     -------
     argparse.Namespace
     """
-    p = _parser()
+    p = _parser(add_options)
     argv = []
     for key, value in options.items():
         flag = "--" + key.replace("_", "-")

@@ -14,7 +14,7 @@ from .analyse import summarise
 from .dry_vs_wet import mu_by_speed, speed_table
 from .friction_options import FrictionSettings
 
-__all__ = ["run_compare", "spectrum_difference", "friction_difference"]
+__all__ = ["compare", "run_compare", "spectrum_difference", "friction_difference"]
 
 
 def spectrum_difference(spec_ref, spec):
@@ -68,6 +68,43 @@ def friction_difference(v, mu_ref, mu):
     return {"max_difference_v_m_per_s": float(v[i]), "max_difference_mu": float(d[i]),
             "max_ratio_v_m_per_s": float(v[j]), "mu_ratio_at_max": float(rel[j]),
             "mu_peak_ratio": float(mu.max() / mu_ref.max())}
+
+
+def compare(sources, out, **options):
+    """``roadscan compare`` as one call: the sources (paths or HeightMaps/Profiles, the first is
+    the reference) compared and written into ``out`` (all or none) -> the comparison.json dict.
+
+    ``options`` are the command's long flags with dashes as underscores, taking what the flag
+    takes (``rubber="r.toml"``, ``sigma0="0.25MPa"``, ``nu=0.45``, ``window_alpha=0.3``), parsed
+    by the command's own option definitions (:func:`pipelines.analyse_options.add_compare_options`);
+    TypeError naming an unknown keyword. Each scan's mu(v) is the one ``pipelines.analyse``
+    gives it with the same options (:mod:`pipelines.chain`).
+    """
+    import os
+
+    from roadscan.errors import InputError
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+    from .analyse_options import add_compare_options, options_from_kwargs, spectrum_kwargs, unique_stems
+    from .friction_options import settings_from_args
+    from .scan_input import load_scan
+    from .validate import check_scan, collecting
+
+    args = options_from_kwargs(options, "compare", add_compare_options)
+    sources = list(sources)
+    if len(sources) < 2:
+        raise InputError(None, "compare needs at least two scans")
+    paths = [os.fspath(s) for s in sources if isinstance(s, (str, os.PathLike))]
+    with collecting():
+        settings = settings_from_args(args)
+        sk = spectrum_kwargs(args)
+        scans = [load_scan(s, args) if isinstance(s, (str, os.PathLike)) else check_scan(s)
+                 for s in sources]
+        names = unique_stems([s if isinstance(s, (str, os.PathLike)) else f"{s.name}.x"
+                              for s in sources])
+        check_output_dir(out, inputs=paths)
+        with atomic_output_dir(out, inputs=paths) as tmp:
+            return run_compare(scans, names, tmp, settings, **sk)
 
 
 def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolution_m=None,

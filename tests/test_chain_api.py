@@ -163,3 +163,17 @@ def test_friction_psd_extends_like_analyse_beyond_the_scan(scan, tmp_path):
     (bare / "psd.csv").write_bytes((tmp_path / "a" / "psd.csv").read_bytes())
     _run(["friction", "--psd", bare / "psd.csv", "--out", tmp_path / "g" / "mu.csv", *q1])
     assert np.max(np.abs(_mu_csv(tmp_path / "g" / "mu.csv") / ref - 1)) > 1e-3
+
+
+def test_compare_api_equals_the_command(scan, tmp_path):
+    from pipelines.api import compare
+
+    flags = dict(spacing=DX, nu=0.3, contact_gamma=0.5, velocities="1e-3:10:5")
+    r = compare([scan, scan], tmp_path / "api", **flags)
+    _run(["compare", scan, scan, "--spacing", DX, "--nu", "0.3", "--contact-gamma", "0.5",
+          "--velocities", "1e-3:10:5", "--out", tmp_path / "cli"])
+    cli = json.loads((tmp_path / "cli" / "comparison.json").read_text())
+    assert json.loads((tmp_path / "api" / "comparison.json").read_text()) == cli
+    assert r["s"]["mu_peak"] == cli["s"]["mu_peak"]
+    with pytest.raises(TypeError, match="poisson"):
+        compare([scan, scan], tmp_path / "x", spacing=DX, poisson=0.3)

@@ -7,6 +7,7 @@ from pathlib import Path
 from roadscan.errors import InputError
 
 from ..analyse_options import add_analysis_options, analysis_kwargs  # noqa: F401 (batch uses them)
+from ..analyse_options import unique_stems as _unique_dirs
 from ..friction_options import settings_from_args
 from ..scan_input import load_scan
 
@@ -21,16 +22,6 @@ def add_arguments(p):
                    help="skip the PNG figures (every CSV/JSON output is the same; report.html "
                         "keeps its tables)")
     add_analysis_options(p)
-
-
-def _unique_dirs(paths):
-    seen, out = {}, []
-    for p in paths:
-        stem = Path(p).stem
-        n = seen.get(stem, 0)
-        seen[stem] = n + 1
-        out.append(stem if n == 0 else f"{stem}_{n + 1}")
-    return out
 
 
 def run(args):

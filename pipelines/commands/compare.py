@@ -3,9 +3,9 @@ from __future__ import annotations
 
 from roadscan.errors import InputError
 
-from ..friction_options import add_friction_options, settings_from_args
-from ..scan_input import add_scan_options, load_scan
-from .analyse import _unique_dirs
+from ..analyse_options import add_compare_options, unique_stems
+from ..friction_options import settings_from_args
+from ..scan_input import load_scan
 
 NAME = "compare"
 HELP = "compare surfaces: all spectra and mu(v), where and by how much they differ"
@@ -14,11 +14,7 @@ HELP = "compare surfaces: all spectra and mu(v), where and by how much they diff
 def add_arguments(p):
     p.add_argument("scans", nargs="+", metavar="SCAN", help="two or more height files (the first is the reference)")
     p.add_argument("--out", required=True, metavar="DIR")
-    add_scan_options(p)
-    from ..analyse_options import add_spectrum_options
-
-    add_spectrum_options(p)        # --window-alpha, --fit-band, --despike, --resolution
-    add_friction_options(p)
+    add_compare_options(p)         # scan, spectrum and friction options (pipelines.api.compare's too)
 
 
 def run(args):
@@ -34,12 +30,9 @@ def run(args):
 
     sk = spectrum_kwargs(args)
     scans = [load_scan(f, args) for f in args.scans]
-    names = _unique_dirs(args.scans)
-    try:
-        with atomic_output_dir(args.out, inputs=args.scans) as tmp:
-            r = run_compare(scans, names, tmp, settings, **sk)
-    except ValueError as exc:
-        raise InputError(None, str(exc)) from None
+    names = unique_stems(args.scans)
+    with atomic_output_dir(args.out, inputs=args.scans) as tmp:
+        r = run_compare(scans, names, tmp, settings, **sk)
     from ..headline import hurst_text, peak_text
     from ..units_format import length
 
