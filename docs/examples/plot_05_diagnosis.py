@@ -28,7 +28,7 @@ with contextlib.redirect_stdout(console), contextlib.redirect_stderr(console):
     code = main(["diagnose", "--measured", str(measured),
                  "--psd", str(ROOT / "sample_scans" / "asphalt_psd.csv"), "--out", str(out)])
 d = json.loads((out / "diagnosis.json").read_text())
-print("exit code", code, "|", next(l for l in console.getvalue().splitlines() if "verdict" in l))
+print("exit code", code, "|", next((l for l in console.getvalue().splitlines() if "verdict" in l), ""))
 
 # %%
 # Step 1: is there a gap, and where?
@@ -85,8 +85,14 @@ fig.tight_layout()
 # confidence: a flash model whose heat scale sits on its bound explains the data, but
 # its strength is not pinned down by them.
 v_ = d["verdict"]
-print(f"verdict: {v_['effect']}, shrink {v_['shrink']:.0%} "
-      f"(5-95 %: {v_['shrink_interval'][0]:.0%}-{v_['shrink_interval'][1]:.0%}), "
-      f"confidence {v_['confidence']}, at bound: {v_['at_bound']}")
+
+
+def pct(x):
+    return "-" if x is None else f"{x:.0%}"
+
+
+lo, hi = v_.get("shrink_interval") or (None, None)
+print(f"verdict: {v_['effect']}, shrink {pct(v_.get('shrink'))} (5-95 %: {pct(lo)} to {pct(hi)}), "
+      f"confidence {v_.get('confidence')}, at bound: {v_.get('at_bound')}")
 print("reason:", v_["reason"])
 print("inputs assumed rather than given:", d["inputs"].get("assumed"))
