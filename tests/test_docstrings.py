@@ -88,7 +88,7 @@ def test_no_design_or_issue_citations_in_the_packages():
     hits = []
     for package in PACKAGES:
         for path in sorted((ROOT / package).rglob("*")):
-            if path.suffix in (".py", ".md", ".html", ".toml", ".txt") and path.is_file():
+            if path.suffix in (".py", ".md", ".html", ".j2", ".toml", ".txt") and path.is_file():
                 for i, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
                     if CITATION.search(line):
                         hits.append(f"{path.relative_to(ROOT)}:{i}: {line.strip()}")
