@@ -74,3 +74,33 @@ def test_guide_python_examples_run(monkeypatch):
             exec(compile(block, str(page.relative_to(ROOT)), "exec"), {})
             ran += 1
     assert ran >= 5
+
+
+def _rst_problems(rst):
+    """docutils' warnings and errors on a reST text (Sphinx's code-block read as docutils' code)."""
+    import docutils.core
+    import docutils.nodes
+    from docutils.parsers.rst import directives
+    from docutils.parsers.rst.directives.body import CodeBlock
+
+    directives.register_directive("code-block", CodeBlock)
+    doc = docutils.core.publish_doctree(rst, settings_overrides={"report_level": 5, "halt_level": 5})
+    return [m.astext()[:200] for m in doc.findall(docutils.nodes.system_message) if m["level"] >= 2]
+
+
+def test_markdown_pages_convert_to_clean_rest():
+    """The Markdown pages the site renders (FORMATS.md, RUBBER_TOML.md, docs/md/*.md...) give
+    reST without a warning, and keep their tables, code blocks and inline code."""
+    import sys
+
+    sys.path.insert(0, str(DOCS / "_ext"))
+    import md_pages
+
+    sources = [ROOT / src for src, _ in md_pages.PAGES] + sorted((DOCS / "md").glob("*.md"))
+    for src in sources:
+        assert _rst_problems(md_pages.md_to_rst(src.read_text(encoding="utf-8"))) == [], src.name
+    sample = ("# T\n\nText with `a|b` and **bold** [`FORMATS.md`](FORMATS.md) x_1 *y\n\n"
+              "| a | b |\n|---|---|\n| `x \\| y` | 2 |\n\n```bash\nroadscan x\n```\n")
+    rst = md_pages.md_to_rst(sample)
+    assert ".. list-table::" in rst and ".. code-block:: bash" in rst and "``a|b``" in rst
+    assert "``x | y``" in rst and _rst_problems(rst) == []
