@@ -47,7 +47,19 @@ def add_analysis_options(p):
 def add_spectrum_options(p, resolution=True):
     """--window-alpha, --fit-band, --despike (and --resolution): how a scan becomes its
     spectrum, band and fit (:func:`pipelines.chain.measure`); analyse, batch, compare and
-    dry-vs-wet take the very same."""
+    dry-vs-wet take the very same.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser.
+    resolution : bool, optional
+        Add ``--resolution`` too.
+
+    Returns
+    -------
+    None
+    """
     p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
     p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
                    help="self-affine fit band [1/m] (default: detected)")
@@ -58,7 +70,17 @@ def add_spectrum_options(p, resolution=True):
 
 def spectrum_kwargs(args):
     """Checked keyword arguments of :func:`pipelines.chain.measure` from
-    :func:`add_spectrum_options` (one-line InputError naming the flag)."""
+    :func:`add_spectrum_options` (one-line InputError naming the flag).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    dict
+    """
     if not 0 <= args.window_alpha <= 1:
         raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
     return {"window_alpha": args.window_alpha, "fit_band": parse_fit_band(args.fit_band),
@@ -171,7 +193,17 @@ def _parser(add_options=None):
 
 def add_compare_options(p):
     """The per-scan options of ``roadscan compare`` (and :func:`pipelines.api.compare`): how a
-    scan is read, its spectrum options and the friction options."""
+    scan is read, its spectrum options and the friction options.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser.
+
+    Returns
+    -------
+    None
+    """
     from .friction_options import add_friction_options
     from .scan_input import add_scan_options
 
@@ -182,7 +214,17 @@ def add_compare_options(p):
 
 def unique_stems(paths):
     """Each path's stem, made unique in order (``a``, ``a_2``, ...): the per-scan folder names
-    of a many-scan run."""
+    of a many-scan run.
+
+    Parameters
+    ----------
+    paths : iterable of str or Path
+        Input files.
+
+    Returns
+    -------
+    list of str
+    """
     from pathlib import Path
 
     seen, out = {}, []

@@ -143,7 +143,24 @@ def _plot_psd1d(q, C1, path, name):
 
 def psd2d_picture(spec2d, zoom=4):
     """The part of the 2D PSD :func:`draw_psd2d_figure` shows: |q| up to Nyquist / ``zoom``, where
-    anisotropy shows (only this part of the map is built) -> (qx, qy, C, qlim)."""
+    anisotropy shows (only this part of the map is built) -> (qx, qy, C, qlim).
+
+    Parameters
+    ----------
+    spec2d : roadscan.Spectrum2D
+        The 2D spectrum.
+    zoom : float, optional
+        Fraction of Nyquist shown is 1 / zoom.
+
+    Returns
+    -------
+    qx, qy : ndarray
+        Wave vectors [1/m].
+    C : ndarray
+        The map's central part [m^4].
+    qlim : float
+        Largest |q| shown [1/m].
+    """
     qx, qy = np.asarray(spec2d.qx_per_m), np.asarray(spec2d.qy_per_m)
     qlim = min(np.abs(qx).max(), np.abs(qy).max()) / zoom
     qxs, qys, C = spec2d.central(qlim)
@@ -151,7 +168,21 @@ def psd2d_picture(spec2d, zoom=4):
 
 
 def draw_psd2d_figure(picture, path, name):
-    """log10 C(qx, qy) around the origin, from :func:`psd2d_picture`."""
+    """log10 C(qx, qy) around the origin, from :func:`psd2d_picture`.
+
+    Parameters
+    ----------
+    picture : tuple
+        From :func:`psd2d_picture`.
+    path : str or Path
+        Output PNG.
+    name : str
+        Scan name for the title.
+
+    Returns
+    -------
+    Path
+    """
     plt = report.pyplot()
 
     qxs, qys, C, qlim = picture

@@ -79,6 +79,20 @@ def compare(sources, out, **options):
     by the command's own option definitions (:func:`pipelines.analyse_options.add_compare_options`);
     TypeError naming an unknown keyword. Each scan's mu(v) is the one ``pipelines.analyse``
     gives it with the same options (:mod:`pipelines.chain`).
+
+    Parameters
+    ----------
+    sources : sequence of str, Path, HeightMap or Profile
+        The scans; the first is the reference.
+    out : str or Path
+        Output folder.
+    **options
+        ``roadscan compare``'s long flags with dashes as underscores.
+
+    Returns
+    -------
+    dict
+        The ``comparison.json`` content.
     """
     import os
 

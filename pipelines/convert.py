@@ -49,7 +49,26 @@ def _source_note(inp, scan):
 
 def convert_file(inp, out, read_options, units=None, float32=False):
     """Read ``inp`` (with ``read_options``: :func:`pipelines.scan_input.read_options`), check
-    its heights' plausibility, write ``out``; returns the scan read."""
+    its heights' plausibility, write ``out``; returns the scan read.
+
+    Parameters
+    ----------
+    inp : str or Path
+        Input height file.
+    out : str or Path
+        Output file (format by extension).
+    read_options : dict
+        Keyword arguments of :func:`roadscan.io.read`.
+    units : str, optional
+        Height unit of the input.
+    float32 : bool, optional
+        Store float32 heights.
+
+    Returns
+    -------
+    HeightMap or Profile
+        The scan read.
+    """
     from roadscan.heightmap import HeightMap
     from roadscan.io import read, write
     from roadscan.plausibility import check_plausible

@@ -103,6 +103,16 @@ def run_friction(args):
 
     Friction: Persson, J. Chem. Phys. 115, 3840 (2001); flash temperature: Persson, J. Phys.:
     Condens. Matter 18, 7789 (2006).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags of ``roadscan friction``.
+
+    Returns
+    -------
+    tuple
+        (FrictionResult, speeds [m/s], spectrum, outputs written).
     """
     import numpy as np
 

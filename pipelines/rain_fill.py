@@ -22,7 +22,17 @@ __all__ = ["check_water", "rain_fill_scan", "write_rain_fill"]
 
 def check_water(max_depth_m=None, water_film_m=None):
     """Refuse a negative or non-finite depth cap or water film (one-line InputError naming the
-    flag)."""
+    flag).
+
+    Parameters
+    ----------
+    max_depth_m, water_film_m : float, optional
+        Depth cap and water film [m].
+
+    Returns
+    -------
+    None
+    """
     for flag, val in (("--max-depth", max_depth_m), ("--water-film", water_film_m)):
         if val is not None and not (math.isfinite(val) and val >= 0):
             raise InputError(None, f"{flag} {val}: must be a non-negative length in metres")
@@ -44,6 +54,13 @@ def rain_fill_scan(scan, connectivity=4, max_depth_m=None, water_film_m=None, le
         Remove the least-squares plane first.
     path : str or None
         The scan's file, for messages.
+
+    Returns
+    -------
+    scan : HeightMap
+        The scan as filled (levelled when asked).
+    fill : roadscan.rain.RainFill
+        The rain fill.
     """
     from roadscan.heightmap import HeightMap
     from roadscan.rain import rain_fill
@@ -61,7 +78,26 @@ def rain_fill_scan(scan, connectivity=4, max_depth_m=None, water_film_m=None, le
 
 def write_rain_fill(out, scan, r, source, levelled=True):
     """Write the files of the module docstring into the folder ``out``; returns the summary
-    (the content of ``rainfill.json``)."""
+    (the content of ``rainfill.json``).
+
+    Parameters
+    ----------
+    out : str or Path
+        Output folder.
+    scan : HeightMap
+        The scan filled.
+    r : roadscan.rain.RainFill
+        The rain fill.
+    source : str or Path
+        The input file.
+    levelled : bool, optional
+        Whether the scan was levelled.
+
+    Returns
+    -------
+    dict
+        The content of ``rainfill.json``.
+    """
     from roadscan.io import write
     from roadscan.io.atomic import atomic_save_npy, atomic_write_text
 

@@ -83,6 +83,11 @@ def collecting(into=None, prefix=None):
     ------
     Warnings
         The scope's collector.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``; the block receives the scope's :class:`Warnings`.
     """
     parent = _CURRENT.get()
     w = into if into is not None else Warnings(prefix or (parent.prefix if parent else "roadscan"))

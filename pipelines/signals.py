@@ -138,6 +138,11 @@ def signals_as_interrupt(restore=True):
     Yields
     ------
     None
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``.
     """
     if threading.current_thread() is not threading.main_thread():
         yield

@@ -71,6 +71,17 @@ def _refuse_overwrite(args, out):
 
 
 def overlaps_csv(result):
+    """The overlaps table of a stitch (one row per registered pair, its offset and residual mismatch) as CSV text.
+
+    Parameters
+    ----------
+    result : object
+        The :mod:`roadscan.stitch` result.
+
+    Returns
+    -------
+    str
+    """
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     names = result.meta["tile_names"]
@@ -85,7 +96,20 @@ def stitch_files(args, out):
     """Stitch the tiles ``args`` names (``inputs``, ``grid`` as (rows, cols) or None,
     ``overlap``, ``max_shift``, ``blend`` and the scan options) into the height file ``out``
     (format by extension) and its overlaps table, both or neither; returns the
-    :class:`roadscan.stitch` result (``heightmap``, ``overlaps``, ``meta``)."""
+    :class:`roadscan.stitch` result (``heightmap``, ``overlaps``, ``meta``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags of ``roadscan stitch``.
+    out : str or Path
+        Output height file.
+
+    Returns
+    -------
+    object
+        The :mod:`roadscan.stitch` result.
+    """
     from roadscan.io import write
     from roadscan.io.atomic import atomic_file_set, atomic_write_text
     from roadscan.stitch import stitch

@@ -187,7 +187,18 @@ def wlf_pole_C(rubber):
     """The temperature [C] where the rubber's WLF shift diverges, or None (no WLF shift).
 
     ``log10 aT = -C1 (T - T_s) / (C2 + T - T_d)`` with ``T_d = T_g`` (thesis form) or ``T_s``:
-    the pole is ``T_d - C2`` (-81.5 C for the thesis rubber)."""
+    the pole is ``T_d - C2`` (-81.5 C for the thesis rubber).
+
+    Parameters
+    ----------
+    rubber : rubber model
+        The rubber.
+
+    Returns
+    -------
+    float or None
+        Pole temperature [C].
+    """
     wlf = getattr(rubber, "shift", None)
     c2 = getattr(wlf, "C2_K", None)
     td = getattr(wlf, "T_g_C", None)

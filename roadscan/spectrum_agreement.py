@@ -34,6 +34,24 @@ def widen_outliers(q, lnC, d_lo, d_hi, covered, seg):
     the worst such row (in units of se) has its band widened to reach it, and the others are
     tested again (its widened band then weighs less in theirs): a row is not given with a band
     that its neighbours, and through them the other inputs, contradict.
+
+    Parameters
+    ----------
+    q : ndarray
+        Row wave vectors [1/m].
+    lnC : ndarray
+        ln C of each row.
+    d_lo, d_hi : ndarray
+        Lower and upper band of each row in ln C (widened in place).
+    covered : ndarray of bool
+        Rows some source measures.
+    seg : ndarray of int
+        Segment of each row (rows are not compared across a bend).
+
+    Returns
+    -------
+    list of float
+        Wave vectors [1/m] of the rows widened.
     """
     x = np.log(q)
     out = []

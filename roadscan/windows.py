@@ -50,7 +50,20 @@ def tukey(n, alpha=0.5):
 @lru_cache(maxsize=16)
 def tukey_cached(n, alpha):
     """:func:`tukey` (``alpha`` <= 0: rectangular), cached and read-only: the spectra window
-    the same grid sizes again and again."""
+    the same grid sizes again and again.
+
+    Parameters
+    ----------
+    n : int
+        Points.
+    alpha : float
+        Taper fraction.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The window (read-only).
+    """
     w = tukey(n, alpha) if alpha > 0 else np.ones(n)
     w.setflags(write=False)
     return w

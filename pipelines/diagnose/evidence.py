@@ -90,6 +90,25 @@ def log_occam(H, u):
     Each eigen-direction contributes min(1, sqrt(2 pi / lambda)) (a direction wider than the cube
     keeps the cube's width), each parameter the mass of its marginal normal inside [0, 1] (its sd
     at most 1 / sqrt(2 pi), the width of the cube).
+
+    Parameters
+    ----------
+    H : ndarray, shape (k, k)
+        Gauss-Newton Hessian in the unit cube.
+    u : ndarray, shape (k,)
+        The fit in the unit cube.
+
+    Returns
+    -------
+    occam : float
+        ln of the Occam factor.
+    cov : ndarray, shape (k, k)
+        Posterior covariance pinv(H).
+
+    References
+    ----------
+    D.J.C. MacKay, Information Theory, Inference, and Learning Algorithms, Cambridge University
+    Press (2003), chapter 28.
     """
     u = np.asarray(u, float)
     lam = np.clip(np.linalg.eigvalsh(H), 0.0, None)

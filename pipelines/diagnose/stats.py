@@ -107,6 +107,21 @@ def multistart_lsq(resid, starts, u_best=None, c_best=np.inf, cost=None, **kw):
         The best point.
     cost : float
         Its cost.
+
+    Parameters
+    ----------
+    resid : callable
+        Residual vector of a unit-cube point.
+    starts : sequence of ndarray
+        Starting points.
+    u_best : ndarray, optional
+        Best point so far.
+    c_best : float, optional
+        Its cost.
+    cost : callable, optional
+        Cost of a residual vector (default sum of squares).
+    **kw
+        Passed to ``scipy.optimize.least_squares``.
     """
     from scipy import optimize
 

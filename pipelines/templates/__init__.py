@@ -163,7 +163,17 @@ def _instrument_value(key, value):
 def instrument_html(block):
     """One escaped line for a report's header from a scan's ``meta["instrument"]`` block
     (instrument, date, objective, units, lateral resolution, undefined points, reader); None
-    when there is none."""
+    when there is none.
+
+    Parameters
+    ----------
+    block : dict or None
+        ``meta["instrument"]``.
+
+    Returns
+    -------
+    str or None
+    """
     if not isinstance(block, dict) or not block:
         return None
     parts = [f"{label}: {_instrument_value(key, block[key])}" for key, label in _INSTRUMENT_LABELS

@@ -145,6 +145,11 @@ def atomic_path(path, suffix=None):
     ------
     Path
         The temporary path to write.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``; the block receives the temporary path.
     """
     shown = Path(path)
     path = through_link(shown)
@@ -275,6 +280,11 @@ def atomic_output_dir(target, option="out", inputs=()):
 
     On an exception (including ``KeyboardInterrupt``) the temporary folder is deleted and the
     target is left as it was. On success the target holds exactly the files written.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``; the block receives the temporary folder.
     """
     target = through_link(Path(target))     # a link to a folder: the folder it points to
     check_output_dir(target, option, inputs)
@@ -319,6 +329,11 @@ def atomic_file_set(target, option="out"):
     folder. On an exception (``KeyboardInterrupt`` included) the temporary folder is deleted,
     folders created for the set are removed and nothing else changes. A killed run leaves only
     the hidden folder, which the next run on the same target removes.
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``; the block receives the temporary folder of the set.
     """
     target = Path(target)
     folder = target.parent

@@ -50,6 +50,11 @@ def calibration_policy(policy, x_units=None):
     Yields
     ------
     None
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``.
     """
     if policy not in POLICIES:
         raise ValueError(f"calibration policy must be one of {POLICIES}, got {policy!r}")
@@ -68,6 +73,10 @@ def current_x_units():
     Returns
     -------
     str or None
+
+    Parameters
+    ----------
+    None
     """
     return _X_UNITS.get()
 

@@ -61,7 +61,17 @@ def _leftovers(target, tag):
 
 def recover_output_dir(target):
     """Clean what a killed run left beside ``target``: put back an old set that was set aside
-    (when the target is missing), then delete temporary and set-aside folders."""
+    (when the target is missing), then delete temporary and set-aside folders.
+
+    Parameters
+    ----------
+    target : str or Path
+        The output folder.
+
+    Returns
+    -------
+    None
+    """
     target = Path(target)
     olds = _leftovers(target, OLD_TAG)
     if olds and not os.path.lexists(target):

@@ -78,6 +78,11 @@ def reads_tracked():
     Yields
     ------
     None
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``.
     """
     global _READS, _HOOKED
     with _LOCK:
