@@ -312,6 +312,14 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
     7789 (2006), doi:10.1088/0953-8984/18/32/025.
     H.F. Walker, P. Ni, "Anderson acceleration for fixed-point iterations", SIAM J. Numer. Anal.
     49, 1715 (2011), doi:10.1137/10078356X.
+
+    Examples
+    --------
+    >>> import numpy as np, friction
+    >>> psd = friction.SelfAffinePSD(0.8, 6.67e-4, 1500, 6e5)
+    >>> hot = friction.mu_flash(psd, friction.thesis_rubber(), np.logspace(-2, 1, 4), sigma0_Pa=0.4e6)
+    >>> bool((hot.T_q_C >= 60 - 1e-9).all())
+    True
     """
     v = _check(psd, v_m_per_s, sigma0_Pa, nu, contact_gamma)
     if not (np.isfinite(heat_scale) and heat_scale >= 0):

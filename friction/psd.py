@@ -37,6 +37,15 @@ class SelfAffinePSD:
     References
     ----------
     B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626, appendix.
+
+    Examples
+    --------
+    >>> import numpy as np, friction
+    >>> psd = friction.SelfAffinePSD(0.85, 5e-4, 2000, 2e5)
+    >>> q = np.geomspace(2000, 2e5, 20001)
+    >>> h2 = 2 * np.pi * np.trapezoid(q * psd.C(q), q)       # <h^2> = 2 pi int q C dq
+    >>> bool(abs(h2 - 0.5 * 5e-4**2 * (1 - 100.0**-1.7)) < 1e-3 * h2)
+    True
     """
 
     hurst: float

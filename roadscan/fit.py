@@ -210,6 +210,26 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_o
     Returns
     -------
     SelfAffineFit
+
+    References
+    ----------
+    B.N.J. Persson et al., J. Phys.: Condens. Matter 17, R1 (2005), doi:10.1088/0953-8984/17/1/R01;
+    T.D.B. Jacobs, T. Junge, L. Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017),
+    doi:10.1088/2051-672X/aa51f8.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from roadscan.synth import self_affine_surface          # doctest: +SKIP
+    >>> from roadscan.io import read
+    >>> from roadscan.level import level
+    >>> from roadscan.inpaint import fill_unmeasured
+    >>> from roadscan import psd_area
+    >>> from roadscan.fit import fit_self_affine
+    >>> flat, _ = fill_unmeasured(level(read("sample_scans/asphalt.x3p")))
+    >>> fit = fit_self_affine(psd_area(flat)[0])
+    >>> 0.8 < fit.hurst < 0.95
+    True
     """
     idx = _usable(spectrum, min_count)
     q, C = spectrum.q_per_m[idx], spectrum.C_m4[idx]

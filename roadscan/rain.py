@@ -284,6 +284,15 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None, method="a
     -----
     Unmeasured points are transparent (see the module docstring): they neither hold nor block
     water and stay NaN in ``wet`` and ``depth_m``; fractions and volumes are per measured area.
+
+    Examples
+    --------
+    >>> from roadscan.io import read
+    >>> from roadscan.level import level
+    >>> from roadscan.rain import rain_fill
+    >>> wet = rain_fill(level(read("sample_scans/asphalt.x3p")))
+    >>> 0 < wet.wetted_fraction < 1
+    True
     """
     if connectivity not in (4, 8):
         raise ValueError(f"connectivity must be 4 or 8, got {connectivity!r}")

@@ -69,6 +69,13 @@ def read(path, spacing=None, units=None, calibration="strict", channel=None, x_u
     ------
     InputError
         Missing, empty or malformed files, unknown extensions, missing spacing, bad units.
+
+    Examples
+    --------
+    >>> from roadscan.io import read
+    >>> hm = read("sample_scans/asphalt.x3p")
+    >>> hm.heights_m.shape, round(hm.dx_m * 1e6, 1)
+    ((1088, 978), 55.4)
     """
     p = Path(path)
     ext = p.suffix.lower()
