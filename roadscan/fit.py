@@ -219,8 +219,6 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_o
 
     Examples
     --------
-    >>> import numpy as np
-    >>> from roadscan.synth import self_affine_surface          # doctest: +SKIP
     >>> from roadscan.io import read
     >>> from roadscan.level import level
     >>> from roadscan.inpaint import fill_unmeasured
