@@ -104,3 +104,24 @@ def test_markdown_pages_convert_to_clean_rest():
     rst = md_pages.md_to_rst(sample)
     assert ".. list-table::" in rst and ".. code-block:: bash" in rst and "``a|b``" in rst
     assert "``x | y``" in rst and _rst_problems(rst) == []
+
+
+def test_docstring_examples_run(monkeypatch):
+    """The Examples sections of the entry points run and print what they say (doctest)."""
+    import doctest
+
+    import friction
+    import roadscan
+    from roadscan import fit, io, rain
+
+    monkeypatch.chdir(ROOT)
+    objects = [io.read, fit.fit_self_affine, rain.rain_fill, roadscan.psd_area,
+               friction.mu_isothermal, friction.mu_flash, friction.SelfAffinePSD]
+    finder, runner = doctest.DocTestFinder(recurse=False), doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
+    tried = 0
+    for obj in objects:
+        for test in finder.find(obj, name=obj.__qualname__, globs={}):
+            result = runner.run(test)
+            assert result.failed == 0, obj.__qualname__
+            tried += result.attempted
+    assert tried >= 20
