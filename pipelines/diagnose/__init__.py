@@ -11,7 +11,12 @@ adding that effect closes the gap. One idea per module:
 - :mod:`.effects`    the plug-in registry; one module per unmodelled effect
 - :mod:`.search`     the candidates (singles, greedy pairs, calibration + each effect), ranked
 - :mod:`.fitting`    one bounded least-squares fit (cold or warm starts, shared cache, refusal)
-- :mod:`.cv`         held-out third or k-fold CV with cold-start folds; shrink, interval, score
+- :mod:`.cv`         the held-out third (20 points or more); shrink, interval, score
+- :mod:`.search_few`, :mod:`.verdict_few`, :mod:`.evidence`  fewer than 20 points: Bayesian
+                     model comparison (Laplace evidence), PRESS residuals
+- :mod:`.equivalence` an effect the uncertain inputs beyond their ranges reproduce is them
+- :mod:`.next_measurement` where the two most probable explanations differ most
+- :mod:`.stats`      multi-start bounded least squares, Jacobian, Gauss-Newton covariance
 - :mod:`.calibration` uncertain inputs (``--uncertain``, the default q1 range) as a pseudo-effect
 - :mod:`.verdict`    effect / calibration / inconclusive / null, confidence, plausibility
 - :mod:`.provenance` the ``inputs`` of diagnosis.json (values, files with sha256, assumed)

@@ -1,18 +1,15 @@
-"""Held-out errors of a fitted candidate: a fixed held-out third, or honest cross-validation.
+"""Held-out errors of a fitted candidate (20 or more measured speeds).
 
 With ``CV_BELOW`` (20) or more points, every third point (indices 1, 4, 7, ...) is held out and
-never used in a fit. With fewer, k-fold cross-validation over the measured speeds (leave-one-out
-up to ``CV_FOLDS`` points; fold i holds points i, i + K, ...): every fold is refitted from its
-own cold starts, chosen on its own training points (:func:`fitting.fit_candidate` without
-``start``; the three best separated grid points for one or two parameters, the best one above; the evaluation cache is shared, since an evaluation gives mu at every row), never
-from the fit on every point, and predicts its held-out points (Hastie, Tibshirani & Friedman,
-*The elements of statistical learning*, 2nd ed., sec 7.10.2: the whole fitting procedure,
-starts included, must be repeated inside each fold). The reported parameters are the fit on
-every point.
+never used in a fit. With fewer, held-out errors of four or five training points cannot carry a
+verdict: the diagnosis compares the explanations by their Bayesian evidence instead
+(:mod:`.search_few`, :mod:`.verdict_few`); :func:`holdout` then marks the points ``cv`` (few)
+and trains on all of them.
 
 Shrink: 1 - gap_heldout / baseline gap_heldout, with a 5-95 % bootstrap interval over the
-held-out points (the same resamples for every candidate, so intervals are paired). Score:
-held-out rms times (1 + k / n_train) OCCAM^k (a penalty for free parameters).
+held-out points (the same resamples for every candidate, so intervals are paired; Efron &
+Tibshirani 1993, *An introduction to the bootstrap*, ch. 13). Score: held-out rms times
+(1 + k / n_train) OCCAM^k (a penalty for free parameters).
 """
 from __future__ import annotations
 
@@ -20,12 +17,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fitting import at_bound, fit_candidate
+from .fitting import at_bound
 
-__all__ = ["Holdout", "holdout", "heldout_mask", "evaluate", "boot_shrink", "CV_BELOW", "CV_FOLDS"]
+__all__ = ["Holdout", "holdout", "heldout_mask", "evaluate", "boot_shrink", "CV_BELOW"]
 
 CV_BELOW = 20
-CV_FOLDS = 8
 N_BOOT = 1000
 OCCAM = 1.08
 HELDOUT_EVERY = 3
@@ -57,9 +53,8 @@ class Holdout:
     Attributes
     ----------
     cv : bool
-        Cross-validation (few points) or a fixed held-out set.
-    folds : list
-        The folds.
+        Few points (fewer than ``CV_BELOW``: compared by evidence, every point trains) or a
+        fixed held-out third.
     train, held : ndarray of bool
         Training and held-out points.
     n_train : int
@@ -69,19 +64,15 @@ class Holdout:
     """
 
     cv: bool
-    folds: list
     train: np.ndarray      # rows of the reported fit
     held: np.ndarray       # rows whose residuals score a candidate
-    n_train: int           # training rows of one fit (a fold's for CV)
+    n_train: int           # training rows of one fit
     boot: np.ndarray       # (N_BOOT, n_held) resample indices into the held-out residuals
 
     @property
     def description(self):
-        n = self.train.size
         if self.cv:
-            k = len(self.folds)
-            return (f"{k}-fold cross-validation over the {n} measured speeds (fold i: points i, i + {k}, ...; "
-                    "each fold refitted from its own cold starts, never from the fit on every point)")
+            return f"none: {self.train.size} measured speeds are compared by Bayesian evidence"
         return "every third point (indices 1, 4, 7, ...), never used in a fit"
 
 
@@ -98,18 +89,15 @@ def holdout(n):
     Holdout
     """
     if n < CV_BELOW:
-        k = min(n, CV_FOLDS)
-        folds = [np.arange(i, n, k) for i in range(k)]
-        n_held, n_train = n, n - int(np.ceil(n / k))
         train = np.ones(n, bool)
         held = np.ones(n, bool)
+        n_held, n_train = n, n
     else:
-        folds = []
         train = ~heldout_mask(n)
         held = ~train
         n_held, n_train = int(held.sum()), int(train.sum())
     boot = np.random.default_rng(0).integers(0, n_held, size=(N_BOOT, n_held))
-    return Holdout(n < CV_BELOW, folds, train, held, n_train, boot)
+    return Holdout(n < CV_BELOW, train, held, n_train, boot)
 
 
 def boot_shrink(r_num, r_den, boot):
@@ -135,7 +123,7 @@ def boot_shrink(r_num, r_den, boot):
     return (float(np.percentile(sb, 5)), float(np.percentile(sb, 95)))
 
 
-def evaluate(c, ctx, real_mu, ho, r0_held, cache=None):
+def evaluate(c, ctx, real_mu, ho, r0_held):
     """Fill in the held-out residuals, gap, shrink, interval, score, at_bound and plausibility of
     candidate ``c`` (fitted on ``ho.train``); ``r0_held``: the baseline's held-out residuals.
 
@@ -151,15 +139,14 @@ def evaluate(c, ctx, real_mu, ho, r0_held, cache=None):
         Hold-out scheme.
     r0_held : ndarray
         Baseline held-out residuals.
-    cache : dict, optional
-        Model cache.
 
     Returns
     -------
     Candidate
     """
+    if ho.cv:
+        raise ValueError("fewer than 20 points are compared by evidence (search_few), not held out")
     y = np.log10(real_mu)
-    n = y.size
     c.at_bound = at_bound(ctx, c.effects, c.params)
     bad = []
     for e, p in zip(c.effects, c.params):
@@ -167,20 +154,7 @@ def evaluate(c, ctx, real_mu, ho, r0_held, cache=None):
             bad.append((name if len(c.effects) == 1 else f"{e.name}.{name}", why))
     c.implausible = [b[0] for b in bad]
     c.implausible_why = [b[1] for b in bad]
-    if ho.cv:
-        rh = np.empty(n)
-        small = 3 if max(e.cost for e in c.effects) > 1 else 8 + 2 * c.k
-        cache = {} if cache is None else cache
-        for f in ho.folds:
-            m = np.ones(n, bool)
-            m[f] = False
-            cf = fit_candidate(ctx, real_mu, c.effects, m, budget=small, cache=cache, max_starts=3 if c.k <= 2 else 1)
-            rh[f] = (y - np.log10(cf.pred))[f]
-            c.nfev += cf.nfev
-        c.r_held = rh
-        c.gap_heldout = float(np.sqrt(np.mean(rh ** 2)))
-    else:
-        c.r_held = (y - np.log10(c.pred))[ho.held]
+    c.r_held = (y - np.log10(c.pred))[ho.held]
     c.score = c.gap_heldout * (1.0 + c.k / ho.n_train) * OCCAM ** c.k
     g_ho = float(np.sqrt(np.mean(r0_held ** 2)))
     c.shrink = 1.0 - c.gap_heldout / g_ho if g_ho > 0 else float("nan")

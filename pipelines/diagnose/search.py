@@ -9,7 +9,9 @@ with more free parameters than half its training points is not fitted (listed un
 ``skipped``). Effects that an uncertain input makes redundant (``fine_roughness`` with q1,
 ``load`` with sigma0, ``temperature_offset`` with the temperature) are skipped too, except
 ``fine_roughness`` beyond a default q1 range (its factor multiplies the calibrated q1). The verdict
-is :func:`verdict.decide`.
+is :func:`verdict.decide`, then re-checked for equivalence with the uncertain inputs continued
+beyond their ranges (:mod:`.equivalence`). Below 20 points the candidates are fitted on every
+point and compared by their evidence instead (:mod:`.search_few`, :mod:`.verdict_few`).
 """
 from __future__ import annotations
 
@@ -153,7 +155,7 @@ def _physical_refit(c, ctx, real_mu, ho, r0_held):
     cache = {}
     budget = 8 if max(e.cost for e in effs) > 1 else None
     r = fit_candidate(ctx, real_mu, effs, ho.train, cache=cache, extra_starts=[start], budget=budget)
-    r = evaluate(r, ctx, real_mu, ho, r0_held, cache=cache)
+    r = evaluate(r, ctx, real_mu, ho, r0_held)
     r.nfev += c.nfev
     return r if not r.implausible else c
 
@@ -280,13 +282,13 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         t1 = time.perf_counter()
         k = sum(len(e.params) for e in effs)
         name = "+".join(e.name for e in effs)
-        if not ho.cv and too_many_parameters(k, ho.n_train):
+        if too_many_parameters(k, ho.n_train):
             skipped.append(dict(name=name, reason=f"{k} free parameters on {ho.n_train} training points "
                                                   f"(at most half as many parameters as points)"))
             return None
         cache = {}
         c = fit_candidate(ctx, real_mu, effs, ho.train, cache=cache, **kw)
-        c = evaluate(c, ctx, real_mu, ho, r0_held, cache=cache)
+        c = evaluate(c, ctx, real_mu, ho, r0_held)
         if c.implausible:
             c = _physical_refit(c, ctx, real_mu, ho, r0_held)
         c.seconds = time.perf_counter() - t1
