@@ -73,6 +73,9 @@ BEND_AHEAD = 0.2
 #: a stretch of rows (between gaps) spanning less than this (decades) starts at its first
 #: row's mean ln q, not its lowest ring: its own rings cannot show the slope to move them by
 MIN_STRETCH_DECADES = 0.5
+#: a gap whose lower side is flatter than its upper side by more than this (log-log slope) is
+#: bridged by the lower of the two sides' power laws (a roll-off), not by one line
+BRIDGE_BEND = 1.0
 
 
 @dataclass(frozen=True)
@@ -344,13 +347,29 @@ def _row_slopes(q, C, dof, q_row, covered, seg_ring=None, seg_row=None, reach=No
     return out, se
 
 
+def _line(X, y, w):
+    """Weighted least-squares line y = c0 + c1 X -> (c0, c1, weighted rms residual) or None
+    (fewer than 2 points, or all at one X)."""
+    if X.size < 2 or np.ptp(X) <= 0:
+        return None
+    A = np.column_stack([np.ones(X.size), X])
+    sw = np.sqrt(w)
+    coef, *_ = np.linalg.lstsq(A * sw[:, None], y * sw, rcond=None)
+    return coef[0], coef[1], float(np.sqrt(np.sum(w * (y - A @ coef) ** 2) / np.sum(w)))
+
+
 def _bridge(gap, q, lnC, d_lo, d_hi, covered, seg=None, reach=0.5):
-    """Fill the rows of one gap in place: the line ln C = a + b ln q fitted to the covered rows
-    within ``reach`` decades on either side (inverse-variance weights from each row's band, so
-    that a band end's tolerated bias weighs less), so that the bridge does not rest on the two
-    noisiest edge rows alone; only rows of the gap's own segment when two or more are there
-    (the plateau under a roll-off says nothing of the slope above it); the band there is the
-    widest of the edges'."""
+    """Fill the rows of one gap in place from the covered rows within ``reach`` decades on
+    either side (inverse-variance weights from each row's band, so that a band end's tolerated
+    bias weighs less; only rows of the gap's own segment when two or more are there: the
+    plateau under a roll-off says nothing of the slope above it).
+
+    A power law is fitted on each side. When the lower side is flatter by over
+    :data:`BRIDGE_BEND` in slope (a roll-off in or beside the gap, found by no input), the
+    bridge is the lower of the two power laws (Persson's plateau-then-power-law, each side
+    extrapolated until they meet); else one power law is fitted to both sides. The band there
+    is the widest of the edges' with the fit's rms residual added.
+    """
     x = np.log10(q)
     lo, hi = np.log10(gap["q_from_per_m"]), np.log10(gap["q_to_per_m"])
     inside = (x > lo + 1e-12) & (x < hi - 1e-12)
@@ -359,17 +378,23 @@ def _bridge(gap, q, lnC, d_lo, d_hi, covered, seg=None, reach=0.5):
         own = near & (seg == seg[np.argmax(inside)])
         if own.sum() >= 2:
             near = own
-    sigma = (d_lo[near] + d_hi[near]) / (2 * Z95)
+    sigma = (d_lo + d_hi) / (2 * Z95)
     w = 1.0 / np.maximum(sigma, 1e-6) ** 2
-    A = np.column_stack([np.ones(w.size), np.log(q[near])])
-    sw = np.sqrt(w)
-    coef, *_ = np.linalg.lstsq(A * sw[:, None], lnC[near] * sw, rcond=None)
-    lnC[inside] = coef[0] + coef[1] * np.log(q[inside])
-    resid = np.sqrt(np.sum(w * (lnC[near] - A @ coef) ** 2) / np.sum(w))
+    X = np.log(q)
+    below, above = near & (x <= lo + 1e-12), near & (x >= hi - 1e-12)
+    f_lo, f_hi = _line(X[below], lnC[below], w[below]), _line(X[above], lnC[above], w[above])
+    if f_lo is not None and f_hi is not None and f_lo[1] - f_hi[1] > BRIDGE_BEND:
+        lnC[inside] = np.minimum(f_lo[0] + f_lo[1] * X[inside], f_hi[0] + f_hi[1] * X[inside])
+        resid = max(f_lo[2], f_hi[2])
+        how = (f"the lower of the power laws fitted on either side within {reach:g} decade "
+               f"(C ~ q^{f_lo[1]:.2f} below, q^{f_hi[1]:.2f} above: a bend)")
+    else:
+        c0, c1, resid = _line(X[near], lnC[near], w[near])
+        lnC[inside] = c0 + c1 * X[inside]
+        how = f"a power law C ~ q^{c1:.2f} fitted to the rows within {reach:g} decade on either side"
     d_lo[inside] = np.hypot(np.max(d_lo[near]), Z95 * resid)
     d_hi[inside] = np.hypot(np.max(d_hi[near]), Z95 * resid)
-    gap["bridged_by"] = (f"a power law C ~ q^{coef[1]:.2f} fitted to the rows within {reach:g} "
-                         f"decade on either side")
+    gap["bridged_by"] = how
 
 
 def _gaps(covered, q):

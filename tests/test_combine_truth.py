@@ -145,3 +145,22 @@ def test_disagreement_needs_a_factor_beyond_the_scatter():
         assert bool(got) == flagged, (k, factor, got)
         if got:
             assert got[0]["labels"] == ["y", "x"] and got[0]["factor"] == pytest.approx(factor)
+
+
+def test_a_gap_over_an_undetected_roll_off_is_bridged_by_the_lower_power_law():
+    """A plateau measured below a gap, a q^-3.6 power law above it, their knee (5000 1/m)
+    inside the gap and given to no input: the bridge follows plateau then power law exactly
+    (one line through both sides was 0.3-0.7 x the truth there)."""
+    q_r = 5e3
+    q1, q2 = _rings(1e3, 3e3), _rings(2e4, 2e5)
+    m = merge_spectra([SpectrumPart("coarse", q1, _broken(q1, q_r), np.full(q1.size, 1e4), (1e3, 3e3)),
+                       SpectrumPart("fine", q2, _broken(q2, q_r), np.full(q2.size, 1e4), (2e4, 2e5))])
+    bridged = m.n_sources == 0
+    assert bridged.sum() >= 5 and len(m.gaps) == 1
+    assert np.allclose(m.C_m4, _broken(m.q_per_m, q_r), rtol=1e-6)
+    assert "lower of the power laws" in m.gaps[0]["bridged_by"]
+    # the same gap on a straight power law: one line, exact
+    straight = merge_spectra([SpectrumPart("a", q1, q1**-3.6, np.full(q1.size, 1e4), (1e3, 3e3)),
+                              SpectrumPart("b", q2, q2**-3.6, np.full(q2.size, 1e4), (2e4, 2e5))])
+    assert np.allclose(straight.C_m4, straight.q_per_m**-3.6, rtol=1e-6)
+    assert straight.gaps[0]["bridged_by"].startswith("a power law")
