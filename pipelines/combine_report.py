@@ -102,12 +102,13 @@ def write_combine_report(path, summary, figure=None):
                      f"{d['reliable_band_reasons']['hi']}"))
     inputs = report.table_html(rows, ["input", "kind", "spacing", "size", "lateral resolution",
                                       "reliable band", "why it ends there"])
-    gaps = ("<p>none: the reliable bands overlap or touch</p>" if not summary["gap_details"] else
+    gaps = (report.paragraph_html("none: the reliable bands overlap or touch")
+            if not summary["gap_details"] else
             report.table_html([(_band_text([g["q_from_per_m"], g["q_to_per_m"]]), sig3(g["factor"]),
                                 g["bridged_by"]) for g in summary["gap_details"]],
                               ["gap (no input reliable)", "factor in q", "bridged by"]))
     fit = summary.get("fit")
-    fit_html = "<p>no fit</p>" if not fit else report.table_html({
+    fit_html = report.paragraph_html("no fit") if not fit else report.table_html({
         "Hurst exponent H": f"{fit['hurst']:.3f} ± {fit['hurst_stderr']:.3f}",
         "h0 (thesis form)": length(fit["h0_m"]),
         "band rms from fit": length(fit["band_rms_m"]),
@@ -116,11 +117,11 @@ def write_combine_report(path, summary, figure=None):
                      if fit.get("q_roll_per_m") else "none found"),
     })
     warn = summary.get("warnings") or []
-    warn_html = "<p>none</p>" if not warn else report.list_html(warn)
+    warn_html = report.paragraph_html("none") if not warn else report.list_html(warn)
     sections = [("Inputs and their reliable bands", inputs),
-                ("Merged spectrum", [f"<p>merged band: {_band_text(summary['merged_band_per_m'])}; "
-                                     f"{summary['rows']} rows in psd.csv "
-                                     f"(q_per_m,C_m4,C_lo_m4,C_hi_m4,n_sources)</p>"]
+                ("Merged spectrum", [report.paragraph_html(
+                    f"merged band: {_band_text(summary['merged_band_per_m'])}; {summary['rows']} rows "
+                    f"in psd.csv (q_per_m,C_m4,C_lo_m4,C_hi_m4,n_sources)")]
                  + ([figure] if figure else [])),
                 ("Gaps", gaps), ("Self-affine fit of the merged spectrum", fit_html),
                 ("Warnings", warn_html)]

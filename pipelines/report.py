@@ -16,7 +16,8 @@ import numpy as np
 
 from roadscan.io.atomic import atomic_path, atomic_write_text
 
-from .templates import instrument_html, list_html, table_html, write_html  # noqa: F401 (the report writers)
+from .templates import (instrument_html, list_html, paragraph_html, table_html,  # noqa: F401
+                        write_html)   # the report writers
 
 # Figures are files, never windows: the Agg backend. matplotlib itself (0.3 to 1 s to import)
 # is loaded only when a figure is drawn (--no-figures, CSV/JSON-only runs and --help

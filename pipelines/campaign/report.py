@@ -220,10 +220,10 @@ def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campa
         sections.append(("Warnings", report.table_html(
             [[r.get("dir") or r["file"], w] for r in warned
              for w in r["values"]["warnings"].split(" | ")], ["scan", "warning"])))
-    intro = (f"{len(records)} rows, {n_ok} ok ({len(warned)} with warnings), "
-             f"{len(records) - n_ok} failed. Outliers (red): "
-             f"modified z-score |0.6745 (x − median)/MAD| &gt; {Z_OUTLIER} (Iglewicz &amp; Hoaglin). "
-             f"All numbers in <a href='campaign.csv'>campaign.csv</a>.")
+    from ..templates import render
+
+    intro = render("campaign_intro.html.j2", rows=len(records), ok=n_ok, warned=len(warned),
+                   failed=len(records) - n_ok, z=Z_OUTLIER)
     try:
         report.write_html(out_dir / "report.html", title, sections, intro=intro)
     finally:

@@ -15,8 +15,8 @@ import base64
 from functools import lru_cache
 from pathlib import Path
 
-__all__ = ["render", "html_block", "embedded_image", "table_html", "list_html", "write_html",
-           "instrument_html"]
+__all__ = ["render", "html_block", "embedded_image", "table_html", "list_html", "paragraph_html",
+           "write_html", "instrument_html"]
 
 _HERE = Path(__file__).resolve().parent
 
@@ -185,6 +185,24 @@ def instrument_html(block):
 
 def _is_png(item):
     return isinstance(item, Path) or (isinstance(item, str) and item.endswith(".png"))
+
+
+def paragraph_html(text, lead=None, note=False):
+    """A paragraph (``templates/paragraph.html.j2``) of escaped ``text``, with an optional bold
+    ``lead``; ``note``: in the report's small grey style.
+
+    Parameters
+    ----------
+    text : str
+    lead : str, optional
+    note : bool
+
+    Returns
+    -------
+    str
+    """
+    return render("paragraph.html.j2", text=str(text), lead=None if lead is None else str(lead),
+                  note=bool(note))
 
 
 def write_html(path, title, sections, intro=None):
