@@ -39,16 +39,26 @@ class SimSpec:
 
     Attributes
     ----------
-    psd : friction PSD (SelfAffinePSD or TabulatedPSD), C(q) [m^4]
-    rubber : friction rubber model (modulus at its T_ref_C, shift with temperature)
-    T0_shift_C : added to every row's background temperature [K]
-    sigma0_scale : multiplies every row's nominal pressure [-]
-    flash : None (isothermal) or a dict of keyword arguments for ``friction.mu_flash``
-    contact_gamma : None or Persson's gamma in S = gamma + (1 - gamma) P^2
-    nu : Poisson ratio; the engine uses (1 - nu^2) sigma0 in P(q), G(q) and M(q)
-    wet_psd : None, or the spectrum "felt" on wet rows (cavities filled with water)
-    additive : tuple of callables ``f(v_m_per_s) -> mu`` added to the engine's mu
-    tol : engine accuracy target
+    psd : SelfAffinePSD or TabulatedPSD
+        The road spectrum C(q) [m^4].
+    rubber : rubber model
+        Modulus at its ``T_ref_C``, shifted with temperature.
+    T0_shift_C : float
+        Added to every row's background temperature [K].
+    sigma0_scale : float
+        Multiplies every row's nominal pressure.
+    flash : dict or None
+        None (isothermal) or keyword arguments of :func:`friction.mu_flash`.
+    contact_gamma : float or None
+        Persson's gamma in S = gamma + (1 - gamma) P^2.
+    nu : float
+        Poisson's ratio; the engine uses (1 - nu^2) sigma0 in P(q), G(q) and M(q).
+    wet_psd : spectrum or None
+        The spectrum "felt" on wet rows (cavities filled with water).
+    additive : tuple of callable
+        Functions ``f(v_m_per_s) -> mu`` added to the engine's mu.
+    tol : float
+        The engine's accuracy target.
     """
 
     psd: object
@@ -72,13 +82,19 @@ class FrictionContext:
 
     Attributes
     ----------
-    v_m_per_s, T0_C, sigma0_Pa : (n,) arrays; T0_C NaN = the rubber's T_ref_C
-    wet : (n,) bool, rows the water effect applies to (all rows when the data give no
-        condition column)
-    base : SimSpec, the baseline model
-    scan : levelled and filled HeightMap the surface came from, or None
-    inputs : set of available inputs ("scan", "psd", "rubber", "master_curve", ...)
-    cache : dict shared by effects (e.g. precomputed wet spectra)
+    v_m_per_s, T0_C, sigma0_Pa : ndarray, shape (n,)
+        Speed [m/s], background temperature [C] (NaN: the rubber's ``T_ref_C``) and nominal
+        pressure [Pa] of each row.
+    wet : ndarray of bool, shape (n,)
+        Rows the water effect applies to (all rows when the data give no condition column).
+    base : SimSpec
+        The baseline model.
+    scan : HeightMap or None
+        The levelled and filled scan the surface came from.
+    inputs : set of str
+        Available inputs (``"scan"``, ``"psd"``, ``"rubber"``, ``"master_curve"``...).
+    cache : dict
+        Shared by effects (e.g. precomputed wet spectra).
     """
 
     v_m_per_s: np.ndarray

@@ -226,15 +226,25 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
 
     Parameters
     ----------
-    ctx : model.FrictionContext
-    real_mu : (n,) measured mu at the rows of ctx
-    noise : rms log10 measurement noise, or None to estimate it from the data
-    effects : list of Effect (default: every registered friction-level effect)
-    pairs : try greedy pairs (best single + each other) when no input is uncertain
-    uncertain : dict key -> calibration.Uncertain (``--uncertain``), or None
-    default_q1 : make q1 uncertain over a decade either side where mu is carried by the cut-off
-        and q1 was not declared known
-    carried : whether mu is carried by the cut-off (the band map's flag), None: judged here
+    ctx : FrictionContext
+        The measured rows and the baseline model.
+    real_mu : ndarray, shape (n,)
+        Measured mu at the rows of ``ctx``.
+    noise : float, optional
+        Rms log10 measurement noise (None: estimated from the data).
+    effects : list of Effect, optional
+        Candidates (default: every registered friction-level effect).
+    pairs : bool, optional
+        Try greedy pairs (best single + each other) when no input is uncertain.
+    log : callable, optional
+        Progress lines.
+    uncertain : dict, optional
+        Key -> :class:`pipelines.diagnose.calibration.Uncertain` (``--uncertain``).
+    default_q1 : bool, optional
+        Make q1 uncertain over a decade either side where mu is carried by the cut-off and q1 was
+        not declared known.
+    carried : bool, optional
+        Whether mu is carried by the cut-off (the band map's flag); None: judged here.
 
     Returns
     -------
