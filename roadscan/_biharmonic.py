@@ -200,15 +200,16 @@ def biharmonic_fill_values(h, bad, stats=None):
         Heights [m]; values at ``bad`` are ignored (NaN is fine there).
     bad : (ny, nx) bool array
         Unmeasured points (at least one measured point).
-    stats : (mean, min, max) of the measured heights, optional
-        The system is solved for h - mean (as scikit-image is called by
-        :mod:`roadscan.inpaint`) and clipped to [min, max]; computed here when not given.
+    stats : tuple of float, optional
+        (mean, min, max) of the measured heights: the system is solved for h - mean (as
+        scikit-image is called by :mod:`roadscan.inpaint`) and clipped to [min, max]; computed
+        here when not given.
 
     Returns
     -------
-    (n_unmeasured,) float64 array, raster (C) order: ``h[bad] = values`` fills the map.
-    Memory: the cluster labels (int32) and a few arrays per unmeasured point, no copy of
-    the map.
+    ndarray, shape (n_unmeasured,)
+        float64, raster (C) order: ``h[bad] = values`` fills the map. Memory: the cluster
+        labels (int32) and a few arrays per unmeasured point, no copy of the map.
     """
     h = np.ascontiguousarray(h, dtype=np.float64)
     bad = np.ascontiguousarray(bad, dtype=bool)

@@ -138,7 +138,8 @@ def polynomial_form(heights_m, unmeasured, degree=1):
     ----------
     heights_m : (ny, nx) or (n,) array
         Heights [m]; values at unmeasured points are ignored.
-    unmeasured : bool array of the same shape
+    unmeasured : ndarray of bool
+        Unmeasured points, same shape as the heights.
     degree : int
         0 = mean, 1 = plane (mean + tilt), 2 = quadratic form, ...
 
