@@ -32,6 +32,9 @@ SETS = {
     "narrow-laser-confocal-microscope": [("road laser", 128, 200e-6, 400e-6, 0.3),
                                          ("confocal", 256, 20e-6, 40e-6, 0.8),
                                          ("microscope", 256, 1e-6, 2e-6, 0.8)],
+    "wide-road-laser-confocal-microscope": [("road laser", 512, 500e-6, 1e-3, 0.7),
+                                            ("confocal", 256, 20e-6, 40e-6, 0.8),
+                                            ("microscope", 256, 1e-6, 2e-6, 0.8)],
     "laser-confocal-afm": [("laser", 256, 50e-6, 150e-6, 0.6), ("confocal", 256, 2e-6, 5e-6, 0.5),
                            ("afm", 256, 0.1e-6, 0.3e-6, 0.7)],
 }
@@ -39,6 +42,8 @@ SETS = {
 CASES = [("road-confocal-microscope", 0.8, 600.0), ("road-confocal-microscope", 0.8, 2000.0),
          ("road-confocal-microscope", 0.6, 1000.0), ("road-confocal-microscope", 0.9, 4000.0),
          ("narrow-laser-confocal-microscope", 0.8, 2000.0),
+         ("wide-road-laser-confocal-microscope", 0.8, 628.0),
+         ("wide-road-laser-confocal-microscope", 0.8, 1500.0),
          ("laser-confocal-afm", 0.8, 1500.0), ("laser-confocal-afm", 0.8, None)]
 K = 2e-5
 

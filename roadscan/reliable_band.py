@@ -330,16 +330,22 @@ def _middle_band(q, C, n):
         except ValueError:
             continue
         # a roll-off in the middle third leaves a stretch of a few rings at the bend: under
-        # MIN_STRETCH_DECADES it is no self-affine line, the straight part above it is taken
-        above = q >= hi
-        if np.log10(hi / lo) < MIN_STRETCH_DECADES and above.sum() >= 5:
+        # MIN_STRETCH_DECADES it is no self-affine line, and a straight part above it of at
+        # least that length is taken (searched again above a second short stretch: the bend
+        # may be in that middle too); none: the short stretch stays
+        top = hi
+        for _ in range(3):
+            above = q >= top
+            if np.log10(hi / lo) >= MIN_STRETCH_DECADES or above.sum() < 5:
+                break
             try:
                 lo2, hi2 = detect_band(Spectrum(q[above], C[above], count=np.rint(
                     n[above]).astype(np.int64)), min_count=min_count)
             except ValueError:
-                return lo, hi
-            if np.log10(hi2 / lo2) > np.log10(hi / lo):
+                break
+            if np.log10(hi2 / lo2) >= MIN_STRETCH_DECADES:
                 return lo2, hi2
+            top = hi2
         return lo, hi
     return float(q[0]), float(q[-1])
 
