@@ -48,12 +48,13 @@ _RING = ((-1, -1), (-1, 0), (-1, 1), (0, 1), (1, 1), (1, 0), (1, -1), (0, -1))
 def _ring_tables():
     """For each of the 256 patterns of higher neighbours on the ring: the number of groups they
     form (8-adjacency among themselves: ring-consecutive cells, and edge cells one corner
-    apart), the ring position of one cell of each group, and the first higher cell."""
+    apart), one cell of each group and one higher cell to step to; each the middle of its run
+    of consecutive cells (uphill paths then follow roughly the steepest ascent)."""
     adjacent = [(i, (i + 1) % 8) for i in range(8)] + [(1, 3), (3, 5), (5, 7), (7, 1)]
     ngroups = np.zeros(256, np.uint8)
     reps = np.full((256, 4), -1, np.int8)
-    first = np.zeros(256, np.int8)
-    for code in range(256):
+    step = np.zeros(256, np.int8)
+    for code in range(1, 256):
         on = [k for k in range(8) if code >> k & 1]
         root = {k: k for k in on}
 
@@ -68,12 +69,21 @@ def _ring_tables():
                 root[max(ra, rb)] = min(ra, rb)
         groups = sorted({find(k) for k in on})
         ngroups[code] = len(groups)
-        reps[code, :len(groups)] = groups
-        first[code] = on[0] if on else 0
-    return ngroups, reps, first
+        runs = []                                 # (length, middle) of each run of set cells
+        for k in on:
+            if code == 255 or not code >> ((k - 1) % 8) & 1:
+                n = 1
+                while n < 8 and code >> ((k + n) % 8) & 1:
+                    n += 1
+                runs.append((n, (k + (n - 1) // 2) % 8))
+        step[code] = max(runs)[1]
+        for j, g in enumerate(groups):
+            mids = [mid for n, mid in runs if find(mid) == g]
+            reps[code, j] = mids[0]
+    return ngroups, reps, step
 
 
-_NGROUPS, _REPS, _FIRST = _ring_tables()
+_NGROUPS, _REPS, _STEP = _ring_tables()
 
 
 def _higher_code(z):
@@ -110,17 +120,19 @@ def _critical_graph(z, code):
     patterns: a point whose higher neighbours form g >= 2 groups may join g components of the
     superlevel set above it; each group is followed uphill (any higher neighbour, heights
     increase, so the path stays above the point) to the maximum it belongs to."""
+    import cv2
+
     ny, nx = code.shape
     flat = code.ravel()
     off = np.array([dy * nx + dx for dy, dx in _RING], dtype=np.int64)
     maxima = np.flatnonzero(flat == 0)
-    ng = _NGROUPS[flat]
-    sad = np.flatnonzero(ng >= 2)
-    g = ng[sad].astype(np.intp)
+    sad = np.flatnonzero(cv2.LUT(code, _NGROUPS).ravel() >= 2)
+    sc = flat[sad]
+    g = _NGROUPS[sc].astype(np.intp)
     first_of = np.repeat(np.cumsum(g) - g, g)     # each saddle's first group
     col = np.arange(first_of.size) - first_of
-    cur = np.repeat(sad, g) + off[_REPS[flat[np.repeat(sad, g)], col]]
-    step = off[_FIRST]
+    cur = np.repeat(sad, g) + off[_REPS[np.repeat(sc, g), col]]
+    step = off[_STEP]
     active = np.flatnonzero(flat[cur] != 0)
     while active.size:                            # uphill, on the unfinished paths only
         c = cur[active]
