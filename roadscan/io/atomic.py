@@ -32,6 +32,7 @@ import errno
 import os
 import shutil
 import tempfile
+import time
 from pathlib import Path
 
 from ..errors import InputError
@@ -259,6 +260,17 @@ def _held_temporary(folder, target, option):
     return tmp, _hold(tmp)
 
 
+def _remove_tree(folder, waits=(0.05, 0.2, 0.5)):
+    """Delete ``folder``; again after a short wait while a writer still finishing a file there
+    (a figure helper process drawing into a run that was stopped) makes it reappear."""
+    shutil.rmtree(folder, ignore_errors=True)
+    for wait in waits:
+        if not os.path.lexists(folder):
+            return
+        time.sleep(wait)
+        shutil.rmtree(folder, ignore_errors=True)
+
+
 @contextlib.contextmanager
 def atomic_output_dir(target, option="out", inputs=()):
     """Build a whole output folder in a temporary folder beside ``target``; swap it in at the end.
@@ -298,7 +310,7 @@ def atomic_output_dir(target, option="out", inputs=()):
         check_not_read([target], option=option, exclude=tmp)
         _swap_in(tmp, target)
     except BaseException as exc:
-        shutil.rmtree(tmp, ignore_errors=True)
+        _remove_tree(tmp)
         if isinstance(exc, OSError):
             raise _named(exc, target) from None
         raise
