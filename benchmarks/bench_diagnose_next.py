@@ -4,8 +4,9 @@ Worlds: the few-point offset worlds of ``bench_diagnose_blind_offsets.py`` (5 to
 speeds, unknown offsets of q1, sigma0 and the spectrum's level, ``--uncertain`` ranges that
 contain the truth). For every world whose diagnosis carries a ``next_measurement`` (inconclusive
 or low verdicts), the hidden truth is "measured" once more at each proposed speed (with the
-world's own noise) and the diagnosis is rerun on the points plus the new ones. The same is
-done with as many new points at random speeds over the same range (the control).
+world's own noise), as many times as the proposal's ``repeats`` (at most 5), and the diagnosis is
+rerun on the points plus the new ones. The same is done with as many new points at random
+speeds over the same range (the control).
 
 Separated: in the second diagnosis, one of the two explanations the proposal named is at least
 ``ODDS`` (10) times as probable as the other (posteriors of ``verdict.evidence.models``; an
@@ -34,6 +35,7 @@ from bench_diagnose_blind_offsets import make_offset_case, offset_specs
 from bench_diagnose_blind_run import run_diagnose
 
 ODDS = 10.0
+MAX_REPEATS = 5
 
 
 def _posteriors(diag):
@@ -76,7 +78,8 @@ def run_case(case):
         return row
     a, b = nxt["between"]
     rng = np.random.default_rng(case.seed + 7)
-    v_prop = np.asarray(nxt["speeds_m_per_s"], float)
+    reps = min(int(nxt.get("repeats", 1)), MAX_REPEATS)
+    v_prop = np.repeat(np.asarray(nxt["speeds_m_per_s"], float), reps)
     lo, hi = np.log10(case.v.min()) - 0.5, np.log10(case.v.max()) + 0.5
     v_rand = 10 ** rng.uniform(max(lo, -7), min(hi, np.log10(30.0)), v_prop.size)
     d1 = _rerun(case, v_prop, "proposed", np.random.default_rng(case.seed + 11))
@@ -84,7 +87,7 @@ def run_case(case):
     row.update(between=[a, b], separated_before=_separated(diag, a, b),
                separated_proposed=_separated(d1, a, b) if "error" not in d1 else None,
                separated_random=_separated(d2, a, b) if "error" not in d2 else None,
-               expected_sigma=nxt["separation_sigma"])
+               expected_sigma=nxt["separation_sigma"], new_points=int(v_prop.size))
     return row
 
 
@@ -105,7 +108,7 @@ def main(argv=None):
     with_next = [r for r in rows if r.get("between")]
     for r in with_next:
         print(f"  seed {r['seed']} {r['effect']:20s} n={r['n']:2d} {r['between'][0]} vs {r['between'][1]}: expected "
-              + ", ".join(f"{x:.2g}" for x in r["expected_sigma"]) + " sigma; separated before "
+              + ", ".join(f"{x:.2g}" for x in r["expected_sigma"]) + f" sigma, {r['new_points']} new points; separated before "
               f"{r['separated_before']}, proposed {r['separated_proposed']}, random {r['separated_random']}")
     sp = sum(bool(r["separated_proposed"]) for r in with_next)
     sr = sum(bool(r["separated_random"]) for r in with_next)

@@ -121,28 +121,13 @@ def _at_null(ctx, c):
     return nu is not None and float(np.max(np.abs(np.clip(pack(es, ps), 0, 1) - nu))) <= 0.02
 
 
-def pick_pair(ctx, expl, s):
-    """The two most probable distinct explanations of ``expl`` (ranked by posterior): the first
-    and the next one that is not the first at its no-effect point. None when there is none.
-
-    Parameters
-    ----------
-    ctx : FrictionContext
-        Model context.
-    expl : list of dict
-        Explanations ranked by posterior.
-    s : float
-        Noise scale.
-
-    Returns
-    -------
-    tuple of dict or None
-    """
+def pick_pair(ctx, expl, s, n_alt=3):
+    """The most probable explanation of ``expl`` (ranked by posterior) and, ranked, up to
+    ``n_alt`` next ones that are not it at their no-effect point (:func:`next_measurement`
+    takes the first that differs from it by a noise sigma). None when there is none."""
     if not expl:
         return None
     a = expl[0]
-    for b in expl[1:]:
-        if not _at_null(ctx, b["candidate"]) or a["candidate"] is None:
-            if not (_at_null(ctx, a["candidate"]) and b["name"] in ("calibration", "nominal")):
-                return a, b
-    return None
+    alts = [b for b in expl[1:] if a["candidate"] is None or not _at_null(ctx, b["candidate"])]
+    alts = [b for b in alts if not (_at_null(ctx, a["candidate"]) and b["name"] in ("calibration", "nominal"))]
+    return (a, alts[:n_alt]) if alts else None

@@ -68,54 +68,64 @@ def _predict(gctx, expl):
     return m, np.einsum("ij,jk,ik->i", G, cov, G)
 
 
+def _separation(g, v, temps, ma, va, mb, vb, s):
+    z = np.abs(ma - mb) / np.sqrt(s * s + va + vb)
+    return np.where(np.isfinite(z), z, 0.0).reshape(len(temps), v.size)
+
+
 def next_measurement(ctx, a, b, noise):
     """Where to measure to tell explanation ``a`` from ``b``.
 
-    ``a``, ``b``: dicts(name, candidate (fitting.Candidate or None: the nominal model), H (its
-    Gauss-Newton Hessian in the unit cube)); ``noise``: rms log10 noise. Returns dict(between,
+    ``a``: dict(name, candidate (fitting.Candidate or None: the nominal model), H (its
+    Gauss-Newton Hessian in the unit cube)); ``b``: such a dict, or a list of them ranked by
+    probability (the first whose predictions differ from ``a``'s by a noise sigma somewhere is
+    taken, else the most different); ``noise``: rms log10 noise. Returns dict(between,
     speeds_m_per_s, temperature_C (None without a shift table), separation_sigma (per speed),
-    separation_sigma_combined, sentence, method) or None when a prediction fails.
-
-    Parameters
-    ----------
-    ctx : FrictionContext
-        Model context.
-    a, b : dict
-        The two explanations.
-    noise : float
-        Noise [rms log10].
-
-    Returns
-    -------
-    dict or None
+    separation_sigma_combined, repeats (measurements per speed for a combined 3 sigma, at most
+    10), sentence, method) or None when a prediction fails.
     """
     from .evidence import noise_scale
 
     g, v, temps, has_table = _grid(ctx)
+    s = noise_scale(noise)
     try:
         ma, va = _predict(g, a)
-        mb, vb = _predict(g, b)
     except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
         return None
-    s = noise_scale(noise)
-    z = np.abs(ma - mb) / np.sqrt(s * s + va + vb)
-    z = np.where(np.isfinite(z), z, 0.0).reshape(len(temps), v.size)
+    best = None
+    for cand in (b if isinstance(b, (list, tuple)) else [b]):
+        try:
+            mb, vb = _predict(g, cand)
+        except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
+            continue
+        z = _separation(g, v, temps, ma, va, mb, vb, s)
+        if best is None or z.max() > best[1].max():
+            best = (cand, z)
+        if z.max() >= 1.0:
+            best = (cand, z)
+            break
+    if best is None:
+        return None
+    b, z = best
     it, i1 = np.unravel_index(int(np.argmax(z)), z.shape)
     far = np.abs(np.log10(v) - np.log10(v[i1])) >= MIN_APART_DECADES
     i2 = int(np.argmax(np.where(far, z[it], -1.0))) if far.any() else None
     idx = sorted([i1] + ([i2] if i2 is not None else []))
     speeds = [float(v[i]) for i in idx]
     sep = [float(z[it, i]) for i in idx]
+    comb = float(np.sqrt(np.sum(np.square(sep))))
+    reps = int(min(10, max(1, np.ceil(9.0 / max(comb ** 2, 1e-12)))))
     T = float(temps[it]) if has_table else None
     where = " and ".join(f"{x:.3g}" for x in speeds) + " m/s" + (f" at {T:.3g} C" if T is not None else "")
-    sentence = (f"measure at {where}: {a['name']} and {b['name']} differ there by "
+    times = "" if reps == 1 else f" ({reps} times each)"
+    sentence = (f"measure at {where}{times}: {a['name']} and {b['name']} differ there by "
                 + " and ".join(f"{x:.2g}" for x in sep) + " noise sigmas")
     if max(sep) < 1.0:
         sentence = (f"no speed from {v[0]:.3g} to {v[-1]:.3g} m/s separates {a['name']} and {b['name']} by a "
                     f"noise sigma (at most {max(sep):.2g} at {where}): measure another condition or repeat "
                     "points to lower the noise")
     return dict(between=[a["name"], b["name"]], speeds_m_per_s=speeds, temperature_C=T,
-                separation_sigma=sep, separation_sigma_combined=float(np.sqrt(np.sum(np.square(sep)))),
-                sentence=sentence,
+                separation_sigma=sep, separation_sigma_combined=comb, repeats=reps, sentence=sentence,
                 method="largest expected separation of the two most probable explanations in noise sigmas "
-                       "(model uncertainty included), over speeds and the shift table's temperatures")
+                       "(model uncertainty included), over speeds and the shift table's temperatures; repeats "
+                       "for a combined separation of 3 sigmas (at most 10)")

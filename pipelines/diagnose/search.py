@@ -343,12 +343,18 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     verdict, best = decide(singles, pair_list, cal, calpairs, st, intervals=icals)
     best = _one_explanation(verdict, best, equiv, ho.train)
     expl = None
+    if best is not None and cal_e is not None and any(ranges[k].source == "given" for k in free) \
+            and verdict.get("effect") not in (None, "calibration"):
+        from .search_few import second_opinion
+
+        best = second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, best, timings)
     if best is not None and verdict.get("effect") not in (None, "calibration"):
         _flash_extrapolation(ctx, best, verdict)
     if "evidence" not in verdict:
         verdict["evidence"] = heldout_evidence(ho, g_ho, ranked, best)
-    if "equivalence" in verdict:
-        verdict["evidence"]["equivalence"] = verdict.pop("equivalence")
+    for key in ("equivalence", "bayes"):
+        if key in verdict:
+            verdict["evidence"][key] = verdict.pop(key)
     nxt = None
     if significant and (verdict.get("inconclusive") or verdict.get("confidence") in (None, "low")):
         pair = top_two(ctx, real_mu, noise, verdict, best, expl, singles, pair_list, cal, calpairs)

@@ -18,7 +18,7 @@ import numpy as np
 
 from .cv import boot_shrink
 
-__all__ = ["few_candidates", "noise_prior", "NOISE_RANGE", "PRIOR_NOISE_DOF", "GIVEN_NOISE_DOF"]
+__all__ = ["few_candidates", "second_opinion", "noise_prior", "NOISE_RANGE", "PRIOR_NOISE_DOF", "GIVEN_NOISE_DOF"]
 
 #: the range of noise scales a friction test's repeatability takes (rms log10; 1.2 % to 7 %)
 NOISE_RANGE = (0.005, 0.03)
@@ -173,3 +173,37 @@ def _physical(ctx, real_mu, c, every, finish, s, nu):
     budget = 8 if max(e.cost for e in effs) > 1 else None
     r = finish(fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=[start], budget=budget), t1, s, nu)
     return r if not r.implausible else c
+
+
+def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, best, timings):
+    """With uncertain inputs given, an effect named by the held-out third (20 points or more)
+    must also be the most probable explanation by the evidence, at posterior 0.9 or more (every
+    model fitted on every point, :mod:`.verdict_few`); otherwise the verdict becomes inconclusive
+    between it and the most probable other.
+    Adds ``bayes`` (the evidence's models and posteriors) to ``verdict``. Returns the named
+    candidate or None."""
+    from .cv import Holdout
+    from .verdict_few import P_NAME, decide_few
+
+    n = np.asarray(real_mu).size
+    every = np.ones(n, bool)
+    ho = Holdout(True, every, every, n, np.random.default_rng(0).integers(0, n, size=(1000, n)))
+    cal, cands, s, nu, significant = few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, {},
+                                                    lambda *_: None)
+    st = dict(g_all=float(np.sqrt(np.mean(np.log10(real_mu / cal.pred) ** 2))), noise=s, n=n,
+              significant=significant, p=0.0, s=s, nu=nu)
+    v2, _, expl = decide_few(ctx, real_mu, cal, cands, st)
+    verdict["bayes"] = v2["evidence"]
+    name = "+".join(best.effect_names)
+    top = expl[0]
+    if top["name"] == name and top["posterior"] >= P_NAME:
+        if top["posterior"] < 0.99 and verdict.get("confidence") == "high":
+            verdict["confidence"] = "medium"
+        return best
+    other = top["name"] if top["name"] != name else expl[1]["name"]
+    verdict.update(effect=None, confidence=None, shrink=None, shrink_interval=None, calibrated={}, at_bound=[],
+                   inconclusive=[name, other],
+                   reason=(f"inconclusive: {name} shrinks the held-out gap, but the evidence of every point does "
+                           f"not single it out ({top['name']} posterior {top['posterior']:.2f}, "
+                           f"{expl[1]['name']} {expl[1]['posterior']:.2f})"))
+    return None
