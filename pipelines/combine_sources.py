@@ -236,10 +236,12 @@ def _white_level(q, measured, dof, band, resolution_m):
 
     White measurement noise adds a constant N to every ring of the periodogram; near the top of
     the band it is still far below C but biases it (by 15 % at a ring where N = 0.15 C). With
-    the band's power law of slope s (fitted on the measured spectrum) and the resolution's
-    response T(q)^2 (1 without a resolution), C_i = A q_i^s T_i^2 + N is linear in A and N:
-    fitted by weighted least squares (weights dof_i / C_i^2: each ring's relative variance
-    2 / dof_i) to the rings from the band's geometric middle to Nyquist. N is returned when it
+    a power law of slope s and the resolution's response T(q)^2 (1 without a resolution),
+    C_i = A q_i^s T_i^2 + N is linear in A and N: fitted by weighted least squares (weights
+    dof_i / C_i^2: each ring's relative variance 2 / dof_i) to the rings from the band's
+    geometric middle to Nyquist, for the band's own slope and for s from -6 to 0 in steps of
+    0.1 (a roll-off between the band's middle and its top changes the slope there); the s of
+    least chi-square is kept. N is returned when it
     is over :data:`WHITE_SIGMAS` standard errors above zero (Jacobs, Junge, Pastewka, Surf.
     Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 3: noise adds a white floor).
     """
@@ -252,15 +254,24 @@ def _white_level(q, measured, dof, band, resolution_m):
         return None
     qs, cs, k = q[sel], measured[sel], dof[sel]
     t2 = gaussian_response(qs, resolution_m) ** 2 if resolution_m else np.ones_like(qs)
-    shape = (qs / qs[0]) ** band.slope * t2
     w = k / cs**2
-    X = np.column_stack([shape, np.ones_like(qs)])
-    M = X.T @ (X * w[:, None])
-    try:
-        cov = np.linalg.inv(M)
-    except np.linalg.LinAlgError:
+    best = None
+    # the band's slope, or (a bend between the band's middle and its top) the slope that fits
+    # these rings best
+    for s in np.r_[band.slope, np.arange(-6.0, 0.01, 0.1)]:
+        X = np.column_stack([(qs / qs[0]) ** s * t2, np.ones_like(qs)])
+        M = X.T @ (X * w[:, None])
+        try:
+            cov = np.linalg.inv(M)
+        except np.linalg.LinAlgError:
+            continue
+        coef = cov @ (X.T @ (w * cs))
+        chi = float(np.sum(w * (cs - X @ coef) ** 2))
+        if best is None or chi < best[0] * (1 - 1e-9):
+            best = (chi, coef, cov)
+    if best is None:
         return None
-    a, level = cov @ (X.T @ (w * cs))
+    _, (a, level), cov = best
     if not (a > 0 and level > WHITE_SIGMAS * np.sqrt(cov[1, 1])):
         return None
     return float(level)
