@@ -49,6 +49,8 @@ class SurfaceAnalysis:
         How it was computed.
     anisotropy : dict or None
         Directional distribution.
+    mpd_segments : MpdSegments or None
+        The MPD's per-segment table (ISO 13473-1), lines along x.
     """
 
     source: object            # HeightMap or Profile as read
@@ -64,6 +66,7 @@ class SurfaceAnalysis:
     mpd_m: float = None
     mpd_note: str = ""
     anisotropy: dict = None
+    mpd_segments: object = None   # roadscan.texture_depth.MpdSegments of the MPD (source's rows)
 
     @property
     def filled(self):
@@ -158,12 +161,14 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     levelled = level.level(work, degree=level_degree)
     if on_levelled is not None:
         on_levelled(levelled)
+    from roadscan.texture_depth import mpd_and_segments
+
     if isinstance(obj, Profile):
         rough = roughness.profile_parameters(levelled)
-        mpd_m, mpd_note = roughness.mean_profile_depth(obj, **(mpd_settings or {}))
     else:
         rough = roughness.area_parameters(levelled)
-        mpd_m, mpd_note = roughness.mean_profile_depth_area(obj, **(mpd_settings or {}))
+    # the MPD and its segment table from one pass (mean_profile_depth(_area)'s values)
+    mpd_m, mpd_note, mpd_seg = mpd_and_segments(obj, **(mpd_settings or {}))
     undefined = [k for k in ("Sdq", "Sdr", "Rdq") if k in rough and rough[k] is None]
     if undefined:
         from .validate import warn
@@ -189,7 +194,7 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     fit = fitmod.fit_self_affine(spec, band=fit_band) if fit else None
     aniso = anisotropy(spec2d) if spec2d is not None else None
     return SurfaceAnalysis(obj, levelled, fill, float(filled_fraction), spec, spec2d, psd1d,
-                           fit, rough, mpd_m, mpd_note, aniso)
+                           fit, rough, mpd_m, mpd_note, aniso, mpd_segments=mpd_seg)
 
 
 def surface_psd(spectrum, fit=None, q1_per_m=None):

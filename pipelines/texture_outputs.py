@@ -169,15 +169,16 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
         out["texture_direction"] = settings.direction
     mpd, mpd_note = analysis.mpd_m, analysis.mpd_note
     src = analysis.source
+    seg = getattr(analysis, "mpd_segments", None)   # computed with the MPD
     if not analysis.is_profile and settings.direction == "y":    # MPD along the driving direction
-        from roadscan import roughness
         from roadscan.heightmap import HeightMap
 
         src = HeightMap(src.heights_m.T, src.dy_m, src.dx_m, src.unmeasured.T, src.name, src.meta)
-        mpd, mpd_note = roughness.mean_profile_depth_area(src, **(mpd_settings or {}))
+        mpd, mpd_note, seg = td.mpd_and_segments(src, **(mpd_settings or {}))
         mpd_note = f"{mpd_note} (lines along y, the driving direction)"
         out["mpd_m"], out["mpd_note"] = mpd, mpd_note
-    seg = td.mpd_segments(src, **(mpd_settings or {}))
+    elif seg is None:
+        seg = td.mpd_segments(src, **(mpd_settings or {}))
     from .mpd_outputs import validity_keys
 
     out.update(validity_keys(seg))

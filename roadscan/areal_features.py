@@ -120,13 +120,11 @@ def _critical_graph(z, code):
     patterns: a point whose higher neighbours form g >= 2 groups may join g components of the
     superlevel set above it; each group is followed uphill (any higher neighbour, heights
     increase, so the path stays above the point) to the maximum it belongs to."""
-    import cv2
-
     ny, nx = code.shape
     flat = code.ravel()
     off = np.array([dy * nx + dx for dy, dx in _RING], dtype=np.int64)
     maxima = np.flatnonzero(flat == 0)
-    sad = np.flatnonzero(cv2.LUT(code, _NGROUPS).ravel() >= 2)
+    sad = np.flatnonzero(_NGROUPS[flat] >= 2)
     sc = flat[sad]
     g = _NGROUPS[sc].astype(np.intp)
     first_of = np.repeat(np.cumsum(g) - g, g)     # each saddle's first group

@@ -12,7 +12,8 @@ import numpy as np
 from .heightmap import HeightMap, Profile
 
 __all__ = ["estimated_texture_depth", "ifi_speed_constant", "ifi_f60", "short_segment_depth",
-           "spike_alpha_to_pass", "SHORT_MIN_BASELINE_M", "MpdSegments", "mpd_segments"]
+           "spike_alpha_to_pass", "SHORT_MIN_BASELINE_M", "MpdSegments", "mpd_segments",
+           "mpd_and_segments"]
 
 #: Shortest baseline a short-scan segment depth is given for [m].
 SHORT_MIN_BASELINE_M = 10e-3
@@ -305,3 +306,64 @@ def mpd_segments(obj, **settings):
         return None
     _, note = roughness._summarise(res, what)
     return MpdSegments(res, note, length)
+
+
+def mpd_and_segments(obj, **settings):
+    """The ISO 13473-1 MPD and its per-segment table from one pass over the segments.
+
+    Returns
+    -------
+    mpd_m : float or None
+        Mean profile depth [m] (mean MSD of the valid segments), as
+        :func:`roadscan.roughness.mean_profile_depth` (a Profile) or
+        :func:`roadscan.roughness.mean_profile_depth_area` (a HeightMap's rows) give it.
+    note : str
+        Their note.
+    segments : MpdSegments or None
+        As :func:`mpd_segments` gives it.
+
+    Parameters
+    ----------
+    obj : Profile or HeightMap
+        The scan [m].
+    **settings
+        Overrides of the ISO 13473-1 settings.
+
+    References
+    ----------
+    ISO 13473-1:2019.
+    """
+    from . import roughness
+
+    is_map = isinstance(obj, HeightMap)
+    if not is_map and not isinstance(obj, Profile):
+        raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
+    try:
+        if is_map:
+            res = roughness._segment_depths_by_bands(obj, settings)
+        else:
+            res = roughness.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **settings)
+        err = None
+    except ValueError as e:
+        res, err = None, e
+    if is_map:
+        L = obj.nx * obj.dx_m
+        seg = settings.get("segment_m", roughness.MPD_SETTINGS["segment_m"])
+        what, length = f"{obj.ny} rows", L
+        if L < seg * (1 - 1e-9):
+            mpd, note = None, (f"no MPD: rows are {L * 1e3:.1f} mm long, shorter than the "
+                               f"{seg * 1e3:.0f} mm baseline of ISO 13473-1")
+        elif res is None:
+            mpd, note = None, f"no MPD: {err}"
+        else:
+            mpd, note = roughness._summarise(res, f"{obj.ny} rows of {roughness._size(L)}")
+    else:
+        what, length = "a profile", obj.length_m
+        if res is None:
+            mpd, note = None, f"no MPD: {err}"
+        else:
+            mpd, note = roughness._summarise(res, f"a {roughness._size(obj.length_m)} profile")
+    if res is None:
+        return mpd, note, None
+    return mpd, note, MpdSegments(res, roughness._summarise(res, what)[1], length)
+
