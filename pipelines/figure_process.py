@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import os
 import sys
+import types
 
 __all__ = ["InProcess", "FigureProcess", "figure_drawer"]
 
@@ -81,7 +82,14 @@ class FigureProcess(InProcess):
 
             self._pool = ProcessPoolExecutor(max_workers=1, initializer=_warm_up,
                                              mp_context=multiprocessing.get_context("spawn"))
-            self._pool.submit(os.getpid)          # starts the worker now (it imports matplotlib)
+            main = sys.modules.get("__main__")
+            # the spawned worker would import the caller's script again (as __mp_main__): a
+            # script without an ``if __name__ == "__main__"`` guard would run a second time
+            sys.modules["__main__"] = types.ModuleType("__main__")
+            try:
+                self._pool.submit(os.getpid)      # starts the worker now (it imports matplotlib)
+            finally:
+                sys.modules["__main__"] = main
             self._proc = next(iter(getattr(self._pool, "_processes", {}).values()), None)
         except (OSError, RuntimeError, ValueError, ImportError):
             self._stop()
@@ -126,7 +134,7 @@ class FigureProcess(InProcess):
             return
         pool.shutdown(wait=False, cancel_futures=True)
         if proc is not None and proc.is_alive():   # idle or importing: not waited for at exit
-            proc.terminate()
+            proc.kill()
 
     def close(self):
         self._pending = []
@@ -164,8 +172,10 @@ def figure_drawer(figures=True):
 
 def _warm_up():
     """The helper's initializer: matplotlib imported while the parent computes; warnings off."""
+    import signal
     import warnings
 
+    signal.signal(signal.SIGINT, signal.SIG_IGN)   # Ctrl-C reaches the group: the parent stops us
     warnings.simplefilter("ignore")
     sys.stdout = sys.stderr              # a stray print never mixes into the command's output
     from . import report
