@@ -3,8 +3,9 @@ height figures and the MPD before it).
 
 Baseline, run in the same process on the same levelled map, interleaved, best of N:
 ``area_parameters`` (Sa ... Sdr) + ``mean_profile_depth_area`` (the ISO 13473-1 MPD of every
-row): what ``summary.json`` held before. Candidate: the same two, plus the per-segment MPD table
-(``mpd_segments``) and ``texture_parameters`` (material ratio and volumes, Sal/Str/Std,
+row): what ``summary.json`` held before. Candidate: what ``roadscan analyse`` now computes for
+them: ``area_parameters``, the MPD with its per-segment table from one pass
+(``mpd_and_segments``) and ``texture_parameters`` (material ratio and volumes, Sal/Str/Std,
 Spd/Spc/S5p/S5v/S10z). Printed: each step's time, the ratio candidate / baseline, and, as an
 independent reference for the feature step, scikit-image's ``h_maxima`` (morphological
 reconstruction, peaks only) on the same map.
@@ -44,7 +45,7 @@ def main():
     from roadscan.iso25178 import texture_parameters
     from roadscan.material_ratio import areal_material_parameters
     from roadscan.synth import self_affine_surface
-    from roadscan.texture_depth import mpd_segments
+    from roadscan.texture_depth import mpd_and_segments, mpd_segments
 
     hm = self_affine_surface(a.size, dx_m=5e-5, rms_height_m=5e-4, q_roll_per_m=2 * np.pi / 3e-3)
     lev = level.level(hm)
@@ -55,14 +56,15 @@ def main():
         roughness.mean_profile_depth_area(hm)
 
     def candidate():
-        baseline()
-        mpd_segments(hm)
+        roughness.area_parameters(lev)
+        mpd_and_segments(hm)
         texture_parameters(lev)
 
     steps = {
         "area_parameters": lambda: roughness.area_parameters(lev),
         "mean_profile_depth_area": lambda: roughness.mean_profile_depth_area(hm),
-        "mpd_segments": lambda: mpd_segments(hm),
+        "mpd_segments (alone)": lambda: mpd_segments(hm),
+        "mpd_and_segments": lambda: mpd_and_segments(hm),
         "material ratio + volumes": lambda: areal_material_parameters(z),
         "Sal, Str, Std": lambda: spatial_parameters(z, lev.dx_m, lev.dy_m),
         "Spd, Spc, S5p, S5v, S10z": lambda: feature_parameters(z, lev.dx_m, lev.dy_m),
