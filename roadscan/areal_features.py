@@ -136,7 +136,9 @@ def _critical_graph(z, code):
         c = cur[active]
         cur[active] = c + step[flat[c]]
         active = active[flat[cur[active]] != 0]
-    dest = np.searchsorted(maxima, cur)
+    label = np.empty(flat.size, np.int32 if maxima.size < 2 ** 31 else np.int64)
+    label[maxima] = np.arange(maxima.size)
+    dest = label[cur]
     other = col > 0
     return maxima, dest[first_of[other]], dest[other], np.repeat(z.ravel()[sad], g)[other]
 
@@ -148,11 +150,9 @@ def _change_tree(top, a, b, saddle, rounds=3):
     leads to a higher component is merged into it at that edge (exactly what the ordered
     merging does, as no other edge of it comes earlier); then the ordered merging of the rest."""
     m = top.size
-    rank = np.empty(m, np.int64)                  # heights ordered, ties by index
-    rank[np.lexsort((np.arange(m), top))] = np.arange(m)
+    rank = np.empty(m, np.int64)                  # heights ordered, ties by index (``top``
+    rank[np.argsort(top, kind="stable")] = np.arange(m)   # is in flattened-index order)
     prom = np.full(m, np.inf)
-    order = np.argsort(saddle, kind="stable")[::-1]
-    a, b, saddle = a[order], b[order], saddle[order]
     keep = a != b
     a, b, saddle = a[keep], b[keep], saddle[keep]
     root = np.arange(m)
@@ -160,14 +160,17 @@ def _change_tree(top, a, b, saddle, rounds=3):
         n = a.size
         if n == 0:
             break
+        best = np.full(m, -np.inf)                # the highest saddle of each component
+        np.maximum.at(best, a, saddle)
+        np.maximum.at(best, b, saddle)
+        edge = np.full(m, -1)                     # an edge reaching it (equal saddles: any)
         idx = np.arange(n)
-        best = np.full(m, n)
-        best[b[::-1]] = idx[::-1]                 # the first (highest) edge of each end
-        first_a = np.full(m, n)
-        first_a[a[::-1]] = idx[::-1]
-        np.minimum(best, first_a, out=best)
-        v = np.flatnonzero(best < n)
-        e = best[v]
+        on = saddle == best[b]
+        edge[b[on]] = idx[on]
+        on = saddle == best[a]
+        edge[a[on]] = idx[on]
+        v = np.flatnonzero(edge >= 0)
+        e = edge[v]
         o = np.where(a[e] == v, b[e], a[e])
         up = rank[o] > rank[v]
         v, e, o = v[up], e[up], o[up]
@@ -181,18 +184,24 @@ def _change_tree(top, a, b, saddle, rounds=3):
         a, b = root[a], root[b]
         keep = a != b
         a, b, saddle = a[keep], b[keep], saddle[keep]
-    if a.size:                                    # each pair once, with its highest saddle
+    if a.size:                                    # each pair once, with its highest saddle,
+        order = np.argsort(saddle, kind="stable")[::-1]   # from the highest down
+        a, b, saddle = a[order], b[order], saddle[order]
         lo, hi = np.minimum(a, b), np.maximum(a, b)
         _, first = np.unique(lo * m + hi, return_index=True)
         first.sort()
         a, b, saddle = a[first], b[first], saddle[first]
     parent = {}
-    rk = rank.tolist()
+    rk, topl = rank.tolist(), top.tolist()
 
     def find(i):
-        while parent.get(i, i) != i:
-            i = parent[i]
-        return i
+        while True:
+            p = parent.get(i, i)
+            if p == i:
+                return i
+            g = parent.get(p, p)
+            parent[i] = g                         # path halving
+            i = g
 
     for e, sa, sb in zip(saddle.tolist(), a.tolist(), b.tolist()):
         ra, rb = find(sa), find(sb)               # a component is named by its summit
@@ -200,7 +209,7 @@ def _change_tree(top, a, b, saddle, rounds=3):
             continue
         if rk[ra] < rk[rb]:
             ra, rb = rb, ra
-        prom[rb] = top[rb] - e
+        prom[rb] = topl[rb] - e
         parent[rb] = ra
     return prom
 
