@@ -4,8 +4,9 @@ The autocorrelation function of the levelled heights z (mean zero) over the defi
 
     f_ACF(tx, ty) = integral_A z(x, y) z(x - tx, y - ty) dx dy / integral_A z^2 dx dy,
 
-is computed by FFT on a grid zero-padded to twice the field (a linear, not circular,
-correlation; the integrals run over the overlap, each divided by the same full-field
+is computed by FFT on a grid zero-padded to at least 1.5 times the field (a linear, not
+circular, correlation on the lags used: the wrapped-around products start beyond half the
+field; the integrals run over the overlap, each divided by the same full-field
 integral), on lags |tx| <= Lx / 2, |ty| <= Ly / 2.
 
 - Sal [m], autocorrelation length: the shortest lag distance at which f_ACF has decayed to
@@ -68,8 +69,8 @@ def autocorrelation(z):
     bad = ~np.isfinite(z)
     zz = np.where(bad, 0.0, z - np.nanmean(z) if bad.any() else z - z.mean())
     ny, nx = zz.shape
-    shape = (_fast_len(2 * ny), _fast_len(2 * nx))
     hy, hx = ny // 2, nx // 2
+    shape = (_fast_len(ny + hy + 1), _fast_len(nx + hx + 1))   # no wrap-around up to L/2
     # single precision (a relative error near 1e-6 of the zero lag, far below s); the padding
     # rows are zero, so the row transforms run over the field's rows only, and only the lag
     # rows |ty| <= hy are transformed back along x
