@@ -105,9 +105,10 @@ def _finished_on_worker(job):
 #: returned to the system. Workers of an existing cluster (``--scheduler``) keep their own.
 _TRIM_ENV = "MALLOC_TRIM_THRESHOLD_"
 _TRIM_KEY = "distributed.nanny.pre-spawn-environ." + _TRIM_ENV
-#: local workers log errors only: their INFO records ("Received 'close-stream'...") reached the
-#: terminal after the one-line "interrupted" of a stopped campaign; a scan's failure
-#: reaches us through its future
+#: local workers log critical records only: their INFO records ("Received 'close-stream'...")
+#: reached the terminal after the one-line "interrupted" of a stopped campaign, and so did, under
+#: load, an ERROR with its traceback ("Failed to communicate with scheduler during heartbeat":
+#: the scheduler already gone); a scan's failure reaches us through its future
 _WORKER_LOG_KEY = "distributed.nanny.pre-spawn-environ.DASK_LOGGING__DISTRIBUTED"
 
 
@@ -145,7 +146,7 @@ def _client(workers=None, scheduler=None):
     n = workers or default_workers()
     try:
         with dask.config.set({_TRIM_KEY: None}) if _TRIM_ENV not in os.environ else contextlib.nullcontext(), \
-                dask.config.set({_WORKER_LOG_KEY: "error", "distributed.worker.preload":
+                dask.config.set({_WORKER_LOG_KEY: "critical", "distributed.worker.preload":
                                  ["pipelines.campaign.worker_signals"]}):
             cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
                                    dashboard_address=None, silence_logs=logging.ERROR)
