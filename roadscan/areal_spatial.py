@@ -102,11 +102,17 @@ def _fast_len(n):
 
 def _bilinear(img, y, x):
     """Bilinear interpolation of ``img`` at fractional (row, column) positions inside it."""
-    y0 = np.clip(np.floor(y).astype(np.int64), 0, img.shape[0] - 2)
-    x0 = np.clip(np.floor(x).astype(np.int64), 0, img.shape[1] - 2)
+    ny, nx = img.shape
+    y0 = np.clip(np.floor(y), 0, ny - 2)
+    x0 = np.clip(np.floor(x), 0, nx - 2)
     fy, fx = y - y0, x - x0
-    return ((1 - fy) * ((1 - fx) * img[y0, x0] + fx * img[y0, x0 + 1])
-            + fy * ((1 - fx) * img[y0 + 1, x0] + fx * img[y0 + 1, x0 + 1]))
+    i = y0.astype(np.intp) * nx + x0.astype(np.intp)      # flattened upper-left corner
+    f = img.ravel()
+    a, b = f[i], f[i + 1]
+    top = a + fx * (b - a)
+    a, b = f[i + nx], f[i + nx + 1]
+    top += fy * (a + fx * (b - a) - top)
+    return top
 
 
 def _decay_lengths(acf, dy, dx, s, step_deg=0.5):
