@@ -277,6 +277,26 @@ def _white_level(q, measured, dof, band, resolution_m):
     return float(level)
 
 
+def _profile_above_roll_off(band):
+    """A profile's band from its roll-off up.
+
+    The isotropic 2D estimate C(q) = C1(q) / q Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)) holds
+    for a power law: C1(q) integrates C over every 2D wave vector of modulus q or more, so below
+    a roll-off, where C1 flattens and C stays flat, it puts C far above the plateau (x2 to x25
+    on a synthetic profile 60 x 2 pi / L long). A band wholly under the roll-off becomes empty
+    (under a factor 2: the input is left out, with its warning). Reference: Persson, Tribol.
+    Lett. 63, 42 (2016) (1D and 2D spectra of road surfaces).
+    """
+    from dataclasses import replace
+
+    q_r = band.q_roll_per_m
+    if q_r is None or band.lo_per_m >= q_r:
+        return band
+    return replace(band, lo_per_m=float(q_r), hi_per_m=float(max(band.hi_per_m, q_r)),
+                   lo_reason=f"{band.lo_reason}; raised to the roll-off: a profile's 2D "
+                             f"estimate C1 / q x f(H) holds for a power law only")
+
+
 def _plateau_start(band, q, dof):
     """The band with its low end raised to the roll-off when the rings between them carry
     under half a merged row's degrees of freedom (the band may then be under a factor 2 wide:
@@ -372,6 +392,8 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
             "max_factor": float(1.0 / T2[inside].min()) if inside.any() else 1.0}
     band = _trim_leaky_start(band, q, C, n * dof)
     band = _plateau_start(band, q, n * dof)
+    if kind == "profile":
+        band = _profile_above_roll_off(band)
     from .scan_input import read_record
 
     meta.update(read_record(obj))           # how the file was read: channel, overrides

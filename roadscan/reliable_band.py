@@ -223,10 +223,15 @@ def noise_limit(q, C, slope, intercept, q_from):
         s = local_slopes(q, C, 0.3)
         if np.nanmedian(s[top]) > -1.0:
             level = float(np.median(C[top]))
-            low = C < WHITE_SHARE * level       # from the bottom: noise may fill most decades
+            # the first ring from the bottom (noise may fill most decades) from which most rings
+            # up to the top are within the factor: a lone low ring far below the floor (2
+            # degrees of freedom fall under a tenth of their mean 1 time in 10) starts none
+            low = C < WHITE_SHARE * level
             low[0] = False
-            if low.any():
-                i = int(np.argmax(low))
+            share_above = np.cumsum(low[::-1])[::-1] / np.arange(q.size, 0, -1)
+            start = low & (share_above >= 0.5)
+            if start.any():
+                i = int(np.argmax(start))
                 cands.append((i, f"white noise floor C = {level:.3g} reached within a factor "
                                  f"{WHITE_SHARE:g} from {_wl(q[i])} wavelength up"))
     if not cands:
