@@ -164,3 +164,36 @@ def test_a_gap_over_an_undetected_roll_off_is_bridged_by_the_lower_power_law():
                               SpectrumPart("b", q2, q2**-3.6, np.full(q2.size, 1e4), (2e4, 2e5))])
     assert np.allclose(straight.C_m4, straight.q_per_m**-3.6, rtol=1e-6)
     assert straight.gaps[0]["bridged_by"].startswith("a power law")
+
+
+def test_a_road_laser_profile_enters_above_its_roll_off(tmp_path):
+    """The coarse instrument a line profile (410 mm at 0.2 mm): below its roll-off its 2D
+    estimate C1 / q x f(H) is no spectrum of the surface (the merged plateau was 54 x the
+    truth); its band starts at the roll-off and every merged row is within 25 %."""
+    from roadscan.heightmap import Profile
+    from roadscan.io import write
+
+    q_roll, seed = 1000.0, 3
+    field = measure_synthetic(2048, 200e-6, H, K, q_roll_per_m=q_roll, resolution_m=400e-6,
+                              noise_rms_m=_noise_sigma(200e-6, 400e-6, 0.7, q_roll), seed=seed,
+                              pad=1)
+    write(tmp_path / "laser.x3p", Profile(field.heights_m[0].copy(), 200e-6, name="laser"))
+    del field
+    rows = ["file,spacing_m,resolution_m,label", f"laser.x3p,,{400e-6!r},road laser"]
+    for i, (label, n, dx, res, at) in enumerate(INSTRUMENTS[1:]):
+        hm = measure_synthetic(n, dx, H, K, q_roll_per_m=q_roll, resolution_m=res,
+                               noise_rms_m=_noise_sigma(dx, res, at, q_roll), seed=seed + 1 + i)
+        np.save(tmp_path / f"i{i}.npy", hm.heights_m)
+        rows.append(f"i{i}.npy,{dx!r},{res!r},{label}")
+    (tmp_path / "manifest.csv").write_text("\n".join(rows) + "\n")
+    out = tmp_path / "out"
+    assert main(["combine", str(tmp_path / "manifest.csv"), "--out", str(out), "--no-figures"]) == 0
+    with open(out / "psd.csv") as f:
+        t = np.array(list(csv.reader(f))[1:], float)
+    info = json.loads((out / "combine.json").read_text())
+    laser = info["inputs"][0]
+    assert laser["kind"] == "profile"
+    assert laser["reliable_band_per_m"][0] >= 0.99 * laser["q_roll_per_m"]
+    assert "roll-off" in laser["reliable_band_reasons"]["lo"]
+    err = np.abs(t[:, 1] / model_psd(t[:, 0], H, K, q_roll_per_m=q_roll) - 1)
+    assert np.all(err <= 0.25), t[err > 0.25]
