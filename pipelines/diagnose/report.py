@@ -46,7 +46,8 @@ def friction_json(d, where, bandmap, validate=None):
         p_value=d.p_value,
         gap_definition="rms over points of log10(measured/simulated)",
         heldout=d.heldout,
-        ranking="held-out rms x (1 + k / n_train), k = number of fitted parameters",
+        ranking=("log-evidence (Laplace approximation), best first" if d.train.all() and d.train.size < 20 else
+                 "held-out rms x (1 + k / n_train), k = number of fitted parameters"),
         where=[{k: w[k] for k in ("v_min_m_per_s", "v_max_m_per_s", "gap", "n", "mean_log_ratio",
                                   "p_value", "significant")} for w in where],
         band_map=bandmap,
