@@ -131,11 +131,13 @@ def _critical_graph(z, code):
     col = np.arange(first_of.size) - first_of
     cur = np.repeat(sad, g) + off[_REPS[np.repeat(sc, g), col]]
     step = off[_STEP]
-    active = np.flatnonzero(flat[cur] != 0)
-    while active.size:                            # uphill, on the unfinished paths only
-        c = cur[active]
-        cur[active] = c + step[flat[c]]
-        active = active[flat[cur[active]] != 0]
+    slot = np.flatnonzero(flat[cur] != 0)         # the unfinished paths and where they are
+    pos = cur[slot]
+    while slot.size:                              # uphill, one step at a time
+        pos += step[flat[pos]]
+        top = flat[pos] == 0
+        cur[slot[top]] = pos[top]
+        slot, pos = slot[~top], pos[~top]
     label = np.empty(flat.size, np.int32 if maxima.size < 2 ** 31 else np.int64)
     label[maxima] = np.arange(maxima.size)
     dest = label[cur]
@@ -149,9 +151,7 @@ def _change_tree(top, a, b, saddle, rounds=3):
     above the saddle. First a few vectorised Boruvka rounds: a component whose highest edge
     leads to a higher component is merged into it at that edge (exactly what the ordered
     merging does, as no other edge of it comes earlier); then the ordered merging of the rest."""
-    m = top.size
-    rank = np.empty(m, np.int64)                  # heights ordered, ties by index (``top``
-    rank[np.argsort(top, kind="stable")] = np.arange(m)   # is in flattened-index order)
+    m = top.size                                  # ``top`` is in flattened-index order:
     prom = np.full(m, np.inf)
     keep = a != b
     a, b, saddle = a[keep], b[keep], saddle[keep]
@@ -172,7 +172,7 @@ def _change_tree(top, a, b, saddle, rounds=3):
         v = np.flatnonzero(edge >= 0)
         e = edge[v]
         o = np.where(a[e] == v, b[e], a[e])
-        up = rank[o] > rank[v]
+        up = (top[o] > top[v]) | ((top[o] == top[v]) & (o > v))   # equal heights: by index
         v, e, o = v[up], e[up], o[up]
         prom[v] = top[v] - saddle[e]
         root[v] = o
@@ -192,7 +192,7 @@ def _change_tree(top, a, b, saddle, rounds=3):
         first.sort()
         a, b, saddle = a[first], b[first], saddle[first]
     parent = {}
-    rk, topl = rank.tolist(), top.tolist()
+    topl = top.tolist()
 
     def find(i):
         while True:
@@ -207,7 +207,7 @@ def _change_tree(top, a, b, saddle, rounds=3):
         ra, rb = find(sa), find(sb)               # a component is named by its summit
         if ra == rb:
             continue
-        if rk[ra] < rk[rb]:
+        if (topl[ra], ra) < (topl[rb], rb):
             ra, rb = rb, ra
         prom[rb] = topl[rb] - e
         parent[rb] = ra
