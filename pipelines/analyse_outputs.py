@@ -226,7 +226,7 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
     key.update(analyse_band.report_rows(summary))   # band, rubber, mu's provenance
     texture = [report.table_html(texture_outputs.depth_rows(summary), ["quantity", "value"])]
     if tex is not None and tex.level_dB.size:
-        texture.append(f"<p class='note'>{texture_outputs.html_escape(tex.note)}</p>")
+        texture.append(report.paragraph_html(tex.note, note=True))
         texture.append(texture_outputs.texture_table_html(tex))
     sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
                 ("Road texture (ISO 13473-1, ISO 13473-4, ASTM E1960)", texture),

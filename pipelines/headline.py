@@ -232,9 +232,8 @@ def wet_model_html():
     str
         HTML.
     """
-    import html
+    from .templates import render
 
-    out = ", ".join(WET_MODEL["leaves_out"])
     then = WET_MODEL["consequence"]
-    return (f"<p class='note'><b>What the wet model covers:</b> {html.escape(WET_MODEL['covers'])}. "
-            f"<b>Left out:</b> {html.escape(out)}. {html.escape(then[0].upper() + then[1:])}.</p>")
+    return render("wet_model_note.html.j2", covers=WET_MODEL["covers"],
+                  left_out=", ".join(WET_MODEL["leaves_out"]), then=then[0].upper() + then[1:])

@@ -248,18 +248,16 @@ def roughness_section(summary):
     -------
     list
     """
-    import html
-
-    from .report import table_html
+    from .report import paragraph_html, table_html
 
     f = summary.get("filters") or {}
     head = (f"Taken on the levelled surface with {filters_text(f)}"
             + (f"; end effects: {f['end_effects']}" if f.get("end_effects") else "")
             + ". The spectrum, the fit and friction use the plane-levelled, unfiltered surface.")
-    parts = [f"<p class='note'>{html.escape(head)}</p>",
+    parts = [paragraph_html(head, note=True),
              table_html(roughness_rows(summary), ["parameter", "value"])]
     for what, note in (summary.get(ROUGHNESS_NOTE_KEY) or {}).items():
-        parts.append(f"<p class='note'>{html.escape(what)}: {html.escape(str(note))}</p>")
+        parts.append(paragraph_html(f"{what}: {note}", note=True))
     return parts
 
 
