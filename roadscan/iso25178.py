@@ -44,20 +44,25 @@ def texture_parameters(obj):
     from .material_ratio import areal_material_parameters, profile_material_parameters
 
     z = obj.heights_m
-    good = z[np.isfinite(z)]
     if isinstance(obj, Profile):
+        good = z[np.isfinite(z)]
         if good.size < 2:
             return dict.fromkeys(PROFILE_KEYS), {}
         return profile_material_parameters(good), {}
     if not isinstance(obj, HeightMap):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
+    mean = float(z.mean()) if z.size else np.nan
+    good = z                                      # all finite (the mean is): no copy
+    if not np.isfinite(mean):
+        good = z[np.isfinite(z)]
+        mean = float(good.mean()) if good.size else np.nan
     from .areal_features import feature_parameters
     from .areal_spatial import spatial_parameters
 
     if good.size < 2:
         return dict.fromkeys(AREAL_KEYS), {}
     out = areal_material_parameters(good)
-    zc = z - good.mean()
+    zc = z - mean
     sp = spatial_parameters(zc, obj.dx_m, obj.dy_m)
     ft = feature_parameters(zc, obj.dx_m, obj.dy_m)
     notes = {"spatial": sp.pop("spatial_note"), "features": ft.pop("features_note")}

@@ -42,17 +42,23 @@ class MaterialRatioCurve:
 
     def __init__(self, z, n_bins=N_BINS):
         z = np.asarray(z, dtype=np.float64).ravel()
-        z = z[np.isfinite(z)]
+        lo, hi = (float(z.min()), float(z.max())) if z.size else (np.nan, np.nan)
+        if not (np.isfinite(lo) and np.isfinite(hi)):   # NaN or inf somewhere: left out
+            z = z[np.isfinite(z)]
+            lo, hi = (float(z.min()), float(z.max())) if z.size else (np.nan, np.nan)
         if z.size < 2:
             raise ValueError("a material-ratio curve needs at least two measured heights")
-        lo, hi = float(z.min()), float(z.max())
         self.z_min_m, self.z_max_m, self.n = lo, hi, int(z.size)
         span = hi - lo
         if span <= 0:
             self.edges_m = np.array([lo, lo + 1e-30])
             self.above = np.array([100.0, 0.0])
         else:
-            k = np.minimum(((z - lo) * (n_bins / span)).astype(np.int64), n_bins - 1)
+            t = z - lo
+            t *= n_bins / span
+            k = t.astype(np.intp)
+            del t
+            np.minimum(k, n_bins - 1, out=k)
             counts = np.bincount(k, minlength=n_bins)
             self.edges_m = lo + span * np.arange(n_bins + 1) / n_bins
             # share above each edge, from the top: 0 % at the highest height, 100 % at the lowest
