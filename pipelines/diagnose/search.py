@@ -207,7 +207,7 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skip
             verdict["confidence"] = "low"
     nxt = None
     if significant and (verdict.get("inconclusive") or verdict.get("confidence") in (None, "low")):
-        pick = pick_pair(ctx, expl, s)
+        pick = pick_pair(ctx, expl, s) or ((expl[0], expl[1:4]) if len(expl) > 1 else None)
         if pick is not None:
             nxt = next_measurement(ctx, pick[0], pick[1], s)
     verdict["next_measurement"] = nxt
