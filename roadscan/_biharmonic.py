@@ -28,6 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from .bands import measured_mean_range
+from .blas_threads import single_threaded_blas
 
 __all__ = ["biharmonic_fill_values", "SMALL"]
 
@@ -234,10 +235,11 @@ def biharmonic_fill_values(h, bad, stats=None):
     start = np.concatenate([[0], np.cumsum(counts)[:-1]])
     x = np.empty(pts.size)
     small = counts <= SMALL
-    if small.any():
-        _solve_small(coo, rowptr, rhs, start[small], counts[small], x)
     prow = pts[order_sorted] // bad.shape[1]            # row of each unknown, solve order
-    for s, m in zip(start[~small], counts[~small]):
-        _solve_large(coo, rowptr, rhs, int(s), int(m), prow[s:s + m], x)
+    with single_threaded_blas():                       # many small solves: no thread pool
+        if small.any():
+            _solve_small(coo, rowptr, rhs, start[small], counts[small], x)
+        for s, m in zip(start[~small], counts[~small]):
+            _solve_large(coo, rowptr, rhs, int(s), int(m), prow[s:s + m], x)
     np.clip(x, lo, hi, out=x)
     return x[order] + ref

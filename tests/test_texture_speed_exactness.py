@@ -135,3 +135,24 @@ def test_mpd_and_segments_equal_the_separate_calls():
             assert seg.note == ref.note and seg.reason == ref.reason
             assert np.array_equal(seg.msd_m, ref.msd_m) and np.array_equal(seg.valid, ref.valid)
             assert (seg.mpd_m, seg.mpd_valid) == (ref.mpd_m, ref.mpd_valid)
+
+
+def test_single_threaded_blas_restores_the_thread_count_and_the_fill_is_unchanged():
+    from roadscan._biharmonic import biharmonic_fill_values
+    from roadscan.blas_threads import _openblas_functions, single_threaded_blas
+
+    rng = np.random.default_rng(8)
+    h = rng.normal(size=(60, 70))
+    bad = rng.random(h.shape) < 0.2
+    bad[20:35, 30:50] = True                      # one large cluster (block elimination)
+    fns = _openblas_functions()
+    before = fns[0]() if fns else None
+    with single_threaded_blas():
+        if fns:
+            assert fns[0]() == 1
+    assert (fns[0]() if fns else None) == before
+    a = biharmonic_fill_values(h, bad)
+    from skimage.restoration import inpaint_biharmonic
+
+    ref = inpaint_biharmonic(h - h[~bad].mean(), bad) + h[~bad].mean()
+    np.testing.assert_allclose(a, ref[bad], atol=1e-10 * np.ptp(h))
