@@ -142,9 +142,10 @@ def combine_sources(sources):
                      f"surface, or a unit or calibration error in one; the merged rows there "
                      f"average the two")
     if merged.widened_rows_per_m:
-        notes.append(f"{len(merged.widened_rows_per_m)} row(s) at "
-                     f"{', '.join(sig3(v) for v in merged.widened_rows_per_m)} 1/m: their 5-95 % "
-                     f"band excluded what the neighbouring rows say and was widened to it")
+        at = ", ".join(f"{sig3(v)} 1/m (wavelength {wavelength_of_q(v)})"
+                       for v in merged.widened_rows_per_m)
+        notes.append(f"{len(merged.widened_rows_per_m)} row(s) at {at}: their 5-95 % band "
+                     f"excluded what the neighbouring rows say and was widened to it")
     for s in sources:
         if s.resolution_m is None:
             notes.append(f"{s.path}: no lateral resolution given nor in the file: its band ends "
