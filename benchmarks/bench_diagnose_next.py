@@ -115,6 +115,10 @@ def main(argv=None):
     print(f"\n{len(with_next)} of {len(rows)} worlds carry next_measurement; measuring at the proposed speeds "
           f"separates the top two (odds >= {ODDS:g}) in {sp}/{len(with_next)}, the same number of random speeds "
           f"in {sr}/{len(with_next)}")
+    open_ = [r for r in with_next if not r["separated_before"]]
+    print(f"of them {len(open_)} not yet separated before the new points: separated after measuring as proposed "
+          f"{sum(bool(r['separated_proposed']) for r in open_)}/{len(open_)}, at random speeds "
+          f"{sum(bool(r['separated_random']) for r in open_)}/{len(open_)}")
     print(f"total wall time {time.perf_counter() - t0:.0f} s ({a.jobs} jobs)")
     return 0
 
