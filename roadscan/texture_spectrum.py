@@ -136,25 +136,31 @@ class TextureSpectrum:
 
 
 def _fill_lines(z):
-    """Linear interpolation over NaN along each row (ends held at the nearest measured value),
-    vectorised: for every point the previous and the next measured index of its row."""
+    """Linear interpolation over NaN along each row (ends held at the nearest measured value;
+    rows without a measured point stay NaN), vectorised over the unmeasured points only: for
+    each, the previous and the next measured point of the flattened map (``searchsorted``), kept
+    where they lie on the same row."""
     bad = ~np.isfinite(z)
     if not bad.any():
         return z
     m, n = z.shape
-    k = np.arange(n)
-    prev = np.maximum.accumulate(np.where(bad, -1, k), axis=1)
-    nxt = np.minimum.accumulate(np.where(bad, n, k)[:, ::-1], axis=1)[:, ::-1]
-    empty = prev[:, -1] < 0                                   # rows without a measured point
-    rows = np.arange(m)[:, None]
-    p = np.where(prev < 0, nxt, prev)
-    q = np.where(nxt >= n, p, nxt)
-    p = np.where(prev < 0, q, p)
-    p[empty], q[empty] = 0, 0
-    zp, zq = z[rows, p], z[rows, q]
-    w = np.where(q > p, (k - p) / np.maximum(q - p, 1), 0.0)
-    out = np.where(bad, zp + w * (zq - zp), z)
-    out[empty] = np.nan
+    flat_bad = bad.ravel()
+    bi = np.flatnonzero(flat_bad)
+    gi = np.flatnonzero(~flat_bad)
+    out = np.array(z, dtype=np.float64)                 # a copy, C-ordered
+    flat = out.ravel()
+    row = bi // n
+    j = np.searchsorted(gi, bi)
+    p = gi[np.maximum(j - 1, 0)] if gi.size else np.full(bi.size, -1)
+    q = gi[np.minimum(j, gi.size - 1)] if gi.size else np.full(bi.size, -1)
+    has_p = (j > 0) & (p // n == row)
+    has_q = (j < gi.size) & (q // n == row)
+    p = np.where(has_p, p, q)
+    q = np.where(has_q, q, p)
+    both = has_p | has_q
+    zp, zq = flat[np.where(both, p, 0)], flat[np.where(both, q, 0)]
+    w = np.where(q > p, (bi - p) / np.maximum(q - p, 1), 0.0)
+    flat[bi] = np.where(both, zp + w * (zq - zp), np.nan)
     return out
 
 
