@@ -234,9 +234,18 @@ def analyse_scan(scan, settings=None, window_alpha=0.25, fit_band=None, despike=
     from .friction_options import FrictionSettings
     from .validate import warnings_list
 
+    from .texture_prefetch import TextureFigures
+
     settings = settings or FrictionSettings()
+    figures = TextureFigures()          # the ISO 25178-2 figures, on a second core
+
+    def levelled_hook(levelled):
+        figures.start(levelled)
+        if on_levelled is not None:
+            on_levelled(levelled)
+
     an, rb = measure(scan, window_alpha, fit_band, despike, mpd_settings, resolution_m,
-                     on_levelled, on_spectrum2d)
+                     levelled_hook, on_spectrum2d)
     out = scan_friction(an, rb, settings) if settings.enabled else None
     fr = None if out is None else out.result
     summary = summarise(an, fr, window_alpha=window_alpha)
@@ -252,7 +261,7 @@ def analyse_scan(scan, settings=None, window_alpha=0.25, fit_band=None, despike=
             summary["friction"]["rubber_checks"] = out.checks
     if out is not None:
         analyse_band.add_provenance(summary, out.provenance, out.psd.q_min_per_m, out.psd.q1_per_m)
-    summary, tex = texture_outputs.add_to_summary(summary, an, texture, mpd_settings)
+    summary, tex = texture_outputs.add_to_summary(summary, an, texture, mpd_settings, figures)
     summary["warnings"] = warnings_list()
     from .analysis_result import AnalysisResult
 

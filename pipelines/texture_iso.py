@@ -115,7 +115,7 @@ def texture_surface(analysis, form="plane", s_filter_m=None, l_filter_m=None):
     return surf, filters
 
 
-def iso_summary(analysis, form="plane", s_filter_m=None, l_filter_m=None):
+def iso_summary(analysis, form="plane", s_filter_m=None, l_filter_m=None, figures=None):
     """(roughness dict, filters dict, notes dict) of one analysed scan.
 
     With the default plane and no filter the height figures of the analysis are kept and the
@@ -130,6 +130,8 @@ def iso_summary(analysis, form="plane", s_filter_m=None, l_filter_m=None):
         Form removed.
     s_filter_m, l_filter_m : float, optional
         Filter nesting indices [m].
+    figures : pipelines.texture_prefetch.TextureFigures, optional
+        The texture figures already started on the levelled map (used when the surface is it).
 
     Returns
     -------
@@ -150,7 +152,7 @@ def iso_summary(analysis, form="plane", s_filter_m=None, l_filter_m=None):
         rough = roughness.profile_parameters(surf, level_degree=None)
     else:
         rough = roughness.area_parameters(surf, level_degree=None)
-    figs, notes = texture_parameters(surf)
+    figs, notes = texture_parameters(surf) if figures is None else figures.get(surf)
     rough.update(figs)
     return rough, filters, notes
 

@@ -219,7 +219,7 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
     return out, ts
 
 
-def add_to_summary(summary, analysis, settings=None, mpd_settings=None):
+def add_to_summary(summary, analysis, settings=None, mpd_settings=None, figures=None):
     """``summary`` with the keys of :func:`texture_keys`: ``mpd_valid`` and the depth figures
     right after ``mpd_m``/``mpd_note`` (whose note may gain the spike threshold that passes),
     the texture spectrum at the end; ``roughness`` with the ISO 25178-2 / 21920-2 texture set
@@ -237,6 +237,8 @@ def add_to_summary(summary, analysis, settings=None, mpd_settings=None):
         Texture options.
     mpd_settings : dict, optional
         ISO 13473-1 settings.
+    figures : pipelines.texture_prefetch.TextureFigures, optional
+        The ISO 25178-2 figures already started on the levelled map.
 
     Returns
     -------
@@ -250,7 +252,7 @@ def add_to_summary(summary, analysis, settings=None, mpd_settings=None):
     # the (frozen) TextureSpectrum carries the segments to write_extras / draw_extras
     object.__setattr__(ts, "mpd_segments", keys.pop("_segments", None))
     rough, filters, notes = iso_summary(analysis, settings.form, settings.s_filter_m,
-                                        settings.l_filter_m)
+                                        settings.l_filter_m, figures)
     summary = dict(summary)
     summary["roughness"] = rough
     keys["filters"] = filters
