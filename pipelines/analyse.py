@@ -237,7 +237,7 @@ def analyse_scan(scan, settings=None, window_alpha=0.25, fit_band=None, despike=
     from .texture_prefetch import TextureFigures
 
     settings = settings or FrictionSettings()
-    figures = TextureFigures()          # the ISO 25178-2 figures, on a second core
+    figures = TextureFigures((texture or texture_outputs.TextureSettings()).direction)
 
     def levelled_hook(levelled):
         figures.start(levelled)

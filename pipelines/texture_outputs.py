@@ -135,7 +135,7 @@ def _spectrum_input(analysis):
     return analysis.levelled
 
 
-def texture_keys(analysis, settings=None, mpd_settings=None):
+def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
     """The road-texture ``summary.json`` keys of one analysed scan and its texture spectrum.
 
     Returns
@@ -150,6 +150,8 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
         Texture options.
     mpd_settings : dict, optional
         ISO 13473-1 settings.
+    figures : pipelines.texture_prefetch.TextureFigures, optional
+        The texture spectrum already started on the levelled map.
     """
     from roadscan import texture_depth as td
     from roadscan.texture_spectrum import texture_spectrum
@@ -157,7 +159,8 @@ def texture_keys(analysis, settings=None, mpd_settings=None):
     from .validate import warn
 
     settings = settings or TextureSettings()
-    ts = texture_spectrum(_spectrum_input(analysis), direction=settings.direction)
+    ts = (texture_spectrum(_spectrum_input(analysis), direction=settings.direction)
+          if figures is None else figures.spectrum(_spectrum_input(analysis), settings.direction))
     out = {"texture_level_dB": ts.as_dict(), "texture_spectrum_note": ts.note}
     if ts.dropout_fraction > DROPOUT_WARN:
         import math
@@ -248,7 +251,7 @@ def add_to_summary(summary, analysis, settings=None, mpd_settings=None, figures=
     from .texture_iso import ROUGHNESS_NOTE_KEY, iso_summary
 
     settings = settings or TextureSettings()
-    keys, ts = texture_keys(analysis, settings, mpd_settings)
+    keys, ts = texture_keys(analysis, settings, mpd_settings, figures)
     # the (frozen) TextureSpectrum carries the segments to write_extras / draw_extras
     object.__setattr__(ts, "mpd_segments", keys.pop("_segments", None))
     rough, filters, notes = iso_summary(analysis, settings.form, settings.s_filter_m,

@@ -35,3 +35,16 @@ def test_an_error_in_the_thread_is_raised_by_get(monkeypatch):
     pre.start(a)
     with pytest.raises(RuntimeError, match="boom"):
         pre.get(a)
+
+
+def test_background_spectrum_equals_the_direct_one():
+    from roadscan.texture_spectrum import texture_spectrum
+
+    a = _map(3, n=400)
+    pre = TextureFigures("x")
+    pre.start(a)
+    got, want = pre.spectrum(a, "x"), texture_spectrum(a, direction="x")
+    assert got.level_dB.size and np.array_equal(got.level_dB, want.level_dB)
+    other = pre.spectrum(a, "y")                      # another direction: computed on the spot
+    assert np.array_equal(other.level_dB, texture_spectrum(a, direction="y").level_dB)
+    assert pre.get(a) == texture_parameters(a)
