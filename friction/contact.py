@@ -17,12 +17,15 @@ import numpy as np
 __all__ = ["cumulative_G", "contact_P", "contact_S", "p_weights"]
 
 _SQPI = np.sqrt(np.pi)
-#: above this many values the error function comes from ``scipy.special`` (compiled, vectorised);
-#: below it from :func:`math.erf` element by element, which spares a single friction curve
-#: (a few thousand values) the 0.1 s import of ``scipy.special``. Both are accurate to a few ulp.
+#: above this many values (in one call, or in all calls of the process so far) the error function
+#: comes from ``scipy.special`` (compiled, vectorised); below it from :func:`math.erf` element by
+#: element, which spares a single friction curve (a few thousand values) the 0.1 s import of
+#: ``scipy.special`` and costs a long computation (flash iterations, sweeps) about 25 ms before
+#: it switches. Both are accurate to a few ulp.
 _SCIPY_FROM = 200_000
 _MATH_ERF = np.frompyfunc(math.erf, 1, 1)
 _MATH_ERFC = np.frompyfunc(math.erfc, 1, 1)
+_MATH_DONE = [0]            # values given by math.erf so far (a speed switch only)
 
 
 def _erf_pair(x, complement):
@@ -33,9 +36,10 @@ def _erf_pair(x, complement):
     rational approximations both follow.
     """
     x = np.asarray(x, dtype=float)
-    if x.size >= _SCIPY_FROM or "scipy.special" in sys.modules:
+    if x.size >= _SCIPY_FROM or _MATH_DONE[0] >= _SCIPY_FROM or "scipy.special" in sys.modules:
         from scipy import special
         return special.erfc(x) if complement else special.erf(x)
+    _MATH_DONE[0] += x.size
     f = _MATH_ERFC if complement else _MATH_ERF
     return np.asarray(f(x), dtype=float).reshape(x.shape)
 
