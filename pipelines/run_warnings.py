@@ -22,20 +22,37 @@ class Warnings:
     ----------
     prefix : str, optional
         Program name printed before each line.
+    echo : bool, optional
+        Print each new line on stderr as it is said (default). A command that writes its
+        outputs atomically collects with ``echo=False`` and calls :meth:`print_all` once the
+        outputs are in place, so an interrupted or refused run prints no warning about
+        outputs that never appeared.
     """
 
-    def __init__(self, prefix="roadscan"):
+    def __init__(self, prefix="roadscan", echo=True):
         self.prefix = prefix
         self.lines = []
+        self.echo = echo
 
     def add(self, line, echo=True):
-        """Record ``line`` (once); ``echo`` prints ``PREFIX: warning: line`` on stderr."""
+        """Record ``line`` (once); ``echo`` (and the collector's own ``echo``) prints
+        ``PREFIX: warning: line`` on stderr."""
         if line in self.lines:
             return False
         self.lines.append(line)
-        if echo:
+        if echo and self.echo:
             print(f"{self.prefix}: warning: {line}", file=sys.stderr)
         return True
+
+    def print_all(self):
+        """Print every line on stderr (``PREFIX: warning: line``), in the order first said.
+
+        Returns
+        -------
+        None
+        """
+        for line in self.lines:
+            print(f"{self.prefix}: warning: {line}", file=sys.stderr)
 
     def __iter__(self):
         return iter(list(self.lines))

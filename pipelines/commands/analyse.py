@@ -39,6 +39,8 @@ def run(args):
         many = len(scans) > 1
         with atomic_output_dir(out, inputs=args.files) as tmp:  # all outputs or none
             rows = _analyse_all(args, scans, tmp, out, many, settings, kw, drawer)
+    for _, said in scans:       # said once the outputs that carry them are in place
+        said.print_all()
     if many:
         print(f"analysed {len(rows)} scans -> {out / 'summary.csv'}, {out / 'report.html'}")
     return 0
@@ -48,7 +50,7 @@ def _load(path, args):
     """(scan, its own :class:`pipelines.validate.Warnings`): what reading it warned."""
     from ..validate import Warnings, collecting, current_warnings
 
-    w = Warnings(current_warnings().prefix)
+    w = Warnings(current_warnings().prefix, echo=False)   # printed after the outputs exist
     with collecting(into=w):
         return load_scan(path, args), w
 
