@@ -184,6 +184,8 @@ def _fmt(key, v):
     if v is None:
         return "—"
     if key.endswith("_m3_per_m2"):                  # volume per area: µm^3/µm^2 = µm
+        if abs(v) >= 1e-3:                          # a road's millimetres: mm^3/mm^2
+            return f"{sig3(v * 1e3)} mm³/mm² ({sig3(v * 1e6)} mL/m²)"
         return f"{sig3(v * 1e6)} µm³/µm² ({sig3(v * 1e6)} mL/m²)"
     if key.endswith("_pct"):
         return f"{sig3(v)} %"

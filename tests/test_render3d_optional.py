@@ -73,6 +73,8 @@ def test_without_any_renderer_one_warning_everywhere(scan, tmp_path, monkeypatch
     assert c["warnings"].count(NEEDS_PYVISTA) == 1
     err = capsys.readouterr().err
     assert sum(NEEDS_PYVISTA in line for line in err.splitlines()) == 1
-    page = (out / "report.html").read_text()
-    assert "3D view needs pyvista: pip install &#x27;roadscan[3d]&#x27;" in page
+    import html
+
+    page = html.unescape((out / "report.html").read_text())   # the text a reader sees
+    assert "3D view needs pyvista: pip install 'roadscan[3d]'" in page
     assert "not drawn" in page
