@@ -3,12 +3,19 @@ over only for the surface they were started on; an error in the thread reaches t
 import numpy as np
 import pytest
 
+import pipelines.texture_prefetch as tp
 from pipelines.texture_prefetch import TextureFigures
 from roadscan.heightmap import HeightMap
 from roadscan.iso25178 import texture_parameters
 
 
+@pytest.fixture(autouse=True)
+def small_maps_threaded(monkeypatch):
+    monkeypatch.setattr(tp, "MIN_POINTS", 1)
+
+
 def _map(seed, n=96):
+    """A random map; the tests lower MIN_POINTS so that small maps use the thread."""
     z = np.random.default_rng(seed).standard_normal((n, n + 7)) * 1e-4
     z[5, 9] = np.nan
     return HeightMap(z, 1e-4, 1e-4)
@@ -18,6 +25,7 @@ def test_background_figures_equal_the_direct_ones():
     a, b = _map(0), _map(1)
     pre = TextureFigures()
     pre.start(a)
+    assert pre._thread is not None or (__import__("os").cpu_count() or 1) < 2
     assert pre.get(a) == texture_parameters(a)
     assert pre.get(b) == texture_parameters(b)        # another surface: computed on the spot
     assert pre.get(b) != pre.get(a)
