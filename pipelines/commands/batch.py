@@ -1,6 +1,6 @@
 """``roadscan batch INPUTS... --out DIR``: a campaign of ``analyse`` runs on a Dask cluster.
 
-See :mod:`pipelines.campaign` and the README section "Campaigns". Exit code 0 when every input
+See :mod:`pipelines.campaign` and the documentation's "Campaigns on Dask". Exit code 0 when every input
 succeeded, 2 when any failed (every good one is still written), 130 on Ctrl-C (finished scans
 and a ``campaign.csv`` of what finished are kept).
 """
