@@ -61,6 +61,15 @@ def single_threaded_blas():
     Yields
     ------
     None
+
+    Parameters
+    ----------
+    None
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``.
     """
     fns = _openblas_functions()
     if fns is None:

@@ -124,7 +124,24 @@ def _at_null(ctx, c):
 def pick_pair(ctx, expl, s, n_alt=3):
     """The most probable explanation of ``expl`` (ranked by posterior) and, ranked, up to
     ``n_alt`` next ones that are not it at their no-effect point (:func:`next_measurement`
-    takes the first that differs from it by a noise sigma). None when there is none."""
+    takes the first that differs from it by a noise sigma). None when there is none.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    expl : list of dict
+        Explanations ranked by posterior.
+    s : float
+        Noise scale.
+    n_alt : int, optional
+        Alternatives kept at most.
+
+    Returns
+    -------
+    tuple or None
+        (the most probable explanation, list of alternatives).
+    """
     if not expl:
         return None
     a = expl[0]

@@ -83,6 +83,22 @@ def next_measurement(ctx, a, b, noise):
     speeds_m_per_s, temperature_C (None without a shift table), separation_sigma (per speed),
     separation_sigma_combined, repeats (measurements per speed for a combined 3 sigma, at most
     10), sentence, method) or None when a prediction fails.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    a : dict
+        The most probable explanation.
+    b : dict or list of dict
+        The alternative(s), ranked by probability.
+    noise : float
+        Noise [rms log10].
+
+    Returns
+    -------
+    dict or None
+        ``between``, ``speeds_m_per_s``, ``temperature_C`` and the expected separation.
     """
     from .evidence import noise_scale
 

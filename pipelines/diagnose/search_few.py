@@ -181,7 +181,34 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
     model fitted on every point, :mod:`.verdict_few`); otherwise the verdict becomes inconclusive
     between it and the most probable other.
     Adds ``bayes`` (the evidence's models and posteriors) to ``verdict``. Returns the named
-    candidate or None."""
+    candidate or None.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    usable : list of Effect
+        Effects tried.
+    cal_e : Effect or None
+        Calibration effect.
+    noise : float
+        Noise.
+    noise_given : bool
+        Given by the user.
+    verdict : dict
+        The held-out verdict (updated).
+    best : Candidate or None
+        The named candidate.
+    timings : dict
+        Filled with times.
+
+    Returns
+    -------
+    Candidate or None
+        The candidate the verdict keeps.
+    """
     from .cv import Holdout
     from .verdict_few import P_NAME, decide_few
 
