@@ -13,6 +13,19 @@ flash), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
 texture figures (:mod:`pipelines.texture_outputs`): ``texture_spectrum.csv``
 (``centre_wavelength_m,band_lo_m,band_hi_m,level_dB``), ``texture_spectrum.png`` and the
 ``summary.json`` keys ``texture_level_dB``, ``etd_m``, ``ifi_speed_constant_kmh`` (``ifi_F60``).
+
+Parameters
+----------
+source : str, os.PathLike, HeightMap or Profile
+    When the module is called: a height file or a scan in memory.
+**options
+    ``roadscan analyse``'s long flags with dashes as underscores (``sigma0="0.25MPa"``).
+
+Returns
+-------
+pipelines.AnalysisResult
+    ``summary`` (the ``summary.json`` of the command), ``warnings``, ``write(out_dir)`` and the
+    arrays in SI units.
 """
 from __future__ import annotations
 
