@@ -18,7 +18,7 @@ Parameters
 ----------
 source : str, os.PathLike, HeightMap or Profile
     When the module is called: a height file or a scan in memory.
-**options
+options : keyword arguments
     ``roadscan analyse``'s long flags with dashes as underscores (``sigma0="0.25MPa"``).
 
 Returns
