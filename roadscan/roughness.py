@@ -156,11 +156,22 @@ MPD_SETTINGS = {
 def _interp_rows(z, bad):
     """Linear interpolation over ``bad`` along each row; ends held at the nearest good value."""
     out = z.copy()
-    x = np.arange(z.shape[1])
-    for i in np.flatnonzero(bad.any(axis=1)):
-        good = ~bad[i]
-        if good.any():
-            out[i, bad[i]] = np.interp(x[bad[i]], x[good], z[i, good])
+    rows, n = z.shape
+    good = ~bad
+    fill = bad & good.any(axis=1)[:, None]       # a row without any good value stays as it is
+    if not fill.any():
+        return out
+    # one np.interp over all rows end to end (position i * n + j: the same differences and
+    # slopes as row by row); a bad point before a row's first or after its last good value
+    # takes that value, as np.interp holds the ends of one row
+    at = np.arange(rows * n, dtype=np.float64).reshape(rows, n)
+    out[fill] = np.interp(at[fill], at[good], z[good])
+    first = np.argmax(good, axis=1)
+    last = n - 1 - np.argmax(good[:, ::-1], axis=1)
+    j = np.arange(n)
+    lead, trail = fill & (j < first[:, None]), fill & (j > last[:, None])
+    out[lead] = np.broadcast_to(z[np.arange(rows), first][:, None], z.shape)[lead]
+    out[trail] = np.broadcast_to(z[np.arange(rows), last][:, None], z.shape)[trail]
     return out
 
 
@@ -226,8 +237,9 @@ def segment_depths(heights_m, dx_m, unmeasured=None, **settings):
     zf = _interp_rows(np.where(bad, 0.0, z), bad)
     seg_of_sample = np.floor(np.arange(n) * dx_m / seg + 1e-9).astype(np.int64)
     in_seg = seg_of_sample < n_seg
-    drop = np.stack([np.bincount(seg_of_sample[in_seg], weights=bad[i, in_seg], minlength=n_seg)
-                     for i in range(rows)]) / np.bincount(seg_of_sample[in_seg], minlength=n_seg)
+    seg_start = np.searchsorted(seg_of_sample, np.arange(n_seg))   # each segment's first sample
+    drop = (np.add.reduceat(bad[:, in_seg].astype(np.float64), seg_start, axis=1)
+            / np.bincount(seg_of_sample[in_seg], minlength=n_seg))
     # 2. resampling (bin averages)
     if abs(dx_m - t) <= tol * t:
         zr = zf
