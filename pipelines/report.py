@@ -372,6 +372,8 @@ def wavelength_axis(ax):
     sec = add_wavelength_axis(ax)
     sec.xaxis.set_major_formatter(FuncFormatter(lambda x, pos: f"{x:g}"))
     sec.xaxis.set_minor_formatter(FuncFormatter(lambda x, pos: ""))
+    sec.xaxis.set_major_locator(_in_view(sec.xaxis.get_major_locator()))
+    sec.xaxis.set_minor_locator(_in_view(sec.xaxis.get_minor_locator()))
     sec.tick_params(labelsize=8)
     return sec
 
