@@ -5,8 +5,6 @@ report embeds its PNGs (base64) so that ``report.html`` opens offline from anywh
 """
 from __future__ import annotations
 
-import io
-import json
 import os
 import re
 import sys
@@ -14,8 +12,9 @@ from pathlib import Path
 
 import numpy as np
 
-from roadscan.io.atomic import atomic_path, atomic_write_text
+from roadscan.io.atomic import atomic_path
 
+from .result_files import _jsonable, write_csv, write_json  # noqa: F401 (their home)
 from .templates import (instrument_html, list_html, paragraph_html, table_html,  # noqa: F401
                         write_html)   # the report writers
 
@@ -423,62 +422,3 @@ def plot_mu(curves, path, title="friction coefficient", ylabel="friction coeffic
     if len(curves) > 1 or (curves and curves[0][0]):
         ax.legend(fontsize=8)
     return save_figure(fig, path, fixed_margins(ax))
-
-
-def _jsonable(obj):
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if isinstance(obj, (np.floating, float)):
-        x = float(obj)
-        return x if np.isfinite(x) else None
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    if isinstance(obj, np.ndarray):
-        return _jsonable(obj.tolist())
-    return obj
-
-
-def write_json(path, data):
-    """Write JSON atomically; numpy scalars/arrays converted, non-finite floats -> null.
-
-    Parameters
-    ----------
-    path : str or Path
-        Output file.
-    data : dict
-        Content.
-
-    Returns
-    -------
-    Path
-    """
-    atomic_write_text(path, json.dumps(_jsonable(data), indent=2) + "\n")
-    return Path(path)
-
-
-def write_csv(path, header, columns):
-    """Write columns (equal-length 1D arrays) as CSV with ``header`` (list of names).
-
-    Parameters
-    ----------
-    path : str or Path
-        Output file.
-    header : list of str
-        Column names.
-    columns : list of array_like
-        Columns.
-
-    Returns
-    -------
-    Path
-    """
-    buf = io.StringIO()
-    buf.write(",".join(header) + "\n")
-    np.savetxt(buf, np.column_stack([np.asarray(c, dtype=float) for c in columns]),
-               delimiter=",", fmt="%.10g")
-    atomic_write_text(path, buf.getvalue())
-    return Path(path)
