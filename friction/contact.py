@@ -10,36 +10,33 @@ exactly on each interval, taking G linear in s there and the smooth co-factor li
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 
 __all__ = ["cumulative_G", "contact_P", "contact_S", "p_weights"]
 
 _SQPI = np.sqrt(np.pi)
-#: above this many values (in one call, or in all calls of the process so far) the error function
-#: comes from ``scipy.special`` (compiled, vectorised); below it from :func:`math.erf` element by
-#: element, which spares a single friction curve (a few thousand values) the 0.1 s import of
-#: ``scipy.special`` and costs a long computation (flash iterations, sweeps) about 25 ms before
-#: it switches. Both are accurate to a few ulp.
+#: from this many values in one call the error function comes from ``scipy.special`` (compiled,
+#: vectorised); below it from :func:`math.erf` element by element, which spares a friction curve
+#: (a few thousand values per call) the 0.1 s import of ``scipy.special``. The choice depends on
+#: the call's size only, never on what the process did before, so the same input gives the same
+#: bits in every command and every process (the two differ in the last ulp for 10 % of values).
 _SCIPY_FROM = 200_000
 _MATH_ERF = np.frompyfunc(math.erf, 1, 1)
 _MATH_ERFC = np.frompyfunc(math.erfc, 1, 1)
-_MATH_DONE = [0]            # values given by math.erf so far (a speed switch only)
 
 
 def _erf_pair(x, complement):
     """``erf(x)`` (or ``erfc(x)`` when ``complement``), float64, shaped like ``x``.
 
     The C library's erf/erfc (:func:`math.erf`, C99) for small arrays; ``scipy.special`` (Cephes)
-    for large ones or once it is imported anyway. W.J. Cody, Math. Comp. 23, 631 (1969) gives the
+    for large ones (the choice depends only on ``x.size``). W.J. Cody, Math. Comp. 23, 631 (1969) gives the
     rational approximations both follow.
     """
     x = np.asarray(x, dtype=float)
-    if x.size >= _SCIPY_FROM or _MATH_DONE[0] >= _SCIPY_FROM or "scipy.special" in sys.modules:
+    if x.size >= _SCIPY_FROM:
         from scipy import special
         return special.erfc(x) if complement else special.erf(x)
-    _MATH_DONE[0] += x.size
     f = _MATH_ERFC if complement else _MATH_ERF
     return np.asarray(f(x), dtype=float).reshape(x.shape)
 
