@@ -348,14 +348,7 @@ def analyse(source, **options):
         else:
             raise TypeError(f"analyse() source must be a path, HeightMap or Profile, not "
                             f"{type(source).__name__}")
-        try:
-            result = analyse_scan(scan, settings, **kw)
-        except ValueError as exc:
-            from roadscan.errors import InputError
-
-            if isinstance(exc, InputError):
-                raise
-            raise InputError(path, str(exc)) from None
+        result = analyse_scan(scan, settings, **kw)   # a ValueError here is a bug, not bad input
     from dataclasses import replace
 
     result = replace(result, figures=not args.no_figures, source_path=path)

@@ -70,10 +70,8 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
             with collecting(into=said):      # this scan's warnings only, reading included
                 summary = run_analysis(scan, out / sub if many else out, settings,
                                        figures=not getattr(args, "no_figures", False), drawer=drawer, **kw)
-        except ValueError as exc:
-            if isinstance(exc, InputError):        # keep the options it names (rendered as flags)
-                raise (exc.reworded(path) if exc.file is None else exc) from None
-            raise InputError(path, str(exc)) from None
+        except InputError as exc:              # keep the options it names (rendered as flags)
+            raise (exc.reworded(path) if exc.file is None else exc) from None
         rows.append((sub, summary))
         own.append(list(said.lines))
         if not many:
