@@ -377,6 +377,18 @@ def wavelength_axis(ax):
     return sec
 
 
+def _wrapped(label, width=48):
+    """A legend entry broken over lines of at most ``width`` characters (a long rubber label
+    otherwise runs over the axes and the y label)."""
+    import textwrap
+
+    if not label:
+        return label
+    for unit in (" MPa", " kPa", " Pa", " °C", " m/s", " = "):   # a number stays with its unit
+        label = label.replace(unit, unit.replace(" ", "\u00a0"))
+    return "\n".join(textwrap.wrap(label, width))
+
+
 def plot_mu(curves, path, title="friction coefficient", ylabel="friction coefficient μ [-]",
             logy=False):
     """mu(v) on a log speed axis. ``curves``: iterable of (label, v_m_per_s, mu) or with a 4th
@@ -403,7 +415,7 @@ def plot_mu(curves, path, title="friction coefficient", ylabel="friction coeffic
     for i, curve in enumerate(curves):
         label, v, mu = curve[:3]
         style = curve[3] if len(curve) > 3 else "-"
-        ax.plot(v, mu, style, lw=1.5, color=f"C{i}", label=label, ms=4)
+        ax.plot(v, mu, style, lw=1.5, color=f"C{i}", label=_wrapped(label), ms=4)
     ax.set_xscale("log")
     if logy:
         ax.set_yscale("log")
