@@ -335,7 +335,11 @@ def analyse(source, **options):
     out = options.pop("out", None)
     args = options_from_kwargs(options)
     path = None
-    with collecting():
+    from roadscan.blas_threads import single_threaded_blas
+
+    # one BLAS thread for the call: the chain's own texture thread is its parallelism, and
+    # OpenBLAS's pool beside it would spin on the second core (restored on return)
+    with collecting(), single_threaded_blas():
         kw = analysis_kwargs(args)
         settings = settings_from_args(args)
         if isinstance(source, (HeightMap, Profile)):
