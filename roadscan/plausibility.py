@@ -15,7 +15,7 @@ textures have, and what an instrument sampling at ``dx`` can resolve:
   ``--units um`` on metres gives 0.4 nm on a 50 um pixel.
 
 ``S_q`` is the rms about a least-squares plane (a line for profiles) over a regular subsample of
-at most ~250,000 measured points, the lowest and highest 1 % of heights left out (a few spikes
+at most ~65,000 measured points, the lowest and highest 1 % of heights left out (a few spikes
 neither tilt the plane nor set the rms; a units slip scales every height alike): ``S_q`` of
 ISO 25178-2 after form removal (a plane, not the scan's tilt or the al3d sample's 76 mm offset).
 
@@ -45,7 +45,7 @@ SMOOTH_MIN = 1e-5
 COARSE_PIXEL_M, COARSE_FLOOR_M = 20e-6, 10e-9
 #: metres per unit of the --units choices
 UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "nm": 1e-9}
-_MAX_POINTS = 250_000
+_MAX_POINTS = 65_536
 
 
 def detrended_rms(obj):
