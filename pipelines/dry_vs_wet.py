@@ -21,7 +21,74 @@ from .analyse import nominal_band
 from .friction_options import FrictionSettings
 from .spectrum_bridge import analyse_surface
 
-__all__ = ["run_dry_vs_wet", "speed_table", "mu_by_speed"]
+__all__ = ["dry_vs_wet", "run_dry_vs_wet", "speed_table", "mu_by_speed"]
+
+
+def dry_vs_wet(scan, out, **options):
+    """``roadscan dry-vs-wet`` as one call: the scan rain-filled, and its spectrum and mu(v)
+    dry and wet compared (:func:`run_dry_vs_wet`), written into ``out`` (all or none).
+
+    ``options`` are the command's long flags with dashes as underscores, taking what the flag
+    takes (``connectivity=8``, ``max_depth=5e-4``, ``spacing="5e-5"``, ``sigma0="0.25MPa"``,
+    ``nu=0.45``, ``window_alpha=0.3``), parsed by the command's own option definitions
+    (:func:`pipelines.water_options.add_dry_vs_wet_options`). Water fills the depressions up
+    to their spill level (morphological reconstruction: Soille, *Morphological Image
+    Analysis*, 2003, sec. 6.3.7); friction: Persson, J. Chem. Phys. 115, 3840 (2001).
+
+    Parameters
+    ----------
+    scan : str, os.PathLike or HeightMap
+        An area height file, or a scan in memory [m].
+    out : str or Path
+        Output folder, as ``--out``.
+    **options
+        ``roadscan dry-vs-wet``'s long flags with dashes as underscores.
+
+    Returns
+    -------
+    dict
+        The ``comparison.json`` content: ``rms_height_dry_m``, ``rms_height_wet_m`` [m],
+        ``hurst_dry``, ``hurst_wet``, ``wetted_fraction``, ``water_volume_m3_per_m2`` [m],
+        ``connectivity``, ``max_depth_m``, ``water_film_m``, ``psd_ratio_wet_to_dry_median``,
+        ``mu_dry`` and ``mu_wet`` (``{"v": mu}``, or None without friction),
+        ``max_difference_v_m_per_s`` [m/s], ``max_difference_mu``, ``mu_peak_dry``,
+        ``mu_peak_wet``, ``rubber``, ``warnings`` and how the file was read. Files: that JSON,
+        ``wet.npy``, ``wet.npz``, ``mu.csv`` (with friction), the PNGs and ``report.html``.
+
+    Raises
+    ------
+    TypeError
+        An unknown keyword.
+    roadscan.errors.InputError
+        A value the flag refuses, or a scan the job cannot use (one line).
+    """
+    import os
+
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+    from .analyse_options import options_from_kwargs, spectrum_kwargs
+    from .friction_options import settings_from_args
+    from .scan_input import load_scan
+    from .validate import check_scan, collecting
+    from .water_options import add_dry_vs_wet_options, check_water_options
+
+    args = options_from_kwargs(options, "dry_vs_wet", add_dry_vs_wet_options)
+    path = os.fspath(scan) if isinstance(scan, (str, os.PathLike)) else None
+    inputs = [path] if path is not None else []
+    with collecting():
+        check_water_options(args)
+        check_output_dir(out, inputs=inputs)
+        settings = settings_from_args(args)
+        sk = spectrum_kwargs(args)
+        obj = load_scan(path, args) if path is not None else check_scan(scan)
+        try:
+            with atomic_output_dir(out, inputs=inputs) as tmp:
+                return run_dry_vs_wet(obj, tmp, settings, connectivity=args.connectivity,
+                                      max_depth_m=args.max_depth, water_film_m=args.water_film, **sk)
+        except InputError as exc:
+            if path is None or "out" in exc.hint_option or str(exc.path or "").startswith(str(out)):
+                raise                      # about the output, which it names: not the scan
+            raise exc.reworded(path) from None
 
 
 def mu_by_speed(v_m_per_s, mu):

@@ -12,30 +12,71 @@ Soille, *Morphological Image Analysis*, 2003, sec. 6.3.7).
 from __future__ import annotations
 
 import json
-import math
 from pathlib import Path
 
 from roadscan.errors import InputError
 
-__all__ = ["check_water", "rain_fill_scan", "write_rain_fill"]
+from .water_options import check_water  # noqa: F401 (its home; re-exported)
+
+__all__ = ["rain_fill", "check_water", "rain_fill_scan", "write_rain_fill"]
 
 
-def check_water(max_depth_m=None, water_film_m=None):
-    """Refuse a negative or non-finite depth cap or water film (one-line InputError naming the
-    flag).
+def rain_fill(scan, out, **options):
+    """``roadscan rain-fill`` as one call: the scan's cavities filled with water
+    (:func:`rain_fill_scan`) and the files of the module docstring written into ``out`` (all
+    or none).
+
+    ``options`` are the command's long flags with dashes as underscores, taking what the flag
+    takes (``connectivity=8``, ``max_depth=5e-4`` or ``water_film=1e-4`` [m], ``no_level=True``,
+    ``spacing="5e-5"``), parsed by the command's own option definitions
+    (:func:`pipelines.water_options.add_rain_fill_options`).
 
     Parameters
     ----------
-    max_depth_m, water_film_m : float, optional
-        Depth cap and water film [m].
+    scan : str, os.PathLike or HeightMap
+        An area height file, or a scan in memory [m].
+    out : str or Path
+        Output folder, as ``--out``.
+    **options
+        ``roadscan rain-fill``'s long flags with dashes as underscores.
 
     Returns
     -------
-    None
+    dict
+        The ``rainfill.json`` content: ``scan`` (the file, or the scan's name),
+        ``wetted_fraction``, ``water_volume_m3_per_m2`` [m], ``connectivity``, ``max_depth_m``,
+        ``water_film_m``, ``capacity_m3_per_m2`` [m], ``all_depressions_full``,
+        ``measured_fraction``, ``levelled``, ``dx_m``, ``dy_m`` [m], ``unmeasured_points``,
+        ``files``, how the file was read and ``warnings`` (when any).
+
+    Raises
+    ------
+    TypeError
+        An unknown keyword.
+    roadscan.errors.InputError
+        A value the flag refuses, or a scan the job cannot use (one line).
     """
-    for flag, val in (("--max-depth", max_depth_m), ("--water-film", water_film_m)):
-        if val is not None and not (math.isfinite(val) and val >= 0):
-            raise InputError(None, f"{flag} {val}: must be a non-negative length in metres")
+    import os
+
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+    from .analyse_options import options_from_kwargs
+    from .scan_input import load_scan
+    from .validate import check_scan, collecting
+    from .water_options import add_rain_fill_options, check_water_options
+
+    args = options_from_kwargs(options, "rain_fill", add_rain_fill_options)
+    path = os.fspath(scan) if isinstance(scan, (str, os.PathLike)) else None
+    inputs = [path] if path is not None else []
+    with collecting():
+        check_water_options(args)
+        check_output_dir(out, inputs=inputs)
+        obj = load_scan(path, args) if path is not None else check_scan(scan)
+        filled, r = rain_fill_scan(obj, connectivity=args.connectivity, max_depth_m=args.max_depth,
+                                   water_film_m=args.water_film, level=not args.no_level, path=path)
+        with atomic_output_dir(Path(out), inputs=inputs) as tmp:
+            return write_rain_fill(tmp, filled, r, path if path is not None else obj.name,
+                                   levelled=not args.no_level)
 
 
 def rain_fill_scan(scan, connectivity=4, max_depth_m=None, water_film_m=None, level=True, path=None):

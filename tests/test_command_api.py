@@ -1,0 +1,81 @@
+"""Each computing command is one function of ``pipelines.api``: the function and the command
+(which parses, calls it and prints) write the same main JSON and the same files; an unknown
+keyword is a TypeError; a keyword changes the result as its flag does."""
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import fourier_surface
+from pipelines import api
+from pipelines.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+DX = "5e-5"
+V = "1e-3:10:5"
+#: keys that name the run's own paths
+PATHS = {"scan", "source", "out"}
+
+
+@pytest.fixture(scope="module")
+def scan(tmp_path_factory):
+    h = fourier_surface(96, 5e-5, 0.8, 2e-4, seed=3)
+    h[10:12, 20:23] = np.nan
+    p = tmp_path_factory.mktemp("scan") / "s.npy"
+    np.save(p, h)
+    return p
+
+
+def _cli(argv):
+    assert main([str(a) for a in argv]) == 0, argv
+
+
+def _json(path):
+    d = json.loads(Path(path).read_text())
+    return {k: v for k, v in d.items() if k not in PATHS} if isinstance(d, dict) else d
+
+
+def _names(folder):
+    return sorted(p.name for p in Path(folder).iterdir())
+
+
+def _plain(d):
+    """The dict as its JSON file holds it."""
+    return json.loads(json.dumps(d, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
+
+
+def test_dry_vs_wet_api_equals_cli(scan, tmp_path):
+    _cli(["dry-vs-wet", scan, "--spacing", DX, "--connectivity", "8", "--nu", "0.45",
+          "--velocities", V, "--out", tmp_path / "cli"])
+    r = api.dry_vs_wet(scan, tmp_path / "api", spacing=DX, connectivity=8, nu=0.45, velocities=V)
+    cli = _json(tmp_path / "cli" / "comparison.json")
+    assert _json(tmp_path / "api" / "comparison.json") == cli
+    assert {k: v for k, v in _plain(r).items() if k not in PATHS} == cli
+    assert _names(tmp_path / "api") == _names(tmp_path / "cli")
+    assert cli["connectivity"] == 8
+    r3 = api.dry_vs_wet(scan, tmp_path / "nu3", spacing=DX, connectivity=8, nu=0.3, velocities=V)
+    assert r3["mu_dry"] != r["mu_dry"]                    # the flag reaches the friction
+    with pytest.raises(TypeError, match="colour"):
+        api.dry_vs_wet(scan, tmp_path / "x", spacing=DX, colour="red")
+    from roadscan.errors import InputError
+
+    with pytest.raises(InputError, match="max-depth|max_depth"):
+        api.dry_vs_wet(scan, tmp_path / "x", spacing=DX, max_depth=-1)
+    assert not (tmp_path / "x").exists()
+
+
+def test_rain_fill_api_equals_cli(scan, tmp_path):
+    _cli(["rain-fill", scan, "--spacing", DX, "--water-film", "2e-5", "--no-level",
+          "--out", tmp_path / "cli"])
+    r = api.rain_fill(scan, tmp_path / "api", spacing=DX, water_film=2e-5, no_level=True)
+    cli = _json(tmp_path / "cli" / "rainfill.json")
+    assert _json(tmp_path / "api" / "rainfill.json") == cli == {k: v for k, v in _plain(r).items()
+                                                                if k not in PATHS}
+    assert _names(tmp_path / "api") == _names(tmp_path / "cli")
+    assert cli["levelled"] is False and cli["water_film_m"] == 2e-5
+    r8 = api.rain_fill(scan, tmp_path / "c8", spacing=DX, connectivity=8)
+    r4 = api.rain_fill(scan, tmp_path / "c4", spacing=DX)
+    assert r8["connectivity"] == 8 and r8["water_volume_m3_per_m2"] < r4["water_volume_m3_per_m2"]
+    with pytest.raises(TypeError, match="depth"):
+        api.rain_fill(scan, tmp_path / "x", spacing=DX, depth=1e-4)
