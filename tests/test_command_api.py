@@ -79,3 +79,33 @@ def test_rain_fill_api_equals_cli(scan, tmp_path):
     assert r8["connectivity"] == 8 and r8["water_volume_m3_per_m2"] < r4["water_volume_m3_per_m2"]
     with pytest.raises(TypeError, match="depth"):
         api.rain_fill(scan, tmp_path / "x", spacing=DX, depth=1e-4)
+
+
+SELF_AFFINE = "H=0.8,h0=2e-4,q0=2e3,q1=1e6"
+
+
+def test_friction_api_equals_cli(tmp_path):
+    psd = ROOT / "sample_scans" / "asphalt_psd.csv"
+    (tmp_path / "cli").mkdir()
+    _cli(["friction", "--psd", psd, "--nu", "0.45", "--sigma0", "0.3MPa", "--velocities", V,
+          "--out", tmp_path / "cli" / "mu.csv"])
+    r = api.friction(tmp_path / "api" / "mu.csv", psd=psd, nu=0.45, sigma0="0.3MPa", velocities=V)
+    cli = _json(tmp_path / "cli" / "mu_summary.json")
+    assert _json(tmp_path / "api" / "mu_summary.json") == cli == _json_of(r)
+    assert _names(tmp_path / "api") == _names(tmp_path / "cli") == ["mu.csv", "mu.png", "mu_summary.json"]
+    assert cli["nu"] == 0.45 and cli["sigma0_Pa"] == 3e5
+    a = api.friction(tmp_path / "a.csv", self_affine=SELF_AFFINE, nu=0.45, velocities=V)
+    b = api.friction(tmp_path / "b.csv", self_affine=SELF_AFFINE, nu=0.3, velocities=V)
+    assert a["mu_peak"] != b["mu_peak"]
+    with pytest.raises(TypeError, match="poisson"):
+        api.friction(tmp_path / "c.csv", self_affine=SELF_AFFINE, poisson=0.4)
+    from roadscan.errors import InputError
+
+    with pytest.raises(InputError):
+        api.friction(tmp_path / "c.csv", self_affine=SELF_AFFINE, psd=psd)    # one of the two
+    with pytest.raises(InputError, match="nu"):
+        api.friction(tmp_path / "c.csv", self_affine=SELF_AFFINE, nu=0.7)
+
+
+def _json_of(d):
+    return {k: v for k, v in _plain(d).items() if k not in PATHS}
