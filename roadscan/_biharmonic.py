@@ -25,10 +25,17 @@ this module is as fast as the sparse solve on such maps and needs no scipy.
 """
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 
 from .bands import measured_mean_range
 from .blas_threads import single_threaded_blas
+
+try:            # numpy.linalg.solve's own gufunc: the same LAPACK gesv, 8 us less per call
+    from numpy.linalg._umath_linalg import solve as _gesv
+except ImportError:                                    # pragma: no cover
+    _gesv = None
 
 __all__ = ["biharmonic_fill_values", "SMALL"]
 
@@ -71,52 +78,102 @@ def grow4(bad):
 
 
 def _clusters(bad):
-    """Cluster label (1..n) of every unmeasured point, raster order."""
-    import cv2
+    """Cluster label (1..n, numbered in raster order of each cluster's first point of the
+    grown mask, as OpenCV's ``connectedComponents``) of every unmeasured point, raster order.
 
-    _, labels = cv2.connectedComponents(grow4(bad).view(np.uint8), connectivity=8, ltype=cv2.CV_32S)
-    return labels[bad]
-
-
-def _system(h, ref, pts, order):
-    """COO entries (row, col, value) and right-hand side of the system for z = h - ref,
-    unknowns numbered by ``order`` (position of each raster-ordered unknown in the solve
-    order). Only measured neighbours of unknowns are read from ``h``."""
-    ny, nx = h.shape
-    n = pts.size
+    Run-length labelling: the runs of the grown mask along rows, two runs of adjacent rows
+    joined when they touch diagonally or overlap (8-connectivity), their components found by
+    hooking roots onto the smaller root and pointer jumping (Shiloach & Vishkin 1982).
+    """
+    ny, nx = bad.shape
+    w = nx + 1
+    e = np.zeros((ny, w + 1), np.int8)
+    e[:, 1:-1] = grow4(bad)
+    d = np.diff(e, axis=1)
+    st, en = np.flatnonzero(d == 1), np.flatnonzero(d == -1)   # row * w + column, paired
+    del e, d
+    nxt = st - st % w + w                               # start of the next row
+    lo = np.searchsorted(en, nxt + st % w)              # runs below ending at or after a0
+    hi = np.searchsorted(st, nxt + en % w, side="right")  # ... starting at or before a1
+    cnt = np.maximum(hi - lo, 0)
+    u = np.repeat(np.arange(st.size), cnt)
+    v = np.arange(int(cnt.sum())) + np.repeat(lo - (np.cumsum(cnt) - cnt), cnt)
+    p = np.arange(st.size)
+    while u.size:
+        pu, pv = p[u], p[v]
+        keep = pu != pv
+        if not keep.any():
+            break
+        u, v, pu, pv = u[keep], v[keep], pu[keep], pv[keep]
+        np.minimum.at(p, np.maximum(pu, pv), np.minimum(pu, pv))
+        while True:
+            q = p[p]
+            if np.array_equal(q, p):
+                break
+            p = q
+    lab = np.cumsum(p == np.arange(st.size), dtype=np.int32)[p]
+    pts = np.flatnonzero(bad)
     r, c = np.divmod(pts, nx)
-    zf = h.ravel()
+    return lab[np.searchsorted(st, r * w + c, side="right") - 1]
 
-    def unknown(nb):                                   # solve-order index of a position, or -1
-        j = np.searchsorted(pts, nb)
-        j = np.minimum(j, n - 1)
-        return np.where(pts[j] == nb, order[j], -1)
 
-    rows, cols, vals = [], [], []
-    rhs = np.zeros(n)
+#: unknowns per chunk of the system's assembly (bounds its (chunk, 13) work arrays)
+_CHUNK = 1 << 13
+
+
+def _stencil_groups(ps, ny, nx):
+    """(unknowns, flat offsets, coefficients) of the interior stencil and of each cut window
+    at the map's edge (at most 24 kinds: the window's shape and the point's place in it)."""
+    r, c = np.divmod(ps, nx)
     inner = (r >= 2) & (r < ny - 2) & (c >= 2) & (c < nx - 2)
-    ii = np.flatnonzero(inner)
-    oi = order[ii]
-    for (dr, dc), k in zip(_OFFSETS, _COEFS):
-        nb = pts[ii] + (dr * nx + dc)
-        j = unknown(nb)
-        unk = j >= 0
-        rows.append(oi[unk])
-        cols.append(j[unk])
-        vals.append(np.full(int(unk.sum()), k))
-        rhs[oi[~unk]] -= k * (zf[nb[~unk]] - ref)     # one entry per row and offset
-    for p in np.flatnonzero(~inner):
-        rr, cc = int(r[p]), int(c[p])
-        r0, c0 = max(rr - 2, 0), max(cc - 2, 0)
-        offs, cf = _edge_stencil((min(rr + 3, ny) - r0, min(cc + 3, nx) - c0), (rr - r0, cc - c0))
-        nb = (rr + offs[:, 0]) * nx + (cc + offs[:, 1])
-        j = unknown(nb)
-        unk = j >= 0
-        rows.append(np.full(int(unk.sum()), order[p]))
-        cols.append(j[unk])
-        vals.append(cf[unk])
-        rhs[order[p]] -= float(np.sum(cf[~unk] * (zf[nb[~unk]] - ref)))
-    return np.concatenate(rows), np.concatenate(cols), np.concatenate(vals), rhs
+    flat = _OFFSETS[:, 0] * nx + _OFFSETS[:, 1]
+    groups = [(np.flatnonzero(inner), flat, _COEFS)]
+    e = np.flatnonzero(~inner)
+    if e.size:
+        re, ce = r[e], c[e]
+        r0, c0 = np.maximum(re - 2, 0), np.maximum(ce - 2, 0)
+        kind = np.stack([np.minimum(re + 3, ny) - r0, re - r0, np.minimum(ce + 3, nx) - c0, ce - c0])
+        code = ((kind[0] * 5 + kind[1]) * 6 + kind[2]) * 5 + kind[3]
+        for g in np.flatnonzero(np.bincount(code)):     # (np.unique would import numpy.ma)
+            sel = np.flatnonzero(code == g)
+            k = kind[:, sel[0]]
+            offs, cf = _edge_stencil((int(k[0]), int(k[2])), (int(k[1]), int(k[3])))
+            groups.append((e[sel], offs[:, 0] * nx + offs[:, 1], cf))
+    return groups
+
+
+def _system(h, ref, ps, where):
+    """The system for z = h - ref in compressed rows: (rows, cols, vals), row pointers and
+    right-hand side; unknowns numbered as ``ps`` (their flat positions, solve order) and
+    ``where`` (solve index of every map point, -1 if measured). The heights read at unknowns
+    are not used."""
+    ny, nx = h.shape
+    n = ps.size
+    zf = h.ravel()
+    rhs = np.zeros(n)
+    cnt = np.zeros(n, np.intp)
+    parts = []
+    for sel, off, cf in _stencil_groups(ps, ny, nx):
+        for i0 in range(0, sel.size, _CHUNK):
+            s = sel[i0:i0 + _CHUNK]
+            nb = ps[s, None] + off
+            j = where[nb]
+            unk = j >= 0
+            rhs[s] -= (np.where(unk, ref, zf[nb]) - ref) @ cf
+            c = unk.sum(1)
+            cnt[s] = c
+            f = np.flatnonzero(unk)                    # entries by row, then offset
+            parts.append((s, c, j.ravel()[f], cf[f % off.size]))
+    rowptr = np.zeros(n + 1, np.intp)
+    np.cumsum(cnt, out=rowptr[1:])
+    cols = np.empty(int(rowptr[-1]), np.intp)
+    vals = np.empty(int(rowptr[-1]))
+    for s, c, j, v in parts:
+        dest = np.arange(j.size) + np.repeat(rowptr[s] - (np.cumsum(c) - c), c)
+        cols[dest] = j
+        vals[dest] = v
+    rows = np.repeat(np.arange(n), cnt)
+    return (rows, cols, vals), rowptr, rhs
 
 
 #: matrix entries of one batched dense solve (32 MiB of float64)
@@ -126,11 +183,17 @@ _BATCH_ENTRIES = 1 << 22
 def _solve_small(coo, rowptr, rhs, start, sizes, x):
     """All clusters of ``sizes`` (each <= SMALL) as batched dense solves, by size, at most
     :data:`_BATCH_ENTRIES` matrix entries at a time."""
-    for m in np.unique(sizes):
+    for m in np.flatnonzero(np.bincount(sizes)):
         same = start[sizes == m]                       # solve-order start of each such cluster
         step = max(1, _BATCH_ENTRIES // int(m * m))
         for i0 in range(0, same.size, step):
             _solve_batch(coo, rowptr, rhs, same[i0:i0 + step], int(m), x)
+
+
+def _gather(lo, hi):
+    """Concatenated ranges [lo_i, hi_i)."""
+    lens = hi - lo
+    return np.arange(int(lens.sum())) + np.repeat(lo - (np.cumsum(lens) - lens), lens)
 
 
 def _solve_batch(coo, rowptr, rhs, first, m, x):
@@ -138,9 +201,8 @@ def _solve_batch(coo, rowptr, rhs, first, m, x):
     rows, cols, vals = coo
     k = first.size
     lo, hi = rowptr[first], rowptr[first + m]          # each cluster's entries (rows sorted)
-    lens = hi - lo
-    e = np.arange(int(lens.sum())) + np.repeat(lo - (np.cumsum(lens) - lens), lens)
-    ci = np.repeat(np.arange(k), lens)
+    e = _gather(lo, hi)
+    ci = np.repeat(np.arange(k), hi - lo)
     base = first[ci]
     A = np.zeros((k, m, m))
     A[ci, rows[e] - base, cols[e] - base] = vals[e]
@@ -148,48 +210,121 @@ def _solve_batch(coo, rowptr, rhs, first, m, x):
     x[at] = np.linalg.solve(A, rhs[at][..., None])[..., 0]
 
 
-def _solve_large(coo, rowptr, rhs, s, m, prow, x):
-    """One cluster (solve-order range [s, s+m), unknowns by rows) by block elimination over
-    pairs of rows: D_k = A_kk - A_k,k-1 D_k-1^-1 A_k-1,k (block-tridiagonal LU)."""
+#: the fixed cost of one block in the elimination (Python and LAPACK call), in units of the
+#: cubed block size
+_BLOCK_COST = 1e4
+
+
+def _blocks(start, sizes, pr, pc):
+    """Unknowns of the large clusters (solve order) sorted by block, and each one's block.
+
+    A block is two adjacent lines of a cluster (rows, columns, diagonals r + c or
+    antidiagonals r - c, and either parity): the stencil reaches two lines, so the blocks form
+    a block-tridiagonal system. Each cluster takes the kind of line with the least sum of the
+    cubed block sizes (the LU work)."""
+    idx = _gather(start, start + sizes)
+    cl = np.repeat(np.arange(sizes.size), sizes)
+    first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    r, c = pr[idx], pc[idx]
+    best, blk = np.full(sizes.size, np.inf), np.zeros(idx.size, np.intp)
+    for line in (r, c, r + c, r - c):
+        line = line - np.minimum.reduceat(line, first)[cl]
+        span = int(line.max()) // 2 + 2
+        for parity in (0, 1):
+            b = (line + parity) // 2
+            nk = np.bincount(cl * span + b, minlength=sizes.size * span).astype(float)
+            work = (nk ** 3 + _BLOCK_COST * (nk > 0)).reshape(sizes.size, span).sum(1)
+            take = work < best
+            best[take] = work[take]
+            sel = take[cl]
+            blk[sel] = b[sel]
+    o = np.lexsort((blk, cl))                          # by cluster, block; raster inside
+    key = cl[o] * (int(blk.max()) + 1) + blk[o]
+    return idx[o], cl[o], np.cumsum(np.r_[True, key[1:] != key[:-1]]) - 1
+
+
+def _solve_large(coo, rowptr, rhs, start, sizes, pr, pc, x):
+    """Clusters of more than SMALL unknowns (solve-order starts ``start``), by block
+    elimination over the blocks of :func:`_blocks`: D_k = A_kk - A_k,k-1 D_k-1^-1 A_k-1,k,
+    X_k = D_k^-1 [A_k,k+1 | y_k] (block-tridiagonal LU), then back substitution."""
     rows, cols, vals = coo
-    e0, e1 = rowptr[s], rowptr[s + m]
-    rr, cc, vv = rows[e0:e1] - s, cols[e0:e1] - s, vals[e0:e1]
-    pair = prow // 2
-    pair = pair - pair[0]
-    nb = int(pair[-1]) + 1
-    bstart = np.searchsorted(pair, np.arange(nb + 1))
-    rb, cb = pair[rr], pair[cc]
-    key = rb * 3 + (cb - rb + 1)                       # 0 left, 1 diagonal, 2 right block
-    o = np.argsort(key, kind="stable")
-    rr, cc, vv, key = rr[o], cc[o], vv[o], key[o]
-    bounds = np.searchsorted(key, np.arange(3 * nb + 1))
+    u, cl, gb = _blocks(start, sizes, pr, pc)
+    nbk = int(gb[-1]) + 1
+    bs = np.bincount(gb, minlength=nbk)                # block sizes
+    b0 = np.concatenate([[0], np.cumsum(bs)[:-1]])
+    bcl = cl[b0]                                       # cluster of each block
+    sp = np.where(np.r_[False, bcl[1:] == bcl[:-1]], np.r_[0, bs[:-1]], 0)   # previous block
+    sn = np.where(np.r_[bcl[:-1] == bcl[1:], False], np.r_[bs[1:], 0], 0)    # next block
+    w = sp + bs + sn + 1                               # [A_k,k-1 | A_kk | A_k,k+1 | y]
+    off = np.concatenate([[0], np.cumsum(bs * w)])
+    loc = np.empty(x.size, np.intp)                    # unknown -> position in sorted order
+    loc[u] = np.arange(u.size)
+    pos = np.arange(u.size) - b0[gb]
+    X = [None] * nbk
+    k0 = 0
+    while k0 < nbk:                                    # blocks of at most _BATCH_ENTRIES
+        k1 = int(np.searchsorted(off, off[k0] + _BATCH_ENTRIES, side="right")) - 1
+        k1 = min(max(k0 + 1, k1), nbk)
+        _eliminate(coo, rowptr, rhs, u, loc, pos, gb, (bs, sp, w, off), k0, k1, X)
+        k0 = k1
+    sol = np.empty(u.size)
+    xs = None
+    for k, a, s, nxt in zip(range(nbk - 1, -1, -1), b0[::-1].tolist(), bs[::-1].tolist(),
+                            sn[::-1].tolist()):
+        xs = X[k][:, -1] - X[k][:, :-1] @ xs if nxt else X[k][:, -1]
+        sol[a:a + s] = xs
+    x[u] = sol
 
-    def block(k, t):
-        c0 = bstart[k + t - 1]
-        a = np.zeros((bstart[k + 1] - bstart[k], bstart[k + t] - c0))
-        e0, e1 = bounds[3 * k + t], bounds[3 * k + t + 1]
-        a[rr[e0:e1] - bstart[k], cc[e0:e1] - c0] = vv[e0:e1]
-        return a
 
-    G, g = [None] * nb, [None] * nb
-    b = rhs[s:s + m]
-    for k in range(nb):
-        D = block(k, 1)
-        y = b[bstart[k]:bstart[k + 1]].copy()
-        if k:
-            B = block(k, 0)
-            D -= B @ G[k - 1]
-            y -= B @ g[k - 1]
-        if k + 1 < nb:
-            sol = np.linalg.solve(D, np.column_stack([block(k, 2), y]))
-            G[k], g[k] = sol[:, :-1], sol[:, -1]
-        else:
-            g[k] = np.linalg.solve(D, y)
-    xs = g[nb - 1]
-    x[s + bstart[nb - 1]:s + m] = xs
-    for k in range(nb - 2, -1, -1):
-        xs = g[k] - G[k] @ xs
-        x[s + bstart[k]:s + bstart[k + 1]] = xs
+def _singular(err, flag):
+    """numpy's error callback while :func:`_solve_gufunc` runs: LAPACK found a zero pivot."""
+    raise np.linalg.LinAlgError("Singular matrix")
+
+
+def _solve_gufunc(a, b):
+    """``np.linalg.solve(a, b)`` for float64 (a, b) without its argument checks."""
+    return _gesv(a, b, signature="dd->d")
+
+
+def _eliminate(coo, rowptr, rhs, u, loc, pos, gb, meta, k0, k1, X):
+    """Forward elimination of blocks k0..k1-1 (their matrices built in one buffer)."""
+    rows, cols, vals = coo
+    bs, sp, w, off = meta
+    a, b = int(np.searchsorted(gb, k0)), int(np.searchsorted(gb, k1))
+    uu, gg, pp = u[a:b], gb[a:b], pos[a:b]
+    e = _gather(rowptr[uu], rowptr[uu + 1])
+    i, j = loc[rows[e]], loc[cols[e]]
+    bi = gb[i]
+    t = gb[j] - bi                                     # -1, 0, 1
+    col = pos[j] + np.where(t >= 0, sp[bi], 0) + np.where(t > 0, bs[bi], 0)
+    o0 = off[k0]
+    buf = np.zeros(int(off[k1] - o0))
+    buf[off[bi] - o0 + pos[i] * w[bi] + col] = vals[e]
+    buf[off[gg] - o0 + pp * w[gg] + w[gg] - 1] = rhs[uu]
+    del e, i, j, bi, t, col
+    if _gesv is None:
+        solve, guard = np.linalg.solve, contextlib.nullcontext()
+    else:                     # a singular block raises LinAlgError, as np.linalg.solve does
+        solve = _solve_gufunc
+        guard = np.errstate(call=_singular, invalid="call", over="ignore", divide="ignore",
+                            under="ignore")
+    with guard:
+        _forward(buf, (bs, sp, w, off - o0), k0, k1, X, solve)
+
+
+def _forward(buf, meta, k0, k1, X, solve):
+    """Block-tridiagonal LU of blocks k0..k1-1 in ``buf``: X_k = [G_k | g_k]."""
+    bs, sp, w, off = meta
+    for k, s, p, q, o in zip(range(k0, k1), bs[k0:k1].tolist(), sp[k0:k1].tolist(),
+                             w[k0:k1].tolist(), off[k0:k1].tolist()):
+        R = buf[o:o + s * q].reshape(s, q)
+        D = R[:, p:p + s]
+        if p:
+            upd = R[:, :p] @ X[k - 1]                  # A_k,k-1 [G | g]
+            D -= upd[:, :s]
+            y = R[:, -1]
+            y -= upd[:, s]
+        X[k] = solve(D, R[:, p + s:])
 
 
 def biharmonic_fill_values(h, bad, stats=None):
@@ -223,23 +358,23 @@ def biharmonic_fill_values(h, bad, stats=None):
     lo, hi = float(stats[1]) - ref, float(stats[2]) - ref
     lab = _clusters(bad)
     order_sorted = np.argsort(lab, kind="stable")      # unknowns by cluster, raster inside
-    order = np.empty_like(order_sorted)
-    order[order_sorted] = np.arange(pts.size)
-    rows, cols, vals, rhs = _system(h, ref, pts, order)
-    o = np.argsort(rows, kind="stable")
-    coo = (rows[o], cols[o], vals[o])
-    del rows, cols, vals, o
-    rowptr = np.searchsorted(coo[0], np.arange(pts.size + 1))
+    ps = pts[order_sorted]                             # flat position of each, solve order
+    where = np.full(h.size, -1, np.int32 if pts.size < 2 ** 31 else np.intp)
+    where[ps] = np.arange(pts.size)
+    coo, rowptr, rhs = _system(h, ref, ps, where)
+    del where
     counts = np.bincount(lab)[1:]
     counts = counts[counts > 0]
     start = np.concatenate([[0], np.cumsum(counts)[:-1]])
     x = np.empty(pts.size)
     small = counts <= SMALL
-    prow = pts[order_sorted] // bad.shape[1]            # row of each unknown, solve order
     with single_threaded_blas():                       # many small solves: no thread pool
         if small.any():
             _solve_small(coo, rowptr, rhs, start[small], counts[small], x)
-        for s, m in zip(start[~small], counts[~small]):
-            _solve_large(coo, rowptr, rhs, int(s), int(m), prow[s:s + m], x)
+        if not small.all():
+            pr, pc = np.divmod(ps, bad.shape[1])
+            _solve_large(coo, rowptr, rhs, start[~small], counts[~small], pr, pc, x)
     np.clip(x, lo, hi, out=x)
-    return x[order] + ref
+    out = np.empty(pts.size)
+    out[order_sorted] = x + ref
+    return out
