@@ -26,14 +26,13 @@ of several instruments within their reliable ranges).
 """
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 
 from roadscan.errors import InputError
 
-__all__ = ["run_combine", "combine_sources", "PSD_HEADER"]
+__all__ = ["combine", "run_combine", "combine_sources", "PSD_HEADER"]
 
 PSD_HEADER = ["q_per_m", "C_m4", "C_lo_m4", "C_hi_m4", "n_sources"]
 
@@ -176,8 +175,62 @@ def _summary(sources, merged, fit, warnings):
     }
 
 
+def combine(inputs, out, **options):
+    """``roadscan combine`` as one call: several measurements of one surface merged into one
+    C(q) over all their scales (see the module docstring; Sanner et al. 2022), written into
+    ``out`` (``psd.csv``, ``combine.json``, ``combine.png`` unless ``no_figures=True``,
+    ``report.html``; all or none).
+
+    ``options`` are the command's long flags with dashes as underscores, taking what the flag
+    takes (``resolution=5e-6``, ``spacing="5e-5"``, ``units="um"``, ``no_figures=True``),
+    parsed by the command's own option definitions
+    (:func:`pipelines.combine_inputs.add_combine_options`).
+
+    Parameters
+    ----------
+    inputs : sequence of str or Path
+        Height files, or a manifest CSV (header ``file[,spacing_m,units,resolution_m,label]``).
+    out : str or Path
+        Output folder, as ``--out``.
+    **options
+        ``roadscan combine``'s long flags with dashes as underscores.
+
+    Returns
+    -------
+    dict
+        The ``combine.json`` content: ``inputs`` (per input its reliable band, reasons,
+        spacing, size, resolution), ``merged_band_per_m``, ``q_range_per_m`` [1/m], ``rows``,
+        ``gaps``, ``gap_details``, ``disagreements``, ``widened_rows_per_m``, ``fit`` (H, h0,
+        roll-off; or None), ``method`` and ``warnings``.
+
+    Raises
+    ------
+    TypeError
+        An unknown keyword.
+    roadscan.errors.InputError
+        A value the flag refuses, or inputs the job cannot merge (one line).
+    """
+    import os
+
+    from .analyse_options import options_from_kwargs
+    from .combine_inputs import add_combine_options
+    from .validate import collecting
+
+    args = options_from_kwargs(options, "combine", add_combine_options)
+    if isinstance(inputs, (str, os.PathLike)):
+        inputs = [inputs]
+    args.inputs = [os.fspath(p) for p in inputs]
+    if not args.inputs:
+        raise InputError(None, "combine needs at least one input")
+    args.out = os.fspath(out)
+    with collecting():
+        return run_combine(args)
+
+
 def run_combine(args):
-    """``roadscan combine`` (see module docstring); returns the exit code.
+    """``roadscan combine``'s job on its parsed flags (``inputs``, ``out`` and those of
+    :func:`pipelines.combine_inputs.add_combine_options`): read, merge, fit and write (see
+    the module docstring).
 
     Parameters
     ----------
@@ -186,8 +239,8 @@ def run_combine(args):
 
     Returns
     -------
-    int
-        Exit code.
+    dict
+        The ``combine.json`` content.
     """
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
@@ -213,10 +266,4 @@ def run_combine(args):
         report.write_json(tmp / "combine.json", summary)
         fig = None if args.no_figures else draw_combine(sources, merged, fit, tmp / "combine.png")
         write_combine_report(tmp / "report.html", summary, fig)
-    lo, hi = merged.band_per_m
-    from .units_format import quantity
-    print(f"{len(sources)} inputs merged: C(q) from {quantity('q_per_m', lo)} to "
-          f"{quantity('q_per_m', hi)}, "
-          f"{len(merged.gaps)} gap(s) bridged" + (f", H = {fit['hurst']:.3f}" if fit else ""))
-    print(f"-> {args.out}/psd.csv, {args.out}/report.html", file=sys.stdout)
-    return 0
+    return summary

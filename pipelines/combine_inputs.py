@@ -15,7 +15,7 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-__all__ = ["CombineInput", "MANIFEST_COLUMNS", "collect_inputs", "is_manifest"]
+__all__ = ["CombineInput", "MANIFEST_COLUMNS", "collect_inputs", "is_manifest", "add_combine_options"]
 
 #: columns a manifest may have (``file`` required)
 MANIFEST_COLUMNS = ("file", "spacing_m", "units", "resolution_m", "label")
@@ -192,3 +192,25 @@ def collect_inputs(items, spacing=None, units=None, resolution_m=None):
         label = e.label if n == 1 else f"{e.label}-{n}"
         unique.append(CombineInput(e.path, label, e.spacing, e.units, e.resolution_m, e.origin))
     return unique
+
+
+def add_combine_options(p):
+    """Every option of ``roadscan combine`` but its inputs and ``--out``: ``--resolution``,
+    ``--no-figures`` and how a scan is read.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser to extend.
+
+    Returns
+    -------
+    None
+    """
+    from .scan_input import add_scan_options
+
+    p.add_argument("--resolution", type=float, default=None, metavar="M",
+                   help="lateral resolution [m] (wavelength passed at 50 %% amplitude) of inputs "
+                        "given on the command line whose file does not carry one")
+    p.add_argument("--no-figures", action="store_true", help="skip combine.png")
+    add_scan_options(p)

@@ -109,3 +109,24 @@ def test_friction_api_equals_cli(tmp_path):
 
 def _json_of(d):
     return {k: v for k, v in _plain(d).items() if k not in PATHS}
+
+
+def test_combine_api_equals_cli(tmp_path):
+    from roadscan.synth_measure import measure_synthetic
+
+    lines = ["file,spacing_m,label"]
+    for i, (a, noise) in enumerate(((50e-6, 1e-5), (3e-6, 2e-8))):
+        hm = measure_synthetic(128, a, 0.8, 1e-3, resolution_m=2 * a, noise_rms_m=noise, seed=10 + i, pad=3)
+        np.save(tmp_path / f"i{i}.npy", hm.heights_m)
+        lines.append(f"i{i}.npy,{a!r},instrument {i}")
+    ins = [tmp_path / "m.csv"]
+    ins[0].write_text("\n".join(lines) + "\n")
+    _cli(["combine", *ins, "--resolution", "1e-5", "--no-figures", "--out", tmp_path / "cli"])
+    r = api.combine(ins, tmp_path / "api", resolution=1e-5, no_figures=True)
+    cli = _json(tmp_path / "cli" / "combine.json")
+    assert _json(tmp_path / "api" / "combine.json") == cli == _json_of(r)
+    assert _names(tmp_path / "api") == _names(tmp_path / "cli") == ["combine.json", "psd.csv", "report.html"]
+    fine = api.combine(ins, tmp_path / "r", resolution=5e-6, no_figures=True)
+    assert fine["merged_band_per_m"] != r["merged_band_per_m"]       # the flag reaches the band
+    with pytest.raises(TypeError, match="figures"):
+        api.combine(ins, tmp_path / "x", figures=False)

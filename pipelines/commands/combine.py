@@ -5,11 +5,13 @@ manifest CSV with the header ``file`` plus optional ``spacing_m,units,resolution
 (paths relative to the manifest). Each measurement's C(q) is kept within its reliable band
 (:mod:`roadscan.reliable_band`); the bands are merged on a common log-q grid weighted by the
 lattice points per ring (:mod:`pipelines.combine_merge`). Outputs (written atomically):
-``psd.csv``, ``combine.json``, ``combine.png``, ``report.html``.
+``psd.csv``, ``combine.json``, ``combine.png``, ``report.html``. The command parses, calls
+:func:`pipelines.api.combine` and prints.
 """
 from __future__ import annotations
 
-from ..scan_input import add_inputs_and_out, add_scan_options
+from ..combine_inputs import add_combine_options
+from ..scan_input import add_inputs_and_out
 
 NAME = "combine"
 HELP = "merge the spectra of several measurements of one surface (instruments, scales) into one C(q)"
@@ -18,14 +20,18 @@ HELP = "merge the spectra of several measurements of one surface (instruments, s
 def add_arguments(p):
     add_inputs_and_out(p, "height files, or a manifest CSV (header: file[,spacing_m,units,"
                           "resolution_m,label]; paths relative to the manifest)", "output folder")
-    p.add_argument("--resolution", type=float, default=None, metavar="M",
-                   help="lateral resolution [m] (wavelength passed at 50 %% amplitude) of inputs "
-                        "given on the command line whose file does not carry one")
-    p.add_argument("--no-figures", action="store_true", help="skip combine.png")
-    add_scan_options(p)
+    add_combine_options(p)         # --resolution, --no-figures, scan options (pipelines.api.combine's too)
 
 
 def run(args):
-    from ..combine import run_combine
+    from ..api_options import keywords_of
+    from ..combine import combine
+    from ..units_format import quantity
 
-    return run_combine(args)
+    s = combine(args.inputs, args.out, **keywords_of(args, add_combine_options))
+    lo, hi = s["merged_band_per_m"]
+    print(f"{len(s['inputs'])} inputs merged: C(q) from {quantity('q_per_m', lo)} to "
+          f"{quantity('q_per_m', hi)}, "
+          f"{len(s['gaps'])} gap(s) bridged" + (f", H = {s['fit']['hurst']:.3f}" if s["fit"] else ""))
+    print(f"-> {args.out}/psd.csv, {args.out}/report.html")
+    return 0
