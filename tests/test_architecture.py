@@ -286,7 +286,7 @@ _HTML_TAG = re.compile(r"<(?:p|ul|ol|li|table|tr|td|th|div|span|a|b|img|html|h[1
 
 #: modules that still join HTML strings by hand (the list may only shrink; HTML comes from
 #: pipelines/templates through pipelines.report's writers)
-HAND_HTML_LEFT = {"pipelines.diagnose.report", "pipelines.diagnose.report_joint"}
+HAND_HTML_LEFT = set()
 
 
 def hand_built_html(modules):

@@ -2,7 +2,6 @@
 (self-contained: PNGs embedded base64, opens offline), via :mod:`pipelines.report`."""
 from __future__ import annotations
 
-import html
 from pathlib import Path
 import tempfile
 
@@ -206,7 +205,7 @@ def inputs_html(inp):
     """The model inputs of a diagnosis (``diagnosis.json`` ``inputs``) as HTML: values in the
     report's units, which were assumed, the uncertain ranges, the files with their SHA-256."""
     if not inp:
-        return "<p>inputs not recorded</p>"
+        return rep.paragraph_html("inputs not recorded")
     assumed = set(inp.get("assumed") or [])
     unc = inp.get("uncertain") or {}
     key_of = {"sigma0_Pa": "sigma0", "q1_per_m": "q1", "temperature_C": "temperature", "psd_scale": "psd_scale"}
@@ -222,11 +221,11 @@ def inputs_html(inp):
             row("background temperature T0", "temperature_C", f"{inp['temperature_C']:.3g} °C"),
             row("spectrum level factor", "psd_scale", f"{inp['psd_scale']:.3g}")]
     out = rep.table_html(rows, header=["input", "value", "source", "uncertainty"])
-    files = [(f["role"], html.escape(f["path"]), f["sha256"][:16] + "…") for f in inp.get("files") or []]
+    files = [(f["role"], f["path"], f["sha256"][:16] + "…") for f in inp.get("files") or []]
     if files:
         out += rep.table_html(files, header=["file", "path", "sha256"])
     for note in inp.get("notes") or []:
-        out += f"<p><b>Note:</b> {html.escape(note)}.</p>"
+        out += rep.paragraph_html(f"{note}.", lead="Note:")
     return out
 
 
@@ -265,11 +264,12 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
         verdict = _verdict_html(dict(v, next=nxt["sentence"] if nxt else None))
         cut = [b for b in data["band_map"] if b.get("carried_by_cutoff")]
         if cut:
-            verdict += ("<p><b>Warning: μ is carried by the spectrum's cut-off</b> in "
-                        + ", ".join(f"{b['v_min_m_per_s']:.3g}–{b['v_max_m_per_s']:.3g} m/s "
-                                    f"(d ln μ / d ln q1 = {b['dlnmu_dlnq1']:.2f})" for b in cut)
-                        + ": the integrand peaks at the highest wave vector, so μ there depends on where "
-                          "the spectrum is cut, not only on the measured texture.</p>")
+            verdict += rep.paragraph_html(
+                "in " + ", ".join(f"{b['v_min_m_per_s']:.3g}–{b['v_max_m_per_s']:.3g} m/s "
+                                  f"(d ln μ / d ln q1 = {b['dlnmu_dlnq1']:.2f})" for b in cut)
+                + ": the integrand peaks at the highest wave vector, so μ there depends on where "
+                  "the spectrum is cut, not only on the measured texture.",
+                lead="Warning: μ is carried by the spectrum's cut-off")
         summary = rep.table_html({
             "baseline gap (rms log10, all points)": data["baseline_gap"],
             "baseline gap, held-out points": data["baseline_gap_heldout"],
@@ -293,7 +293,7 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
                              header=["effect", "fitted parameters", "gap train", "gap held-out",
                                      "shrink (held-out)", "shrink 5–95 %", "at bound", "score"])
         skipped = rep.table_html([(s["name"], s["reason"]) for s in data["skipped"]],
-                                 header=["skipped effect", "reason"]) if data["skipped"] else "<p>none</p>"
+                                 header=["skipped effect", "reason"]) if data["skipped"] else rep.paragraph_html("none")
         bands = rep.table_html([(f"{w['v_min_m_per_s']:.3g}–{w['v_max_m_per_s']:.3g}", w["n"], w["gap"],
                                  "yes" if w["significant"] else "no",
                                  f"{b['q_min_per_m']:.3g}–{b['q_max_per_m']:.3g}",
@@ -317,11 +317,13 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
 
 
 def _verdict_html(v):
+    """The verdict of a diagnosis as paragraphs (``templates/paragraph.html.j2``, escaped once):
+    the named effect, the reason, bounds, calibrated inputs, confidence, what to measure next."""
     name_v = v["effect"] if not isinstance(v["effect"], list) else " + ".join(v["effect"])
     if name_v:
-        head = html.escape(str(name_v))
+        head = str(name_v)
     elif v.get("inconclusive"):
-        head = "inconclusive between " + html.escape(", ".join(v["inconclusive"]))
+        head = "inconclusive between " + ", ".join(v["inconclusive"])
     else:
         head = "no effect named (null)"
     extra = ""
@@ -329,20 +331,19 @@ def _verdict_html(v):
         lo, hi = v["shrink_interval"]
         extra += f" Shrink interval (5-95 %): {lo:.0%} to {hi:.0%}." if lo is not None else ""
     if v.get("at_bound"):
-        extra += " Parameters at a bound (confidence lowered): " + html.escape(", ".join(v["at_bound"])) + "."
+        extra += " Parameters at a bound (confidence lowered): " + ", ".join(v["at_bound"]) + "."
     if v.get("implausible"):
-        extra += (" Not physical, so not named: " + html.escape("; ".join(v.get("implausible_why") or v["implausible"]))
-                  + ".")
+        extra += " Not physical, so not named: " + "; ".join(v.get("implausible_why") or v["implausible"]) + "."
     if v.get("extrapolated"):
-        extra += " Extrapolated: " + html.escape("; ".join(v["extrapolated"])) + "."
+        extra += " Extrapolated: " + "; ".join(v["extrapolated"]) + "."
     if v.get("calibrated"):
-        extra += " Calibrated inputs (95 % interval): " + html.escape(", ".join(
+        extra += " Calibrated inputs (95 % interval): " + ", ".join(
             f"{k} = {x['value']:.3g} ({x['interval'][0]:.3g} – {x['interval'][1]:.3g})"
-            for k, x in v["calibrated"].items())) + "."
+            for k, x in v["calibrated"].items()) + "."
     if v.get("confidence"):
-        extra += f" Confidence: {html.escape(v['confidence'])}."
-    nxt = f"<p><b>What to measure next:</b> {html.escape(v['next'])}.</p>" if v.get("next") else ""
-    return f"<p><b>Verdict:</b> {head}. {html.escape(v.get('reason', ''))}.{extra}</p>{nxt}"
+        extra += f" Confidence: {v['confidence']}."
+    nxt = rep.paragraph_html(f"{v['next']}.", lead="What to measure next:") if v.get("next") else ""
+    return rep.paragraph_html(f"{head}. {v.get('reason', '')}.{extra}", lead="Verdict:") + nxt
 
 
 def _fmt(x):
@@ -388,7 +389,7 @@ def write_surface_report(out_dir, name, data, figs):
         checks.append(("line scores (two-fold over halves): seams", _fmt(wsm.get("p_value")), _fmt(wsm.get("shrink")),
                        "excess log10 rows/columns = " + ", ".join(f"{x:.2f}" for x in wsm["excess_log10"])))
     whole_tab = rep.table_html(checks, header=["whole-scan check", "p-value", "held-out shrink", "fitted"]) \
-        if checks else "<p>none</p>"
+        if checks else rep.paragraph_html("none")
     fam = rep.table_html([(f, d["gap_baseline"], d["gap_after"], d["shrink"], "yes" if d["significant"] else "no",
                            d["n_entries"]) for f, d in data["families"].items()],
                          header=["descriptor family", "held-out gap, twin (noise units)", "after the verdict",
@@ -407,7 +408,7 @@ def write_surface_report(out_dir, name, data, figs):
     where = rep.table_html([(f"{w['q_min_per_m']:.3g}–{w['q_max_per_m']:.3g}", w["gap"], w.get("mean_log_ratio"))
                             for w in data["where"]], header=["q band [1/m]", "gap (rms log10 C)", "mean log10 ratio"])
     skipped = rep.table_html([(s["name"], s["reason"]) for s in data["skipped"]],
-                             header=["skipped effect", "reason"]) if data["skipped"] else "<p>none</p>"
+                             header=["skipped effect", "reason"]) if data["skipped"] else rep.paragraph_html("none")
     rep.write_html(Path(out_dir) / "report.html", f"Surface-level gap diagnosis: {name}", [
         ("Verdict", [verdict, summary]),
         ("Gap per descriptor family (held out in space)", [fam]),

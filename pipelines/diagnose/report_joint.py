@@ -3,7 +3,6 @@
 ``--measured``), and one ``report.html`` showing every compound."""
 from __future__ import annotations
 
-import html
 import tempfile
 from pathlib import Path
 
@@ -88,10 +87,10 @@ def write_joint_report(out_dir, data, results):
     cal = rep.table_html([(k, f"{x['value']:.4g}", f"{x['interval'][0]:.4g} – {x['interval'][1]:.4g}",
                            f"{x['range'][0]:.4g} – {x['range'][1]:.4g}") for k, x in j["calibrated"].items()],
                          header=["shared input", "joint fit", "95 % interval", "allowed range"]) \
-        if j["calibrated"] else "<p>no shared input was uncertain</p>"
+        if j["calibrated"] else rep.paragraph_html("no shared input was uncertain")
     eff = rep.table_html([(e["name"], ", ".join(e["rows"]), "yes" if e["all_rows"] else "no") for e in j["effects"]],
                          header=["effect", "named in", "holds in every row"]) if j["effects"] else \
-        "<p>no effect named in any row</p>"
+        rep.paragraph_html("no effect named in any row")
     table = []
     for label, m in data["measurements"].items():
         v = m["verdict"]
@@ -103,7 +102,7 @@ def write_joint_report(out_dir, data, results):
     verdicts = rep.table_html(table, header=["compound", "verdict", "confidence", "held-out shrink",
                                              "baseline gap", "noise", "implausible"])
     sections = [("Shared model inputs", [inputs_html(data["inputs"])]),
-                ("Joint calibration of the shared inputs", [cal, f"<p>{html.escape(j['method'])}.</p>"]),
+                ("Joint calibration of the shared inputs", [cal, rep.paragraph_html(f"{j['method']}.")]),
                 ("Verdict per compound", [verdicts, eff])]
     with tempfile.TemporaryDirectory() as t:
         for i, (row, d, *_ ) in enumerate(results):
