@@ -1,4 +1,4 @@
-"""Biharmonic inpainting of unmeasured points with numpy only (and OpenCV's labelling).
+"""Biharmonic inpainting of unmeasured points with numpy only.
 
 The same linear system as scikit-image's ``inpaint_biharmonic`` (Damelin & Hoang 2018; one
 global solve, ``split_into_regions=False``): for every unmeasured point p,
@@ -13,11 +13,13 @@ side. The solution is clipped to the range of the measured heights, as scikit-im
 
 The system is block-diagonal over clusters of unmeasured points that the stencil couples
 (|dx| + |dy| <= 2): clusters are the 8-connected components of the mask dilated by its
-4-neighbourhood. Clusters of up to :data:`SMALL` points are solved together as one batched
-dense solve (by size, 32 MiB at a time); a larger cluster is solved by block elimination over pairs of its rows (the
-stencil reaches two rows, so the pairs form a block-tridiagonal system), with dense LU on each
-block. Agreement with scikit-image's sparse LU: 1e-13 of the height range on the shipped
-sample, 1e-15 on random maps with clusters at every edge (tests).
+4-neighbourhood (run-length labelling). Clusters of up to :data:`SMALL` points are solved
+together as one batched dense solve (by size, 32 MiB at a time); a larger cluster is solved by
+block elimination over pairs of its lines (the stencil reaches two lines, so the pairs form a
+block-tridiagonal system), with dense LU on each block; the lines are rows, columns, diagonals
+or antidiagonals, whichever gives the cluster the least LU work. Agreement with scikit-image's
+sparse LU: 1e-13 of the height range on the shipped sample, 1e-15 on random maps with
+clusters at every edge (tests).
 
 Why not scikit-image: its sparse solve needs ``scipy.sparse.linalg``, and importing scipy
 (1.17, with its array-API layer) took 0.3 s of the 0.9 s ``roadscan analyse`` of the sample;
@@ -90,7 +92,8 @@ def _clusters(bad):
     e = np.zeros((ny, w + 1), np.int8)
     e[:, 1:-1] = grow4(bad)
     d = np.diff(e, axis=1)
-    st, en = np.flatnonzero(d == 1), np.flatnonzero(d == -1)   # row * w + column, paired
+    st = np.flatnonzero(d)                             # row * w + column: start, end, ...
+    st, en = st[0::2], st[1::2]
     del e, d
     nxt = st - st % w + w                               # start of the next row
     lo = np.searchsorted(en, nxt + st % w)              # runs below ending at or after a0
@@ -160,9 +163,9 @@ def _system(h, ref, ps, where):
             j = where[nb]
             unk = j >= 0
             rhs[s] -= (np.where(unk, ref, zf[nb]) - ref) @ cf
-            c = unk.sum(1)
-            cnt[s] = c
             f = np.flatnonzero(unk)                    # entries by row, then offset
+            c = np.bincount(f // off.size, minlength=s.size)
+            cnt[s] = c
             parts.append((s, c, j.ravel()[f], cf[f % off.size]))
     rowptr = np.zeros(n + 1, np.intp)
     np.cumsum(cnt, out=rowptr[1:])
@@ -210,6 +213,9 @@ def _solve_batch(coo, rowptr, rhs, first, m, x):
     x[at] = np.linalg.solve(A, rhs[at][..., None])[..., 0]
 
 
+#: matrix entries of the elimination's buffer (1 MiB: cached, and reused by the allocator)
+_BUFFER_ENTRIES = 1 << 17
+
 #: the fixed cost of one block in the elimination (Python and LAPACK call), in units of the
 #: cubed block size
 _BLOCK_COST = 1e4
@@ -246,7 +252,8 @@ def _blocks(start, sizes, pr, pc):
 def _solve_large(coo, rowptr, rhs, start, sizes, pr, pc, x):
     """Clusters of more than SMALL unknowns (solve-order starts ``start``), by block
     elimination over the blocks of :func:`_blocks`: D_k = A_kk - A_k,k-1 D_k-1^-1 A_k-1,k,
-    X_k = D_k^-1 [A_k,k+1 | y_k] (block-tridiagonal LU), then back substitution."""
+    [G_k | g_k] = D_k^-1 [A_k,k+1 | y_k] (block-tridiagonal LU), then back substitution
+    x_k = g_k - G_k x_k+1."""
     rows, cols, vals = coo
     u, cl, gb = _blocks(start, sizes, pr, pc)
     nbk = int(gb[-1]) + 1
@@ -259,21 +266,20 @@ def _solve_large(coo, rowptr, rhs, start, sizes, pr, pc, x):
     off = np.concatenate([[0], np.cumsum(bs * w)])
     loc = np.empty(x.size, np.intp)                    # unknown -> position in sorted order
     loc[u] = np.arange(u.size)
-    pos = np.arange(u.size) - b0[gb]
     X = [None] * nbk
     k0 = 0
-    while k0 < nbk:                                    # blocks of at most _BATCH_ENTRIES
-        k1 = int(np.searchsorted(off, off[k0] + _BATCH_ENTRIES, side="right")) - 1
+    while k0 < nbk:                                    # blocks of at most _BUFFER_ENTRIES
+        k1 = int(np.searchsorted(off, off[k0] + _BUFFER_ENTRIES, side="right")) - 1
         k1 = min(max(k0 + 1, k1), nbk)
-        _eliminate(coo, rowptr, rhs, u, loc, pos, gb, (bs, sp, w, off), k0, k1, X)
+        _eliminate(coo, rowptr, rhs, u, loc, gb, (bs, sp, w, off, b0), k0, k1, X)
         k0 = k1
-    sol = np.empty(u.size)
-    xs = None
-    for k, a, s, nxt in zip(range(nbk - 1, -1, -1), b0[::-1].tolist(), bs[::-1].tolist(),
-                            sn[::-1].tolist()):
-        xs = X[k][:, -1] - X[k][:, :-1] @ xs if nxt else X[k][:, -1]
-        sol[a:a + s] = xs
-    x[u] = sol
+    v = np.ones(u.size + nbk)                          # x_k of each block, then a 1
+    at = b0 + np.arange(nbk)
+    nxt = at + bs + (sn > 0)                           # [x_k+1 | 1], or the block's own 1
+    for k, a, s, b, c in zip(range(nbk - 1, -1, -1), at[::-1].tolist(), bs[::-1].tolist(),
+                             nxt[::-1].tolist(), (nxt + sn + 1)[::-1].tolist()):
+        np.matmul(X[k], v[b:c], out=v[a:a + s])        # x_k = g_k - G_k x_k+1
+    x[u] = v[np.arange(u.size) + gb]
 
 
 def _singular(err, flag):
@@ -286,22 +292,23 @@ def _solve_gufunc(a, b):
     return _gesv(a, b, signature="dd->d")
 
 
-def _eliminate(coo, rowptr, rhs, u, loc, pos, gb, meta, k0, k1, X):
+def _eliminate(coo, rowptr, rhs, u, loc, gb, meta, k0, k1, X):
     """Forward elimination of blocks k0..k1-1 (their matrices built in one buffer)."""
-    rows, cols, vals = coo
-    bs, sp, w, off = meta
-    a, b = int(np.searchsorted(gb, k0)), int(np.searchsorted(gb, k1))
-    uu, gg, pp = u[a:b], gb[a:b], pos[a:b]
-    e = _gather(rowptr[uu], rowptr[uu + 1])
-    i, j = loc[rows[e]], loc[cols[e]]
-    bi = gb[i]
-    t = gb[j] - bi                                     # -1, 0, 1
-    col = pos[j] + np.where(t >= 0, sp[bi], 0) + np.where(t > 0, bs[bi], 0)
+    bs, sp, w, off, b0 = meta
+    a, b = int(b0[k0]), int(b0[k1 - 1] + bs[k1 - 1])   # their unknowns (sorted order)
+    g = gb[a:b]
     o0 = off[k0]
+    row = off[g] - o0 + (np.arange(a, b) - b0[g]) * w[g]   # each row's place in the buffer
+    cnt = rowptr[u[a:b] + 1] - rowptr[u[a:b]]
+    e = _gather(rowptr[u[a:b]], rowptr[u[a:b] + 1])
+    j = loc[coo[1][e]]
+    v = coo[2][e]
+    right = j >= np.repeat(b0[g] + bs[g], cnt)         # in the next block: -A_k,k+1
+    v[right] *= -1
     buf = np.zeros(int(off[k1] - o0))
-    buf[off[bi] - o0 + pos[i] * w[bi] + col] = vals[e]
-    buf[off[gg] - o0 + pp * w[gg] + w[gg] - 1] = rhs[uu]
-    del e, i, j, bi, t, col
+    buf[np.repeat(row - (b0[g] - sp[g]), cnt) + j] = v
+    buf[row + w[g] - 1] = rhs[u[a:b]]
+    del e, j, v, right
     if _gesv is None:
         solve, guard = np.linalg.solve, contextlib.nullcontext()
     else:                     # a singular block raises LinAlgError, as np.linalg.solve does
@@ -313,18 +320,19 @@ def _eliminate(coo, rowptr, rhs, u, loc, pos, gb, meta, k0, k1, X):
 
 
 def _forward(buf, meta, k0, k1, X, solve):
-    """Block-tridiagonal LU of blocks k0..k1-1 in ``buf``: X_k = [G_k | g_k]."""
+    """Block-tridiagonal LU of blocks k0..k1-1 in ``buf``: X_k = [-G_k | g_k]."""
     bs, sp, w, off = meta
+    prev = X[k0 - 1] if k0 else None
     for k, s, p, q, o in zip(range(k0, k1), bs[k0:k1].tolist(), sp[k0:k1].tolist(),
                              w[k0:k1].tolist(), off[k0:k1].tolist()):
         R = buf[o:o + s * q].reshape(s, q)
         D = R[:, p:p + s]
         if p:
-            upd = R[:, :p] @ X[k - 1]                  # A_k,k-1 [G | g]
-            D -= upd[:, :s]
+            upd = R[:, :p] @ prev                      # A_k,k-1 [-G | g]
+            D += upd[:, :s]
             y = R[:, -1]
             y -= upd[:, s]
-        X[k] = solve(D, R[:, p + s:])
+        X[k] = prev = solve(D, R[:, p + s:])
 
 
 def biharmonic_fill_values(h, bad, stats=None):
@@ -361,14 +369,14 @@ def biharmonic_fill_values(h, bad, stats=None):
     ps = pts[order_sorted]                             # flat position of each, solve order
     where = np.full(h.size, -1, np.int32 if pts.size < 2 ** 31 else np.intp)
     where[ps] = np.arange(pts.size)
-    coo, rowptr, rhs = _system(h, ref, ps, where)
-    del where
     counts = np.bincount(lab)[1:]
     counts = counts[counts > 0]
     start = np.concatenate([[0], np.cumsum(counts)[:-1]])
     x = np.empty(pts.size)
     small = counts <= SMALL
-    with single_threaded_blas():                       # many small solves: no thread pool
+    with single_threaded_blas():                       # many small products: no thread pool
+        coo, rowptr, rhs = _system(h, ref, ps, where)
+        del where
         if small.any():
             _solve_small(coo, rowptr, rhs, start[small], counts[small], x)
         if not small.all():
