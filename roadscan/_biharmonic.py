@@ -80,8 +80,8 @@ def grow4(bad):
 
 
 def _clusters(bad):
-    """Cluster label (1..n, numbered in raster order of each cluster's first point of the
-    grown mask, as OpenCV's ``connectedComponents``) of every unmeasured point, raster order.
+    """Cluster label (1..n, in raster order of each cluster's first point of the grown mask)
+    of every unmeasured point, raster order.
 
     Run-length labelling: the runs of the grown mask along rows, two runs of adjacent rows
     joined when they touch diagonally or overlap (8-connectivity), their components found by
@@ -95,9 +95,9 @@ def _clusters(bad):
     st = np.flatnonzero(d)                             # row * w + column: start, end, ...
     st, en = st[0::2], st[1::2]
     del e, d
-    nxt = st - st % w + w                               # start of the next row
-    lo = np.searchsorted(en, nxt + st % w)              # runs below ending at or after a0
-    hi = np.searchsorted(st, nxt + en % w, side="right")  # ... starting at or before a1
+    nxt = st - st % w + w                              # start of the next row
+    lo = np.searchsorted(en, nxt + st % w)             # runs below ending at or after the
+    hi = np.searchsorted(st, nxt + en % w, side="right")   # start, starting at or before the end
     cnt = np.maximum(hi - lo, 0)
     u = np.repeat(np.arange(st.size), cnt)
     v = np.arange(int(cnt.sum())) + np.repeat(lo - (np.cumsum(cnt) - cnt), cnt)
@@ -226,8 +226,8 @@ def _blocks(start, sizes, pr, pc):
 
     A block is two adjacent lines of a cluster (rows, columns, diagonals r + c or
     antidiagonals r - c, and either parity): the stencil reaches two lines, so the blocks form
-    a block-tridiagonal system. Each cluster takes the kind of line with the least sum of the
-    cubed block sizes (the LU work)."""
+    a block-tridiagonal system. Each cluster takes the kind of line with the least work: the
+    sum of the cubed block sizes (LU) and :data:`_BLOCK_COST` per block."""
     idx = _gather(start, start + sizes)
     cl = np.repeat(np.arange(sizes.size), sizes)
     first = np.concatenate([[0], np.cumsum(sizes)[:-1]])
@@ -254,7 +254,6 @@ def _solve_large(coo, rowptr, rhs, start, sizes, pr, pc, x):
     elimination over the blocks of :func:`_blocks`: D_k = A_kk - A_k,k-1 D_k-1^-1 A_k-1,k,
     [G_k | g_k] = D_k^-1 [A_k,k+1 | y_k] (block-tridiagonal LU), then back substitution
     x_k = g_k - G_k x_k+1."""
-    rows, cols, vals = coo
     u, cl, gb = _blocks(start, sizes, pr, pc)
     nbk = int(gb[-1]) + 1
     bs = np.bincount(gb, minlength=nbk)                # block sizes
@@ -352,8 +351,9 @@ def biharmonic_fill_values(h, bad, stats=None):
     Returns
     -------
     ndarray, shape (n_unmeasured,)
-        float64, raster (C) order: ``h[bad] = values`` fills the map. Memory: the cluster
-        labels (int32) and a few arrays per unmeasured point, no copy of the map.
+        float64, raster (C) order: ``h[bad] = values`` fills the map. Memory: an index map
+        (int32) and the grown mask (bytes), a few arrays per unmeasured point and the
+        [G_k | g_k] blocks of the large clusters; no copy of the map.
     """
     h = np.ascontiguousarray(h, dtype=np.float64)
     bad = np.ascontiguousarray(bad, dtype=bool)
