@@ -24,6 +24,8 @@ __all__ = ["MaterialRatioCurve", "material_ratio_curve", "functional_parameters"
 N_BINS = 1 << 14
 #: material-ratio grid step of the inverse curve [%]
 MR_STEP_PCT = 0.01
+#: heights binned at a time (cache-sized buffers)
+_BLOCK = 1 << 16
 
 
 class MaterialRatioCurve:
@@ -42,10 +44,10 @@ class MaterialRatioCurve:
 
     def __init__(self, z, n_bins=N_BINS):
         z = np.asarray(z, dtype=np.float64).ravel()
-        lo, hi = (float(z.min()), float(z.max())) if z.size else (np.nan, np.nan)
+        lo, hi = _min_max(z)
         if not (np.isfinite(lo) and np.isfinite(hi)):   # NaN or inf somewhere: left out
             z = z[np.isfinite(z)]
-            lo, hi = (float(z.min()), float(z.max())) if z.size else (np.nan, np.nan)
+            lo, hi = _min_max(z)
         if z.size < 2:
             raise ValueError("a material-ratio curve needs at least two measured heights")
         self.z_min_m, self.z_max_m, self.n = lo, hi, int(z.size)
@@ -54,12 +56,7 @@ class MaterialRatioCurve:
             self.edges_m = np.array([lo, lo + 1e-30])
             self.above = np.array([100.0, 0.0])
         else:
-            t = z - lo
-            t *= n_bins / span
-            k = t.astype(np.intp)
-            del t
-            np.minimum(k, n_bins - 1, out=k)
-            counts = np.bincount(k, minlength=n_bins)
+            counts = _bin_counts(z, lo, span, n_bins)
             self.edges_m = lo + span * np.arange(n_bins + 1) / n_bins
             # share above each edge, from the top: 0 % at the highest height, 100 % at the lowest
             self.above = 100.0 * np.r_[z.size, z.size - np.cumsum(counts)] / z.size
@@ -74,6 +71,37 @@ class MaterialRatioCurve:
     def height_at(self, mr_pct):
         """c(mr) [m]: the height above which ``mr_pct`` % of the heights lie."""
         return np.interp(mr_pct, self.mr_pct, self.c_m)
+
+
+def _min_max(z):
+    """(min, max) of the 1D array ``z`` (NaN if it holds a NaN; NaN, NaN if empty), block by
+    block: each block is read from memory once for both."""
+    if z.size <= _BLOCK:
+        return (float(z.min()), float(z.max())) if z.size else (np.nan, np.nan)
+    lo, hi = np.inf, -np.inf
+    for b in range(0, z.size, _BLOCK):
+        blk = z[b:b + _BLOCK]
+        lo, hi = np.minimum(lo, blk.min()), np.maximum(hi, blk.max())   # NaN propagates
+    return float(lo), float(hi)
+
+
+def _bin_counts(z, lo, span, n_bins):
+    """Heights of the finite 1D array ``z`` per bin k = floor((z - lo) n_bins / span), the top
+    height (k = n_bins) in the last bin; block by block through cache-sized buffers (the same
+    arithmetic as on the whole array, without its three full-size temporaries)."""
+    scale = n_bins / span
+    counts = np.zeros(n_bins + 1, np.intp)
+    t = np.empty(min(_BLOCK, z.size))
+    k = np.empty(t.size, np.intp)
+    for b in range(0, z.size, _BLOCK):
+        blk = z[b:b + _BLOCK]
+        tb, kb = t[:blk.size], k[:blk.size]
+        np.subtract(blk, lo, out=tb)
+        tb *= scale
+        kb[...] = tb                                      # truncation = floor (tb >= 0)
+        counts += np.bincount(kb, minlength=n_bins + 1)
+    counts[n_bins - 1] += counts[n_bins]                  # tb <= n_bins (1 + eps) < n_bins + 1
+    return counts[:n_bins]
 
 
 def material_ratio_curve(z, n_bins=N_BINS):
