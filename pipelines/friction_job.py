@@ -44,10 +44,16 @@ def _self_affine(text):
     for key in ("q0_per_m", "q1_per_m", "q_roll_per_m"):
         if key in kw:
             check_wave_vector(kw[key], f"--self-affine {key.split('_')[0] if key != 'q_roll_per_m' else 'qroll'}=")
-    try:
-        return SelfAffinePSD(**kw)
-    except ValueError as exc:
-        raise InputError(None, f"--self-affine: {exc}") from None
+    # the model's own conditions, checked here: a ValueError from SelfAffinePSD is then a bug
+    if not 0 < kw["hurst"] < 1.5:
+        raise InputError(None, f"--self-affine H={kw['hurst']:g}: must lie in (0, 1.5)")
+    if not kw["h0_m"] > 0:
+        raise InputError(None, f"--self-affine h0={kw['h0_m']:g}: must be a positive height in m")
+    if not kw["q0_per_m"] < kw["q1_per_m"]:
+        raise InputError(None, f"--self-affine q0={kw['q0_per_m']:g} must be below q1={kw['q1_per_m']:g}")
+    if kw.get("q_roll_per_m") is not None and not kw["q_roll_per_m"] < kw["q0_per_m"]:
+        raise InputError(None, f"--self-affine qroll={kw['q_roll_per_m']:g} must be below q0={kw['q0_per_m']:g}")
+    return SelfAffinePSD(**kw)
 
 
 def _psd(args, settings=None):
@@ -87,10 +93,9 @@ def _psd(args, settings=None):
     if args.q0 is not None:
         raise InputError(None, "--q0 with --self-affine: give q0= (and qroll=) inside --self-affine")
     if args.q1 is not None:
-        try:
-            psd = psd.with_q1(args.q1)
-        except ValueError as exc:
-            raise InputError(None, f"--q1: {exc}") from None
+        from .validate import check_q1
+
+        psd = psd.with_q1(check_q1(args.q1, psd.q0_per_m))   # SelfAffinePSD needs q0 < q1
     return psd, dict(q0_per_m=psd.q_min_per_m, q1_per_m=psd.q1_per_m, extended_decades=0.0)
 
 
@@ -156,10 +161,8 @@ def run_friction(args):
         res = friction_of(psd, settings, v, tol=args.tol)
     except RuntimeError as exc:
         raise InputError(None, f"friction: {exc}") from None
-    except InputError:
-        raise
-    except ValueError as exc:
-        raise InputError(None, str(exc)) from None
+    # no `except ValueError`: the flags were checked above (settings_from_args, _psd), so a
+    # ValueError from the engine is a bug (exit 1, "internal error"), not bad input
     prov = _provenance(args, psd, band, res, rubber, settings, v, kw)
     out = Path(args.out)
     if out.suffix.lower() == ".png":
