@@ -4,7 +4,8 @@ with the profile's own 1D PSD in ``psd1d.csv``, ``q_per_m,C1_m3``) and ``psd_ban
 band friction integrated it over, and the fit above it), ``mu.csv``
 (``v_m_per_s,mu,area_fraction[,T_flash_max_C],extrapolated_share``), ``texture_spectrum.csv``,
 the figures (``heightmap.png`` or ``profile.png``, ``psd.png``, ``psd2d.png``, ``mu.png``,
-``texture_spectrum.png``) and a self-contained ``report.html``.
+``texture_spectrum.png``) and a self-contained ``report.html``. Several scans in one run: also
+``summary.csv`` and a summary ``report.html`` beside their folders (:func:`write_many_summary`).
 """
 from __future__ import annotations
 
@@ -13,7 +14,7 @@ import numpy as np
 from . import report
 
 __all__ = ["write_outputs", "psd2d_picture", "draw_psd2d_figure", "PSD_HEADER", "MU_HEADER",
-           "MU_EXTRA", "PSD1D_HEADER"]
+           "MU_EXTRA", "PSD1D_HEADER", "SUMMARY_HEADER", "summary_rows", "write_many_summary"]
 
 PSD_HEADER = ["q_per_m", "C_m4"]
 MU_HEADER = ["v_m_per_s", "mu"]
@@ -242,3 +243,75 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
         sections.insert(-1 if figs else len(sections), shares)
     report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,
                       intro=report.instrument_html(summary.get("instrument")))
+
+
+#: the columns of a several-scan run's ``summary.csv`` (SI units; ``report.html`` shows them in
+#: the reader's units), then ``warnings``
+SUMMARY_HEADER = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction",
+                  "mu_peak", "etd_m", "ifi_speed_constant_kmh"]
+
+
+def summary_rows(rows):
+    """One row of ``summary.csv`` per analysed scan, in :data:`SUMMARY_HEADER`'s order (SI; None
+    where a quantity was not computed, e.g. no friction).
+
+    Parameters
+    ----------
+    rows : list of tuple
+        (output sub-folder, the scan's summary.json dict).
+
+    Returns
+    -------
+    list of list
+    """
+    return [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],
+             d["filled_fraction"], d.get("friction", {}).get("mu_peak"), d.get("etd_m"),
+             d.get("ifi_speed_constant_kmh")] for s, d in rows]
+
+
+def write_many_summary(out_dir, rows, warnings):
+    """Write the files of a several-scan ``roadscan analyse``: ``summary.csv`` (one row a scan,
+    :data:`SUMMARY_HEADER` then ``warnings``: that scan's warnings in one quoted cell joined by
+    " | ", floats to 6 significant digits) and ``report.html`` (the table in the reader's units,
+    the warnings, links to each scan's report), both written atomically.
+
+    Parameters
+    ----------
+    out_dir : Path
+        Output folder (each scan's files in a sub-folder named as in ``rows``).
+    rows : list of tuple
+        (sub-folder, the scan's summary.json dict).
+    warnings : list of list of str
+        Each scan's warnings.
+
+    Returns
+    -------
+    list of list
+        The rows of summary.csv (without the warnings).
+    """
+    from roadscan.io.atomic import atomic_write_text
+
+    header, table = SUMMARY_HEADER, summary_rows(rows)
+    lines = [",".join(header)] + [",".join("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))
+                                           for c in r) for r in table]
+    lines = [lines[0] + ",warnings"] + [
+        f'{ln},"{" | ".join(w).replace(chr(34), chr(34) * 2)}"' for ln, w in zip(lines[1:], warnings)]
+    atomic_write_text(out_dir / "summary.csv", "\n".join(lines) + "\n")
+    links = report.list_html([s for s, _ in rows], links=[f"{s}/report.html" for s, _ in rows])
+    sections = [("Scans", _scans_html(table, header)), ("Reports", links)]
+    warned = [[s, w] for (s, _), ws in zip(rows, warnings) for w in ws]
+    if warned:
+        sections.insert(1, ("Warnings", report.table_html(warned, ["scan", "warning"])))
+    report.write_html(out_dir / "report.html", "roadscan analyse: summary", sections)
+    return table
+
+
+def _scans_html(table, header):
+    """The summary table in the reader's units (mm, µm, %, km/h; summary.csv keeps SI)."""
+    from .units_format import label_of, quantity, sig3
+
+    shown = [[r[0]] + [f"{sig3(100 * c)} %" if k == "filled_fraction" and c is not None else
+                       quantity(k, c) for k, c in zip(header[1:], r[1:])] for r in table]
+    names = {"hurst": "H", "hurst_stderr": "± H", "mpd_m": "MPD", "etd_m": "ETD", "mu_peak": "peak μ",
+             "ifi_speed_constant_kmh": "IFI Sp"}
+    return report.table_html(shown, [names.get(h, label_of(h)) for h in header])

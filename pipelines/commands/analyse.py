@@ -56,7 +56,6 @@ def _load(path, args):
 
 
 def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
-    from .. import report
     from ..analyse import run_analysis
     from ..units_format import length
 
@@ -79,36 +78,8 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
 
             print(f"{path}: H = {hurst_text(summary)}, "
                   f"rms height = {length(summary['rms_height_m'])} -> {final / 'report.html'}")
-    if many:
-        header = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction", "mu_peak",
-                  "etd_m", "ifi_speed_constant_kmh"]
-        table = [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],
-                  d["filled_fraction"], d.get("friction", {}).get("mu_peak"), d.get("etd_m"),
-                  d.get("ifi_speed_constant_kmh")] for s, d in rows]
-        from roadscan.io.atomic import atomic_write_text
+    if many:                                   # summary.csv and the summary report.html
+        from ..analyse_outputs import write_many_summary
 
-        lines = [",".join(header)] + [",".join("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))
-                                               for c in r) for r in table]
-        # each scan's warnings, one quoted cell joined by " | "
-        lines = [lines[0] + ",warnings"] + [
-            f'{ln},"{" | ".join(w).replace(chr(34), chr(34) * 2)}"' for ln, w in zip(lines[1:], own)]
-        atomic_write_text(out / "summary.csv", "\n".join(lines) + "\n")
-        links = report.list_html([s for s, _ in rows], links=[f"{s}/report.html" for s, _ in rows])
-        sections = [("Scans", _scans_html(table, header)), ("Reports", links)]
-        warned = [[s, w] for (s, _), ws in zip(rows, own) for w in ws]
-        if warned:
-            sections.insert(1, ("Warnings", report.table_html(warned, ["scan", "warning"])))
-        report.write_html(out / "report.html", "roadscan analyse: summary", sections)
+        write_many_summary(out, rows, own)
     return rows
-
-
-def _scans_html(table, header):
-    """The summary table in the reader's units (mm, µm, %, km/h; summary.csv keeps SI)."""
-    from .. import report
-    from ..units_format import label_of, quantity, sig3
-
-    shown = [[r[0]] + [f"{sig3(100 * c)} %" if k == "filled_fraction" and c is not None else
-                       quantity(k, c) for k, c in zip(header[1:], r[1:])] for r in table]
-    names = {"hurst": "H", "hurst_stderr": "± H", "mpd_m": "MPD", "etd_m": "ETD", "mu_peak": "peak μ",
-             "ifi_speed_constant_kmh": "IFI Sp"}
-    return report.table_html(shown, [names.get(h, label_of(h)) for h in header])
