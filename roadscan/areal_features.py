@@ -10,14 +10,19 @@ is at least T. This is the same set as the h-maxima transform's (scikit-image ``
 tested against it) and as a union-find over the points from the highest down (tested too).
 
 How it is computed, in numpy alone (the critical points of the discrete surface): heights are
-ordered by (z, flattened index); the pattern of each point's higher neighbours is read in a
-few passes; a point with none is a maximum, a point whose higher neighbours form two or more
-groups (8-adjacency among them) is a possible saddle, the only places where components of
-the superlevel set meet. From each group of a saddle a path uphill reaches the maximum of
-that component; the saddle heights between maxima then form the hill graph, merged by
-vectorised Boruvka rounds (a component whose highest edge leads to a higher one merges there,
-as the ordered merging would) and the ordered merging of what is left. Pits likewise, on the
-neighbour patterns reversed.
+ordered by (z, flattened index); the 8-bit pattern of each point's higher neighbours comes
+from four comparisons on the flattened field (each also gives the opposite neighbour's bit);
+a point with none is a maximum, a point whose higher neighbours form two or more groups
+(8-adjacency among them) is a possible saddle, the only places where components of the
+superlevel set meet (looked up in a table only where the ring holds two runs of higher
+neighbours or more). From each group of a saddle a path uphill, all paths in one vectorised
+walk, reaches the maximum of that component; the saddle heights between maxima then form the
+hill graph, merged by vectorised Boruvka rounds (a component whose highest edge leads to a
+higher one merges there, as the ordered merging would; the components left are numbered
+afresh) and the ordered merging of the few edges left. Pits likewise, on the neighbour
+patterns reversed (their critical points come from the same pass). For the parameters only
+the significant set is needed: the rounds stop once every component left stands at least T
+above its highest saddle, as its prominence is then at least T.
 
 - Spd [1/m^2] = number of significant peaks / projected area;
 - Spc [1/m] = -(1/2) mean over significant peaks of (d2z/dx2 + d2z/dy2), second differences
@@ -86,113 +91,203 @@ def _ring_tables():
 _NGROUPS, _REPS, _STEP = _ring_tables()
 
 
+def _kind_table():
+    """For each pattern of higher neighbours of an inner point: bit 0 a possible saddle of the
+    peaks (two or more groups of higher neighbours), bit 1 of the pits (of lower ones), bit 2
+    a maximum, bit 3 a minimum."""
+    codes = np.arange(256)
+    return ((_NGROUPS >= 2) | (_NGROUPS[255 - codes] >= 2) << 1
+            | (codes == 0) << 2 | (codes == 255) << 3).astype(np.uint8)
+
+
+_KIND = _kind_table()
+
+
 def _higher_code(z):
     """8-bit pattern of each point's neighbours that come after it in the order (z, flattened
-    index), bit k for ring position k; neighbours outside the field never do."""
+    index), bit k for ring position k; neighbours outside the field never do. Four comparisons,
+    one per earlier neighbour, on the flattened field (contiguous; the pairs that wrap around
+    a row end are cleared after): a neighbour comes after a point exactly when the point does
+    not come after it."""
     ny, nx = z.shape
-    pad = np.full((ny + 2, nx + 2), -np.inf, dtype=z.dtype)
-    pad[1:-1, 1:-1] = z
-    code = np.zeros((ny, nx), np.uint8)
-    above = np.empty((ny, nx), bool)
-    for k, (dy, dx) in enumerate(_RING):
-        nb = pad[1 + dy:ny + 1 + dy, 1 + dx:nx + 1 + dx]
-        # equal heights: the later point in the flattened order is the higher
-        (np.greater_equal if dy * nx + dx > 0 else np.greater)(nb, z, out=above)
-        code |= above.view(np.uint8) << np.uint8(k)
+    flat = z.ravel()
+    code = np.zeros(ny * nx, np.uint8)
+    for k in (0, 1, 2, 7):                        # offsets (-1, -1), (-1, 0), (-1, 1), (0, -1)
+        dy, dx = _RING[k]
+        o = -(dy * nx + dx)
+        if not 0 < o < flat.size:                 # (a single column has no (-1, 1))
+            continue
+        t = np.greater(flat[:-o], flat[o:]).view(np.uint8)  # equal: the earlier is the lower
+        bit = np.multiply(t, np.uint8(1 << k))    # (a multiplication: faster than a shift)
+        code[o:] |= bit
+        t ^= np.uint8(1)                          # the point seen from that neighbour
+        np.multiply(t, np.uint8(1 << (k + 4) % 8), out=bit)
+        code[:-o] |= bit
+    code = code.reshape(ny, nx)
+    code[:, 0] &= np.uint8(sum(1 << k for k, (dy, dx) in enumerate(_RING) if dx >= 0))
+    code[:, -1] &= np.uint8(sum(1 << k for k, (dy, dx) in enumerate(_RING) if dx <= 0))
     return code
 
 
 def _lower_code(code):
     """The pattern of each point's lower neighbours (the order reversed) from its higher ones."""
-    ny, nx = code.shape
-    inside = np.full((ny, nx), 255, np.uint8)
+    low = ~code
     for k, (dy, dx) in enumerate(_RING):
         bit = np.uint8(255 ^ (1 << k))
         if dy:
-            inside[0 if dy < 0 else -1, :] &= bit
+            low[0 if dy < 0 else -1, :] &= bit
         if dx:
-            inside[:, 0 if dx < 0 else -1] &= bit
-    return ~code & inside
+            low[:, 0 if dx < 0 else -1] &= bit
+    return low
 
 
-def _critical_graph(z, code):
-    """(flattened maxima, edges a, b between maxima indices, saddle heights) from the neighbour
-    patterns: a point whose higher neighbours form g >= 2 groups may join g components of the
-    superlevel set above it; each group is followed uphill (any higher neighbour, heights
-    increase, so the path stays above the point) to the maximum it belongs to."""
+def _critical_points(code, low, z):
+    """(maxima, saddles of the peaks, minima, saddles of the pits), flattened indices in
+    increasing order, and their heights in ``z``, from the patterns of higher and lower
+    neighbours. Looked up in the table: the points with no higher neighbour, all, or two runs
+    of them on the ring or more (two groups need two runs, of the higher and so of the lower
+    ones); the border from both patterns."""
     ny, nx = code.shape
-    flat = code.ravel()
-    off = np.array([dy * nx + dx for dy, dx in _RING], dtype=np.int64)
-    maxima = np.flatnonzero(flat == 0)
-    sad = np.flatnonzero(_NGROUPS[flat] >= 2)
-    sc = flat[sad]
-    g = _NGROUPS[sc].astype(np.intp)
-    first_of = np.repeat(np.cumsum(g) - g, g)     # each saddle's first group
-    col = np.arange(first_of.size) - first_of
-    cur = np.repeat(sad, g) + off[_REPS[np.repeat(sc, g), col]]
-    step = off[_STEP]
-    slot = np.flatnonzero(flat[cur] != 0)         # the unfinished paths and where they are
-    pos = cur[slot]
-    while slot.size:                              # uphill, one step at a time
-        pos += step[flat[pos]]
-        top = flat[pos] == 0
-        cur[slot[top]] = pos[top]
-        slot, pos = slot[~top], pos[~top]
-    label = np.empty(flat.size, np.int32 if maxima.size < 2 ** 31 else np.int64)
-    label[maxima] = np.arange(maxima.size)
-    dest = label[cur]
-    other = col > 0
-    return maxima, dest[first_of[other]], dest[other], np.repeat(z.ravel()[sad], g)[other]
+    run = code * np.uint8(2)                      # bit k: bit k - 1 of the pattern
+    run |= (code >= 128).view(np.uint8)
+    np.invert(run, out=run)
+    run &= code                                   # the first cell of each run
+    more = run - 1
+    more &= run                                   # nonzero: two runs or more
+    ends = code + 1
+    ends &= 254                                   # zero: no higher neighbour, or all
+    look = more != 0
+    look |= ends == 0
+    look[0, :] = look[-1, :] = look[:, 0] = look[:, -1] = True
+    cand = np.flatnonzero(look)
+    k = np.take(_KIND, np.take(code.ravel(), cand))
+    # the border (all of it in cand), where the lower pattern is not the higher one inverted
+    rows = np.arange(1, ny - 1) * nx
+    side = np.concatenate([np.arange(nx), np.arange(cand.size - nx, cand.size),
+                           np.searchsorted(cand, rows), np.searchsorted(cand, rows + nx - 1)])
+    c, lo = np.take(code.ravel(), cand[side]), np.take(low.ravel(), cand[side])
+    k[side] = ((_NGROUPS[c] >= 2) | (_NGROUPS[lo] >= 2) << 1 | (c == 0) << 2 | (lo == 0) << 3)
+    zc = np.take(z.ravel(), cand)
+    kinds = [(k & np.uint8(bit)) != 0 for bit in (4, 1, 8, 2)]
+    return [np.compress(i, cand) for i in kinds], [np.compress(i, zc) for i in kinds]
 
 
-def _change_tree(top, a, b, saddle, rounds=3):
-    """Prominence of each maximum (heights ``top``) over the graph of saddle edges: Kruskal's
-    merging from the highest saddle down, where the lower component's summit gets its height
-    above the saddle. First a few vectorised Boruvka rounds: a component whose highest edge
-    leads to a higher component is merged into it at that edge (exactly what the ordered
-    merging does, as no other edge of it comes earlier); then the ordered merging of the rest."""
-    m = top.size                                  # ``top`` is in flattened-index order:
-    prom = np.full(m, np.inf)
-    keep = a != b
-    a, b, saddle = a[keep], b[keep], saddle[keep]
-    root = np.arange(m)
-    for _ in range(rounds):
-        n = a.size
-        if n == 0:
+def _climb(flat, start, step, sparse=0.3):
+    """Where the paths from ``start`` end: each point steps to the neighbour ``step[pattern]``
+    until the pattern is 0 (an extremum). Ended paths stand still (the step of pattern 0 is
+    made 0) until fewer than ``sparse`` of those carried on are still moving."""
+    step = step.copy()
+    step[0] = 0
+    end = start.copy()
+    pos, slot = end, None                         # slot: which paths pos holds (None: all)
+    while True:
+        c = np.take(flat, pos)
+        moving = np.count_nonzero(c)
+        if moving == 0:
             break
+        if moving < sparse * pos.size:
+            if slot is not None:
+                end[slot] = pos
+            keep = np.flatnonzero(c != 0)
+            slot = keep if slot is None else np.take(slot, keep)
+            pos, c = np.take(pos, keep), np.take(c, keep)
+        pos += np.take(step, c)
+    if slot is not None:
+        end[slot] = pos
+    return end
+
+
+def _critical_graph(flat, nx, extrema, sad, label):
+    """(edges a, b between extrema indices, and the saddle of each edge as its index in
+    ``sad``) from the patterns ``flat``: a point whose higher neighbours form g >= 2 groups may
+    join g components of the superlevel set above it; each group is followed uphill (a higher
+    neighbour each step, so the path stays above the point) to the maximum it belongs to, and
+    the first group's maximum is joined to each other's. ``label`` is int32 scratch of the
+    size of ``flat``."""
+    off = np.array([dy * nx + dx for dy, dx in _RING], dtype=np.int64 if flat.size >= 2 ** 31
+                   else np.int32)
+    reps = np.where(_REPS >= 0, off[_REPS], 0)    # (256, 4): where each group's path starts
+    sc = np.take(flat, sad)
+    more = [np.flatnonzero(np.take(_NGROUPS, sc) > j) for j in (2, 3)]   # a third, a fourth
+    sad32 = sad.astype(np.int32 if flat.size < 2 ** 31 else np.int64)
+    start = np.concatenate([sad32 + np.take(reps[:, 0], sc), sad32 + np.take(reps[:, 1], sc)]
+                           + [np.take(sad32, i) + np.take(reps[:, j + 2], np.take(sc, i))
+                              for j, i in enumerate(more)])
+    end = _climb(flat, start, np.take(off, _STEP))
+    label[extrema] = np.arange(extrema.size, dtype=np.int32)
+    dest = np.take(label, end)
+    n = sad.size
+    first = np.concatenate([dest[:n]] + [np.take(dest, i) for i in more])
+    return first, dest[n:], np.concatenate([np.arange(n)] + more)
+
+
+def _change_tree(top, a, b, saddle, threshold=None, few=4000):
+    """Prominence of each maximum (heights ``top``, in flattened-index order) over the graph of
+    saddle edges: Kruskal's merging from the highest saddle down, where the lower component's
+    summit gets its height above the saddle.
+
+    First vectorised Boruvka rounds until at most ``few`` edges are left: a component whose
+    highest edge leads to a higher component is merged into it at that edge (exactly what the
+    ordered merging does, as no other edge of it comes earlier); the components left are then
+    numbered afresh. Then the ordered merging of the rest, each pair of components once with
+    its highest saddle. With a ``threshold``, only whether a prominence reaches it is exact:
+    the rounds stop once every component left stands at least that far above its highest
+    saddle (its summit's prominence is then at least that: a later merging saddle is lower),
+    and those are left infinite."""
+    prom = np.full(top.size, np.inf)
+    ids = np.arange(top.size)                     # the summit of each component left
+    keep = np.flatnonzero(a != b)
+    a, b, saddle = np.take(a, keep), np.take(b, keep), np.take(saddle, keep)
+    while a.size > few:
+        m = top.size
         best = np.full(m, -np.inf)                # the highest saddle of each component
         np.maximum.at(best, a, saddle)
         np.maximum.at(best, b, saddle)
+        if threshold is not None:
+            low = top - best < threshold
+            low[m - 1 - np.argmax(top[::-1])] = False             # the highest summit
+            if not low.any():
+                return prom
         edge = np.full(m, -1)                     # an edge reaching it (equal saddles: any)
-        idx = np.arange(n)
-        on = saddle == best[b]
-        edge[b[on]] = idx[on]
-        on = saddle == best[a]
-        edge[a[on]] = idx[on]
+        on = np.flatnonzero(saddle == np.take(best, b))
+        edge[np.take(b, on)] = on
+        on = np.flatnonzero(saddle == np.take(best, a))
+        edge[np.take(a, on)] = on
         v = np.flatnonzero(edge >= 0)
-        e = edge[v]
-        o = np.where(a[e] == v, b[e], a[e])
-        up = (top[o] > top[v]) | ((top[o] == top[v]) & (o > v))   # equal heights: by index
-        v, e, o = v[up], e[up], o[up]
-        prom[v] = top[v] - saddle[e]
+        e = np.take(edge, v)
+        ea, eb = np.take(a, e), np.take(b, e)
+        o = np.where(ea == v, eb, ea)
+        tv, to = np.take(top, v), np.take(top, o)
+        up = np.flatnonzero((to > tv) | ((to == tv) & (o > v)))   # equal heights: by index
+        if not up.size:
+            break
+        v, o = np.take(v, up), np.take(o, up)
+        prom[np.take(ids, v)] = np.take(tv, up) - np.take(saddle, np.take(e, up))
+        root = np.arange(m)
         root[v] = o
-        while True:
-            nxt = root[root]
-            if np.array_equal(nxt, root):
+        while True:                               # to the final component, by pointer jumping
+            nxt = np.take(root, o)
+            if np.array_equal(nxt, o):
                 break
-            root = nxt
-        a, b = root[a], root[b]
-        keep = a != b
-        a, b, saddle = a[keep], b[keep], saddle[keep]
+            o = nxt
+            root[v] = o
+        left = np.ones(m, bool)
+        left[v] = False
+        renumber = np.cumsum(left) - 1
+        ids, top = ids[left], top[left]
+        root = np.take(renumber, root)
+        a, b = np.take(root, a), np.take(root, b)
+        keep = np.flatnonzero(a != b)
+        a, b, saddle = np.take(a, keep), np.take(b, keep), np.take(saddle, keep)
     if a.size:                                    # each pair once, with its highest saddle,
         order = np.argsort(saddle, kind="stable")[::-1]   # from the highest down
         a, b, saddle = a[order], b[order], saddle[order]
         lo, hi = np.minimum(a, b), np.maximum(a, b)
-        _, first = np.unique(lo * m + hi, return_index=True)
+        _, first = np.unique(lo.astype(np.int64) * top.size + hi, return_index=True)
         first.sort()
         a, b, saddle = a[first], b[first], saddle[first]
     parent = {}
-    topl = top.tolist()
+    topl, idl = top.tolist(), ids.tolist()
 
     def find(i):
         while True:
@@ -209,14 +304,17 @@ def _change_tree(top, a, b, saddle, rounds=3):
             continue
         if (topl[ra], ra) < (topl[rb], rb):
             ra, rb = rb, ra
-        prom[rb] = topl[rb] - e
+        prom[idl[rb]] = topl[rb] - e
         parent[rb] = ra
     return prom
 
 
-def _prominences_from_code(z, code):
-    maxima, a, b, saddle = _critical_graph(z, code)
-    return maxima, _change_tree(z.ravel()[maxima], a, b, saddle)
+def _extremum_prominences(flat, nx, extrema, sad, label, top, sh, threshold=None):
+    """Prominence of each extremum (flattened indices ``extrema``, heights ``top``), ``flat``
+    the patterns of higher neighbours, ``sad`` the possible saddles (heights ``sh``); for pits
+    all heights negated."""
+    a, b, s = _critical_graph(flat, nx, extrema, sad, label)
+    return _change_tree(top, a, b, np.take(sh, s), threshold)
 
 
 def prominences(z):
@@ -243,25 +341,28 @@ def prominences(z):
     generalization, Computers & Geosciences 17, 1359-1381.
     """
     z = np.asarray(z, dtype=np.float64)
-    return _prominences_from_code(z, _higher_code(_order_copy(z)))
+    order = _order_copy(z, z.mean())
+    code = _higher_code(order)
+    (maxima, sad, _, _), (top, sh, _, _) = _critical_points(code, _lower_code(code), z)
+    label = order.view(np.int32).ravel()          # scratch now
+    return maxima, _extremum_prominences(code.ravel(), z.shape[1], maxima, sad, label, top, sh)
 
 
-def _order_copy(z):
+def _order_copy(z, mean):
     """Heights in float32 about their mean, for ordering only (half the memory traffic; a
     resolution of 1e-7 of the range, far below the pruning threshold)."""
-    return (z - z.mean()).astype(np.float32)
+    return np.subtract(z, mean, out=np.empty(z.shape, np.float32), casting="unsafe")
 
 
-def _significant(z, code, threshold):
-    """(row, column) of the summit of each significant interior peak of ``z`` and its height,
-    ``code`` its pattern of higher neighbours."""
-    summits, prom = _prominences_from_code(z, code)
-    keep = summits[prom >= threshold]
+def _significant(z, extrema, prom, threshold, sign):
+    """(row, column) of each significant interior extremum of ``z`` and its height (times
+    ``sign``)."""
+    keep = extrema[prom >= threshold]
     ny, nx = z.shape
     r, c = keep // nx, keep % nx
     inner = (r > 0) & (r < ny - 1) & (c > 0) & (c < nx - 1)
     pos = np.stack([r[inner], c[inner]], axis=1)
-    return pos, z[pos[:, 0], pos[:, 1]]
+    return pos, sign * z[pos[:, 0], pos[:, 1]]
 
 
 def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
@@ -283,17 +384,25 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
         (the threshold, the counts and the block size used).
     """
     z = np.asarray(heights_m, dtype=np.float64)
-    if np.isnan(z).any():
+    mean = z.mean()
+    if np.isnan(mean) and np.isnan(z).any():     # (NaN anywhere makes the mean NaN)
         z = np.where(np.isfinite(z), z, 0.0)
+        mean = z.mean()
     ny, nx = z.shape
     sz = float(z.max() - z.min())
     if sz <= 0:
         return {"Spd_per_m2": 0.0, "Spc_per_m": None, "S10z_m": 0.0, "S5p_m": 0.0, "S5v_m": 0.0,
                 "features_note": "flat surface: no peak, no pit"}
     T = prune_fraction * sz
-    code = _higher_code(_order_copy(z))
-    peaks, hp = _significant(z, code, T)
-    pits, hv = _significant(-z, _lower_code(code), T)
+    order = _order_copy(z, mean)
+    code = _higher_code(order)
+    low = _lower_code(code)
+    (maxima, psad, minima, vsad), (zmax, zps, zmin, zvs) = _critical_points(code, low, z)
+    label = order.view(np.int32).ravel()          # scratch now
+    prom = _extremum_prominences(code.ravel(), nx, maxima, psad, label, zmax, zps, T)
+    peaks, hp = _significant(z, maxima, prom, T, 1.0)
+    prom = _extremum_prominences(low.ravel(), nx, minima, vsad, label, -zmin, -zvs, T)
+    pits, hv = _significant(z, minima, prom, T, -1.0)
     area = ny * dy_m * nx * dx_m
     top = np.sort(hp)[::-1][:5]
     deep = np.sort(hv)[::-1][:5]
