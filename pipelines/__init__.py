@@ -4,7 +4,13 @@
 does (:func:`pipelines.api.analyse`; returns an :class:`pipelines.api.AnalysisResult`). The
 building blocks of the chain are in :mod:`pipelines.chain` (:func:`~pipelines.chain.measure`,
 :func:`~pipelines.chain.friction_psd`, :func:`~pipelines.chain.friction_of`,
-:func:`~pipelines.chain.scan_friction`). Names are imported on first use: ``import pipelines``
+:func:`~pipelines.chain.scan_friction`). Every other computing command is one function of
+:mod:`pipelines.api` the same way: :func:`~pipelines.api.compare`,
+:func:`~pipelines.api.dry_vs_wet`, :func:`~pipelines.api.rain_fill`,
+:func:`~pipelines.api.friction`, :func:`~pipelines.api.combine` and
+:func:`~pipelines.api.diagnose` (keywords: the command's long flags with dashes as
+underscores, parsed by the command's own option definitions; each writes the command's files
+and returns the dict of its main JSON). Names are imported on first use: ``import pipelines``
 stays light.
 """
 from __future__ import annotations

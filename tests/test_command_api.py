@@ -14,8 +14,8 @@ from pipelines.cli import main
 ROOT = Path(__file__).resolve().parents[1]
 DX = "5e-5"
 V = "1e-3:10:5"
-#: keys that name the run's own paths
-PATHS = {"scan", "source", "out"}
+#: keys that name the run's own paths, or its timings
+PATHS = {"scan", "source", "out", "seconds"}
 
 
 @pytest.fixture(scope="module")
@@ -31,9 +31,17 @@ def _cli(argv):
     assert main([str(a) for a in argv]) == 0, argv
 
 
+def _aside(d):
+    """``d`` without its paths and timings, at every level."""
+    if isinstance(d, dict):
+        return {k: _aside(v) for k, v in d.items() if k not in PATHS}
+    if isinstance(d, list):
+        return [_aside(v) for v in d]
+    return d
+
+
 def _json(path):
-    d = json.loads(Path(path).read_text())
-    return {k: v for k, v in d.items() if k not in PATHS} if isinstance(d, dict) else d
+    return _aside(json.loads(Path(path).read_text()))
 
 
 def _names(folder):
@@ -45,13 +53,18 @@ def _plain(d):
     return json.loads(json.dumps(d, default=lambda o: o.tolist() if hasattr(o, "tolist") else str(o)))
 
 
+def _json_of(d):
+    """The returned dict without its paths and timings, as its JSON file holds it."""
+    return _aside(_plain(d))
+
+
 def test_dry_vs_wet_api_equals_cli(scan, tmp_path):
     _cli(["dry-vs-wet", scan, "--spacing", DX, "--connectivity", "8", "--nu", "0.45",
           "--velocities", V, "--out", tmp_path / "cli"])
     r = api.dry_vs_wet(scan, tmp_path / "api", spacing=DX, connectivity=8, nu=0.45, velocities=V)
     cli = _json(tmp_path / "cli" / "comparison.json")
     assert _json(tmp_path / "api" / "comparison.json") == cli
-    assert {k: v for k, v in _plain(r).items() if k not in PATHS} == cli
+    assert _json_of(r) == cli
     assert _names(tmp_path / "api") == _names(tmp_path / "cli")
     assert cli["connectivity"] == 8
     r3 = api.dry_vs_wet(scan, tmp_path / "nu3", spacing=DX, connectivity=8, nu=0.3, velocities=V)
@@ -70,8 +83,7 @@ def test_rain_fill_api_equals_cli(scan, tmp_path):
           "--out", tmp_path / "cli"])
     r = api.rain_fill(scan, tmp_path / "api", spacing=DX, water_film=2e-5, no_level=True)
     cli = _json(tmp_path / "cli" / "rainfill.json")
-    assert _json(tmp_path / "api" / "rainfill.json") == cli == {k: v for k, v in _plain(r).items()
-                                                                if k not in PATHS}
+    assert _json(tmp_path / "api" / "rainfill.json") == cli == _json_of(r)
     assert _names(tmp_path / "api") == _names(tmp_path / "cli")
     assert cli["levelled"] is False and cli["water_film_m"] == 2e-5
     r8 = api.rain_fill(scan, tmp_path / "c8", spacing=DX, connectivity=8)
@@ -107,9 +119,6 @@ def test_friction_api_equals_cli(tmp_path):
         api.friction(tmp_path / "c.csv", self_affine=SELF_AFFINE, nu=0.7)
 
 
-def _json_of(d):
-    return {k: v for k, v in _plain(d).items() if k not in PATHS}
-
 
 def test_combine_api_equals_cli(tmp_path):
     from roadscan.synth_measure import measure_synthetic
@@ -130,3 +139,36 @@ def test_combine_api_equals_cli(tmp_path):
     assert fine["merged_band_per_m"] != r["merged_band_per_m"]       # the flag reaches the band
     with pytest.raises(TypeError, match="figures"):
         api.combine(ins, tmp_path / "x", figures=False)
+
+
+@pytest.fixture(scope="module")
+def measured(tmp_path_factory):
+    from pipelines.diagnose.cases import make_case
+    from pipelines.diagnose.inputs import write_psd_csv
+    from pipelines.report import write_csv
+
+    d = tmp_path_factory.mktemp("measured")
+    c = make_case(11, "temperature_offset", scan=False)
+    q = np.geomspace(c.psd.q_min_per_m, c.psd.q1_per_m, 60)
+    psd = write_psd_csv(d / "psd.csv", q, c.psd.C(q))
+    mu = write_csv(d / "mu.csv", ["v_m_per_s", "mu"], [c.curve.v_m_per_s, c.curve.mu])
+    return mu, psd
+
+
+def test_diagnose_api_equals_cli(measured, tmp_path):
+    mu, psd = measured
+    _cli(["diagnose", "--measured", mu, "--psd", psd, "--nu", "0.45", "--noise", "0.02",
+          "--uncertain", "q1=known", "--out", tmp_path / "cli"])      # q1 known: fewer candidates
+    r = api.diagnose(tmp_path / "api", measured=mu, psd=psd, nu=0.45, noise=0.02, uncertain="q1=known")
+    cli = _json(tmp_path / "cli" / "diagnosis.json")
+    assert _json(tmp_path / "api" / "diagnosis.json") == cli == _json_of(r)
+    assert _names(tmp_path / "api") == _names(tmp_path / "cli") == ["diagnosis.json", "report.html"]
+    assert cli["engine_settings"]["nu"] == 0.45 and cli["noise"] == 0.02
+    r3 = api.diagnose(tmp_path / "nu3", measured=mu, psd=psd, nu=0.3, noise=0.02, uncertain="q1=known")
+    assert r3["baseline_gap"] != r["baseline_gap"]          # the flag reaches the model
+    with pytest.raises(TypeError, match="measure"):
+        api.diagnose(tmp_path / "x", measure=mu, psd=psd)
+    from roadscan.errors import InputError
+
+    with pytest.raises(InputError, match="noise"):
+        api.diagnose(tmp_path / "x", measured=mu, psd=psd, noise=-1)

@@ -7,57 +7,41 @@ Friction level: ``roadscan diagnose --measured MU.csv (--scan FILE | --psd FILE)
 that enters P(q), the master curve's frequency coverage (one warning line beyond a decade of
 extrapolation) and the WLF fit of a shift table go into diagnosis.json as in ``roadscan friction``.
 Surface level: ``roadscan diagnose --scan FILE --out DIR``.
-Writes DIR/diagnosis.json and DIR/report.html (see :mod:`pipelines.diagnose`).
+Writes DIR/diagnosis.json and DIR/report.html (see :mod:`pipelines.diagnose`). The command
+parses, calls :func:`pipelines.api.diagnose` and prints.
 """
 from __future__ import annotations
 
-import sys
-
-from ..friction_options import add_friction_options
-from ..scan_input import add_scan_options
+from ..diagnose.job import add_diagnose_options
 
 NAME = "diagnose"
 HELP = "sim-to-real gap: where model and measurement disagree, which unmodelled effect, how much it closes"
 
 
 def add_arguments(p):
-    p.add_argument("--measured", metavar="MU.csv", default=None,
-                   help="measured mu(v): CSV v_m_per_s,mu[,T0_C,sigma0_Pa,condition] (friction level); "
-                        "without it the scan itself is diagnosed (surface level)")
-    p.add_argument("--scan", metavar="FILE", default=None, help="height file (area scan or line profile)")
-    p.add_argument("--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)")
-    add_friction_options(p, master_curve=True, sliding=False, optional=False, q1_help=None)
-    p.add_argument("--noise", type=float, default=None, metavar="RMS",
-                   help="measurement noise as rms of log10 (default: estimated from the data)")
-    p.add_argument("--validate", metavar="OTHER.csv", default=None,
-                   help="a separate measurement predicted by the corrected model without refitting")
+    add_diagnose_options(p)        # every option but --out (pipelines.api.diagnose's too)
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--uncertain", default=None, metavar="KEY=LO:HI,...",
-                   help="inputs known only within a range, calibrated on the training points: q1=LO:HI [1/m] "
-                        "(q1=known: q1 fixed), sigma0=LO:HI (units as --sigma0), psd_scale=LO:HI (factor on C(q)), "
-                        "temperature=LO:HI [C]; any subset")
-    p.add_argument("--measurements", metavar="M.csv", default=None,
-                   help="several measurements at once: CSV measured,rubber,label[,temperature_C,sigma0_Pa] "
-                        "(paths relative to M.csv); q1, psd_scale and sigma0 shared")
-    add_scan_options(p)
-    p.set_defaults(sigma0=None)   # None: not given (the default 0.2MPa is then listed as assumed)
-
-
-def _say(msg):
-    print(msg, file=sys.stderr)
 
 
 def run(args):
-    from ..diagnose.job import run_diagnosis
+    from ..api_options import keywords_of
+    from ..diagnose.job import diagnose
 
-    return run_diagnosis(args, _report, _say)
+    data = diagnose(args.out, **keywords_of(args, add_diagnose_options))
+    if "measurements" in data and "joint" in data:       # several measurements
+        for label, m in data["measurements"].items():
+            v = m["verdict"]
+            eff = v["effect"] if not isinstance(v["effect"], list) else "+".join(v["effect"])
+            print(f"{label}: verdict {eff or ('inconclusive' if v['inconclusive'] else 'null')}"
+                  + (f" ({v['confidence']})" if v.get("confidence") else ""))
+    else:
+        _report(data)
+    print(f"wrote {args.out}/diagnosis.json and {args.out}/report.html")
+    return 0
 
 
-def _report(data, out):
+def _report(data):
     v = data["verdict"]
     eff = v["effect"] if not isinstance(v["effect"], list) else "+".join(v["effect"])
     print(f"{data['level']} level: baseline gap {data['baseline_gap']:.4g}, noise {data['noise']:.4g}; "
           f"verdict: {eff or 'null'}" + (f" (held-out shrink {v['shrink']:.0%})" if v.get("shrink") is not None else ""))
-    print(f"wrote {out}/diagnosis.json and {out}/report.html")
-
-

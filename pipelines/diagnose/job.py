@@ -1,7 +1,8 @@
-"""The ``roadscan diagnose`` job from parsed options: which level runs (surface, friction,
-several compounds), the checks of its inputs, the engine settings it records, the atomic
-output folder. :mod:`pipelines.commands.diagnose` only parses, calls :func:`run_diagnosis`
-and prints.
+"""The ``roadscan diagnose`` job: its options (:func:`add_diagnose_options`), the keyword call
+:func:`diagnose` (``pipelines.api.diagnose``) and the job on parsed options
+(:func:`run_diagnosis`): which level runs (surface, friction, several compounds), the checks
+of its inputs, the engine settings it records, the atomic output folder.
+:mod:`pipelines.commands.diagnose` only parses, calls :func:`diagnose` and prints.
 """
 from __future__ import annotations
 
@@ -13,29 +14,113 @@ from ..friction_options import (check_contact_args, parse_pressure, rubber_from_
                                with_extrapolation)
 from ..scan_input import load_scan
 
-__all__ = ["run_diagnosis"]
+__all__ = ["diagnose", "add_diagnose_options", "run_diagnosis"]
 
 
 def _say(msg):
     print(msg, file=sys.stderr)
 
 
-def run_diagnosis(args, report, say):
-    """Run ``roadscan diagnose`` with parsed options ``args``.
+def add_diagnose_options(p):
+    """Every option of ``roadscan diagnose`` but ``--out``: the measurement(s), the surface
+    (``--scan`` or ``--psd``), the rubber, contact and pressure options, ``--noise``,
+    ``--validate``, ``--uncertain`` and how a scan is read.
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser to extend.
+
+    Returns
+    -------
+    None
+    """
+    from ..friction_options import add_friction_options
+    from ..scan_input import add_scan_options
+
+    p.add_argument("--measured", metavar="MU.csv", default=None,
+                   help="measured mu(v): CSV v_m_per_s,mu[,T0_C,sigma0_Pa,condition] (friction level); "
+                        "without it the scan itself is diagnosed (surface level)")
+    p.add_argument("--scan", metavar="FILE", default=None, help="height file (area scan or line profile)")
+    p.add_argument("--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)")
+    add_friction_options(p, master_curve=True, sliding=False, optional=False, q1_help=None)
+    p.add_argument("--noise", type=float, default=None, metavar="RMS",
+                   help="measurement noise as rms of log10 (default: estimated from the data)")
+    p.add_argument("--validate", metavar="OTHER.csv", default=None,
+                   help="a separate measurement predicted by the corrected model without refitting")
+    p.add_argument("--uncertain", default=None, metavar="KEY=LO:HI,...",
+                   help="inputs known only within a range, calibrated on the training points: q1=LO:HI [1/m] "
+                        "(q1=known: q1 fixed), sigma0=LO:HI (units as --sigma0), psd_scale=LO:HI (factor on C(q)), "
+                        "temperature=LO:HI [C]; any subset")
+    p.add_argument("--measurements", metavar="M.csv", default=None,
+                   help="several measurements at once: CSV measured,rubber,label[,temperature_C,sigma0_Pa] "
+                        "(paths relative to M.csv); q1, psd_scale and sigma0 shared")
+    add_scan_options(p)
+    p.set_defaults(sigma0=None)   # None: not given (the default 0.2MPa is then listed as assumed)
+
+
+def diagnose(out, **options):
+    """``roadscan diagnose`` as one call: the sim-to-real gap (where model and measurement
+    disagree, which unmodelled effect explains it, how much adding it closes the gap), written
+    into ``out`` (``diagnosis.json`` and ``report.html``, all or none).
+
+    The level follows the options as on the command line: ``measured="mu.csv"`` with ``scan=``
+    or ``psd=`` (friction level), ``measurements="m.csv"`` with ``scan=`` or ``psd=`` (several
+    compounds, shared inputs calibrated jointly), ``scan=`` alone (surface level: the scan
+    against its Gaussian self-affine twin). ``options`` are the command's long flags with
+    dashes as underscores, taking what the flag takes (``sigma0="0.3MPa"``, ``nu=0.45``,
+    ``noise=0.02``, ``uncertain="q1=1e5:1e7"``, ``rubber="r.toml"``), parsed by the command's own
+    option definitions (:func:`add_diagnose_options`). Friction: Persson, J. Chem. Phys. 115,
+    3840 (2001); the held-out verdict and the evidence as in :mod:`pipelines.diagnose`.
+
+    Parameters
+    ----------
+    out : str or Path
+        Output folder, as ``--out``.
+    **options
+        ``roadscan diagnose``'s long flags with dashes as underscores.
+
+    Returns
+    -------
+    dict
+        The ``diagnosis.json`` content: for one measurement or a scan ``level``,
+        ``baseline_gap``, ``noise``, ``verdict`` (``effect``, ``shrink``, ``confidence``...),
+        the candidates, ``inputs`` (values, files with sha256, what was assumed) and the
+        engine settings; with ``measurements``: ``joint`` and per label ``measurements``.
+
+    Raises
+    ------
+    TypeError
+        An unknown keyword.
+    roadscan.errors.InputError
+        A value the flag refuses, or inputs the diagnosis cannot use (one line).
+    """
+    import os
+
+    from ..analyse_options import options_from_kwargs
+    from ..validate import collecting
+
+    args = options_from_kwargs(options, "diagnose", add_diagnose_options)
+    args.out = os.fspath(out)
+    with collecting():
+        return run_diagnosis(args, _say)
+
+
+def run_diagnosis(args, say=_say):
+    """Run ``roadscan diagnose`` on parsed options ``args`` (those of
+    :func:`add_diagnose_options` and ``out``).
 
     Parameters
     ----------
     args : argparse.Namespace
         The options of ``roadscan diagnose``.
-    report : callable
-        ``report(data, out)`` prints the headline of a finished diagnosis.
-    say : callable
+    say : callable, optional
         ``say(message)`` prints one progress or warning line.
 
     Returns
     -------
-    int
-        The command's exit code (0).
+    dict
+        The ``diagnosis.json`` content.
     """
     import numpy as np
 
@@ -50,7 +135,7 @@ def run_diagnosis(args, report, say):
     if args.measurements is not None:
         from ..diagnose.run_command import run_measurements
 
-        return run_measurements(args, uncertain, _settings, report, say)
+        return run_measurements(args, uncertain, _settings, say)
     if args.measured is None:
         if args.scan is None:
             raise InputError(None, "give --measured MU.csv with --scan/--psd (friction level) or --scan alone (surface level)")
@@ -68,8 +153,7 @@ def run_diagnosis(args, report, say):
                 data = run_surface(obj, tmp, log=say)
         except (ValueError, np.linalg.LinAlgError) as exc:
             raise InputError(args.scan, f"cannot diagnose the scan ({exc})") from None
-        report(data, args.out)
-        return 0
+        return data
     if (args.scan is None) == (args.psd is None):
         raise InputError(args.measured, "the friction level needs exactly one of --scan FILE or --psd FILE")
     from ..diagnose.inputs import build_context
@@ -99,8 +183,7 @@ def run_diagnosis(args, report, say):
     with atomic_output_dir(args.out, inputs=inputs) as tmp:
         data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=say, extra=extra,
                             uncertain=uncertain, inputs=provenance_hints(args, uncertain))
-    report(data, args.out)
-    return 0
+    return data
 
 
 def _settings(args, curve, other, psd, band, rubber):

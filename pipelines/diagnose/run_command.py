@@ -79,7 +79,7 @@ def load_surface(args, say):
     return psd, band, scan, spec, fit
 
 
-def run_measurements(args, uncertain, settings_fn, report_fn, say):
+def run_measurements(args, uncertain, settings_fn, say):
     """``roadscan diagnose --measurements M.csv (--psd P | --scan S) --out DIR``: every row's
     verdict with the shared inputs calibrated jointly; writes DIR/diagnosis.json (``joint``,
     ``measurements``) and DIR/report.html.
@@ -90,15 +90,15 @@ def run_measurements(args, uncertain, settings_fn, report_fn, say):
         Parsed flags.
     uncertain : dict
         Uncertain ranges.
-    settings_fn, report_fn : callable
-        Engine settings and report writers.
+    settings_fn : callable
+        The engine settings of one measurement.
     say : callable
         Prints one line.
 
     Returns
     -------
-    int
-        Exit code.
+    dict
+        The ``diagnosis.json`` content.
     """
     from dataclasses import replace
 
@@ -142,10 +142,4 @@ def run_measurements(args, uncertain, settings_fn, report_fn, say):
     with atomic_output_dir(args.out, inputs=inputs) as tmp:
         rep.write_json(tmp / "diagnosis.json", data)
         write_joint_report(tmp, data, results)
-    for label, m in data["measurements"].items():
-        v = m["verdict"]
-        eff = v["effect"] if not isinstance(v["effect"], list) else "+".join(v["effect"])
-        print(f"{label}: verdict {eff or ('inconclusive' if v['inconclusive'] else 'null')}"
-              + (f" ({v['confidence']})" if v.get("confidence") else ""))
-    print(f"wrote {args.out}/diagnosis.json and {args.out}/report.html")
-    return 0
+    return data
