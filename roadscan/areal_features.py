@@ -21,8 +21,9 @@ hill graph, merged by vectorised Boruvka rounds (a component whose highest edge 
 higher one merges there, as the ordered merging would; the components left are numbered
 afresh) and the ordered merging of the few edges left. Pits likewise, on the neighbour
 patterns reversed (their critical points come from the same pass). For the parameters only
-the significant set is needed: the rounds stop once every component left stands at least T
-above its highest saddle, as its prominence is then at least T.
+the significant set is needed: a component standing at least T above its highest saddle has
+a prominence of at least T, edges between two such are dropped, and the rounds stop when no
+other component is left.
 
 - Spd [1/m^2] = number of significant peaks / projected area;
 - Spc [1/m] = -(1/2) mean over significant peaks of (d2z/dx2 + d2z/dy2), second differences
@@ -221,7 +222,7 @@ def _critical_graph(flat, nx, extrema, sad, label):
     return first, dest[n:], np.concatenate([np.arange(n)] + more)
 
 
-def _change_tree(top, a, b, saddle, threshold=None, few=4000):
+def _change_tree(top, a, b, saddle, threshold=None, few=1000):
     """Prominence of each maximum (heights ``top``, in flattened-index order) over the graph of
     saddle edges: Kruskal's merging from the highest saddle down, where the lower component's
     summit gets its height above the saddle.
@@ -230,14 +231,16 @@ def _change_tree(top, a, b, saddle, threshold=None, few=4000):
     highest edge leads to a higher component is merged into it at that edge (exactly what the
     ordered merging does, as no other edge of it comes earlier); the components left are then
     numbered afresh. Then the ordered merging of the rest, each pair of components once with
-    its highest saddle. With a ``threshold``, only whether a prominence reaches it is exact:
-    the rounds stop once every component left stands at least that far above its highest
-    saddle (its summit's prominence is then at least that: a later merging saddle is lower),
-    and those are left infinite."""
+    its highest saddle. With a ``threshold``, only whether a prominence reaches it is exact: a
+    component standing at least that far above its highest saddle has a prominence at least
+    that (a later merging saddle is lower) and is left infinite; an edge between two such is
+    dropped (a path through such a component, lower than where it starts, dips at least that
+    far); the rounds stop when none other is left."""
     prom = np.full(top.size, np.inf)
     ids = np.arange(top.size)                     # the summit of each component left
     keep = np.flatnonzero(a != b)
-    a, b, saddle = np.take(a, keep), np.take(b, keep), np.take(saddle, keep)
+    a, b = np.take(a, keep).astype(np.intp), np.take(b, keep).astype(np.intp)   # (indices)
+    saddle = np.take(saddle, keep)
     while a.size > few:
         m = top.size
         best = np.full(m, -np.inf)                # the highest saddle of each component
@@ -246,8 +249,12 @@ def _change_tree(top, a, b, saddle, threshold=None, few=4000):
         if threshold is not None:
             low = top - best < threshold
             low[m - 1 - np.argmax(top[::-1])] = False             # the highest summit
-            if not low.any():
+            nlow = np.count_nonzero(low)
+            if nlow == 0:
                 return prom
+            if nlow < m // 2:                     # an edge between two such is no longer needed
+                keep = np.flatnonzero(np.take(low, a) | np.take(low, b))
+                a, b, saddle = np.take(a, keep), np.take(b, keep), np.take(saddle, keep)
         edge = np.full(m, -1)                     # an edge reaching it (equal saddles: any)
         on = np.flatnonzero(saddle == np.take(best, b))
         edge[np.take(b, on)] = on
