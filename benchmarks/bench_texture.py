@@ -18,7 +18,8 @@ area_parameters 0.174 / 0.109, mean_profile_depth_area 0.108 / 0.075, mpd_and_se
 0.075 (the MPD and its table in one pass: the table costs nothing more), material ratio +
 volumes 0.024 / 0.012, Sal/Str/Std 0.098 / 0.041 (these two at load 4.2, best of 3; the
 code before them, in the same run: 0.026 / 0.025 and 0.122 / 0.086), Spd ... S10z 0.408 /
-0.300; baseline 0.291 / 0.194, candidate 0.959 / 0.647: ratio 3.3 (goal 1.5, not met; it
+0.300 (reworked: 0.090 / 0.090 at load 2.1, best of 5; the code before it 0.284 / 0.284 in
+the same run); baseline 0.291 / 0.194, candidate 0.959 / 0.647: ratio 3.3 (goal 1.5, not met; it
 was 22 before: features 7.0 s, Sal/Str/Std 1.2 s, a second MPD pass 0.19 s at load 13).
 What remains is the exact Wolf pruning of about 110 000 maxima and 280 000 saddle points,
 for peaks and pits.
