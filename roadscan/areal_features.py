@@ -181,7 +181,7 @@ def _climb(flat, start, step, sparse=0.3):
     step[0] = 0
     end = start.copy()
     pos, slot = end, None                         # slot: which paths pos holds (None: all)
-    while True:
+    for _ in range(flat.size + 1):                # (no path is longer: heights increase)
         c = np.take(flat, pos)
         moving = np.count_nonzero(c)
         if moving == 0:
@@ -193,6 +193,8 @@ def _climb(flat, start, step, sparse=0.3):
             slot = keep if slot is None else np.take(slot, keep)
             pos, c = np.take(pos, keep), np.take(c, keep)
         pos += np.take(step, c)
+    else:
+        raise ValueError("the heights are not ordered (infinite values?)")
     if slot is not None:
         end[slot] = pos
     return end
