@@ -142,9 +142,9 @@ def _lower_code(code):
     return low
 
 
-def _critical_points(code, low, z):
+def _critical_points(code, low, z, shift=0.0):
     """(maxima, saddles of the peaks, minima, saddles of the pits), flattened indices in
-    increasing order, and their heights in ``z``, from the patterns of higher and lower
+    increasing order, and their heights in ``z`` less ``shift``, from the patterns of higher and lower
     neighbours. Looked up in the table: the points with no higher neighbour, all, or two runs
     of them on the ring or more (two groups need two runs, of the higher and so of the lower
     ones); the border from both patterns."""
@@ -169,6 +169,8 @@ def _critical_points(code, low, z):
     c, lo = np.take(code.ravel(), cand[side]), np.take(low.ravel(), cand[side])
     k[side] = ((_NGROUPS[c] >= 2) | (_NGROUPS[lo] >= 2) << 1 | (c == 0) << 2 | (lo == 0) << 3)
     zc = np.take(z.ravel(), cand)
+    if shift:
+        zc -= shift
     kinds = [(k & np.uint8(bit)) != 0 for bit in (4, 1, 8, 2)]
     return [np.compress(i, cand) for i in kinds], [np.compress(i, zc) for i in kinds]
 
@@ -363,28 +365,35 @@ def _order_copy(z, mean):
     return np.subtract(z, mean, out=np.empty(z.shape, np.float32), casting="unsafe")
 
 
-def _significant(z, extrema, prom, threshold, sign):
-    """(row, column) of each significant interior extremum of ``z`` and its height (times
-    ``sign``)."""
+def _significant(z, extrema, prom, threshold, sign, shift=0.0):
+    """(row, column) of each significant interior extremum of ``z`` and its height less
+    ``shift`` (times ``sign``)."""
     keep = extrema[prom >= threshold]
     ny, nx = z.shape
     r, c = keep // nx, keep % nx
     inner = (r > 0) & (r < ny - 1) & (c > 0) & (c < nx - 1)
     pos = np.stack([r[inner], c[inner]], axis=1)
-    return pos, sign * z[pos[:, 0], pos[:, 1]]
+    return pos, sign * (z[pos[:, 0], pos[:, 1]] - shift)
 
 
-def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
+def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, mean=None,
+                       z_min=None, z_max=None):
     """Spd, Spc, S5p, S5v, S10z of a levelled height map (module docstring).
 
     Parameters
     ----------
     heights_m : ndarray, shape (ny, nx)
-        Heights [m] (mean plane at zero), NaN where unmeasured.
+        Heights [m] (mean plane at zero, or at ``mean``), NaN where unmeasured.
     dx_m, dy_m : float
         Spacings along x (columns) and y (rows) [m].
     prune_fraction : float
         Wolf pruning threshold as a fraction of Sz (0.05).
+    mean : float, optional
+        When given, ``heights_m`` are all finite and the figures are those of ``heights_m -
+        mean`` (the same values, without that full-size copy: only the heights used are
+        shifted).
+    z_min, z_max : float, optional
+        The lowest and highest of ``heights_m`` when already known (all finite) [m].
 
     Returns
     -------
@@ -393,12 +402,16 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
         (the threshold, the counts and the block size used).
     """
     z = np.asarray(heights_m, dtype=np.float64)
-    mean = z.mean()
-    if np.isnan(mean) and np.isnan(z).any():     # (NaN anywhere makes the mean NaN)
-        z = np.where(np.isfinite(z), z, 0.0)
+    shift = 0.0 if mean is None else float(mean)  # the heights are z - shift
+    if mean is None:
         mean = z.mean()
+        if np.isnan(mean) and np.isnan(z).any():  # (NaN anywhere makes the mean NaN)
+            z = np.where(np.isfinite(z), z, 0.0)
+            mean = z.mean()
+    lo = z.min() if z_min is None else z_min
+    hi = z.max() if z_max is None else z_max
     ny, nx = z.shape
-    sz = float(z.max() - z.min())
+    sz = float((hi - shift) - (lo - shift))       # max and min of z - shift
     if sz <= 0:
         return {"Spd_per_m2": 0.0, "Spc_per_m": None, "S10z_m": 0.0, "S5p_m": 0.0, "S5v_m": 0.0,
                 "features_note": "flat surface: no peak, no pit"}
@@ -406,12 +419,12 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
     order = _order_copy(z, mean)
     code = _higher_code(order)
     low = _lower_code(code)
-    (maxima, psad, minima, vsad), (zmax, zps, zmin, zvs) = _critical_points(code, low, z)
+    (maxima, psad, minima, vsad), (zmax, zps, zmin, zvs) = _critical_points(code, low, z, shift)
     label = order.view(np.int32).ravel()          # scratch now
     prom = _extremum_prominences(code.ravel(), nx, maxima, psad, label, zmax, zps, T)
-    peaks, hp = _significant(z, maxima, prom, T, 1.0)
+    peaks, hp = _significant(z, maxima, prom, T, 1.0, shift)
     prom = _extremum_prominences(low.ravel(), nx, minima, vsad, label, -zmin, -zvs, T)
-    pits, hv = _significant(z, minima, prom, T, -1.0)
+    pits, hv = _significant(z, minima, prom, T, -1.0, shift)
     area = ny * dy_m * nx * dx_m
     top = np.sort(hp)[::-1][:5]
     deep = np.sort(hv)[::-1][:5]
@@ -420,8 +433,12 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION):
     spc = None
     if len(peaks):
         r, c = peaks[:, 0], peaks[:, 1]
-        zxx = (z[r, c + 1] - 2 * z[r, c] + z[r, c - 1]) / dx_m ** 2
-        zyy = (z[r + 1, c] - 2 * z[r, c] + z[r - 1, c]) / dy_m ** 2
+
+        def h(i, j):
+            return z[i, j] - shift
+
+        zxx = (h(r, c + 1) - 2 * h(r, c) + h(r, c - 1)) / dx_m ** 2
+        zyy = (h(r + 1, c) - 2 * h(r, c) + h(r - 1, c)) / dy_m ** 2
         spc = float(-0.5 * np.mean(zxx + zyy))
     from .units import length
 

@@ -41,7 +41,8 @@ def texture_parameters(obj):
     ----------
     ISO 25178-2:2021; ISO 21920-2:2021.
     """
-    from .material_ratio import areal_material_parameters, profile_material_parameters
+    from .material_ratio import (MaterialRatioCurve, functional_parameters,
+                                 profile_material_parameters, volume_parameters)
 
     z = obj.heights_m
     if isinstance(obj, Profile):
@@ -61,10 +62,16 @@ def texture_parameters(obj):
 
     if good.size < 2:
         return dict.fromkeys(AREAL_KEYS), {}
-    out = areal_material_parameters(good)
-    zc = z - mean
-    sp = spatial_parameters(zc, obj.dx_m, obj.dy_m)
-    ft = feature_parameters(zc, obj.dx_m, obj.dy_m)
+    curve = MaterialRatioCurve(good)              # (areal_material_parameters)
+    out = {**functional_parameters(curve), **volume_parameters(curve)}
+    if good is z:          # no full-size copy about the mean: the spatial figures take their
+        sp = spatial_parameters(z, obj.dx_m, obj.dy_m)    # own, the features shift what they use
+        ft = feature_parameters(z, obj.dx_m, obj.dy_m, mean=mean, z_min=curve.z_min_m,
+                                z_max=curve.z_max_m)
+    else:
+        zc = z - mean
+        sp = spatial_parameters(zc, obj.dx_m, obj.dy_m)
+        ft = feature_parameters(zc, obj.dx_m, obj.dy_m)
     notes = {"spatial": sp.pop("spatial_note"), "features": ft.pop("features_note")}
     out.update(sp)
     out.update(ft)
