@@ -160,7 +160,10 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     work = level.remove_spikes(obj) if despike else obj
     levelled = level.level(work, degree=level_degree)
     if on_levelled is not None:
-        on_levelled(levelled)
+        from .texture_prefetch import levelled_from
+
+        with levelled_from(levelled, obj, mpd_settings):     # the source of a texture prefetch
+            on_levelled(levelled)
     from roadscan.texture_depth import mpd_and_segments
 
     if isinstance(obj, Profile):

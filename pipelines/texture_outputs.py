@@ -151,7 +151,8 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
     mpd_settings : dict, optional
         ISO 13473-1 settings.
     figures : pipelines.texture_prefetch.TextureFigures, optional
-        The texture spectrum already started on the levelled map.
+        The texture spectrum (and a short scan's short-baseline depth) already started on the
+        levelled map.
     """
     from roadscan import texture_depth as td
     from roadscan.texture_spectrum import texture_spectrum
@@ -195,7 +196,8 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
         out["etd_note"] = f"ETD and the IFI figures not computed: {why}"
     length = src.length_m if analysis.is_profile else src.nx * src.dx_m
     if mpd is None and length < 0.1:
-        msd, base, note = td.short_segment_depth(src, **(mpd_settings or {}))
+        msd, base, note = (td.short_segment_depth(src, **(mpd_settings or {})) if figures is None
+                           else figures.short_depth(src, mpd_settings))
         out.update(msd_short_m=msd, msd_short_baseline_m=base, msd_short_note=note)
     elif mpd is None and "no valid segment" in (mpd_note or ""):
         alpha, iso = td.spike_alpha_to_pass(src, mpd_settings)

@@ -8,18 +8,64 @@ the material ratio) read the levelled map only and record no warning, so they ca
 the rest of the chain; numpy releases the GIL in its FFTs and array loops. Their results are the
 ones the chain would compute itself, handed over only for the very surface (and direction) they
 were started on (identity, not equality). On a one-core machine nothing is started.
+
+A map shorter than one 100 mm ISO 13473-1 segment along x gets no MPD but a short-baseline
+mean segment depth (:func:`roadscan.texture_depth.short_segment_depth` of the scan as read, not
+levelled); that too is computed on the second core, when the source scan is known: given to
+:meth:`TextureFigures.start`, or named by :func:`levelled_from` around the call of the
+levelled-map hook (:func:`pipelines.spectrum_bridge.analyse_surface` does so). It is handed
+over only for that very scan object and equal ISO 13473-1 settings.
 """
 from __future__ import annotations
 
+import contextlib
+import contextvars
 import os
 import threading
 
-__all__ = ["TextureFigures", "MIN_POINTS"]
+__all__ = ["TextureFigures", "MIN_POINTS", "levelled_from"]
 
 #: maps with fewer points are done on the calling thread: below about 0.5 Mpx the thread's
 #: start and the sharing of the interpreter cost more CPU time than the overlap saves wall time
 #: (512 x 512: 0.12 s CPU in one thread, 0.14-0.155 s with the second)
 MIN_POINTS = 1 << 19
+
+#: (levelled map, source scan, ISO 13473-1 settings) while the levelled-map hook runs
+_SOURCE = contextvars.ContextVar("roadscan_levelled_source", default=None)
+
+
+@contextlib.contextmanager
+def levelled_from(levelled, source, mpd_settings=None):
+    """Within the block, :meth:`TextureFigures.start` called with ``levelled`` (that very
+    object) without a source takes ``source`` and ``mpd_settings`` as its source scan and
+    ISO 13473-1 settings.
+
+    Parameters
+    ----------
+    levelled : HeightMap
+        The levelled map handed to the hook.
+    source : HeightMap or Profile
+        The scan it was levelled from (heights as read) [m].
+    mpd_settings : dict, optional
+        ISO 13473-1 settings of the analysis.
+    """
+    token = _SOURCE.set((levelled, source, mpd_settings))
+    try:
+        yield
+    finally:
+        _SOURCE.reset(token)
+
+
+def _short_wanted(source, direction, mpd_settings):
+    """True when the texture summary will ask for the short-baseline depth of ``source``: a
+    map whose rows along x (the driving direction) are shorter than 100 mm and than the
+    segment of ``mpd_settings`` (no MPD)."""
+    from roadscan.heightmap import HeightMap
+
+    if not isinstance(source, HeightMap) or direction == "y":
+        return False
+    length = source.nx * source.dx_m
+    return length < 0.1 and length < (mpd_settings or {}).get("segment_m", 0.1) * (1 - 1e-9)
 
 
 class TextureFigures:
@@ -44,16 +90,28 @@ class TextureFigures:
         self._spectrum = None
         self._error = None
         self._spectrum_done = threading.Event()
+        self._source = None
+        self._mpd_settings = None
+        self._short = None
+        self._short_error = None
+        self._short_done = threading.Event()
 
-    def start(self, surface):
+    def start(self, surface, source=None, mpd_settings=None):
         """Start computing the spectrum and figures of ``surface`` (a HeightMap of at least
         :data:`MIN_POINTS` points; anything else is ignored, as is every call on a one-core
-        machine or after the first)."""
+        machine or after the first), and the short-baseline segment depth of ``source`` (the
+        scan ``surface`` was levelled from, by default the one named by :func:`levelled_from`)
+        with ``mpd_settings`` when its rows are shorter than one segment."""
         from roadscan.heightmap import HeightMap
 
         if self._thread is not None or not isinstance(surface, HeightMap) or \
                 surface.heights_m.size < MIN_POINTS or (os.cpu_count() or 1) < 2:
             return
+        named = _SOURCE.get()
+        if source is None and named is not None and named[0] is surface:
+            source, mpd_settings = named[1], named[2]
+        if source is not None and _short_wanted(source, self._direction, mpd_settings):
+            self._source, self._mpd_settings = source, dict(mpd_settings or {})
         self._surface = surface
         self._thread = threading.Thread(target=self._run, name="roadscan-texture", daemon=True)
         self._thread.start()
@@ -68,9 +126,23 @@ class TextureFigures:
                     self._spectrum = texture_spectrum(self._surface, direction=self._direction)
             finally:
                 self._spectrum_done.set()
+            if self._source is not None:
+                self._run_short()
             self._result = texture_parameters(self._surface)
         except BaseException as err:        # handed to the caller of spectrum() / get()
             self._error = err
+        finally:
+            self._short_done.set()
+
+    def _run_short(self):
+        from roadscan.texture_depth import short_segment_depth
+
+        try:
+            self._short = short_segment_depth(self._source, **self._mpd_settings)
+        except BaseException as err:        # handed to the caller of short_depth()
+            self._short_error = err
+        finally:
+            self._short_done.set()
 
     def spectrum(self, surface, direction):
         """``texture_spectrum(surface, direction)`` (a TextureSpectrum)."""
@@ -83,6 +155,20 @@ class TextureFigures:
         from roadscan.texture_spectrum import texture_spectrum
 
         return texture_spectrum(surface, direction=direction)
+
+    def short_depth(self, source, mpd_settings=None):
+        """``short_segment_depth(source, **mpd_settings)``: (depth [m] or None, baseline [m] or
+        None, note) as :func:`roadscan.texture_depth.short_segment_depth` gives them."""
+        if self._thread is not None and self._source is not None and source is self._source \
+                and dict(mpd_settings or {}) == self._mpd_settings:
+            self._short_done.wait()
+            if self._short_error is not None:
+                raise self._short_error
+            if self._short is not None:
+                return self._short
+        from roadscan.texture_depth import short_segment_depth
+
+        return short_segment_depth(source, **(mpd_settings or {}))
 
     def get(self, surface):
         """(figures, notes) of ``surface`` as :func:`roadscan.iso25178.texture_parameters`

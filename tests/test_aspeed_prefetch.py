@@ -56,3 +56,63 @@ def test_background_spectrum_equals_the_direct_one():
     other = pre.spectrum(a, "y")                      # another direction: computed on the spot
     assert np.array_equal(other.level_dB, texture_spectrum(a, direction="y").level_dB)
     assert pre.get(a) == texture_parameters(a)
+
+
+def _short_scan(seed):
+    """A 60 mm x 20 mm map at 0.1 mm (shorter than one 100 mm segment) with dropouts."""
+    rng = np.random.default_rng(seed)
+    z = rng.standard_normal((200, 600)) * 3e-4
+    z[rng.random(z.shape) < 0.03] = np.nan
+    return HeightMap(z, 1e-4, 1e-4)
+
+
+def test_background_short_depth_for_that_scan_and_settings_only(monkeypatch):
+    import os
+
+    from roadscan import texture_depth as td
+
+    if (os.cpu_count() or 1) < 2:
+        pytest.skip("no second thread on one core")
+    src = _short_scan(4)
+    levelled = HeightMap(src.heights_m - 1e-5, src.dx_m, src.dy_m)
+    pre = TextureFigures("x")
+    with tp.levelled_from(levelled, src, {"spike_alpha": 3.5}):
+        pre.start(levelled)
+    want = td.short_segment_depth(src, spike_alpha=3.5)
+    assert want[0] is not None
+    pre._short_done.wait()                           # the thread took the real function
+    calls = []
+    monkeypatch.setattr(td, "short_segment_depth",
+                        lambda obj, **kw: calls.append(kw) or ("spot", None, ""))
+    assert pre.short_depth(src, {"spike_alpha": 3.5}) == want       # from the thread
+    assert not calls
+    copy = HeightMap(src.heights_m.copy(), src.dx_m, src.dy_m)
+    assert pre.short_depth(copy, {"spike_alpha": 3.5})[0] == "spot"  # equal, not the same
+    assert pre.short_depth(src, None)[0] == "spot"                   # other settings
+    assert calls == [{"spike_alpha": 3.5}, {}]
+
+
+def test_no_background_short_depth_along_y_or_for_long_rows():
+    src = _short_scan(5)
+    pre = TextureFigures("y")                        # rows along y: transposed by the caller
+    pre.start(src, src)
+    assert pre._source is None
+    long_rows = HeightMap(np.zeros((20, 1100)), 1e-4, 1e-4)      # 110 mm rows: an MPD
+    pre = TextureFigures("x")
+    pre.start(long_rows, long_rows)
+    assert pre._source is None
+
+
+def test_an_error_of_the_short_depth_is_raised_by_short_depth(monkeypatch):
+    import roadscan.texture_depth as td
+
+    def boom(obj, **kw):
+        raise RuntimeError("short boom")
+
+    monkeypatch.setattr(td, "short_segment_depth", boom)
+    src = _short_scan(6)
+    pre = TextureFigures("x")
+    pre.start(src, src)
+    with pytest.raises(RuntimeError, match="short boom"):
+        pre.short_depth(src)
+    assert pre.get(src) == texture_parameters(src)   # the figures are still handed over
