@@ -154,24 +154,48 @@ MPD_SETTINGS = {
 
 
 def _interp_rows(z, bad):
-    """Linear interpolation over ``bad`` along each row; ends held at the nearest good value."""
+    """Linear interpolation over ``bad`` along each row; ends held at the nearest good value.
+
+    A bad point i between the good points p < i < q of its row takes
+    ``(z[q] - z[p]) / (q - p) * (i - p) + z[p]``, the formula of :func:`numpy.interp` (the
+    same float64 operations, so the same bits); before a row's first or after its last good
+    value it takes that value; a row without any good value stays as it is. p and q are found
+    on the bad points only, from their runs along the flattened map.
+    """
     out = z.copy()
     rows, n = z.shape
-    good = ~bad
-    fill = bad & good.any(axis=1)[:, None]       # a row without any good value stays as it is
-    if not fill.any():
+    flat = out.reshape(-1)                          # a view: out is C-contiguous
+    at = np.flatnonzero(bad)
+    if at.size:
+        at = at[~bad.all(axis=1)[at // n]]          # rows with a good value only
+    if not at.size:
         return out
-    # one np.interp over all rows end to end (position i * n + j: the same differences and
-    # slopes as row by row); a bad point before a row's first or after its last good value
-    # takes that value, as np.interp holds the ends of one row
-    at = np.arange(rows * n, dtype=np.float64).reshape(rows, n)
-    out[fill] = np.interp(at[fill], at[good], z[good])
-    first = np.argmax(good, axis=1)
-    last = n - 1 - np.argmax(good[:, ::-1], axis=1)
-    j = np.arange(n)
-    lead, trail = fill & (j < first[:, None]), fill & (j > last[:, None])
-    out[lead] = np.broadcast_to(z[np.arange(rows), first][:, None], z.shape)[lead]
-    out[trail] = np.broadcast_to(z[np.arange(rows), last][:, None], z.shape)[trail]
+    first = np.empty(at.size, dtype=bool)           # a run of consecutive bad points starts
+    first[0] = True
+    np.not_equal(at[1:], at[:-1] + 1, out=first[1:])
+    last = np.empty_like(first)
+    last[-1] = True
+    last[:-1] = first[1:]
+    p = np.maximum.accumulate(np.where(first, at - 1, -1))          # previous good point
+    q = np.minimum.accumulate(np.where(last, at + 1, rows * n)[::-1])[::-1]  # next good point
+    lo = at - at % n                                 # the row's first point
+    lead, trail = p < lo, q >= lo + n
+    mid = ~(lead | trail)
+    vals = np.empty(at.size)
+    vals[lead] = flat[q[lead]]
+    vals[trail] = flat[p[trail]]
+    pm, qm, xm = p[mid], q[mid], at[mid]
+    f0, f1 = flat[pm], flat[qm]
+    xp0, xp1, x = pm.astype(np.float64), qm.astype(np.float64), xm.astype(np.float64)
+    slope = (f1 - f0) / (xp1 - xp0)
+    v = slope * (x - xp0) + f0
+    nan = np.isnan(v)
+    if nan.any():                                    # numpy.interp's fallbacks
+        v[nan] = slope[nan] * (x[nan] - xp1[nan]) + f1[nan]
+        still = np.isnan(v) & (f0 == f1)
+        v[still] = f0[still]
+    vals[mid] = v
+    flat[at] = vals
     return out
 
 
