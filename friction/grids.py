@@ -106,7 +106,11 @@ def q_grid(breakpoints_per_m, nodes_per_decade, grade=8):
     h : ndarray, shape (n - 1,)
         Interval widths in ln q.
     """
-    bp = np.unique(np.asarray(breakpoints_per_m, dtype=float))
+    bp = np.sort(np.asarray(breakpoints_per_m, dtype=float).ravel())
+    if bp.size and not np.isnan(bp[-1]):          # np.unique's values, without numpy.ma
+        bp = bp[np.r_[True, bp[1:] != bp[:-1]]]
+    else:
+        bp = np.unique(bp)
     parts = []
     for a, b in zip(bp[:-1], bp[1:]):
         n = max(2, int(np.ceil(np.log10(b / a) * nodes_per_decade)))

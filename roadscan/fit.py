@@ -20,6 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import InputError
+from .order_stats import median
 from .rolloff import detect_roll_off
 from .spectrum_types import Spectrum
 
@@ -175,7 +176,9 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
     mid = (x >= x[0] + (x[-1] - x[0]) / 3) & (x <= x[-1] - (x[-1] - x[0]) / 3)
     if mid.sum() < 1:
         mid = np.ones_like(x, dtype=bool)
-    s_ref = np.nanmedian(s[mid])
+    ref = s[mid][~np.isnan(s[mid])]
+    # np.nanmedian's value (roadscan.order_stats: without importing numpy.ma)
+    s_ref = np.float64(median(ref, overwrite=True)) if ref.size else np.nanmedian(s[mid])
     good = np.abs(s - s_ref) <= tolerance
     # contiguous runs of good points; keep the one spanning most decades that meets the middle
     edges = np.flatnonzero(np.diff(np.r_[0, good.astype(np.int8), 0]))

@@ -33,6 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 from .errors import InputError
+from .order_stats import median, percentiles
 from .units import length as _fmt
 
 __all__ = ["detrended_rms", "check_plausible", "ROUGH_MAX", "SMOOTH_MIN", "UNITS"]
@@ -78,11 +79,12 @@ def detrended_rms(obj):
         if step > 1:                  # the subsample missed the measured points: take them all
             return _all_points_rms(h)
         return float(np.std(zo)) if zo.size else float("nan")
-    lo, hi = np.percentile(zo, [1.0, 99.0])
+    lo, hi = percentiles(zo, [1.0, 99.0])      # np.percentile's values
     keep = (zo >= lo) & (zo <= hi)            # a few spikes neither tilt the plane nor the rms
     if keep.sum() < len(cols) + 1:
         keep[:] = True
-    zk = zo[keep] - float(np.median(zo[keep]))
+    zk = zo[keep]
+    zk = zk - median(zk)
     a = np.column_stack([c[keep] for c in cols])
     coef, *_ = np.linalg.lstsq(a, zk, rcond=None)
     r = zk - a @ coef

@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import InputError
+from .order_stats import median
 from .rolloff import detect_roll_off
 from .units import length as _len
 
@@ -221,8 +222,9 @@ def noise_limit(q, C, slope, intercept, q_from):
     top = x >= x[-1] - 0.2
     if top.sum() >= 3:
         s = local_slopes(q, C, 0.3)
-        if np.nanmedian(s[top]) > -1.0:
-            level = float(np.median(C[top]))
+        st = s[top][~np.isnan(s[top])]          # np.nanmedian, np.median: roadscan.order_stats
+        if (median(st, overwrite=True) if st.size else np.nanmedian(s[top])) > -1.0:
+            level = median(C[top])
             # the first ring from the bottom (noise may fill most decades) from which most rings
             # up to the top are within the factor: a lone low ring far below the floor (2
             # degrees of freedom fall under a tenth of their mean 1 time in 10) starts none

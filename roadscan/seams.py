@@ -30,6 +30,7 @@ import warnings
 import numpy as np
 
 from .heightmap import HeightMap, Profile
+from .order_stats import median
 from .units import length as _fmt
 
 __all__ = ["find_steps", "STEP_SIGMAS", "OUTLIER_FACTOR"]
@@ -43,10 +44,12 @@ _BLOCK = 64
 
 
 def _mad_sigma(v):
+    """1.4826 median(|v - median(v)|) of the finite values (0 for none)."""
     v = v[np.isfinite(v)]
     if v.size == 0:
         return 0.0
-    return 1.4826 * float(np.median(np.abs(v - np.median(v))))
+    d = np.abs(v - median(v, overwrite=True))    # v is a copy already
+    return 1.4826 * median(d, overwrite=True)
 
 
 def _jumps(profiles, sigma):
