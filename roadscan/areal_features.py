@@ -9,21 +9,21 @@ meets a higher one, its topographic prominence; a peak survives exactly when its
 is at least T. This is the same set as the h-maxima transform's (scikit-image ``h_maxima``,
 tested against it) and as a union-find over the points from the highest down (tested too).
 
-How it is computed, in numpy alone (the critical points of the discrete surface): heights are
-ordered by (z, flattened index); the 8-bit pattern of each point's higher neighbours comes
-from four comparisons on the flattened field (each also gives the opposite neighbour's bit);
-a point with none is a maximum, a point whose higher neighbours form two or more groups
-(8-adjacency among them) is a possible saddle, the only places where components of the
-superlevel set meet (looked up in a table only where the ring holds two runs of higher
-neighbours or more). From each group of a saddle a path uphill, all paths in one vectorised
-walk, reaches the maximum of that component; the saddle heights between maxima then form the
-hill graph, merged by vectorised Boruvka rounds (a component whose highest edge leads to a
-higher one merges there, as the ordered merging would; the components left are numbered
-afresh) and the ordered merging of the few edges left. Pits likewise, on the neighbour
-patterns reversed (their critical points come from the same pass). For the parameters only
-the significant set is needed: a component standing at least T above its highest saddle has
-a prominence of at least T, edges between two such are dropped, and the rounds stop when no
-other component is left.
+How it is computed, in numpy alone (the critical points of the discrete surface,
+:mod:`roadscan.areal_critical`): heights are ordered by (z, flattened index); the 8-bit pattern
+of each point's higher neighbours comes from four comparisons on the flattened field (each also
+gives the opposite neighbour's bit); a point with none is a maximum, a point whose higher
+neighbours form two or more groups (8-adjacency among them) is a possible saddle, the only
+places where components of the superlevel set meet (looked up in a table only where the ring
+holds two runs of higher neighbours or more). From each group of a saddle a path uphill, all
+paths in one vectorised walk, reaches the maximum of that component; the saddle heights between
+maxima then form the hill graph, merged by vectorised Boruvka rounds (a component whose highest
+edge leads to a higher one merges there, as the ordered merging would; the components left are
+numbered afresh) and the ordered merging of the few edges left. Pits likewise, on the neighbour
+patterns reversed (their critical points come from the same pass). For the parameters only the
+significant set is needed: a component standing at least T above its highest saddle has a
+prominence of at least T, edges between two such are dropped, and the rounds stop when no other
+component is left.
 
 - Spd [1/m^2] = number of significant peaks / projected area;
 - Spc [1/m] = -(1/2) mean over significant peaks of (d2z/dx2 + d2z/dy2), second differences
@@ -41,138 +41,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from .areal_critical import (_NGROUPS, _REPS, _RING, _STEP, _critical_points, _lower_code,
+                             _patterns)
+
 __all__ = ["feature_parameters", "prominences", "PRUNE_FRACTION"]
 
 #: Wolf pruning threshold as a fraction of Sz (ISO 25178-2 default for Spd and S10z)
 PRUNE_FRACTION = 0.05
-
-
-# the 8 neighbours as a ring, clockwise from the upper left: (row offset, column offset)
-_RING = ((-1, -1), (-1, 0), (-1, 1), (0, 1), (1, 1), (1, 0), (1, -1), (0, -1))
-
-
-def _ring_tables():
-    """For each of the 256 patterns of higher neighbours on the ring: the number of groups they
-    form (8-adjacency among themselves: ring-consecutive cells, and edge cells one corner
-    apart), one cell of each group and one higher cell to step to; each the middle of its run
-    of consecutive cells (uphill paths then follow roughly the steepest ascent)."""
-    adjacent = [(i, (i + 1) % 8) for i in range(8)] + [(1, 3), (3, 5), (5, 7), (7, 1)]
-    ngroups = np.zeros(256, np.uint8)
-    reps = np.full((256, 4), -1, np.int8)
-    step = np.zeros(256, np.int8)
-    for code in range(1, 256):
-        on = [k for k in range(8) if code >> k & 1]
-        root = {k: k for k in on}
-
-        def find(k):
-            while root[k] != k:
-                k = root[k]
-            return k
-
-        for a, b in adjacent:
-            if a in root and b in root:
-                ra, rb = find(a), find(b)
-                root[max(ra, rb)] = min(ra, rb)
-        groups = sorted({find(k) for k in on})
-        ngroups[code] = len(groups)
-        runs = []                                 # (length, middle) of each run of set cells
-        for k in on:
-            if code == 255 or not code >> ((k - 1) % 8) & 1:
-                n = 1
-                while n < 8 and code >> ((k + n) % 8) & 1:
-                    n += 1
-                runs.append((n, (k + (n - 1) // 2) % 8))
-        step[code] = max(runs)[1]
-        for j, g in enumerate(groups):
-            mids = [mid for n, mid in runs if find(mid) == g]
-            reps[code, j] = mids[0]
-    return ngroups, reps, step
-
-
-_NGROUPS, _REPS, _STEP = _ring_tables()
-
-
-def _kind_table():
-    """For each pattern of higher neighbours of an inner point: bit 0 a possible saddle of the
-    peaks (two or more groups of higher neighbours), bit 1 of the pits (of lower ones), bit 2
-    a maximum, bit 3 a minimum."""
-    codes = np.arange(256)
-    return ((_NGROUPS >= 2) | (_NGROUPS[255 - codes] >= 2) << 1
-            | (codes == 0) << 2 | (codes == 255) << 3).astype(np.uint8)
-
-
-_KIND = _kind_table()
-
-
-def _higher_code(z):
-    """8-bit pattern of each point's neighbours that come after it in the order (z, flattened
-    index), bit k for ring position k; neighbours outside the field never do. Four comparisons,
-    one per earlier neighbour, on the flattened field (contiguous; the pairs that wrap around
-    a row end are cleared after): a neighbour comes after a point exactly when the point does
-    not come after it."""
-    ny, nx = z.shape
-    flat = z.ravel()
-    code = np.zeros(ny * nx, np.uint8)
-    for k in (0, 1, 2, 7):                        # offsets (-1, -1), (-1, 0), (-1, 1), (0, -1)
-        dy, dx = _RING[k]
-        o = -(dy * nx + dx)
-        if not 0 < o < flat.size:                 # (a single column has no (-1, 1))
-            continue
-        t = np.greater(flat[:-o], flat[o:]).view(np.uint8)  # equal: the earlier is the lower
-        bit = np.multiply(t, np.uint8(1 << k))    # (a multiplication: faster than a shift)
-        code[o:] |= bit
-        t ^= np.uint8(1)                          # the point seen from that neighbour
-        np.multiply(t, np.uint8(1 << (k + 4) % 8), out=bit)
-        code[:-o] |= bit
-    code = code.reshape(ny, nx)
-    code[:, 0] &= np.uint8(sum(1 << k for k, (dy, dx) in enumerate(_RING) if dx >= 0))
-    code[:, -1] &= np.uint8(sum(1 << k for k, (dy, dx) in enumerate(_RING) if dx <= 0))
-    return code
-
-
-def _lower_code(code):
-    """The pattern of each point's lower neighbours (the order reversed) from its higher ones."""
-    low = ~code
-    for k, (dy, dx) in enumerate(_RING):
-        bit = np.uint8(255 ^ (1 << k))
-        if dy:
-            low[0 if dy < 0 else -1, :] &= bit
-        if dx:
-            low[:, 0 if dx < 0 else -1] &= bit
-    return low
-
-
-def _critical_points(code, low, z, shift=0.0):
-    """(maxima, saddles of the peaks, minima, saddles of the pits), flattened indices in
-    increasing order, and their heights in ``z`` less ``shift``, from the patterns of higher and lower
-    neighbours. Looked up in the table: the points with no higher neighbour, all, or two runs
-    of them on the ring or more (two groups need two runs, of the higher and so of the lower
-    ones); the border from both patterns."""
-    ny, nx = code.shape
-    run = code * np.uint8(2)                      # bit k: bit k - 1 of the pattern
-    run |= (code >= 128).view(np.uint8)
-    np.invert(run, out=run)
-    run &= code                                   # the first cell of each run
-    more = run - 1
-    more &= run                                   # nonzero: two runs or more
-    ends = code + 1
-    ends &= 254                                   # zero: no higher neighbour, or all
-    look = more != 0
-    look |= ends == 0
-    look[0, :] = look[-1, :] = look[:, 0] = look[:, -1] = True
-    cand = np.flatnonzero(look)
-    k = np.take(_KIND, np.take(code.ravel(), cand))
-    # the border (all of it in cand), where the lower pattern is not the higher one inverted
-    rows = np.arange(1, ny - 1) * nx
-    side = np.concatenate([np.arange(nx), np.arange(cand.size - nx, cand.size),
-                           np.searchsorted(cand, rows), np.searchsorted(cand, rows + nx - 1)])
-    c, lo = np.take(code.ravel(), cand[side]), np.take(low.ravel(), cand[side])
-    k[side] = ((_NGROUPS[c] >= 2) | (_NGROUPS[lo] >= 2) << 1 | (c == 0) << 2 | (lo == 0) << 3)
-    zc = np.take(z.ravel(), cand)
-    if shift:
-        zc -= shift
-    kinds = [(k & np.uint8(bit)) != 0 for bit in (4, 1, 8, 2)]
-    return [np.compress(i, cand) for i in kinds], [np.compress(i, zc) for i in kinds]
 
 
 def _climb(flat, start, step, sparse=0.3):
@@ -352,17 +227,10 @@ def prominences(z):
     generalization, Computers & Geosciences 17, 1359-1381.
     """
     z = np.asarray(z, dtype=np.float64)
-    order = _order_copy(z, z.mean())
-    code = _higher_code(order)
-    (maxima, sad, _, _), (top, sh, _, _) = _critical_points(code, _lower_code(code), z)
+    order, code, cand = _patterns(z, z.mean())
+    (maxima, sad, _, _), (top, sh, _, _) = _critical_points(code, _lower_code(code), cand, z)
     label = order.view(np.int32).ravel()          # scratch now
     return maxima, _extremum_prominences(code.ravel(), z.shape[1], maxima, sad, label, top, sh)
-
-
-def _order_copy(z, mean):
-    """Heights in float32 about their mean, for ordering only (half the memory traffic; a
-    resolution of 1e-7 of the range, far below the pruning threshold)."""
-    return np.subtract(z, mean, out=np.empty(z.shape, np.float32), casting="unsafe")
 
 
 def _significant(z, extrema, prom, threshold, sign, shift=0.0):
@@ -416,10 +284,10 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, 
         return {"Spd_per_m2": 0.0, "Spc_per_m": None, "S10z_m": 0.0, "S5p_m": 0.0, "S5v_m": 0.0,
                 "features_note": "flat surface: no peak, no pit"}
     T = prune_fraction * sz
-    order = _order_copy(z, mean)
-    code = _higher_code(order)
+    order, code, cand = _patterns(z, mean)
     low = _lower_code(code)
-    (maxima, psad, minima, vsad), (zmax, zps, zmin, zvs) = _critical_points(code, low, z, shift)
+    (maxima, psad, minima, vsad), (zmax, zps, zmin, zvs) = _critical_points(code, low, cand, z,
+                                                                          shift)
     label = order.view(np.int32).ravel()          # scratch now
     prom = _extremum_prominences(code.ravel(), nx, maxima, psad, label, zmax, zps, T)
     peaks, hp = _significant(z, maxima, prom, T, 1.0, shift)
@@ -433,12 +301,9 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, 
     spc = None
     if len(peaks):
         r, c = peaks[:, 0], peaks[:, 1]
-
-        def h(i, j):
-            return z[i, j] - shift
-
-        zxx = (h(r, c + 1) - 2 * h(r, c) + h(r, c - 1)) / dx_m ** 2
-        zyy = (h(r + 1, c) - 2 * h(r, c) + h(r - 1, c)) / dy_m ** 2
+        h = z[r, c] - shift                       # (the heights z - shift, as in S5p)
+        zxx = ((z[r, c + 1] - shift) - 2 * h + (z[r, c - 1] - shift)) / dx_m ** 2
+        zyy = ((z[r + 1, c] - shift) - 2 * h + (z[r - 1, c] - shift)) / dy_m ** 2
         spc = float(-0.5 * np.mean(zxx + zyy))
     from .units import length
 
