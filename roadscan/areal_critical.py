@@ -152,8 +152,8 @@ def _critical_points(code, low, cand, z, shift=0.0):
     zc = np.take(z.ravel(), cand)
     if shift:
         zc -= shift
-    kinds = [(k & np.uint8(bit)) != 0 for bit in (4, 1, 8, 2)]
-    return [np.compress(i, cand) for i in kinds], [np.compress(i, zc) for i in kinds]
+    kinds = [np.flatnonzero((k & np.uint8(bit)) != 0) for bit in (4, 1, 8, 2)]
+    return [np.take(cand, i) for i in kinds], [np.take(zc, i) for i in kinds]
 
 
 def _patterns(z, mean, band=64):
