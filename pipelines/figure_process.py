@@ -105,12 +105,17 @@ class FigureProcess(InProcess):
         super().submit(fn, *args, **kwargs)
 
     def collect(self):
-        pending, self._pending = self._pending, []
-        for future, fn, args, kwargs in pending:
+        # each figure leaves the pending list only once it is done: a signal raised while
+        # waiting (pipelines.signals) leaves the rest pending, so that :meth:`discard` waits for
+        # them before the temporary output folder is removed (no PNG written into it after)
+        while self._pending:
+            future, fn, args, kwargs = self._pending[0]
             try:
-                self._done.append(future.result())
+                done = future.result()
             except Exception:  # noqa: BLE001 - failed or died in the helper: drawn (or failing) here
-                self._done.append(fn(*args, **kwargs))
+                done = fn(*args, **kwargs)
+            self._pending.pop(0)
+            self._done.append(done)
         return super().collect()
 
     def discard(self):
