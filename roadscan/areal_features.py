@@ -23,7 +23,8 @@ numbered afresh) and the ordered merging of the few edges left. Pits likewise, o
 patterns reversed (their critical points come from the same pass). For the parameters only the
 significant set is needed: a component standing at least T above its highest saddle has a
 prominence of at least T, edges between two such are dropped, and the rounds stop when no other
-component is left.
+component is left. When the pits are not counted, S5v needs only the five deepest significant
+pits: the lowest minima are decided first, on the critical points near their heights (``_pits``).
 
 - Spd [1/m^2] = number of significant peaks / projected area;
 - Spc [1/m] = -(1/2) mean over significant peaks of (d2z/dx2 + d2z/dy2), second differences
@@ -244,8 +245,31 @@ def _significant(z, extrema, prom, threshold, sign, shift=0.0):
     return pos, sign * (z[pos[:, 0], pos[:, 1]] - shift)
 
 
+def _pits(z, low, minima, vsad, zmin, zvs, label, T, shift, deepest=None):
+    """:func:`_significant` pits of ``z``: all of them, or at least the ``deepest`` (n) deepest.
+
+    With ``deepest``, only the k lowest minima (k = 64, 256, ...) are decided, on the minima
+    and saddles of the pits below the k-th lowest minimum plus 2T: a minimum's significance
+    depends only on the saddles less than T above it (the ordered merging takes the saddles
+    from the lowest up: it runs the same on these until then). The first k giving n
+    significant interior pits gives the n deepest of all."""
+    k, nx = 64, z.shape[1]
+    while deepest is not None and k < minima.size:
+        zk = np.partition(zmin, k - 1)[k - 1]
+        mi, si = np.flatnonzero(zmin < zk + 2 * T), np.flatnonzero(zvs < zk + 2 * T)
+        prom = _extremum_prominences(low.ravel(), nx, minima[mi], vsad[si], label, -zmin[mi],
+                                     -zvs[si], T)
+        sure = zmin[mi] <= zk
+        pos, hv = _significant(z, minima[mi][sure], prom[sure], T, -1.0, shift)
+        if hv.size >= deepest:
+            return pos, hv
+        k *= 4
+    prom = _extremum_prominences(low.ravel(), nx, minima, vsad, label, -zmin, -zvs, T)
+    return _significant(z, minima, prom, T, -1.0, shift)
+
+
 def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, mean=None,
-                       z_min=None, z_max=None):
+                       z_min=None, z_max=None, count_pits=True):
     """Spd, Spc, S5p, S5v, S10z of a levelled height map (module docstring).
 
     Parameters
@@ -262,6 +286,9 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, 
         shifted).
     z_min, z_max : float, optional
         The lowest and highest of ``heights_m`` when already known (all finite) [m].
+    count_pits : bool
+        False: the pits are not counted, only the five deepest significant ones are found
+        (S5v; far fewer critical points to merge). The figures are the same.
 
     Returns
     -------
@@ -291,8 +318,7 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, 
     label = order.view(np.int32).ravel()          # scratch now
     prom = _extremum_prominences(code.ravel(), nx, maxima, psad, label, zmax, zps, T)
     peaks, hp = _significant(z, maxima, prom, T, 1.0, shift)
-    prom = _extremum_prominences(low.ravel(), nx, minima, vsad, label, -zmin, -zvs, T)
-    pits, hv = _significant(z, minima, prom, T, -1.0, shift)
+    pits, hv = _pits(z, low, minima, vsad, zmin, zvs, label, T, shift, None if count_pits else 5)
     area = ny * dy_m * nx * dx_m
     top = np.sort(hp)[::-1][:5]
     deep = np.sort(hv)[::-1][:5]
@@ -308,7 +334,8 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, 
     from .units import length
 
     note = (f"watershed segmentation with Wolf pruning at {100 * prune_fraction:g} % of Sz "
-            f"({length(T)}): {len(hp)} significant peaks, {len(hv)} pits")
+            f"({length(T)}): {len(hp)} significant peaks, "
+            + (f"{len(hv)} pits" if count_pits else "pits not counted"))
     return {"Spd_per_m2": len(hp) / area, "Spc_per_m": spc,
             "S10z_m": None if s5p is None or s5v is None else s5p + s5v,
             "S5p_m": s5p, "S5v_m": s5v, "features_note": note}

@@ -67,7 +67,7 @@ def texture_parameters(obj):
     if good is z:          # no full-size copy about the mean: the spatial figures take their
         sp = spatial_parameters(z, obj.dx_m, obj.dy_m)    # own, the features shift what they use
         ft = feature_parameters(z, obj.dx_m, obj.dy_m, mean=mean, z_min=curve.z_min_m,
-                                z_max=curve.z_max_m)
+                                z_max=curve.z_max_m, count_pits=False)
     else:
         zc = z - mean
         sp = spatial_parameters(zc, obj.dx_m, obj.dy_m)
