@@ -20,9 +20,48 @@ import numpy as np
 
 from .psd import TabulatedPSD
 
-__all__ = ["integration_band"]
+__all__ = ["integration_band", "band_problem"]
 
 _REL = 1e-6   # relative slack on q comparisons (rounded numbers typed on a command line)
+
+
+def _ends(psd, q0_per_m, q1_per_m, q0_slack):
+    """(q0, q1, reason): the band's ends as :func:`integration_band` takes them, reason None
+    when they make a band."""
+    qt = psd.q_per_m
+    q0 = float(qt[0]) if q0_per_m is None else float(q0_per_m)
+    q1 = float(psd.q1_per_m) if q1_per_m is None else float(q1_per_m)
+    if not (np.isfinite(q0) and q0 > 0 and np.isfinite(q1) and q1 > 0):
+        return q0, q1, "q0 and q1 must be positive wave vectors [1/m]"
+    if q0 < qt[0] * (1 - _REL):
+        if q0 < qt[0] * (1 - q0_slack):
+            return q0, q1, (f"q0 = {q0:.6g} 1/m is below the spectrum's lowest wave vector "
+                            f"{qt[0]:.6g} 1/m (the spectrum is not extrapolated to long wavelengths)")
+        q0 = float(qt[0])
+    if not q1 > q0 * (1 + _REL):
+        return q0, q1, f"need q0 < q1 (q0 = {q0:.6g}, q1 = {q1:.6g} 1/m)"
+    return q0, q1, None
+
+
+def band_problem(psd, q0_per_m=None, q1_per_m=None, q0_slack=0.01):
+    """Why ``[q0, q1]`` makes no integration band for ``psd`` (one line), or None when it does:
+    the check :func:`integration_band` applies, for callers that report bad input before the
+    computation.
+
+    Parameters
+    ----------
+    psd : TabulatedPSD
+        The spectrum.
+    q0_per_m, q1_per_m : float or None
+        Band ends [1/m] (None: the table's).
+    q0_slack : float, optional
+        As in :func:`integration_band`.
+
+    Returns
+    -------
+    str or None
+    """
+    return _ends(psd, q0_per_m, q1_per_m, q0_slack)[2]
 
 
 def integration_band(psd, q0_per_m=None, q1_per_m=None, q0_slack=0.01):
@@ -54,17 +93,9 @@ def integration_band(psd, q0_per_m=None, q1_per_m=None, q0_slack=0.01):
     if not isinstance(psd, TabulatedPSD):
         raise TypeError("integration_band needs a TabulatedPSD")
     qt = psd.q_per_m
-    q0 = float(qt[0]) if q0_per_m is None else float(q0_per_m)
-    q1 = float(psd.q1_per_m) if q1_per_m is None else float(q1_per_m)
-    if not (np.isfinite(q0) and q0 > 0 and np.isfinite(q1) and q1 > 0):
-        raise ValueError("q0 and q1 must be positive wave vectors [1/m]")
-    if q0 < qt[0] * (1 - _REL):
-        if q0 < qt[0] * (1 - q0_slack):
-            raise ValueError(f"q0 = {q0:.6g} 1/m is below the spectrum's lowest wave vector "
-                             f"{qt[0]:.6g} 1/m (the spectrum is not extrapolated to long wavelengths)")
-        q0 = float(qt[0])
-    if not q1 > q0 * (1 + _REL):
-        raise ValueError(f"need q0 < q1 (q0 = {q0:.6g}, q1 = {q1:.6g} 1/m)")
+    q0, q1, problem = _ends(psd, q0_per_m, q1_per_m, q0_slack)
+    if problem is not None:
+        raise ValueError(problem)
     ext = psd.with_q1(max(q1, float(qt[-1])))
     inner = qt[(qt > q0 * (1 + _REL)) & (qt < q1 * (1 - _REL))]
     q = np.concatenate([[q0], inner, [q1]])

@@ -244,16 +244,16 @@ def apply_band(psd, q0, q1, log=None):
     info : dict or None
     """
     from friction import TabulatedPSD
-    from friction.band import integration_band
+    from friction.band import band_problem, integration_band
 
     if not isinstance(psd, TabulatedPSD):
         return psd, None
     if q0 is None and q1 is None:
         return psd, None
-    try:
-        out, info = integration_band(psd, q0, q1)
-    except ValueError as exc:
-        raise InputError(None, f"--q0/--q1: {exc}") from None
+    problem = band_problem(psd, q0, q1)       # bad input, checked before the computation
+    if problem is not None:
+        raise InputError(None, f"--q0/--q1: {problem}")
+    out, info = integration_band(psd, q0, q1)
     if info["extended_decades"] > 0:
         from .units_format import quantity
         info["note"] = (f"q1 = {quantity('q1_per_m', info['q1_per_m'])} is above the spectrum's "
