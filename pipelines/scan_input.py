@@ -136,6 +136,9 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
                                "such files before reading)") from None
     except OSError as exc:      # (roadscan.io.read turns what a broken file raises into InputError)
         raise InputError(path, f"cannot read height data ({type(exc).__name__}: {exc})") from None
+    from .texture_prefetch import prepare_lattice_ahead
+
+    prepare_lattice_ahead(obj)          # the spectrum's lattice, on the core idle during the checks
     from .cli_hints import flag_text
     from .validate import check_scan, warn
 

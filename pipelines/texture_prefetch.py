@@ -11,9 +11,11 @@ were started on (identity, not equality). On a one-core machine nothing is start
 
 A map shorter than one 100 mm ISO 13473-1 segment along x gets no MPD but a short-baseline
 mean segment depth (:func:`roadscan.texture_depth.short_segment_depth` of the scan as read, not
-levelled); that too is computed on the second core, when the source scan is known: given to
+levelled); that too is computed on the second core: with the default settings as soon as the
+scan is read (:func:`prepare_lattice_ahead`, beside the spectrum's lattice bookkeeping, while
+the scan is checked), else on the texture thread when the source scan is known (given to
 :meth:`TextureFigures.start`, or named by :func:`levelled_from` around the call of the
-levelled-map hook (:func:`pipelines.spectrum_bridge.analyse_surface` does so). It is handed
+levelled-map hook, as :func:`pipelines.spectrum_bridge.analyse_surface` does). It is handed
 over only for that very scan object and equal ISO 13473-1 settings.
 """
 from __future__ import annotations
@@ -23,7 +25,7 @@ import contextvars
 import os
 import threading
 
-__all__ = ["TextureFigures", "MIN_POINTS", "levelled_from"]
+__all__ = ["TextureFigures", "MIN_POINTS", "levelled_from", "prepare_lattice_ahead"]
 
 #: maps with fewer points are done on the calling thread: below about 0.5 Mpx the thread's
 #: start and the sharing of the interpreter cost more CPU time than the overlap saves wall time
@@ -68,6 +70,79 @@ def _short_wanted(source, direction, mpd_settings):
     return length < 0.1 and length < (mpd_settings or {}).get("segment_m", 0.1) * (1 - 1e-9)
 
 
+class _ReadAhead:
+    """Work on a scan as read, done on a background thread while the scan is checked: the
+    spectrum's lattice bookkeeping (:func:`roadscan.spectrum.prepare_lattice`, found cached by
+    the spectrum and the anisotropy) and, for rows along x shorter than one segment, the
+    short-baseline segment depth with the default ISO 13473-1 settings."""
+
+    def __init__(self, scan):
+        import weakref
+
+        self.scan = weakref.ref(scan)
+        self.short_wanted = _short_wanted(scan, "x", None)
+        self.short = self.short_error = None
+        self.done = threading.Event()
+        self.thread = threading.Thread(target=self._run, args=(scan,), name="roadscan-ahead",
+                                       daemon=True)
+
+    def _run(self, scan):
+        from roadscan.spectrum import prepare_lattice
+        from roadscan.texture_depth import short_segment_depth
+
+        try:
+            try:
+                prepare_lattice(scan.ny, scan.nx, scan.dx_m, scan.dy_m)
+            except Exception:      # noqa: BLE001 - a cache warm-up: the spectrum computes its own
+                pass
+            if self.short_wanted:
+                try:
+                    self.short = short_segment_depth(scan)
+                except BaseException as err:     # handed to the caller of short_depth()
+                    self.short_error = err
+        finally:
+            self.done.set()
+
+    def short_for(self, source, mpd_settings):
+        """True when this holds (or is computing) the short depth of ``source`` (that very
+        object) with ``mpd_settings`` (default settings only)."""
+        return self.short_wanted and self.scan() is source and not (mpd_settings or {})
+
+    def take_short(self):
+        self.done.wait()
+        if self.short_error is not None:
+            raise self.short_error
+        return self.short
+
+
+#: the last scan read ahead (:func:`prepare_lattice_ahead`); it holds the scan weakly
+_AHEAD = None
+
+
+def _ahead_for(source, mpd_settings):
+    ahead = _AHEAD
+    return ahead if ahead is not None and ahead.short_for(source, mpd_settings) else None
+
+
+def prepare_lattice_ahead(scan):
+    """Start the work on ``scan`` that needs the scan as read only, on a background thread:
+    the spectrum's lattice bookkeeping (:func:`roadscan.spectrum.prepare_lattice`) and, for a
+    map shorter than one 100 mm segment along x, its short-baseline segment depth with the
+    default ISO 13473-1 settings (handed over by :meth:`TextureFigures.short_depth` for that
+    very scan object only). Called as soon as a scan is read, it runs on the core left idle
+    while the scan is checked. Only for a HeightMap of at least :data:`MIN_POINTS` points on a
+    machine of two cores or more; returns the thread (or None)."""
+    from roadscan.heightmap import HeightMap
+
+    global _AHEAD
+    if not isinstance(scan, HeightMap) or scan.heights_m.size < MIN_POINTS or \
+            (os.cpu_count() or 1) < 2:
+        return None
+    _AHEAD = _ReadAhead(scan)
+    _AHEAD.thread.start()
+    return _AHEAD.thread
+
+
 class TextureFigures:
     """``texture_spectrum(surface, direction)`` then ``texture_parameters(surface)`` computed on
     a background thread.
@@ -110,7 +185,8 @@ class TextureFigures:
         named = _SOURCE.get()
         if source is None and named is not None and named[0] is surface:
             source, mpd_settings = named[1], named[2]
-        if source is not None and _short_wanted(source, self._direction, mpd_settings):
+        if source is not None and _short_wanted(source, self._direction, mpd_settings) and \
+                _ahead_for(source, mpd_settings) is None:       # not read ahead already
             self._source, self._mpd_settings = source, dict(mpd_settings or {})
         self._surface = surface
         self._thread = threading.Thread(target=self._run, name="roadscan-texture", daemon=True)
@@ -159,6 +235,9 @@ class TextureFigures:
     def short_depth(self, source, mpd_settings=None):
         """``short_segment_depth(source, **mpd_settings)``: (depth [m] or None, baseline [m] or
         None, note) as :func:`roadscan.texture_depth.short_segment_depth` gives them."""
+        ahead = _ahead_for(source, mpd_settings)
+        if ahead is not None:
+            return ahead.take_short()
         if self._thread is not None and self._source is not None and source is self._source \
                 and dict(mpd_settings or {}) == self._mpd_settings:
             self._short_done.wait()

@@ -40,7 +40,38 @@ from .windows import tukey_cached as _tukey
 
 __all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",
            "window_2d", "profile_to_area_factor", "NORMALISATION_2D", "NORMALISATION_1D",
-           "fft_backend"]
+           "fft_backend", "prepare_lattice"]
+
+
+def prepare_lattice(ny, nx, dx_m, dy_m, rings_per_decade=20, anisotropy_rings=10, n_sectors=36):
+    """Compute (and cache) the lattice bookkeeping that :func:`psd_area` and :func:`anisotropy`
+    use on an (ny, nx) grid with their default |q| range: the runs of equal ring of the rfft2
+    half lattice and its (ring, direction sector) runs. They depend on the grid alone, so a
+    caller may compute them ahead, e.g. on an idle core while the scan is still being checked;
+    the spectrum then finds them cached (the same arrays it would compute).
+
+    Parameters
+    ----------
+    ny, nx : int
+        Rows and columns of the map.
+    dx_m, dy_m : float
+        Spacings [m].
+    rings_per_decade : int, optional
+        Rings of :func:`psd_area`.
+    anisotropy_rings, n_sectors : int, optional
+        Rings and direction sectors of :func:`anisotropy`.
+
+    Returns
+    -------
+    None
+    """
+    from .anisotropy import _sector_runs
+
+    q_min, q_max = _default_range(nx * dx_m, ny * dy_m, dx_m, dy_m, None, None)
+    n = _ring_edges(q_min, q_max, rings_per_decade).size - 1
+    _ring_runs(ny, nx, dx_m, dy_m, q_min, q_max, n)
+    n = _ring_edges(q_min, q_max, anisotropy_rings).size - 1
+    _sector_runs(ny, nx, dx_m, dy_m, q_min, q_max, n, n_sectors)
 
 
 def window_2d(ny, nx, alpha=0.25):

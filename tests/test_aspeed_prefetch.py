@@ -116,3 +116,28 @@ def test_an_error_of_the_short_depth_is_raised_by_short_depth(monkeypatch):
     with pytest.raises(RuntimeError, match="short boom"):
         pre.short_depth(src)
     assert pre.get(src) == texture_parameters(src)   # the figures are still handed over
+
+
+def test_lattice_prepared_ahead_gives_the_same_spectrum_and_anisotropy():
+    from roadscan import anisotropy as an
+    from roadscan import rings
+    from roadscan.inpaint import fill_unmeasured
+    from roadscan.spectrum import anisotropy, psd_area
+
+    m, _ = fill_unmeasured(_map(7, n=130))
+    rings._ring_runs.cache_clear()
+    an._sector_runs.cache_clear()
+    thread = tp.prepare_lattice_ahead(m)
+    if thread is not None:
+        thread.join()
+    assert rings._ring_runs.cache_info().currsize == 1 or thread is None
+    spec, spec2d = psd_area(m)
+    aniso = anisotropy(spec2d)
+    if thread is not None:
+        assert rings._ring_runs.cache_info().hits == 1
+        assert an._sector_runs.cache_info().hits == 1
+    rings._ring_runs.cache_clear()
+    an._sector_runs.cache_clear()
+    spec_b, spec2d_b = psd_area(m)
+    assert np.array_equal(spec.C_m4, spec_b.C_m4) and np.array_equal(spec.q_per_m, spec_b.q_per_m)
+    assert anisotropy(spec2d_b) == aniso
