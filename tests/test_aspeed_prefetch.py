@@ -141,3 +141,21 @@ def test_lattice_prepared_ahead_gives_the_same_spectrum_and_anisotropy():
     spec_b, spec2d_b = psd_area(m)
     assert np.array_equal(spec.C_m4, spec_b.C_m4) and np.array_equal(spec.q_per_m, spec_b.q_per_m)
     assert anisotropy(spec2d_b) == aniso
+
+
+def test_short_depth_read_ahead_for_that_scan_with_default_settings_only(monkeypatch):
+    from roadscan import texture_depth as td
+
+    src = _short_scan(8)
+    thread = tp.prepare_lattice_ahead(src)
+    if thread is None:
+        pytest.skip("no second thread on one core")
+    thread.join()
+    want = td.short_segment_depth(src)
+    monkeypatch.setattr(td, "short_segment_depth", lambda obj, **kw: ("spot", None, ""))
+    pre = TextureFigures("x")
+    pre.start(src, src)
+    assert pre._source is None                          # read ahead already: not done again
+    assert pre.short_depth(src) == want
+    assert pre.short_depth(src, {"spike_alpha": 3.5})[0] == "spot"
+    assert pre.short_depth(HeightMap(src.heights_m, src.dx_m, src.dy_m))[0] == "spot"
