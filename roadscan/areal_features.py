@@ -294,7 +294,7 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, 
     -------
     dict
         Keys ``Spd_per_m2``, ``Spc_per_m``, ``S10z_m``, ``S5p_m``, ``S5v_m`` and ``features_note``
-        (the threshold, the counts and the block size used).
+        (the threshold, the number of significant peaks and of pits, unless not counted).
     """
     z = np.asarray(heights_m, dtype=np.float64)
     shift = 0.0 if mean is None else float(mean)  # the heights are z - shift
