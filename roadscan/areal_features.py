@@ -335,7 +335,8 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, 
 
     note = (f"watershed segmentation with Wolf pruning at {100 * prune_fraction:g} % of Sz "
             f"({length(T)}): {len(hp)} significant peaks, "
-            + (f"{len(hv)} pits" if count_pits else "pits not counted"))
+            + (f"{len(hv)} pits" if count_pits else
+               "the five deepest significant pits for S5v (pits not counted further)"))
     return {"Spd_per_m2": len(hp) / area, "Spc_per_m": spc,
             "S10z_m": None if s5p is None or s5v is None else s5p + s5v,
             "S5p_m": s5p, "S5v_m": s5v, "features_note": note}

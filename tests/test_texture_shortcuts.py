@@ -47,4 +47,4 @@ def test_texture_parameters_is_the_modules_on_the_levelled_heights():
             assert figs[k] == pytest.approx(ref[k], rel=1e-7, abs=1e-4 if k == "Std_deg" else 0)
         else:
             assert figs[k] == ref[k], k
-    assert notes["features"].endswith("pits not counted")
+    assert notes["features"].endswith("(pits not counted further)")
