@@ -198,7 +198,8 @@ def draw_psd2d_figure(picture, path, name):
     ax.set_xlabel(f"wave vector qx [{unit}]")
     ax.set_ylabel(f"wave vector qy [{unit}]")
     from .units_format import sig3, wavelength_of_q
-    report.set_title(ax, f"{name}: 2D PSD, |q| < {sig3(qlim)} 1/m (λ > {wavelength_of_q(qlim)})")
+    report.set_title(ax, f"{name}: 2D PSD, |q| < {sig3(qlim)} 1/m (λ > {wavelength_of_q(qlim)})",
+                     y=1.0)
     cb = fig.colorbar(im, ax=ax)
     cb.set_label("log₁₀ C [m⁴]")
     return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))

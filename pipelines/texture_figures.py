@@ -104,7 +104,7 @@ def draw_texture_spectrum(picture, path, title):
         ax.annotate(f"{sig3(lvl[k])} dB", (x[k], lvl[k]), textcoords="offset points",
                     xytext=(0, 3), ha="center", fontsize=7)
     ax.grid(axis="y", alpha=0.3)
-    report.set_title(ax, title)
+    report.set_title(ax, title, y=1.0)
     return report.save_figure(fig, path, report.fixed_margins(ax, bottom=0.95))
 
 
