@@ -138,23 +138,26 @@ class TextureSpectrum:
 def _fill_lines(z):
     """Linear interpolation over NaN along each row (ends held at the nearest measured value;
     rows without a measured point stay NaN), vectorised over the unmeasured points only: for
-    each, the previous and the next measured point of the flattened map (``searchsorted``), kept
-    where they lie on the same row."""
+    each, the previous and the next measured point of the flattened map (the points around
+    its run of consecutive unmeasured points), kept where they lie on the same row."""
     bad = ~np.isfinite(z)
     if not bad.any():
         return z
     m, n = z.shape
-    flat_bad = bad.ravel()
-    bi = np.flatnonzero(flat_bad)
-    gi = np.flatnonzero(~flat_bad)
+    bi = np.flatnonzero(bad)
     out = np.array(z, dtype=np.float64)                 # a copy, C-ordered
     flat = out.ravel()
     row = bi // n
-    j = np.searchsorted(gi, bi)
-    p = gi[np.maximum(j - 1, 0)] if gi.size else np.full(bi.size, -1)
-    q = gi[np.minimum(j, gi.size - 1)] if gi.size else np.full(bi.size, -1)
-    has_p = (j > 0) & (p // n == row)
-    has_q = (j < gi.size) & (q // n == row)
+    first = np.empty(bi.size, dtype=bool)               # a run of unmeasured points starts
+    first[0] = True
+    np.not_equal(bi[1:], bi[:-1] + 1, out=first[1:])
+    last = np.empty_like(first)
+    last[-1] = True
+    last[:-1] = first[1:]
+    p = np.maximum.accumulate(np.where(first, bi - 1, -1))                 # previous measured
+    q = np.minimum.accumulate(np.where(last, bi + 1, m * n)[::-1])[::-1]   # next measured
+    has_p = (p >= 0) & (p // n == row)
+    has_q = (q < m * n) & (q // n == row)
     p = np.where(has_p, p, q)
     q = np.where(has_q, q, p)
     both = has_p | has_q
