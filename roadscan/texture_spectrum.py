@@ -204,7 +204,9 @@ def line_band_power(lines, dx_m, lo_m, hi_m):
     step = max(1, (1 << 22) // max(n, 1))                  # a few MB of lines at a time
     for s in range(0, z.shape[0], step):
         zc = _fill_lines(z[s:s + step])
-        zc = zc[np.isfinite(zc).all(axis=1)]
+        full = np.isfinite(zc).all(axis=1)
+        if not full.all():                                 # no copy when every line has data
+            zc = zc[full]
         if not zc.shape[0]:
             continue
         zc = zc - zc.mean(axis=1, keepdims=True)
