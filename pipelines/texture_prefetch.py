@@ -138,7 +138,11 @@ def prepare_lattice_ahead(scan):
     if not isinstance(scan, HeightMap) or scan.heights_m.size < MIN_POINTS or \
             (os.cpu_count() or 1) < 2:
         return None
-    _AHEAD = _ReadAhead(scan)
+    try:
+        ahead = _ReadAhead(scan)
+    except TypeError:              # a scan type without weak references: nothing read ahead
+        return None
+    _AHEAD = ahead
     _AHEAD.thread.start()
     return _AHEAD.thread
 
