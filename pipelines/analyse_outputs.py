@@ -86,9 +86,11 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
                           out_dir / "texture_spectrum.png",
                           f"{an.name}: texture spectrum (ISO 13473-4)")
         texture_outputs.draw_extras(drawer, out_dir, an.name, summary, tex)   # mpd_segments.png
+    page = _report_sections(an, summary, tex, fr)   # while a helper process draws the figures
+    if figures:
         figs = drawer.collect()
     report.write_json(out_dir / "summary.json", summary)
-    _write_report(out_dir, an, summary, figs, tex, fr)
+    _write_report(out_dir, an, page, figs)
     return out_dir
 
 
@@ -205,7 +207,8 @@ def draw_psd2d_figure(picture, path, name):
     return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))
 
 
-def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
+def _report_sections(an, summary, tex=None, fr=None):
+    """The sections of ``report.html`` before its figures, and its intro."""
     from . import texture_outputs
     from .units_format import length, quantity, sig3
 
@@ -232,18 +235,22 @@ def _write_report(out_dir, an, summary, figs, tex=None, fr=None):
         texture.append(texture_outputs.texture_table_html(tex))
     sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
                 ("Road texture (ISO 13473-1, ISO 13473-4, ASTM E1960)", texture),
-                ("Roughness (ISO 25178-2 / 21920-2 / 4287)", rough),
-                ("Figures", [list(figs)])]
-    if not figs:
-        sections.pop()
+                ("Roughness (ISO 25178-2 / 21920-2 / 4287)", rough)]
     warned = analyse_band.warnings_section(summary)     # every warning in the report
     if warned:
         sections.insert(1, warned)
     shares = analyse_band.share_section(summary, fr)    # mu's provenance per speed
     if shares:
-        sections.insert(-1 if figs else len(sections), shares)
-    report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections,
-                      intro=report.instrument_html(summary.get("instrument")))
+        sections.append(shares)
+    return sections, report.instrument_html(summary.get("instrument"))
+
+
+def _write_report(out_dir, an, page, figs):
+    """``report.html``: the sections of :func:`_report_sections`, then the figures (if any)."""
+    sections, intro = page
+    if figs:
+        sections = sections + [("Figures", [list(figs)])]
+    report.write_html(out_dir / "report.html", f"roadscan analyse: {an.name}", sections, intro=intro)
 
 
 #: the columns of a several-scan run's ``summary.csv`` (SI units; ``report.html`` shows them in
