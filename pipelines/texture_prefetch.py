@@ -115,13 +115,14 @@ class _ReadAhead:
         return self.short
 
 
-#: the last scan read ahead (:func:`prepare_lattice_ahead`); it holds the scan weakly
-_AHEAD = None
+#: the last scans read ahead (:func:`prepare_lattice_ahead`), held weakly
+_AHEAD = []
+#: scans read ahead that are remembered (a command reads all its files before analysing them)
+_AHEAD_KEPT = 8
 
 
 def _ahead_for(source, mpd_settings):
-    ahead = _AHEAD
-    return ahead if ahead is not None and ahead.short_for(source, mpd_settings) else None
+    return next((a for a in list(_AHEAD) if a.short_for(source, mpd_settings)), None)
 
 
 def prepare_lattice_ahead(scan):
@@ -134,7 +135,6 @@ def prepare_lattice_ahead(scan):
     machine of two cores or more; returns the thread (or None)."""
     from roadscan.heightmap import HeightMap
 
-    global _AHEAD
     if not isinstance(scan, HeightMap) or scan.heights_m.size < MIN_POINTS or \
             (os.cpu_count() or 1) < 2:
         return None
@@ -142,9 +142,9 @@ def prepare_lattice_ahead(scan):
         ahead = _ReadAhead(scan)
     except TypeError:              # a scan type without weak references: nothing read ahead
         return None
-    _AHEAD = ahead
-    _AHEAD.thread.start()
-    return _AHEAD.thread
+    _AHEAD[:] = [a for a in _AHEAD[-(_AHEAD_KEPT - 1):] if a.scan() is not None] + [ahead]
+    ahead.thread.start()
+    return ahead.thread
 
 
 class TextureFigures:
