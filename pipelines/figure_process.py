@@ -26,6 +26,7 @@ fresh interpreter that inherits none of this process's open files, locks or thre
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import sys
@@ -82,6 +83,7 @@ class FigureProcess(InProcess):
     def __init__(self):
         super().__init__()
         self._pending = []            # (future, fn, args, kwargs) submitted, not yet collected
+        self._sending = False         # a hand-over to the helper began and did not finish
         self._pool = self._proc = None
         try:
             import multiprocessing
@@ -111,7 +113,9 @@ class FigureProcess(InProcess):
     def submit(self, fn, *args, **kwargs):
         if self._pool is not None:
             try:
+                self._sending = True      # still True if a signal interrupts the hand-over
                 self._pending.append((self._pool.submit(fn, *args, **kwargs), fn, args, kwargs))
+                self._sending = False
                 return
             except RuntimeError:      # BrokenProcessPool included: the helper is gone
                 self._stop()
@@ -136,6 +140,12 @@ class FigureProcess(InProcess):
         pending, self._pending = self._pending, []
         for future, *_ in pending:    # wait: no figure is still being written after this
             future.exception()
+        if self._sending and self._pool is not None:
+            # a figure handed over while a signal came may be queued without its future: the
+            # one worker runs its queue in order, so a no-op sent now returns after it
+            with contextlib.suppress(Exception):
+                self._pool.submit(int).result()
+        self._sending = False
         super().discard()
 
     def _flush_locally(self):

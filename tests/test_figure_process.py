@@ -89,3 +89,26 @@ def test_one_helper_per_process(monkeypatch):
         assert type(fp.figure_drawer(True)) is InProcess
     finally:
         first.close()
+
+
+def test_discard_waits_for_a_figure_whose_hand_over_was_interrupted():
+    """A signal inside the hand-over can leave a figure queued for the helper without its
+    future: discard still returns only after the helper is done with it."""
+    import time
+
+    with FigureProcess() as d:
+        hand_over = d._pool.submit
+
+        def interrupted(fn, *args, **kwargs):
+            hand_over(fn, *args, **kwargs)
+            raise KeyboardInterrupt
+
+        d._pool.submit = interrupted
+        t0 = time.monotonic()
+        with pytest.raises(KeyboardInterrupt):
+            d.submit(time.sleep, 0.5)
+        d._pool.submit = hand_over
+        d.discard()
+        assert time.monotonic() - t0 >= 0.5
+        d.submit(math.hypot, 3, 4)
+        assert d.collect() == [5.0]
