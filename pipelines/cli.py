@@ -238,12 +238,28 @@ def _main(args, cmd):
     except _parsing_errors() as exc:
         return _fail(cmd, debug, one_line(f"cannot parse this input ({type(exc).__name__}: {exc})"))
     except Exception as exc:  # noqa: BLE001 - last resort: a bug, still one line
+        if _interrupted(exc):          # a stop request that a library wrapped (Python wraps an
+            raise KeyboardInterrupt from exc   # exception raised while a class is made, 3.11)
         if isinstance(exc, RuntimeError) and "symlink loop" in str(exc).lower():  # pathlib, a looping link
             return _fail(cmd, debug, one_line(f"{exc}: a symbolic link loop"))
         return _fail(cmd, debug, one_line(f"internal error ({type(exc).__name__}: {exc}); rerun with "
                                           f"--debug for the traceback"), internal=True)
     finally:
         io_common.set_max_pixels(previous_limit)
+
+
+def _interrupted(exc):
+    """Whether ``exc`` follows a stop request: a KeyboardInterrupt (or a SIGTERM/SIGHUP turned
+    into one) among its causes, or a stop signal received while the command ran."""
+    from .signals import received
+
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return received() is not None
 
 
 #: errors of writing: when the exception names no file, the message names the command's output

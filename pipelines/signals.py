@@ -54,6 +54,7 @@ def _quiet():
 
     logging.disable(logging.CRITICAL)
     sys.unraisablehook = lambda unraisable: None
+    threading.excepthook = lambda args: None      # a helper thread stopped mid-import
 
 
 def _raise(signum, frame):
@@ -127,7 +128,7 @@ def signals_as_interrupt(restore=True):
     SIGINT raises KeyboardInterrupt (whatever handler a library installed before). A signal the
     parent set to be ignored stays ignored (``nohup`` ignores SIGHUP). Outside the main thread
     this does nothing (Python allows handlers only there). With ``restore`` the handlers, the
-    logging switch and ``sys.unraisablehook`` are as before after the block (a program calling
+    logging switch, ``sys.unraisablehook`` and ``threading.excepthook`` are as before after the block (a program calling
     ``main()``); the command line passes False (the process ends with the block).
 
     Parameters
@@ -151,6 +152,7 @@ def signals_as_interrupt(restore=True):
 
     _LAST["signum"] = None
     hook, disabled = sys.unraisablehook, logging.root.manager.disable
+    thread_hook = threading.excepthook
     previous = {}
     for sig in CAUGHT + (signal.SIGINT,):
         try:
@@ -167,6 +169,7 @@ def signals_as_interrupt(restore=True):
                 with contextlib.suppress(OSError, ValueError, TypeError):
                     signal.signal(sig, old if old is not None else signal.SIG_DFL)
             sys.unraisablehook = hook
+            threading.excepthook = thread_hook
             logging.disable(disabled)
 
 

@@ -162,7 +162,7 @@ def test_dry_vs_wet_output_error_names_the_output_not_the_scan(tmp_path, capsys,
     """A read-only --out gave 'dry-vs-wet: error: SCAN: --out OUT: cannot write there': the
     line blamed the scan first. Now the output alone; a scan problem still names the scan."""
     import errno
-    import tempfile
+    import os
 
     from fault_tools import small_scan
 
@@ -171,7 +171,7 @@ def test_dry_vs_wet_output_error_names_the_output_not_the_scan(tmp_path, capsys,
     def ro(*a, **k):
         raise OSError(errno.EROFS, "Read-only file system")
 
-    monkeypatch.setattr(tempfile, "mkdtemp", ro)
+    monkeypatch.setattr(os, "mkdir", ro)       # the hidden output folder cannot be made
     rc, err = run_cli(capsys, ["dry-vs-wet", scan, "--spacing", "1e-4", "--no-friction", "--out", tmp_path / "o"])
     monkeypatch.undo()
     assert_one_line_error(rc, err, words=["--out", "Read-only"])

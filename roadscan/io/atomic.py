@@ -249,15 +249,48 @@ def _make_folder(folder, target, option):
                                f"({exc.strerror or exc})", option) from None
 
 
-def _held_temporary(folder, target, option):
+class _Temporary:
     """A new hidden temporary folder for ``target`` inside ``folder`` and the lock that holds it
-    (a concurrent run's clean-up leaves a held folder alone)."""
-    try:
-        tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}{TMP_TAG}", dir=folder))
-    except OSError as exc:
-        raise InputError(None, f"{{{option}}} {target}: cannot write there ({exc.strerror or exc})",
-                         option) from None
-    return tmp, _hold(tmp)
+    (a concurrent run's clean-up leaves a held folder alone).
+
+    Its path is known before the folder exists (:attr:`path`), so that a stop signal arriving
+    at any moment after :meth:`make` is entered (the folder made, not yet returned) still finds
+    it for the clean-up: :meth:`remove` deletes it if it was made."""
+
+    def __init__(self):
+        self.path = None
+        self.lock = None
+        self._made = False
+
+    def make(self, folder, target, option):
+        import random
+        import string
+
+        letters = string.ascii_lowercase + string.digits
+        for _ in range(100):
+            self.path = Path(folder) / f".{target.name}{TMP_TAG}{''.join(random.choices(letters, k=8))}"
+            try:
+                self._made = True         # before the folder exists: see the class docstring
+                os.mkdir(self.path, 0o700)
+            except FileExistsError:       # another run's: never ours to remove
+                self._made = False
+                continue
+            except OSError as exc:
+                self._made = False
+                raise InputError(None, f"{{{option}}} {target}: cannot write there "
+                                 f"({exc.strerror or exc})", option) from None
+            self.lock = _hold(self.path)
+            return self.path
+        raise InputError(None, f"{{{option}}} {target}: cannot make a temporary folder there", option)
+
+    def remove(self, remove_tree):
+        if self._made and self.path is not None:
+            remove_tree(self.path)
+
+    def release(self):
+        if self.lock is not None:
+            os.close(self.lock)
+            self.lock = None
 
 
 def _remove_tree(folder, waits=(0.05, 0.2, 0.5)):
@@ -303,19 +336,20 @@ def atomic_output_dir(target, option="out", inputs=()):
     parent = target.parent
     _make_folder(parent, target, option)
     recover_output_dir(target)
-    tmp, lock = _held_temporary(parent, target, option)
+    held = _Temporary()
     try:
+        tmp = held.make(parent, target, option)
         os.chmod(tmp, _dir_mode())
         yield tmp
         check_not_read([target], option=option, exclude=tmp)
         _swap_in(tmp, target)
     except BaseException as exc:
-        _remove_tree(tmp)
+        held.remove(_remove_tree)
         if isinstance(exc, OSError):
             raise _named(exc, target) from None
         raise
     finally:
-        os.close(lock)
+        held.release()
 
 
 @contextlib.contextmanager
@@ -360,8 +394,10 @@ def atomic_file_set(target, option="out"):
     for old in _leftovers(target, TMP_TAG):
         if not _in_use(old):
             shutil.rmtree(old, ignore_errors=True)
-    tmp, lock = _held_temporary(folder, target, option)
+    held = _Temporary()
+    tmp = None
     try:
+        tmp = held.make(folder, target, option)
         os.chmod(tmp, _dir_mode())
         yield tmp
         files = sorted(tmp.iterdir())
@@ -375,18 +411,19 @@ def atomic_file_set(target, option="out"):
             _place(p, dest)
         os.rmdir(tmp)
     except BaseException as exc:
-        shutil.rmtree(tmp, ignore_errors=True)
+        held.remove(lambda path: shutil.rmtree(path, ignore_errors=True))
         for d in created:                       # deepest first
             with contextlib.suppress(OSError):
                 d.rmdir()
         if isinstance(exc, OSError) and not isinstance(exc, InputError):
             name = getattr(exc, "filename", None)
-            if name and Path(name).parent in (tmp, final_name(tmp)):   # a file of the set: where
-                exc = OSError(exc.errno, exc.strerror or str(exc), str(folder / Path(name).name))  # it goes
+            # a file of the set: named where it goes
+            if name and tmp is not None and Path(name).parent in (tmp, final_name(tmp)):
+                exc = OSError(exc.errno, exc.strerror or str(exc), str(folder / Path(name).name))
             raise _named(exc, target) from None
         raise
     finally:
-        os.close(lock)
+        held.release()
 
 
 def _place(src, dest):
