@@ -53,25 +53,28 @@ def texture_parameters(obj):
     if not isinstance(obj, HeightMap):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
     mean = float(z.mean()) if z.size else np.nan
-    good = z                                      # all finite (the mean is): no copy
+    filled = z                                    # all finite (the mean is): no copy
     if not np.isfinite(mean):
-        good = z[np.isfinite(z)]
-        mean = float(good.mean()) if good.size else np.nan
+        ok = np.isfinite(z)
+        n_ok = int(np.count_nonzero(ok))
+        mean = float(np.sum(z, where=ok) / n_ok) if n_ok else np.nan
+        # unmeasured points at the mean height for the segmentation (one copy, the map's
+        # size; heights - mean are then 0 there exactly)
+        filled = np.where(ok, z, mean) if n_ok >= 2 else None
+        del ok
     from .areal_features import feature_parameters
     from .areal_spatial import spatial_parameters
 
-    if good.size < 2:
+    if filled is None or z.size < 2:
         return dict.fromkeys(AREAL_KEYS), {}
-    curve = MaterialRatioCurve(good)              # (areal_material_parameters)
+    curve = MaterialRatioCurve(z)                 # (areal_material_parameters; NaN left out)
     out = {**functional_parameters(curve), **volume_parameters(curve)}
-    if good is z:          # no full-size copy about the mean: the spatial figures take their
-        sp = spatial_parameters(z, obj.dx_m, obj.dy_m)    # own, the features shift what they use
-        ft = feature_parameters(z, obj.dx_m, obj.dy_m, mean=mean, z_min=curve.z_min_m,
-                                z_max=curve.z_max_m, count_pits=False)
-    else:
-        zc = z - mean
-        sp = spatial_parameters(zc, obj.dx_m, obj.dy_m)
-        ft = feature_parameters(zc, obj.dx_m, obj.dy_m)
+    # no full-size copy about the mean: the spatial figures take their own (NaN where
+    # unmeasured), the features shift only the heights they use
+    sp = spatial_parameters(z, obj.dx_m, obj.dy_m)
+    ft = feature_parameters(filled, obj.dx_m, obj.dy_m, mean=mean, z_min=curve.z_min_m,
+                            z_max=curve.z_max_m, count_pits=False)
+    del filled
     notes = {"spatial": sp.pop("spatial_note"), "features": ft.pop("features_note")}
     out.update(sp)
     out.update(ft)

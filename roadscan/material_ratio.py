@@ -45,21 +45,22 @@ class MaterialRatioCurve:
     def __init__(self, z, n_bins=N_BINS):
         z = np.asarray(z, dtype=np.float64).ravel()
         lo, hi = _min_max(z)
-        if not (np.isfinite(lo) and np.isfinite(hi)):   # NaN or inf somewhere: left out
-            z = z[np.isfinite(z)]
-            lo, hi = _min_max(z)
-        if z.size < 2:
+        n = int(z.size)
+        finite_only = not (np.isfinite(lo) and np.isfinite(hi))   # NaN or inf: left out,
+        if finite_only:                                           # block by block (no copy)
+            lo, hi, n = _min_max_finite(z)
+        if n < 2:
             raise ValueError("a material-ratio curve needs at least two measured heights")
-        self.z_min_m, self.z_max_m, self.n = lo, hi, int(z.size)
+        self.z_min_m, self.z_max_m, self.n = lo, hi, n
         span = hi - lo
         if span <= 0:
             self.edges_m = np.array([lo, lo + 1e-30])
             self.above = np.array([100.0, 0.0])
         else:
-            counts = _bin_counts(z, lo, span, n_bins)
+            counts = _bin_counts(z, lo, span, n_bins, finite_only)
             self.edges_m = lo + span * np.arange(n_bins + 1) / n_bins
             # share above each edge, from the top: 0 % at the highest height, 100 % at the lowest
-            self.above = 100.0 * np.r_[z.size, z.size - np.cumsum(counts)] / z.size
+            self.above = 100.0 * np.r_[n, n - np.cumsum(counts)] / n
         self.mr_pct = np.linspace(0.0, 100.0, int(round(100 / MR_STEP_PCT)) + 1)
         # c(mr): the edges run upwards while 'above' runs downwards
         self.c_m = np.interp(self.mr_pct, self.above[::-1], self.edges_m[::-1])
@@ -85,16 +86,31 @@ def _min_max(z):
     return float(lo), float(hi)
 
 
-def _bin_counts(z, lo, span, n_bins):
-    """Heights of the finite 1D array ``z`` per bin k = floor((z - lo) n_bins / span), the top
-    height (k = n_bins) in the last bin; block by block through cache-sized buffers (the same
-    arithmetic as on the whole array, without its three full-size temporaries)."""
+def _min_max_finite(z):
+    """(min, max, count) of the finite values of the 1D array ``z``, block by block (no
+    full-size copy); (nan, nan, 0) when none is finite."""
+    lo, hi, n = np.inf, -np.inf, 0
+    for b in range(0, z.size, _BLOCK):
+        blk = z[b:b + _BLOCK]
+        blk = blk[np.isfinite(blk)]
+        if blk.size:
+            lo, hi, n = min(lo, float(blk.min())), max(hi, float(blk.max())), n + blk.size
+    return (lo, hi, n) if n else (np.nan, np.nan, 0)
+
+
+def _bin_counts(z, lo, span, n_bins, finite_only=False):
+    """Heights of the 1D array ``z`` per bin k = floor((z - lo) n_bins / span), the top
+    height (k = n_bins) in the last bin (``finite_only``: its non-finite values left out);
+    block by block through cache-sized buffers (the same arithmetic as on the whole array,
+    without its three full-size temporaries)."""
     scale = n_bins / span
     counts = np.zeros(n_bins + 1, np.intp)
     t = np.empty(min(_BLOCK, z.size))
     k = np.empty(t.size, np.intp)
     for b in range(0, z.size, _BLOCK):
         blk = z[b:b + _BLOCK]
+        if finite_only:
+            blk = blk[np.isfinite(blk)]
         tb, kb = t[:blk.size], k[:blk.size]
         np.subtract(blk, lo, out=tb)
         tb *= scale
