@@ -91,6 +91,7 @@ class FigureProcess(InProcess):
 
             method = _start_method()
             self._pool = ProcessPoolExecutor(max_workers=1, initializer=_warm_up,
+                                             initargs=(os.getpid(),),
                                              mp_context=multiprocessing.get_context(method))
             main = sys.modules.get("__main__")
             # the spawned worker would import the caller's script again (as __mp_main__): a
@@ -227,12 +228,33 @@ def _unblock(previous):
     signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
 
-def _warm_up():
+def _die_with_parent(parent_pid):
+    """The helper ends when the command does, however it ends (SIGKILL, the OOM killer): on
+    Linux the kernel sends it SIGKILL when its parent dies (``prctl(PR_SET_PDEATHSIG)``, see
+    prctl(2)); a parent already gone ends it now. Without this, a forked helper holds the
+    write end of its own task queue and waits for work forever once the parent is killed."""
+    if not sys.platform.startswith("linux"):
+        return
+    try:
+        import ctypes
+
+        ctypes.CDLL(None).prctl(1, int(signal.SIGKILL), 0, 0, 0)   # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):
+        pass
+    if os.getppid() != parent_pid:          # died before the request took effect
+        os._exit(0)
+
+
+def _warm_up(parent_pid=None):
     """The helper's initializer: matplotlib imported while the parent computes; warnings off.
 
-    The stop signals get a fresh interpreter's dispositions (a forked helper inherits the
-    command's handlers, and the signals blocked) and are then unblocked."""
+    It ends with its parent (:func:`_die_with_parent`). The stop signals get a fresh
+    interpreter's dispositions (a forked helper inherits the command's handlers, and the signals
+    blocked) and are then unblocked."""
     import warnings
+
+    if parent_pid is not None:
+        _die_with_parent(parent_pid)
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)   # Ctrl-C reaches the group: the parent stops us
     for sig in _stop_signals():

@@ -170,3 +170,21 @@ def test_sigkill_at_random_moments_never_mixes_sets(tmp_path):
             assert _run_set(out) == old_set
             assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "scan.npy"]   # cleaned
     assert kills >= 2
+    assert _survivors(str(scan)) == []          # no figure helper outlives a killed command
+
+
+def _survivors(marker, wait_s=5.0):
+    """Pids of processes (Linux /proc) whose command line names ``marker``, after up to
+    ``wait_s`` for them to end."""
+    t0 = time.monotonic()
+    while True:
+        pids = []
+        for d in Path("/proc").glob("[0-9]*"):
+            try:
+                if marker in (d / "cmdline").read_bytes().decode(errors="replace"):
+                    pids.append(int(d.name))
+            except OSError:
+                continue
+        if not pids or time.monotonic() - t0 > wait_s:
+            return pids
+        time.sleep(0.1)
