@@ -173,10 +173,7 @@ def main(argv=None):
     """Run one command; SIGTERM/SIGHUP/SIGINT at any moment: one line, exit 128 + signal."""
     from .signals import after_interrupt, exit_code, received, signal_name, signals_as_interrupt
 
-    from .process_memory import return_freed_memory
-
     global _ARGV
-    return_freed_memory()              # freed band arrays back to the system (peak memory)
     _ARGV = list(sys.argv[1:] if argv is None else argv)
     cmd = "roadscan"
     try:
