@@ -21,7 +21,7 @@ SIGNALS = [signal.SIGINT, signal.SIGTERM, signal.SIGHUP]
 @pytest.fixture(scope="module")
 def work(tmp_path_factory):
     d = tmp_path_factory.mktemp("signals")
-    np.save(d / "scan.npy", fourier_surface(256, DX, 0.8, 2e-4, seed=3))
+    np.save(d / "scan.npy", fourier_surface(512, DX, 0.8, 2e-4, seed=3))   # runs ~1 s
     return d
 
 
