@@ -13,7 +13,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["row_chunks", "measured_stats", "measured_mean_range", "MeasuredStats", "CHUNK_BYTES"]
+__all__ = ["row_chunks", "measured_stats", "measured_mean_range", "MeasuredStats", "CHUNK_BYTES",
+           "gap_neighbours"]
 
 #: rows per chunk of the grid-sized passes: about 2 MiB of float64 per chunk, so temporaries
 #: stay in cache and the peak memory does not grow with the map
@@ -122,3 +123,32 @@ def measured_mean_range(h, unmeasured):
     """
     s = measured_stats(h, unmeasured, with_sum=True)
     return s.mean, s.min, s.max
+
+
+def gap_neighbours(at, size):
+    """For each flattened index in ``at`` (sorted, the unmeasured points of a map of ``size``
+    points), the previous and the next index not in ``at`` (the measured points around its run
+    of consecutive unmeasured points): -1 before the first, ``size`` after the last. Found on
+    the unmeasured points only (their runs), not on every measured point.
+
+    Parameters
+    ----------
+    at : ndarray of int, shape (k,), k >= 1
+        Sorted flattened indices of the unmeasured points.
+    size : int
+        Number of points of the map.
+
+    Returns
+    -------
+    p, q : ndarray of int, shape (k,)
+        Previous and next measured index of each.
+    """
+    first = np.empty(at.size, dtype=bool)           # a run of consecutive indices starts
+    first[0] = True
+    np.not_equal(at[1:], at[:-1] + 1, out=first[1:])
+    last = np.empty_like(first)
+    last[-1] = True
+    last[:-1] = first[1:]
+    p = np.maximum.accumulate(np.where(first, at - 1, -1))
+    q = np.minimum.accumulate(np.where(last, at + 1, size)[::-1])[::-1]
+    return p, q

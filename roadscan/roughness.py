@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .bands import row_chunks
+from .bands import gap_neighbours, row_chunks
 from .heightmap import HeightMap, Profile
 from .level import fit_polynomial, level
 from .windows import butter2_lowpass, filtfilt2
@@ -170,14 +170,7 @@ def _interp_rows(z, bad):
         at = at[~bad.all(axis=1)[at // n]]          # rows with a good value only
     if not at.size:
         return out
-    first = np.empty(at.size, dtype=bool)           # a run of consecutive bad points starts
-    first[0] = True
-    np.not_equal(at[1:], at[:-1] + 1, out=first[1:])
-    last = np.empty_like(first)
-    last[-1] = True
-    last[:-1] = first[1:]
-    p = np.maximum.accumulate(np.where(first, at - 1, -1))          # previous good point
-    q = np.minimum.accumulate(np.where(last, at + 1, rows * n)[::-1])[::-1]  # next good point
+    p, q = gap_neighbours(at, rows * n)              # previous and next good point
     lo = at - at % n                                 # the row's first point
     lead, trail = p < lo, q >= lo + n
     mid = ~(lead | trail)

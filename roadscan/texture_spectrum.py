@@ -43,6 +43,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .bands import gap_neighbours
 from .heightmap import HeightMap, Profile
 from .windows import tukey
 
@@ -148,14 +149,7 @@ def _fill_lines(z):
     out = np.array(z, dtype=np.float64)                 # a copy, C-ordered
     flat = out.ravel()
     row = bi // n
-    first = np.empty(bi.size, dtype=bool)               # a run of unmeasured points starts
-    first[0] = True
-    np.not_equal(bi[1:], bi[:-1] + 1, out=first[1:])
-    last = np.empty_like(first)
-    last[-1] = True
-    last[:-1] = first[1:]
-    p = np.maximum.accumulate(np.where(first, bi - 1, -1))                 # previous measured
-    q = np.minimum.accumulate(np.where(last, bi + 1, m * n)[::-1])[::-1]   # next measured
+    p, q = gap_neighbours(bi, m * n)                    # previous and next measured point
     has_p = (p >= 0) & (p // n == row)
     has_q = (q < m * n) & (q // n == row)
     p = np.where(has_p, p, q)
