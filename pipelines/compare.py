@@ -101,19 +101,18 @@ def compare(sources, out, **options):
 
     from .analyse_options import add_compare_options, options_from_kwargs, spectrum_kwargs, unique_stems
     from .friction_options import settings_from_args
-    from .scan_input import load_scan
-    from .validate import check_scan, collecting
+    from .scan_input import scan_of, source_path
+    from .validate import collecting
 
     args = options_from_kwargs(options, "compare", add_compare_options)
     sources = list(sources)
     if len(sources) < 2:
         raise InputError(None, "compare needs at least two scans")
-    paths = [os.fspath(s) for s in sources if isinstance(s, (str, os.PathLike))]
+    paths = [p for p in map(source_path, sources) if p is not None]
     with collecting():
         settings = settings_from_args(args)
         sk = spectrum_kwargs(args)
-        scans = [load_scan(s, args) if isinstance(s, (str, os.PathLike)) else check_scan(s)
-                 for s in sources]
+        scans = [scan_of(s, args) for s in sources]
         names = unique_stems([s if isinstance(s, (str, os.PathLike)) else f"{s.name}.x"
                               for s in sources])
         check_output_dir(out, inputs=paths)

@@ -62,25 +62,23 @@ def dry_vs_wet(scan, out, **options):
     roadscan.errors.InputError
         A value the flag refuses, or a scan the job cannot use (one line).
     """
-    import os
-
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
     from .analyse_options import options_from_kwargs, spectrum_kwargs
     from .friction_options import settings_from_args
-    from .scan_input import load_scan
-    from .validate import check_scan, collecting
+    from .scan_input import scan_of, source_path
+    from .validate import collecting
     from .water_options import add_dry_vs_wet_options, check_water_options
 
     args = options_from_kwargs(options, "dry_vs_wet", add_dry_vs_wet_options)
-    path = os.fspath(scan) if isinstance(scan, (str, os.PathLike)) else None
+    path = source_path(scan)
     inputs = [path] if path is not None else []
     with collecting():
         check_water_options(args)
         check_output_dir(out, inputs=inputs)
         settings = settings_from_args(args)
         sk = spectrum_kwargs(args)
-        obj = load_scan(path, args) if path is not None else check_scan(scan)
+        obj = scan_of(scan, args)
         try:
             with atomic_output_dir(out, inputs=inputs) as tmp:
                 return run_dry_vs_wet(obj, tmp, settings, connectivity=args.connectivity,

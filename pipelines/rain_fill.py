@@ -56,22 +56,20 @@ def rain_fill(scan, out, **options):
     roadscan.errors.InputError
         A value the flag refuses, or a scan the job cannot use (one line).
     """
-    import os
-
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
     from .analyse_options import options_from_kwargs
-    from .scan_input import load_scan
-    from .validate import check_scan, collecting
+    from .scan_input import scan_of, source_path
+    from .validate import collecting
     from .water_options import add_rain_fill_options, check_water_options
 
     args = options_from_kwargs(options, "rain_fill", add_rain_fill_options)
-    path = os.fspath(scan) if isinstance(scan, (str, os.PathLike)) else None
+    path = source_path(scan)
     inputs = [path] if path is not None else []
     with collecting():
         check_water_options(args)
         check_output_dir(out, inputs=inputs)
-        obj = load_scan(path, args) if path is not None else check_scan(scan)
+        obj = scan_of(scan, args)
         filled, r = rain_fill_scan(obj, connectivity=args.connectivity, max_depth_m=args.max_depth,
                                    water_film_m=args.water_film, level=not args.no_level, path=path)
         with atomic_output_dir(Path(out), inputs=inputs) as tmp:

@@ -5,7 +5,7 @@ from pathlib import Path
 
 from roadscan.errors import InputError
 
-__all__ = ["add_scan_options", "load_scan", "read_options", "read_record"]
+__all__ = ["add_scan_options", "load_scan", "read_options", "read_record", "source_path", "scan_of"]
 
 #: what summary.json records of how a file was read
 READ_KEYS = ("calibration_override", "calibration_ignored", "channel", "channels")
@@ -176,3 +176,40 @@ def read_record(obj):
     meta = getattr(obj, "meta", None) or {}
     return {k: flag_text(meta[k]) if isinstance(meta[k], str) else meta[k]
             for k in READ_KEYS if k in meta}
+
+
+def source_path(source):
+    """The path of a scan given as a file (str or os.PathLike), None for a scan in memory.
+
+    Parameters
+    ----------
+    source : str, os.PathLike, HeightMap or Profile
+
+    Returns
+    -------
+    str or None
+    """
+    import os
+
+    return os.fspath(source) if isinstance(source, (str, os.PathLike)) else None
+
+
+def scan_of(source, args):
+    """The scan of an API call's source: a file read as the command reads it
+    (:func:`load_scan` with the parsed flags ``args``), or a scan in memory checked as a read
+    one is (:func:`pipelines.validate.check_scan`).
+
+    Parameters
+    ----------
+    source : str, os.PathLike, HeightMap or Profile
+    args : argparse.Namespace
+        The parsed flags (how a file is read).
+
+    Returns
+    -------
+    HeightMap or Profile
+    """
+    from .validate import check_scan
+
+    path = source_path(source)
+    return load_scan(path, args) if path is not None else check_scan(source)
