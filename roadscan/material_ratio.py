@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MaterialRatioCurve", "material_ratio_curve", "functional_parameters",
+__all__ = ["MaterialRatioCurve", "material_ratio_curve", "equivalent_line", "functional_parameters",
            "volume_parameters", "areal_material_parameters", "profile_material_parameters",
            "N_BINS"]
 
@@ -151,15 +151,52 @@ def _integral(mr, c, lo, hi):
     return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)))
 
 
-def functional_parameters(curve, window_pct=40.0):
-    """The Sk family of ISO 25178-2:2012 (section 4.5, construction of ISO 13565-2:1996).
+def equivalent_line(curve, window_pct=40.0):
+    """The equivalent straight line of the material-ratio curve (ISO 13565-2:1996;
+    ISO 25178-2:2012, Annex B).
 
-    The equivalent straight line is the secant of the material-ratio curve c(mr) over a window
-    of ``window_pct`` = 40 % of material ratio placed where it has the smallest gradient:
-    slope(a) = (c(a) - c(a + 40)) / 40, a in [0, 60] %. With c_eq(mr) = c(a*) - slope (mr - a*):
+    The central region is located by the secant of ``window_pct`` = 40 % material-ratio width
+    with the smallest gradient: slope(a) = (c(a) - c(a + 40)) / 40, a in [0, 60] %, a* its
+    argmin. The secant only places the region: the line is the least-squares fit, in the
+    height direction, of the curve's points c(mr_j) with a* <= mr_j <= a* + 40 (the tabulated
+    curve, points evenly spaced in mr as the sorted heights are): c_eq(mr) = c0 + s (mr - m0),
+    s = sum (mr_j - m0) (c_j - c0) / sum (mr_j - m0)^2, m0 and c0 the means of the points.
+
+    Parameters
+    ----------
+    curve : MaterialRatioCurve
+        The material-ratio curve.
+    window_pct : float
+        Width of the central region [%] (40 in the standards).
+
+    Returns
+    -------
+    top_m, bottom_m : float
+        c_eq(0) and c_eq(100) [m]: the line's heights at 0 % and 100 % material ratio.
+    start_pct : float
+        a*, where the central region starts [%].
+    """
+    mr, c = curve.mr_pct, curve.c_m
+    k = int(round(window_pct / MR_STEP_PCT))
+    slope = (c[:-k] - c[k:]) / window_pct                 # >= 0: c falls with mr
+    i = int(np.argmin(slope))
+    m, h = mr[i:i + k + 1], c[i:i + k + 1]
+    m0, c0 = float(m.mean()), float(h.mean())
+    dm = m - m0
+    s = float(np.dot(dm, h - c0) / np.dot(dm, dm))        # <= 0 [m per %]
+    return c0 - s * m0, c0 + s * (100.0 - m0), float(mr[i])
+
+
+def functional_parameters(curve, window_pct=40.0):
+    """The Sk family of ISO 25178-2:2012 (4.5 and Annex B; construction of ISO 13565-2:1996).
+
+    With the equivalent straight line c_eq of :func:`equivalent_line` (least-squares line of
+    the central 40 % of the curve, the region placed by the flattest 40 % secant):
 
     - Sk = c_eq(0) - c_eq(100) [m], the core height;
-    - Smr1 = Smr(c_eq(0)), Smr2 = Smr(c_eq(100)) [%];
+    - Smr1 = Smr(c_eq(0)), Smr2 = Smr(c_eq(100)) [%]: where the curve crosses the heights of
+      the line's ends (0 % when c_eq(0) is above the highest height, 100 % when c_eq(100) is
+      below the lowest);
     - Spk = 2 A1 / Smr1 with A1 = integral_0^Smr1 (c(mr) - c_eq(0)) dmr (peak area; Spk is the
       height of the triangle of that area over [0, Smr1]) [m];
     - Svk = 2 A2 / (100 - Smr2) with A2 = integral_Smr2^100 (c_eq(100) - c(mr)) dmr [m].
@@ -167,8 +204,9 @@ def functional_parameters(curve, window_pct=40.0):
     Parameters
     ----------
     curve : MaterialRatioCurve
+        The material-ratio curve.
     window_pct : float
-        Width of the secant window [%] (40 in the standards).
+        Width of the central region [%] (40 in the standards).
 
     Returns
     -------
@@ -178,11 +216,7 @@ def functional_parameters(curve, window_pct=40.0):
     mr, c = curve.mr_pct, curve.c_m
     if curve.z_max_m <= curve.z_min_m:             # flat: no core, no peaks, no dales
         return {"Sk_m": 0.0, "Spk_m": 0.0, "Svk_m": 0.0, "Smr1_pct": 0.0, "Smr2_pct": 100.0}
-    k = int(round(window_pct / MR_STEP_PCT))
-    slope = (c[:-k] - c[k:]) / window_pct                 # >= 0: c falls with mr
-    i = int(np.argmin(slope))
-    s, a, ca = float(slope[i]), float(mr[i]), float(c[i])
-    top, bottom = ca + s * a, ca - s * (100.0 - a)        # c_eq(0), c_eq(100)
+    top, bottom, _ = equivalent_line(curve, window_pct)
     smr1 = float(np.clip(curve.ratio_at(top), 0.0, 100.0))
     smr2 = float(np.clip(curve.ratio_at(bottom), 0.0, 100.0))
     a1 = _integral(mr, c - top, 0.0, smr1)

@@ -11,36 +11,53 @@ from roadscan.material_ratio import (areal_material_parameters, material_ratio_c
 from roadscan.roughness import area_parameters
 
 
+def _ls_line(c_of_mr, lo, hi):
+    """Least-squares line of c(mr) over [lo, hi] % by quadrature: (c_eq(0), c_eq(100))."""
+    mid = 0.5 * (lo + hi)
+    mean = integrate.quad(c_of_mr, lo, hi)[0] / (hi - lo)
+    slope = (integrate.quad(lambda m: (m - mid) * c_of_mr(m), lo, hi)[0]
+             / (2 * (0.5 * (hi - lo)) ** 3 / 3))
+    return mean - slope * mid, mean + slope * (100 - mid)
+
+
 def test_gaussian_core_height_over_sq():
-    """Gaussian heights: c(mr) = Sq Phi^-1(1 - mr); the flattest 40 % secant is centred, so
-    Sk / Sq = 100 (Phi^-1(0.7) - Phi^-1(0.3)) / 40 and Smr1 = 100 Phi(-(Phi^-1(0.7) + 30 s))."""
+    """Gaussian heights: c(mr) = Sq Phi^-1(1 - mr); the flattest 40 % secant is centred
+    (30..70 %), and the equivalent line is the least-squares line of c over that region
+    (ISO 13565-2): its ends, Smr1 = 100 Phi(-c_eq(0) / Sq) and Spk by quadrature."""
     sq = 2e-4
     z = np.random.default_rng(4).normal(scale=sq, size=(1500, 1500))
     f = areal_material_parameters(z)
-    s = (norm.ppf(0.7) - norm.ppf(0.3)) / 40
-    assert f["Sk_m"] / sq == pytest.approx(100 * s, rel=0.01)
-    smr1 = 100 * norm.sf(norm.ppf(0.7) + 30 * s)
+    top, bottom = _ls_line(lambda m: sq * norm.isf(m / 100), 30.0, 70.0)
+    assert f["Sk_m"] == pytest.approx(top - bottom, rel=0.01)
+    smr1 = 100 * norm.sf(top / sq)
     assert f["Smr1_pct"] == pytest.approx(smr1, abs=0.3)
     assert f["Smr2_pct"] == pytest.approx(100 - smr1, abs=0.3)
     # Spk from the analytic curve by quadrature (an independent integration)
-    top = sq * (norm.ppf(0.7) + 30 * s)
     a1 = integrate.quad(lambda m: sq * norm.isf(m / 100) - top, 1e-9, smr1)[0]
     assert f["Spk_m"] == pytest.approx(2 * a1 / smr1, rel=0.03)
     assert f["Svk_m"] == pytest.approx(f["Spk_m"], rel=0.05)       # symmetric heights
 
 
 def test_sine_profile_rk_family():
-    """z = sin: c(mr) = cos(pi mr / 100); the flattest secant starts at mr = 0 (a tie with 60 %),
-    so Rk = 2.5 (1 - cos 0.4 pi), Rmr1 = 0, Rmr2 = arccos(1 - Rk) / pi, Rmr(0) = 50 %."""
+    """z = sin: c(mr) = cos(pi mr / 100); the flattest 40 % secant starts at 0 or at 60 % (a
+    tie, mirror images); the least-squares line of c over [0, 40] lies above c(0) = 1 (c is
+    concave there), so Rmr1 = 0, Rmr2 = arccos(c_eq(100)) / pi, and Rvk by quadrature; over
+    [60, 100] the mirror image: Rmr2 = 100, Rmr1 = 100 - that, Rpk = that Rvk."""
     x = np.linspace(0, 40 * np.pi, 400001)[:-1]
     r = profile_material_parameters(np.sin(x))
-    rk = 2.5 * (1 - np.cos(0.4 * np.pi))
-    assert r["Rk_m"] == pytest.approx(rk, rel=2e-3)
-    assert r["Rmr1_pct"] == pytest.approx(0.0, abs=0.05)
-    mr2 = 100 * np.arccos(1 - rk) / np.pi
-    assert r["Rmr2_pct"] == pytest.approx(mr2, abs=0.05)
-    a2 = integrate.quad(lambda m: (1 - rk) - np.cos(np.pi * m / 100), mr2, 100)[0]
-    assert r["Rvk_m"] == pytest.approx(2 * a2 / (100 - mr2), rel=5e-3)
+    top, bottom = _ls_line(lambda m: np.cos(np.pi * m / 100), 0.0, 40.0)
+    assert top > 1
+    assert r["Rk_m"] == pytest.approx(top - bottom, rel=2e-3)
+    mr2 = 100 * np.arccos(bottom) / np.pi
+    a2 = integrate.quad(lambda m: bottom - np.cos(np.pi * m / 100), mr2, 100)[0]
+    if r["Rmr1_pct"] < 50:                               # the window [0, 40]
+        assert r["Rmr1_pct"] == pytest.approx(0.0, abs=0.05)
+        assert r["Rmr2_pct"] == pytest.approx(mr2, abs=0.05)
+        assert r["Rvk_m"] == pytest.approx(2 * a2 / (100 - mr2), rel=5e-3)
+    else:                                                # its mirror image [60, 100]
+        assert r["Rmr2_pct"] == pytest.approx(100.0, abs=0.05)
+        assert r["Rmr1_pct"] == pytest.approx(100 - mr2, abs=0.05)
+        assert r["Rpk_m"] == pytest.approx(2 * a2 / (100 - mr2), rel=5e-3)
     assert r["Rmr_pct"] == pytest.approx(50.0, abs=0.05)
 
 
