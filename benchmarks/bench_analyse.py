@@ -3,7 +3,7 @@ waits for it: at most 1.2 s with its four PNGs and report.html, at most 0.7 s wi
 ``--no-figures`` (friction with the default rubber included in both), and at most 0.5 s for
 ``pipelines.analyse`` of the sample without writing (case ``api``, imports included).
 
-Each case runs the installed entry point's code (``from pipelines.cli import main``) in a fresh
+Each case runs the installed entry point's code (``from pipelines.cli.app import main``) in a fresh
 interpreter, interleaved with a ``python -c 'import numpy'`` reference so that background load
 hits them alike; printed: best wall time of N, best CPU time (user + system of the child, which
 load inflates less than wall time; with figures, the figure helper process that the command
@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "sample_scans" / "asphalt.x3p"
 GOALS = {"figures": 1.2, "no-figures": 0.7, "api": 0.5}
 API = "import pipelines\npipelines.analyse({!r})"     # the computation alone: nothing written
-ENTRY = "import sys\nfrom pipelines.cli import main\nsys.argv[0] = 'roadscan'\nsys.exit(main({}))"
+ENTRY = "import sys\nfrom pipelines.cli.app import main\nsys.argv[0] = 'roadscan'\nsys.exit(main({}))"
 #: the command's own CPU time, printed at its exit: a helper process it reaps (the figure worker
 #: of concurrent.futures) is not counted, as the docstring says
 OWN_CPU = ("import atexit, resource, sys\natexit.register(lambda: sys.stderr.write("
@@ -43,8 +43,8 @@ def mark(what):
     t0, c0 = t, c
 import numpy as np; mark("import numpy")
 from pathlib import Path
-from pipelines.scan_input import load_scan
-from pipelines.spectrum_bridge import analyse_surface, friction_curve, surface_psd
+from pipelines.settings.scan_input import load_scan
+from pipelines.chain.surface import analyse_surface, friction_curve, surface_psd
 from roadscan.io import read
 mark("import roadscan, pipelines (before the steps)")
 hm = read(sys.argv[1]); mark("read the X3P")

@@ -71,7 +71,7 @@ def time_batch(paths, out, workers, dx, figures=False):
 
 
 def time_analyse_inprocess(paths, out, dx):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     import contextlib
     import io
@@ -86,8 +86,8 @@ def time_analyse_inprocess(paths, out, dx):
 
 def time_run_analysis(paths, out, dx):
     """The analysis alone, in this process, without figures (what a batch worker does)."""
-    from pipelines.analyse import FrictionSettings, run_analysis
-    from pipelines.scan_input import load_scan
+    from pipelines.jobs.analyse.job import FrictionSettings, run_analysis
+    from pipelines.settings.scan_input import load_scan
 
     run_analysis(load_scan(paths[0], spacing=str(dx)), out / "warm", FrictionSettings(), figures=False)
     t = time.perf_counter()

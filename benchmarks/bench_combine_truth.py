@@ -49,7 +49,7 @@ K = 2e-5
 
 
 def run_case(d, insts, hurst, q_roll, seed):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
     from roadscan.reliable_band import gaussian_response
     from roadscan.synth import model_psd
     from roadscan.synth_measure import measure_synthetic

@@ -1,6 +1,6 @@
 """Proof of the friction-level diagnosis on withheld effects (issue 5), and its speed.
 
-Generates seeded cases (pipelines/diagnose/cases.py): one hidden effect each, cycling through
+Generates seeded cases (pipelines/diagnosis/cases.py): one hidden effect each, cycling through
 every friction-level effect, kept only when identifiable (the effect moves mu beyond 2 x the
 noise and no other effect, best fitted, explains it within the noise), plus null cases. Runs
 the diagnosis blind on each and prints top-1 accuracy, median held-out shrink, false-positive
@@ -20,9 +20,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from pipelines.diagnose.cases import draw_cases  # noqa: E402
-from pipelines.diagnose.model import simulate  # noqa: E402
-from pipelines.diagnose.search import diagnose_friction  # noqa: E402
+from pipelines.diagnosis.cases import draw_cases  # noqa: E402
+from pipelines.diagnosis.model import simulate  # noqa: E402
+from pipelines.diagnosis.verdict.search import diagnose_friction  # noqa: E402
 
 
 def main(n_effect=48, n_null=20, seed0=1000):
@@ -65,7 +65,7 @@ def main(n_effect=48, n_null=20, seed0=1000):
           f"ratio to one baseline engine call: {np.median(times) / np.median(engine):.0f}x")
 
     from roadscan.synth import self_affine_surface
-    from pipelines.diagnose.surface import run_surface
+    from pipelines.diagnosis.surface.level import run_surface
     import tempfile
 
     hm = self_affine_surface(1000, 1000, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, q_roll_per_m=500.0, seed=7)

@@ -64,8 +64,8 @@ null                    the cropped self-affine map itself
 The variants draw from their own random stream, so a seed's main recipe does not change.
 Several seed sets (``--seeds``, default 1000,2000,3000) give the per-kind table over all of them
 at the end; ``--quick`` runs one seed set small (2 surface cases per kind, 8 friction cases and 3
-nulls). The generator imports ``friction``, ``roadscan`` and ``pipelines.spectrum_bridge`` (the
-metrology chain, for the scan surfaces' PSD), never ``pipelines.diagnose``.
+nulls). The generator imports ``friction``, ``roadscan`` and ``pipelines.chain.surface`` (the
+metrology chain, for the scan surfaces' PSD), never ``pipelines.diagnosis``.
 
 Worlds with unknown input offsets (issue 19, ``--level offsets``): see
 ``bench_diagnose_blind_offsets.py``; they run with ``--uncertain`` ranges containing the truth.

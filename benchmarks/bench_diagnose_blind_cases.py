@@ -1,7 +1,7 @@
 """Case generator of the blind diagnosis benchmark (see ``bench_diagnose_blind.py``): surfaces, this
 file's own implementation of every hidden effect on the friction engine's public API, its own
 alternative fits (the identifiability filter) and the seeded cases written as CLI inputs. Never
-imports ``pipelines.diagnose``."""
+imports ``pipelines.diagnosis``."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -60,7 +60,7 @@ def _psd_surface(rng, d):
 
 
 def _scan_surface(rng, d, small=False):
-    from pipelines.spectrum_bridge import analyse_surface, surface_psd
+    from pipelines.chain.surface import analyse_surface, surface_psd
     from roadscan import io as rio
     from roadscan.synth import model_psd, self_affine_surface
 
@@ -188,7 +188,7 @@ def true_mu(effect, p, surf, v, T0_C=None, sigma0_Pa=SIGMA0_PA, cache=None):
 
 
 def _wet_psd(surf, film_fraction, cache=None):
-    from pipelines.spectrum_bridge import analyse_surface, surface_psd
+    from pipelines.chain.surface import analyse_surface, surface_psd
     from roadscan.rain import rain_fill
 
     key = ("wet", round(film_fraction, 6))

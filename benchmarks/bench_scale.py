@@ -4,7 +4,7 @@ For each size N a scan is made in a child process (self-affine, H = 0.86, 55.4 u
 0.5 mm, a tilt, and 2.3 % unmeasured points in clusters of radius 2 to 6, like an optical
 profiler's dropouts) and saved as ``.npy``; then a fresh interpreter runs the whole command,
 ``roadscan analyse scan.npy --spacing 55.4e-6 --out DIR`` (figures, report and friction with the
-default rubber included), through ``pipelines.cli.main``.
+default rubber included), through ``pipelines.cli.app.main``.
 
 How memory is measured (Linux): the child first imports everything the command will use
 (numpy, scipy, scikit-image, matplotlib, friction, roadscan, pipelines), so that library code is
@@ -74,13 +74,13 @@ import matplotlib.pyplot
 import friction
 import roadscan.level, roadscan.inpaint, roadscan.spectrum, roadscan.roughness, roadscan.fit
 import roadscan.io, roadscan.trim
-import pipelines.cli, pipelines.analyse, pipelines.report, pipelines.spectrum_bridge
-import pipelines.validate, pipelines.friction_options, pipelines.scan_input
+import pipelines.cli.app, pipelines.analyse, pipelines.output.report, pipelines.chain.surface
+import pipelines.checks.validate, pipelines.settings.friction, pipelines.settings.scan_input
 """
 
 MEASURE = PREIMPORT + r"""
 import json, sys, time
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 def status(key):
     with open("/proc/self/status") as f:
@@ -106,7 +106,7 @@ import numpy as np
 from roadscan import fit, inpaint, level, rain, roughness, spectrum
 import pipelines.analyse as PA
 from pipelines import report
-from pipelines.scan_input import load_scan
+from pipelines.settings.scan_input import load_scan
 
 def status(key):
     with open("/proc/self/status") as f:

@@ -1,6 +1,6 @@
 """Start-up of the ``roadscan`` command (issue 13): ``roadscan --help`` and ``roadscan CMD --help``
 must take at most 0.15 s. Each case runs in a fresh interpreter (the installed entry point's
-code: ``from pipelines.cli import main``), interleaved with a bare ``python -c pass`` and a
+code: ``from pipelines.cli.app import main``), interleaved with a bare ``python -c pass`` and a
 ``python -c 'import numpy'`` baseline so that background load hits them alike; best of N wall
 times, and CPU times (user + system of the child), which background load inflates much less.
 Every command ``roadscan --help`` lists is timed (read from the parser).
@@ -17,14 +17,14 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 GOAL_S = 0.15
 NUMPY = "python -c 'import numpy' (reference)"
-ENTRY = "import sys\nfrom pipelines.cli import main\nsys.argv[0] = 'roadscan'\nsys.exit(main({}))"
+ENTRY = "import sys\nfrom pipelines.cli.app import main\nsys.argv[0] = 'roadscan'\nsys.exit(main({}))"
 
 
 def commands():
     """Every command ``roadscan --help`` lists (read from the parser itself, so that a new
     command is timed without editing this file)."""
     sys.path.insert(0, str(ROOT))
-    from pipelines.cli import _load_commands
+    from pipelines.cli.app import _load_commands
 
     return [m.NAME for m in _load_commands()]
 

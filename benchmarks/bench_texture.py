@@ -10,7 +10,7 @@ Spd/Spc/S5p/S5v/S10z), measured twice:
 
 - **as analyse runs it** (the verdict on a machine with two cores or more): ``roadscan
   analyse`` computes ``texture_parameters`` on a second thread from the moment the map is
-  levelled (:mod:`pipelines.texture_prefetch`) while the height figures and the MPD are
+  levelled (:mod:`pipelines.jobs.texture.prefetch`) while the height figures and the MPD are
   computed on the first; here the same: the texture set on a thread, the rest on this one,
   wall time until both are done;
 - **one after the other** on one thread (what a one-core machine does; its ratio and the CPU

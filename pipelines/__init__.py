@@ -1,32 +1,61 @@
-"""roadscan's jobs and the ``roadscan`` command, and the science chain as a Python API.
+"""roadscan's jobs as a Python API, and the ``roadscan`` command.
 
-``pipelines.analyse(source, **options)`` analyses one scan exactly as ``roadscan analyse``
-does (:func:`pipelines.api.analyse`; returns an :class:`pipelines.api.AnalysisResult`). The
-building blocks of the chain are in :mod:`pipelines.chain` (:func:`~pipelines.chain.measure`,
-:func:`~pipelines.chain.friction_psd`, :func:`~pipelines.chain.friction_of`,
-:func:`~pipelines.chain.scan_friction`). Every other computing command is one function of
-:mod:`pipelines.api` the same way: :func:`~pipelines.api.compare`,
-:func:`~pipelines.api.dry_vs_wet`, :func:`~pipelines.api.rain_fill`,
-:func:`~pipelines.api.friction`, :func:`~pipelines.api.combine` and
-:func:`~pipelines.api.diagnose` (keywords: the command's long flags with dashes as
-underscores, parsed by the command's own option definitions; each writes the command's files
-and returns the dict of its main JSON). Names are imported on first use: ``import pipelines``
-stays light.
+Every job of the command line is one function here, with keyword-only options in SI units:
+:func:`analyse` (one scan to its spectrum, fit, texture figures and mu(v); returns an
+:class:`AnalysisResult`), :func:`compare`, :func:`dry_vs_wet`, :func:`rain_fill`,
+:func:`friction`, :func:`combine`, and :func:`diagnose`. The building blocks of
+the chain are in :mod:`pipelines.chain`. Names are imported on first use, so ``import
+pipelines`` stays light (``roadscan --help`` needs none of numpy's weight).
+
+Layout: ``chain/`` (the science chain, one module per step), ``settings/`` (the option groups
+the command line and the API both build), ``checks/`` (input trust, run warnings), ``jobs/``
+(one module or folder per job), ``output/`` (reports, figures, files), ``cli/`` (the
+command), ``campaign/`` (batch on Dask), ``diagnosis/`` (the sim-to-real gap diagnosis).
 """
 from __future__ import annotations
 
 import importlib
+from typing import TYPE_CHECKING, Any
 
-__all__ = ["analyse", "AnalysisResult", "analyse_scan", "chain"]
+__all__ = ["analyse", "analyse_scan", "AnalysisResult", "compare", "dry_vs_wet", "rain_fill",
+           "friction", "combine", "diagnose", "chain", "RoadscanWarning"]
 
-_LAZY = {"AnalysisResult": ("pipelines.analysis_result", "AnalysisResult"),
-         "analyse_scan": ("pipelines.analyse", "analyse_scan")}
+# public name -> module that defines it (imported on first attribute access)
+_LAZY = {
+    "analyse": "pipelines.jobs.analyse.job",
+    "analyse_scan": "pipelines.jobs.analyse.job",
+    "AnalysisResult": "pipelines.jobs.analyse.result",
+    "compare": "pipelines.jobs.compare",
+    "dry_vs_wet": "pipelines.jobs.dry_vs_wet",
+    "rain_fill": "pipelines.jobs.rain_fill",
+    "friction": "pipelines.jobs.friction_call",
+    "combine": "pipelines.jobs.combine.job",
+    "diagnose": "pipelines.diagnosis.job",
+    "RoadscanWarning": "roadscan.errors",
+}
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and editors only
+    from roadscan.errors import RoadscanWarning
+    from pipelines import chain
+    from pipelines.diagnosis.job import diagnose
+    from pipelines.jobs.analyse.job import analyse, analyse_scan
+    from pipelines.jobs.analyse.result import AnalysisResult
+    from pipelines.jobs.combine.job import combine
+    from pipelines.jobs.compare import compare
+    from pipelines.jobs.dry_vs_wet import dry_vs_wet
+    from pipelines.jobs.friction_call import friction
+    from pipelines.jobs.rain_fill import rain_fill
 
 
-def __getattr__(name):
-    if name in ("analyse", "chain"):      # the module pipelines.analyse is callable
-        return importlib.import_module(f"{__name__}.{name}")
+def __getattr__(name: str) -> Any:
+    if name == "chain":
+        return importlib.import_module("pipelines.chain")
     if name in _LAZY:
-        mod, attr = _LAZY[name]
-        return getattr(importlib.import_module(mod), attr)
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

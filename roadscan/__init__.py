@@ -10,9 +10,9 @@ numpy and the parts of scipy they need; none imports matplotlib, ``scipy.optimiz
 """
 from importlib import import_module
 
-from .errors import InputError
+from .errors import InputError, RoadscanWarning
 
-__all__ = ["InputError", "HeightMap", "Profile", "Spectrum", "Spectrum2D", "psd_area"]
+__all__ = ["InputError", "RoadscanWarning", "HeightMap", "Profile", "Spectrum", "Spectrum2D", "psd_area"]
 __version__ = "0.1.0"
 
 #: public name -> the submodule that defines it, loaded on first use (PEP 562)

@@ -1,7 +1,7 @@
 """Band-wise reading of large maps: bands of consecutive rows, and the measured heights' range.
 
 Every grid-sized pass of roadscan (levelling, the FFT step, ring bookkeeping, roughness sums,
-the fill's statistics, the input checks of ``pipelines.validate``) reads a map in bands of
+the fill's statistics, the input checks of ``pipelines.checks.validate``) reads a map in bands of
 rows of about :data:`CHUNK_BYTES` of float64, so its temporaries stay in cache and its peak
 memory is a band's, not the map's. This module is their one home.
 

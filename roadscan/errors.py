@@ -8,7 +8,7 @@ the ``roadscan`` command renders the same message with its flag (``--spacing``) 
 :meth:`InputError.render`.
 """
 
-__all__ = ["InputError", "OptionNote", "render_options"]
+__all__ = ["InputError", "OptionNote", "RoadscanWarning", "render_options"]
 
 
 def _keys(hint_option):
@@ -49,6 +49,16 @@ def render_options(template, options, name_option=None):
     for key in options:
         out = out.replace("{" + key + "}", name_option(key))
     return out
+
+
+class RoadscanWarning(UserWarning):
+    """The one category of every warning roadscan, friction and pipelines issue.
+
+    A result the code could compute but an engineer should not take at face value (a fit over
+    less than half a decade, a units slip suspected, mu extrapolated beyond the measured band).
+    Filter them as a group: ``warnings.simplefilter("ignore", roadscan.RoadscanWarning)``; each
+    job's result also carries its own in ``.warnings`` (or the ``"warnings"`` key of its JSON).
+    """
 
 
 class InputError(ValueError):

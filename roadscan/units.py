@@ -2,7 +2,7 @@
 
 SI inside, the unit in the name (``mpd_m``); a message, warning or report says "3.28 mm",
 "397 µm", "12.0 nm". One formatter for both layers: ``roadscan`` words its messages with it
-and :mod:`pipelines.units_format` re-exports it for reports and figures.
+and :mod:`pipelines.output.units` re-exports it for reports and figures.
 
 >>> length(0.0032755905236328256)
 '3.28 mm'

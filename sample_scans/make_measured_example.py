@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 
 import friction
-from pipelines.report import write_csv
-from pipelines.scan_input import load_scan
-from pipelines.spectrum_bridge import analyse_surface, surface_psd
+from pipelines.output.report import write_csv
+from pipelines.settings.scan_input import load_scan
+from pipelines.chain.surface import analyse_surface, surface_psd
 
 HERE = Path(__file__).resolve().parent
 

@@ -1,5 +1,5 @@
 """Shared pieces of the fault suite (tests/test_faults_*.py, issue 22): small inputs, a runner
-of ``pipelines.cli.main`` that captures the exit code and stderr, and the checks every fault
+of ``pipelines.cli.app.main`` that captures the exit code and stderr, and the checks every fault
 case ends with (no traceback, one line, nothing left behind, inputs unchanged)."""
 from __future__ import annotations
 
@@ -53,7 +53,7 @@ def hidden_leftovers(folder):
 
 def run_cli(capsys, argv):
     """``main(argv)`` in this process -> (exit code, stderr)."""
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     capsys.readouterr()
     rc = main([str(a) for a in argv])

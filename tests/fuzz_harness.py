@@ -5,7 +5,7 @@ and judge the outcome; count the cases. Used by ``tests/test_fuzz.py`` and
 A case passes when it ends in one of two ways:
 
 - **exit 0**: no NaN or infinity in any CSV/JSON/TOML it wrote, none turned into JSON ``null``
-  by ``pipelines.report.write_json`` either, no hidden temporary files, files and folders with
+  by ``pipelines.output.report.write_json`` either, no hidden temporary files, files and folders with
   the permissions the umask gives;
 - **exit 2**: the last stderr line is the one-line ``roadscan CMD: error: ...``, no other error
   line, and the working folder is exactly as before (no partial output, no temporary files).
@@ -166,11 +166,11 @@ def reader_limit(n=FUZZ_MAX_PIXELS):
 
 @contextlib.contextmanager
 def stub_figures():
-    """Replace ``pipelines.report.save_figure`` by a stub that writes a tiny placeholder file
+    """Replace ``pipelines.output.report.save_figure`` by a stub that writes a tiny placeholder file
     atomically (same names, same atomic path) without drawing: drawing is 95 % of a small run."""
     import matplotlib.pyplot as plt
 
-    from pipelines import report
+    from pipelines.output import report
     from roadscan.io.atomic import atomic_write_bytes
 
     orig = report.save_figure
@@ -203,8 +203,8 @@ def _nonfinite_paths(obj, where=""):
 
 @contextlib.contextmanager
 def watch_json(sink):
-    """Record the non-finite floats ``pipelines.report.write_json`` would turn into null."""
-    from pipelines import report
+    """Record the non-finite floats ``pipelines.output.report.write_json`` would turn into null."""
+    from pipelines.output import report
 
     orig = report.write_json
 
@@ -355,7 +355,7 @@ def run_cli(group, argv, workdir, timeout=60.0, figures=None, watch=(), desc=Non
 
     ``watch``: further folders (e.g. the inputs) that must not change either.
     """
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     argv = [str(a) for a in argv]
     figures = FIGURES if figures is None else figures
@@ -395,7 +395,7 @@ def run_cli(group, argv, workdir, timeout=60.0, figures=None, watch=(), desc=Non
 
 
 def run_subprocess(group, argv, workdir, timeout=120.0, desc=None):
-    """Run ``python -m pipelines.cli ARGV`` in ``workdir`` and judge it."""
+    """Run ``python -m pipelines.cli.app ARGV`` in ``workdir`` and judge it."""
     env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg", "PYTHONWARNINGS": "default"}
     argv = [str(a) for a in argv]
     before = snapshot(workdir)

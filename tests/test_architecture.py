@@ -229,7 +229,7 @@ def computing_commands(modules):
     """``{command module: sorted numeric libraries it imports}`` (anywhere in the module)."""
     out = {}
     for name, path in modules.items():
-        if not name.startswith("pipelines.commands.") or path.name == "__init__.py":
+        if not name.startswith(("pipelines.cli.commands.", "pipelines.cli.inputs.")) or path.name == "__init__.py":
             continue
         hit = {lib.split(".")[0] for lib in _imported(ast.parse(path.read_text(encoding="utf-8")), False)}
         hit &= set(NUMERIC)
@@ -276,16 +276,17 @@ def test_commands_hold_nothing_numeric():
 
 
 def test_every_command_module_is_listed():
-    from pipelines.cli import COMMAND_MODULES
+    from pipelines.cli.app import COMMAND_MODULES
 
-    files = {p.stem for p in (ROOT / "pipelines" / "commands").glob("*.py") if p.stem != "__init__"}
+    files = {f"{p.parent.name}.{p.stem}" for folder in ("commands", "inputs")
+             for p in (ROOT / "pipelines" / "cli" / folder).glob("*.py") if p.stem != "__init__"}
     assert files == set(COMMAND_MODULES)
 
 
 _HTML_TAG = re.compile(r"<(?:p|ul|ol|li|table|tr|td|th|div|span|a|b|img|html|h[1-6])[ >]")
 
 #: modules that still join HTML strings by hand (the list may only shrink; HTML comes from
-#: pipelines/templates through pipelines.report's writers)
+#: pipelines/templates through pipelines.output.report's writers)
 HAND_HTML_LEFT = set()
 
 
@@ -293,7 +294,7 @@ def hand_built_html(modules):
     """Modules of ``pipelines`` (templates aside) with a string literal holding an HTML tag."""
     found = set()
     for name, path in modules.items():
-        if not name.startswith("pipelines.") or name.startswith("pipelines.templates"):
+        if not name.startswith("pipelines.") or name.startswith("pipelines.output.templates"):
             continue
         tree = ast.parse(path.read_text(encoding="utf-8"))
         skip = _docstrings(tree)
@@ -312,15 +313,46 @@ def test_html_comes_from_templates():
 
 def test_the_rule_checks_catch_what_they_guard_against(tmp_path):
     (tmp_path / "roadscan").mkdir()
-    (tmp_path / "pipelines" / "commands").mkdir(parents=True)
+    (tmp_path / "pipelines" / "cli" / "commands").mkdir(parents=True)
     (tmp_path / "roadscan" / "a.py").write_text('"""Use --spacing."""\nimport matplotlib\n'
                                                 'X = "pass --spacing DX"\nY = "a -- b, x--y"\n')
-    (tmp_path / "pipelines" / "commands" / "c.py").write_text("def run():\n    import numpy\n")
+    (tmp_path / "pipelines" / "cli" / "commands" / "c.py").write_text("def run():\n    import numpy\n")
     (tmp_path / "roadscan" / "b.py").write_text("def f():\n    print('x')\n")
     (tmp_path / "pipelines" / "r.py").write_text("X = f\"<p class='note'>{1}</p>\"\n")
     mods = _module_files(tmp_path)
     assert flag_names(mods) == ["roadscan.a: 'pass --spacing DX'"]
     assert heavy_at_import(mods) == ["roadscan.a imports matplotlib"]
-    assert computing_commands(mods) == {"pipelines.commands.c": ["numpy"]}
+    assert computing_commands(mods) == {"pipelines.cli.commands.c": ["numpy"]}
     assert printing(mods) == ["roadscan.b: 2"]
     assert hand_built_html(mods) == {"pipelines.r"}
+
+
+#: folders that are plug-in registries (one module per effect or per command), exempt from the
+#: size rule: adding a plug-in must not force a split
+PLUGIN_FOLDERS = {"pipelines/diagnosis/effects"}
+MAX_MODULES_PER_FOLDER = 12
+
+
+def crowded_folders(root=ROOT, top="pipelines"):
+    """``{folder: number of modules}`` of the folders of ``top`` holding more than
+    :data:`MAX_MODULES_PER_FOLDER` Python modules (``__init__.py`` counted)."""
+    out = {}
+    for d in [root / top, *sorted((root / top).rglob("*"))]:
+        rel = d.relative_to(root).as_posix()
+        if not d.is_dir() or "__pycache__" in rel or rel in PLUGIN_FOLDERS:
+            continue
+        n = len(list(d.glob("*.py")))
+        if n > MAX_MODULES_PER_FOLDER:
+            out[rel] = n
+    return out
+
+
+def test_no_folder_is_one_flat_room():
+    assert crowded_folders() == {}
+
+
+def test_the_folder_rule_catches_a_crowded_folder(tmp_path):
+    (tmp_path / "pipelines" / "jobs").mkdir(parents=True)
+    for i in range(MAX_MODULES_PER_FOLDER + 1):
+        (tmp_path / "pipelines" / "jobs" / f"m{i}.py").write_text("")
+    assert crowded_folders(tmp_path) == {"pipelines/jobs": MAX_MODULES_PER_FOLDER + 1}

@@ -3,8 +3,8 @@ over only for the surface they were started on; an error in the thread reaches t
 import numpy as np
 import pytest
 
-import pipelines.texture_prefetch as tp
-from pipelines.texture_prefetch import TextureFigures
+import pipelines.jobs.texture.prefetch as tp
+from pipelines.jobs.texture.prefetch import TextureFigures
 from roadscan.heightmap import HeightMap
 from roadscan.iso25178 import texture_parameters
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, fourier_surface
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.errors import InputError
 from roadscan.io.atomic import (OLD_TAG, TMP_TAG, atomic_output_dir, atomic_write_text,
                                 recover_output_dir)

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from conftest import fourier_surface
-from pipelines import cli
-from pipelines.cli import main
+from pipelines.cli import app as cli
+from pipelines.cli.app import main
 from roadscan.io import _common
 
 
@@ -172,7 +172,7 @@ def _replace_synth_run(monkeypatch, run):
 
 
 def test_unexpected_error_is_one_line_and_debug_shows_traceback(monkeypatch, capsys, files, tmp_path):
-    import pipelines.commands.synth as synth
+    import pipelines.cli.inputs.synth as synth
 
     def boom(args):
         raise RuntimeError("unexpected\nsecond line")
@@ -187,7 +187,7 @@ def test_unexpected_error_is_one_line_and_debug_shows_traceback(monkeypatch, cap
 
 
 def test_numpy_warnings_become_one_named_line(monkeypatch, capsys, tmp_path):
-    import pipelines.commands.synth as synth
+    import pipelines.cli.inputs.synth as synth
 
     def noisy(args):
         np.log(np.zeros(3))
@@ -272,7 +272,7 @@ def test_undefined_h0_is_null_with_a_warning_not_a_nan(monkeypatch, capsys, tmp_
     """Fuzz finding: a scan whose spectrum falls no faster than white noise (H <= 0) had its
     undefined h0 computed as NaN and written as null without saying so. Now h0 is None on
     purpose and the Hurst warning says that h0 is undefined."""
-    from pipelines import report
+    from pipelines.output import report
 
     written = []
     orig = report.write_json
@@ -306,7 +306,7 @@ def test_undefined_slopes_are_null_with_a_warning(monkeypatch, capsys, tmp_path)
     """Fuzz finding: with every other row unmeasured no grid cell has four measured corners, so
     Sdq and Sdr are undefined; they were NaN written as null without a word. Now None on
     purpose, with one warning line that also lands in summary.json."""
-    from pipelines import report
+    from pipelines.output import report
 
     written = []
     orig = report.write_json
@@ -328,7 +328,7 @@ def test_check_heights_flat_and_spike_rules_without_copying():
     """The plausibility rules of check_heights (issue 14), now read band by band: a grid equal
     to 12 digits is flat; a 1.5 m spike on a grid whose heights are mostly equal is refused
     (its robust spread is 0); an ordinary rough grid passes; unmeasured points are ignored."""
-    from pipelines.validate import _measured_range, check_heights
+    from pipelines.checks.validate import _measured_range, check_heights
     from roadscan.errors import InputError
 
     rng = np.random.default_rng(3)

@@ -14,7 +14,7 @@ import pytest
 from conftest import ROOT, fourier_surface
 from pipelines.campaign.folder import SIDECAR, atomic_folder
 from pipelines.campaign.records import flatten_summary
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 N_GOOD = 20
 DX = 1e-4

@@ -19,8 +19,7 @@ import pytest
 
 from conftest import fourier_surface
 from fault_tools import DX, cli_env, hidden_leftovers, roadscan_cmd
-from pipelines.campaign.folder import (SIDECAR, campaign_leftovers, earlier_campaign,
-                                       recover_campaign)
+from pipelines.campaign.folder import SIDECAR, campaign_leftovers, earlier_campaign, recover_campaign
 
 N = 4
 #: per-scan outputs compared byte for byte with the uninterrupted run

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, fourier_surface
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 DASK = Path(sys.executable).with_name("dask")
 

@@ -8,7 +8,7 @@ import pytest
 
 from pipelines.campaign import sections as secmod
 from pipelines.campaign.sections import iter_sections
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.heightmap import Profile
 from roadscan.roughness import mean_profile_depth
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 ROOT = Path(__file__).resolve().parents[1]
 RUBBER = ROOT / "sample_scans" / "rubbers" / "pyvisco_master_wlf.toml"
@@ -103,8 +103,8 @@ def test_every_door_gives_the_same_mu(scan, tmp_path):
 def test_diagnose_scan_takes_the_chains_spectrum(scan):
     """diagnose --scan integrates the spectrum analyse integrates (same band, same nodes)."""
     import pipelines
-    from pipelines.diagnose.inputs import scan_surface
-    from pipelines.scan_input import load_scan
+    from pipelines.diagnosis.inputs import scan_surface
+    from pipelines.settings.scan_input import load_scan
 
     r = pipelines.analyse(scan, spacing=DX)
     psd, *_ = scan_surface(load_scan(scan, spacing=DX))
@@ -166,7 +166,7 @@ def test_friction_psd_extends_like_analyse_beyond_the_scan(scan, tmp_path):
 
 
 def test_compare_api_equals_the_command(scan, tmp_path):
-    from pipelines.api import compare
+    from pipelines import compare
 
     flags = dict(spacing=DX, nu=0.3, contact_gamma=0.5, velocities="1e-3:10:5")
     r = compare([scan, scan], tmp_path / "api", **flags)

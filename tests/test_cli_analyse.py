@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import fourier_surface
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 
 @pytest.fixture(scope="module")

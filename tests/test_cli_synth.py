@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.io import read
 
 

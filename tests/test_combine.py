@@ -1,7 +1,7 @@
 """``roadscan combine`` (issue 20): several measurements of one surface merged into one C(q)."""
 import pytest
 
-from pipelines.combine_inputs import collect_inputs, is_manifest
+from pipelines.jobs.combine.inputs import collect_inputs, is_manifest
 from roadscan.errors import InputError
 
 
@@ -45,7 +45,7 @@ import json  # noqa: E402
 
 import numpy as np  # noqa: E402
 
-from pipelines.cli import main  # noqa: E402
+from pipelines.cli.app import main  # noqa: E402
 from roadscan.reliable_band import gaussian_response  # noqa: E402
 from roadscan.synth import model_psd  # noqa: E402
 from roadscan.synth_measure import measure_synthetic  # noqa: E402
@@ -139,7 +139,7 @@ def test_each_band_ends_before_resolution_or_noise_dominates(three_instruments):
 
 def test_psd_csv_feeds_friction(three_instruments, tmp_path):
     _, out = three_instruments
-    from pipelines.csv_files import read_psd_csv
+    from pipelines.output.csv_files import read_psd_csv
 
     psd = read_psd_csv(out / "psd.csv")
     _, (q, C, *_rest) = _read_psd(out / "psd.csv")
@@ -272,7 +272,7 @@ def test_area_window_low_end_is_unbiased_and_lower_than_analyses():
     band's low end, about 6 x 2 pi / L for q^-3.6 (analyse's 0.25: 12 x)."""
     from roadscan.reliable_band import leakage_factor
 
-    from pipelines.combine_sources import source_spectrum
+    from pipelines.jobs.combine.sources import source_spectrum
 
     n, a = 128, 1e-4
     fov = 2 * np.pi / (n * a)
@@ -293,7 +293,7 @@ def test_leaky_start_is_trimmed_and_a_roll_off_is_not():
 
     from roadscan.reliable_band import ReliableBand
 
-    from pipelines.combine_sources import _trim_leaky_start
+    from pipelines.jobs.combine.sources import _trim_leaky_start
 
     q = 10 ** ((np.arange(60, 100) + 0.5) / 20)          # 1e3 .. 1e5, 20 per decade
     dof = np.full(q.size, 2000.0)

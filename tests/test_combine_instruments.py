@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.reliable_band import gaussian_response
 from roadscan.synth import model_psd
 from roadscan.synth_measure import measure_synthetic
@@ -58,7 +58,7 @@ def combined(tmp_path_factory):
 def test_psd_csv_header_and_reader(combined):
     head, table, _, out = combined
     assert head == ["q_per_m", "C_m4", "C_lo_m4", "C_hi_m4", "n_sources"]
-    from pipelines.csv_files import read_psd_csv
+    from pipelines.output.csv_files import read_psd_csv
 
     psd = read_psd_csv(out / "psd.csv")
     assert psd.q_min_per_m == pytest.approx(table[0, 0])

@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.reliable_band import gaussian_response
 from roadscan.spectrum_merge import SpectrumPart, disagreements, merge_spectra
 from roadscan.synth import model_psd

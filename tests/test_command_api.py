@@ -1,4 +1,4 @@
-"""Each computing command is one function of ``pipelines.api``: the function and the command
+"""Each computing command is one function of ``pipelines``: the function and the command
 (which parses, calls it and prints) write the same main JSON and the same files; an unknown
 keyword is a TypeError; a keyword changes the result as its flag does."""
 import json
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from conftest import fourier_surface
-from pipelines import api
-from pipelines.cli import main
+import pipelines as api
+from pipelines.cli.app import main
 
 ROOT = Path(__file__).resolve().parents[1]
 DX = "5e-5"
@@ -143,9 +143,9 @@ def test_combine_api_equals_cli(tmp_path):
 
 @pytest.fixture(scope="module")
 def measured(tmp_path_factory):
-    from pipelines.diagnose.cases import make_case
-    from pipelines.diagnose.inputs import write_psd_csv
-    from pipelines.report import write_csv
+    from pipelines.diagnosis.cases import make_case
+    from pipelines.diagnosis.inputs import write_psd_csv
+    from pipelines.output.report import write_csv
 
     d = tmp_path_factory.mktemp("measured")
     c = make_case(11, "temperature_offset", scan=False)

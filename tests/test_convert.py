@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.io import read
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -8,16 +8,16 @@ import numpy as np
 import pytest
 
 import friction
-from pipelines.cli import main as cli
-from pipelines.diagnose import gap as gapmod
-from pipelines.diagnose.bandmap import band_map
-from pipelines.diagnose.effects import Effect, Param, all_effects, register, _REGISTRY
-from pipelines.diagnose.effects.relaxation_spectrum import lognormal_prony
-from pipelines.diagnose.inputs import build_context, write_psd_csv
-from pipelines.diagnose.measured import read_measured
-from pipelines.diagnose.model import SimSpec, simulate
-from pipelines.diagnose.search import diagnose_friction, heldout_mask
-from pipelines.report import write_csv
+from pipelines.cli.app import main as cli
+from pipelines.diagnosis import gap as gapmod
+from pipelines.diagnosis.report.bandmap import band_map
+from pipelines.diagnosis.effects import Effect, Param, all_effects, register, _REGISTRY
+from pipelines.diagnosis.effects.relaxation_spectrum import lognormal_prony
+from pipelines.diagnosis.inputs import build_context, write_psd_csv
+from pipelines.diagnosis.measured import read_measured
+from pipelines.diagnosis.model import SimSpec, simulate
+from pipelines.diagnosis.verdict.search import diagnose_friction, heldout_mask
+from pipelines.output.report import write_csv
 from roadscan.errors import InputError
 
 PSD = friction.SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5)
@@ -168,7 +168,7 @@ def test_registry_has_the_issue_effects_and_skips_water_without_scan():
 
 
 def read_measured_like(v, mu=None):
-    from pipelines.diagnose.measured import MeasuredCurve
+    from pipelines.diagnosis.measured import MeasuredCurve
 
     n = v.size
     return MeasuredCurve(v, np.ones(n) if mu is None else mu, np.full(n, np.nan), np.full(n, 2e5),
@@ -199,7 +199,7 @@ def test_a_new_plug_in_is_found_and_used_without_touching_others():
 
 # ----------------------------------------------------------------------------- end to end
 def test_cli_friction_level_contract(tmp_path):
-    from pipelines.diagnose.cases import make_case
+    from pipelines.diagnosis.cases import make_case
 
     c = make_case(11, "temperature_offset", scan=False)
     q = np.geomspace(c.psd.q_min_per_m, c.psd.q1_per_m, 60)
@@ -242,7 +242,7 @@ def test_cli_surface_level_finds_a_rolloff(tmp_path):
 
 def test_surface_level_null_on_a_pure_self_affine_scan(tmp_path):
     from roadscan.synth import self_affine_surface
-    from pipelines.diagnose.surface import run_surface
+    from pipelines.diagnosis.surface.level import run_surface
 
     hm = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.75, rms_height_m=3e-4, seed=9)
     d = run_surface(hm, tmp_path)
@@ -252,7 +252,7 @@ def test_surface_level_null_on_a_pure_self_affine_scan(tmp_path):
 def test_proof_small_blind_cases_meet_the_goals():
     """A small version of benchmarks/bench_diagnose.py: seeded cases with one hidden effect
     (identifiable ones only) and null cases, diagnosed blind."""
-    from pipelines.diagnose.cases import draw_cases
+    from pipelines.diagnosis.cases import draw_cases
 
     cases, _ = draw_cases(8, 4, seed0=424242, max_tries=4)
     hits, shrink, fp, n_null = 0, [], 0, 0
@@ -276,7 +276,7 @@ def test_proof_small_blind_cases_meet_the_goals():
 
 # ----------------------------------------------------------------------------- surface level, issue 11
 def test_l_moment_ratios_match_analytic_values():
-    from pipelines.diagnose.blocks import l_moment_ratios
+    from pipelines.diagnosis.surface.blocks import l_moment_ratios
 
     rng = np.random.default_rng(3)
     t3, t4 = l_moment_ratios(rng.standard_normal(200_000))
@@ -296,7 +296,7 @@ def test_seam_score_sees_a_seam_not_a_direction():
     from scipy.ndimage import zoom
     from roadscan.heightmap import HeightMap
     from roadscan.synth import self_affine_surface
-    from pipelines.diagnose import blocks as bl
+    from pipelines.diagnosis.surface import blocks as bl
 
     big = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=4).heights_m
     h = big[:128, :128].copy()
@@ -319,7 +319,7 @@ def test_curvature_skewness_sees_the_height_law_not_linear_filters():
     sign of g'' for a monotone map h -> g(h) (here exp: convex, sharp peaks)."""
     from scipy.ndimage import gaussian_filter
     from roadscan.synth import self_affine_surface
-    from pipelines.diagnose.blocks import curvature_l_skewness
+    from pipelines.diagnosis.surface.blocks import curvature_l_skewness
 
     h = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=8).heights_m
     z = h / h.std()
@@ -330,7 +330,7 @@ def test_curvature_skewness_sees_the_height_law_not_linear_filters():
 
 
 def test_every_surface_effect_has_a_reachable_no_effect_limit():
-    from pipelines.diagnose.surface_search import _predict
+    from pipelines.diagnosis.surface.search import _predict
 
     class Ctx:  # the attributes effects read
         ring_q = np.geomspace(1e3, 1e5, 40)
@@ -363,7 +363,7 @@ def test_surface_level_names_anisotropy_with_family_gaps(tmp_path):
     from scipy.ndimage import zoom
     from roadscan.heightmap import HeightMap
     from roadscan.synth import self_affine_surface
-    from pipelines.diagnose.surface import run_surface
+    from pipelines.diagnosis.surface.level import run_surface
 
     big = self_affine_surface(512, 512, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=21).heights_m
     h = zoom(big[:256, :90], (1, 3), order=3)[:, :256]
@@ -402,7 +402,7 @@ def test_diagnose_refuses_unusable_input_in_one_line(tmp_path, capsys, kind):
 
 # ----------------------------------------------------------------------------- friction level, issue 11
 def _ctx_for(v, psd=PSD):
-    from pipelines.diagnose.measured import MeasuredCurve
+    from pipelines.diagnosis.measured import MeasuredCurve
 
     n = v.size
     curve = MeasuredCurve(v, np.ones(n), np.full(n, np.nan), np.full(n, 0.2e6), np.zeros(n, bool), False, "t")
@@ -452,8 +452,8 @@ def test_few_points_are_compared_by_evidence_and_fits_never_beat_by_no_effect():
 
 
 def test_at_bound_lists_a_parameter_pushed_onto_its_range():
-    from pipelines.diagnose.search import at_bound
-    from pipelines.diagnose.effects import get
+    from pipelines.diagnosis.verdict.search import at_bound
+    from pipelines.diagnosis.effects import get
 
     ctx = _ctx_for(np.logspace(-4, 0, 6))
     e = get("temperature_offset")

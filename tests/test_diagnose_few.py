@@ -9,18 +9,18 @@ import pytest
 from scipy import integrate, stats
 
 import friction
-from pipelines.cli import main as cli
-from pipelines.diagnose.calibration import calibration_effect, parse_uncertain
-from pipelines.diagnose.effects import get
-from pipelines.diagnose.equivalence import equivalence, extended_ranges
-from pipelines.diagnose.evidence import log_occam, loglik
-from pipelines.diagnose.fitting import fit_candidate
-from pipelines.diagnose.inputs import build_context, write_psd_csv
-from pipelines.diagnose.measured import MeasuredCurve
-from pipelines.diagnose.model import simulate
-from pipelines.diagnose.next_measurement import next_measurement
-from pipelines.diagnose.search import diagnose_friction
-from pipelines.report import write_csv
+from pipelines.cli.app import main as cli
+from pipelines.diagnosis.fit.calibration import calibration_effect, parse_uncertain
+from pipelines.diagnosis.effects import get
+from pipelines.diagnosis.fit.equivalence import equivalence, extended_ranges
+from pipelines.diagnosis.fit.evidence import log_occam, loglik
+from pipelines.diagnosis.fit.fitting import fit_candidate
+from pipelines.diagnosis.inputs import build_context, write_psd_csv
+from pipelines.diagnosis.measured import MeasuredCurve
+from pipelines.diagnosis.model import simulate
+from pipelines.diagnosis.verdict.next_measurement import next_measurement
+from pipelines.diagnosis.verdict.search import diagnose_friction
+from pipelines.output.report import write_csv
 
 PSD = friction.SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5)
 

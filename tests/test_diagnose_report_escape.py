@@ -1,7 +1,7 @@
 """The diagnosis report's text is escaped exactly once (it comes from the templates)."""
 from __future__ import annotations
 
-from pipelines.diagnose.report import _verdict_html, inputs_html
+from pipelines.diagnosis.report.single import _verdict_html, inputs_html
 
 
 def test_inputs_and_verdict_text_escaped_once():

@@ -3,7 +3,7 @@ calibration, or the channel chosen, is recorded in every command's outputs)."""
 import json
 from pathlib import Path
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 ROOT = Path(__file__).resolve().parents[1]
 

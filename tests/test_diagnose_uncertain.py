@@ -9,17 +9,17 @@ import numpy as np
 import pytest
 
 import friction
-from pipelines.cli import main as cli
-from pipelines.diagnose import cv as cvmod
-from pipelines.diagnose.calibration import calibration_effect, parse_uncertain
-from pipelines.diagnose.effects import Effect, Param, get
-from pipelines.diagnose.fitting import Candidate, too_many_parameters
-from pipelines.diagnose.inputs import build_context, write_psd_csv
-from pipelines.diagnose.measured import MeasuredCurve
-from pipelines.diagnose.model import simulate
-from pipelines.diagnose.search import diagnose_friction
-from pipelines.diagnose.verdict import decide
-from pipelines.report import write_csv
+from pipelines.cli.app import main as cli
+from pipelines.diagnosis.fit import cv as cvmod
+from pipelines.diagnosis.fit.calibration import calibration_effect, parse_uncertain
+from pipelines.diagnosis.effects import Effect, Param, get
+from pipelines.diagnosis.fit.fitting import Candidate, too_many_parameters
+from pipelines.diagnosis.inputs import build_context, write_psd_csv
+from pipelines.diagnosis.measured import MeasuredCurve
+from pipelines.diagnosis.model import simulate
+from pipelines.diagnosis.verdict.search import diagnose_friction
+from pipelines.diagnosis.verdict.many import decide
+from pipelines.output.report import write_csv
 from roadscan.errors import InputError
 
 PSD = friction.SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5)
@@ -194,7 +194,7 @@ def _two_rows(tmp_path):
 
 
 def test_several_measurements_json_keys(tmp_path, monkeypatch):
-    import pipelines.diagnose.search as search
+    import pipelines.diagnosis.verdict.search as search
 
     few = [get("temperature_offset"), get("load")]
     monkeypatch.setattr(search, "all_effects", lambda level=None: few)
@@ -221,7 +221,7 @@ def test_several_measurements_json_keys(tmp_path, monkeypatch):
 
 
 def test_single_diagnosis_records_inputs_and_assumed(tmp_path, monkeypatch):
-    import pipelines.diagnose.search as search
+    import pipelines.diagnosis.verdict.search as search
 
     monkeypatch.setattr(search, "all_effects", lambda level=None: [get("temperature_offset")])
     v = np.logspace(-4, 0, 20)
@@ -255,8 +255,8 @@ def test_an_implausible_fit_is_refitted_within_the_physical_range():
 
 
 def test_flash_beyond_the_shift_table_is_flagged_extrapolated():
-    from pipelines.diagnose.fitting import Candidate
-    from pipelines.diagnose.search import _flash_extrapolation
+    from pipelines.diagnosis.fit.fitting import Candidate
+    from pipelines.diagnosis.verdict.search import _flash_extrapolation
 
     v = np.logspace(-2, 0.5, 6)
     rub = friction.StandardLinearSolid(shift=friction.ShiftTable(np.array([20.0, 60.0, 62.0]),

@@ -31,7 +31,7 @@ def test_version_from_package_metadata():
     (["stitch", "a.csv", "--blend", "feathr", "--out", "o.x3p"], "'feather'"),
 ])
 def test_did_you_mean(capsys, argv, suggestion):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     with pytest.raises(SystemExit) as exc:
         main(argv)
@@ -41,7 +41,7 @@ def test_did_you_mean(capsys, argv, suggestion):
 
 
 def test_no_suggestion_when_nothing_is_close(capsys):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     with pytest.raises(SystemExit):
         main(["zzzzqqq"])
@@ -49,7 +49,7 @@ def test_no_suggestion_when_nothing_is_close(capsys):
 
 
 def test_batch_summary_line_on_success_and_resume(tmp_path, capsys):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     a, b = small_scan(tmp_path / "a.npy", seed=1), small_scan(tmp_path / "b.npy", seed=2)
     out = tmp_path / "camp"

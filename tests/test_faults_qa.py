@@ -247,7 +247,7 @@ def test_error_lines_carry_no_terminal_control_bytes(tmp_path, capsys):
     """A vendor reader's refusal quoted the file's binary bytes (a random .plu: 'ParserError:
     Unknown string format: <junk>'), so ESC, BEL or NUL from a file could reach the terminal.
     Error lines now show them as '?'; the line stays one line naming the file."""
-    from pipelines.cli import one_line
+    from pipelines.cli.app import one_line
     from roadscan.io.vendor_meta import one_line as vendor_line
 
     assert one_line("a\x1b[2Jb\x07c\x00d") == "a?[2Jb?c?d"

@@ -35,7 +35,7 @@ def test_two_analyse_runs_into_one_folder(scans):
         assert rc == 0 and "Traceback" not in err, err
     import json
 
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     name = json.loads((out / "summary.json").read_text())["name"]
     ref = scans / "ref"

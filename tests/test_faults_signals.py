@@ -108,8 +108,8 @@ def test_ignored_sighup_stays_ignored(work):
 def test_interrupt_in_process_is_one_line_and_130(tmp_path, capsys, monkeypatch):
     """A KeyboardInterrupt (or Terminated) raised anywhere inside a command: 130 (143), one
     line, the temporary folder removed."""
-    from pipelines import analyse as analyse_mod
-    from pipelines.signals import Terminated
+    from pipelines.jobs.analyse import job as analyse_mod
+    from pipelines.cli.signals import Terminated
     from fault_tools import run_cli, small_scan
 
     scan = small_scan(tmp_path / "s.npy")

@@ -8,14 +8,14 @@ import sys
 import pytest
 
 from conftest import ROOT
-from pipelines.figure_process import FigureProcess, InProcess, figure_drawer
+from pipelines.output.figure_process import FigureProcess, InProcess, figure_drawer
 
 SAMPLE = ROOT / "sample_scans" / "asphalt.x3p"
 PNGS = ("heightmap.png", "psd2d.png", "psd.png", "mu.png")
 
 CHILD = """
 import sys
-from pipelines.cli import main
+from pipelines.cli.app import main
 rc = main(["analyse", {sample!r}, "--out", {out!r}])
 print("matplotlib in parent:", "matplotlib" in sys.modules, "rc:", rc)
 """
@@ -78,7 +78,7 @@ def test_drawer_choice(monkeypatch):
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="the helper runs only with two cores or more")
 def test_one_helper_per_process(monkeypatch):
     """Commands run one after another in one process start at most one helper."""
-    import pipelines.figure_process as fp
+    import pipelines.output.figure_process as fp
 
     monkeypatch.setenv("ROADSCAN_FIGURE_PROCESS", "1")
     monkeypatch.setattr(fp, "_started", [])

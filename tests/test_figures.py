@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipelines.report import _plain_log_label, display_image
+from pipelines.output.report import _plain_log_label, display_image
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -54,7 +54,7 @@ def test_analyse_figures_need_no_mathtext(tmp_path):
     h = np.random.default_rng(1).normal(size=(96, 80)) * 1e-4
     h[5:9, 5:9] = np.nan
     np.save(tmp_path / "s.npy", h)
-    code = ("from pipelines.cli import main\n"
+    code = ("from pipelines.cli.app import main\n"
             f"assert main(['analyse', {str(tmp_path / 's.npy')!r}, '--spacing', '1e-4', "
             f"'--out', {str(tmp_path / 'out')!r}]) == 0\n"
             "import matplotlib.mathtext as mt\nprint('PARSER', mt.MathTextParser._parser is not None)\n")
@@ -68,7 +68,7 @@ def test_analyse_figures_need_no_mathtext(tmp_path):
 
 
 def test_no_figures_changes_no_output(tmp_path):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     h = np.random.default_rng(2).normal(size=(64, 72)) * 1e-4
     np.save(tmp_path / "s.npy", h)

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from roadscan.heightmap import HeightMap
-from pipelines.spectrum_bridge import analyse_surface
+from pipelines.chain.surface import analyse_surface
 
 N, DX = 1024, 5e-5
 

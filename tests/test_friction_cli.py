@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from friction import SelfAffinePSD, mu_isothermal, thesis_rubber
-from pipelines.cli import main
-from pipelines.rubber_file import load_rubber
+from pipelines.cli.app import main
+from pipelines.settings.rubber_file import load_rubber
 from roadscan.errors import InputError
 
 RUBBERS = Path(__file__).resolve().parents[1] / "sample_scans" / "rubbers"

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from scipy.special import erf
 
-from pipelines.cli import main
-from pipelines.friction_options import parse_pressure
+from pipelines.cli.app import main
+from pipelines.settings.friction import parse_pressure
 from roadscan.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -178,7 +178,7 @@ def test_bad_flags_one_line_exit_2(argv, msg, tmp_path, capsys):
 
 
 def test_shift_tables_linear_log_and_inverse(tmp_path, capsys):
-    from pipelines.rubber_file import load_rubber
+    from pipelines.settings.rubber_file import load_rubber
 
     sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)
     mc = RUBBERS / "freq_user_master.csv"
@@ -209,7 +209,7 @@ def test_inline_linear_aT_and_moduli_unit_guard(tmp_path):
                                    "master_curve": {"f_Hz": [1, 10], "E_storage_Pa": [1e6, 2e6], "E_loss_Pa": [1e5, 2e5]},
                                    "shift": {"kind": "table", "T_C": [0, 10], "aT": [1.0, 0.01]}})
     assert r.shift.log10_aT(10.0) == pytest.approx(-2.0)
-    from pipelines.rubber_file import read_master_curve_csv
+    from pipelines.settings.rubber_file import read_master_curve_csv
 
     p = tmp_path / "mc.csv"
     p.write_text("f,E_stor,E_loss\n1,5.0,0.5\n10,8.0,1.0\n")   # MPa values without a unit
@@ -287,7 +287,7 @@ def test_wlf_report_recovers_exact_constants():
 
 
 def test_whitespace_and_semicolon_tables(tmp_path):
-    from pipelines.rubber_file import read_master_curve_csv, read_shift_csv
+    from pipelines.settings.rubber_file import read_master_curve_csv, read_shift_csv
 
     (tmp_path / "m.dat").write_text("f_Hz  E_stor_MPa\tE_loss_MPa\n1 5 0.5\n10 8 1\n")
     (tmp_path / "a.csv").write_text("T_C;aT\n0;1\n10;0.01\n")
@@ -355,7 +355,7 @@ def test_master_curve_reference_temperature_defaults_to_unit_shift(tmp_path):
 
 
 def test_shift_table_file_with_wlf_constants(tmp_path):
-    from pipelines.rubber_file import rubber_from_csv_files
+    from pipelines.settings.rubber_file import rubber_from_csv_files
 
     (tmp_path / "wlf.csv").write_text("C1,C2_K,T_s_C\n24.9024,138.470,-5\n")
     r = rubber_from_csv_files(RUBBERS / "freq_user_master.csv", tmp_path / "wlf.csv")
@@ -369,8 +369,8 @@ def test_shift_table_file_with_wlf_constants(tmp_path):
 def test_diagnose_engine_receives_nu_and_gamma():
     """diagnose's model passes nu and gamma to both engines (the flash branch too) and the band map."""
     from friction import SelfAffinePSD, mu_flash, mu_isothermal, thesis_rubber
-    from pipelines.diagnose.bandmap import band_map
-    from pipelines.diagnose.model import FrictionContext, SimSpec, simulate
+    from pipelines.diagnosis.report.bandmap import band_map
+    from pipelines.diagnosis.model import FrictionContext, SimSpec, simulate
 
     psd, r = SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5), thesis_rubber()
     v = np.logspace(-3, 1, 4)
@@ -421,7 +421,7 @@ def test_diagnose_master_curve_flags_band_and_coverage(tmp_path, capsys):
 
 def test_master_curve_log_columns_and_aliases(tmp_path):
     """Master curves tabulated as decimal logs (log10 omega, log10 E) or with ReE/ImE headers."""
-    from pipelines.rubber_file import read_master_curve_csv
+    from pipelines.settings.rubber_file import read_master_curve_csv
 
     (tmp_path / "a.csv").write_text("log10_omega_rad_s,log10_E_stor_Pa,log10(E_loss) [Pa]\n0,6,5\n1,6.5,5.5\n2,7,6\n")
     f, E1, E2 = read_master_curve_csv(tmp_path / "a.csv")

@@ -158,7 +158,7 @@ def test_master_curve_that_is_a_prony_series_gives_same_mu():
 
 def _pyvisco():
     from pathlib import Path
-    from pipelines.rubber_file import load_rubber
+    from pipelines.settings.rubber_file import load_rubber
     here = Path(__file__).resolve().parents[1] / "sample_scans" / "rubbers"
     return load_rubber(here / "pyvisco_master_table.toml")
 

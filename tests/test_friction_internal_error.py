@@ -1,5 +1,5 @@
 """roadscan friction: only an InputError is bad input (exit 2); a ValueError from inside the
-friction numerics is a bug and surfaces as exit 1, "internal error" (pipelines.cli policy)."""
+friction numerics is a bug and surfaces as exit 1, "internal error" (pipelines.cli.app policy)."""
 from __future__ import annotations
 
 import json
@@ -7,7 +7,7 @@ import json
 import pytest
 
 import friction
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 SA = "H=0.8,h0=1e-4,q0=2e3,q1=1e6"
 

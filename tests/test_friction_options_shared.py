@@ -1,11 +1,11 @@
 """One parser for the friction flags (issue 23): every command that takes them gets the same
-flags with the same defaults from :func:`pipelines.friction_options.add_friction_options`, and
+flags with the same defaults from :func:`pipelines.settings.friction.add_friction_options`, and
 :func:`settings_from_args` turns the same flags into the same settings for each of them."""
 import numpy as np
 import pytest
 
-from pipelines.cli import build_parser
-from pipelines.friction_options import FrictionSettings, settings_from_args
+from pipelines.cli.app import build_parser
+from pipelines.settings.friction import FrictionSettings, settings_from_args
 from roadscan.errors import InputError
 
 # the positional arguments / required flags of each command, besides the friction flags
@@ -26,7 +26,7 @@ def _parse(cmd, extra=()):
 
 
 def test_the_analyse_module_still_exports_the_settings():
-    from pipelines.analyse import FrictionSettings as from_analyse
+    from pipelines.jobs.analyse.job import FrictionSettings as from_analyse
 
     assert from_analyse is FrictionSettings
 

@@ -4,7 +4,7 @@ Hypothesis makes odd files (``fuzz_files``: truncated, garbage bytes, wrong head
 sizes, NaN/inf/denormal/constant/complex/int data, tiny and 1-row grids) for every reader (npy,
 npz, tif, x3p, gwy, text/csv/asc/xyz, CAPTIF .dat; vendor extensions with garbage bytes) and odd
 flag values (spacing, sigma0 with and without units, nu, temperature, q0/q1, velocities, units,
-...) for every command, and runs the command line in-process (``pipelines.cli.main``; a few runs
+...) for every command, and runs the command line in-process (``pipelines.cli.app.main``; a few runs
 as subprocesses). ``fuzz_harness.judge`` fails a case on any traceback, any exit code but 0 and 2,
 a multi-line or missing error line, exit 0 with NaN/inf in a CSV/JSON output, and anything left
 behind by a failed run. The counts of the cases tried are printed at the end of the module.
@@ -155,7 +155,7 @@ SPACING_ARG = st.one_of(st.none(), st.sampled_from([5e-5, 1e-4, (5e-5, 6e-5), 0.
 def test_readers_never_crash(base, spec, spacing, units):
     """Every reader, on any file: a HeightMap/Profile that passes its invariants, or one
     InputError line naming the file; the plausibility checks then accept or refuse in one line."""
-    from pipelines.validate import check_scan
+    from pipelines.checks.validate import check_scan
     from roadscan.errors import InputError
     from roadscan.heightmap import HeightMap, Profile
     from roadscan.io import read

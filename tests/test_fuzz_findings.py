@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from conftest import fourier_surface
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.errors import InputError
 
 
@@ -135,7 +135,7 @@ def test_friction_failure_after_first_file_leaves_nothing(monkeypatch, capsys, t
     """Fuzz finding: friction wrote mu.csv and mu_summary.json, then failed drawing the plot and
     left them behind (exit 1 with a partial set)."""
     from conftest import ROOT
-    from pipelines import report
+    from pipelines.output import report
 
     def broken(*a, **k):
         raise RuntimeError("plot failed")
@@ -239,14 +239,14 @@ def test_diagnosis_never_prefers_unusable_parameters():
     over 10 decades, and the fit preferred temperature offsets past the pole (NaN model, cost
     10 decades a point) to the no-effect point: gaps NaN, written as null. A NaN model now
     costs 1e3 decades a point, so the fit keeps a finite one."""
-    from pipelines.diagnose.effects import all_effects
-    from pipelines.diagnose.measured import MeasuredCurve
+    from pipelines.diagnosis.effects import all_effects
+    from pipelines.diagnosis.measured import MeasuredCurve
 
     v = np.geomspace(1e-4, 1e1, 8)
     mu = 0.3 + 0.5 * np.exp(-np.log10(v / 1e-2) ** 2)
     curve = MeasuredCurve(v, mu, np.full(v.size, -76.0), np.full(v.size, 2e5), np.zeros(v.size, bool), False, "t")
-    from pipelines.diagnose.inputs import build_context
-    from pipelines.diagnose.search import diagnose_friction
+    from pipelines.diagnosis.inputs import build_context
+    from pipelines.diagnosis.verdict.search import diagnose_friction
 
     import friction
 
@@ -261,7 +261,7 @@ def test_diagnosis_never_prefers_unusable_parameters():
 def test_wave_vectors_far_below_any_surface_refused(tmp_path, capsys):
     """fuzz_long finding: --self-affine q0=2.2e-308 was an OverflowError in the flash grid;
     wave vectors below 1e-4 1/m (wavelengths above 63 km) are refused, in flags and PSD rows."""
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     rc = main(["friction", "--self-affine", "H=0.5,h0=1e-5,q0=2.2e-308,q1=1e7", "--flash",
                "--velocities", "1e-3:1:3", "--out", str(tmp_path / "mu.csv")])
@@ -278,7 +278,7 @@ def test_wave_vectors_far_below_any_surface_refused(tmp_path, capsys):
 def test_raw_sweep_temperatures_must_be_physical(tmp_path, capsys):
     """fuzz_long finding: a raw DMA file with a sweep at 6.7e16 C was accepted (numpy overflow
     warnings in the WLF fit); temperatures outside (-273.15, 1000] C are refused by row."""
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     rows = ["f_Hz,E_stor_Pa,E_loss_Pa,T_C"]
     for T in (0.0, 20.0, 6.7e16):

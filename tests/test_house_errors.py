@@ -6,7 +6,7 @@ import pickle
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.errors import InputError, OptionNote
 
 
@@ -16,7 +16,7 @@ def test_input_error_names_options_by_keyword_and_renders_flags():
     assert (e.file, e.hint_option) == ("a.npy", ("spacing", "override_calibration"))
     assert str(e) == "a.npy: no spacing: pass 'spacing' DX[,DY] and 'override_calibration'"
     assert e.what == "no spacing: pass 'spacing' DX[,DY] and 'override_calibration'"
-    from pipelines.cli_hints import flag_text
+    from pipelines.cli.hints import flag_text
 
     assert flag_text(e) == "a.npy: no spacing: pass --spacing DX[,DY] and --override-calibration"
     assert isinstance(e, ValueError)               # library callers catching ValueError still do
@@ -54,7 +54,7 @@ def test_cli_names_the_flag_a_reader_points_at(tmp_path, capsys):
 
 
 def _replace_synth_run(monkeypatch, run):
-    import pipelines.cli as cli
+    import pipelines.cli.app as cli
 
     real = cli.build_parser
 
@@ -101,7 +101,7 @@ def test_bad_input_and_parsing_errors_stay_exit_2(monkeypatch, capsys, tmp_path)
                                      (9.994e-4, "999 µm"), (1.2e-8, "12.0 nm"), (-2.5e-3, "-2.50 mm"),
                                      (0.0, "0 mm"), (None, "—"), (float("nan"), "—")])
 def test_one_length_formatter(x, text):
-    from pipelines.units_format import length as pipelines_length
+    from pipelines.output.units import length as pipelines_length
     from roadscan.units import length
 
     assert length(x) == text == pipelines_length(x)
@@ -131,8 +131,8 @@ def test_one_resolution_and_one_bound(tmp_path):
     assert resolution_of(hm, 1e-5) == (1e-5, "given")
     assert resolution_problem(RESOLUTION_MAX_M) is None and resolution_problem(1.5 * RESOLUTION_MAX_M)
     assert resolution_problem(0.0) and resolution_problem(float("inf")) and resolution_problem("x")
-    from pipelines.analyse_options import check_resolution
-    from pipelines.combine_inputs import collect_inputs
+    from pipelines.settings.analyse import check_resolution
+    from pipelines.jobs.combine.inputs import collect_inputs
 
     with pytest.raises(InputError, match="--resolution"):
         check_resolution(5.0)                                 # combine accepted up to 10 m
@@ -143,7 +143,7 @@ def test_one_resolution_and_one_bound(tmp_path):
 
 
 def test_html_from_templates_escapes_what_it_is_given(tmp_path):
-    from pipelines import report
+    from pipelines.output import report
 
     hostile = "<script>alert('x')</script> & \"q\""
     t = report.table_html([[hostile, 1.23456, None, [1e-3, 2.0]]], [hostile])

@@ -11,7 +11,7 @@ from conftest import ROOT
 SCRIPT = """
 import sys
 print("SCRIPT RUN", flush=True)
-from pipelines.cli import main
+from pipelines.cli.app import main
 rc = main(["analyse", {sample!r}, "--out", {out!r}])
 print("matplotlib in parent:", "matplotlib" in sys.modules, "rc:", rc, flush=True)
 """

@@ -32,7 +32,7 @@ def _heavy(mods):
 
 def test_cli_parser_loads_no_numpy_nor_scipy():
     # every subcommand's parser is built for `roadscan --help`; heavy imports belong in run()
-    mods = _loaded_after("import pipelines.cli as c\nc.build_parser()")
+    mods = _loaded_after("import pipelines.cli.app as c\nc.build_parser()")
     assert not mods, f"building the CLI parser imported {sorted(mods)[:8]}"
 
 
@@ -77,7 +77,7 @@ def test_lazy_names_resolve():
 
 
 def _command_names():
-    from pipelines.cli import _load_commands
+    from pipelines.cli.app import _load_commands
 
     return [m.NAME for m in _load_commands()]
 
@@ -86,14 +86,14 @@ def _command_names():
 def test_help_runs_without_heavy_imports(argv):
     # every command `roadscan --help` lists (issue 13: each --help within 0.15 s, timed by
     # benchmarks/bench_startup.py): argparse only, no numpy nor scipy nor matplotlib
-    code = ("import sys\nfrom pipelines.cli import main\n"
+    code = ("import sys\nfrom pipelines.cli.app import main\n"
             f"try:\n    main({argv!r})\nexcept SystemExit:\n    pass\n")
     mods = _loaded_after(code)
     assert not mods, f"roadscan {' '.join(argv)} imported {sorted(mods)[:8]}"
 
 
 def test_every_listed_command_is_checked():
-    from pipelines.cli import COMMAND_MODULES
+    from pipelines.cli.app import COMMAND_MODULES
 
     names = _command_names()
     assert len(names) >= len(COMMAND_MODULES) - 1 and "analyse" in names and "friction" in names
@@ -102,7 +102,7 @@ def test_every_listed_command_is_checked():
 def test_reports_and_friction_engine_load_matplotlib_only_to_draw(tmp_path):
     # the analysis modules and a friction run pull in no plotting (figures import it on demand),
     # and the engine's phi table needs no scipy.interpolate (0.1 s of every run)
-    code = ("import numpy as np\nimport pipelines.report, pipelines.analyse, pipelines.compare, "
+    code = ("import numpy as np\nimport pipelines.output.report, pipelines.analyse, pipelines.compare, "
             "pipelines.dry_vs_wet\nimport friction\n"
             "psd = friction.SelfAffinePSD(hurst=0.8, h0_m=5e-4, q0_per_m=2e3, q1_per_m=2e5)\n"
             "friction.mu_isothermal(psd, friction.thesis_rubber(), np.logspace(-6, 2, 9))\n")
@@ -116,7 +116,7 @@ def test_analyse_without_figures_never_imports_matplotlib(tmp_path):
 
     h = np.random.default_rng(0).normal(size=(64, 64)) * 1e-4
     np.save(tmp_path / "s.npy", h)
-    code = ("from pipelines.cli import main\n"
+    code = ("from pipelines.cli.app import main\n"
             f"assert main(['analyse', {str(tmp_path / 's.npy')!r}, '--spacing', '1e-4', '--no-figures', "
             f"'--out', {str(tmp_path / 'out')!r}]) == 0\n")
     mods = _loaded_after(code)
@@ -130,7 +130,7 @@ def test_analyse_of_the_sample_imports_no_scipy(tmp_path):
     biharmonic fill below 4 Mpx), nor matplotlib in the main process (the figure helper):
     0.3 s of scipy imports less; nor scipy.special (the friction engine's erf of a few thousand
     values comes from the C library): 0.1 s less."""
-    code = ("from pipelines.cli import main\n"
+    code = ("from pipelines.cli.app import main\n"
             f"assert main(['analyse', {str(ROOT / 'sample_scans' / 'asphalt.x3p')!r}, '--out', "
             f"{str(tmp_path / 'out')!r}]) == 0")
     mods = _loaded_after(code)

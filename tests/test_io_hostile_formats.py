@@ -86,7 +86,7 @@ def _x3p(tmp_path, name="s.x3p", dx=2e-5):
 
 
 def test_spacing_on_x3p_refused_in_one_line(tmp_path, capsys):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     p, _ = _x3p(tmp_path)
     for flag in (["--spacing", "1e-4"], ["--units", "mm"]):
@@ -101,7 +101,7 @@ def test_spacing_on_x3p_refused_in_one_line(tmp_path, capsys):
 def test_override_calibration_recorded_in_summary(tmp_path):
     import json
 
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     p, h = _x3p(tmp_path)
     out = tmp_path / "o"
@@ -136,7 +136,7 @@ def test_mixed_batch_keeps_x3p_calibration(tmp_path):
     """--spacing in a batch fills in for files without one and never replaces an X3P's."""
     import json
 
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     p, h = _x3p(tmp_path, "a.x3p")
     np.save(tmp_path / "b.npy", np.random.default_rng(5).normal(size=(40, 40)) * 1e-4)
@@ -205,7 +205,7 @@ def test_channel_on_single_channel_formats_refused(tmp_path):
 def test_channel_recorded_in_summary(tiffs):
     import json
 
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     d, src = tiffs
     out = d / "o"
@@ -239,7 +239,7 @@ def test_vendor_channel_by_index_or_name():
 def test_vendor_file_summary_names_its_channel(formats_dir, tmp_path):
     import json
 
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     f = formats_dir / "opd-1.opd"
     out = tmp_path / "o"
@@ -281,7 +281,7 @@ def test_x3p_duplicate_member_refused(tmp_path):
 def test_x3p_checksum_note_is_a_warning_in_the_outputs(tmp_path, capsys):
     import json
 
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     p, h = _x3p(tmp_path)
     bad = _rezip(p, tmp_path / "sum.x3p",
@@ -452,7 +452,7 @@ def test_text_header_over_binary_goes_to_surfacetopography(tmp_path):
 def test_rain_fill_summary_records_channel_and_override(tiffs, tmp_path):
     import json
 
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     d, _ = tiffs
     out = tmp_path / "rain"

@@ -342,7 +342,7 @@ def _plane_rms(m):
 def test_analyse_end_to_end(name, formats_dir, maps, tmp_path, capsys):
     """``roadscan analyse`` on each real file: H, rms, PSD, report; the rms in summary.json is
     the file's levelled rms, the instrument block reaches summary.json and the report header."""
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     out = tmp_path / "out"
     assert main(["analyse", str(formats_dir / name), "--no-friction", "--out", str(out)]) == 0

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from pipelines.campaign.table import FIXED_COLUMNS, parse_columns, pick_columns
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.errors import InputError
 from conftest import _shared_dir
 

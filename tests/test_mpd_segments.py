@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.heightmap import HeightMap, Profile
 from roadscan.roughness import mean_profile_depth, segment_depths
 from roadscan.texture_depth import mpd_segments

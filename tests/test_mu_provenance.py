@@ -10,8 +10,8 @@ import pytest
 import friction
 from friction import SelfAffinePSD, TabulatedPSD
 from friction.band import integration_band
-from pipelines import mu_provenance as mp
-from pipelines.cli import main
+from pipelines.chain import provenance as mp
+from pipelines.cli.app import main
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -9,8 +9,7 @@ import numpy as np
 import pytest
 
 from fault_tools import assert_one_line_error, run_cli
-from pipelines.headline import (RUBBER_ILLUSTRATIVE, WET_MODEL, hurst_keys, hurst_text, peak_keys,
-                                peak_text)
+from pipelines.output.headline import RUBBER_ILLUSTRATIVE, WET_MODEL, hurst_keys, hurst_text, peak_keys, peak_text
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "sample_scans" / "asphalt.x3p"
@@ -106,7 +105,7 @@ def test_friction_peak_at_edge_in_mu_summary(tmp_path, capsys, velocities, edge)
 
 
 def test_friction_console_says_still_rising(tmp_path, capsys):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
 
     capsys.readouterr()
     rc = main(["friction", "--psd", str(SAMPLE_PSD), "--out", str(tmp_path / "mu.csv"),

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.errors import InputError
 from roadscan.heightmap import HeightMap, Profile
 from roadscan.io import read, write

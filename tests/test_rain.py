@@ -189,7 +189,7 @@ def test_bad_arguments():
 def test_cli_rain_fill(tmp_path, capsys):
     import json
 
-    from pipelines.cli import main
+    from pipelines.cli.app import main
     from roadscan.level import level
 
     h = 1e-3 * unit_fourier_surface(48, seed=3)

@@ -149,12 +149,12 @@ def test_coarse_sample_roll_off_14_mm():
 
 def test_resolution_from_the_flag_or_the_file_metadata(tmp_path):
     """analyse --resolution ends the band at the 80 % response; without the flag the file's
-    instrument metadata gives it (pipelines.reliable_bridge)."""
+    instrument metadata gives it (pipelines.chain.reliable)."""
     import json
     from pathlib import Path
 
-    from pipelines.cli import main
-    from pipelines.reliable_bridge import resolution_of, scan_band
+    from pipelines.cli.app import main
+    from pipelines.chain.reliable import resolution_of, scan_band
 
     sample = Path(__file__).resolve().parents[1] / "sample_scans" / "coarse_asphalt.x3p"
     assert main(["analyse", str(sample), "--out", str(tmp_path / "o"), "--no-figures",

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from conftest import fourier_surface
-from pipelines.cli import main
-from pipelines.render3d import NEEDS_PYVISTA
+from pipelines.cli.app import main
+from pipelines.jobs.render3d import NEEDS_PYVISTA
 
 OUTPUTS = ("comparison.json", "report.html", "wet.npy", "psd_dry_wet.png", "water_depth.png")
 
@@ -46,7 +46,7 @@ def test_without_pyvista_matplotlib_draws_the_view(scan, tmp_path, monkeypatch):
     assert "3D view drawn with" in page and "matplotlib" in page
     # the water is drawn: blue on the wetted surface, none on the same surface drawn dry
     assert c["wetted_fraction"] > 0
-    from pipelines.render3d import render_surface_with_water_mpl
+    from pipelines.jobs.render3d import render_surface_with_water_mpl
     from roadscan.heightmap import HeightMap
     from roadscan.level import level
 
@@ -56,7 +56,7 @@ def test_without_pyvista_matplotlib_draws_the_view(scan, tmp_path, monkeypatch):
 
 
 def test_without_any_renderer_one_warning_everywhere(scan, tmp_path, monkeypatch, capsys):
-    import pipelines.render3d as r3d
+    import pipelines.jobs.render3d as r3d
 
     def broken(*a, **k):
         raise RuntimeError("no 3D toolkit")

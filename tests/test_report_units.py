@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from conftest import fourier_surface
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 DX = 5e-5            # area scans: 50 µm
 DXP = 5e-4           # profiles: 0.5 mm, a texture laser's interval
@@ -148,7 +148,7 @@ def test_profile_report_speaks_mm(runs):
 def spectrum_figures(tmp_path_factory):
     """Every figure ``analyse`` (area and profile), ``compare``, ``dry-vs-wet`` and ``combine``
     save, drawn in this process -> [(command, figure file name, axes)]."""
-    import pipelines.report as report
+    import pipelines.output.report as report
 
     d = tmp_path_factory.mktemp("figs")
     np.save(d / "a.npy", fourier_surface(128, DX, 0.8, 4e-4, seed=3))

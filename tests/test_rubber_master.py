@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from friction.mastercurve import fit_power_offset, pair_shift, smooth_master
-from pipelines.cli import main
-from pipelines.rubber_file import load_rubber
+from pipelines.cli.app import main
+from pipelines.settings.rubber_file import load_rubber
 
 ROOT = Path(__file__).resolve().parents[1]
 RUBBERS = ROOT / "sample_scans" / "rubbers"   # the published master curve and shift table (copies)

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 ROOT = Path(__file__).resolve().parent
 RAW = ROOT.parent / "sample_scans" / "rubbers" / "freq_user_raw.csv"

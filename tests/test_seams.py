@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from conftest import ROOT, fourier_surface
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.heightmap import HeightMap, Profile
 from roadscan.io import read
 from roadscan.seams import find_steps

@@ -255,7 +255,7 @@ def best_match(m, truth, search):
 
 
 def run_cli(argv):
-    from pipelines.cli import main
+    from pipelines.cli.app import main
     return main(argv)
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.texture_spectrum import NOMINAL_MM
 from conftest import _shared_dir
 

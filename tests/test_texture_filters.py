@@ -6,7 +6,7 @@ import json
 import numpy as np
 import pytest
 
-from pipelines.cli import main
+from pipelines.cli.app import main
 from roadscan.heightmap import HeightMap, Profile
 from roadscan.iso_filters import ALPHA, apply_filters, gaussian_lowpass, gaussian_transmission
 from conftest import fourier_surface

@@ -1,12 +1,12 @@
-"""Texture outputs of one scan and the reader's units (pipelines.texture_outputs,
-pipelines.units_format; issue 21)."""
+"""Texture outputs of one scan and the reader's units (pipelines.jobs.texture.outputs,
+pipelines.output.units; issue 21)."""
 import argparse
 
 import numpy as np
 import pytest
 
-from pipelines import texture_outputs as to
-from pipelines.units_format import length, quantity, sig3
+from pipelines.jobs.texture import outputs as to
+from pipelines.output.units import length, quantity, sig3
 from roadscan.errors import InputError
 from roadscan.heightmap import HeightMap, Profile
 
@@ -101,7 +101,7 @@ def test_units_format():
 
 
 def test_many_dropouts_warned_in_summary_warnings():
-    from pipelines import validate
+    from pipelines.checks import validate
 
     dx = 0.5e-3
     z = 1e-3 * np.sin(2 * np.pi * np.arange(4000) * dx / 20e-3)

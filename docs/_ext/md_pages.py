@@ -12,7 +12,7 @@ from pathlib import Path
 PAGES = [
     ("FORMATS.md", "formats/height_files.rst"),
     ("friction/RUBBER_TOML.md", "formats/rubber_toml.rst"),
-    ("pipelines/diagnose/CAPTIF_EXAMPLE.md", "reference/captif_diagnosis.rst"),
+    ("pipelines/diagnosis/CAPTIF_EXAMPLE.md", "reference/captif_diagnosis.rst"),
 ]
 #: every docs/md/NAME.md becomes reference/NAME.rst
 MD_FOLDER, MD_TARGET = "docs/md", "reference"

@@ -15,8 +15,8 @@ import numpy as np
 
 import friction
 import pipelines
-from pipelines.csv_files import read_psd_csv
-from pipelines.rubber_file import load_rubber
+from pipelines.output.csv_files import read_psd_csv
+from pipelines.settings.rubber_file import load_rubber
 
 ROOT = Path(pipelines.__file__).resolve().parents[1]
 rubber = load_rubber(ROOT / "sample_scans" / "rubbers" / "pyvisco_master_table.toml")

@@ -18,7 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import pipelines
-from pipelines.cli import main
+from pipelines.cli.app import main
 
 ROOT = Path(pipelines.__file__).resolve().parents[1]
 measured = ROOT / "sample_scans" / "measured_mu_example.csv"

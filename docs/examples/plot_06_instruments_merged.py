@@ -13,8 +13,8 @@ resolution and the noise floor at the high end), and the parts are merged on a c
 import matplotlib.pyplot as plt
 import numpy as np
 
-from pipelines.combine import combine_sources
-from pipelines.combine_sources import source_spectrum
+from pipelines.jobs.combine.job import combine_sources
+from pipelines.jobs.combine.sources import source_spectrum
 from roadscan.synth import model_psd
 from roadscan.synth_measure import measure_synthetic
 

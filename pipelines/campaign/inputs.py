@@ -82,7 +82,7 @@ def is_manifest(path):
 
 def read_manifest(path):
     """Jobs of a manifest CSV (header ``file[,chainage_m][,label]``)."""
-    from ..csv_files import read_csv_rows
+    from pipelines.output.csv_files import read_csv_rows
 
     path = Path(path)
     head, body = read_csv_rows(path, "a header file[,chainage_m][,label]")

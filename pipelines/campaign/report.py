@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .. import report
-from ..units_format import sig3
+from pipelines.output import report
+from pipelines.output.units import sig3
 
 __all__ = ["QUANTITIES", "outlier_mask", "write_campaign_report"]
 
@@ -166,7 +166,7 @@ def _reader_units(quantities, vals):
 def _table(records, quantities, vals, masks):
     """The scans' table (``templates/campaign_table.html.j2``): outliers in red, links to each
     scan's folder and report."""
-    from ..templates import render
+    from pipelines.output.templates import render
 
     head = ["#", "file", "label", "chainage [m]", "status"] + [q[1] for q in quantities] + ["outlier in", "outputs"]
     rows = []
@@ -220,7 +220,7 @@ def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campa
         sections.append(("Warnings", report.table_html(
             [[r.get("dir") or r["file"], w] for r in warned
              for w in r["values"]["warnings"].split(" | ")], ["scan", "warning"])))
-    from ..templates import render
+    from pipelines.output.templates import render
 
     intro = render("campaign_intro.html.j2", rows=len(records), ok=n_ok, warned=len(warned),
                    failed=len(records) - n_ok, z=Z_OUTLIER)

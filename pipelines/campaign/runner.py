@@ -17,9 +17,9 @@ import sys
 
 from roadscan.errors import InputError
 
-from .folder import read_sidecar, same_input
-from .records import error_record
-from .worker import run_job
+from pipelines.campaign.folder import read_sidecar, same_input
+from pipelines.campaign.records import error_record
+from pipelines.campaign.worker import run_job
 
 __all__ = ["default_workers", "resumed_records", "run_campaign", "Interrupted"]
 

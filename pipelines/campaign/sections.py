@@ -274,7 +274,7 @@ def iter_sections(path, section_m, spacing=None, units=None):
     if chunks is not None:
         yield from _cut_points(chunks, section_m, dx_override, path, stem)
         return
-    from ..scan_input import load_scan
+    from pipelines.settings.scan_input import load_scan
 
     obj = load_scan(path, spacing=spacing, units=units)
     if not isinstance(obj, Profile):

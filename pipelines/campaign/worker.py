@@ -1,6 +1,6 @@
 """What a Dask worker runs for one input of a campaign.
 
-:func:`run_job` reads the file itself, analyses it with :func:`pipelines.analyse.run_analysis`
+:func:`run_job` reads the file itself, analyses it with :func:`pipelines.jobs.analyse.job.run_analysis`
 (the very function ``roadscan analyse`` runs, so the outputs are identical), writes the outputs
 itself into an atomic folder ``DIR/<subdir>/`` and returns a list of small records
 (:mod:`.records`): big arrays never travel through the scheduler. It never raises for a bad
@@ -18,8 +18,8 @@ import numpy as np
 
 from roadscan.errors import InputError
 
-from .folder import atomic_folder, file_identity, write_sidecar
-from .records import error_record, mu_at_speeds, ok_record
+from pipelines.campaign.folder import atomic_folder, file_identity, write_sidecar
+from pipelines.campaign.records import error_record, mu_at_speeds, ok_record
 
 __all__ = ["run_job", "SECTION_COLUMNS"]
 
@@ -28,7 +28,7 @@ SECTION_COLUMNS = ("section", "section_start_m", "section_length_m")
 
 def _message(file, exc):
     if isinstance(exc, InputError):
-        from ..cli_hints import flag_text
+        from pipelines.cli.hints import flag_text
 
         text = flag_text(exc) if exc.path else f"{file}: {flag_text(exc)}"
     elif isinstance(exc, (ValueError, OSError, MemoryError)):
@@ -47,16 +47,16 @@ def _mu_at(folder):
 
 
 def _own_warnings():
-    """A warnings scope of its own (:func:`pipelines.validate.collecting`): each scan's
+    """A warnings scope of its own (:func:`pipelines.checks.validate.collecting`): each scan's
     ``summary.json`` lists its own warnings, as ``roadscan analyse`` on that one file does."""
-    from .. import validate
+    from pipelines.checks import validate
 
     return validate.collecting(prefix="roadscan batch")
 
 
 def _analyse_one(job, tmp):
-    from ..analyse import run_analysis
-    from ..scan_input import load_scan
+    from pipelines.jobs.analyse.job import run_analysis
+    from pipelines.settings.scan_input import load_scan
 
     with _own_warnings():
         scan = load_scan(job.get("path") or job["file"], spacing=job.get("spacing"),
@@ -68,8 +68,8 @@ def _analyse_one(job, tmp):
 
 
 def _analyse_sections(job, tmp):
-    from ..analyse import run_analysis
-    from .sections import iter_sections
+    from pipelines.jobs.analyse.job import run_analysis
+    from pipelines.campaign.sections import iter_sections
 
     L = job["section_length_m"]
     base = job.get("chainage_m") or 0.0

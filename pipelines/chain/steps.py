@@ -1,0 +1,403 @@
+"""The one chain from a scan to friction: every command that computes mu(v) from a height file
+calls these functions, so that the same scan and options give the same answer everywhere.
+
+    scan -> level, roughness, fill -> PSD C(q) -> reliable band [lo, hi] -> self-affine fit
+         -> friction spectrum over [q0, q1] -> mu(v) (Persson's theory)
+
+:func:`measure` runs the metrology (:func:`pipelines.chain.surface.analyse_surface`) and finds
+the reliable band (:mod:`roadscan.reliable_band`), fitting the spectrum once: inside the band, or
+over ``--fit-band``, or the whole spectrum when there is no band. :func:`friction_psd` makes the
+friction engine's spectrum over [q0, q1] (the band's ends unless ``--q0``/``--q1`` say otherwise;
+above the scan C(q) continues as the fit), :func:`friction_of` runs the engine with every
+friction option (rubber, sigma0, nu, contact gamma, master-curve extrapolation, flash, speeds),
+and :func:`scan_friction` does both, with the judgement of the band's fine end and mu's
+provenance (:mod:`pipelines.chain.provenance`).
+
+**The measurement decides** whether the band's fine end is trusted (:func:`judge_fine_end`):
+when the band ends at the noise floor the spectrum itself shows (:mod:`roadscan.reliable_band`:
+C no longer falls as the self-affine line) and the rms slope over the band,
+sqrt(2 pi int q^3 C dq), exceeds :data:`SLOPE_TRUSTED` (1), the steepness comes from the
+wavelengths next to the noise, where C is already lifted by it; friction over that band is
+refused whatever the rubber, naming ``--q1`` and ``--resolution`` (with ``--q1`` given, the
+user has chosen the end). Persson puts the cut-off q1 where the rms slope reaches about 1
+(Persson, J. Phys.: Condens. Matter 18, 7789 (2006); Lorenz et al., Eur. Phys. J. E 34, 129
+(2011)). A peak mu outside 0.3-3 stays a warning with its likely causes
+(:func:`pipelines.chain.provenance.implausible_cause`), never a refusal.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["measure", "friction_psd", "friction_of", "scan_friction", "judge_fine_end",
+           "FrictionOutcome", "SLOPE_TRUSTED", "noise_floor_end", "band_sidecar", "read_band_sidecar"]
+
+#: rms slope up to a noise floor above which the band's short end is not trusted (module docstring)
+SLOPE_TRUSTED = 1.0
+
+
+def measure(scan, window_alpha=0.25, fit_band=None, despike=False, mpd_settings=None,
+            resolution_m=None, on_levelled=None, on_spectrum2d=None):
+    """The metrology of one scan -> (SurfaceAnalysis, ReliableBand or None), fitted once.
+
+    ``window_alpha``: Tukey window; ``fit_band`` (lo, hi) [1/m]; ``resolution_m``: lateral
+    resolution [m] (default: the file's metadata); the hooks as in
+    :func:`pipelines.chain.surface.analyse_surface`. Warns (:func:`pipelines.checks.validate.check_fit`)
+    when the Hurst exponent is outside [0, 1].
+
+    Parameters
+    ----------
+    scan : HeightMap or Profile
+        The scan [m].
+    window_alpha : float, optional
+        Tukey window.
+    fit_band : tuple of float, optional
+        Fit band [1/m].
+    despike : bool, optional
+        Replace spikes first.
+    mpd_settings : dict, optional
+        ISO 13473-1 settings.
+    resolution_m : float, optional
+        Lateral resolution [m].
+    on_levelled, on_spectrum2d : callable, optional
+        Hooks.
+
+    Returns
+    -------
+    SurfaceAnalysis
+        The metrology.
+    ReliableBand or None
+        Its reliable band.
+    """
+    from pipelines.chain.band import reliable_fit
+    from pipelines.chain.surface import analyse_surface
+    from pipelines.checks.validate import check_fit
+
+    an = analyse_surface(scan, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
+                         mpd_settings=mpd_settings, on_levelled=on_levelled,
+                         on_spectrum2d=on_spectrum2d, fit=False)
+    rb = reliable_fit(an, resolution_m, window_alpha, fit_band)
+    check_fit(an.fit, an.name)
+    return an, rb
+
+
+def friction_psd(spectrum, fit, rb, settings, name="", say=True):
+    """The friction engine's spectrum of a measured ``spectrum`` -> (TabulatedPSD, band dict).
+
+    [q0, q1] are ``settings.q0_per_m``/``q1_per_m`` where given, else the reliable band's ends
+    (q0 at a roll-off inside the band; :func:`pipelines.chain.band.friction_ends`); above the
+    spectrum's last wave vector C(q) continues as ``fit`` (:func:`roadscan.fit.extend_spectrum`).
+
+    Parameters
+    ----------
+    spectrum : roadscan.Spectrum
+        The measured spectrum.
+    fit : SelfAffineFit
+        Its fit.
+    rb : ReliableBand or None
+        Its band.
+    settings : FrictionSettings
+        Friction options.
+    name : str, optional
+        Scan name for messages.
+    say : bool, optional
+        Print the extension note.
+
+    Returns
+    -------
+    psd : friction.TabulatedPSD
+    band : dict
+    """
+    from pipelines.chain.band import friction_ends
+    from pipelines.settings.friction import apply_band
+    from pipelines.chain.surface import surface_psd
+    from pipelines.output.units import quantity
+
+    q0, q1 = friction_ends(rb, fit, settings)
+    psd = surface_psd(spectrum, fit, q1_per_m=q1)
+    psd, band = apply_band(psd, q0, q1)
+    q_nyq = float(np.max(spectrum.q_per_m))
+    if settings.q1_per_m is not None and settings.q1_per_m > q_nyq * (1 + 1e-9):
+        dec = float(np.log10(settings.q1_per_m / q_nyq))
+        band = dict(band or {}, extended_by="self-affine fit", extended_decades=dec, note=(
+            f"q1 = {quantity('q1_per_m', settings.q1_per_m)} is above the measured band (to "
+            f"{quantity('q_per_m', q_nyq)}): C(q) extended {dec:.2f} decades by the self-affine "
+            f"fit, H = {fit.hurst:.3f}"))
+        if say:
+            import sys
+
+            print(f"note: {name + ': ' if name else ''}{band['note']}", file=sys.stderr)
+    return psd, band
+
+
+def friction_of(psd, settings, v_m_per_s=None, tol=None):
+    """mu(v) of friction spectrum ``psd`` with every option of ``settings``
+    (:class:`pipelines.settings.friction.FrictionSettings`): the engine's result
+    (``v_m_per_s``, ``mu``, ``P`` (A/A0 per speed and q), ``T_q_C`` with flash).
+
+    Parameters
+    ----------
+    psd : friction.TabulatedPSD or SelfAffinePSD
+        The spectrum.
+    settings : FrictionSettings
+        Friction options.
+    v_m_per_s : array_like, optional
+        Speeds [m/s].
+    tol : float, optional
+        Relative tolerance.
+
+    Returns
+    -------
+    friction.FrictionResult
+
+    References
+    ----------
+    B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626; J. Phys.: Condens.
+    Matter 18, 7789 (2006), doi:10.1088/0953-8984/18/32/025.
+    """
+    from pipelines.settings.friction import with_extrapolation
+    from pipelines.chain.surface import friction_curve
+
+    rubber = with_extrapolation(settings.rubber, settings.extrapolate)
+    v = settings.v_m_per_s if v_m_per_s is None else v_m_per_s
+    return friction_curve(psd, rubber, v, settings.sigma0_Pa, settings.T0_C, settings.flash,
+                          settings.nu, settings.contact_gamma, warn_high=False, tol=tol)
+
+
+def noise_floor_end(rb):
+    """True when the reliable band's short end is where the spectrum's noise floor begins
+    (:func:`roadscan.reliable_band.noise_limit`), not Nyquist or the lateral resolution.
+
+    Parameters
+    ----------
+    rb : ReliableBand or None
+        The band.
+
+    Returns
+    -------
+    bool
+    """
+    if rb is None or not getattr(rb, "valid", False):
+        return False
+    if hasattr(rb, "noise_floor_end"):        # a band read back from psd_band.json
+        return bool(rb.noise_floor_end)
+    q_noise = (getattr(rb, "limits", None) or {}).get("noise_floor")
+    return q_noise is not None and abs(q_noise - rb.hi_per_m) <= 1e-9 * rb.hi_per_m
+
+
+def judge_fine_end(psd, rb, settings, name=""):
+    """(rms slope over the friction band, refusal line or None), from the measurement alone
+    (see the module docstring): refused when q1 is the band's (no ``--q1``), the band ends at
+    the spectrum's noise floor and the rms slope up to it exceeds :data:`SLOPE_TRUSTED`.
+
+    Parameters
+    ----------
+    psd : friction.TabulatedPSD
+        The friction spectrum.
+    rb : ReliableBand or None
+        The band.
+    settings : FrictionSettings
+        Friction options.
+    name : str, optional
+        Scan name.
+
+    Returns
+    -------
+    slope : float
+        Rms slope over the band.
+    refusal : str or None
+        One line when friction is refused.
+    """
+    from pipelines.chain.provenance import rms_slope
+    from pipelines.output.units import quantity
+
+    slope = rms_slope(psd)
+    if settings.q1_per_m is not None or not noise_floor_end(rb) or not slope > SLOPE_TRUSTED:
+        return slope, None
+    return slope, (f"friction refused: the reliable band's short end likely holds noise "
+                   f"(it ends at the spectrum's noise floor, and the rms slope up to q1 = "
+                   f"{quantity('q1_per_m', psd.q1_per_m)} is {slope:.3g}, over "
+                   f"{SLOPE_TRUSTED:g}): a lower --q1 or --resolution")
+
+
+@dataclass(frozen=True)
+class FrictionOutcome:
+    """Friction of one scan: ``result`` (the engine's, None when refused), ``psd`` (the
+    integrated spectrum), ``band`` (its [q0, q1] and extension), ``provenance``
+    (:func:`pipelines.chain.band.friction_provenance`), ``checks`` (rubber checks).
+
+    Attributes
+    ----------
+    result : friction.FrictionResult or None
+        The engine's result (None when refused).
+    psd : friction.TabulatedPSD
+        The integrated spectrum.
+    band : dict
+        Its [q0, q1] and extension.
+    provenance : dict
+        Where mu comes from.
+    checks : dict or None
+        Rubber checks.
+    """
+
+    result: object
+    psd: object
+    band: dict
+    provenance: dict
+    checks: dict = None
+
+
+def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
+    """Friction of analysed scan ``an`` over its reliable band ``rb`` -> :class:`FrictionOutcome`.
+
+    ``fit`` and ``rb`` may be another scan's (dry-vs-wet integrates the wet spectrum over the
+    dry scan's band, with its fit); ``v_m_per_s`` overrides the speeds (compare puts every scan
+    on the first one's).
+
+    Parameters
+    ----------
+    an : SurfaceAnalysis
+        The analysed scan.
+    rb : ReliableBand or None
+        The band to integrate over.
+    settings : FrictionSettings
+        Friction options.
+    fit : SelfAffineFit, optional
+        Fit used above the spectrum (default the scan's).
+    v_m_per_s : array_like, optional
+        Speeds [m/s].
+    name : str, optional
+        Scan name.
+
+    Returns
+    -------
+    FrictionOutcome
+    """
+    from pipelines.chain.band import friction_provenance
+    from pipelines.settings.friction import run_checks, with_extrapolation
+    from pipelines.chain.provenance import rubber_label
+    from pipelines.checks.validate import warn
+
+    name = an.name if name is None else name
+    fit = an.fit if fit is None else fit
+    psd, band = friction_psd(an.spectrum, fit, rb, settings, name)
+    slope, refused = judge_fine_end(psd, rb, settings, name)
+    if refused is not None:
+        warn(f"{name}: {refused}")
+        label = rubber_label(settings.rubber, settings.sigma0_Pa, settings.T0_C)
+        return FrictionOutcome(None, psd, band, {"refused": refused, "rubber": label,
+                                                 "rms_slope_band": slope})
+    fr = friction_of(psd, settings, v_m_per_s)
+    rubber = with_extrapolation(settings.rubber, settings.extrapolate)
+    fr, prov = friction_provenance(an, an.spectrum, psd, fr, settings, rubber, name=name)
+    checks = None
+    if rubber is not None and fr is not None:
+        T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))
+        checks = run_checks(rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m,
+                            fr.meta["T0_C"], T_max, result=fr)
+    return FrictionOutcome(fr, psd, band, prov, checks)
+
+
+# ------------------------------------------------------------------ the band beside psd.csv
+BAND_SIDECAR_SUFFIX = "_band.json"
+
+
+def band_sidecar(rb, fit, window_alpha):
+    """What ``roadscan friction --psd psd.csv`` needs to integrate analyse's spectrum exactly as
+    analyse did: the reliable band, its roll-off and the self-affine fit (for C(q) above the
+    scan). Written as ``psd_band.json`` beside ``psd.csv``.
+
+    Parameters
+    ----------
+    rb : ReliableBand
+        The band.
+    fit : SelfAffineFit
+        The fit.
+    window_alpha : float
+        Tukey window.
+
+    Returns
+    -------
+    dict
+    """
+    band = None
+    if rb is not None and rb.valid:
+        band = {"lo_per_m": float(rb.lo_per_m), "hi_per_m": float(rb.hi_per_m),
+                "q_roll_per_m": rb.q_roll_per_m, "noise_floor_end": noise_floor_end(rb),
+                "reasons": rb.reasons}
+    d = fit.as_dict()
+    d = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in d.items()}
+    return {"about": "the band roadscan analyse integrated psd.csv over (q0 = lo, or the roll-off "
+                     "inside the band; q1 = hi) and its self-affine fit, which continues C(q) "
+                     "above the last row; read by roadscan friction --psd",
+            "reliable_band": band, "fit": d, "window_alpha": window_alpha}
+
+
+def read_band_sidecar(psd_path):
+    """(band-like object or None, SelfAffineFit) from the sidecar of ``psd_path``, or None
+    when there is none. InputError naming the sidecar when it cannot be read.
+
+    Parameters
+    ----------
+    psd_path : str or Path
+        The ``psd.csv``.
+
+    Returns
+    -------
+    tuple or None
+    """
+    import dataclasses
+    import json
+    from pathlib import Path
+    from types import SimpleNamespace
+
+    from roadscan.errors import InputError
+    from roadscan.fit import SelfAffineFit
+
+    p = Path(psd_path)
+    side = p.with_name(p.stem + BAND_SIDECAR_SUFFIX)
+    if not side.is_file():
+        return None
+    try:                                  # the parser's own errors only: unreadable or not JSON
+        d = json.loads(side.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise InputError(side, f"cannot read the band of {p.name} ({type(exc).__name__}: {exc})") from None
+    problem = _sidecar_problem(d, [x.name for x in dataclasses.fields(SelfAffineFit)])
+    if problem:
+        raise InputError(side, f"cannot read the band of {p.name} ({problem})")
+    f = dict(d["fit"])
+    f["fit_band_per_m"] = tuple(f["fit_band_per_m"])
+    f = {k: (float("nan") if v is None and k in ("h0_m", "band_rms_m", "hurst_stderr") else v)
+         for k, v in f.items()}
+    fit = SelfAffineFit(**f)
+    b = d.get("reliable_band")
+    rb = None if b is None else SimpleNamespace(
+        valid=True, lo_per_m=float(b["lo_per_m"]), hi_per_m=float(b["hi_per_m"]),
+        q_roll_per_m=b.get("q_roll_per_m"), noise_floor_end=bool(b.get("noise_floor_end")))
+    return rb, fit, side
+
+
+def _number(x, none=False):
+    return (x is None and none) or (isinstance(x, (int, float)) and not isinstance(x, bool))
+
+
+def _sidecar_problem(d, fields):
+    """What is wrong with the parsed JSON ``d`` of a band sidecar (:func:`band_sidecar`), or
+    None: ``fit`` holds exactly the ``fields`` of the self-affine fit, numbers (or null) and
+    ``fit_band_per_m`` two numbers; ``reliable_band`` is null or has numbers ``lo_per_m``,
+    ``hi_per_m`` and ``q_roll_per_m`` a number or null."""
+    f = d.get("fit") if isinstance(d, dict) else None
+    if not isinstance(f, dict) or set(f) != set(fields):
+        return "'fit' must hold " + ", ".join(fields)
+    band = f["fit_band_per_m"]
+    if not (isinstance(band, list) and len(band) == 2 and all(_number(x) for x in band)):
+        return "'fit_band_per_m' must be two numbers"
+    bad = [k for k, x in f.items() if k != "fit_band_per_m" and not _number(x, none=True)]
+    if bad:
+        return "not a number: " + ", ".join(bad)
+    b = d.get("reliable_band")
+    if b is not None and not (isinstance(b, dict) and _number(b.get("lo_per_m")) and _number(b.get("hi_per_m"))
+                              and _number(b.get("q_roll_per_m"), none=True)):
+        return "'reliable_band' must hold the numbers lo_per_m and hi_per_m"
+    return None

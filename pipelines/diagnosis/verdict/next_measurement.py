@@ -1,0 +1,147 @@
+"""What to measure next: where the two most probable explanations differ most against the noise.
+
+For each of the two explanations (fitted models), mu is predicted on a grid of speeds (the
+measured range continued half a decade either way, within 1e-7..30 m/s) and, where the rubber
+has a shift table, of temperatures across the table (else at the measured temperature). The
+expected separation of a new measurement at (v, T) in noise sigmas is
+
+    z = |log10 mu_a - log10 mu_b| / sqrt(s^2 + var_a + var_b)
+
+with s the noise and var the predictive variance of each model, g^T (H + 12 I)^-1 g (g = d log10
+mu / d u at (v, T), H the Gauss-Newton Hessian of its fit, 12 I the precision of a uniform prior
+on the unit cube: the parameters' uncertainty after the data; Laplace approximation as in
+:mod:`.evidence`). The proposal: the point of largest z and the next best at least half a decade
+away at the same temperature (the optimal design of a discrimination experiment; Box & Hill 1967,
+Technometrics 9, 57).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["next_measurement", "N_SPEEDS"]
+
+N_SPEEDS = 13
+N_TEMPS = 3
+MIN_APART_DECADES = 0.5
+
+
+def _grid(ctx):
+    from pipelines.diagnosis.model import FrictionContext
+
+    v0, v1 = float(ctx.v_m_per_s.min()), float(ctx.v_m_per_s.max())
+    v = np.geomspace(max(v0 / 10 ** 0.5, 1e-7), min(v1 * 10 ** 0.5, 30.0), N_SPEEDS)
+    T = ctx.T0_C[np.isfinite(ctx.T0_C)]
+    T_meas = float(np.median(T)) if T.size else float(ctx.base.rubber.T_ref_C)
+    table = getattr(getattr(ctx.base.rubber, "shift", None), "T_C", None)
+    temps = [T_meas]
+    has_table = table is not None and np.size(table) > 1
+    if has_table:
+        temps = sorted(set(np.round(np.linspace(float(np.min(table)), float(np.max(table)), N_TEMPS), 1)) | {T_meas})
+    vv = np.tile(v, len(temps))
+    TT = np.repeat(np.asarray(temps, float), v.size)
+    n = vv.size
+    wet = bool(np.all(ctx.wet)) and ctx.n > 0
+    g = FrictionContext(vv, TT, np.full(n, float(np.median(ctx.sigma0_Pa))), np.full(n, wet), ctx.base,
+                        ctx.scan, ctx.spectrum, ctx.fit, ctx.inputs, ctx.cache)
+    return g, v, temps, has_table
+
+
+def _predict(gctx, expl):
+    """(mean log10 mu, variance) of one explanation on the grid context."""
+    from pipelines.diagnosis.fit.evidence import _log10_model
+    from pipelines.diagnosis.fit.fitting import pack
+    from pipelines.diagnosis.model import simulate
+    from pipelines.diagnosis.fit.stats import jacobian
+
+    if expl.get("candidate") is None:
+        return np.log10(simulate(gctx.base, gctx)), np.zeros(gctx.n)
+    c = expl["candidate"]
+    f = _log10_model(gctx, c.effects)
+    u = np.clip(pack(c.effects, c.params), 0, 1)
+    m = f(u)
+    H = expl.get("H")
+    if H is None or not np.size(H):
+        return m, np.zeros(gctx.n)
+    G = jacobian(f, u, f0=m)
+    G = np.where(np.isfinite(G), G, 0.0)
+    cov = np.linalg.inv(H + 12.0 * np.eye(H.shape[0]))
+    return m, np.einsum("ij,jk,ik->i", G, cov, G)
+
+
+def _separation(g, v, temps, ma, va, mb, vb, s):
+    z = np.abs(ma - mb) / np.sqrt(s * s + va + vb)
+    return np.where(np.isfinite(z), z, 0.0).reshape(len(temps), v.size)
+
+
+def next_measurement(ctx, a, b, noise):
+    """Where to measure to tell explanation ``a`` from ``b``.
+
+    ``a``: dict(name, candidate (fitting.Candidate or None: the nominal model), H (its
+    Gauss-Newton Hessian in the unit cube)); ``b``: such a dict, or a list of them ranked by
+    probability (the first whose predictions differ from ``a``'s by a noise sigma somewhere is
+    taken, else the most different); ``noise``: rms log10 noise. Returns dict(between,
+    speeds_m_per_s, temperature_C (None without a shift table), separation_sigma (per speed),
+    separation_sigma_combined, repeats (measurements per speed for a combined 3 sigma, at most
+    10), sentence, method) or None when a prediction fails.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    a : dict
+        The most probable explanation.
+    b : dict or list of dict
+        The alternative(s), ranked by probability.
+    noise : float
+        Noise [rms log10].
+
+    Returns
+    -------
+    dict or None
+        ``between``, ``speeds_m_per_s``, ``temperature_C`` and the expected separation.
+    """
+    from pipelines.diagnosis.fit.evidence import noise_scale
+
+    g, v, temps, has_table = _grid(ctx)
+    s = noise_scale(noise)
+    try:
+        ma, va = _predict(g, a)
+    except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
+        return None
+    best = None
+    for cand in (b if isinstance(b, (list, tuple)) else [b]):
+        try:
+            mb, vb = _predict(g, cand)
+        except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
+            continue
+        z = _separation(g, v, temps, ma, va, mb, vb, s)
+        if best is None or z.max() > best[1].max():
+            best = (cand, z)
+        if z.max() >= 1.0:
+            best = (cand, z)
+            break
+    if best is None:
+        return None
+    b, z = best
+    it, i1 = np.unravel_index(int(np.argmax(z)), z.shape)
+    far = np.abs(np.log10(v) - np.log10(v[i1])) >= MIN_APART_DECADES
+    i2 = int(np.argmax(np.where(far, z[it], -1.0))) if far.any() else None
+    idx = sorted([i1] + ([i2] if i2 is not None else []))
+    speeds = [float(v[i]) for i in idx]
+    sep = [float(z[it, i]) for i in idx]
+    comb = float(np.sqrt(np.sum(np.square(sep))))
+    reps = int(min(10, max(1, np.ceil(9.0 / max(comb ** 2, 1e-12)))))
+    T = float(temps[it]) if has_table else None
+    where = " and ".join(f"{x:.3g}" for x in speeds) + " m/s" + (f" at {T:.3g} C" if T is not None else "")
+    times = "" if reps == 1 else f" ({reps} times each)"
+    sentence = (f"measure at {where}{times}: {a['name']} and {b['name']} differ there by "
+                + " and ".join(f"{x:.2g}" for x in sep) + " noise sigmas")
+    if max(sep) < 1.0:
+        sentence = (f"no speed from {v[0]:.3g} to {v[-1]:.3g} m/s separates {a['name']} and {b['name']} by a "
+                    f"noise sigma (at most {max(sep):.2g} at {where}): measure another condition or repeat "
+                    "points to lower the noise")
+    return dict(between=[a["name"], b["name"]], speeds_m_per_s=speeds, temperature_C=T,
+                separation_sigma=sep, separation_sigma_combined=comb, repeats=reps, sentence=sentence,
+                method="largest expected separation of the two most probable explanations in noise sigmas "
+                       "(model uncertainty included), over speeds and the shift table's temperatures; repeats "
+                       "for a combined separation of 3 sigmas (at most 10)")

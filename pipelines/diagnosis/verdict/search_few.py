@@ -1,0 +1,236 @@
+"""The candidates of a diagnosis on few measured speeds (fewer than 20, see :mod:`.verdict_few`).
+
+The baseline (the calibration of the uncertain inputs, or the nominal model when nothing is
+uncertain) is fitted first, on every point; the noise scale of the likelihood follows
+(:func:`noise_prior`); then every usable effect is fitted together with the calibration (started
+from the calibration's fit, besides cold starts), never skipped for its number of parameters:
+the evidence's Occam factor is the penalty (:mod:`.evidence`).
+
+Held-out errors reported for each candidate: linearised leave-one-out (PRESS) residuals
+r_i / (1 - h_ii), h the hat matrix J (J^T J + 12 s^2 I)^-1 J^T of the Gauss-Newton fit with the
+uniform prior's precision (Allen 1974, Technometrics 16, 125; Cook & Weisberg 1982, *Residuals
+and influence in regression*, sec 2.2): a refit per left-out point costs a fit each and, on five
+points, says no more.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from pipelines.diagnosis.fit.cv import boot_shrink
+
+__all__ = ["few_candidates", "second_opinion", "noise_prior", "NOISE_RANGE", "PRIOR_NOISE_DOF", "GIVEN_NOISE_DOF"]
+
+#: the range of noise scales a friction test's repeatability takes (rms log10; 1.2 % to 7 %)
+NOISE_RANGE = (0.005, 0.03)
+#: the weight (degrees of freedom) of the noise scale in the Student-t likelihood
+PRIOR_NOISE_DOF = 4.0
+#: the weight of a noise given with --noise
+GIVEN_NOISE_DOF = 30.0
+
+
+def noise_prior(noise, given):
+    """The likelihood's noise scale and its degrees of freedom.
+
+    Given noise: (noise, 30). Estimated: the data's estimate (smoothing spline) clipped into
+    ``NOISE_RANGE``, worth ``PRIOR_NOISE_DOF``: on five points a spline cannot tell curvature from
+    scatter, so the estimate is only a guide; the Student-t likelihood then lets each model's own
+    residuals set its noise (:mod:`.evidence`).
+
+    Parameters
+    ----------
+    noise : float
+        The noise estimate or the given noise (rms log10).
+    given : bool
+        Whether it was given (``--noise``).
+
+    Returns
+    -------
+    s : float
+        Noise scale (rms log10).
+    nu : float
+        Its degrees of freedom.
+    """
+    from pipelines.diagnosis.fit.evidence import NOISE_FLOOR
+
+    if given:
+        return max(float(noise), NOISE_FLOOR), GIVEN_NOISE_DOF
+    return float(np.clip(noise, *NOISE_RANGE)), PRIOR_NOISE_DOF
+
+
+def _press(c, ev, y, s, r0_held, boot, n_eff):
+    """Fill in the held-out fields of ``c`` from its PRESS residuals (see module docstring)."""
+    r = y - np.log10(c.pred)
+    J = ev.get("J")
+    if J is not None and J.size:
+        A = J.T @ J + 12.0 * s * s * np.eye(J.shape[1])
+        h = np.einsum("ij,jk,ik->i", J, np.linalg.pinv(A), J)
+        r = r / (1.0 - np.clip(h, 0.0, 0.99))
+    c.r_held = r
+    c.gap_heldout = float(np.sqrt(np.mean(r ** 2)))
+    g0 = float(np.sqrt(np.mean(r0_held ** 2)))
+    c.shrink = 1.0 - c.gap_heldout / g0 if g0 > 0 else float("nan")
+    c.shrink_interval = boot_shrink(r, r0_held, boot)
+    c.score = c.gap_heldout * (1.0 + c.k / max(n_eff, 1))
+    return c
+
+
+def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say):
+    """The baseline's fit, the effects fitted with it and the likelihood's noise scale.
+
+    Effects are fitted only when the baseline gap is significant against the noise scale s
+    (chi-square p < 1e-3 and gap > 1.3 s, :func:`gap.is_significant`).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    usable : list of Effect
+        Effects tried.
+    cal_e : Effect or None
+        Calibration effect.
+    ho : Holdout
+        Hold-out scheme.
+    noise : float
+        Noise.
+    noise_given : bool
+        Whether the noise was given (``--noise``).
+    timings : dict
+        Filled with times.
+    say : callable
+        Progress.
+
+    Returns
+    -------
+    tuple
+        (cal, cands, s, nu, significant): the calibration's fit (None without uncertain inputs),
+        the effects fitted (each with ``.evidence``), the noise scale and its degrees of freedom,
+        and whether the baseline gap is significant.
+    """
+    import time
+
+    from pipelines.diagnosis import gap as gapmod
+    from pipelines.diagnosis.fit.evidence import model_evidence
+    from pipelines.diagnosis.fit.fitting import at_bound, fit_candidate
+    from pipelines.diagnosis.model import simulate
+
+    y = np.log10(np.asarray(real_mu, float))
+    n = y.size
+    r0 = y - np.log10(simulate(ctx.base, ctx))
+    every = np.ones(n, bool)
+
+    def finish(c, t1, s, nu):
+        c.at_bound = at_bound(ctx, c.effects, c.params)
+        bad = [(nm if len(c.effects) == 1 else f"{e.name}.{nm}", why)
+               for e, p in zip(c.effects, c.params) for nm, why in e.implausible(ctx, p, real_mu)]
+        c.implausible = [b[0] for b in bad]
+        c.implausible_why = [b[1] for b in bad]
+        c.evidence = model_evidence(ctx, real_mu, c, s, nu)
+        _press(c, c.evidence, y, s, r0, ho.boot, n)
+        c.seconds = time.perf_counter() - t1
+        timings[c.name] = c.seconds
+        say(f"  {c.name}: rms {c.gap_all:.4f} ln Z {c.evidence['log_z']:.2f} ({c.seconds:.1f} s)")
+        return c
+
+    cal = None
+    t1 = time.perf_counter()
+    s, nu = noise_prior(noise, noise_given)
+    if cal_e is not None:
+        cal = finish(fit_candidate(ctx, real_mu, (cal_e,), every, cache={}), t1, s, nu)
+    cands = []
+    significant = gapmod.is_significant(float(np.sqrt(np.mean(r0 ** 2))), s, n)
+    if not significant:
+        return cal, cands, s, nu, significant
+    for e in usable:
+        t1 = time.perf_counter()
+        own = e.null_params(ctx) or {p.name: p.init for p in e.params}
+        if cal is not None:
+            effs = (cal_e, e)
+            starts = [cal.params + [own]]
+            budget = 8 if e.cost > 1 else 20 + 4 * (len(e.params) + len(cal_e.params))
+            c = fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=starts, budget=budget)
+        else:
+            c = fit_candidate(ctx, real_mu, (e,), every, cache={})
+        c = finish(c, t1, s, nu)
+        if c.implausible and e.physical is not None:
+            c = _physical(ctx, real_mu, c, every, finish, s, nu)
+        cands.append(c)
+    return cal, cands, s, nu, significant
+
+
+def _physical(ctx, real_mu, c, every, finish, s, nu):
+    """An implausible fit refitted within its effects' physical ranges (kept when physical)."""
+    import time
+
+    from pipelines.diagnosis.fit.fitting import fit_candidate
+
+    effs = tuple(e if e.name == "calibration" else e.restricted(ctx, real_mu) for e in c.effects)
+    if any(e is None for e in effs):
+        return c
+    t1 = time.perf_counter()
+    start = [{p.name: float(np.clip(q[p.name], p.lo, p.hi)) for p in e.params} for e, q in zip(effs, c.params)]
+    budget = 8 if max(e.cost for e in effs) > 1 else None
+    r = finish(fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=[start], budget=budget), t1, s, nu)
+    return r if not r.implausible else c
+
+
+def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, best, timings):
+    """With uncertain inputs given, an effect named by the held-out third (20 points or more)
+    must also be the most probable explanation by the evidence, at posterior 0.9 or more (every
+    model fitted on every point, :mod:`.verdict_few`); otherwise the verdict becomes inconclusive
+    between it and the most probable other.
+    Adds ``bayes`` (the evidence's models and posteriors) to ``verdict``. Returns the named
+    candidate or None.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    real_mu : ndarray
+        Measured mu.
+    usable : list of Effect
+        Effects tried.
+    cal_e : Effect or None
+        Calibration effect.
+    noise : float
+        Noise.
+    noise_given : bool
+        Given by the user.
+    verdict : dict
+        The held-out verdict (updated).
+    best : Candidate or None
+        The named candidate.
+    timings : dict
+        Filled with times.
+
+    Returns
+    -------
+    Candidate or None
+        The candidate the verdict keeps.
+    """
+    from pipelines.diagnosis.fit.cv import Holdout
+    from pipelines.diagnosis.verdict.few import P_NAME, decide_few
+
+    n = np.asarray(real_mu).size
+    every = np.ones(n, bool)
+    ho = Holdout(True, every, every, n, np.random.default_rng(0).integers(0, n, size=(1000, n)))
+    cal, cands, s, nu, significant = few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, {},
+                                                    lambda *_: None)
+    st = dict(g_all=float(np.sqrt(np.mean(np.log10(real_mu / cal.pred) ** 2))), noise=s, n=n,
+              significant=significant, p=0.0, s=s, nu=nu)
+    v2, _, expl = decide_few(ctx, real_mu, cal, cands, st)
+    verdict["bayes"] = v2["evidence"]
+    name = "+".join(best.effect_names)
+    top = expl[0]
+    if top["name"] == name and top["posterior"] >= P_NAME:
+        if top["posterior"] < 0.99 and verdict.get("confidence") == "high":
+            verdict["confidence"] = "medium"
+        return best
+    other = top["name"] if top["name"] != name else expl[1]["name"]
+    verdict.update(effect=None, confidence=None, shrink=None, shrink_interval=None, calibrated={}, at_bound=[],
+                   inconclusive=[name, other],
+                   reason=(f"inconclusive: {name} shrinks the held-out gap, but the evidence of every point does "
+                           f"not single it out ({top['name']} posterior {top['posterior']:.2f}, "
+                           f"{expl[1]['name']} {expl[1]['posterior']:.2f})"))
+    return None

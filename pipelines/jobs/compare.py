@@ -1,0 +1,287 @@
+"""The surface-comparison job (thesis section 4.3): several scans side by side.
+
+All spectra and all mu(v) on common axes, and for each scan against the first (the
+reference): at which wave vectors and speeds they differ, and by how much.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from pipelines.output import report
+from pipelines.jobs.analyse.job import summarise
+from pipelines.jobs.dry_vs_wet import mu_by_speed, speed_table
+from pipelines.settings.friction import FrictionSettings
+
+__all__ = ["compare", "run_compare", "spectrum_difference", "friction_difference"]
+
+
+def spectrum_difference(spec_ref, spec):
+    """Where two spectra differ: log10 ratio C/C_ref on the reference's rings, in their common band.
+
+    Returns a dict: ``q_per_m`` and ``log10_ratio`` arrays, the largest |log10 ratio| and the
+    wave vector where it occurs, and the median ratio.
+
+    Parameters
+    ----------
+    spec_ref, spec : roadscan.Spectrum
+        Reference and compared spectra.
+
+    Returns
+    -------
+    dict
+        ``common_band_per_m``, ``q_per_m``, ``log10_ratio`` and their extremes.
+    """
+    lo = max(spec_ref.q_per_m[0], spec.q_per_m[0])
+    hi = min(spec_ref.q_per_m[-1], spec.q_per_m[-1])
+    q = spec_ref.q_per_m[(spec_ref.q_per_m >= lo) & (spec_ref.q_per_m <= hi)]
+    if q.size < 2:
+        return {"common_band_per_m": None, "note": "no common band of wave vectors"}
+    c_ref = np.exp(np.interp(np.log(q), np.log(spec_ref.q_per_m), np.log(spec_ref.C_m4)))
+    c = np.exp(np.interp(np.log(q), np.log(spec.q_per_m), np.log(spec.C_m4)))
+    lr = np.log10(c / c_ref)
+    i = int(np.argmax(np.abs(lr)))
+    return {"common_band_per_m": [float(lo), float(hi)], "q_per_m": q, "log10_ratio": lr,
+            "psd_ratio_median": float(10 ** np.median(lr)),
+            "psd_ratio_at_max": float(10 ** lr[i]), "q_at_max_ratio_per_m": float(q[i])}
+
+
+def friction_difference(v, mu_ref, mu):
+    """Where two mu(v) curves differ most (absolute and relative) and by how much.
+
+    Parameters
+    ----------
+    v : ndarray
+        Speeds [m/s].
+    mu_ref, mu : ndarray
+        Reference and compared mu.
+
+    Returns
+    -------
+    dict
+    """
+    d = mu - mu_ref
+    i = int(np.argmax(np.abs(d)))
+    rel = np.divide(mu, mu_ref, out=np.full_like(mu, np.nan), where=mu_ref > 0)
+    j = int(np.nanargmax(np.abs(np.log(rel)))) if np.isfinite(rel).any() else i
+    return {"max_difference_v_m_per_s": float(v[i]), "max_difference_mu": float(d[i]),
+            "max_ratio_v_m_per_s": float(v[j]), "mu_ratio_at_max": float(rel[j]),
+            "mu_peak_ratio": float(mu.max() / mu_ref.max())}
+
+
+def compare(sources, out, **options):
+    """``roadscan compare`` as one call: the sources (paths or HeightMaps/Profiles, the first is
+    the reference) compared and written into ``out`` (all or none) -> the comparison.json dict.
+
+    ``options`` are the command's long flags with dashes as underscores, taking what the flag
+    takes (``rubber="r.toml"``, ``sigma0="0.25MPa"``, ``nu=0.45``, ``window_alpha=0.3``), parsed
+    by the command's own option definitions (:func:`pipelines.settings.analyse.add_compare_options`);
+    TypeError naming an unknown keyword. Each scan's mu(v) is the one ``pipelines.analyse``
+    gives it with the same options (:mod:`pipelines.chain.steps`).
+
+    Parameters
+    ----------
+    sources : sequence of str, Path, HeightMap or Profile
+        The scans; the first is the reference.
+    out : str or Path
+        Output folder.
+    **options
+        ``roadscan compare``'s long flags with dashes as underscores.
+
+    Returns
+    -------
+    dict
+        The ``comparison.json`` content.
+    """
+    import os
+
+    from roadscan.errors import InputError
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
+
+    from pipelines.settings.analyse import add_compare_options, options_from_kwargs, spectrum_kwargs, unique_stems
+    from pipelines.settings.friction import settings_from_args
+    from pipelines.settings.scan_input import scan_of, source_path
+    from pipelines.checks.validate import collecting
+
+    args = options_from_kwargs(options, "compare", add_compare_options)
+    sources = list(sources)
+    if len(sources) < 2:
+        raise InputError(None, "compare needs at least two scans")
+    paths = [p for p in map(source_path, sources) if p is not None]
+    with collecting():
+        settings = settings_from_args(args)
+        sk = spectrum_kwargs(args)
+        scans = [scan_of(s, args) for s in sources]
+        names = unique_stems([s if isinstance(s, (str, os.PathLike)) else f"{s.name}.x"
+                              for s in sources])
+        check_output_dir(out, inputs=paths)
+        with atomic_output_dir(out, inputs=paths) as tmp:
+            return run_compare(scans, names, tmp, settings, **sk)
+
+
+def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolution_m=None,
+                fit_band=None, despike=False):
+    """Compare scans (HeightMaps or Profiles); write PNGs, report.html and comparison.json.
+
+    Each scan goes through the one chain (:mod:`pipelines.chain.steps`): its reliable band (lateral
+    resolution ``resolution_m`` [m], default the file's metadata), its fit (over ``fit_band``
+    when given; ``despike`` as analyse), and friction with
+    every option of ``settings`` on the first scan's speeds; mu(v) is the one ``roadscan
+    analyse`` gives for that scan. A scan whose band's fine end is not trusted has no mu
+    (``friction_refused`` says why).
+
+    Parameters
+    ----------
+    scans : list of HeightMap or Profile
+        The scans.
+    names : list of str
+        Their names.
+    out_dir : str or Path
+        Output folder.
+    settings : FrictionSettings, optional
+        Friction options.
+    window_alpha : float, optional
+        Tukey window.
+    resolution_m : float, optional
+        Lateral resolution [m].
+
+    Returns
+    -------
+    dict
+        ``comparison.json``.
+    """
+    from pipelines.chain.steps import measure, scan_friction
+
+    settings = settings or FrictionSettings()
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    pairs = [measure(s, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
+                     resolution_m=resolution_m) for s in scans]
+    analyses = [an for an, _ in pairs]
+    outcomes = []
+    if settings.enabled:
+        v = None
+        for an, rb in pairs:
+            o = scan_friction(an, rb, settings, v_m_per_s=v)
+            if o.result is not None and v is None:
+                v = o.result.v_m_per_s
+            outcomes.append(o)
+    curves = [o.result for o in outcomes]
+    done = [c for c in curves if c is not None]
+    result = {}
+    ref = analyses[0]
+    for k, (name, an) in enumerate(zip(names, analyses)):
+        s = summarise(an, curves[k] if curves else None, window_alpha=window_alpha)
+        entry = {key: s[key] for key in ("hurst", "hurst_stderr", "hurst_fit", "hurst_fit_stderr",
+                                         "hurst_note", "rms_height_m", "band_rms_m", "h0_m",
+                                         "q_min_per_m", "q_max_per_m", "fit_band_per_m", "q_roll_per_m",
+                                         "roughness", "mpd_m", "mpd_note", "filled_fraction", "kind")}
+        c = curves[k] if curves else None
+        entry["mu"] = mu_by_speed(c.v_m_per_s, c.mu) if c is not None else None
+        if c is not None:
+            from pipelines.output.headline import peak_keys
+
+            entry.update(peak_keys(c.v_m_per_s, c.mu))   # mu_peak, v_peak_m_per_s, peak_at_edge, peak_note
+            from pipelines.chain.provenance import rubber_label
+
+            entry["rubber"] = rubber_label(settings.rubber, settings.sigma0_Pa, c.meta.get("T0_C"))
+        elif outcomes:
+            entry["friction_refused"] = outcomes[k].provenance["refused"]
+        if k > 0:
+            diff = {"reference": names[0]}
+            sd = spectrum_difference(ref.spectrum, an.spectrum)
+            diff.update({kk: vv for kk, vv in sd.items() if kk not in ("q_per_m", "log10_ratio")})
+            if curves and curves[0] is not None and curves[k] is not None:
+                diff.update(friction_difference(curves[0].v_m_per_s, curves[0].mu, curves[k].mu))
+            entry["difference_from_reference"] = diff
+        result[name] = entry
+
+    figs = [report.plot_psd([(n, a.spectrum.q_per_m, a.spectrum.C_m4) for n, a in zip(names, analyses)],
+                            out_dir / "psd_all.png", title="PSD of all surfaces")]
+    ratio_curves = []
+    for n, a in zip(names[1:], analyses[1:]):
+        sd = spectrum_difference(ref.spectrum, a.spectrum)
+        if "q_per_m" in sd:
+            ratio_curves.append((f"{n} / {names[0]}", sd["q_per_m"], 10 ** sd["log10_ratio"]))
+    if ratio_curves:
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=report.FIGSIZE)
+        for i, (lab, q, r) in enumerate(ratio_curves):
+            ax.loglog(q, r, color=f"C{i + 1}", label=lab)
+        ax.axhline(1, color="0.5", lw=0.8)
+        ax.set_xlabel("wave vector q [1/m]")
+        ax.set_ylabel("PSD ratio C / C$_{ref}$ [-]")
+        report.wavelength_axis(ax)
+        report.set_title(ax, "where the spectra differ")
+        ax.grid(which="both", alpha=0.25)
+        ax.legend(fontsize=8)
+        figs.append(report.save_figure(fig, out_dir / "psd_ratio.png",
+                                       report.fixed_margins(ax, top=report.WAVELENGTH_AXIS_TOP)))
+    if done:
+        from pipelines.chain.provenance import rubber_label
+
+        figs.append(report.plot_mu([(n, c.v_m_per_s, c.mu) for n, c in zip(names, curves) if c is not None],
+                                   out_dir / "mu_all.png", title="μ(v) of all surfaces, " + rubber_label(
+                                       settings.rubber, settings.sigma0_Pa, done[0].meta.get("T0_C"))))
+        if len(done) > 1 and curves[0] is not None:
+            figs.append(report.plot_mu([(f"{n} / {names[0]}", c.v_m_per_s, c.mu / curves[0].mu)
+                                        for n, c in zip(names[1:], curves[1:]) if c is not None],
+                                       out_dir / "mu_ratio.png", title="where the friction differs",
+                                       ylabel="μ / μ$_{ref}$ [-]"))
+    from pipelines.checks import validate
+
+    said = validate.warnings_list()          # what this run printed (readers, seams)
+    srcs = [(str(sc.meta.get("source", "\0")), f"{sc.name}:") for sc in scans]
+    for (src, own), entry in zip(srcs, result.values()):   # each scan's own, and those naming none
+        mine = [w for w in said if w.startswith((src, own))
+                or not any(w.startswith(t) for pair in srcs for t in pair)]
+        if mine and isinstance(entry, dict):
+            entry["warnings"] = mine
+    from pipelines.settings.scan_input import read_record
+
+    for sc, entry in zip(scans, result.values()):   # how each file was read
+        if isinstance(entry, dict):
+            entry.update(read_record(sc))
+    report.write_json(out_dir / "comparison.json", result)
+    _write_report(out_dir, names, result, figs, curves)
+    return result
+
+
+def _write_report(out_dir, names, result, figs, curves):
+    from pipelines.output.units import length, quantity
+
+    header = ["surface", "H", "rms height", "h0", "MPD (ISO 13473-1)", "peak μ", "v at peak [m/s]"]
+    from pipelines.output.headline import hurst_text, peak_text
+
+    rows = [[n, hurst_text(r), length(r["rms_height_m"]), length(r["h0_m"]), length(r["mpd_m"]),
+             r.get("mu_peak") if not r.get("peak_at_edge") else peak_text(**{
+                 k: r[k] for k in ("mu_peak", "v_peak_m_per_s", "peak_at_edge", "peak_note")}),
+             r.get("v_peak_m_per_s")] for n, r in result.items()]
+    sections = [("Surfaces", report.table_html(rows, header))]
+    drows = []
+    for n, r in result.items():
+        d = r.get("difference_from_reference")
+        if d:
+            drows.append([n, d["reference"], d.get("psd_ratio_median"),
+                          quantity("q_at_max_ratio_per_m", d.get("q_at_max_ratio_per_m")),
+                          d.get("psd_ratio_at_max"), d.get("max_difference_v_m_per_s"), d.get("max_difference_mu")])
+    if drows:
+        sections.append(("Where and by how much they differ", report.table_html(
+            drows, ["surface", "reference", "median PSD ratio", "q of largest PSD ratio",
+                    "largest PSD ratio", "v of largest μ difference [m/s]", "largest μ difference"])))
+    done = [(n, c) for n, c in zip(names, curves) if c is not None]
+    if done:
+        v = done[0][1].v_m_per_s
+        idx = speed_table(v)
+        rub = next((r["rubber"] for r in result.values() if isinstance(r, dict) and r.get("rubber")), "")
+        title = f"μ at whole decades of speed, {rub}" if rub else "μ at whole decades of speed"
+        sections.append((title, report.table_html(
+            [[f"{v[i]:g}"] + [float(c.mu[i]) for _, c in done] for i in idx],
+            ["v [m/s]"] + [n for n, _ in done])))
+    warned = [[n, w] for n, r in result.items() if isinstance(r, dict) for w in r.get("warnings", [])]
+    if warned:                            # every warning in the report too
+        sections.insert(1, ("Warnings", report.table_html(warned, ["surface", "warning"])))
+    sections.append(("Figures", [list(figs)]))
+    report.write_html(out_dir / "report.html", "roadscan compare: " + " vs ".join(names), sections)
