@@ -266,8 +266,8 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
         The rubber; its ``thermal`` properties give rho, c_v and lambda.
     v_m_per_s : array_like
         Sliding speeds [m/s].
-    sigma0_Pa : float, optional
-        Nominal pressure [Pa] (default 0.2 MPa).
+    sigma0_Pa : float or array_like, optional
+        Nominal pressure [Pa] (default 0.2 MPa), or one per speed.
     nu : float, optional
         Poisson's ratio (0.5).
     T0_C : float, optional
@@ -328,6 +328,7 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
         raise ValueError(f"max_iter must be >= 1, got {max_iter!r}")
     if not (0 < beta <= 1):
         raise ValueError(f"beta must lie in (0, 1], got {beta!r}")
+    sig = sigma0_Pa if np.ndim(sigma0_Pa) == 0 else np.asarray(sigma0_Pa, dtype=float)
     T0 = rubber.T_ref_C if T0_C is None else float(T0_C)
     th = rubber.thermal
     D = th.diffusivity_m2_s
@@ -361,7 +362,7 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
         # the clip keeps 10**shift a finite non-zero number where a shift table is extrapolated
         a = 10.0 ** np.clip(log10_shift(rubber, T, wlf_form, T0), -300.0, 300.0)
         m, w = tab(x0[rows] * a)
-        G, P, wP, fmu = contact_state(q, h, C, m, w, sigma0_Pa, nu)
+        G, P, wP, fmu = contact_state(q, h, C, m, w, sig if np.ndim(sig) == 0 else sig[rows], nu)
         S = contact_S(P, contact_gamma)
         return m * S, G, P, wP, fmu * S
 

@@ -31,8 +31,9 @@ def _check(psd, v, sigma0_Pa, nu, contact_gamma=None):
     v = np.atleast_1d(np.asarray(v, dtype=float))
     if v.ndim != 1 or not np.all(np.isfinite(v)) or np.any(v <= 0):
         raise ValueError("velocities must be a 1D array of positive finite speeds [m/s]")
-    if not (sigma0_Pa > 0):
-        raise ValueError("sigma0_Pa must be positive")
+    sig = np.asarray(sigma0_Pa, dtype=float)
+    if sig.ndim > 1 or (sig.ndim == 1 and sig.shape != v.shape) or not np.all(sig > 0):
+        raise ValueError("sigma0_Pa must be positive (a number, or one per speed)")
     if not (-1 < nu < 1):
         raise ValueError("nu must lie in (-1, 1)")
     if contact_gamma is not None and not (np.isfinite(contact_gamma) and 0 <= contact_gamma <= 1):
@@ -61,8 +62,8 @@ def contact_state(q, h, C, m, w, sigma0_Pa, nu):
         Spectrum at ``q`` [m^4].
     m, w : ndarray, shape (nv, nq)
         Tabulated quarter-range phi integrals (:class:`friction.grids.PhiTable`) [Pa, Pa^2].
-    sigma0_Pa : float
-        Nominal pressure [Pa].
+    sigma0_Pa : float or ndarray, shape (nv,)
+        Nominal pressure [Pa], one for all speeds or one per speed (row).
     nu : float
         Poisson's ratio.
 
@@ -74,6 +75,8 @@ def contact_state(q, h, C, m, w, sigma0_Pa, nu):
         ``q^4 C M`` without P, ready for the weights.
     """
     s = (1.0 - nu * nu) * sigma0_Pa
+    if np.ndim(s):                 # one pressure per speed: a column against the (nv, nq) tables
+        s = np.asarray(s, dtype=float)[:, None]
     q4C = q ** 4 * C
     g = q4C * (4.0 * w / (s * s)) / 8.0
     G = cumulative_G(g, h)
@@ -104,8 +107,9 @@ def mu_isothermal(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, to
         The rubber, with its reference temperature and shift.
     v_m_per_s : array_like
         Sliding speeds [m/s].
-    sigma0_Pa : float, optional
-        Nominal pressure [Pa] (default 0.2 MPa).
+    sigma0_Pa : float or array_like, optional
+        Nominal pressure [Pa] (default 0.2 MPa); an array gives one pressure per speed (the
+        wet model's contact pressure, :mod:`friction.wet`).
     nu : float, optional
         Poisson's ratio (0.5).
     T0_C : float, optional
