@@ -14,7 +14,7 @@ import math
 from roadscan.errors import InputError
 
 __all__ = ["add_water_options", "check_water", "check_water_options", "add_rain_fill_options",
-           "add_dry_vs_wet_options"]
+           "add_dry_vs_wet_options", "add_wet_model_options", "wet_conditions"]
 
 
 def add_water_options(p):
@@ -111,6 +111,69 @@ def add_dry_vs_wet_options(p):
 
     add_scan_options(p)
     add_water_options(p)
+    add_wet_model_options(p)
     add_spectrum_options(p)        # --window-alpha, --fit-band, --despike, --resolution
     add_friction_options(p)
+
+
+def add_wet_model_options(p):
+    """``--wet-model persson|fill`` and the wet model's water and tyre, SI flags whose defaults
+    and sources are :data:`friction.wet.water.DEFAULT_SOURCES` (``--water-depth M``,
+    ``--water-temperature C``, ``--footprint M``, ``--block-size M``, ``--shear-stress PA``).
+
+    Parameters
+    ----------
+    p : argparse.ArgumentParser
+        The parser to extend.
+
+    Returns
+    -------
+    None
+    """
+    p.add_argument("--wet-model", choices=("persson", "fill"), default="persson",
+                   help="persson (default): sealing, squeeze-out, adhesion lost (Persson 2005, "
+                        "Lorenz & Persson 2010); fill: every basin filled (the thesis)")
+    p.add_argument("--water-depth", type=float, default=None, metavar="M",
+                   help="water on the road per area [m] (default 5e-4, ASTM E274's film)")
+    p.add_argument("--water-temperature", type=float, default=None, metavar="C",
+                   help="water temperature [C], sets its viscosity (default 20)")
+    p.add_argument("--footprint", type=float, default=None, metavar="M",
+                   help="tyre contact length along the sliding [m] (default 0.12)")
+    p.add_argument("--block-size", type=float, default=None, metavar="M",
+                   help="tread block size, the squeeze-out length [m] (default 0.025)")
+    p.add_argument("--shear-stress", type=float, default=None, metavar="PA",
+                   help="frictional shear stress of the adhesive term [Pa] (default: none, "
+                        "adhesion left out)")
+
+
+def wet_conditions(args):
+    """The parsed wet-model flags -> :class:`friction.wet.WetConditions` (defaults for the
+    flags not given); a value the model refuses is an InputError naming its flag.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        Parsed flags.
+
+    Returns
+    -------
+    friction.wet.WetConditions
+    """
+    from friction.wet.water import WetConditions
+
+    given = {"water_depth_m": ("--water-depth", args.water_depth),
+             "water_temperature_C": ("--water-temperature", args.water_temperature),
+             "footprint_m": ("--footprint", args.footprint),
+             "block_size_m": ("--block-size", args.block_size),
+             "shear_stress_Pa": ("--shear-stress", args.shear_stress)}
+    kw = {}
+    for key, (flag, val) in given.items():
+        if val is None:
+            continue
+        try:
+            WetConditions(**{key: val})
+        except ValueError as err:
+            raise InputError(None, f"{flag} {val}: {err}") from None
+        kw[key] = float(val)
+    return WetConditions(**kw)
 
