@@ -38,7 +38,10 @@ from ._common import (NO_SPACING, check_declared_size, make_heightmap, make_prof
                       resolve_spacing, unit_factor)
 from ._registry import register_reader
 from .calibration import pick_spacing, pick_units
-from .text_table import ESRI_KEYS, column_units, read_table, read_text
+from .calibration import current_x_units
+from .text_columns import column_factors, index_column, mark_dropouts
+from .text_table import ESRI_KEYS, read_table, read_text
+from .text_titles import Titles, find_titles, read_preamble
 
 __all__ = ["read_text_heights", "grid_from_points"]
 
@@ -127,22 +130,89 @@ def read_text_heights(path, spacing=None, units=None):
         return _gwy_matrix(path, values, gwy, sp, factor, units, meta)
 
     ncol = values.shape[1]
-    titles = column_units(header[-1]) if header else None
-    if titles is not None and len(titles) != ncol:
-        titles = None
-    if ncol == 1:
+    titles = find_titles(header, ncol)
+    if titles is None and ncol >= 4:               # "Height (um)" above a matrix
+        titles = find_titles(header, 1)
+    pre = read_preamble(path, header[:len(header) - titles.n_lines] if titles else header,
+                        table.decimal)
+    if pre.other:
+        meta["preamble"] = pre.other
+    if table.markers:
+        meta["missing_markers"] = table.markers
+    if titles is not None and ncol in (3, 4) and len(titles.names) == ncol \
+            and index_column(titles.names, values[:, 0]):
+        meta["index_column_dropped"] = titles.names[0] or "(untitled)"
+        values, ncol = values[:, 1:], ncol - 1
+        titles = Titles(titles.names[1:], titles.units[1:], titles.text, titles.n_lines)
+    mark_dropouts(path, values if ncol >= 4 else values[:, -1], pre.nodata, meta)
+    fac = column_factors(path, titles, pre, ncol, units, current_x_units(), meta)
+    if ncol == 1 or ncol >= 4:
+        if fac is not None:
+            factor = fac[-1]
+        else:
+            meta["units"] = units or "m"
+        sp = pick_spacing(path, sp, _preamble_spacing(path, pre, sp, ncol >= 4), meta)
         if sp is None:
             raise InputError(path, NO_SPACING)
-        meta.update(layout="heights column", units=units or "m")
-        return make_profile(path, values[:, 0] * factor, sp[0], meta=meta)
-    if ncol == 2:
-        return _profile(path, values, titles, sp, factor, units, meta)
-    if ncol == 3:
-        return _xyz(path, values, titles, sp, factor, units, meta)
-    if sp is None:
-        raise InputError(path, NO_SPACING)
-    meta.update(layout="matrix", units=units or "m")
-    return make_heightmap(path, values * factor, sp[0], sp[1], meta=meta)
+        if ncol == 1:
+            meta["layout"] = "heights column"
+            return make_profile(path, values[:, 0] * factor, sp[0], meta=meta)
+        meta["layout"] = "matrix"
+        return make_heightmap(path, values * factor, sp[0], sp[1], meta=meta)
+    if fac is None:
+        fac = _unstated_factors(path, ncol, factor, units, meta)
+        meta["_titles_text"] = titles.text if titles is not None else None
+    else:
+        meta["_stated"] = True
+    pre_dx = _preamble_spacing(path, pre, sp, ncol == 3, fac[0])
+    obj = (_profile if ncol == 2 else _xyz)(path, values, fac, sp, units, meta)
+    if pre_dx is not None:
+        _check_step(path, pre, pre_dx, (obj.dx_m,) if ncol == 2 else (obj.dx_m, obj.dy_m))
+    return obj
+
+
+def _preamble_spacing(path, pre, sp, two_d, coord_factor=None):
+    """The preamble's spacing [m] ((dx,) or (dx, dy)), or None; a spacing without a unit takes
+    the preamble's or the coordinates' unit, else is refused unless ``spacing`` is given."""
+    if pre.spacing is None:
+        return None
+    out = []
+    for entry in (pre.spacing, pre.dy or pre.spacing) if two_d else (pre.spacing,):
+        v, unit, line = entry
+        if unit is None:
+            side = pre.x_units or pre.units
+            if side is not None:
+                unit = side[0]
+            elif coord_factor is not None:
+                out.append(v * coord_factor)
+                continue
+            elif sp is not None:
+                return None                     # the flag decides
+            else:
+                raise InputError(path, f"preamble line {line!r} gives the spacing without a unit: "
+                                       f"write its unit ('{v:g} mm') or give {{spacing}}", "spacing")
+        out.append(v * parse_units(unit, path) if unit != "cm" else v * 1e-2)
+    return tuple(out)
+
+
+def _check_step(path, pre, want, got):
+    """Refuse a preamble spacing the coordinates contradict (relative difference > 1e-3)."""
+    for w, g in zip(want, got):
+        if abs(w - g) > 1e-3 * abs(w):
+            raise InputError(path, f"preamble line {pre.spacing[2]!r} says {w:.6g} m, the "
+                                   f"coordinates step {g:.6g} m: correct one")
+
+
+def _unstated_factors(path, ncol, factor, units, meta):
+    """Factors of columns whose unit the file does not state: coordinates in ``x_units``
+    (:func:`roadscan.io.read`) or, by default, with the heights in ``units`` (default m), a
+    reading checked by :func:`_unstated_spacing`."""
+    xu = current_x_units()
+    if xu is not None:
+        meta["units"] = f"coordinates {xu}, heights {units or 'm'}"
+        return [unit_factor(xu, path)] * (ncol - 1) + [factor]
+    meta["units"] = f"coordinates and heights {units or 'm'}"
+    return [factor] * ncol
 
 
 def _esri(path, values, hdr, sp, factor, units, meta):
@@ -186,31 +256,7 @@ def _gwy_matrix(path, values, gwy, sp, factor, units, meta):
     return make_heightmap(path, values * factor, sp[0], sp[1], meta=meta)
 
 
-def _column_factors(path, titles, ncol, factor, units, meta):
-    """Scale factors to metres of each column: from the title line's units when it names them,
-    else the coordinates in ``x_units`` (:func:`roadscan.io.read`) or, by default, with the heights
-    in ``units`` (default m), a reading checked by :func:`_unstated_spacing`."""
-    from .calibration import current_x_units
-
-    xu = current_x_units()
-    if titles is not None:
-        if xu is not None and any(abs(parse_units(t, path) - unit_factor(xu, path)) > 1e-12
-                                  for t in titles[:-1]):
-            raise InputError(path, f"the title line states the coordinates in {titles[0]}: drop "
-                                   f"{{x_units}} {xu}", "x_units")
-        meta["units"] = ",".join(titles)
-        meta["coordinate_unit"] = titles[0]
-        factors = [parse_units(t, path) for t in titles]
-        factors[-1] = pick_units(path, units, titles[-1], factors[-1], meta)
-        return factors
-    if xu is not None:
-        meta["units"] = f"coordinates {xu}, heights {units or 'm'}"
-        return [unit_factor(xu, path)] * (ncol - 1) + [factor]
-    meta["units"] = f"coordinates and heights {units or 'm'}"
-    return [factor] * ncol
-
-
-def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, what):
+def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, what, titles_text=None):
     """Spacing [m] of coordinates whose unit no title line states (:mod:`roadscan.io.text_units`).
 
     ``--spacing`` replaces the spacing inferred from the coordinates (with a note); without it
@@ -234,7 +280,7 @@ def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, w
         return given
     if xu is None:
         unit = check_coordinate_units(path, max(d_file), n_nodes, z_file, units, what,
-                                      notes=meta.setdefault("read_warnings", []))
+                                      notes=meta.setdefault("read_warnings", []), found=titles_text)
         meta["coordinate_unit"] = unit
         if unit != (units or "m"):                 # metre coordinates beside --units heights
             scale = unit_factor(unit, path) / unit_factor(units, path)
@@ -247,8 +293,9 @@ def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, w
     return inferred
 
 
-def _profile(path, values, titles, sp, factor, units, meta):
-    fx, fz = _column_factors(path, titles, 2, factor, units, meta)
+def _profile(path, values, fac, sp, units, meta):
+    fx, fz = fac
+    titles_text, stated = meta.pop("_titles_text", None), meta.pop("_stated", False)
     x, z = values[:, 0], values[:, 1]
     if not np.all(np.isfinite(x)):
         raise InputError(path, "x column contains NaN")
@@ -258,9 +305,9 @@ def _profile(path, values, titles, sp, factor, units, meta):
     h = np.full(idx[-1] + 1, np.nan)
     h[idx] = z
     meta.update(layout="x,z profile", x0_m=x0 * fx, missing_points=int(h.size - x.size))
-    if titles is None:
+    if not stated:
         (dx_m,) = _unstated_spacing(path, None if sp is None else sp[:1], (dx,), (fx,), h.size, h,
-                                    units, meta, "x")
+                                    units, meta, "x", titles_text)
     else:
         (dx_m,) = pick_spacing(path, None if sp is None else sp[:1], (dx * fx,), meta)
     return make_profile(path, h * fz, dx_m, meta=meta)
@@ -320,14 +367,15 @@ def grid_from_points(path, x, y, z):
     return h.reshape(ny, nx), x0, dx, y0, dy
 
 
-def _xyz(path, values, titles, sp, factor, units, meta):
-    fx, fy, fz = _column_factors(path, titles, 3, factor, units, meta)
+def _xyz(path, values, fac, sp, units, meta):
+    fx, fy, fz = fac
+    titles_text, stated = meta.pop("_titles_text", None), meta.pop("_stated", False)
     h, x0, dx, y0, dy = grid_from_points(path, values[:, 0], values[:, 1], values[:, 2])
     meta.update(layout="x,y,z points", x0_m=x0 * fx, y0_m=y0 * fy,
                 missing_points=int(h.size - values.shape[0]))
-    if titles is None:
+    if not stated:
         sp = _unstated_spacing(path, sp, (dx, dy), (fx, fy), max(h.shape), h, units, meta,
-                               "x, y")
+                               "x, y", titles_text)
     else:
         sp = pick_spacing(path, sp, (dx * fx, dy * fy), meta)
     return make_heightmap(path, h * fz, sp[0], sp[1], meta=meta)

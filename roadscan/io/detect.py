@@ -6,7 +6,8 @@ or without extension; exports get ``.bin`` or ``.dat``). When the extension is n
 
 - ``\\x93NUMPY`` -> ``.npy``; ``GWYP`` -> ``.gwy``; ``II*\\0`` / ``MM\\0*`` -> ``.tif``;
 - a zip holding ``main.xml`` -> ``.x3p``, one holding only ``.npy`` members -> ``.npz``;
-- text (no NUL byte in the first 4 kB): CAPTIF marker -> CAPTIF ``.dat``, else the text reader,
+- text (no NUL byte in the first 4 kB, or a UTF-16 byte-order mark): CAPTIF marker -> CAPTIF
+  ``.dat``, else the text reader,
   and SurfaceTopography when the text reader finds no table (a long text header over binary
   data); a Bruker Nanoscope header (``\\*File list``) goes to SurfaceTopography directly;
 - anything else: SurfaceTopography's detection by content (``SurfaceTopography.IO.
@@ -65,6 +66,8 @@ def sniff_extension(path):
         if names and all(n.endswith(".npy") for n in names):
             return ".npz"
         return "vendor"
+    if head[:2] in (b"\xff\xfe", b"\xfe\xff"):      # UTF-16 text (a spreadsheet's "Unicode text")
+        return ".txt"
     if head.lstrip().startswith(b"\\*"):          # Bruker Nanoscope: "\*File list" header
         return "vendor"
     if b"\x00" not in head:

@@ -45,16 +45,19 @@ class Table:
         Line number of the first numeric row.
     decimal : str
         Decimal mark.
+    markers : list of str
+        The missing-value markers found (upper case; ``"(empty field)"`` for empty fields).
     """
 
     values: np.ndarray                      # (rows, columns) float64
     header: list = field(default_factory=list)   # header lines (stripped), comments included
     first_line: int = 1                     # 1-based line number of the first data row
     decimal: str = "."                      # decimal mark of the data ("." or ",")
+    markers: list = field(default_factory=list)  # missing-value markers found (upper case)
 
 
 def read_text(path):
-    """The file's text (UTF-8, with or without BOM; Latin-1 as fallback).
+    """The file's text (UTF-8, with or without BOM; UTF-16 with its BOM; Latin-1 as fallback).
 
     Parameters
     ----------
@@ -73,6 +76,14 @@ def read_text(path):
                                f"above the limit of {limit:.3g} points; raise it with {{max_pixels}} N",
                          "max_pixels")
     raw = p.read_bytes()
+    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):           # UTF-16 ("Unicode text" of spreadsheets)
+        try:
+            text = raw.decode("utf-16")
+        except UnicodeDecodeError:
+            raise InputError(path, "starts as UTF-16 text but does not decode as UTF-16") from None
+        if not text.strip():
+            raise InputError(path, "empty file")
+        return text
     if b"\x00" in raw[:4096]:
         raise InputError(path, "binary file, not a text table")
     try:
@@ -188,9 +199,48 @@ def _check_grouped_thousands(path, block, mark):
                                    f"write numbers without grouping")
 
 
+#: missing-value markers read as dropouts (NaN), as whole fields, case ignored (FORMATS.md)
+MISSING_MARKERS = ("NA", "N/A", "n.a.", "#N/A", "#NA", "#NV", "null", "none", "nil", "missing",
+                   "-", "--", "*", "***", "1.#QNAN", "-1.#IND")
+_MARKER = re.compile(r"(?<![^,;\s])(?:#N/?A|#NV|N/A|NA|n\.a\.|null|none|nil|missing|-{1,2}|\*+|"
+                     r"[-+]?1\.#(?:QNAN|SNAN|IND)0*)(?![^,;\s])", re.IGNORECASE)
+_EMPTY_FIELD = re.compile(r"(?:(?<=[,;\t])|^)[ ]*(?=[,;\t]|$)", re.MULTILINE)
+_MARKER_START = re.compile(r"#N/?A\b|#NV\b", re.IGNORECASE)
+
+
+def _comment(s):
+    """True for a comment line (``#`` first, but not a ``#N/A`` field)."""
+    return s.startswith("#") and not _MARKER_START.match(s)
+
+
+def _is_data(s):
+    """A data line: every field a number or a missing-value marker, at least one number (or
+    two fields: a row of dropouts)."""
+    toks = _tokens(s)
+    if not toks:
+        return False
+    n_num = 0
+    for t in toks:
+        try:
+            float(t)
+            n_num += 1
+        except ValueError:
+            if not _MARKER.fullmatch(t):
+                return False
+    return n_num > 0 or len(toks) > 1
+
+
+def _key_value(s):
+    return re.match(r"^#?\s*[A-Za-z\u00b5\u03bc][^:=]*[:=]", s) is not None
+
+
 def read_table(path, text=None):
     """Parse ``path`` into a :class:`Table`; raises :class:`InputError` for ragged or non-numeric
     rows, or when there is no numeric row at all.
+
+    Missing values are dropouts (NaN): ``nan`` in any case, the :data:`MISSING_MARKERS` as
+    whole fields, and empty fields of ``;``, ``,`` or tab separated rows (``1;;3``); a separator
+    ending every row (``1;2;``) closes the row, it opens no column.
 
     Parameters
     ----------
@@ -211,25 +261,45 @@ def read_table(path, text=None):
         s = line.strip()
         if not s:
             continue
-        if s.startswith("#") or not _is_numeric(_tokens(s)):
+        if _comment(s) or not _is_data(s):
             header.append(s)
             continue
         start = i
         break
     if start is None:
         raise InputError(path, "no numeric data found")
-    rows = [i for i in range(start, len(lines)) if not lines[i].lstrip().startswith("#")]
-    decimal = decimal_mark(path, "\n".join(lines[i].strip() for i in rows))
+    rows = [i for i in range(start, len(lines)) if lines[i].strip() and not _comment(lines[i].strip())]
+    data = [lines[i].strip(" \r\n\f\v") for i in rows]
+    if 2 * sum("\t" in d.strip() for d in data) < len(data):   # tabs do not separate fields:
+        data = [d.strip() for d in data]                    # leading/trailing ones are blanks
+    block = "\n".join(data)
+    markers = sorted({m.upper() for m in _MARKER.findall(block)})
+    if markers:
+        block = _MARKER.sub("nan", block)
+    if "#" in block:                                     # "1 2  # note": a trailing comment
+        block = re.sub(r"[ \t]*#.*$", "", block, flags=re.MULTILINE)
+    decimal = decimal_mark(path, block)
     if decimal == ",":
-        lines = list(lines)
-        for i in rows:
-            lines[i] = lines[i].replace(",", ".")
-    first = lines[start].strip()
+        block = block.replace(",", ".")
+    data = block.split("\n")
+    if not re.search(r"[,;]", block) and all("\t\t" in d for d in data):
+        block = re.sub(r"\t+", "\t", block)              # tabs aligning columns, not empty fields
+        data = block.split("\n")
+    if re.search(r"[,;\t]", block):
+        if all(d[-1] in ",;\t" for d in data):          # a separator closing every row
+            data = [d[:-1].rstrip() for d in data]
+        block = "\n".join(data)
+        n_empty = len(_EMPTY_FIELD.findall(block))
+        if n_empty:
+            block = _EMPTY_FIELD.sub("nan", block)
+            data = block.split("\n")
+            markers.append("(empty field)")
+    first = data[0]
     ncol0 = len(_tokens(first))
     for h in header:
         toks = _tokens(h)
         if (not h.startswith("#") and toks[0].lower() not in ESRI_KEYS and len(toks) == ncol0
-                and 2 * sum(_is_numeric([t]) for t in toks) >= len(toks)):
+                and not _key_value(h) and 2 * sum(_is_numeric([t]) for t in toks) >= len(toks)):
             word = next(t for t in toks if not _is_numeric([t]))
             raise InputError(path, f"non-numeric value {word!r} in a data row above line {start + 1}")
     ncol = ncol0
@@ -237,50 +307,34 @@ def read_table(path, text=None):
     # accept the same syntax or name the line that is wrong
     delim = ";" if ";" in first else ("," if "," in first else None)
     try:
-        fast = np.loadtxt(io.StringIO("\n".join(lines[start:])), delimiter=delim, comments="#",
-                          ndmin=2, dtype=np.float64)
+        fast = np.loadtxt(io.StringIO(block), delimiter=delim, comments=None, ndmin=2,
+                          dtype=np.float64)
     except ValueError:
         fast = None
     if fast is not None and fast.shape[1] == ncol:
-        return Table(fast, header, start + 1, decimal)
-    data_lines, numbers = [], []
-    for i in range(start, len(lines)):
-        s = lines[i].strip()
-        if not s or s.startswith("#"):
-            continue
-        data_lines.append(i)
-        numbers.append(s)
-    sep_comma = delim is not None
-    counts = np.fromiter((len(_tokens(s)) for s in numbers), dtype=np.int64, count=len(numbers))
-    # an empty field between two commas ("1,,2") is a missing value, not a separator
-    if sep_comma:
-        empty = [k for k, s in enumerate(numbers) if re.search(r"[,;]\s*[,;]|^[,;]|[,;]$", s)]
-        if empty:
-            k = empty[0]
-            raise InputError(path, f"empty field on line {data_lines[k] + 1}")
+        return Table(fast, header, start + 1, decimal, markers)
+    counts = np.fromiter((len(_tokens(s)) for s in data), dtype=np.int64, count=len(data))
     bad = np.flatnonzero(counts != ncol)
     if bad.size:
         k = int(bad[0])
-        raise InputError(path, f"ragged rows: line {data_lines[k] + 1} has {counts[k]} values, "
-                               f"line {data_lines[0] + 1} has {ncol}")
+        raise InputError(path, f"ragged rows: line {rows[k] + 1} has {counts[k]} values, "
+                               f"line {rows[0] + 1} has {ncol}")
     try:
-        values = np.array(_SPLIT.split(" ".join(numbers).strip()), dtype=np.float64)
+        values = np.array(_SPLIT.split(" ".join(data).strip()), dtype=np.float64)
     except ValueError:
-        for k, s in enumerate(numbers):
+        for k, s in enumerate(data):
             if not _is_numeric(_tokens(s)):
                 word = next(t for t in _tokens(s) if not _is_numeric([t]))
-                raise InputError(path, f"non-numeric value {word!r} on line {data_lines[k] + 1}") from None
+                raise InputError(path, f"non-numeric value {word!r} on line {rows[k] + 1}") from None
         raise InputError(path, "non-numeric values") from None
-    return Table(values.reshape(len(numbers), ncol), header, data_lines[0] + 1, decimal)
-
-
-_UNIT_IN_NAME = re.compile(r"[\(\[]\s*(m|mm|um|µm|μm|nm)\s*[\)\]]", re.IGNORECASE)
+    return Table(values.reshape(len(data), ncol), header, rows[0] + 1, decimal, markers)
 
 
 def column_units(header_line):
-    """Units named in a column-title line, e.g. ``"x (mm), z (mm)"`` -> ``["mm", "mm"]``.
+    """Units named in a column-title line, e.g. ``"x (mm), z (um)"`` -> ``["mm", "um"]``, in
+    every form :mod:`roadscan.io.text_titles` reads (``x_mm``, ``x [mm]``, ``x/mm``...).
 
-    Returns None when the last header line is not a list of titles with units for every column.
+    Returns None when the line is a comment or does not name a length unit for every column.
 
     Parameters
     ----------
@@ -291,12 +345,11 @@ def column_units(header_line):
     -------
     list of str or None
     """
+    from .text_titles import _split_names, find_titles
+
     if header_line is None or header_line.startswith("#"):
         return None
-    names = [n for n in re.split(r"[,;\t]|\s{2,}", header_line.strip()) if n.strip()]
-    if len(names) < 2:
-        names = _tokens(header_line)
-    found = [_UNIT_IN_NAME.search(n) for n in names]
-    if not names or not all(found):
+    titles = find_titles([header_line], len(_split_names(header_line)))
+    if titles is None or len(titles.units) < 1 or not all(isinstance(u, str) for u in titles.units):
         return None
-    return [m.group(1) for m in found]
+    return list(titles.units)

@@ -103,7 +103,7 @@ def plausible_reading(dx_m, length_m, rms_m):
     return rms_m == 0 or rms_m >= SMOOTH_MIN * dx_m
 
 
-def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x", notes=None):
+def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x", notes=None, found=None):
     """Check the reading of coordinates with no stated unit in the heights' unit.
 
     Parameters
@@ -123,6 +123,8 @@ def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x", note
     notes : list, optional
         Receives the warning when the coordinates are read as metres with heights in ``units``
         (the one plausible reading, the older convention); without it that case is refused.
+    found : str, optional
+        The title line the file has (naming no unit), quoted in the message.
 
     Returns
     -------
@@ -148,9 +150,11 @@ def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x", note
                 and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * g)]
         if fits:
             alt = fits[0] + "".join(f" (or {u})" for u in fits[1:])
-            raise InputError(path, f"{what} and heights look like {alt}, not metres ({where}; no "
-                                   f"title line states the units): give {{units}} {fits[0]}, or "
-                                   f"{{units}} m if they are metres", "units")
+            said = (f"the title line {found!r} states no units" if found else
+                    "no title line states the units")
+            raise InputError(path, f"{what} and heights look like {alt}, not metres ({where}; "
+                                   f"{said}): give {{units}} {fits[0]}, or {{units}} m if they are "
+                                   f"metres", "units")
         return "m"
     # heights in `units`: are the coordinates in another unit?
     fits = [u for u, g in UNITS.items()
