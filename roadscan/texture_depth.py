@@ -226,7 +226,9 @@ class MpdSegments:
     Attributes (arrays of the same length, line by line, segments in order along each line):
     ``line`` (line index), ``start_m``, ``end_m`` (segment ends along the line [m], from the
     line's first sample), ``msd_m`` (mean segment depth [m]), ``valid`` (bool) and ``reason``
-    (why a segment is invalid, empty when valid). ``mpd_m`` is the mean MSD of the valid
+    (why a segment is invalid, empty when valid), ``dropout_fraction`` and ``spike_fraction``
+    (per segment, against the limits ``max_dropout_fraction`` and ``max_spike_fraction``; spikes
+    found at ``spike_alpha``). ``mpd_m`` is the mean MSD of the valid
     segments (None without any), ``mpd_valid`` is True when at least half of the segments
     are valid (ISO 13473-1:2019, 7.9; False when there is no segment), ``n_valid``,
     ``n_total``; ``note`` says what was done (as :func:`roadscan.roughness.mean_profile_depth`).
@@ -252,6 +254,11 @@ class MpdSegments:
         self.msd_m = np.asarray(res["msd_m"], dtype=float).ravel()
         self.valid = valid.ravel()
         drop, spk = np.asarray(res["dropout_fraction"]).ravel(), np.asarray(res["spike_fraction"]).ravel()
+        self.dropout_fraction, self.spike_fraction = drop, spk
+        self.max_dropout_fraction = float(cfg["max_dropout_fraction"])
+        self.max_spike_fraction = float(cfg["max_spike_fraction"])
+        self.min_valid_fraction = float(cfg["min_valid_fraction"])
+        self.spike_alpha = float(cfg["spike_alpha"])
         reasons = []
         for d, sp, ok in zip(drop, spk, self.valid):
             why = []
@@ -266,6 +273,18 @@ class MpdSegments:
         self.mpd_valid = bool(self.n_valid and self.n_valid >= cfg["min_valid_fraction"] * self.n_total)
         self.line_length_m = float(line_length_m)
         self.note = note
+
+    def failed_rules(self):
+        """How many segments break each ISO 13473-1 rule: {"dropouts": n, "spikes": n} (a
+        segment breaking both counts in both), over the invalid segments.
+
+        Returns
+        -------
+        dict
+        """
+        drop = self.dropout_fraction > self.max_dropout_fraction
+        spk = self.spike_fraction > self.max_spike_fraction
+        return {"dropouts": int(drop.sum()), "spikes": int(spk.sum())}
 
     def validity_text(self):
         """"valid per ISO 13473-1 (17 of 18 segments)" or "not valid per ISO 13473-1 (3 of 18

@@ -166,9 +166,13 @@ def friction_provenance(an, spec, psd, fr, settings, rubber, name=None):
             "rms_slope_band": slope, "refused": None}
     cause = mp.implausible_cause(float(fr.mu[i]), share_at_peak=float(share[i]), slope=slope,
                                  rms_height_m=an.roughness.get("Sq_m", an.roughness.get("Rq_m")),
-                                 default_rubber=settings.rubber is None, q1_per_m=psd.q1_per_m)
+                                 default_rubber=settings.rubber is None, q1_per_m=psd.q1_per_m,
+                                 units_from_file=mp.units_from_file(an.source))
     if cause is not None:
         validate.warn(f"{name}: {cause}")
+    edge = mp.edge_warning(fr.v_m_per_s, fr.mu)
+    if edge is not None:
+        validate.warn(f"{name}: {edge}")
     return fr, info
 
 
@@ -180,9 +184,11 @@ def add_provenance(summary, info, q0, q1):
         summary["friction"] = {"refused": info["refused"], "rubber": info["rubber"],
                                "q0_per_m": q0, "q1_per_m": q1,
                                "rms_slope_band": info["rms_slope_band"]}
+        if info.get("q1_rule"):
+            summary["friction"]["q1_rule"] = info["q1_rule"]
         return summary
     summary["friction"].update(
-        rubber=info["rubber"], rms_slope_band=info["rms_slope_band"],
+        q1_rule=info.get("q1_rule"), rubber=info["rubber"], rms_slope_band=info["rms_slope_band"],
         extrapolated_share=[float(x) for x in info["extrapolated_share"]],
         extrapolated_share_at_peak=info["extrapolated_share_at_peak"])
     return summary
@@ -204,6 +210,11 @@ def report_rows(summary):
     if fr:
         if fr.get("rubber"):
             rows["rubber (friction)"] = fr["rubber"]
+        if fr.get("q1_per_m") is not None:           # which q1, and the rule that put it there
+            from pipelines.output.units import quantity
+
+            rows["friction band's short end q1"] = (f"{quantity('q1_per_m', fr['q1_per_m'])}: "
+                                                    f"{fr.get('q1_rule') or 'not stated'}")
         if fr.get("refused"):
             rows["friction"] = fr["refused"]
         else:

@@ -24,10 +24,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from pipelines.output.units import quantity
+from pipelines.output.units import length, quantity
 
 __all__ = ["extrapolated_share", "rms_slope", "implausible_cause", "MU_PLAUSIBLE",
-           "rubber_label"]
+           "rubber_label", "units_from_file", "edge_warning"]
 
 MU_PLAUSIBLE = (0.3, 3.0)
 SHARE_CUTOFF = 0.3
@@ -129,7 +129,7 @@ def rubber_label(rubber, sigma0_Pa, T0_C):
 
 
 def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=None,
-                      default_rubber=True, q1_per_m=None):
+                      default_rubber=True, q1_per_m=None, units_from_file=False):
     """None when ``mu_peak`` is within :data:`MU_PLAUSIBLE`, else one line: the likely cause
     and the flag that changes it.
 
@@ -147,6 +147,10 @@ def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=No
         The thesis rubber was used.
     q1_per_m : float, optional
         Upper band end [1/m].
+    units_from_file : bool, optional
+        The heights' unit is the one the file states (x3p, plu, opd, sur, al3d, a text title,
+        :func:`units_from_file`): an rms height that is not a road's is then named as the
+        surface's, never as a ``--units`` slip.
 
     Returns
     -------
@@ -158,7 +162,11 @@ def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=No
     side = "above" if mu_peak > hi else "below"
     causes = []
     if rms_height_m is not None and not (RMS_RANGE_M[0] <= rms_height_m <= RMS_RANGE_M[1]):
-        causes.append(f"units (rms height {rms_height_m * 1e3:.3g} mm is not a road's: --units)")
+        if units_from_file:               # the file states its unit: not a --units question
+            causes.append(f"surface (rms height {length(rms_height_m)}, in the unit the file "
+                          f"states, is not a road's texture)")
+        else:
+            causes.append(f"units (rms height {rms_height_m * 1e3:.3g} mm is not a road's: --units)")
     if mu_peak > hi and share_at_peak > SHARE_CUTOFF:
         causes.append(f"cut-off ({100 * share_at_peak:.0f} % of mu from wave vectors beyond the "
                       f"scan: a lower --q1)")
@@ -174,3 +182,44 @@ def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=No
         causes.append("the rubber model or the band (--rubber, --q0/--q1)")
     return (f"peak mu {mu_peak:.3g} is {side} the {lo:g}-{hi:g} that tread rubber gives on roads; "
             f"likely cause: {'; '.join(causes)}")
+
+
+def units_from_file(scan):
+    """True when the scan's height unit is the one its file states (the reader recorded
+    ``meta["height_unit"]["from"] == "file"``: x3p, vendor formats, a text title), not a flag
+    and not a default.
+
+    Parameters
+    ----------
+    scan : HeightMap or Profile
+        A read scan.
+
+    Returns
+    -------
+    bool
+    """
+    meta = getattr(scan, "meta", None) or {}
+    info = meta.get("height_unit") if isinstance(meta, dict) else None
+    return isinstance(info, dict) and info.get("from") == "file"
+
+
+def edge_warning(v_m_per_s, mu):
+    """The warning when the largest mu of a curve sits at an end of its speed range (no peak
+    inside it: :func:`pipelines.output.headline.peak_keys`), naming ``--velocities``; None
+    when the peak is inside.
+
+    Parameters
+    ----------
+    v_m_per_s, mu : array_like
+        The friction curve.
+
+    Returns
+    -------
+    str or None
+    """
+    from pipelines.output.headline import peak_keys
+
+    k = peak_keys(v_m_per_s, mu)
+    if not k["peak_at_edge"]:
+        return None
+    return f"μ {k['peak_note']}; widen --velocities to see the peak"

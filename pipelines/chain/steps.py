@@ -13,16 +13,17 @@ friction option (rubber, sigma0, nu, contact gamma, master-curve extrapolation, 
 and :func:`scan_friction` does both, with the judgement of the band's fine end and mu's
 provenance (:mod:`pipelines.chain.provenance`).
 
-**The measurement decides** whether the band's fine end is trusted (:func:`judge_fine_end`):
-when the band ends at the noise floor the spectrum itself shows (:mod:`roadscan.reliable_band`:
-C no longer falls as the self-affine line) and the rms slope over the band,
+**The measurement decides** the band's fine end (:mod:`pipelines.chain.cutoff`): when the
+band ends at the noise floor the spectrum itself shows (:mod:`roadscan.reliable_band`: C no
+longer falls as the self-affine line) and the rms slope over the band,
 sqrt(2 pi int q^3 C dq), exceeds :data:`SLOPE_TRUSTED` (1), the steepness comes from the
-wavelengths next to the noise, where C is already lifted by it; friction over that band is
-refused whatever the rubber, naming ``--q1`` and ``--resolution`` (with ``--q1`` given, the
-user has chosen the end). Persson puts the cut-off q1 where the rms slope reaches about 1
-(Persson, J. Phys.: Condens. Matter 18, 7789 (2006); Lorenz et al., Eur. Phys. J. E 34, 129
-(2011)). A peak mu outside 0.3-3 stays a warning with its likely causes
-(:func:`pipelines.chain.provenance.implausible_cause`), never a refusal.
+wavelengths next to the noise, where C is already lifted by it: q1 is then put where the rms
+slope reaches 1 (Persson's criterion: Persson et al., J. Phys.: Condens. Matter 17, R1 (2005),
+doi:10.1088/0953-8984/17/1/R01; Lorenz et al., Eur. Phys. J. E 34, 129 (2011)), with a warning.
+Friction is refused (:func:`judge_fine_end`) only where no decade of the spectrum can be
+trusted (such a band spanning under a decade), naming ``--q1`` and ``--resolution`` (with
+``--q1`` given, the user has chosen the end). A peak mu outside 0.3-3 stays a warning with its
+likely causes (:func:`pipelines.chain.provenance.implausible_cause`), never a refusal.
 """
 from __future__ import annotations
 
@@ -30,11 +31,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+# SLOPE_TRUSTED: rms slope above which a band ending at the noise floor is cut (module docstring)
+from pipelines.chain.cutoff import MIN_TRUSTED_DECADES, SLOPE_TRUSTED
+
 __all__ = ["measure", "friction_psd", "friction_of", "scan_friction", "judge_fine_end",
            "FrictionOutcome", "SLOPE_TRUSTED", "noise_floor_end", "band_sidecar", "read_band_sidecar"]
-
-#: rms slope up to a noise floor above which the band's short end is not trusted (module docstring)
-SLOPE_TRUSTED = 1.0
 
 
 def measure(scan, window_alpha=0.25, fit_band=None, despike=False, mpd_settings=None,
@@ -117,6 +118,16 @@ def friction_psd(spectrum, fit, rb, settings, name="", say=True):
     q0, q1 = friction_ends(rb, fit, settings)
     psd = surface_psd(spectrum, fit, q1_per_m=q1)
     psd, band = apply_band(psd, q0, q1)
+    cut = _slope_cut(psd, rb, settings)
+    if cut is not None:                   # Persson's criterion inside the band (pipelines.chain.cutoff)
+        q1 = cut[0]
+        psd, band = apply_band(surface_psd(spectrum, fit, q1_per_m=q1), q0, q1)
+    if band is not None:
+        from pipelines.chain.cutoff import q1_rule
+
+        band = dict(band, q1_rule=q1_rule(rb, settings, None if cut is None else cut[1:]))
+        if cut is not None:
+            band["slope_cut"] = {"band_end_per_m": cut[1], "rms_slope_to_band_end": cut[2]}
     q_nyq = float(np.max(spectrum.q_per_m))
     if settings.q1_per_m is not None and settings.q1_per_m > q_nyq * (1 + 1e-9):
         dec = float(np.log10(settings.q1_per_m / q_nyq))
@@ -186,10 +197,32 @@ def noise_floor_end(rb):
     return q_noise is not None and abs(q_noise - rb.hi_per_m) <= 1e-9 * rb.hi_per_m
 
 
+def _slope_cut(psd, rb, settings):
+    """(q1 by Persson's criterion, the band's end, rms slope up to it) when the rule of
+    :mod:`pipelines.chain.cutoff` lowers q1 (no ``--q1``, the band ends at the noise floor, spans
+    a decade or more and is steeper than :data:`SLOPE_TRUSTED` up to its end), else None."""
+    from pipelines.chain.cutoff import slope_cutoff, trusted_decades
+    from pipelines.chain.provenance import rms_slope
+
+    if settings.q1_per_m is not None or not noise_floor_end(rb):
+        return None
+    if trusted_decades(rb) < MIN_TRUSTED_DECADES:
+        return None                       # judge_fine_end refuses: no decade to trust
+    slope = rms_slope(psd)
+    if not slope > SLOPE_TRUSTED:
+        return None
+    q1 = slope_cutoff(psd, psd.q_min_per_m, psd.q1_per_m)
+    if q1 is None or not q1 > psd.q_min_per_m * (1 + 1e-6):
+        return None
+    return q1, float(psd.q1_per_m), slope
+
+
 def judge_fine_end(psd, rb, settings, name=""):
     """(rms slope over the friction band, refusal line or None), from the measurement alone
-    (see the module docstring): refused when q1 is the band's (no ``--q1``), the band ends at
-    the spectrum's noise floor and the rms slope up to it exceeds :data:`SLOPE_TRUSTED`.
+    (see the module docstring): refused when q1 is the band's end (no ``--q1``, Persson's
+    criterion not applied), the band ends at the spectrum's noise floor, spans under
+    :data:`MIN_TRUSTED_DECADES` decade and its rms slope up to its end exceeds
+    :data:`SLOPE_TRUSTED`: no decade of the spectrum can be trusted.
 
     Parameters
     ----------
@@ -209,16 +242,22 @@ def judge_fine_end(psd, rb, settings, name=""):
     refusal : str or None
         One line when friction is refused.
     """
+    from pipelines.chain.cutoff import trusted_decades
     from pipelines.chain.provenance import rms_slope
     from pipelines.output.units import quantity
 
     slope = rms_slope(psd)
     if settings.q1_per_m is not None or not noise_floor_end(rb) or not slope > SLOPE_TRUSTED:
         return slope, None
-    return slope, (f"friction refused: the reliable band's short end likely holds noise "
-                   f"(it ends at the spectrum's noise floor, and the rms slope up to q1 = "
-                   f"{quantity('q1_per_m', psd.q1_per_m)} is {slope:.3g}, over "
-                   f"{SLOPE_TRUSTED:g}): a lower --q1 or --resolution")
+    if psd.q1_per_m < rb.hi_per_m * (1 - 1e-6):       # q1 set inside the band by the rule
+        return slope, None
+    dec = trusted_decades(rb)
+    return slope, (f"friction refused: no decade of the spectrum can be trusted (the reliable "
+                   f"band {quantity('q_per_m', rb.lo_per_m)} to {quantity('q_per_m', rb.hi_per_m)} "
+                   f"spans {dec:.2g} decades, under {MIN_TRUSTED_DECADES:g}, and ends at the "
+                   f"spectrum's noise floor with an rms slope of {slope:.3g} up to q1 = "
+                   f"{quantity('q1_per_m', psd.q1_per_m)}, over {SLOPE_TRUSTED:g}): a lower "
+                   f"--q1 or --resolution")
 
 
 @dataclass(frozen=True)
@@ -283,14 +322,22 @@ def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
     fit = an.fit if fit is None else fit
     psd, band = friction_psd(an.spectrum, fit, rb, settings, name)
     slope, refused = judge_fine_end(psd, rb, settings, name)
+    if band and band.get("slope_cut"):
+        from pipelines.chain.cutoff import cut_warning
+
+        warn(f"{name}: {cut_warning(psd.q1_per_m, **band['slope_cut'])}")
+    from pipelines.chain.cutoff import q1_rule
+
+    rule = (band or {}).get("q1_rule") or q1_rule(rb, settings)   # why q1 is where it is
     if refused is not None:
         warn(f"{name}: {refused}")
         label = rubber_label(settings.rubber, settings.sigma0_Pa, settings.T0_C)
         return FrictionOutcome(None, psd, band, {"refused": refused, "rubber": label,
-                                                 "rms_slope_band": slope})
+                                                 "rms_slope_band": slope, "q1_rule": rule})
     fr = friction_of(psd, settings, v_m_per_s)
     rubber = with_extrapolation(settings.rubber, settings.extrapolate)
     fr, prov = friction_provenance(an, an.spectrum, psd, fr, settings, rubber, name=name)
+    prov = dict(prov, q1_rule=rule)
     checks = None
     if rubber is not None and fr is not None:
         T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 __all__ = ["RUBBER_ILLUSTRATIVE", "MIN_FIT_DECADES", "hurst_keys", "hurst_text", "peak_keys",
-           "peak_text", "side_keys", "hurst_pair_text", "WET_MODEL", "wet_model_html"]
+           "peak_text", "side_keys", "hurst_pair_text", "WET_MODEL", "wet_model_html", "friction_headline"]
 
 #: the name of the built-in rubber on every mu figure, report and summary
 RUBBER_ILLUSTRATIVE = "illustrative (thesis SLS, not a tread compound)"
@@ -237,3 +237,31 @@ def wet_model_html():
     then = WET_MODEL["consequence"]
     return render("wet_model_note.html.j2", covers=WET_MODEL["covers"],
                   left_out=", ".join(WET_MODEL["leaves_out"]), then=then[0].upper() + then[1:])
+
+
+def friction_headline(summary):
+    """The friction part of a scan's headline: ``"peak μ 1.81 at 10.0 m/s; q1 = 3.4e+04 1/m
+    (λ = 185 µm): the reliable band's short end (Nyquist)"`` (which q1 and the rule that chose
+    it, :mod:`pipelines.chain.cutoff`), ``"friction refused"`` or "" without friction.
+
+    Parameters
+    ----------
+    summary : dict
+        A ``summary.json`` of ``roadscan analyse``.
+
+    Returns
+    -------
+    str
+    """
+    from pipelines.output.units import quantity
+
+    fr = summary.get("friction")
+    if not fr:
+        return ""
+    q1 = fr.get("q1_per_m")
+    where = (f"q1 = {quantity('q1_per_m', q1)}: {fr['q1_rule']}" if q1 is not None and fr.get("q1_rule")
+             else "")
+    if fr.get("refused"):
+        return "friction refused" + (f" ({where})" if where else "")
+    peak = peak_text(fr["mu_peak"], fr["v_peak_m_per_s"], fr.get("peak_at_edge"), fr.get("peak_note"))
+    return peak + (f"; {where}" if where else "")

@@ -94,10 +94,12 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
         rows.append((sub, summary))
         own.append(list(said.lines))
         if not many:
-            from pipelines.output.headline import hurst_text
+            from pipelines.output.headline import friction_headline, hurst_text
 
+            fr = friction_headline(summary)       # mu's peak, which q1 and why
             print(f"{path}: H = {hurst_text(summary)}, "
-                  f"rms height = {length(summary['rms_height_m'])} -> {final / 'report.html'}")
+                  f"rms height = {length(summary['rms_height_m'])}{', ' + fr if fr else ''} "
+                  f"-> {final / 'report.html'}")
     if many:                                   # summary.csv and the summary report.html
         from pipelines.jobs.analyse.outputs import write_many_summary
 

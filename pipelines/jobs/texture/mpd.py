@@ -17,8 +17,8 @@ from __future__ import annotations
 import csv
 import io
 
-__all__ = ["SEGMENTS_HEADER", "validity_keys", "write_segments_csv", "segments_picture",
-           "draw_segments", "segments_title", "depth_rows", "write_extras", "draw_extras"]
+__all__ = ["SEGMENTS_HEADER", "validity_keys", "invalid_mpd_warning", "write_segments_csv",
+           "segments_picture", "draw_segments", "segments_title", "depth_rows", "write_extras", "draw_extras"]
 
 SEGMENTS_HEADER = ["start_m", "end_m", "msd_m", "valid", "reason"]
 
@@ -40,6 +40,63 @@ def validity_keys(seg):
         return {"mpd_valid": False, "mpd_valid_segments": 0, "mpd_total_segments": 0}
     return {"mpd_valid": seg.mpd_valid, "mpd_valid_segments": seg.n_valid,
             "mpd_total_segments": seg.n_total}
+
+
+def invalid_mpd_warning(name, seg, alpha_to_pass=None, iso_at_alpha=False):
+    """The warning of an MPD that is not valid per ISO 13473-1, or None when it is valid (or
+    there is no segment): which rule the segments failed and the option that relaxes it.
+
+    The rules (ISO 13473-1:2019): a 100 mm segment is invalid with more than 10 % dropouts or
+    more than 5 % spikes (|dh| >= alpha x the resampled interval, alpha = 3); the MPD is valid
+    when at least half of the segments are. ``--mpd-spike-alpha`` relaxes the spike rule (the
+    threshold ``alpha_to_pass`` that would pass, from
+    :func:`roadscan.texture_depth.spike_alpha_to_pass`); no option relaxes the dropout limit.
+
+    Parameters
+    ----------
+    name : str
+        Scan name.
+    seg : MpdSegments or None
+        The segments.
+    alpha_to_pass : float, optional
+        The smallest spike alpha giving an MPD (None: none found, or not searched).
+    iso_at_alpha : bool, optional
+        That MPD is valid per ISO 13473-1 (at least half the segments valid).
+
+    Returns
+    -------
+    str or None
+    """
+    if seg is None or seg.n_total == 0 or seg.mpd_valid:
+        return None
+    from pipelines.output.units import length
+
+    failed = seg.failed_rules()
+    need = seg.min_valid_fraction
+    what = (f"MPD {length(seg.mpd_m)} is not valid per ISO 13473-1" if seg.mpd_m is not None
+            else "no MPD per ISO 13473-1")
+    rules = []
+    if failed["spikes"]:
+        rules.append(f"{failed['spikes']} fail the spike rule (over "
+                     f"{100 * seg.max_spike_fraction:g} % spikes, |dh| >= {seg.spike_alpha:g} x the "
+                     f"resampled interval)")
+    if failed["dropouts"]:
+        rules.append(f"{failed['dropouts']} the dropout rule (over "
+                     f"{100 * seg.max_dropout_fraction:g} % dropouts)")
+    line = (f"{name}: {what}: {seg.n_valid} of {seg.n_total} segments valid, fewer than the "
+            f"{100 * need:g} % the standard asks (too few valid segments); of the "
+            f"{seg.n_total}, {' and '.join(rules)}")
+    if failed["spikes"] and alpha_to_pass is not None:
+        gives = "an MPD valid per ISO 13473-1" if iso_at_alpha else \
+            "an MPD (still not valid per ISO 13473-1)"
+        line += (f"; --mpd-spike-alpha {alpha_to_pass:g} relaxes the spike rule and gives {gives} "
+                 f"(steep stone edges, e.g. of chip seals, read as spikes)")
+    elif failed["spikes"]:
+        line += "; no --mpd-spike-alpha up to 50 gives a valid segment: the dropouts decide"
+    if failed["dropouts"] and not failed["spikes"]:
+        line += ("; no option relaxes the dropout rule: fill or trim the dropouts (e.g. the "
+                 "profile's ends) before, or measure again")
+    return line
 
 
 def write_segments_csv(path, seg):

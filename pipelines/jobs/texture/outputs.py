@@ -199,19 +199,16 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
         msd, base, note = (td.short_segment_depth(src, **(mpd_settings or {})) if figures is None
                            else figures.short_depth(src, mpd_settings))
         out.update(msd_short_m=msd, msd_short_baseline_m=base, msd_short_note=note)
-    elif mpd is None and "no valid segment" in (mpd_note or ""):
-        alpha, iso = td.spike_alpha_to_pass(src, mpd_settings)
+    elif seg is not None and seg.n_total and not out["mpd_valid"]:
+        from pipelines.jobs.texture.mpd import invalid_mpd_warning
+
+        alpha, iso = (td.spike_alpha_to_pass(src, mpd_settings) if seg.failed_rules()["spikes"]
+                      else (None, False))
+        warn(invalid_mpd_warning(analysis.name, seg, alpha, iso))   # the rule and the option
         if alpha is not None:
-            what = "an MPD valid per ISO 13473-1 (at least half the segments valid)" if iso else \
-                "an MPD (fewer than half the segments valid, not valid per ISO 13473-1)"
-            now = (mpd_settings or {}).get("spike_alpha", 3.0)
-            out["mpd_note"] = (f"{mpd_note}; --mpd-spike-alpha {alpha:g} would give {what} "
-                               f"(steep stone edges, e.g. of chip seals, read as spikes at "
-                               f"alpha = {now:g}, the ISO 13473-1 default being 3)")
             out["mpd_spike_alpha_to_pass"] = alpha
-        else:
-            out["mpd_note"] = (f"{mpd_note}; no --mpd-spike-alpha up to 50 helps: the "
-                               f"segments fail on dropouts")
+        if mpd is None and "no valid segment" in (mpd_note or ""):
+            _no_valid_note(out, mpd_note, mpd_settings, alpha, iso)
     if settings.friction is not None:
         A, B, C = settings.ifi_constants
         res = td.ifi_f60(settings.friction, settings.slip_speed_kmh, usable, A, B, C)
@@ -222,6 +219,20 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
             why = out.get("etd_note") or out.get("mpd_note", analysis.mpd_note)
             warn(f"{analysis.name}: no IFI F60: it needs a valid MPD ({why})")
     return out, ts
+
+
+def _no_valid_note(out, mpd_note, mpd_settings, alpha, iso):
+    """``mpd_note`` of an MPD without a valid segment, with the spike threshold that passes."""
+    if alpha is not None:
+        what = "an MPD valid per ISO 13473-1 (at least half the segments valid)" if iso else \
+            "an MPD (fewer than half the segments valid, not valid per ISO 13473-1)"
+        now = (mpd_settings or {}).get("spike_alpha", 3.0)
+        out["mpd_note"] = (f"{mpd_note}; --mpd-spike-alpha {alpha:g} would give {what} "
+                           f"(steep stone edges, e.g. of chip seals, read as spikes at "
+                           f"alpha = {now:g}, the ISO 13473-1 default being 3)")
+    else:
+        out["mpd_note"] = (f"{mpd_note}; no --mpd-spike-alpha up to 50 helps: the "
+                           f"segments fail on dropouts")
 
 
 def add_to_summary(summary, analysis, settings=None, mpd_settings=None, figures=None):
