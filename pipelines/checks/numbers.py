@@ -64,8 +64,9 @@ def finite_number(value, flag=None, path=None, what="value"):
     return v
 
 
-def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
-    """Grid spacing [m]: refused outside [1e-9, 1] m, warned outside [1e-7, 1e-2] m.
+def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None, warn_unusual=True):
+    """Grid spacing [m]: refused outside [1e-9, 1] m, warned (once, for dx and dy together)
+    outside [1e-7, 1e-2] m.
 
     Parameters
     ----------
@@ -77,11 +78,15 @@ def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
         Flag named.
     path : str or Path, optional
         File named.
+    warn_unusual : bool, optional
+        Warn about an unusual spacing (False where the scan read with it is checked next and
+        warns itself, naming its file: one warning, not two).
 
     Returns
     -------
     None
     """
+    unusual = []
     for v in (dx_m,) if dy_m is None else (dx_m, dy_m):
         v = finite_number(v, flag, path, "spacing")
         lo, hi = SPACING_RANGE_M
@@ -89,12 +94,15 @@ def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None):
             raise InputError(path, f"{flag} {v:g} m: implausible grid spacing (expected "
                                    f"{lo:g}..{hi:g} m; is the unit metres?)")
         ulo, uhi = SPACING_USUAL_M
-        if not ulo <= v <= uhi:
-            warn(f"{path + ': ' if path else ''}spacing {v:g} m is unusual for a road scan "
-                 f"({ulo:g}..{uhi:g} m)")
+        if not ulo <= v <= uhi and v not in unusual:
+            unusual.append(v)
+    if unusual and warn_unusual:
+        ulo, uhi = SPACING_USUAL_M
+        warn(f"{path + ': ' if path else ''}spacing {' x '.join(f'{v:g}' for v in unusual)} m "
+             f"is unusual for a road scan ({ulo:g}..{uhi:g} m)")
 
 
-def check_spacing_option(text, flag="--spacing"):
+def check_spacing_option(text, flag="--spacing", warn_unusual=True):
     """The CLI's ``--spacing DX[,DY]`` [m]: parsed by :func:`roadscan.io.resolve_spacing` and
     checked by :func:`check_spacing`; every refusal names the flag and the value given.
 
@@ -104,6 +112,8 @@ def check_spacing_option(text, flag="--spacing"):
         ``DX[,DY]``.
     flag : str, optional
         Flag named.
+    warn_unusual : bool, optional
+        As :func:`check_spacing`.
 
     Returns
     -------
@@ -115,7 +125,7 @@ def check_spacing_option(text, flag="--spacing"):
         dx, dy = resolve_spacing(text, None)
     except InputError as exc:
         raise InputError(None, f"{flag} {text!r}: {exc.problem}") from None
-    check_spacing(dx, dy, flag=flag)
+    check_spacing(dx, dy, flag=flag, warn_unusual=warn_unusual)
     return dx, dy
 
 

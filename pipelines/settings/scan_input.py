@@ -126,7 +126,7 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
     if spacing is not None:
         from pipelines.checks.validate import check_spacing_option
 
-        check_spacing_option(spacing)
+        check_spacing_option(spacing, warn_unusual=False)   # check_scan warns, naming the file
     try:
         obj = read(path, **opts)
     except InputError:
