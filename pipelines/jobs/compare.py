@@ -17,34 +17,89 @@ from pipelines.settings.friction import FrictionSettings
 __all__ = ["compare", "run_compare", "spectrum_difference", "friction_difference"]
 
 
-def spectrum_difference(spec_ref, spec):
-    """Where two spectra differ: log10 ratio C/C_ref on the reference's rings, in their common band.
-
-    Returns a dict: ``q_per_m`` and ``log10_ratio`` arrays, the largest |log10 ratio| and the
-    wave vector where it occurs, and the median ratio.
+def spectrum_difference(spec_ref, spec, band=None, why_no_band=None):
+    """Where two spectra differ: log10 ratio C/C_ref on the reference's rings, judged inside
+    ``band``, where both spectra are trusted (:func:`pipelines.chain.judged.judged_band` of
+    each scan, intersected; the wave vectors both spectra hold when ``band`` is None and no
+    ``why_no_band`` is given).
 
     Parameters
     ----------
     spec_ref, spec : roadscan.Spectrum
         Reference and compared spectra.
+    band : tuple of float, optional
+        (lo, hi) [1/m] the ratios are judged in.
+    why_no_band : str, optional
+        Why there is no band both spectra are trusted on (then no ratio is judged).
 
     Returns
     -------
     dict
-        ``common_band_per_m``, ``q_per_m``, ``log10_ratio`` and their extremes.
+        ``common_band_per_m`` (the wave vectors both hold), ``judged_band_per_m``, ``q_per_m``
+        and ``log10_ratio`` (inside it), ``psd_ratio_median``, ``psd_ratio_at_max``,
+        ``q_at_max_ratio_per_m`` and ``largest_psd_ratio`` (``ratio``, ``q_per_m``,
+        ``band_per_m``; None with ``largest_psd_ratio_note`` saying why).
     """
+    from pipelines.chain.judged import largest_ratio, ratio_in_band
+
     lo = max(spec_ref.q_per_m[0], spec.q_per_m[0])
     hi = min(spec_ref.q_per_m[-1], spec.q_per_m[-1])
-    q = spec_ref.q_per_m[(spec_ref.q_per_m >= lo) & (spec_ref.q_per_m <= hi)]
-    if q.size < 2:
-        return {"common_band_per_m": None, "note": "no common band of wave vectors"}
-    c_ref = np.exp(np.interp(np.log(q), np.log(spec_ref.q_per_m), np.log(spec_ref.C_m4)))
-    c = np.exp(np.interp(np.log(q), np.log(spec.q_per_m), np.log(spec.C_m4)))
-    lr = np.log10(c / c_ref)
+    if not lo < hi:
+        return {"common_band_per_m": None, "note": "no common band of wave vectors",
+                "largest_psd_ratio": None, "largest_psd_ratio_note": "no common band of wave vectors"}
+    out = {"common_band_per_m": [float(lo), float(hi)]}
+    if band is None and why_no_band is None:
+        band = (float(lo), float(hi))
+    q, lr = ratio_in_band(spec_ref, spec, band) if band is not None else (np.empty(0), np.empty(0))
+    out["judged_band_per_m"] = None if band is None else [float(band[0]), float(band[1])]
+    big = largest_ratio(q, lr, band) if band is not None else None
+    out["largest_psd_ratio"] = big
+    if big is None:
+        out["largest_psd_ratio_note"] = why_no_band or (
+            "fewer than two wave vectors of the reference inside the band both spectra are trusted on")
+        return out
     i = int(np.argmax(np.abs(lr)))
-    return {"common_band_per_m": [float(lo), float(hi)], "q_per_m": q, "log10_ratio": lr,
-            "psd_ratio_median": float(10 ** np.median(lr)),
-            "psd_ratio_at_max": float(10 ** lr[i]), "q_at_max_ratio_per_m": float(q[i])}
+    out.update({"q_per_m": q, "log10_ratio": lr, "psd_ratio_median": float(10 ** np.median(lr)),
+                "psd_ratio_at_max": float(10 ** lr[i]), "q_at_max_ratio_per_m": float(q[i])})
+    return out
+
+
+def _bands(pairs, names):
+    """Per scan its judged band (:func:`pipelines.chain.judged.judged_band`), and per scan
+    after the first (band shared with the reference, or None, and why not)."""
+    from pipelines.chain.judged import common_band, judged_band
+
+    own = [judged_band(an, rb) for an, rb in pairs]
+    shared = []
+    for k in range(1, len(pairs)):
+        band = common_band([own[0], own[k]])
+        why = None
+        if band is None:
+            lone = [n for n, b in ((names[0], own[0]), (names[k], own[k])) if b is None]
+            why = (f"no trusted band: the reliable band and the fit band of {', '.join(lone)} do "
+                   f"not overlap" if lone else
+                   f"the bands {names[0]} and {names[k]} are trusted on do not overlap (each "
+                   f"scan's reliable band within its fit band)")
+        shared.append((band, why))
+    return shared
+
+
+def _why_missing(entry, friction_on):
+    """{figure key: why it is null} for the figures of a compared surface that are missing."""
+    why = {}
+    if entry.get("hurst") is None:
+        why["hurst"] = entry.get("hurst_note") or "no meaningful self-affine fit"
+    if entry.get("h0_m") is None:
+        why["h0_m"] = "h0 is undefined where H <= 0 or H is not given"
+    if entry.get("mpd_m") is None:
+        why["mpd_m"] = entry.get("mpd_note") or "no MPD"
+    if entry.get("mu_peak") is None:
+        why["mu_peak"] = (entry.get("friction_refused") or "friction not computed") if friction_on \
+            else "friction not computed (--no-friction)"
+    d = entry.get("difference_from_reference") or {}
+    if d and d.get("largest_psd_ratio") is None:
+        why["largest_psd_ratio"] = d.get("largest_psd_ratio_note") or "no ratio judged"
+    return why
 
 
 def friction_difference(v, mu_ref, mu):
@@ -171,6 +226,9 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
     done = [c for c in curves if c is not None]
     result = {}
     ref = analyses[0]
+    # the ratios are judged where both scans are trusted (pipelines.chain.judged)
+    sds = [None] + [spectrum_difference(ref.spectrum, a.spectrum, band, why)
+                    for a, (band, why) in zip(analyses[1:], _bands(pairs, names))]
     for k, (name, an) in enumerate(zip(names, analyses)):
         s = summarise(an, curves[k] if curves else None, window_alpha=window_alpha)
         entry = {key: s[key] for key in ("hurst", "hurst_stderr", "hurst_fit", "hurst_fit_stderr",
@@ -190,18 +248,17 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
             entry["friction_refused"] = outcomes[k].provenance["refused"]
         if k > 0:
             diff = {"reference": names[0]}
-            sd = spectrum_difference(ref.spectrum, an.spectrum)
-            diff.update({kk: vv for kk, vv in sd.items() if kk not in ("q_per_m", "log10_ratio")})
+            diff.update({kk: vv for kk, vv in sds[k].items() if kk not in ("q_per_m", "log10_ratio")})
             if curves and curves[0] is not None and curves[k] is not None:
                 diff.update(friction_difference(curves[0].v_m_per_s, curves[0].mu, curves[k].mu))
             entry["difference_from_reference"] = diff
+        entry["why_missing"] = _why_missing(entry, settings.enabled)   # every null figure's reason
         result[name] = entry
 
     figs = [report.plot_psd([(n, a.spectrum.q_per_m, a.spectrum.C_m4) for n, a in zip(names, analyses)],
                             out_dir / "psd_all.png", title="PSD of all surfaces")]
     ratio_curves = []
-    for n, a in zip(names[1:], analyses[1:]):
-        sd = spectrum_difference(ref.spectrum, a.spectrum)
+    for n, sd in zip(names[1:], sds[1:]):
         if "q_per_m" in sd:
             ratio_curves.append((f"{n} / {names[0]}", sd["q_per_m"], 10 ** sd["log10_ratio"]))
     if ratio_curves:
@@ -214,7 +271,7 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
         ax.set_xlabel("wave vector q [1/m]")
         ax.set_ylabel("PSD ratio C / C$_{ref}$ [-]")
         report.wavelength_axis(ax)
-        report.set_title(ax, "where the spectra differ")
+        report.set_title(ax, "where the spectra differ (where both are trusted)")
         ax.grid(which="both", alpha=0.25)
         ax.legend(fontsize=8)
         figs.append(report.save_figure(fig, out_dir / "psd_ratio.png",
@@ -255,22 +312,33 @@ def _write_report(out_dir, names, result, figs, curves):
     header = ["surface", "H", "rms height", "h0", "MPD (ISO 13473-1)", "peak μ", "v at peak [m/s]"]
     from pipelines.output.headline import hurst_text, peak_text
 
-    rows = [[n, hurst_text(r), length(r["rms_height_m"]), length(r["h0_m"]), length(r["mpd_m"]),
-             r.get("mu_peak") if not r.get("peak_at_edge") else peak_text(**{
-                 k: r[k] for k in ("mu_peak", "v_peak_m_per_s", "peak_at_edge", "peak_note")}),
+    def cell(r, key, text):               # a missing figure says why (why_missing)
+        why = (r.get("why_missing") or {}).get(key)
+        return f"— ({why})" if why else text
+
+    rows = [[n, cell(r, "hurst", hurst_text(r)), length(r["rms_height_m"]),
+             cell(r, "h0_m", length(r["h0_m"])), cell(r, "mpd_m", length(r["mpd_m"])),
+             cell(r, "mu_peak", r.get("mu_peak") if not r.get("peak_at_edge") else peak_text(**{
+                 k: r[k] for k in ("mu_peak", "v_peak_m_per_s", "peak_at_edge", "peak_note")})),
              r.get("v_peak_m_per_s")] for n, r in result.items()]
     sections = [("Surfaces", report.table_html(rows, header))]
     drows = []
     for n, r in result.items():
         d = r.get("difference_from_reference")
         if d:
-            drows.append([n, d["reference"], d.get("psd_ratio_median"),
-                          quantity("q_at_max_ratio_per_m", d.get("q_at_max_ratio_per_m")),
-                          d.get("psd_ratio_at_max"), d.get("max_difference_v_m_per_s"), d.get("max_difference_mu")])
+            big = d.get("largest_psd_ratio")
+            band = (quantity("q_per_m", big["band_per_m"][0]) + " to " +
+                    quantity("q_per_m", big["band_per_m"][1])) if big else \
+                f"— ({d.get('largest_psd_ratio_note')})"
+            drows.append([n, d["reference"], band, d.get("psd_ratio_median"),
+                          quantity("q_per_m", big["q_per_m"]) if big else "—",
+                          big["ratio"] if big else "—", d.get("max_difference_v_m_per_s"),
+                          d.get("max_difference_mu")])
     if drows:
         sections.append(("Where and by how much they differ", report.table_html(
-            drows, ["surface", "reference", "median PSD ratio", "q of largest PSD ratio",
-                    "largest PSD ratio", "v of largest μ difference [m/s]", "largest μ difference"])))
+            drows, ["surface", "reference", "band both are trusted on", "median PSD ratio",
+                    "q of largest PSD ratio", "largest PSD ratio", "v of largest μ difference [m/s]",
+                    "largest μ difference"])))
     done = [(n, c) for n, c in zip(names, curves) if c is not None]
     if done:
         v = done[0][1].v_m_per_s
