@@ -50,7 +50,8 @@ mark("import roadscan, pipelines (before the steps)")
 hm = read(sys.argv[1]); mark("read the X3P")
 an = analyse_surface(hm); mark("metrology chain (level ... PSD, fit, roughness)")
 fr = friction_curve(surface_psd(an.spectrum, an.fit)); mark("friction mu(v), default rubber")
-from pipelines import analyse as A, report
+from pipelines.jobs.analyse import job as A
+from pipelines.output import report
 out = Path(sys.argv[2])
 report.pyplot(); mark("import matplotlib (first figure only)")
 report.plot_heightmap(an.levelled, out / "heightmap.png", title="levelled heights"); mark("heightmap.png")

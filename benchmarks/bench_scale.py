@@ -104,8 +104,8 @@ STEPS = PREIMPORT + r"""
 import functools, json, sys, time
 import numpy as np
 from roadscan import fit, inpaint, level, rain, roughness, spectrum
-import pipelines.analyse as PA
-from pipelines import report
+import pipelines.jobs.analyse.job as PA
+from pipelines.output import report
 from pipelines.settings.scan_input import load_scan
 
 def status(key):

@@ -3,7 +3,7 @@
 Every job of the command line is one function here, with keyword-only options in SI units:
 :func:`analyse` (one scan to its spectrum, fit, texture figures and mu(v); returns an
 :class:`AnalysisResult`), :func:`compare`, :func:`dry_vs_wet`, :func:`rain_fill`,
-:func:`friction`, :func:`combine`, and :func:`diagnose`. The building blocks of
+:func:`friction`, :func:`combine`, :func:`diagnose` and :func:`batch`. The building blocks of
 the chain are in :mod:`pipelines.chain`. Names are imported on first use, so ``import
 pipelines`` stays light (``roadscan --help`` needs none of numpy's weight).
 
@@ -18,11 +18,11 @@ import importlib
 from typing import TYPE_CHECKING, Any
 
 __all__ = ["analyse", "analyse_scan", "AnalysisResult", "compare", "dry_vs_wet", "rain_fill",
-           "friction", "combine", "diagnose", "chain", "RoadscanWarning"]
+           "friction", "combine", "diagnose", "batch", "chain", "RoadscanWarning"]
 
 # public name -> module that defines it (imported on first attribute access)
 _LAZY = {
-    "analyse": "pipelines.jobs.analyse.job",
+    "analyse": "pipelines.jobs.analyse.call",
     "analyse_scan": "pipelines.jobs.analyse.job",
     "AnalysisResult": "pipelines.jobs.analyse.result",
     "compare": "pipelines.jobs.compare",
@@ -31,14 +31,17 @@ _LAZY = {
     "friction": "pipelines.jobs.friction_call",
     "combine": "pipelines.jobs.combine.job",
     "diagnose": "pipelines.diagnosis.job",
+    "batch": "pipelines.campaign.api",
     "RoadscanWarning": "roadscan.errors",
 }
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and editors only
     from roadscan.errors import RoadscanWarning
     from pipelines import chain
+    from pipelines.campaign.api import batch
     from pipelines.diagnosis.job import diagnose
-    from pipelines.jobs.analyse.job import analyse, analyse_scan
+    from pipelines.jobs.analyse.call import analyse
+    from pipelines.jobs.analyse.job import analyse_scan
     from pipelines.jobs.analyse.result import AnalysisResult
     from pipelines.jobs.combine.job import combine
     from pipelines.jobs.compare import compare

@@ -50,7 +50,9 @@ def _own_warnings():
     """A warnings scope of its own (:func:`pipelines.checks.validate.collecting`): each scan's
     ``summary.json`` lists its own warnings, as ``roadscan analyse`` on that one file does."""
     from pipelines.checks import validate
+    from pipelines.checks.run_warnings import say_warnings
 
+    say_warnings("quiet")    # a worker's warnings reach the user through the campaign's records
     return validate.collecting(prefix="roadscan batch")
 
 

@@ -136,9 +136,9 @@ def friction_psd(spectrum, fit, rb, settings, name="", say=True):
             f"{quantity('q_per_m', q_nyq)}): C(q) extended {dec:.2f} decades by the self-affine "
             f"fit, H = {fit.hurst:.3f}"))
         if say:
-            import sys
+            from pipelines.checks.run_warnings import note
 
-            print(f"note: {name + ': ' if name else ''}{band['note']}", file=sys.stderr)
+            note(f"note: {name + ': ' if name else ''}{band['note']}")
     return psd, band
 
 

@@ -1,15 +1,46 @@
-"""Warnings belong to their run: :func:`warn` prints one line ``PREFIX: warning: ...`` on stderr
-and records it in the collector of the innermost :func:`collecting` scope (a :mod:`contextvars`
-variable, so each thread, task and nested run has its own); commands store a run's list in
-``summary.json`` under ``"warnings"``. :mod:`pipelines.checks.validate` re-exports every name.
+"""Warnings belong to their run: :func:`warn` records one line in the collector of the innermost
+:func:`collecting` scope (a :mod:`contextvars` variable, so each thread, task and nested run has
+its own); jobs store a run's list in their result (``.warnings``) and in ``summary.json`` under
+``"warnings"``. :mod:`pipelines.checks.validate` re-exports every name.
+
+How a new line is said depends on who runs the job (:func:`say_warnings`):
+
+- ``"warn"`` (the library's default): issued once through :func:`warnings.warn` as a
+  :class:`roadscan.RoadscanWarning`, so that a notebook can filter, record or silence it; the
+  library never prints.
+- ``"print"`` (the ``roadscan`` command): one line ``PREFIX: warning: ...`` on stderr, as the
+  command has always printed it.
+- ``"quiet"`` (a campaign's worker): recorded only; the campaign reports them.
 """
 from __future__ import annotations
 
 import contextlib
 import contextvars
+import logging
 import sys
+import warnings as _py_warnings
 
-__all__ = ["Warnings", "collecting", "current_warnings", "reset_warnings", "warn", "warnings_list"]
+from roadscan.errors import RoadscanWarning
+
+__all__ = ["Warnings", "collecting", "current_warnings", "reset_warnings", "warn", "warnings_list",
+           "say_warnings", "note", "LOGGER"]
+
+#: the logger of roadscan's notes (progress, what a run chose and why); the command line shows
+#: its INFO lines on stderr, a Python caller sees them once it configures logging
+LOGGER = logging.getLogger("roadscan")
+
+_MODES = ("warn", "print", "quiet")
+_MODE = ["warn"]
+
+
+def say_warnings(mode: str) -> str:
+    """How new warning lines are said in this process: ``"warn"`` (Python's :mod:`warnings`,
+    category :class:`roadscan.RoadscanWarning`; the library's default), ``"print"`` (stderr,
+    the command line) or ``"quiet"`` (recorded only). Returns the previous mode."""
+    if mode not in _MODES:
+        raise ValueError(f"say_warnings({mode!r}): one of {_MODES}")
+    old, _MODE[0] = _MODE[0], mode
+    return old
 
 
 class Warnings:
@@ -34,13 +65,19 @@ class Warnings:
         self.lines = []
         self.echo = echo
 
-    def add(self, line, echo=True):
-        """Record ``line`` (once); ``echo`` (and the collector's own ``echo``) prints
-        ``PREFIX: warning: line`` on stderr."""
+    def add(self, line, echo=True, issue=True):
+        """Record ``line`` (once) and say it as :func:`say_warnings` decides: a
+        :class:`roadscan.RoadscanWarning` (``issue``), or, on the command line, ``PREFIX:
+        warning: line`` on stderr (``echo`` and the collector's own ``echo``). A line handed
+        over from a nested scope is neither issued nor printed again (``issue=False``)."""
         if line in self.lines:
             return False
         self.lines.append(line)
-        if echo and self.echo:
+        if not issue:
+            return True
+        if _MODE[0] == "warn":
+            _py_warnings.warn(line, RoadscanWarning, stacklevel=3)
+        elif _MODE[0] == "print" and echo and self.echo:
             print(f"{self.prefix}: warning: {line}", file=sys.stderr)
         return True
 
@@ -115,7 +152,7 @@ def collecting(into=None, prefix=None):
         _CURRENT.reset(token)
         if parent is not None and parent is not w:
             for line in w.lines:
-                parent.add(line, echo=False)
+                parent.add(line, echo=False, issue=False)
 
 
 def reset_warnings(prefix="roadscan"):
@@ -134,7 +171,7 @@ def reset_warnings(prefix="roadscan"):
 
 
 def warn(message):
-    """Print one warning line on stderr and record it in this run's collector.
+    """Record one warning line in this run's collector and say it (:func:`say_warnings`).
 
     Parameters
     ----------
@@ -160,3 +197,16 @@ def warnings_list():
     list of str
     """
     return list(current_warnings().lines)
+
+
+def note(message: str) -> None:
+    """Say one note (not a warning: what a run chose and why, e.g. a spectrum extended beyond
+    its last point) through the ``roadscan`` logger at INFO level; the command line prints it
+    on stderr as it always has.
+
+    Parameters
+    ----------
+    message : str
+        One line.
+    """
+    LOGGER.info("%s", message)

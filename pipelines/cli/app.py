@@ -221,9 +221,12 @@ def _main(args, cmd):
 
     from pipelines.checks import validate
     from pipelines.checks.overwrite import check_command_paths
+    from pipelines.checks.run_warnings import say_warnings
 
     debug = bool(getattr(args, "debug", False))
     validate.reset_warnings(prefix=cmd)
+    said_before = say_warnings("print")   # the command prints its warnings as lines on stderr
+    notes = _print_notes()                 # and its notes (the roadscan logger's INFO lines)
     previous_limit = io_common.get_max_pixels()
     if getattr(args, "max_pixels", None):
         io_common.set_max_pixels(args.max_pixels)
@@ -264,6 +267,29 @@ def _main(args, cmd):
                                           f"--debug for the traceback"), internal=True)
     finally:
         io_common.set_max_pixels(previous_limit)
+        say_warnings(said_before)
+        notes()
+
+
+def _print_notes():
+    """Print the ``roadscan`` logger's notes on stderr, each as its bare line, while the command
+    runs; returns the function that undoes it (a test calls several commands in one process)."""
+    import logging
+
+    logger = logging.getLogger("roadscan")
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(message)s"))
+    old_level, old_propagate = logger.level, logger.propagate
+    logger.addHandler(handler)
+    logger.setLevel(logging.INFO)
+    logger.propagate = False
+
+    def undo():
+        logger.removeHandler(handler)
+        logger.setLevel(old_level)
+        logger.propagate = old_propagate
+
+    return undo
 
 
 def _interrupted(exc):

@@ -5,13 +5,16 @@ reference): at which wave vectors and speeds they differ, and by how much.
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
+from typing import Any, Literal
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from pipelines.output import report
 from pipelines.jobs.analyse.job import summarise
 from pipelines.jobs.dry_vs_wet import mu_by_speed, speed_table
+from pipelines.output import report
 from pipelines.settings.friction import FrictionSettings
 
 __all__ = ["compare", "run_compare", "spectrum_difference", "friction_difference"]
@@ -125,7 +128,30 @@ def friction_difference(v, mu_ref, mu):
             "mu_peak_ratio": float(mu.max() / mu_ref.max())}
 
 
-def compare(sources, out, **options):
+def compare(
+        sources: Any, out: str | os.PathLike[str],
+        *,
+        spacing: float | str | tuple[float, float] | None = None,
+        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
+        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
+        override_calibration: bool = False,
+        channel: int | str | None = None,
+        window_alpha: float = 0.25,
+        fit_band: tuple[float, float] | str | None = None,
+        despike: bool = False,
+        resolution: float | None = None,
+        rubber: str | os.PathLike[str] | Any | None = None,
+        sigma0: float | str = 200000.0,
+        temperature: float | None = None,
+        flash: bool = False,
+        velocities: ArrayLike | str | None = None,
+        q0: float | None = None,
+        q1: float | None = None,
+        contact_gamma: float | None = None,
+        nu: float = 0.5,
+        extrapolate: Literal['powerlaw', 'hold'] = 'powerlaw',
+        no_friction: bool = False,
+) -> dict[str, Any]:
     """``roadscan compare`` as one call: the sources (paths or HeightMaps/Profiles, the first is
     the reference) compared and written into ``out`` (all or none) -> the comparison.json dict.
 
@@ -141,8 +167,64 @@ def compare(sources, out, **options):
         The scans; the first is the reference.
     out : str or Path
         Output folder.
-    **options
-        ``roadscan compare``'s long flags with dashes as underscores.
+    spacing : float or str or tuple[float, float] or None, default None
+        ``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or
+        5e-5,6e-5).
+    units : Literal['m', 'mm', 'um', 'nm'] or None, default None
+        ``--units``: units of the heights in files that carry no units, and of the x (and y)
+        columns of text files without unit titles (default m).
+    x_units : Literal['m', 'mm', 'um', 'nm'] or None, default None
+        ``--x-units``: units of the x (and y) columns of an x,z or x,y,z text file without unit
+        titles, when they differ from --units (e.g. x in m, heights in mm).
+    override_calibration : bool, default False
+        ``--override-calibration``: let --spacing/--units replace the spacing/units a file
+        carries (X3P, vendor, .npz with dx/dy..; refused otherwise); recorded as
+        calibration_override in summary.json.
+    channel : int or str or None, default None
+        ``--channel``: page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or
+        channel of an instrument file with several (index from 0 or name); recorded in
+        summary.json.
+    window_alpha : float, default 0.25
+        ``--window-alpha``: Tukey window alpha (default 0.25).
+    fit_band : tuple[float, float] or str or None, default None
+        ``--fit-band``: self-affine fit band [1/m] (default: detected).
+    despike : bool, default False
+        ``--despike``: mark spikes as unmeasured before levelling.
+    resolution : float or None, default None
+        ``--resolution``: the instrument's lateral resolution [m] (wavelength passed at 50 %
+        amplitude; default: the file's metadata): the reliable band ends where it still passes
+        80 %.
+    rubber : str or os.PathLike[str] or Any or None, default None
+        ``--rubber``: rubber model, friction/RUBBER_TOML.md (default: the thesis's standard
+        linear solid, T_ref = 60 C).
+    sigma0 : float or str, default 200000.0
+        ``--sigma0``: nominal contact pressure sigma0 = load / nominal area, with a unit:
+        0.3MPa, 300kPa, 3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0
+        in P(q) (default 0.2MPa).
+    temperature : float or None, default None
+        ``--temperature``: background temperature T0 [C] (default: the rubber's reference
+        temperature).
+    flash : bool, default False
+        ``--flash``: flash-temperature model (Persson 2006).
+    velocities : ArrayLike or str or None, default None
+        ``--velocities``: N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,..
+        (e.g. another program's table; default 1e-4:1e2:61, where tyres slide).
+    q0 : float or None, default None
+        ``--q0``: lower end of the friction integrals [1/m], inside the spectrum (default: its
+        lowest wave vector).
+    q1 : float or None, default None
+        ``--q1``: upper end of the friction integrals [1/m]; beyond the Nyquist wave vector the
+        spectrum is extended by its self-affine fit.
+    contact_gamma : float or None, default None
+        ``--contact-gamma``: Persson's S(q) = G + (1 - G) P(q)^2 in the dissipation integrand
+        (mu = 1/2 int q^3 C S P M dq); 0 <= G <= 1, e.g. 0.5 (default: off, S = 1).
+    nu : float, default 0.5
+        ``--nu``: Poisson ratio of the rubber, 0 <= nu <= 0.5 (default 0.5).
+    extrapolate : Literal['powerlaw', 'hold'], default 'powerlaw'
+        ``--extrapolate``: master curve beyond its measured frequencies: powerlaw (E' held, E''
+        continues as the power law of its last decade; default) or hold (both held).
+    no_friction : bool, default False
+        ``--no-friction``: skip mu(v).
 
     Returns
     -------
@@ -151,15 +233,15 @@ def compare(sources, out, **options):
     """
     import os
 
+    from pipelines.checks.validate import collecting
+    from pipelines.settings.analyse import spectrum_kwargs, unique_stems
+    from pipelines.settings.friction import settings_from_args
+    from pipelines.settings.keywords import options_of
+    from pipelines.settings.scan_input import scan_of, source_path
     from roadscan.errors import InputError
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
-    from pipelines.settings.analyse import add_compare_options, options_from_kwargs, spectrum_kwargs, unique_stems
-    from pipelines.settings.friction import settings_from_args
-    from pipelines.settings.scan_input import scan_of, source_path
-    from pipelines.checks.validate import collecting
-
-    args = options_from_kwargs(options, "compare", add_compare_options)
+    args = options_of(compare, locals())
     sources = list(sources)
     if len(sources) < 2:
         raise InputError(None, "compare needs at least two scans")

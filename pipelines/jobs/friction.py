@@ -12,7 +12,6 @@ table). A ``psd.csv`` written by ``roadscan analyse`` is integrated over the ban
 from __future__ import annotations
 
 import math
-import sys
 from pathlib import Path
 
 from roadscan.errors import InputError
@@ -76,13 +75,14 @@ def _psd(args, settings=None):
             spec = Spectrum(table.q_per_m, table.C_m4, kind="table", meta={"source": str(args.psd)})
             psd, band = friction_psd(spec, fit, rb, settings, say=True)
             from pipelines.chain.steps import judge_fine_end
+            from pipelines.checks.run_warnings import note
 
             _, refused = judge_fine_end(psd, rb, settings)     # as analyse judged the band
             if refused is not None:
                 raise InputError(args.psd, refused)
             band = dict(band or {}, band_from=str(path))
-            print(f"note: {args.psd}: integrated over the band of {path.name} "
-                  f"({band['q0_per_m']:.6g} to {band['q1_per_m']:.6g} 1/m)", file=sys.stderr)
+            note(f"note: {args.psd}: integrated over the band of {path.name} "
+                 f"({band['q0_per_m']:.6g} to {band['q1_per_m']:.6g} 1/m)")
             return psd, band
         psd, band = apply_band(table, args.q0, args.q1)
         if band is None:

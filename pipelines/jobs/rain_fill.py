@@ -12,16 +12,29 @@ Soille, *Morphological Image Analysis*, 2003, sec. 6.3.7).
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
-
-from roadscan.errors import InputError
+from typing import Any, Literal
 
 from pipelines.settings.water import check_water  # noqa: F401 (its home; re-exported)
+from roadscan.errors import InputError
 
 __all__ = ["rain_fill", "check_water", "rain_fill_scan", "write_rain_fill"]
 
 
-def rain_fill(scan, out, **options):
+def rain_fill(
+        scan: Any, out: str | os.PathLike[str],
+        *,
+        spacing: float | str | tuple[float, float] | None = None,
+        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
+        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
+        override_calibration: bool = False,
+        channel: int | str | None = None,
+        connectivity: Literal[4, 8] = 4,
+        max_depth: float | None = None,
+        water_film: float | None = None,
+        no_level: bool = False,
+) -> dict[str, Any]:
     """``roadscan rain-fill`` as one call: the scan's cavities filled with water
     (:func:`rain_fill_scan`) and the files of the module docstring written into ``out`` (all
     or none).
@@ -37,8 +50,33 @@ def rain_fill(scan, out, **options):
         An area height file, or a scan in memory [m].
     out : str or Path
         Output folder, as ``--out``.
-    **options
-        ``roadscan rain-fill``'s long flags with dashes as underscores.
+    spacing : float or str or tuple[float, float] or None, default None
+        ``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or
+        5e-5,6e-5).
+    units : Literal['m', 'mm', 'um', 'nm'] or None, default None
+        ``--units``: units of the heights in files that carry no units, and of the x (and y)
+        columns of text files without unit titles (default m).
+    x_units : Literal['m', 'mm', 'um', 'nm'] or None, default None
+        ``--x-units``: units of the x (and y) columns of an x,z or x,y,z text file without unit
+        titles, when they differ from --units (e.g. x in m, heights in mm).
+    override_calibration : bool, default False
+        ``--override-calibration``: let --spacing/--units replace the spacing/units a file
+        carries (X3P, vendor, .npz with dx/dy..; refused otherwise); recorded as
+        calibration_override in summary.json.
+    channel : int or str or None, default None
+        ``--channel``: page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or
+        channel of an instrument file with several (index from 0 or name); recorded in
+        summary.json.
+    connectivity : Literal[4, 8], default 4
+        ``--connectivity``: connectivity of the fill (default 4, as Matlab's imfill).
+    max_depth : float or None, default None
+        ``--max-depth``: water at most this deep above each depression's lowest point [m].
+    water_film : float or None, default None
+        ``--water-film``: water available per area [m^3/m^2 = m]; fills to the smallest depth
+        cap holding it.
+    no_level : bool, default False
+        ``--no-level``: fill the heights as read (default: remove the least-squares plane
+        first).
 
     Returns
     -------
@@ -56,14 +94,13 @@ def rain_fill(scan, out, **options):
     roadscan.errors.InputError
         A value the flag refuses, or a scan the job cannot use (one line).
     """
+    from pipelines.checks.validate import collecting
+    from pipelines.settings.keywords import options_of
+    from pipelines.settings.scan_input import scan_of, source_path
+    from pipelines.settings.water import check_water_options
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
-    from pipelines.settings.analyse import options_from_kwargs
-    from pipelines.settings.scan_input import scan_of, source_path
-    from pipelines.checks.validate import collecting
-    from pipelines.settings.water import add_rain_fill_options, check_water_options
-
-    args = options_from_kwargs(options, "rain_fill", add_rain_fill_options)
+    args = options_of(rain_fill, locals())
     path = source_path(scan)
     inputs = [path] if path is not None else []
     with collecting():
@@ -137,11 +174,10 @@ def write_rain_fill(out, scan, r, source, levelled=True):
     dict
         The content of ``rainfill.json``.
     """
+    from pipelines.checks.validate import warnings_list
+    from pipelines.settings.scan_input import read_record
     from roadscan.io import write
     from roadscan.io.atomic import atomic_save_npy, atomic_write_text
-
-    from pipelines.settings.scan_input import read_record
-    from pipelines.checks.validate import warnings_list
 
     out = Path(out)
     atomic_save_npy(out / "wet.npy", r.wet.heights_m)

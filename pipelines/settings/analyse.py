@@ -1,9 +1,8 @@
 """The options of ``roadscan analyse`` (and ``roadscan batch``, which takes the very same), in
 one place: the flags (:func:`add_analysis_options`), their checked values
 (:func:`analysis_kwargs`, :func:`pipelines.settings.friction.settings_from_args`) and the
-keyword arguments of :func:`pipelines.analyse` (:func:`options_from_kwargs`: each keyword is a
-long flag with dashes as underscores, parsed by the same parser, so its meaning is the flag's
-by construction).
+keyword-only parameters of :func:`pipelines.analyse`, one per long flag with underscores, read
+into the same settings (:func:`pipelines.settings.keywords.options_of`).
 """
 from __future__ import annotations
 
@@ -12,7 +11,7 @@ import os
 
 from roadscan.errors import InputError
 
-__all__ = ["add_analysis_options", "analysis_kwargs", "options_from_kwargs", "parse_fit_band",
+__all__ = ["add_analysis_options", "analysis_kwargs", "parse_fit_band",
            "add_resolution_option", "check_resolution", "add_spectrum_options", "spectrum_kwargs",
            "add_compare_options", "unique_stems"]
 
@@ -132,8 +131,8 @@ def parse_fit_band(text):
 
     Parameters
     ----------
-    text : str or None
-        ``"QLO,QHI"``.
+    text : str, pair of float or None
+        ``"QLO,QHI"`` or ``(qlo, qhi)`` [1/m].
 
     Returns
     -------
@@ -142,7 +141,8 @@ def parse_fit_band(text):
     if text is None:
         return None
     try:
-        lo, hi = (float(x) for x in text.split(","))
+        parts = text.split(",") if isinstance(text, str) else list(text)
+        lo, hi = (float(x) for x in parts)
     except ValueError:
         raise InputError(None, f"--fit-band {text!r}: expected QLO,QHI in 1/m") from None
     if not 0 < lo < hi:
@@ -234,60 +234,3 @@ def unique_stems(paths):
         seen[stem] = n + 1
         out.append(stem if n == 0 else f"{stem}_{n + 1}")
     return out
-
-
-def _text(value):
-    """A number as the command line would give it (numpy scalars too: ``np.float64(0.3)`` ->
-    ``0.3``, exactly: repr of a float round-trips)."""
-    import numbers
-
-    if isinstance(value, numbers.Integral) and not isinstance(value, bool):
-        return str(int(value))
-    if isinstance(value, numbers.Real):
-        return repr(float(value))
-    return str(value)
-
-
-def options_from_kwargs(options, caller="analyse", add_options=None):
-    """``pipelines.analyse``'s keyword arguments -> the parsed flags (an argparse Namespace).
-
-    Each keyword is a long flag of ``roadscan analyse`` with dashes as underscores and takes
-    what the flag takes: a string (``sigma0="0.25MPa"``, ``spacing="2e-5"``), a number
-    (``nu=0.45``), a path, a pair (``fit_band=(1e3, 1e4)``), True/False for a switch; None is
-    the flag's default. TypeError naming an unknown keyword; InputError (one line) for a value
-    the flag refuses.
-
-    Parameters
-    ----------
-    options : dict
-        Keyword arguments.
-    caller : str, optional
-        Name used in messages.
-
-    Returns
-    -------
-    argparse.Namespace
-    """
-    p = _parser(add_options)
-    argv = []
-    for key, value in options.items():
-        flag = "--" + key.replace("_", "-")
-        action = p._option_string_actions.get(flag)
-        if action is None or key != action.dest:
-            raise TypeError(f"{caller}() got an unexpected keyword argument {key!r}")
-        if value is None:
-            continue
-        if action.nargs == 0:             # a switch (store_true)
-            if value:
-                argv.append(flag)
-            continue
-        if isinstance(value, os.PathLike):
-            value = os.fspath(value)
-        elif isinstance(value, str):
-            pass
-        elif hasattr(value, "__iter__"):      # a pair, a list or an array of numbers
-            value = ",".join(_text(v) for v in value)
-        else:
-            value = _text(value)
-        argv.append(f"{flag}={value}")
-    return p.parse_args(argv)

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 import re
-import sys
 from dataclasses import dataclass
 
 from roadscan.errors import InputError
@@ -130,8 +129,8 @@ def parse_velocities(text):
 
     Parameters
     ----------
-    text : str
-        ``LO:HI:N`` or a list.
+    text : str or array_like
+        ``LO:HI:N``, a list ``V1,V2,...``, or the speeds themselves [m/s].
 
     Returns
     -------
@@ -140,6 +139,14 @@ def parse_velocities(text):
     """
     import numpy as np
 
+    if not isinstance(text, str):         # speeds given as numbers (the Python API)
+        try:
+            v = np.unique(np.asarray(text, dtype=float).ravel())
+        except (TypeError, ValueError):
+            raise InputError(None, f"--velocities {text!r}: expected speeds in m/s") from None
+        if v.size == 0 or not np.all(np.isfinite(v) & (v > 0)):
+            raise InputError(None, "--velocities: speeds must be positive numbers [m/s]")
+        return v
     if "," in text or ":" not in text:
         try:
             v = np.array([float(t) for t in text.split(",") if t.strip()])
@@ -263,7 +270,9 @@ def apply_band(psd, q0, q1, log=None):
 
 
 def _say(msg):
-    print(msg, file=sys.stderr)
+    from pipelines.checks.run_warnings import note
+
+    note(msg)
 
 
 def add_friction_options(p, master_curve=False, sliding=True, optional=True, q1_help=SCAN_Q1_HELP):
@@ -334,7 +343,7 @@ def settings_from_args(args):
     # a command that records whether --sigma0 was given (diagnose) defaults it to None
     sigma0 = FrictionSettings().sigma0_Pa if args.sigma0 is None else parse_pressure(args.sigma0)
     velocities = getattr(args, "velocities", None)
-    v = parse_velocities(velocities) if velocities else None
+    v = parse_velocities(velocities) if velocities is not None and not (isinstance(velocities, str) and not velocities) else None
     from pipelines.checks.validate import check_temperature, finite_number
 
     if args.temperature is not None:

@@ -5,6 +5,8 @@ shift table). :mod:`pipelines.settings.friction` re-exports every name here.
 """
 from __future__ import annotations
 
+import os
+
 from roadscan.errors import InputError
 
 __all__ = ["add_master_curve_options", "rubber_from_args", "coverage_note", "with_extrapolation",
@@ -64,10 +66,22 @@ def rubber_from_args(args):
     if shift or t_ref is not None:
         raise InputError(None, "--shift-table and --reference-temperature go with --master-curve "
                                "(with --rubber put them in the TOML)")
+    if args.rubber is not None and not isinstance(args.rubber, (str, os.PathLike)):
+        return _rubber_object(args.rubber)   # a rubber model of friction, given from Python
     if args.rubber:
         from pipelines.settings.rubber_file import load_rubber
         return load_rubber(args.rubber)
     return None
+
+
+def _rubber_object(rubber):
+    """A rubber model given as an object (``friction.thesis_rubber()``, a master curve...):
+    used as it is when it has the modulus the engine evaluates, ``E(omega, T)``; else a
+    one-line InputError naming ``--rubber``."""
+    if not callable(getattr(rubber, "modulus", None)) and not callable(getattr(rubber, "E", None)):
+        raise InputError(None, f"--rubber: {type(rubber).__name__} is neither a rubber file nor a "
+                               "rubber model of friction (friction.thesis_rubber(), a master curve)")
+    return rubber
 
 
 def coverage_note(cov, flag_hint=True):

@@ -237,7 +237,7 @@ def orient_shift(T_C, log10_aT, path, log=None):
     path : str or Path
         File named in the note.
     log : callable, optional
-        Prints the note.
+        Says the note (:func:`pipelines.checks.run_warnings.note`).
 
     Returns
     -------
@@ -245,8 +245,9 @@ def orient_shift(T_C, log10_aT, path, log=None):
     """
     T, y = np.asarray(T_C, float), np.asarray(log10_aT, float)
     if T.size >= 2 and np.ptp(T) > 0 and np.polyfit(T, y, 1)[0] > 0:
-        import sys
-        (log or (lambda m: print(m, file=sys.stderr)))(
+        from pipelines.checks.run_warnings import note
+
+        (log or note)(
             f"note: {path}: aT rises with temperature (inverse convention); using 1/aT so that "
             "E(omega, T) = E_ref(omega aT(T)/aT(T_ref)) with aT falling as T rises")
         return T, -y

@@ -28,7 +28,7 @@ def run(args):
     from pipelines.jobs.combine.job import combine
     from pipelines.output.units import quantity
 
-    s = combine(args.inputs, args.out, **keywords_of(args, add_combine_options))
+    s = combine(args.inputs, args.out, **keywords_of(args, combine))
     lo, hi = s["merged_band_per_m"]
     print(f"{len(s['inputs'])} inputs merged: C(q) from {quantity('q_per_m', lo)} to "
           f"{quantity('q_per_m', hi)}, "

@@ -27,7 +27,7 @@ def run(args):
     from pipelines.settings.keywords import keywords_of
     from pipelines.diagnosis.job import diagnose
 
-    data = diagnose(args.out, **keywords_of(args, add_diagnose_options))
+    data = diagnose(args.out, **keywords_of(args, diagnose))
     if "measurements" in data and "joint" in data:       # several measurements
         for label, m in data["measurements"].items():
             v = m["verdict"]

@@ -31,7 +31,7 @@ def run(args):
     from pipelines.output.headline import peak_text
     from pipelines.output.units import quantity
 
-    s = friction(args.out, **keywords_of(args, add_friction_command_options))
+    s = friction(args.out, **keywords_of(args, friction))
     band = s["band"]
     print(f"{Path(args.out)}: {len(s['extrapolated_share'])} speeds, "
           f"{peak_text(s['mu_peak'], s['v_peak_m_per_s'], s['peak_at_edge'], s['peak_note'])}, "

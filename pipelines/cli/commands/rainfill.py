@@ -25,7 +25,7 @@ def run(args):
     from pipelines.jobs.rain_fill import rain_fill
     from pipelines.output.units import length
 
-    r = rain_fill(args.scan, args.out, **keywords_of(args, add_rain_fill_options))
+    r = rain_fill(args.scan, args.out, **keywords_of(args, rain_fill))
     cap = (f", at most {length(args.max_depth)} deep" if args.max_depth is not None else
            f", {length(args.water_film)} of water per area offered (the depressions hold "
            f"{length(r['capacity_m3_per_m2'])})" if args.water_film is not None else "")

@@ -1,8 +1,8 @@
 """The ``analyse`` job: one scan -> spectrum, fit, roughness figures, mu(v), plots and report.
 
-This module is also callable: ``pipelines.analyse(source, **options)`` is :func:`analyse` here
-(also :func:`pipelines.analyse`); :func:`analyse_scan` is the computation every door calls,
-:mod:`pipelines.jobs.analyse.outputs` writes its files.
+``pipelines.analyse`` (:mod:`pipelines.jobs.analyse.call`) is the Python call of ``roadscan
+analyse``; :func:`analyse_scan` is the computation every door calls, :mod:`pipelines.jobs.analyse.outputs`
+writes its files.
 
 Outputs (one directory per scan): ``summary.json``, ``psd.csv`` (``q_per_m,C_m4``; for a line
 profile the isotropic 2D estimate, with the profile's own 1D PSD in ``psd1d.csv``,
@@ -13,19 +13,6 @@ flash), ``heightmap.png`` (or ``profile.png``), ``psd.png``,
 texture figures (:mod:`pipelines.jobs.texture.outputs`): ``texture_spectrum.csv``
 (``centre_wavelength_m,band_lo_m,band_hi_m,level_dB``), ``texture_spectrum.png`` and the
 ``summary.json`` keys ``texture_level_dB``, ``etd_m``, ``ifi_speed_constant_kmh`` (``ifi_F60``).
-
-Parameters
-----------
-source : str, os.PathLike, HeightMap or Profile
-    When the module is called: a height file or a scan in memory.
-options : keyword arguments
-    ``roadscan analyse``'s long flags with dashes as underscores (``sigma0="0.25MPa"``).
-
-Returns
--------
-pipelines.AnalysisResult
-    ``summary`` (the ``summary.json`` of the command), ``warnings``, ``write(out_dir)`` and the
-    arrays in SI units.
 """
 from __future__ import annotations
 
@@ -39,7 +26,7 @@ from pipelines.output import report
 from pipelines.settings.friction import FrictionSettings  # its one home; re-exported here
 
 __all__ = ["FrictionSettings", "summarise", "run_analysis", "write_outputs", "nominal_band",
-           "analyse", "analyse_scan"]
+           "analyse_scan"]
 
 from pipelines.jobs.analyse.outputs import MU_EXTRA, MU_HEADER, PSD1D_HEADER, PSD_HEADER, draw_psd2d_figure, psd2d_picture, write_outputs
 
@@ -288,72 +275,3 @@ def _as_json(summary):
     from pipelines.output.report import _jsonable
 
     return json.loads(json.dumps(_jsonable(summary)))
-
-
-def analyse(source, **options):
-    """Analyse one scan as ``roadscan analyse`` does -> :class:`AnalysisResult`.
-
-    Parameters
-    ----------
-    source : str, os.PathLike, HeightMap or Profile
-        A height file (read as ``roadscan analyse`` reads it) or a scan in memory.
-    **options
-        ``roadscan analyse``'s long flags with dashes as underscores, taking what the flag
-        takes: ``analyse("s.npy", spacing="2e-5", rubber="r.toml", sigma0="0.25MPa", nu=0.45,
-        contact_gamma=0.6)``; switches take True (``no_friction=True``, ``flash=True``).
-        ``out=DIR`` also writes the command's files there (as ``.write(DIR)``).
-
-    Returns
-    -------
-    AnalysisResult
-        ``.summary`` equals the ``summary.json`` of ``roadscan analyse`` with the same flags;
-        ``.warnings`` are this call's only; ``.write(out_dir)`` writes the command's files.
-
-    Raises
-    ------
-    TypeError
-        An unknown keyword (named).
-    roadscan.InputError
-        A file or a value that cannot be analysed (one line naming the file or the flag).
-
-    Notes
-    -----
-    Spectrum: Persson's normalisation <h^2> = 2 pi int q C(q) dq, Tukey window; friction:
-    Persson, J. Chem. Phys. 115, 3840 (2001) with the flash temperature of Persson, J. Phys.:
-    Condens. Matter 18, 7789 (2006).
-    """
-    import os
-
-    from roadscan.heightmap import HeightMap, Profile
-
-    from pipelines.settings.analyse import analysis_kwargs, options_from_kwargs
-    from pipelines.settings.friction import settings_from_args
-    from pipelines.checks.validate import check_scan, collecting
-
-    out = options.pop("out", None)
-    args = options_from_kwargs(options)
-    path = None
-    from roadscan.blas_threads import single_threaded_blas
-
-    # one BLAS thread for the call: the chain's own texture thread is its parallelism, and
-    # OpenBLAS's pool beside it would spin on the second core (restored on return)
-    with collecting(), single_threaded_blas():
-        kw = analysis_kwargs(args)
-        settings = settings_from_args(args)
-        if isinstance(source, (HeightMap, Profile)):
-            scan = check_scan(source)
-        elif isinstance(source, (str, os.PathLike)):
-            from pipelines.settings.scan_input import load_scan
-
-            path = Path(source)
-            scan = load_scan(path, args)
-        else:
-            raise TypeError(f"analyse() source must be a path, HeightMap or Profile, not "
-                            f"{type(source).__name__}")
-        result = analyse_scan(scan, settings, **kw)   # a ValueError here is a bug, not bad input
-    from dataclasses import replace
-
-    result = replace(result, figures=not args.no_figures, source_path=path)
-    if out is not None:
-        result.write(out)
-    return result

@@ -9,7 +9,7 @@ from pathlib import Path
 __all__ = ["AnalysisResult"]
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, repr=False)
 class AnalysisResult:
     """One analysed scan (SI units).
 
@@ -89,6 +89,25 @@ class AnalysisResult:
     @property
     def area_fraction(self):
         return None if self.friction is None else self.friction.P[:, -1]
+
+    def __repr__(self) -> str:
+        """The key figures in one line (the whole summary is in ``.summary``)."""
+        s = self.summary
+        parts = [f"name={self.name!r}"]
+        for key, label in (("hurst", "H"), ("rms_height_m", "rms_height_m")):
+            if isinstance(s.get(key), (int, float)):
+                parts.append(f"{label}={s[key]:.3g}")
+        if self.reliable_band_per_m is not None:
+            lo, hi = self.reliable_band_per_m
+            parts.append(f"band_per_m=({lo:.3g}, {hi:.3g})")
+        mu = self.mu
+        if mu is not None and len(mu):
+            k = int(max(range(len(mu)), key=lambda i: mu[i]))
+            parts.append(f"mu_max={float(mu[k]):.3g} at v={float(self.v_m_per_s[k]):.3g} m/s")
+        else:
+            parts.append("mu=None")
+        parts.append(f"warnings={len(self.warnings)}")
+        return f"AnalysisResult({', '.join(parts)})"
 
     def write(self, out_dir, figures=None):
         """Write exactly the files ``roadscan analyse --out out_dir`` writes, all or none

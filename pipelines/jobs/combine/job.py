@@ -26,7 +26,9 @@ of several instruments within their reliable ranges).
 """
 from __future__ import annotations
 
+import os
 from pathlib import Path
+from typing import Any, Literal
 
 import numpy as np
 
@@ -106,10 +108,9 @@ def combine_sources(sources):
     fit : dict or None
     warnings : list of str
     """
+    from pipelines.output.units import sig3, wavelength_of_q
     from roadscan.spectrum_merge import SpectrumPart, merge_spectra
     from roadscan.spectrum_types import Spectrum
-
-    from pipelines.output.units import sig3, wavelength_of_q
 
     notes = []
     for s in sources:
@@ -175,7 +176,17 @@ def _summary(sources, merged, fit, warnings):
     }
 
 
-def combine(inputs, out, **options):
+def combine(
+        inputs: Any, out: str | os.PathLike[str],
+        *,
+        resolution: float | None = None,
+        no_figures: bool = False,
+        spacing: float | str | tuple[float, float] | None = None,
+        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
+        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
+        override_calibration: bool = False,
+        channel: int | str | None = None,
+) -> dict[str, Any]:
     """``roadscan combine`` as one call: several measurements of one surface merged into one
     C(q) over all their scales (see the module docstring; Sanner et al. 2022), written into
     ``out`` (``psd.csv``, ``combine.json``, ``combine.png`` unless ``no_figures=True``,
@@ -192,8 +203,28 @@ def combine(inputs, out, **options):
         Height files, or a manifest CSV (header ``file[,spacing_m,units,resolution_m,label]``).
     out : str or Path
         Output folder, as ``--out``.
-    **options
-        ``roadscan combine``'s long flags with dashes as underscores.
+    resolution : float or None, default None
+        ``--resolution``: lateral resolution [m] (wavelength passed at 50 % amplitude) of inputs
+        given on the command line whose file does not carry one.
+    no_figures : bool, default False
+        ``--no-figures``: skip combine.png.
+    spacing : float or str or tuple[float, float] or None, default None
+        ``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or
+        5e-5,6e-5).
+    units : Literal['m', 'mm', 'um', 'nm'] or None, default None
+        ``--units``: units of the heights in files that carry no units, and of the x (and y)
+        columns of text files without unit titles (default m).
+    x_units : Literal['m', 'mm', 'um', 'nm'] or None, default None
+        ``--x-units``: units of the x (and y) columns of an x,z or x,y,z text file without unit
+        titles, when they differ from --units (e.g. x in m, heights in mm).
+    override_calibration : bool, default False
+        ``--override-calibration``: let --spacing/--units replace the spacing/units a file
+        carries (X3P, vendor, .npz with dx/dy..; refused otherwise); recorded as
+        calibration_override in summary.json.
+    channel : int or str or None, default None
+        ``--channel``: page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or
+        channel of an instrument file with several (index from 0 or name); recorded in
+        summary.json.
 
     Returns
     -------
@@ -212,11 +243,10 @@ def combine(inputs, out, **options):
     """
     import os
 
-    from pipelines.settings.analyse import options_from_kwargs
-    from pipelines.jobs.combine.inputs import add_combine_options
     from pipelines.checks.validate import collecting
+    from pipelines.settings.keywords import options_of
 
-    args = options_from_kwargs(options, "combine", add_combine_options)
+    args = options_of(combine, locals())
     if isinstance(inputs, (str, os.PathLike)):
         inputs = [inputs]
     args.inputs = [os.fspath(p) for p in inputs]
@@ -242,14 +272,12 @@ def run_combine(args):
     dict
         The ``combine.json`` content.
     """
-    from roadscan.io.atomic import atomic_output_dir, check_output_dir
-
-    from pipelines.output import report
     from pipelines.checks import validate
     from pipelines.jobs.combine.inputs import collect_inputs
     from pipelines.jobs.combine.report import draw_combine, write_combine_report
-
+    from pipelines.output import report
     from pipelines.settings.analyse import check_resolution
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
     check_resolution(args.resolution)      # the bound every command shares
     entries = collect_inputs(args.inputs, args.spacing, args.units, args.resolution)
