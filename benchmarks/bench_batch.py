@@ -71,10 +71,10 @@ def time_batch(paths, out, workers, dx, figures=False):
 
 
 def time_analyse_inprocess(paths, out, dx):
-    from pipelines.cli.app import main
-
     import contextlib
     import io
+
+    from pipelines.cli.app import main
 
     with contextlib.redirect_stdout(io.StringIO()):
         main(["analyse", str(paths[0]), "--spacing", str(dx), "--out", str(out / "warm")])  # imports

@@ -20,9 +20,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from pipelines.diagnosis.cases import draw_cases  # noqa: E402
-from pipelines.diagnosis.model import simulate  # noqa: E402
-from pipelines.diagnosis.verdict.search import diagnose_friction  # noqa: E402
+from pipelines.diagnosis.cases import draw_cases
+from pipelines.diagnosis.model import simulate
+from pipelines.diagnosis.verdict.search import diagnose_friction
 
 
 def main(n_effect=48, n_null=20, seed0=1000):
@@ -54,7 +54,7 @@ def main(n_effect=48, n_null=20, seed0=1000):
             shrinks.append(d.verdict["shrink"])
         else:
             shrinks.append(0.0)
-        print(f"seed {c.seed:5d} {c.effect:20s} -> {str(got):40s} shrink {d.verdict['shrink'] if d.verdict['shrink'] is None else round(d.verdict['shrink'], 3)}"
+        print(f"seed {c.seed:5d} {c.effect:20s} -> {got!s:40s} shrink {d.verdict['shrink'] if d.verdict['shrink'] is None else round(d.verdict['shrink'], 3)}"
               f"  ({d.seconds:.1f} s)")
     n_eff = len(cases) - nulls
     print("\nper effect:", {k: f"{sum(v)}/{len(v)}" for k, v in per_effect.items()})
@@ -64,9 +64,10 @@ def main(n_effect=48, n_null=20, seed0=1000):
     print(f"diagnosis time      : median {np.median(times):.1f} s, max {np.max(times):.1f} s (goal < 60 s); "
           f"ratio to one baseline engine call: {np.median(times) / np.median(engine):.0f}x")
 
-    from roadscan.synth import self_affine_surface
-    from pipelines.diagnosis.surface.level import run_surface
     import tempfile
+
+    from pipelines.diagnosis.surface.level import run_surface
+    from roadscan.synth import self_affine_surface
 
     hm = self_affine_surface(1000, 1000, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, q_roll_per_m=500.0, seed=7)
     with tempfile.TemporaryDirectory() as tmp:

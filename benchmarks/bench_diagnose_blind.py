@@ -95,15 +95,46 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 # the parts (each < 450 lines); their names are re-exported here for tests/test_diagnose_blind.py
-from bench_diagnose_blind_cases import (EFFECTS, K_ALT, K_SIGNAL, LN10, ROOT, SIGMA0_PA, Case,  # noqa: E402,F401
-                                        Surface, _psd_surface, _rms, _scan_surface, adhesion_shape,
-                                        alternative_fits, draw_params, draw_speeds, lognormal_prony,
-                                        make_case, true_mu, write_mu_csv)
-from bench_diagnose_blind_run import (_fmt_params, _label, named, report, run_diagnose, run_friction_level,  # noqa: E402,F401
-                                      score, summary_tables, verdict_names)
-from bench_diagnose_blind_offsets import offset_report, run_offset_level  # noqa: E402
-from bench_diagnose_blind_surface import (SURFACE_KINDS, make_surface_heights, run_surface_case,  # noqa: E402,F401
-                                          run_surface_level, surface_report)
+from bench_diagnose_blind_cases import (
+    EFFECTS,
+    K_ALT,
+    K_SIGNAL,
+    LN10,
+    ROOT,
+    SIGMA0_PA,
+    Case,
+    Surface,
+    _psd_surface,
+    _rms,
+    _scan_surface,
+    adhesion_shape,
+    alternative_fits,
+    draw_params,
+    draw_speeds,
+    lognormal_prony,
+    make_case,
+    true_mu,
+    write_mu_csv,
+)
+from bench_diagnose_blind_offsets import offset_report, run_offset_level
+from bench_diagnose_blind_run import (
+    _fmt_params,
+    _label,
+    named,
+    report,
+    run_diagnose,
+    run_friction_level,
+    score,
+    summary_tables,
+    verdict_names,
+)
+from bench_diagnose_blind_surface import (
+    SURFACE_KINDS,
+    make_surface_heights,
+    run_surface_case,
+    run_surface_level,
+    surface_report,
+)
 
 
 def main(argv=None):

@@ -26,11 +26,20 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
+from bench_diagnose_blind_cases import (
+    K_SIGNAL,
+    SIGMA0_PA,
+    Case,
+    _psd_surface,
+    _rms,
+    draw_params,
+    draw_speeds,
+    true_mu,
+    write_mu_csv,
+)
+from bench_diagnose_blind_run import _label, named, run_diagnose, verdict_names
 
 import friction as F
-from bench_diagnose_blind_cases import (K_SIGNAL, SIGMA0_PA, Case, _psd_surface, _rms, draw_params, draw_speeds,
-                                        true_mu, write_mu_csv)
-from bench_diagnose_blind_run import _label, named, run_diagnose, verdict_names
 
 OFFSET_EFFECTS = ("flash_temperature", "relaxation_spectrum", "temperature_offset", "adhesion",
                   "contact_correction")

@@ -14,8 +14,8 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
-
 from bench_diagnose_blind_cases import EFFECTS, K_ALT, K_SIGNAL, ROOT, make_case
+
 
 # ----------------------------------------------------------------------------- running
 def run_diagnose(case, extra=(), validate=True, out_name="out"):
@@ -170,9 +170,9 @@ def report(rows, t_gen=0.0):
                       (f"+ no own alt. fit within {K_ALT:g} x noise",
                        [r for r in eff if r["strong"] and r["unambiguous"]])):
         s, n = acc(sel, "strict")
-        l, _ = acc(sel, "lenient")
+        lenient, _ = acc(sel, "lenient")
         print(f"  {name:40s} n={n:3d}  strict {100 * s:5.1f} %   lenient (pair contains) "
-              f"{100 * l:5.1f} %")
+              f"{100 * lenient:5.1f} %")
     counted = [r for r in eff if r["strong"] and r["unambiguous"]]
     sh = [r["shrink"] for r in counted if r["shrink"] is not None and r["strict"]]
     sh_all = [r["shrink"] for r in counted if r["shrink"] is not None]

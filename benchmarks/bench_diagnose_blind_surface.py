@@ -13,10 +13,9 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
-from scipy import optimize
-
 from bench_diagnose_blind_cases import ROOT
 from bench_diagnose_blind_run import _label, verdict_names
+from scipy import optimize
 
 SURFACE_KINDS = ("anisotropy", "height_skew", "seams", "rolloff", "noise_floor", None)
 
@@ -25,6 +24,7 @@ def make_surface_heights(kind, seed, n=256):
     """(heights [m], spacing [m], truth dict) of one surface-level case (see module docstring)."""
     from scipy import stats
     from scipy.ndimage import gaussian_filter, zoom
+
     from roadscan.synth import self_affine_surface
 
     rng = np.random.default_rng(seed)
@@ -90,8 +90,8 @@ def make_surface_heights(kind, seed, n=256):
 
 def _surface_variant(kind, rng, n, dx, H, rms, truth):
     """The other recipe of a surface effect (see the module docstring)."""
-    from scipy import optimize
     from scipy.ndimage import rotate, zoom
+
     from roadscan.synth import self_affine_surface
 
     truth = dict(H=truth["H"], dx_m=truth["dx_m"], variant=True)

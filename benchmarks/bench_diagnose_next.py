@@ -28,11 +28,11 @@ from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
-
-import friction as F
 from bench_diagnose_blind_cases import true_mu, write_mu_csv
 from bench_diagnose_blind_offsets import make_offset_case, offset_specs
 from bench_diagnose_blind_run import run_diagnose
+
+import friction as F
 
 ODDS = 10.0
 MAX_REPEATS = 5

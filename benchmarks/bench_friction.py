@@ -29,9 +29,9 @@ from scipy.special import erf
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import friction.flash as _flash  # noqa: E402
-from friction import SelfAffinePSD, StandardLinearSolid, mu_flash, mu_isothermal, thesis_rubber  # noqa: E402
-from friction.grids import phi_rule  # noqa: E402
+import friction.flash as _flash
+from friction import SelfAffinePSD, StandardLinearSolid, mu_flash, mu_isothermal, thesis_rubber
+from friction.grids import phi_rule
 
 
 def loop_isothermal(psd, rubber, v, q, sigma0=0.2e6, nu=0.5):
@@ -70,8 +70,11 @@ def _gl(n):
     return 0.5 * (x + 1), 0.5 * w                       # nodes and weights on (0, 1)
 
 
+SQRT_PI = float(np.sqrt(np.pi))
+
+
 def flash_reference(psd, rubber, v, sigma0=0.4e6, nu=0.5, zeta_m=3.0,
-                    abc=(0.0, 2 * np.sqrt(np.pi), 0.5), per_decade=32, beta=0.3, rtol=1e-9,
+                    abc=(0.0, 2 * SQRT_PI, 0.5), per_decade=32, beta=0.3, rtol=1e-9,
                     engine_rtol=1e-5, max_iter=4000):
     """The flash model of DESIGN.md sec 5 written from the equations, solved by a plain damped
     fixed point ``T <- T + beta (Phi(T) - T)`` until ``max|Phi(T) - T| <= rtol max(1 K, rise)``.
@@ -121,7 +124,6 @@ def flash_reference(psd, rubber, v, sigma0=0.4e6, nu=0.5, zeta_m=3.0,
     ref_shift = rubber.shift.log10_aT(T0)
     im = np.searchsorted(q, q_m)
     tm = (np.log(q_m) - np.log(q[im - 1])) / (np.log(q[im]) - np.log(q[im - 1]))
-    ends = np.arange(4, q.size + 1, 4) - 1          # last Gauss point of each interval
 
     def contact(T):
         a = 10.0 ** (rubber.shift.log10_aT(T) - ref_shift)               # (nv, nf)
@@ -217,11 +219,11 @@ def bench_flash(quick=False):
     ratios = []
     for name, lo, hi, s0, goal in cases:
         v = np.logspace(lo, hi, 50)
-        t_new, res = best_of(lambda: mu_flash(fpsd, rub, v, sigma0_Pa=s0), n=3)
+        t_new, res = best_of(lambda v=v, s0=s0: mu_flash(fpsd, rub, v, sigma0_Pa=s0), n=3)
         saved = _flash._solve_flash
         _flash._solve_flash = previous_solver
         try:
-            t_old, old = best_of(lambda: mu_flash(fpsd, rub, v, sigma0_Pa=s0), n=1)
+            t_old, old = best_of(lambda v=v, s0=s0: mu_flash(fpsd, rub, v, sigma0_Pa=s0), n=1)
         finally:
             _flash._solve_flash = saved
         ref = flash_reference(fpsd, rub, v, sigma0=s0)

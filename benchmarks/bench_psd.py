@@ -42,9 +42,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from roadscan import spectrum as sp  # noqa: E402
-from roadscan.level import level  # noqa: E402
-from roadscan.synth import self_affine_surface  # noqa: E402
+from roadscan import spectrum as sp
+from roadscan.level import level
+from roadscan.synth import self_affine_surface
 
 A_M = 55.4e-6
 GOAL = 1.2
@@ -134,7 +134,7 @@ def main(argv=None):
         floor = make_floor(hm)
         rep = REPEATS.get(n, 3)
         (tf, mf), (tp, mp), (tl, ml) = best_times(
-            [floor, lambda: sp.psd_area(hm), lambda: level(raw)], rep)
+            [floor, lambda hm=hm: sp.psd_area(hm), lambda raw=raw: level(raw)], rep)
         ratio = tp / tf
         rows.append((n, ratio, tl / tf))
         print(f"{n:>6} {rep:>3} {tf * 1e3:8.1f} ({mf * 1e3:5.1f}) {tp * 1e3:8.1f} ({mp * 1e3:5.1f}) "

@@ -126,8 +126,8 @@ def main(argv=None):
         h = scan(n, n).heights_m
         reps = 1 if n >= 4096 else a.repeats
         for conn in (4, 8):
-            t_ref, ref = best_of(lambda: imfill_reference(h, conn), reps)
-            t_fl, f = best_of(lambda: full_fill(h, conn, method="flood"), reps)
+            t_ref, ref = best_of(lambda h=h, conn=conn: imfill_reference(h, conn), reps)
+            t_fl, f = best_of(lambda h=h, conn=conn: full_fill(h, conn, method="flood"), reps)
             same = bool(np.array_equal(f, ref))
             print(f"{n:>5}^2    {conn:>4} {t_ref:12.3f} {t_fl:10.3f} {t_fl / t_ref:7.3f}  {same}",
                   flush=True)

@@ -57,8 +57,8 @@ def machine():
         pass
     ram = ""
     try:
-        kb = int(next(l.split()[1] for l in Path("/proc/meminfo").read_text().splitlines()
-                      if l.startswith("MemTotal")))
+        kb = int(next(row.split()[1] for row in Path("/proc/meminfo").read_text().splitlines()
+                      if row.startswith("MemTotal")))
         ram = f", {kb / 2 ** 20:.0f} GiB RAM"
     except (OSError, StopIteration, ValueError):
         pass

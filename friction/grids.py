@@ -15,6 +15,7 @@ wave vector and temperature. The table is a cubic spline of (ln x, ln m) and (ln
 from __future__ import annotations
 
 import weakref
+from itertools import pairwise
 
 import numpy as np
 
@@ -112,7 +113,7 @@ def q_grid(breakpoints_per_m, nodes_per_decade, grade=8):
     else:
         bp = np.unique(bp)
     parts = []
-    for a, b in zip(bp[:-1], bp[1:]):
+    for a, b in pairwise(bp):
         n = max(2, int(np.ceil(np.log10(b / a) * nodes_per_decade)))
         parts.append(np.linspace(np.log(a), np.log(b), n + 1)[:-1])
     s = np.concatenate(parts + [[np.log(bp[-1])]])

@@ -35,7 +35,7 @@ def _ring_tables():
         on = [k for k in range(8) if code >> k & 1]
         root = {k: k for k in on}
 
-        def find(k):
+        def find(k, root=root):
             while root[k] != k:
                 k = root[k]
             return k

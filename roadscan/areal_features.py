@@ -42,8 +42,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .areal_critical import (_NGROUPS, _REPS, _RING, _STEP, _critical_points, _lower_code,
-                             _patterns)
+from .areal_critical import _NGROUPS, _REPS, _RING, _STEP, _critical_points, _lower_code, _patterns
 
 __all__ = ["feature_parameters", "prominences", "PRUNE_FRACTION"]
 
@@ -318,7 +317,7 @@ def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, 
     label = order.view(np.int32).ravel()          # scratch now
     prom = _extremum_prominences(code.ravel(), nx, maxima, psad, label, zmax, zps, T)
     peaks, hp = _significant(z, maxima, prom, T, 1.0, shift)
-    pits, hv = _pits(z, low, minima, vsad, zmin, zvs, label, T, shift, None if count_pits else 5)
+    _, hv = _pits(z, low, minima, vsad, zmin, zvs, label, T, shift, None if count_pits else 5)
     area = ny * dy_m * nx * dx_m
     top = np.sort(hp)[::-1][:5]
     deep = np.sort(hv)[::-1][:5]

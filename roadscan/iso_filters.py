@@ -116,7 +116,7 @@ def gaussian_lowpass(heights_m, spacings_m, cutoff_m, unmeasured=None):
     num = _smooth(np.where(bad, 0.0, z), spacings_m, cutoff_m)
     if not bad.any():
         dens = None
-        for ax, (n, d) in enumerate(zip(z.shape, spacings_m)):
+        for n, d in zip(z.shape, spacings_m):
             one = _smooth(np.ones(n), (d,), cutoff_m)
             dens = one if dens is None else dens[:, None] * one[None, :]
     else:

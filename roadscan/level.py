@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .bands import row_chunks  # noqa: F401  (re-exported: its home is roadscan.bands)
+from .bands import row_chunks
 from .heightmap import HeightMap, Profile
 
 __all__ = ["level", "remove_spikes", "polynomial_form", "fit_polynomial", "PolynomialForm"]
@@ -116,7 +116,7 @@ def fit_polynomial(heights_m, unmeasured, degree=1):
         R += np.einsum("rj,ri->ji", Vd[sl], rs)              # R[j, i] = sum m h v^j u^i
     terms = [(i, j) for i in range(degree + 1) for j in range(degree + 1)
              if i + j <= degree and (not one_d or j == 0)]
-    G = np.array([[S[j + l, i + k] for (k, l) in terms] for (i, j) in terms])
+    G = np.array([[S[j + m, i + k] for (k, m) in terms] for (i, j) in terms])
     rhs = np.array([R[j, i] for (i, j) in terms])
     c = np.linalg.lstsq(G, rhs, rcond=None)[0]
     C = np.zeros((degree + 1, degree + 1))           # C[j, i]

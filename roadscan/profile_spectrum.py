@@ -22,7 +22,8 @@ import math
 import numpy as np
 
 from .fft_backends import fft_backend
-from .heightmap import HeightMap, Profile, require_filled as _require_filled
+from .heightmap import HeightMap, Profile
+from .heightmap import require_filled as _require_filled
 from .rings import _ring_edges, _ring_index
 from .spectrum_types import NORMALISATION_1D, NORMALISATION_2D, Spectrum
 from .windows import tukey_cached as _tukey
@@ -94,7 +95,7 @@ def psd_profile(profiles, window_alpha=0.25, hurst=None, rings_per_decade=20, de
     Spectrum
         kind ``"profile"``; ``meta['conversion']`` names the conversion and the H used.
     """
-    from .fit import detect_band, _loglog_fit  # fit does not import spectrum
+    from .fit import _loglog_fit, detect_band  # fit does not import spectrum
 
     h, dx = _profiles_array(profiles)
     h = np.array(h, dtype=np.float64)

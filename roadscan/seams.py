@@ -26,6 +26,7 @@ Reference: ISO 25178-2:2012 (``S_q``); P. J. Huber, Robust Statistics (1981) (MA
 from __future__ import annotations
 
 import warnings
+from itertools import pairwise
 
 import numpy as np
 
@@ -88,7 +89,7 @@ def _band_profiles(z, axis, n_other):
     edges = np.linspace(0, n_other, bands + 1).astype(int)
     take = (lambda a, b: z[a:b]) if axis == 0 else (lambda a, b: z[:, a:b])
     return edges, np.array([_nanmedian(take(a, b), axis)
-                            for a, b in zip(edges[:-1], edges[1:])])
+                            for a, b in pairwise(edges)])
 
 
 def _nanmedian(x, axis):

@@ -32,10 +32,14 @@ from .bands import row_chunks
 from .fft_backends import _WORKERS, NUMPY_FFT_MAX_POINTS, _NumpyFFT, fft_backend  # noqa: F401
 from .heightmap import require_filled as _require_filled
 from .profile_spectrum import profile_to_area_factor, psd_profile
-from .rings import (_default_range, _grid_of, _ring_edges, _ring_index,  # noqa: F401
-                    _ring_runs, _ring_sums)
-from .spectrum_types import (NORMALISATION_1D, NORMALISATION_2D, HalfLattice,  # noqa: F401
-                             Spectrum, Spectrum2D, _full_from_half)
+from .rings import _default_range, _grid_of, _ring_edges, _ring_index, _ring_runs, _ring_sums
+from .spectrum_types import (
+    NORMALISATION_1D,
+    NORMALISATION_2D,
+    HalfLattice,
+    Spectrum,
+    Spectrum2D,
+)
 from .windows import tukey_cached as _tukey
 
 __all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",

@@ -132,7 +132,7 @@ class Spectrum2D:
         The half-lattice storage.
     """
 
-    __slots__ = ("qx_per_m", "qy_per_m", "meta", "half", "_C")
+    __slots__ = ("_C", "half", "meta", "qx_per_m", "qy_per_m")
 
     def __init__(self, qx_per_m, qy_per_m, C_m4=None, meta=None, *, half=None):
         if C_m4 is None and half is None:

@@ -45,8 +45,7 @@ from scipy import ndimage
 from .errors import InputError
 from .heightmap import HeightMap
 from .tile_layout import MANIFEST_HEADER, grid_positions, read_manifest  # noqa: F401 (re-exported)
-from .tile_registration import (check_connected, highpass, overlap_rect, plane_removed,
-                                register_pair)
+from .tile_registration import check_connected, highpass, overlap_rect, plane_removed, register_pair
 
 __all__ = ["StitchResult", "stitch", "read_manifest", "grid_positions"]
 
@@ -218,13 +217,13 @@ def stitch(tiles, nominal_xy_m, max_shift_px=20, blend="feather", min_overlap_px
         d = placed[i][0][si][both] - placed[j][0][sj][both]
         M = X.T @ X
         v = X.T @ d
-        I, J = slice(3 * i, 3 * i + 3), slice(3 * j, 3 * j + 3)
-        A[I, I] += M
-        A[J, J] += M
-        A[I, J] -= M
-        A[J, I] -= M
-        b[I] += v
-        b[J] -= v
+        Ii, Jj = slice(3 * i, 3 * i + 3), slice(3 * j, 3 * j + 3)
+        A[Ii, Ii] += M
+        A[Jj, Jj] += M
+        A[Ii, Jj] -= M
+        A[Jj, Ii] -= M
+        b[Ii] += v
+        b[Jj] -= v
         ov.append((i, j, sl, si, sj, both, T - Tnom, good))
     u = np.zeros(3 * n)
     if n > 1:
@@ -254,7 +253,7 @@ def stitch(tiles, nominal_xy_m, max_shift_px=20, blend="feather", min_overlap_px
         mosaic = np.where(wsum > 0, acc / wsum, np.nan)
 
     overlaps = []
-    for i, j, sl, si, sj, both, shift, good in ov:
+    for i, j, _, si, sj, both, shift, good in ov:
         diff = corrected[i][si][both] - corrected[j][sj][both]
         overlaps.append({"i": i, "j": j, "n_points": int(both.sum()),
                          "rms_mismatch_m": float(np.sqrt(np.mean(diff ** 2))),

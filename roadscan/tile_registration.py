@@ -20,7 +20,7 @@ from skimage.registration import phase_cross_correlation
 
 from .errors import InputError
 from .level import polynomial_form
-from .windows import tukey   # scipy.signal's, without importing scipy.signal
+from .windows import tukey  # scipy.signal's, without importing scipy.signal
 
 __all__ = ["register_pair", "overlap_rect", "check_connected", "plane_removed", "highpass"]
 

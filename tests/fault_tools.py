@@ -13,7 +13,6 @@ import sys
 from pathlib import Path
 
 import numpy as np
-
 from conftest import ROOT, fourier_surface
 
 DX = 1e-4

@@ -79,7 +79,7 @@ def flagset(draw, specs, odd_counts=(0, 1, 1, 1, 2)):
     """Values for a command's flags: each present with a typical value or absent, then 0-2 of
     them (most often one) made odd, so that most cases reach past the first check."""
     vals = {}
-    for k, (typ, odd, absent) in specs.items():
+    for k, (typ, _, absent) in specs.items():
         vals[k] = draw(st.sampled_from(typ)) if absent == 0 or draw(st.integers(0, absent)) == 0 else None
     n = min(draw(st.sampled_from(list(odd_counts))), len(specs))
     for k in draw(st.lists(st.sampled_from(sorted(specs)), min_size=n, max_size=n, unique=True)):
@@ -227,7 +227,7 @@ def mutate(draw, data, mutations=MUTATIONS):
 
 # ------------------------------------------------------------------------------ height formats
 def _npy_header(descr, fortran, shape):
-    hdr = "{'descr': %r, 'fortran_order': %r, 'shape': %r, }" % (descr, fortran, shape)
+    hdr = f"{{'descr': {descr!r}, 'fortran_order': {fortran!r}, 'shape': {shape!r}, }}"
     hdr += " " * ((64 - (10 + len(hdr) + 1) % 64) % 64) + "\n"
     return b"\x93NUMPY\x01\x00" + struct.pack("<H", len(hdr)) + hdr.encode("latin1")
 

@@ -297,7 +297,7 @@ def judge(rc, out, err, before, after, root, nonfinite_json=(), batch=False):
         # the CLI's last resort for arithmetic errors: one line, but the input was not checked
         problems.append("unanticipated error (the CLI's last-resort handler, not a check naming the input)")
     changed = sorted(k for k, v in after.items() if before.get(k) != v)
-    from pipelines.campaign.folder import SIDECAR   # batch's resume record: hidden by design
+    from pipelines.campaign.folder import SIDECAR  # batch's resume record: hidden by design
 
     hidden = [k for k in changed if any(part.startswith(".") and part != SIDECAR
                                         for part in Path(k.rstrip("/")).parts)]

@@ -11,12 +11,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, fourier_surface
+
 from pipelines.cli.app import main
 from roadscan.errors import InputError
-from roadscan.io.atomic import (OLD_TAG, TMP_TAG, atomic_output_dir, atomic_write_text,
-                                recover_output_dir)
+from roadscan.io.atomic import OLD_TAG, TMP_TAG, atomic_output_dir, atomic_write_text, recover_output_dir
 
 
 def _hidden(folder):

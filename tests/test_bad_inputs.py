@@ -4,8 +4,8 @@ import zipfile
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
+
 from pipelines.cli import app as cli
 from pipelines.cli.app import main
 from roadscan.io import _common

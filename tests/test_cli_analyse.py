@@ -6,8 +6,8 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
+
 from pipelines.cli.app import main
 
 
@@ -85,7 +85,7 @@ def test_analyse_units_give_same_spectrum(scan_npy, tmp_path):
 
 
 def test_analyse_several_files(scan_npy, tmp_path):
-    path, h = scan_npy
+    path, _ = scan_npy
     other = tmp_path / "other.npy"
     np.save(other, fourier_surface(128, 5e-5, 0.5, 1e-4, seed=9))
     out = tmp_path / "many"

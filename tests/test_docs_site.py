@@ -38,10 +38,10 @@ def test_gallery_examples_draw_figures_and_parse():
 
 
 def test_ci_builds_the_site_after_the_tests():
-    lines = [l for l in (ROOT / ".ci" / "run").read_text().splitlines()
-             if l.strip() and not l.startswith("#")]
-    test_line = next(i for i, l in enumerate(lines) if "pytest" in l)
-    build_line = next(i for i, l in enumerate(lines) if "sphinx-build -W" in l)
+    lines = [row for row in (ROOT / ".ci" / "run").read_text().splitlines()
+             if row.strip() and not row.startswith("#")]
+    test_line = next(i for i, row in enumerate(lines) if "pytest" in row)
+    build_line = next(i for i, row in enumerate(lines) if "sphinx-build -W" in row)
     assert build_line > test_line and ".[docs]" in lines[build_line]
 
 

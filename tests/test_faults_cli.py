@@ -6,7 +6,6 @@ import re
 import subprocess
 
 import pytest
-
 from fault_tools import DX, cli_env, roadscan_cmd, small_scan
 
 

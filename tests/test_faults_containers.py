@@ -11,7 +11,6 @@ import zipfile
 
 import numpy as np
 import pytest
-
 from fault_tools import assert_one_line_error, run_cli, snapshot
 
 

@@ -11,9 +11,16 @@ import tempfile
 
 import numpy as np
 import pytest
-
-from fault_tools import (DX, assert_one_line_error, digest, disk_full_for, hidden_leftovers, run_cli, small_scan,
-                         snapshot)
+from fault_tools import (
+    DX,
+    assert_one_line_error,
+    digest,
+    disk_full_for,
+    hidden_leftovers,
+    run_cli,
+    small_scan,
+    snapshot,
+)
 
 FAST = ["--spacing", DX, "--no-figures", "--no-friction"]
 

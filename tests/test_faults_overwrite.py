@@ -10,7 +10,6 @@ import shutil
 
 import numpy as np
 import pytest
-
 from conftest import ROOT
 from fault_tools import DX, assert_one_line_error, hidden_leftovers, run_cli, small_scan, snapshot
 

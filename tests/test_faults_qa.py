@@ -4,7 +4,6 @@ the file and the problem, no traceback, inputs unchanged, nothing hidden left.""
 from __future__ import annotations
 
 import numpy as np
-
 from conftest import fourier_surface
 from fault_tools import assert_one_line_error, digest, disk_full_for, hidden_leftovers, run_cli
 

@@ -7,7 +7,6 @@ import subprocess
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
 from fault_tools import DX, cli_env, digest, hidden_leftovers, roadscan_cmd
 

@@ -11,7 +11,6 @@ import time
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
 from fault_tools import DX, cli_env, digest, hidden_leftovers, roadscan_cmd, snapshot
 
@@ -108,9 +107,10 @@ def test_ignored_sighup_stays_ignored(work):
 def test_interrupt_in_process_is_one_line_and_130(tmp_path, capsys, monkeypatch):
     """A KeyboardInterrupt (or Terminated) raised anywhere inside a command: 130 (143), one
     line, the temporary folder removed."""
-    from pipelines.jobs.analyse import job as analyse_mod
-    from pipelines.cli.signals import Terminated
     from fault_tools import run_cli, small_scan
+
+    from pipelines.cli.signals import Terminated
+    from pipelines.jobs.analyse import job as analyse_mod
 
     scan = small_scan(tmp_path / "s.npy")
     for exc, code in ((KeyboardInterrupt(), 130), (Terminated(signal.SIGTERM), 143), (Terminated(signal.SIGHUP), 129)):

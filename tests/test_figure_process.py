@@ -6,8 +6,8 @@ import subprocess
 import sys
 
 import pytest
-
 from conftest import ROOT
+
 from pipelines.output.figure_process import FigureProcess, InProcess, figure_drawer
 
 SAMPLE = ROOT / "sample_scans" / "asphalt.x3p"

@@ -3,8 +3,8 @@ features real scans have: a roll-off, a spectral cut-off below Nyquist, a white 
 import numpy as np
 import pytest
 
-from roadscan.heightmap import HeightMap
 from pipelines.chain.surface import analyse_surface
+from roadscan.heightmap import HeightMap
 
 N, DX = 1024, 5e-5
 

@@ -20,17 +20,27 @@ import contextlib
 import io
 import shutil
 import warnings
-from pathlib import Path
-
-import numpy as np
-import pytest
-from hypothesis import given
-from hypothesis import strategies as st
 
 import fuzz_files as ff
+import numpy as np
+import pytest
 from conftest import fourier_surface
-from fuzz_harness import (FAILURES, STATS, counts_line, fuzz_settings, memory_cap, reader_limit, record,
-                          run_cli, run_subprocess, time_limit, workdir, write_report)
+from fuzz_harness import (
+    FAILURES,
+    STATS,
+    counts_line,
+    fuzz_settings,
+    memory_cap,
+    reader_limit,
+    record,
+    run_cli,
+    run_subprocess,
+    time_limit,
+    workdir,
+    write_report,
+)
+from hypothesis import given
+from hypothesis import strategies as st
 
 SAMPLES = ff.SAMPLES
 

@@ -4,8 +4,8 @@ import signal
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
+
 from pipelines.cli.app import main
 from roadscan.errors import InputError
 
@@ -135,6 +135,7 @@ def test_friction_failure_after_first_file_leaves_nothing(monkeypatch, capsys, t
     """Fuzz finding: friction wrote mu.csv and mu_summary.json, then failed drawing the plot and
     left them behind (exit 1 with a partial set)."""
     from conftest import ROOT
+
     from pipelines.output import report
 
     def broken(*a, **k):
@@ -245,10 +246,9 @@ def test_diagnosis_never_prefers_unusable_parameters():
     v = np.geomspace(1e-4, 1e1, 8)
     mu = 0.3 + 0.5 * np.exp(-np.log10(v / 1e-2) ** 2)
     curve = MeasuredCurve(v, mu, np.full(v.size, -76.0), np.full(v.size, 2e5), np.zeros(v.size, bool), False, "t")
+    import friction
     from pipelines.diagnosis.inputs import build_context
     from pipelines.diagnosis.verdict.search import diagnose_friction
-
-    import friction
 
     ctx = build_context(curve, friction.SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5))
     eff = [e for e in all_effects("friction") if e.name == "temperature_offset"]

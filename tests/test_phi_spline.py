@@ -27,7 +27,7 @@ def test_same_spline_as_scipy(n):
 def test_cubics_are_reproduced_exactly():
     # not-a-knot reproduces any cubic; a wholly independent check of the end conditions
     x = np.linspace(-2.0, 3.0, 11) ** 3 / 5                     # non-uniform nodes
-    f = lambda t: 0.3 * t**3 - t**2 + 2 * t - 1                 # noqa: E731
+    f = lambda t: 0.3 * t**3 - t**2 + 2 * t - 1  # noqa: E731
     s = _NotAKnotSpline(x, f(x))
     t = np.linspace(x[0], x[-1], 999)
     np.testing.assert_allclose(s(t), f(t), atol=1e-10)

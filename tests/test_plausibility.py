@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from conftest import ROOT
+
 from pipelines.cli.app import main
 from roadscan.errors import InputError
 from roadscan.heightmap import HeightMap, Profile
@@ -139,11 +139,11 @@ def test_boundaries_are_where_documented():
     n /= n.std()
     L = 64 * 1e-4
     check_plausible(HeightMap(n * 0.45 * L, 1e-4, 1e-4), "a")
-    with pytest.raises(InputError, match="units?"):
+    with pytest.raises(InputError, match=r"units?"):
         check_plausible(HeightMap(n * 0.6 * L, 1e-4, 1e-4), "a")
     # the 20 um pixel floor of 10 nm
     check_plausible(HeightMap(n * 12e-9, 20e-6, 20e-6), "b")
-    with pytest.raises(InputError, match="units?"):
+    with pytest.raises(InputError, match=r"units?"):
         check_plausible(HeightMap(n * 8e-9, 20e-6, 20e-6), "b")
 
 

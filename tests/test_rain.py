@@ -4,15 +4,14 @@ import heapq
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from conftest import unit_fourier_surface
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from skimage.morphology import reconstruction
 
 from roadscan.heightmap import HeightMap
 from roadscan.rain import footprint, full_fill, rain_fill
-from conftest import unit_fourier_surface
-
-
 
 
 def priority_flood(h, connectivity):
@@ -33,11 +32,11 @@ def priority_flood(h, connectivity):
     while pq:
         z, i, j = heapq.heappop(pq)
         for a, b in nbrs:
-            k, l = i + a, j + b
-            if 0 <= k < ny and 0 <= l < nx and not done[k, l]:
-                done[k, l] = True
-                out[k, l] = max(h[k, l], z)
-                heapq.heappush(pq, (out[k, l], k, l))
+            k, m = i + a, j + b
+            if 0 <= k < ny and 0 <= m < nx and not done[k, m]:
+                done[k, m] = True
+                out[k, m] = max(h[k, m], z)
+                heapq.heappush(pq, (out[k, m], k, m))
     return out
 
 

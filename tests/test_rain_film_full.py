@@ -2,8 +2,8 @@
 and the result says so (``all_full``): the cap lowest + d equalled the spill level only to an
 ulp, and an exact comparison said "not full" (report-review finding, issue 21)."""
 import numpy as np
-
 from conftest import unit_fourier_surface
+
 from roadscan.heightmap import HeightMap
 from roadscan.rain import rain_fill
 

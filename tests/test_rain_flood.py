@@ -5,14 +5,15 @@ from collections import deque
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from conftest import unit_fourier_surface
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 from skimage.morphology import reconstruction
 
 import roadscan.rain as rain
 from roadscan.heightmap import HeightMap
 from roadscan.rain import footprint, full_fill, rain_fill
-from conftest import unit_fourier_surface
 
 pytest.importorskip("numba")
 
@@ -43,10 +44,10 @@ def drains_everywhere(f, connectivity):
     while dq:       # climb from the border: a cell drains when a drained neighbour is <= it
         i, j = dq.popleft()
         for a, b in nb:
-            k, l = i + a, j + b
-            if 0 <= k < ny and 0 <= l < nx and not seen[k, l] and f[k, l] >= f[i, j]:
-                seen[k, l] = True
-                dq.append((k, l))
+            k, m = i + a, j + b
+            if 0 <= k < ny and 0 <= m < nx and not seen[k, m] and f[k, m] >= f[i, j]:
+                seen[k, m] = True
+                dq.append((k, m))
     return bool(seen.all())
 
 

@@ -6,8 +6,8 @@ import sys
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
+
 from pipelines.cli.app import main
 from pipelines.jobs.render3d import NEEDS_PYVISTA
 

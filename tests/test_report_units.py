@@ -11,8 +11,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
+
 from pipelines.cli.app import main
 
 DX = 5e-5            # area scans: 50 µm

@@ -5,8 +5,13 @@ import numpy as np
 import pytest
 
 from roadscan import HeightMap, Profile
-from roadscan.roughness import (area_parameters, mean_profile_depth, mean_profile_depth_area,
-                                profile_parameters, segment_depths)
+from roadscan.roughness import (
+    area_parameters,
+    mean_profile_depth,
+    mean_profile_depth_area,
+    profile_parameters,
+    segment_depths,
+)
 from roadscan.synth import self_affine_surface
 
 CAPTIF = sorted(glob.glob("/work/shared/data/profiles/captif/*.dat"))
@@ -80,7 +85,7 @@ def test_mpd_of_a_cosine_profile_is_its_amplitude():
 
 
 def test_mpd_spikes_and_dropouts():
-    x, h = _cosine_profile()
+    _, h = _cosine_profile()
     ref, _ = mean_profile_depth(Profile(h, 5e-5))
     spiky = h.copy()
     spiky[[1234, 5678]] += 0.02                    # 20 mm laser spikes
@@ -107,7 +112,7 @@ def test_mpd_refuses_short_or_coarse_input():
 
 
 def test_mpd_area_averages_rows():
-    x, h = _cosine_profile(L=0.25)
+    _, h = _cosine_profile(L=0.25)
     rows = np.stack([h * (1 + 0.5 * i) for i in range(4)])
     mpd, note = mean_profile_depth_area(HeightMap(rows, 5e-5, 1e-3))
     each = [mean_profile_depth(Profile(r, 5e-5))[0] for r in rows]

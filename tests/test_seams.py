@@ -7,8 +7,8 @@ import json
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, fourier_surface
+
 from pipelines.cli.app import main
 from roadscan.heightmap import HeightMap, Profile
 from roadscan.io import read

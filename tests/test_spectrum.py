@@ -1,13 +1,13 @@
 """2D and 1D PSD: normalisation (Parseval), invariances, units, DESIGN.md sec 7 numbers, 1D->2D."""
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from roadscan import HeightMap, Profile, Spectrum2D
 from roadscan.fit import fit_self_affine
 from roadscan.level import level
-from roadscan.spectrum import (angular_average, anisotropy, psd_2d, psd_area, psd_profile,
-                               window_2d)
+from roadscan.spectrum import angular_average, anisotropy, psd_2d, psd_area, psd_profile, window_2d
 from roadscan.synth import model_psd, self_affine_surface
 
 A_M = 50e-6
@@ -121,7 +121,7 @@ def test_profile_psd_parseval_and_units():
     q, C1, spec = psd_profile(p, window_alpha=0.0, hurst=0.5)
     assert 2 * np.sum(C1) * (q[1] - q[0]) == pytest.approx(np.mean(h**2), rel=1e-10)
     assert spec.kind == "profile" and "Abel" in spec.meta["conversion"]
-    q2, C1mm, _ = psd_profile(Profile(h * 1e3, 0.1), window_alpha=0.0, hurst=0.5)
+    _, C1mm, _ = psd_profile(Profile(h * 1e3, 0.1), window_alpha=0.0, hurst=0.5)
     assert np.allclose(C1mm * 1e-9, C1, rtol=1e-10)                    # mm^3 -> m^3
 
 

@@ -97,7 +97,7 @@ def mosaic_3x3(surface):
 
 
 def test_positions_recovered_exactly(mosaic_3x3):
-    tiles, nominal, true, res = mosaic_3x3
+    _, nominal, true, res = mosaic_3x3
     nominal_px = np.array(nominal)[:, ::-1] / DX
     assert np.max(np.abs(nominal_px - true - (nominal_px[0] - true[0]))) > 5  # really wrong
     refined_px = res.positions_m[:, ::-1] / DX
@@ -113,7 +113,7 @@ def test_positions_recovered_exactly(mosaic_3x3):
 
 
 def test_mosaic_matches_original_within_1_percent(mosaic_3x3, surface):
-    tiles, nominal, true, res = mosaic_3x3
+    tiles, _, true, res = mosaic_3x3
     hm = res.heightmap
     ref = truth_window(res, surface, true)
     err = plane_residual(hm.heights_m - ref)        # absolute offset and tilt are a gauge
@@ -187,7 +187,7 @@ def test_disconnected_tile_is_refused(surface):
     a = HeightMap(surface[:100, :100], DX, DX, name="left.npy")
     b = HeightMap(surface[:100, 80:180], DX, DX, name="middle.npy")
     c = HeightMap(surface[300:400, 300:400], DX, DX, name="far_away.npy")
-    with pytest.raises(InputError, match="tile far_away.npy does not overlap any other tile"):
+    with pytest.raises(InputError, match=r"tile far_away\.npy does not overlap any other tile"):
         stitch([a, b, c], [(0, 0), (80 * DX, 0), (300 * DX, 300 * DX)])
     d = HeightMap(surface[300:400, 380:480], DX, DX, name="far_pair.npy")
     with pytest.raises(InputError, match="do not overlap"):
@@ -223,7 +223,7 @@ def test_read_manifest(tmp_path):
         read_manifest(bad)
     missing = tmp_path / "missing.csv"
     missing.write_text("file,x_m,y_m\ntiles/b.npy,0,0\n")
-    with pytest.raises(InputError, match="line 2: tile file 'tiles/b.npy' not found"):
+    with pytest.raises(InputError, match=r"line 2: tile file 'tiles/b\.npy' not found"):
         read_manifest(missing)
     nonnum = tmp_path / "nonnum.csv"
     nonnum.write_text("file,x_m,y_m\ntiles/a.npy,zero,0\n")
@@ -276,7 +276,7 @@ def test_cli_sample_manifest_reproduces_truth(tmp_path, capsys):
 
 
 def test_cli_grid_and_x3p(tmp_path, surface):
-    from roadscan.io import read, write
+    from roadscan.io import read
     tiles, _, true = make_tiles(surface, rows=1, cols=2, n=100, step=75, jitter=0.0, noise=0.0, seed=3)
     # the grid's nominal overlap is 25 %; the real one differs by the random cut offsets (< 7 px)
     files = []

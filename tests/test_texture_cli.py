@@ -6,10 +6,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import _shared_dir
 
 from pipelines.cli.app import main
 from roadscan.texture_spectrum import NOMINAL_MM
-from conftest import _shared_dir
 
 CAPTIF = (_shared_dir() or Path("/nonexistent")) / "data" / "profiles" / "captif"
 needs_captif = pytest.mark.skipif(not CAPTIF.is_dir(), reason="CAPTIF profiles not available")

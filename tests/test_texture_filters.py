@@ -5,11 +5,11 @@ import json
 
 import numpy as np
 import pytest
+from conftest import fourier_surface
 
 from pipelines.cli.app import main
 from roadscan.heightmap import HeightMap, Profile
 from roadscan.iso_filters import ALPHA, apply_filters, gaussian_lowpass, gaussian_transmission
-from conftest import fourier_surface
 
 
 def _amplitude(z):
@@ -113,7 +113,7 @@ def scan(tmp_path_factory):
 
 
 def test_analyse_records_filters_and_form(scan, tmp_path):
-    path, dx, z = scan
+    path, dx, _ = scan
     rc, text = _run(["analyse", str(path), "--spacing", str(dx), "--no-friction", "--no-figures",
                      "--out", str(tmp_path / "plain")])
     assert rc == 0, text

@@ -3,11 +3,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import _shared_dir
 
 from roadscan.heightmap import HeightMap, Profile
-from roadscan.texture_spectrum import (MIN_BINS, MIN_SAMPLES_PER_WAVELENGTH, NOMINAL_MM,
-                                       texture_spectrum, third_octave_bands)
-from conftest import _shared_dir
+from roadscan.texture_spectrum import (
+    MIN_BINS,
+    MIN_SAMPLES_PER_WAVELENGTH,
+    NOMINAL_MM,
+    texture_spectrum,
+    third_octave_bands,
+)
 
 CAPTIF = (_shared_dir() or Path("/nonexistent")) / "data" / "profiles" / "captif"
 
@@ -60,7 +65,7 @@ def test_resolved_band_limits():
     L = n * dx
     assert np.all(ts.lo_m >= MIN_SAMPLES_PER_WAVELENGTH * dx * (1 - 1e-9))
     assert np.all((1 / ts.lo_m - 1 / ts.hi_m) * L >= MIN_BINS * (1 - 1e-9))
-    nom, c, lo, hi = third_octave_bands()
+    _, c, lo, hi = third_octave_bands()
     assert ts.lo_m[0] / dx < MIN_SAMPLES_PER_WAVELENGTH * 10 ** 0.1   # the next finer is not
     nxt = np.searchsorted(c, ts.centre_m[-1] * 1.01)
     assert (1 / lo[nxt] - 1 / hi[nxt]) * L < MIN_BINS

@@ -5,9 +5,8 @@ from __future__ import annotations
 
 import math
 
-from roadscan.errors import InputError
-
 from pipelines.checks.run_warnings import warn
+from roadscan.errors import InputError
 
 __all__ = ["finite_number", "check_spacing", "check_spacing_option", "check_rms_height",
            "check_pressure", "check_poisson", "wlf_pole_C", "check_temperature"]

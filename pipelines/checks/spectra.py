@@ -6,10 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from roadscan.errors import InputError
-
+from pipelines.checks.numbers import MAX_PSD_SLOPE, MU_MAX, MU_WARN, Q_MAX_PER_M, Q_MIN_PER_M, finite_number
 from pipelines.checks.run_warnings import warn
-from pipelines.checks.numbers import MU_MAX, MU_WARN, MAX_PSD_SLOPE, Q_MAX_PER_M, Q_MIN_PER_M, finite_number
+from roadscan.errors import InputError
 
 __all__ = ["check_psd_rows", "check_psd_shape", "check_wave_vector", "check_q1", "check_fit", "check_mu"]
 

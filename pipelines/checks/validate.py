@@ -46,11 +46,37 @@ from __future__ import annotations
 
 import numpy as np
 
+from pipelines.checks.numbers import (
+    MAX_ABS_HEIGHT_M,
+    MIN_MEASURED,
+    MIN_MEASURED_FRACTION,
+    MIN_SIDE,
+    SPIKE_FACTOR,
+    check_poisson,
+    check_pressure,
+    check_rms_height,
+    check_spacing,
+    check_spacing_option,
+    check_temperature,
+    finite_number,
+)
+from pipelines.checks.run_warnings import (
+    Warnings,
+    collecting,
+    current_warnings,
+    reset_warnings,
+    warn,
+    warnings_list,
+)
+from pipelines.checks.spectra import (
+    check_fit,
+    check_mu,
+    check_psd_rows,
+    check_psd_shape,
+    check_q1,
+    check_wave_vector,
+)
 from roadscan.errors import InputError
-
-from pipelines.checks.run_warnings import Warnings, collecting, current_warnings, reset_warnings, warn, warnings_list
-from pipelines.checks.numbers import KELVIN, MAX_ABS_HEIGHT_M, MAX_PSD_SLOPE, MIN_MEASURED, MIN_MEASURED_FRACTION, MIN_RMS_HEIGHT_M, MIN_SIDE, MU_MAX, MU_WARN, POISSON_RANGE, PRESSURE_RANGE_PA, Q_MAX_PER_M, Q_MIN_PER_M, SPACING_RANGE_M, SPACING_USUAL_M, SPIKE_FACTOR, T_MAX_C, WLF_POLE_MARGIN_K, check_poisson, check_pressure, check_rms_height, check_spacing, check_spacing_option, check_temperature, finite_number, wlf_pole_C
-from pipelines.checks.spectra import check_fit, check_mu, check_psd_rows, check_psd_shape, check_q1, check_wave_vector
 
 __all__ = [
     "warn", "warnings_list", "reset_warnings", "Warnings", "collecting", "current_warnings",

@@ -81,14 +81,14 @@ def subparsers(parser):
     -------
     dict
     """
-    for action in parser._actions:                     # noqa: SLF001 - argparse has no public API
+    for action in parser._actions:  # argparse has no public API
         if isinstance(action, argparse._SubParsersAction):
             return action.choices
     return {}
 
 
 def _options(parser):
-    return [o for o in parser._option_string_actions if o.startswith("--")]   # noqa: SLF001
+    return [o for o in parser._option_string_actions if o.startswith("--")]
 
 
 def _close(word, choices):
@@ -135,7 +135,7 @@ def hint(parser, message, argv):
         word = message.split("invalid choice:", 1)[1].strip().split(" ", 1)[0].strip("'\"")
         names = list(subparsers(parser))
         flag = message.split("argument ", 1)[-1].split(":", 1)[0].split("/")[0].strip()
-        for action in parser._actions:                 # noqa: SLF001 - an option's own choices
+        for action in parser._actions:  # an option's own choices
             if action.choices and flag in action.option_strings:
                 names = [str(c) for c in action.choices]
         best = _close(word, names) if names else None

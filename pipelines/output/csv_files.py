@@ -73,9 +73,8 @@ def read_psd_csv(path):
     -------
     friction.TabulatedPSD
     """
-    from pipelines.checks.validate import check_psd_rows, check_psd_shape
-
     from friction import TabulatedPSD
+    from pipelines.checks.validate import check_psd_rows, check_psd_shape
 
     head, body = read_csv_rows(path, "a header q_per_m,C_m4")
     if "q_per_m" not in head or "C_m4" not in head:

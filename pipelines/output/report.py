@@ -12,10 +12,15 @@ from pathlib import Path
 
 import numpy as np
 
-from roadscan.io.atomic import atomic_path
-
 from pipelines.output.result_files import _jsonable, write_csv, write_json  # noqa: F401 (their home)
-from pipelines.output.templates import instrument_html, list_html, paragraph_html, table_html, write_html   # the report writers
+from pipelines.output.templates import (  # the report writers
+    instrument_html,
+    list_html,
+    paragraph_html,
+    table_html,
+    write_html,
+)
+from roadscan.io.atomic import atomic_path
 
 # Figures are files, never windows: the Agg backend. matplotlib itself (0.3 to 1 s to import)
 # is loaded only when a figure is drawn (--no-figures, CSV/JSON-only runs and --help
@@ -27,7 +32,7 @@ else:
 
 __all__ = [
     "pyplot", "save_figure", "fixed_margins", "plot_heightmap", "plot_profile", "plot_psd", "plot_mu", "write_html",
-    "write_json", "write_csv", "table_html", "list_html",
+    "write_json", "write_csv", "table_html", "list_html", "paragraph_html", "instrument_html",
 ]
 
 FIGSIZE = (6.4, 4.4)

@@ -29,8 +29,8 @@ def add_arguments(p):
 
 def run(args):
     from pipelines.jobs.convert import convert_file
-    from pipelines.settings.scan_input import read_options
     from pipelines.output.units import length
+    from pipelines.settings.scan_input import read_options
 
     inp, out = Path(args.input), Path(args.output)
     scan = convert_file(inp, out, read_options(args), units=args.units, float32=args.float32)

@@ -30,9 +30,8 @@ def run(args):
         raise InputError(None, f"--hurst {args.hurst}: must be within (0, 1)")
     if args.nx < 8 or (args.ny is not None and args.ny < 8):
         raise InputError(None, "--nx/--ny: need at least 8 points")
-    from roadscan.io._common import check_declared_size
-
     from pipelines.checks.validate import check_rms_height, check_spacing
+    from roadscan.io._common import check_declared_size
 
     check_declared_size("--nx/--ny", (args.ny or args.nx, args.nx))   # before allocating
     check_spacing(args.spacing, flag="--spacing")
