@@ -166,9 +166,16 @@ def build_parser():
                         help="show the installed version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     sub.required = True
+    from pipelines.cli.examples import add_examples
+    from pipelines.cli.hints import subparsers
+
+    add_examples(parser, "roadscan")
     for mod in _load_commands():
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
+        add_examples(p, mod.NAME)                   # --help ends with example commands
+        for action, nested in subparsers(p).items():
+            add_examples(nested, f"{mod.NAME} {action}")
         _add_global_options(p, argparse.SUPPRESS)  # after the command name too
         for action in list(_nested(p)):            # and after a sub-action ('rubber master')
             _add_global_options(action, argparse.SUPPRESS)

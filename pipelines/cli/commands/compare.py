@@ -13,7 +13,9 @@ HELP = "compare surfaces: all spectra and mu(v), where and by how much they diff
 
 def add_arguments(p):
     p.add_argument("scans", nargs="+", metavar="SCAN", help="two or more height files (the first is the reference)")
-    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output directory: comparison.json, report.html and the PNG figures "
+                        "(written all or none)")
     add_compare_options(p)         # scan, spectrum and friction options (pipelines.compare's too)
 
 

@@ -10,7 +10,9 @@ HELP = "rain-fill a scan and compare PSD and friction mu(v) dry and wet (thesis 
 
 def add_arguments(p):
     p.add_argument("scan", metavar="SCAN", help="area height file")
-    p.add_argument("--out", required=True, metavar="DIR")
+    p.add_argument("--out", required=True, metavar="DIR",
+                   help="output directory: comparison.json, report.html, the wet map and the PNG "
+                        "figures (written all or none)")
     add_dry_vs_wet_options(p)      # scan, water, spectrum and friction (pipelines.dry_vs_wet's too)
 
 
