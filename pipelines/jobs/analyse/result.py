@@ -3,8 +3,14 @@ run's warnings, the arrays, and :meth:`AnalysisResult.write`.
 """
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
+    from numpy.typing import NDArray
 
 __all__ = ["AnalysisResult"]
 
@@ -31,11 +37,25 @@ class AnalysisResult:
         The ISO 13473-4 texture spectrum.
     settings : pipelines.settings.friction.FrictionSettings
         The friction options used.
-
-    The arrays: :attr:`q_per_m`, :attr:`C_m4` (the spectrum, Persson's normalisation
-    <h^2> = 2 pi int q C dq), :attr:`reliable_band_per_m`, :attr:`fit` (H, h0, C(q0), roll-off),
-    :attr:`v_m_per_s`, :attr:`mu`, :attr:`area_fraction` (A/A0 = P(q1) per speed; None when
-    friction was not computed or was refused).
+    q_per_m : ndarray of float
+        Wave vectors q of the angular-averaged spectrum [1/m] (ascending).
+    C_m4 : ndarray of float
+        The spectrum C(q) [m^4] at ``q_per_m``, in Persson's normalisation
+        <h^2> = 2 pi int q C(q) dq (a profile's 2D estimate for a line scan).
+    reliable_band_per_m : tuple of float or None
+        (lo, hi): the band of q [1/m] that the scan measures without bias; None when no band was
+        found.
+    fit : roadscan.fit.SelfAffineFit
+        The self-affine fit inside the reliable band: Hurst exponent H, rms height h0 [m],
+        C(q0) [m^4], roll-off q0 [1/m].
+    v_m_per_s : ndarray of float or None
+        Sliding speeds v [m/s] of the friction curve; None when friction was not computed
+        (``no_friction``) or was refused.
+    mu : ndarray of float or None
+        Friction coefficient mu(v) at ``v_m_per_s`` (dimensionless); None as ``v_m_per_s``.
+    area_fraction : ndarray of float or None
+        Relative contact area A/A0 = P(q1) at each speed (dimensionless, 0 to 1); None as
+        ``v_m_per_s``.
     """
 
     name: str
@@ -56,11 +76,13 @@ class AnalysisResult:
         return self.analysis.spectrum
 
     @property
-    def q_per_m(self):
+    def q_per_m(self) -> NDArray[np.float64]:
+        """Wave vectors q of the spectrum [1/m]."""
         return self.analysis.spectrum.q_per_m
 
     @property
-    def C_m4(self):
+    def C_m4(self) -> NDArray[np.float64]:
+        """The spectrum C(q) [m^4] at :attr:`q_per_m` (Persson's normalisation)."""
         return self.analysis.spectrum.C_m4
 
     @property
@@ -69,7 +91,8 @@ class AnalysisResult:
         return self.analysis.fit
 
     @property
-    def reliable_band_per_m(self):
+    def reliable_band_per_m(self) -> tuple[float, float] | None:
+        """(lo, hi) of the reliable band [1/m], or None."""
         rb = self.reliable_band
         return None if rb is None else (float(rb.lo_per_m), float(rb.hi_per_m))
 
@@ -79,15 +102,18 @@ class AnalysisResult:
         return None if self.friction_outcome is None else self.friction_outcome.result
 
     @property
-    def v_m_per_s(self):
+    def v_m_per_s(self) -> NDArray[np.float64] | None:
+        """Sliding speeds [m/s], or None without friction."""
         return None if self.friction is None else self.friction.v_m_per_s
 
     @property
-    def mu(self):
+    def mu(self) -> NDArray[np.float64] | None:
+        """mu(v) at :attr:`v_m_per_s`, or None without friction."""
         return None if self.friction is None else self.friction.mu
 
     @property
-    def area_fraction(self):
+    def area_fraction(self) -> NDArray[np.float64] | None:
+        """A/A0 = P(q1) at each speed, or None without friction."""
         return None if self.friction is None else self.friction.P[:, -1]
 
     def __repr__(self) -> str:
@@ -109,14 +135,13 @@ class AnalysisResult:
         parts.append(f"warnings={len(self.warnings)}")
         return f"AnalysisResult({', '.join(parts)})"
 
-    def write(self, out_dir, figures=None):
+    def write(self, out_dir: str | os.PathLike[str], figures: bool | None = None) -> Path:
         """Write exactly the files ``roadscan analyse --out out_dir`` writes, all or none
         (an existing folder is replaced only when it holds an earlier run's outputs).
         ``figures`` (default: unless ``no_figures`` was given) draws the PNGs."""
-        from roadscan.io.atomic import atomic_output_dir, check_output_dir
-
         from pipelines.jobs.analyse.outputs import write_outputs
         from pipelines.output.figure_process import InProcess
+        from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
         figures = self.figures if figures is None else bool(figures)
         inputs = [self.source_path] if self.source_path is not None else []
