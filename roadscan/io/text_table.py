@@ -205,6 +205,7 @@ MISSING_MARKERS = ("NA", "N/A", "n.a.", "#N/A", "#NA", "#NV", "null", "none", "n
 _MARKER = re.compile(r"(?<![^,;\s])(?:#N/?A|#NV|N/A|NA|n\.a\.|null|none|nil|missing|-{1,2}|\*+|"
                      r"[-+]?1\.#(?:QNAN|SNAN|IND)0*)(?![^,;\s])", re.IGNORECASE)
 _EMPTY_FIELD = re.compile(r"(?:(?<=[,;\t])|^)[ ]*(?=[,;\t]|$)", re.MULTILINE)
+_MAYBE_MARKER = re.compile(r"[^-\d\s.,;+eEnaNA]|-(?![\d.])|(?<![nN])[aA]|[nN][aA](?![nN])")
 _MARKER_START = re.compile(r"#N/?A\b|#NV\b", re.IGNORECASE)
 
 
@@ -232,6 +233,38 @@ def _is_data(s):
 
 def _key_value(s):
     return re.match(r"^#?\s*[A-Za-z\u00b5\u03bc][^:=]*[:=]", s) is not None
+
+
+def _dropout_fields(block):
+    """``block`` (decimal points) with every missing value written ``nan``: the markers, a
+    trailing comment removed, empty fields of ``,``/``;``/tab rows; and the markers found."""
+    markers = []
+    if _MAYBE_MARKER.search(block):
+        markers = sorted({m.upper() for m in _MARKER.findall(block)})
+        if markers:
+            block = _MARKER.sub("nan", block)
+    if "#" in block:                                     # "1 2  # note": a trailing comment
+        block = re.sub(r"[ \t]*#.*$", "", block, flags=re.MULTILINE)
+    data = block.split("\n")
+    if not re.search(r"[,;]", block) and all("\t\t" in d for d in data):
+        return re.sub(r"\t+", "\t", block), markers    # tabs aligning columns, not empty fields
+    if re.search(r"[,;\t]", block):
+        if all(d and d[-1] in ",;\t" for d in data):   # a separator closing every row
+            block = "\n".join(d[:-1].rstrip() for d in data)
+        if _EMPTY_FIELD.search(block):
+            block = _EMPTY_FIELD.sub("nan", block)
+            markers.append("(empty field)")
+    return block, markers
+
+
+def _check_header_rows(path, header, ncol0, start):
+    """Refuse a header line that is a data row with a word in it (``1 2 abc 4``)."""
+    for h in header:
+        toks = _tokens(h)
+        if (not h.startswith("#") and toks[0].lower() not in ESRI_KEYS and len(toks) == ncol0
+                and not _key_value(h) and 2 * sum(_is_numeric([t]) for t in toks) >= len(toks)):
+            word = next(t for t in toks if not _is_numeric([t]))
+            raise InputError(path, f"non-numeric value {word!r} in a data row above line {start + 1}")
 
 
 def read_table(path, text=None):
@@ -268,43 +301,36 @@ def read_table(path, text=None):
         break
     if start is None:
         raise InputError(path, "no numeric data found")
-    rows = [i for i in range(start, len(lines)) if lines[i].strip() and not _comment(lines[i].strip())]
-    data = [lines[i].strip(" \r\n\f\v") for i in rows]
-    if 2 * sum("\t" in d.strip() for d in data) < len(data):   # tabs do not separate fields:
-        data = [d.strip() for d in data]                    # leading/trailing ones are blanks
+    if "#" in text:
+        rows = [i for i in range(start, len(lines)) if lines[i].strip() and not _comment(lines[i].strip())]
+    else:
+        rows = [i for i in range(start, len(lines)) if lines[i].strip()]
+    if "\t" in text:
+        data = [lines[i].strip(" \r\n\f\v") for i in rows]
+        if 2 * sum("\t" in d.strip() for d in data) < len(data):   # tabs do not separate fields:
+            data = [d.strip() for d in data]                    # leading/trailing ones are blanks
+    else:
+        data = [lines[i].strip() for i in rows]
     block = "\n".join(data)
-    markers = sorted({m.upper() for m in _MARKER.findall(block)})
-    if markers:
-        block = _MARKER.sub("nan", block)
-    if "#" in block:                                     # "1 2  # note": a trailing comment
-        block = re.sub(r"[ \t]*#.*$", "", block, flags=re.MULTILINE)
     decimal = decimal_mark(path, block)
     if decimal == ",":
         block = block.replace(",", ".")
-    data = block.split("\n")
-    if not re.search(r"[,;]", block) and all("\t\t" in d for d in data):
-        block = re.sub(r"\t+", "\t", block)              # tabs aligning columns, not empty fields
+    first = block[:block.find("\n")] if "\n" in block else block
+    delim = ";" if ";" in first else ("," if "," in first else None)
+    markers = []
+    try:                              # fast path: numpy's C parser on a table without markers
+        fast = np.loadtxt(io.StringIO(block), delimiter=delim, comments=None, ndmin=2,
+                          dtype=np.float64)
+    except ValueError:
+        fast = None
+        block, markers = _dropout_fields(block)
         data = block.split("\n")
-    if re.search(r"[,;\t]", block):
-        if all(d[-1] in ",;\t" for d in data):          # a separator closing every row
-            data = [d[:-1].rstrip() for d in data]
-        block = "\n".join(data)
-        n_empty = len(_EMPTY_FIELD.findall(block))
-        if n_empty:
-            block = _EMPTY_FIELD.sub("nan", block)
-            data = block.split("\n")
-            markers.append("(empty field)")
-    first = data[0]
+        first = data[0]
     ncol0 = len(_tokens(first))
-    for h in header:
-        toks = _tokens(h)
-        if (not h.startswith("#") and toks[0].lower() not in ESRI_KEYS and len(toks) == ncol0
-                and not _key_value(h) and 2 * sum(_is_numeric([t]) for t in toks) >= len(toks)):
-            word = next(t for t in toks if not _is_numeric([t]))
-            raise InputError(path, f"non-numeric value {word!r} in a data row above line {start + 1}")
+    _check_header_rows(path, header, ncol0, start)
+    if fast is not None and fast.shape[1] == ncol0:
+        return Table(fast, header, start + 1, decimal, markers)
     ncol = ncol0
-    # fast path: numpy's C parser; anything it refuses goes through the checks below, which
-    # accept the same syntax or name the line that is wrong
     delim = ";" if ";" in first else ("," if "," in first else None)
     try:
         fast = np.loadtxt(io.StringIO(block), delimiter=delim, comments=None, ndmin=2,
@@ -313,6 +339,7 @@ def read_table(path, text=None):
         fast = None
     if fast is not None and fast.shape[1] == ncol:
         return Table(fast, header, start + 1, decimal, markers)
+    # anything numpy refuses goes through the checks below, which name the line that is wrong
     counts = np.fromiter((len(_tokens(s)) for s in data), dtype=np.int64, count=len(data))
     bad = np.flatnonzero(counts != ncol)
     if bad.size:
