@@ -47,11 +47,13 @@ from __future__ import annotations
 import numpy as np
 
 from pipelines.checks.numbers import (
+    KELVIN,
     MAX_ABS_HEIGHT_M,
     MIN_MEASURED,
     MIN_MEASURED_FRACTION,
     MIN_SIDE,
     SPIKE_FACTOR,
+    T_MAX_C,
     check_poisson,
     check_pressure,
     check_rms_height,
@@ -82,7 +84,7 @@ __all__ = [
     "warn", "warnings_list", "reset_warnings", "Warnings", "collecting", "current_warnings",
     "check_spacing", "check_spacing_option", "check_heights", "check_scan", "check_pressure", "check_poisson",
     "check_temperature", "check_rms_height", "check_wave_vector", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
-    "finite_number",
+    "finite_number", "KELVIN", "T_MAX_C",
 ]
 
 
