@@ -66,6 +66,7 @@ def friction_json(d, where, bandmap, validate=None):
                      implausible_why=d.verdict.get("implausible_why", []),
                      calibrated=_calibrated(d.verdict.get("calibrated") or {}),
                      extrapolated=d.verdict.get("extrapolated", []),
+                     equivalent_input=_jsonable(d.verdict.get("equivalent_input")),
                      gap_validate=None if validate is None else _r(validate["gap_after"]),
                      gap_validate_baseline=None if validate is None else _r(validate["gap_before"]),
                      reason=d.verdict["reason"], evidence=_jsonable(d.verdict.get("evidence"))),
@@ -336,6 +337,8 @@ def _verdict_html(v):
         extra += " Not physical, so not named: " + "; ".join(v.get("implausible_why") or v["implausible"]) + "."
     if v.get("extrapolated"):
         extra += " Extrapolated: " + "; ".join(v["extrapolated"]) + "."
+    if v.get("equivalent_input"):
+        extra += " Same physics as an input: " + v["equivalent_input"]["sentence"] + "."
     if v.get("calibrated"):
         extra += " Calibrated inputs (95 % interval): " + ", ".join(
             f"{k} = {x['value']:.3g} ({x['interval'][0]:.3g} – {x['interval'][1]:.3g})"

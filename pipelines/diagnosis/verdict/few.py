@@ -11,7 +11,7 @@ Verdict, once the baseline gap is significant against the noise (as :mod:`.verdi
 - an effect is named when its posterior probability is at least ``P_NAME`` (0.9) and its fit is
   physical and not equivalent to the uncertain inputs continued beyond their ranges
   (:mod:`.equivalence`; else the verdict is inconclusive naming the effect and
-  ``"calibration"``). Confidence: high at posterior >= 0.99, medium at >= 0.95, else low; low
+  ``"calibration"``, unless those inputs are the effect's own physics, :mod:`.same_physics`). Confidence: high at posterior >= 0.99, medium at >= 0.95, else low; low
   whenever a parameter sits on a bound of its range.
 - ``"calibration"`` when the baseline is the most probable explanation, no effect's Bayes factor
   against it reaches 3, and the calibration shrinks the gap over all points by ``MIN_SHRINK``
@@ -25,6 +25,7 @@ import numpy as np
 
 from pipelines.diagnosis.fit.evidence import METHOD, PRIOR_NULL, REFERENCE, model_evidence, posteriors
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, _empty, _refuse
+from pipelines.diagnosis.verdict.same_physics import same_physics
 
 __all__ = ["decide_few", "P_NAME"]
 
@@ -120,8 +121,10 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
             if eq is not None:
                 v["evidence"]["equivalence"] = dict(equivalent=eq["equivalent"], dloglik=eq["dloglik"],
                                                     inputs=eq["inputs"], calibrated=eq["calibrated"])
-            if eq is not None and eq["equivalent"]:
+            one = eq is not None and eq["equivalent"] and same_physics(c.effect_names, eq["inputs"])
+            if eq is not None and eq["equivalent"] and not one:
                 beyond = ", ".join(eq["inputs"]) or "the uncertain inputs"
+                v["_equivalent_fit"] = eq["fit"]     # the pair a next measurement tells apart
                 v["inconclusive"] = [top["name"], "calibration"]
                 v["reason"] = (f"inconclusive: {top['name']} (posterior {top['posterior']:.2f}) does what "
                                f"{beyond} continued beyond {'its range' if len(eq['inputs']) == 1 else 'their ranges'} "
@@ -137,6 +140,9 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
             v["reason"] = (f"{top['name']} has posterior probability {top['posterior']:.3f} "
                            f"(next: {expl[1]['name']} {expl[1]['posterior']:.3f}); gap over all points "
                            f"{st['g_all']:.4f} -> {c.gap_all:.4f}")
+            if one:
+                v["reason"] += (f"; {', '.join(eq['inputs']) or 'the uncertain inputs'} continued beyond the "
+                                f"range does the same: the same physics, named as the effect")
             return v, c, expl
     g_cal = 1.0 - cal.gap_all / st["g_all"] if cal is not None and st["g_all"] > 0 else float("nan")
     # no effect positively supported: every Bayes factor against the baseline below 3 (Kass &

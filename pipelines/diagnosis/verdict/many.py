@@ -82,7 +82,7 @@ def rivals(best, pool, noise, names=None, margin=0.1, tie=0.0):
 def _empty():
     return dict(effect=None, shrink=None, shrink_interval=None, gap_validate=None, reason="",
                 inconclusive=[], at_bound=[], confidence=None, implausible=[], implausible_why=[],
-                calibrated={}, extrapolated=[])
+                calibrated={}, extrapolated=[], equivalent_input=None)
 
 
 def _tried(cands):
@@ -200,7 +200,9 @@ def decide(singles, pairs, cal, calpairs, st, intervals=None):
         # calibrating q1 alone closes the gap as well
         v0, b0 = _plain(_empty(), singles, pairs, st, every)
         if b0 is not None:
-            if cal.shrink >= MIN_SHRINK and cal.gap_heldout <= b0.gap_heldout + 0.1 * noise:
+            # fine roughness is q1 continued (:mod:`.same_physics`): q1's calibration is no rival to it
+            if b0.effect_names != ["fine_roughness"] and cal.shrink >= MIN_SHRINK and \
+                    cal.gap_heldout <= b0.gap_heldout + 0.1 * noise:
                 v0["confidence"] = "low"
                 v0["reason"] += "; calibrating q1 within its default range explains it as well"
             return v0, b0

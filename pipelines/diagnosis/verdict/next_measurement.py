@@ -23,6 +23,9 @@ __all__ = ["next_measurement", "N_SPEEDS"]
 N_SPEEDS = 13
 N_TEMPS = 3
 MIN_APART_DECADES = 0.5
+#: the most repeats per proposed speed; a pair that 10 repeats cannot separate by a combined 3
+#: sigmas gets no proposal
+MAX_REPEATS = 10
 
 
 def _grid(ctx):
@@ -82,7 +85,9 @@ def next_measurement(ctx, a, b, noise):
     taken, else the most different); ``noise``: rms log10 noise. Returns dict(between,
     speeds_m_per_s, temperature_C (None without a shift table), separation_sigma (per speed),
     separation_sigma_combined, repeats (measurements per speed for a combined 3 sigma, at most
-    10), sentence, method) or None when a prediction fails.
+    10), sentence, method) or None when a prediction fails or when even ``MAX_REPEATS`` repeats
+    at the two best speeds would not separate the pair by a combined 3 sigmas (the same noise
+    scale and parameter uncertainty as the evidence, :mod:`.evidence`).
 
     Parameters
     ----------
@@ -130,12 +135,14 @@ def next_measurement(ctx, a, b, noise):
     speeds = [float(v[i]) for i in idx]
     sep = [float(z[it, i]) for i in idx]
     comb = float(np.sqrt(np.sum(np.square(sep))))
-    reps = int(min(10, max(1, np.ceil(9.0 / max(comb ** 2, 1e-12)))))
+    reps = int(min(MAX_REPEATS, max(1, np.ceil(9.0 / max(comb ** 2, 1e-12)))))
     T = float(temps[it]) if has_table else None
     where = " and ".join(f"{x:.3g}" for x in speeds) + " m/s" + (f" at {T:.3g} C" if T is not None else "")
     times = "" if reps == 1 else f" ({reps} times each)"
     sentence = (f"measure at {where}{times}: {a['name']} and {b['name']} differ there by "
                 + " and ".join(f"{x:.2g}" for x in sep) + " noise sigmas")
+    if comb * np.sqrt(MAX_REPEATS) < 3.0:
+        return None      # no speed or temperature of the grid separates them: no measurement to propose
     if max(sep) < 1.0:
         sentence = (f"no speed from {v[0]:.3g} to {v[-1]:.3g} m/s separates {a['name']} and {b['name']} by a "
                     f"noise sigma (at most {max(sep):.2g} at {where}): measure another condition or repeat "

@@ -26,6 +26,7 @@ from pipelines.diagnosis.effects import all_effects
 from pipelines.diagnosis.fit.fitting import Candidate, at_bound, fit_candidate, predict, too_many_parameters
 from pipelines.diagnosis.verdict.explain import pick_pair
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, PAIR_GAIN, decide, rivals
+from pipelines.diagnosis.verdict.same_physics import distinct, equivalent_input, same_physics
 
 __all__ = ["Candidate", "Diagnosis", "heldout_mask", "fit_candidate", "diagnose_friction", "predict",
            "at_bound", "MIN_SHRINK", "PAIR_GAIN", "rivals"]
@@ -162,8 +163,10 @@ def _physical_refit(c, ctx, real_mu, ho, r0_held):
 
 def _one_explanation(verdict, best, equiv, train):
     """A named effect that the uncertain inputs continued beyond their ranges reproduce within
-    the noise is the calibration (:mod:`.equivalence`): the verdict becomes inconclusive naming
-    both. Returns the named candidate (None when it was withdrawn)."""
+    the noise (:mod:`.equivalence`): when those inputs are the effect's own physics (:mod:`.same_physics`:
+    fine roughness and q1, load and sigma0, a temperature offset and T0) it stays named; otherwise
+    the verdict becomes inconclusive naming both. Returns the named candidate (None when it was
+    withdrawn)."""
     if best is None or equiv is None or verdict.get("effect") in (None, "calibration"):
         return best
     eq = equiv(best, rows=train)
@@ -174,13 +177,45 @@ def _one_explanation(verdict, best, equiv, train):
     if not eq["equivalent"]:
         return best
     names = best.effect_names
+    if same_physics(names, eq["inputs"]):
+        verdict["reason"] += (f"; {', '.join(eq['inputs']) or 'the uncertain inputs'} continued beyond "
+                              f"{'its range' if len(eq['inputs']) == 1 else 'the ranges'} does the same: the "
+                              f"same physics, named as the effect")
+        return best
     beyond = ", ".join(eq["inputs"]) or "the uncertain inputs"
+    verdict["_equivalent_fit"] = (best, eq["fit"])   # the pair the next measurement tells apart
     verdict.update(effect=None, confidence=None, shrink=None, shrink_interval=None, calibrated={}, at_bound=[],
                    inconclusive=["+".join(names), "calibration"],
                    reason=(f"inconclusive: {'+'.join(names)} would explain it, but {beyond} continued beyond "
                            f"the given range does the same within the noise (log-likelihood "
                            f"{eq['dloglik']:+.2f}): the same explanation"))
     return None
+
+
+def _as_explanation(ctx, real_mu, c, s):
+    """An explanation dict (name, candidate, H) of a fitted candidate for :func:`next_measurement`,
+    its Hessian from the same evidence (noise scale ``s``) the verdict compares."""
+    from pipelines.diagnosis.fit.evidence import model_evidence
+
+    return dict(name="+".join(c.effect_names) or "calibration", candidate=c,
+                H=model_evidence(ctx, real_mu, c, s)["H"])
+
+
+def _propose(ctx, a, alts, s, verdict):
+    """next_measurement between ``a`` and the first of ``alts`` that is different physics
+    (:func:`same_physics.distinct`); None, with the reason saying so, when no measurement on the
+    grid separates them (:func:`next_measurement.next_measurement`)."""
+    from pipelines.diagnosis.verdict.next_measurement import next_measurement
+
+    alts = [b for b in alts if distinct(a["name"], b["name"])]
+    if not alts:
+        return None
+    nxt = next_measurement(ctx, a, alts, s)
+    if nxt is None:
+        verdict["reason"] += (f"; no speed or temperature separates {a['name']} from "
+                              f"{' or '.join(b['name'] for b in alts[:3])} by 3 noise sigmas, even with "
+                              f"repeated points")
+    return nxt
 
 
 def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skipped, ranges, free,
@@ -190,7 +225,6 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skip
 
     from pipelines.diagnosis.fit.calibration import intervals
     from pipelines.diagnosis.fit.equivalence import equivalence
-    from pipelines.diagnosis.verdict.next_measurement import next_measurement
     from pipelines.diagnosis.verdict.search_few import few_candidates
     from pipelines.diagnosis.verdict.few import decide_few
 
@@ -205,11 +239,15 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skip
         _flash_extrapolation(ctx, best, verdict)
         if verdict.get("extrapolated") and verdict.get("confidence") == "medium":
             verdict["confidence"] = "low"
+        verdict["equivalent_input"] = equivalent_input(ctx, best)
     nxt = None
+    eq_fit = verdict.pop("_equivalent_fit", None)
     if significant and (verdict.get("inconclusive") or verdict.get("confidence") in (None, "low")):
         pick = pick_pair(ctx, expl, s) or ((expl[0], expl[1:4]) if len(expl) > 1 else None)
+        if eq_fit is not None:
+            pick = (expl[0], [_as_explanation(ctx, real_mu, eq_fit, s)])
         if pick is not None:
-            nxt = next_measurement(ctx, pick[0], pick[1], s)
+            nxt = _propose(ctx, pick[0], pick[1], s, verdict)
     verdict["next_measurement"] = nxt
     ranked = sorted(cands + ([cal] if cal else []), key=lambda c: -c.evidence["log_z"])
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
@@ -255,7 +293,6 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     from pipelines.diagnosis.fit.calibration import apply_known, calibration_effect, default_q1 as add_q1, free_ranges, intervals
     from pipelines.diagnosis.fit.equivalence import equivalence
     from pipelines.diagnosis.verdict.explain import heldout_evidence, top_two
-    from pipelines.diagnosis.verdict.next_measurement import next_measurement
     from pipelines.diagnosis.model import simulate
 
     t0 = time.perf_counter()
@@ -350,16 +387,20 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         best = second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, best, timings)
     if best is not None and verdict.get("effect") not in (None, "calibration"):
         _flash_extrapolation(ctx, best, verdict)
+        verdict["equivalent_input"] = equivalent_input(ctx, best)
     if "evidence" not in verdict:
         verdict["evidence"] = heldout_evidence(ho, g_ho, ranked, best)
     for key in ("equivalence", "bayes"):
         if key in verdict:
             verdict["evidence"][key] = verdict.pop(key)
     nxt = None
+    eq_fit = verdict.pop("_equivalent_fit", None)
     if significant and (verdict.get("inconclusive") or verdict.get("confidence") in (None, "low")):
         pair = top_two(ctx, real_mu, noise, verdict, best, expl, singles, pair_list, cal, calpairs)
+        if eq_fit is not None and eq_fit[0] is not None:
+            pair = (_as_explanation(ctx, real_mu, eq_fit[0], noise), _as_explanation(ctx, real_mu, eq_fit[1], noise))
         if pair is not None:
-            nxt = next_measurement(ctx, pair[0], pair[1], noise)
+            nxt = _propose(ctx, pair[0], [pair[1]], noise, verdict)
     verdict["next_measurement"] = nxt
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
     return Diagnosis(base, g_all, g_tr, g_ho, noise, noise_given, significant, p, ho.train, ranked,

@@ -1,0 +1,118 @@
+"""Same physics, one name: an effect that is a model input continued (roughness beyond the scan's
+last wave vector is a larger q1; a load dependence is another nominal pressure sigma0; a
+temperature offset is another background temperature T0) is named as the effect, with the input
+value it amounts to (``verdict.equivalent_input``).
+
+The equivalence test (:mod:`pipelines.diagnosis.fit.equivalence`) finds such an effect
+reproduced by the uncertain inputs continued beyond their ranges; when the inputs it moves are
+the effect's own input, the two are one explanation told twice, not two explanations the data
+cannot tell apart: the verdict keeps the effect, its confidence from the evidence, and says
+which input value it means ("fine_roughness: the rubber feels roughness to q1 = 1.07e6 1/m,
+beyond the scan's 2.3e5"). Inconclusive stays for different physics fitting equally well.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["SAME_PHYSICS", "same_physics", "equivalent_input", "distinct"]
+
+#: effect -> the uncertain input (``--uncertain`` key) that is the same physics
+SAME_PHYSICS = {"fine_roughness": "q1", "load": "sigma0", "temperature_offset": "temperature"}
+
+
+def same_physics(names, moved):
+    """Whether a candidate of effects ``names`` and the uncertain inputs ``moved`` beyond their
+    ranges by the equivalence fit are one explanation: one effect, and every moved input its own.
+
+    Parameters
+    ----------
+    names : list of str
+        The candidate's physical effects (the calibration left out).
+    moved : list of str
+        ``--uncertain`` keys the extended calibration moved beyond their ranges.
+
+    Returns
+    -------
+    bool
+    """
+    if len(names) != 1 or names[0] not in SAME_PHYSICS:
+        return False
+    return set(moved) <= {SAME_PHYSICS[names[0]]}
+
+
+def _spec(ctx, cand):
+    spec = ctx.base
+    for e, p in zip(cand.effects, cand.params):
+        spec = e.modify(spec, p, ctx)
+    return spec
+
+
+def equivalent_input(ctx, cand):
+    """The input value a same-physics effect amounts to, or None for other effects.
+
+    q1 [1/m] of the spectrum the fit integrates (the effect's factor on the possibly calibrated
+    q1), sigma0 [Pa] (nominal x every scale on it) or T0 [C] (nominal + every shift), against
+    the nominal value of the inputs as given or assumed.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context (its base spec holds the nominal inputs).
+    cand : Candidate
+        The fitted candidate naming the effect (alone or with the calibration).
+
+    Returns
+    -------
+    dict or None
+        ``effect``, ``input`` (``q1_per_m``, ``sigma0_Pa`` or ``temperature_C``), ``value``,
+        ``nominal`` and ``sentence``.
+    """
+    from pipelines.diagnosis.fit.calibration import nominal
+
+    names = cand.effect_names
+    if len(names) != 1 or names[0] not in SAME_PHYSICS:
+        return None
+    name = names[0]
+    try:
+        spec = _spec(ctx, cand)
+    except (ValueError, ArithmeticError, RuntimeError):
+        return None
+    nom = nominal(ctx)
+    if name == "fine_roughness":
+        q1, q1_0 = float(spec.psd.q1_per_m), float(ctx.base.psd.q1_per_m)
+        where = "beyond" if q1 > q1_0 else "within"
+        return dict(effect=name, input="q1_per_m", value=q1, nominal=q1_0,
+                    sentence=f"{name}: the rubber feels roughness to q1 = {q1:.3g} 1/m, {where} the "
+                             f"spectrum's last wave vector {q1_0:.3g} 1/m")
+    if name == "load":
+        s = float(nom["sigma0"] * spec.sigma0_scale)
+        return dict(effect=name, input="sigma0_Pa", value=s, nominal=float(nom["sigma0"]),
+                    sentence=f"{name}: the contact behaves as at a nominal pressure sigma0 = "
+                             f"{s / 1e6:.3g} MPa, not {nom['sigma0'] / 1e6:.3g} MPa")
+    T = float(nom["temperature"] + spec.T0_shift_C)
+    if not np.isfinite(T):
+        return None
+    return dict(effect=name, input="temperature_C", value=T, nominal=float(nom["temperature"]),
+                sentence=f"{name}: the rubber behaves as at T0 = {T:.3g} C, not {nom['temperature']:.3g} C")
+
+
+def distinct(a, b):
+    """Whether explanations named ``a`` and ``b`` (``"+"``-joined effect names, ``"calibration"``
+    or ``"nominal"``) are different physics, so that a measurement separating them says which
+    one holds: not when one is a same-physics effect and the other only the calibrated inputs
+    (a measurement would then only pin the input's value, not choose an explanation).
+
+    Parameters
+    ----------
+    a, b : str
+        The explanations' names.
+
+    Returns
+    -------
+    bool
+    """
+    plain = ("calibration", "nominal")
+    for x, y in ((a, b), (b, a)):
+        if x in SAME_PHYSICS and y in plain:
+            return False
+    return a != b
