@@ -107,7 +107,7 @@ def time_analyse_processes(paths, out, dx):
 _LONG_CHILD = r"""
 import resource, sys, time
 sys.path.insert(0, {root!r})
-from pipelines.analyse import FrictionSettings
+from pipelines.settings.friction import FrictionSettings
 from pipelines.campaign.worker import run_job
 t = time.perf_counter()
 recs = run_job({{"file": {path!r}, "label": "", "chainage_m": 0.0, "subdir": "long", "out": {out!r},

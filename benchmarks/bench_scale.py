@@ -74,7 +74,7 @@ import matplotlib.pyplot
 import friction
 import roadscan.level, roadscan.inpaint, roadscan.spectrum, roadscan.roughness, roadscan.fit
 import roadscan.io, roadscan.trim
-import pipelines.cli.app, pipelines.analyse, pipelines.output.report, pipelines.chain.surface
+import pipelines.cli.app, pipelines.jobs.analyse.job, pipelines.output.report, pipelines.chain.surface
 import pipelines.checks.validate, pipelines.settings.friction, pipelines.settings.scan_input
 """
 

@@ -7,13 +7,15 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
-from numpy.typing import ArrayLike
 
 from roadscan.errors import InputError
 
 from pipelines.checks.run_warnings import note
+
+if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
+    from numpy.typing import ArrayLike
 
 __all__ = ["batch", "summary_line"]
 

@@ -7,15 +7,17 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from pipelines.jobs.analyse.job import summarise
 from pipelines.jobs.dry_vs_wet import mu_by_speed, speed_table
 from pipelines.output import report
 from pipelines.settings.friction import FrictionSettings
+
+if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
+    from numpy.typing import ArrayLike
 
 __all__ = ["compare", "run_compare", "spectrum_difference", "friction_difference"]
 

@@ -5,9 +5,11 @@ keywords, so that the two cannot disagree. The job itself is :mod:`pipelines.job
 from __future__ import annotations
 
 import os
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
-from numpy.typing import ArrayLike
+if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
+    from numpy.typing import ArrayLike
+
 
 __all__ = ["friction", "add_friction_command_options"]
 

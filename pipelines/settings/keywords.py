@@ -15,6 +15,7 @@ the job it calls.
 from __future__ import annotations
 
 import argparse
+import functools
 import inspect
 import math
 import numbers
@@ -88,6 +89,13 @@ def _check_value(job_name: str, name: str, value: Any, hint: Any) -> Any:
     return value   # arrays, pairs, rubber objects: the builder that reads it checks it
 
 
+@functools.lru_cache(maxsize=64)
+def _hints(job: Callable[..., Any]) -> dict[str, Any]:
+    """The evaluated annotations of ``job`` (once per job). ``ArrayLike`` is imported by the
+    job modules for type checkers only (numpy stays out of ``--help``); here it is any value."""
+    return typing.get_type_hints(job, localns={"ArrayLike": Any})
+
+
 def options_of(job: Callable[..., Any], values: dict[str, Any]) -> argparse.Namespace:
     """The settings namespace of one call of ``job``: every keyword-only option with the value
     the caller gave (checked by :func:`_check_value` against its annotation) or its default.
@@ -107,7 +115,7 @@ def options_of(job: Callable[..., Any], values: dict[str, Any]) -> argparse.Name
         builders (``settings_from_args``, ``analysis_kwargs``, ``load_scan``...).
     """
     params = job_parameters(job)
-    hints = typing.get_type_hints(job)
+    hints = _hints(job)
     ns = argparse.Namespace()
     for name, p in params.items():
         value = values.get(name, p.default)

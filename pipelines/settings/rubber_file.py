@@ -176,7 +176,7 @@ def read_master_curve_csv(path, units=None):
 def _temperature_C(names, urow, d, path):
     """The temperature column [C] (C or K in the file); every value above absolute zero and at
     most 1000 C (:data:`pipelines.checks.validate.T_MAX_C`), else a one-line refusal naming the row."""
-    from pipelines.checks.validate import KELVIN, T_MAX_C
+    from pipelines.checks.numbers import KELVIN, T_MAX_C
 
     i = _col(names, _T_NAMES, path, "temperature")
     u = (urow[i] or "c").replace("°", "")

@@ -6,11 +6,13 @@ from __future__ import annotations
 import os
 from dataclasses import replace
 from pathlib import Path
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
-from numpy.typing import ArrayLike
 
 from pipelines.jobs.analyse.job import analyse_scan
+
+if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
+    from numpy.typing import ArrayLike
 
 __all__ = ["analyse"]
 
