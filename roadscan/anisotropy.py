@@ -11,15 +11,21 @@ ISO 25178-2 (texture direction Std, an analogous areal parameter).
 from __future__ import annotations
 
 from functools import lru_cache
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .bands import row_chunks
+
+if TYPE_CHECKING:
+    from .spectrum_types import Spectrum2D
+
 from .rings import _default_range, _grid_of, _half_qx, _mirror_columns, _ring_edges, _ring_index
 
 __all__ = ["anisotropy"]
 
-def anisotropy(spec2d, q_min=None, q_max=None, rings_per_decade=10, n_sectors=36):
+def anisotropy(spec2d: Spectrum2D, q_min: float | None = None, q_max: float | None = None,
+               rings_per_decade: int = 10, n_sectors: int = 36) -> dict[str, Any]:
     """Directional distribution of a 2D PSD map (for a figure and the summary).
 
     Each lattice point in [q_min, q_max] (defaults as :func:`angular_average`) is weighted by

@@ -9,9 +9,10 @@ Reference: the memory measurements in ``benchmarks/bench_scale.py``.
 """
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import NDArray
 
 __all__ = ["row_chunks", "measured_stats", "measured_mean_range", "MeasuredStats", "CHUNK_BYTES",
            "gap_neighbours"]
@@ -21,7 +22,7 @@ __all__ = ["row_chunks", "measured_stats", "measured_mean_range", "MeasuredStats
 CHUNK_BYTES = 1 << 21
 
 
-def row_chunks(ny, nx, chunk_bytes=CHUNK_BYTES):
+def row_chunks(ny: int, nx: int, chunk_bytes: int = CHUNK_BYTES) -> list[slice]:
     """Slices of consecutive rows, each about ``chunk_bytes`` of float64.
 
     A band holds ``max(1, chunk_bytes // (8 nx))`` rows of an (ny, nx) grid; the last one
@@ -56,18 +57,21 @@ class MeasuredStats(NamedTuple):
         Sum of the measured heights [m], when asked for.
     """
 
-    count: int
+    count: int  # type: ignore[assignment]  # a field named as tuple.count, which it hides
     min: float
     max: float
     sum: float | None = None
 
     @property
-    def mean(self):
+    def mean(self) -> float:
         """sum / count [m] (needs ``with_sum=True``)."""
+        if self.sum is None:
+            raise ValueError("the mean needs measured_stats(..., with_sum=True)")
         return self.sum / self.count
 
 
-def measured_stats(h, unmeasured=None, chunk_bytes=CHUNK_BYTES, with_sum=False):
+def measured_stats(h: NDArray[np.floating[Any]], unmeasured: NDArray[np.bool_] | None = None,
+                   chunk_bytes: int = CHUNK_BYTES, with_sum: bool = False) -> MeasuredStats:
     """Count, min, max (and sum) of the finite heights not marked ``unmeasured``, band by band.
 
     Parameters
@@ -105,7 +109,8 @@ def measured_stats(h, unmeasured=None, chunk_bytes=CHUNK_BYTES, with_sum=False):
     return MeasuredStats(n, lo, hi, total if with_sum else None)
 
 
-def measured_mean_range(h, unmeasured):
+def measured_mean_range(h: NDArray[np.floating[Any]],
+                        unmeasured: NDArray[np.bool_]) -> tuple[float, float, float]:
     """(mean, min, max) [m] of the measured heights of a map, read band by band (float64):
     the reference and the clip range of the biharmonic fill (:mod:`roadscan.inpaint`).
 
@@ -125,7 +130,8 @@ def measured_mean_range(h, unmeasured):
     return s.mean, s.min, s.max
 
 
-def gap_neighbours(at, size):
+def gap_neighbours(at: NDArray[np.integer[Any]],
+                   size: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """For each flattened index in ``at`` (sorted, the unmeasured points of a map of ``size``
     points), the previous and the next index not in ``at`` (the measured points around its run
     of consecutive unmeasured points): -1 before the first, ``size`` after the last. Found on

@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import functools
+from collections.abc import Iterator
 
 __all__ = ["single_threaded_blas"]
 
@@ -55,7 +56,7 @@ def _openblas_functions():
 
 
 @contextlib.contextmanager
-def single_threaded_blas():
+def single_threaded_blas() -> Iterator[None]:
     """Context manager: OpenBLAS on one thread inside the block, its count restored after.
 
     Yields

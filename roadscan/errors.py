@@ -7,6 +7,10 @@ or note names the option as the keyword (``'spacing'``), the way a Python caller
 the ``roadscan`` command renders the same message with its flag (``--spacing``) through
 :meth:`InputError.render`.
 """
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable, Sequence
 
 __all__ = ["InputError", "OptionNote", "RoadscanWarning", "render_options"]
 
@@ -28,7 +32,8 @@ def _library_name(key):
     return repr(key)
 
 
-def render_options(template, options, name_option=None):
+def render_options(template: str, options: Iterable[str],
+                   name_option: Callable[[str], str] | None = None) -> str:
     """``template`` with each ``{key}`` of ``options`` replaced by ``name_option(key)``.
 
     Parameters
@@ -87,9 +92,11 @@ class InputError(ValueError):
         The problem with its ``{key}`` placeholders.
     """
 
-    def __init__(self, path, problem, hint_option=None):
+    def __init__(self, path: str | os.PathLike[str] | None, problem: str,
+                 hint_option: str | Sequence[str] | None = None) -> None:
         if hint_option is None and isinstance(problem, OptionNote):
-            problem, hint_option = problem.template, problem.hint_option
+            hint_option = problem.hint_option
+            problem = problem.template
         self.path = str(path) if path is not None else None
         self.hint_option = _keys(hint_option)
         self.template = _first_line(problem)
@@ -97,23 +104,23 @@ class InputError(ValueError):
         super().__init__(self._join(self.problem))
 
     @property
-    def file(self):
+    def file(self) -> str | None:
         """The file at fault, or None."""
         return self.path
 
     @property
-    def what(self):
+    def what(self) -> str:
         """The problem, options named by keyword."""
         return self.problem
 
     def _join(self, text):
         return f"{self.path}: {text}" if self.path else text
 
-    def render(self, name_option=None):
+    def render(self, name_option: Callable[[str], str] | None = None) -> str:
         """The one-line message with each option named by ``name_option(key)``."""
         return self._join(render_options(self.template, self.hint_option, name_option))
 
-    def reworded(self, path=None, prefix=""):
+    def reworded(self, path: str | os.PathLike[str] | None = None, prefix: str = "") -> InputError:
         """A new error with the same options: ``prefix`` + this problem, at ``path`` (default:
         this error's file)."""
         return InputError(self.path if path is None else path, str(prefix) + self.template,
@@ -135,14 +142,17 @@ class OptionNote(str):
         The option keywords it names.
     """
 
-    def __new__(cls, template, hint_option=()):
+    template: str
+    hint_option: tuple[str, ...]
+
+    def __new__(cls, template: str, hint_option: str | Sequence[str] = ()) -> OptionNote:
         keys = _keys(hint_option)
         self = super().__new__(cls, render_options(template, keys))
         self.template = str(template)
         self.hint_option = keys
         return self
 
-    def render(self, name_option=None):
+    def render(self, name_option: Callable[[str], str] | None = None) -> str:
         """The note with each option named by ``name_option(key)``."""
         return render_options(self.template, self.hint_option, name_option)
 

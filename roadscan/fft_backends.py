@@ -61,7 +61,7 @@ class _ScipyFFT:
         return sfft.rfft2(x, workers=_WORKERS)
 
 
-def fft_backend(npoints):
+def fft_backend(npoints: int) -> type[_NumpyFFT] | type[_ScipyFFT]:
     """The FFT used for ``npoints`` samples: numpy's up to :data:`NUMPY_FFT_MAX_POINTS`,
     scipy's with every core above (``.rfft(x, axis)``, ``.rfft2(x)``, ``.fft(F, axis)``, in place
     for scipy);

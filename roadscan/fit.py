@@ -16,8 +16,10 @@ else the lowest wave vector of the spectrum (docs: Theory); q1 is the highest.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .errors import InputError
 from .order_stats import median
@@ -63,7 +65,7 @@ class SelfAffineFit:
     C_at_q0_m4: float
     n_points: int
 
-    def model_C(self, q_per_m):
+    def model_C(self, q_per_m: ArrayLike) -> NDArray[np.float64]:
         """Fitted C(q) [m^4]: C(q0) (q/q0)^(-2(H+1)) for q >= q0 (also beyond q1, for an
         extension); below q0 the plateau C(q0) if a roll-off was detected, else the power law."""
         q = np.asarray(q_per_m, dtype=np.float64)
@@ -73,7 +75,8 @@ class SelfAffineFit:
             c = np.where(q < self.q0_per_m, self.C_at_q0_m4, c)
         return c
 
-    def as_dict(self):
+    def as_dict(self) -> dict[str, Any]:
+        """The fit as a plain dict (JSON-ready: the band as a list)."""
         d = dict(self.__dict__)
         d["fit_band_per_m"] = list(self.fit_band_per_m)
         return d
@@ -106,7 +109,7 @@ def _loglog_fit(q, C, lo, hi, weights=None):
     return float(slope), float(icpt), float(se), int(n)
 
 
-def local_slopes(q, C, window_decades=0.4):
+def local_slopes(q: ArrayLike, C: ArrayLike, window_decades: float = 0.4) -> NDArray[np.float64]:
     """Slope of log C vs log q by least squares in a window of ``window_decades`` around
     each point (vectorised with prefix sums).
 
@@ -142,7 +145,8 @@ def _usable(spectrum, min_count):
     return np.flatnonzero(ok)
 
 
-def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
+def detect_band(spectrum: Spectrum, tolerance: float = 0.5, window_decades: float = 0.4,
+                min_count: int = 8) -> tuple[float, float]:
     """Self-affine band of a spectrum: the stretch around the middle where log C is straight.
 
     Local slopes of log C vs log q (window ``window_decades``) are compared with the median
@@ -193,7 +197,8 @@ def detect_band(spectrum, tolerance=0.5, window_decades=0.4, min_count=8):
     return float(q[i0]), float(q[i1])
 
 
-def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_off=None):
+def fit_self_affine(spectrum: Spectrum, band: tuple[float, float] | None = None, min_count: int = 8,
+                    window_decades: float = 0.4, roll_off: float | None = None) -> SelfAffineFit:
     """Fit the self-affine form to a (2D, isotropic) spectrum.
 
     log10 C is fitted against log10 q over the band by least squares, each ring weighted by
@@ -248,6 +253,7 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_o
     hurst = -slope / 2.0 - 1.0
     # the broken-line test of roadscan.rolloff (the older median test of the rings
     # below the band missed the coarse sample's 14 mm roll-off); the first ring stands for 2 pi / L
+    q_roll: float | None
     if roll_off is not None:
         q_roll = float(roll_off)
     else:
@@ -269,7 +275,8 @@ def fit_self_affine(spectrum, band=None, min_count=8, window_decades=0.4, roll_o
                          C_at_q0_m4=float(c0), n_points=n)
 
 
-def extend_spectrum(spectrum, fit, q1_per_m, points_per_decade=20):
+def extend_spectrum(spectrum: Spectrum, fit: SelfAffineFit, q1_per_m: float,
+                    points_per_decade: int = 20) -> Spectrum:
     """The measured spectrum continued by the fitted power law up to ``q1_per_m``.
 
     Points of ``spectrum`` are kept up to its highest wave vector; above it, log-spaced

@@ -7,8 +7,10 @@ are kept consistent by the constructors.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from typing import Any, TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["HeightMap", "Profile", "require_filled"]
 
@@ -22,11 +24,17 @@ def _clean(heights, unmeasured):
     return h, bad
 
 
+_M = TypeVar("_M", bound="_Measured")
+
+
 class _Measured:
     """What height maps and profiles share: the measured fraction and copying with new heights."""
 
+    heights_m: NDArray[np.float64]
+    unmeasured: NDArray[np.bool_]
+
     @property
-    def measured_fraction(self):
+    def measured_fraction(self) -> float:
         """Fraction of points the instrument measured."""
         return float(1.0 - self.unmeasured.mean())
 
@@ -49,11 +57,13 @@ class _Measured:
         for k, v in zip(spacings, values):
             object.__setattr__(self, k, float(v))
 
-    def with_heights(self, heights_m, unmeasured=None, **changes):
+    def with_heights(self: _M, heights_m: ArrayLike, unmeasured: ArrayLike | None = None,
+                     **changes: Any) -> _M:
         """A copy with new heights (same spacing, name, meta unless changed)."""
         if unmeasured is None:
             unmeasured = self.unmeasured
-        return replace(self, heights_m=heights_m, unmeasured=unmeasured, **changes)
+        # every subclass is a dataclass (HeightMap, Profile), which mypy cannot see on the base
+        return replace(self, heights_m=heights_m, unmeasured=unmeasured, **changes)  # type: ignore[type-var]
 
     def _adopt(self, heights_m, unmeasured=None, meta=None):
         """A copy that takes ``heights_m`` as is: no copy, no scan for non-finite values.
@@ -96,10 +106,11 @@ class HeightMap(_Measured):
         Free-form provenance (source file, units read, instrument...).
     """
 
-    heights_m: np.ndarray
+    heights_m: NDArray[np.float64]
     dx_m: float
     dy_m: float
-    unmeasured: np.ndarray = None
+    # None (derived from the NaNs) is accepted; after construction it is always the bool mask
+    unmeasured: NDArray[np.bool_] = None  # type: ignore[assignment]
     name: str = ""
     meta: dict = field(default_factory=dict)
 
@@ -108,27 +119,32 @@ class HeightMap(_Measured):
                      lambda h: f"too small: shape {h.shape}" if min(h.shape) < 2 else None)
 
     @property
-    def shape(self):
+    def shape(self) -> tuple[int, int]:
+        """(ny, nx): rows and columns of the grid."""
         return self.heights_m.shape
 
     @property
-    def nx(self):
+    def nx(self) -> int:
+        """Points along x (columns)."""
         return self.heights_m.shape[1]
 
     @property
-    def ny(self):
+    def ny(self) -> int:
+        """Points along y (rows)."""
         return self.heights_m.shape[0]
 
     @property
-    def size_m(self):
+    def size_m(self) -> tuple[float, float]:
         """(L_x, L_y) = (nx dx, ny dy) [m]."""
         return self.nx * self.dx_m, self.ny * self.dy_m
 
-    def x_m(self):
-        return np.arange(self.nx) * self.dx_m
+    def x_m(self) -> NDArray[np.float64]:
+        """Positions of the columns, x = i dx [m] (i = 0 .. nx-1)."""
+        return np.arange(self.nx, dtype=np.float64) * self.dx_m
 
-    def y_m(self):
-        return np.arange(self.ny) * self.dy_m
+    def y_m(self) -> NDArray[np.float64]:
+        """Positions of the rows, y = j dy [m] (j = 0 .. ny-1)."""
+        return np.arange(self.ny, dtype=np.float64) * self.dy_m
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,9 +161,10 @@ class Profile(_Measured):
     name, meta : as for HeightMap.
     """
 
-    heights_m: np.ndarray
+    heights_m: NDArray[np.float64]
     dx_m: float
-    unmeasured: np.ndarray = None
+    # None (derived from the NaNs) is accepted; after construction it is always the bool mask
+    unmeasured: NDArray[np.bool_] = None  # type: ignore[assignment]
     name: str = ""
     meta: dict = field(default_factory=dict)
 
@@ -156,18 +173,21 @@ class Profile(_Measured):
                      lambda h: f"too short: {h.size} points" if h.size < 4 else None)
 
     @property
-    def n(self):
+    def n(self) -> int:
+        """Number of points."""
         return self.heights_m.size
 
     @property
-    def length_m(self):
+    def length_m(self) -> float:
+        """Length n dx [m]."""
         return self.n * self.dx_m
 
-    def x_m(self):
-        return np.arange(self.n) * self.dx_m
+    def x_m(self) -> NDArray[np.float64]:
+        """Positions x = i dx [m] (i = 0 .. n-1)."""
+        return np.arange(self.n, dtype=np.float64) * self.dx_m
 
 
-def require_filled(obj, fill_values=None):
+def require_filled(obj: HeightMap | Profile, fill_values: ArrayLike | None = None) -> None:
     """Refuse a map or profile with unmeasured points before an FFT (ValueError, one line).
 
     With ``fill_values`` (one finite height per unmeasured point, raster order, as

@@ -6,10 +6,15 @@ unmeasured in the result.
 """
 from __future__ import annotations
 
+from typing import TypeVar
+
 import numpy as np
+from numpy.typing import NDArray
 
 from .bands import row_chunks
 from .heightmap import HeightMap, Profile
+
+_Scan = TypeVar("_Scan", HeightMap, Profile)
 
 __all__ = ["level", "remove_spikes", "polynomial_form", "fit_polynomial", "PolynomialForm"]
 
@@ -39,11 +44,11 @@ class PolynomialForm:
         Column and row coordinates mapped to [-1, 1].
     """
 
-    def __init__(self, C, U, V):
+    def __init__(self, C: NDArray[np.float64], U: NDArray[np.float64], V: NDArray[np.float64]) -> None:
         self.C, self.U, self.V = C, U, V              # C[j, i]; U (nx, d+1); V (ny, d+1)
         self.U = np.asfortranarray(U)                 # columns u^i contiguous
 
-    def rows(self, sl, out=None, minus=None):
+    def rows(self, sl: slice, out: NDArray[np.float64] | None = None, minus: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
         """The form on rows ``sl`` (a slice), shape (rows, nx) [m]; with ``minus`` (heights
         of those rows) the difference ``minus - form`` instead, into ``out`` if given."""
         # broadcasting, not a matmul with an inner dimension of d + 1: the BLAS call costs
@@ -59,11 +64,13 @@ class PolynomialForm:
             out -= a[:, i, None] * self.U[:, i]
         return out
 
-    def full(self):
+    def full(self) -> NDArray[np.float64]:
+        """The form on the whole grid [m]."""
         return self.rows(slice(None))
 
 
-def fit_polynomial(heights_m, unmeasured, degree=1):
+def fit_polynomial(heights_m: NDArray[np.float64], unmeasured: NDArray[np.bool_],
+                   degree: int = 1) -> PolynomialForm:
     """Least-squares polynomial form of total degree ``degree`` fitted to measured points.
 
     Same fit as :func:`polynomial_form` (which see), returned as a :class:`PolynomialForm`.
@@ -125,7 +132,8 @@ def fit_polynomial(heights_m, unmeasured, degree=1):
     return PolynomialForm(C, Ud, np.ascontiguousarray(Vd))
 
 
-def polynomial_form(heights_m, unmeasured, degree=1):
+def polynomial_form(heights_m: NDArray[np.float64], unmeasured: NDArray[np.bool_],
+                    degree: int = 1) -> NDArray[np.float64]:
     """Least-squares polynomial form of total degree ``degree`` fitted to measured points.
 
     Fits z(x, y) = sum_{i + j <= degree} c_ij u^i v^j, with u, v the column and row
@@ -152,7 +160,7 @@ def polynomial_form(heights_m, unmeasured, degree=1):
     return form[0] if np.ndim(heights_m) == 1 else form
 
 
-def level(obj, degree=1):
+def level(obj: _Scan, degree: int = 1) -> _Scan:
     """Remove the least-squares polynomial form (mean, tilt, ...) fitted to measured points.
 
     The form is fitted by :func:`fit_polynomial` and subtracted band by band of rows into one
@@ -204,7 +212,7 @@ def _nearest_filled(h, bad):
     return out
 
 
-def remove_spikes(obj, threshold=6.0, size=3):
+def remove_spikes(obj: _Scan, threshold: float = 6.0, size: int = 3) -> _Scan:
     """Mark spikes (isolated outliers) as unmeasured.
 
     A point is a spike when it departs from the median of its ``size`` (x ``size``)

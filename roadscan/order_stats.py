@@ -18,12 +18,16 @@ Statistician 50(4), 361-365.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import numpy as np
+from numpy.typing import NDArray
 
 __all__ = ["median", "percentiles"]
 
 
-def median(v, overwrite=False):
+def median(v: NDArray[np.floating[Any]], overwrite: bool = False) -> float:
     """``np.median(v)`` of a 1D float array (NaN when it holds a NaN).
 
     Parameters
@@ -53,7 +57,8 @@ def median(v, overwrite=False):
     return float((0.0 + part[h - 1] + part[h]) / 2)
 
 
-def percentiles(v, p, overwrite=False):
+def percentiles(v: NDArray[np.floating[Any]], p: Sequence[float],
+                overwrite: bool = False) -> NDArray[np.float64]:
     """``np.percentile(v, p)`` (method ``"linear"``) of a 1D float array without NaN.
 
     Parameters

@@ -18,8 +18,11 @@ Surf. Topogr.: Metrol. Prop. 5, 013001 (2017).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .fft_backends import fft_backend
 from .heightmap import HeightMap, Profile
@@ -33,7 +36,7 @@ __all__ = ["psd_profile", "profile_to_area_factor"]
 _lgamma = np.vectorize(math.lgamma, otypes=[float])
 
 
-def profile_to_area_factor(hurst):
+def profile_to_area_factor(hurst: ArrayLike) -> float | NDArray[np.float64]:
     """Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)): C(q) = C1(q) / q times this (power law).
 
     Parameters
@@ -68,7 +71,9 @@ def _profiles_array(profiles):
     return np.stack([p.heights_m for p in profiles]), dx
 
 
-def psd_profile(profiles, window_alpha=0.25, hurst=None, rings_per_decade=20, detrend="mean"):
+def psd_profile(profiles: Profile | Sequence[Profile] | HeightMap, window_alpha: float = 0.25,
+                hurst: float | None = None, rings_per_decade: int = 20,
+                detrend: Literal["mean", "linear"] | None = "mean") -> tuple[NDArray[np.float64], NDArray[np.float64], Spectrum]:
     """1D PSD of line profiles and its isotropic 2D estimate.
 
     C1(q_k) = dx^2 |FFT(w h)_k|^2 / (2 pi L <w^2>) [m^3] at q_k = 2 pi k / L, k = 1 .. n/2,

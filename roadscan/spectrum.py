@@ -26,10 +26,12 @@ Surf. Topogr.: Metrol. Prop. 5, 013001 (2017).
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .anisotropy import anisotropy
 from .bands import row_chunks
 from .fft_backends import _WORKERS, NUMPY_FFT_MAX_POINTS, _NumpyFFT, fft_backend  # noqa: F401
+from .heightmap import HeightMap
 from .heightmap import require_filled as _require_filled
 from .profile_spectrum import profile_to_area_factor, psd_profile
 from .rings import _default_range, _grid_of, _ring_edges, _ring_index, _ring_runs, _ring_sums
@@ -47,7 +49,8 @@ __all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",
            "fft_backend", "prepare_lattice"]
 
 
-def prepare_lattice(ny, nx, dx_m, dy_m, rings_per_decade=20, anisotropy_rings=10, n_sectors=36):
+def prepare_lattice(ny: int, nx: int, dx_m: float, dy_m: float, rings_per_decade: int = 20,
+                    anisotropy_rings: int = 10, n_sectors: int = 36) -> None:
     """Compute (and cache) the lattice bookkeeping that :func:`psd_area` and :func:`anisotropy`
     use on an (ny, nx) grid with their default |q| range: the runs of equal ring of the rfft2
     half lattice and its (ring, direction sector) runs. They depend on the grid alone, so a
@@ -78,7 +81,7 @@ def prepare_lattice(ny, nx, dx_m, dy_m, rings_per_decade=20, anisotropy_rings=10
     _sector_runs(ny, nx, dx_m, dy_m, q_min, q_max, n, n_sectors)
 
 
-def window_2d(ny, nx, alpha=0.25):
+def window_2d(ny: int, nx: int, alpha: float = 0.25) -> tuple[NDArray[np.float64], float]:
     """The 2D Tukey window (outer product of two 1D Tukey windows) and its mean square <w^2>.
 
     Parameters
@@ -191,7 +194,7 @@ def _spectrum2d(hm, P, scale, window_alpha, w2):
                       half=HalfLattice(P, scale, hm.nx))
 
 
-def psd_2d(hm, window_alpha=0.25):
+def psd_2d(hm: HeightMap, window_alpha: float = 0.25) -> Spectrum2D:
     """Full 2D PSD map of a filled height map.
 
     C(q_m) = (dx dy)^2 |FFT2(w h)|^2 / ((2 pi)^2 A <w^2>) [m^4], w the 2D Tukey window
@@ -228,7 +231,8 @@ def _spectrum_from_rings(csum, count, qsum, edges, meta):
                     kind="area", meta=meta)
 
 
-def angular_average(spec2d, rings_per_decade=20, q_min=None, q_max=None):
+def angular_average(spec2d: Spectrum2D, rings_per_decade: int = 20, q_min: float | None = None,
+                    q_max: float | None = None) -> Spectrum:
     """Average a 2D PSD map over log-spaced rings of |q|.
 
     Rings: ``rings_per_decade`` per decade (rounded so that they tile [q_min, q_max]
@@ -269,8 +273,9 @@ def angular_average(spec2d, rings_per_decade=20, q_min=None, q_max=None):
     return _spectrum_from_rings(csum, count, qsum, edges, meta)
 
 
-def psd_area(hm, window_alpha=0.25, rings_per_decade=20, q_min=None, q_max=None,
-             fill_values=None):
+def psd_area(hm: HeightMap, window_alpha: float = 0.25, rings_per_decade: int = 20,
+             q_min: float | None = None, q_max: float | None = None,
+             fill_values: ArrayLike | None = None) -> tuple[Spectrum, Spectrum2D]:
     """The whole spectrum step of a levelled, filled height map: window, FFT, angular average.
 
     Same normalisation and rings as :func:`psd_2d` and :func:`angular_average` (the ring

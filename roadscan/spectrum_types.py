@@ -8,8 +8,10 @@ satisfies ``<h^2> = 2 integral_0^inf C1(q) dq``.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["Spectrum", "Spectrum2D", "HalfLattice", "NORMALISATION_2D", "NORMALISATION_1D"]
 
@@ -40,7 +42,7 @@ class Spectrum:
 
     q_per_m: np.ndarray
     C_m4: np.ndarray
-    count: np.ndarray = None
+    count: NDArray[np.int64] | None = None
     kind: str = "area"
     meta: dict = field(default_factory=dict)
 
@@ -53,11 +55,13 @@ class Spectrum:
         object.__setattr__(self, "C_m4", C)
 
     @property
-    def q_min_per_m(self):
+    def q_min_per_m(self) -> float:
+        """The smallest wave vector [1/m]."""
         return float(self.q_per_m[0])
 
     @property
-    def q_max_per_m(self):
+    def q_max_per_m(self) -> float:
+        """The largest wave vector [1/m]."""
         return float(self.q_per_m[-1])
 
 
@@ -94,13 +98,13 @@ class HalfLattice:
     scale: float           # C [m^4] = scale * P
     nx: int                # columns of the full lattice
 
-    def full(self):
+    def full(self) -> NDArray[np.float64]:
         """The fftshifted (ny, nx) map C [m^4]."""
         C = _full_from_half(self.P, self.nx)
         C *= self.scale
         return C
 
-    def block(self, rows, cols):
+    def block(self, rows: ArrayLike, cols: ArrayLike) -> NDArray[np.float64]:
         """C [m^4] at the fftshifted row and column indices ``rows`` x ``cols`` (1D integer
         arrays), read from the half lattice (the same values as ``full()[np.ix_(rows, cols)]``)."""
         ny, nxr = self.P.shape
@@ -134,7 +138,8 @@ class Spectrum2D:
 
     __slots__ = ("_C", "half", "meta", "qx_per_m", "qy_per_m")
 
-    def __init__(self, qx_per_m, qy_per_m, C_m4=None, meta=None, *, half=None):
+    def __init__(self, qx_per_m: NDArray[np.float64], qy_per_m: NDArray[np.float64], C_m4: NDArray[np.float64] | None = None,
+                 meta: dict[str, Any] | None = None, *, half: HalfLattice | None = None) -> None:
         if C_m4 is None and half is None:
             raise ValueError("Spectrum2D needs C_m4 or its half lattice")
         self.qx_per_m = qx_per_m
@@ -144,12 +149,14 @@ class Spectrum2D:
         self._C = C_m4
 
     @property
-    def C_m4(self):
+    def C_m4(self) -> NDArray[np.float64]:
+        """The fftshifted (ny, nx) map C [m^4] (built from the half lattice on first read)."""
         if self._C is None:
+            assert self.half is not None        # the constructor asks for one of the two
             self._C = self.half.full()
         return self._C
 
-    def central(self, q_limit_per_m):
+    def central(self, q_limit_per_m: float) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """(qx, qy, C) on the lattice points with |qx| and |qy| <= ``q_limit_per_m`` [1/m]."""
         qx, qy = np.asarray(self.qx_per_m), np.asarray(self.qy_per_m)
         ix = np.flatnonzero(np.abs(qx) <= q_limit_per_m)

@@ -8,7 +8,7 @@ from .heightmap import Profile
 __all__ = ["road_section"]
 
 
-def road_section(profile, plate_height_m=0.02, margin_m=2e-3):
+def road_section(profile: Profile, plate_height_m: float = 0.02, margin_m: float = 2e-3) -> Profile:
     """Crop a stationary laser profiler reading to the road between its reference plates.
 
     Stationary profilers such as CAPTIF's SLP start and end each reading on raised reference

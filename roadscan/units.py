@@ -18,6 +18,7 @@ and :mod:`pipelines.output.units` re-exports it for reports and figures.
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 
 __all__ = ["LENGTH_UNITS", "sig3", "length", "lengths"]
 
@@ -25,7 +26,7 @@ __all__ = ["LENGTH_UNITS", "sig3", "length", "lengths"]
 LENGTH_UNITS = (("m", 1.0), ("mm", 1e-3), ("µm", 1e-6), ("nm", 1e-9))
 
 
-def sig3(x, digits=3):
+def sig3(x: float | None, digits: int = 3) -> str:
     """``x`` to ``digits`` significant digits, trailing zeros kept.
 
     Plain notation for 1e-4 <= |x| < 1e6 ("2530", "0.0123", "3.28", "0.500"), scientific
@@ -59,7 +60,7 @@ def sig3(x, digits=3):
     return f"{r:.{max(0, decimals)}f}"
 
 
-def length(x_m, unit=None):
+def length(x_m: float | None, unit: str | None = None) -> str:
     """A length [m] as text: "1.81 m", "3.28 mm", "397 µm" or "12.0 nm".
 
     The unit is the largest of m, mm, µm, nm in which the value is at least 1 (after rounding
@@ -91,7 +92,7 @@ def length(x_m, unit=None):
     return f"{sig3(x / f)} {unit}"
 
 
-def lengths(values_m, sep=" x "):
+def lengths(values_m: Iterable[float], sep: str = " x ") -> str:
     """Several lengths [m] joined: ``(5e-5, 5e-5)`` -> "50.0 µm x 50.0 µm".
 
     Parameters

@@ -9,11 +9,12 @@ from __future__ import annotations
 from functools import lru_cache
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["tukey", "tukey_cached", "butter2_lowpass", "filtfilt2"]
 
 
-def tukey(n, alpha=0.5):
+def tukey(n: int, alpha: float = 0.5) -> NDArray[np.float64]:
     """Symmetric Tukey (tapered cosine) window of ``n`` points, as ``scipy.signal.windows.tukey``.
 
     w[k] = 1/2 (1 + cos(pi (2 k / (alpha (n - 1)) - 1))) for k <= alpha (n - 1) / 2, 1 in the
@@ -48,7 +49,7 @@ def tukey(n, alpha=0.5):
 
 
 @lru_cache(maxsize=16)
-def tukey_cached(n, alpha):
+def tukey_cached(n: int, alpha: float) -> NDArray[np.float64]:
     """:func:`tukey` (``alpha`` <= 0: rectangular), cached and read-only: the spectra window
     the same grid sizes again and again.
 
@@ -69,7 +70,7 @@ def tukey_cached(n, alpha):
     return w
 
 
-def butter2_lowpass(wn):
+def butter2_lowpass(wn: float) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Second-order Butterworth low-pass, digital (bilinear transform with pre-warping).
 
     ``wn`` is the cut-off as a fraction of the Nyquist frequency (0 < wn < 1), as in
@@ -109,7 +110,7 @@ def _lfilter2(b, a, x, z0, z1):
     return y
 
 
-def filtfilt2(b, a, x):
+def filtfilt2(b: NDArray[np.float64], a: NDArray[np.float64], x: ArrayLike) -> NDArray[np.float64]:
     """Zero-phase forward-backward filter of a second-order section along the last axis, as
     ``scipy.signal.sosfiltfilt`` (and ``filtfilt``) with their defaults: odd extension by
     9 = 3 (2 + 1) samples at each end and the steady-state initial conditions scaled by the
