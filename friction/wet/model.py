@@ -103,6 +103,15 @@ class WetFriction:
     meta: dict = field(default_factory=dict)
 
     @property
+    def parts(self):
+        """The loss ``mu_dry - mu_wet`` by mechanism, in mu (the numerators of :attr:`shares`):
+        ``sealing`` mu_h(C) - mu_h(C_s), ``squeeze_out`` mu_h(C_s) - mu_h,wet, ``adhesion``
+        the adhesive term lost."""
+        return {"sealing": self.hysteresis_dry - self.hysteresis_sealed,
+                "squeeze_out": self.hysteresis_sealed - self.hysteresis_wet,
+                "adhesion": self.adhesion_dry - self.adhesion_wet}
+
+    @property
     def ratio(self):
         """mu_wet / mu_dry per speed (NaN where mu_dry is 0)."""
         return np.divide(self.mu_wet, self.mu_dry, out=np.full(self.mu_dry.shape, np.nan),

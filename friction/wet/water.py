@@ -49,14 +49,17 @@ PERCOLATION_CONTACT_FRACTION = 0.42
 
 #: every default and its source, as the report shows them
 DEFAULT_SOURCES = {
-    "water_depth_m": (DEFAULT_WATER_DEPTH_M, "ASTM E274/E274M: nominal water film 0.5 mm ahead of the test tyre"),
+    "water_depth_m": (DEFAULT_WATER_DEPTH_M,
+                      "ASTM E274/E274M: nominal water film 0.5 mm ahead of the test tyre"),
     "water_temperature_C": (DEFAULT_WATER_TEMPERATURE_C, "20 C, the reference temperature of skid tests"),
-    "footprint_m": (DEFAULT_FOOTPRINT_M, "passenger-car footprint 0.10-0.15 m (Gent & Walter, The Pneumatic Tire, 2006)"),
+    "footprint_m": (DEFAULT_FOOTPRINT_M,
+                    "passenger-car footprint 0.10-0.15 m (Gent & Walter, The Pneumatic Tire, 2006)"),
     "block_size_m": (DEFAULT_BLOCK_SIZE_M, "passenger-car tread blocks 20-30 mm (Gent & Walter 2006)"),
     "percolation_contact_fraction": (PERCOLATION_CONTACT_FRACTION,
-                                     "Dapp et al., PRL 108, 244301 (2012): non-contact area percolates at A/A0 ~ 0.42"),
-    "shear_stress_Pa": (None, ("no default: the frictional shear stress of the rubber-road contact is an input; "
-                              "without it adhesion is left out of dry and wet friction")),
+                                     "Dapp et al., PRL 108, 244301 (2012): non-contact area percolates "
+                                     "at A/A0 ~ 0.42"),
+    "shear_stress_Pa": (None, ("no default: the frictional shear stress of the rubber-road contact is an "
+                              "input; without it adhesion is left out of dry and wet friction")),
 }
 
 

@@ -69,6 +69,8 @@ def check_water_options(args):
     -------
     None
     """
+    if args.max_depth is not None and args.water_film is not None:   # the flags' either-or
+        raise InputError(None, "give --max-depth or --water-film, not both")
     check_water(args.max_depth, args.water_film)
 
 

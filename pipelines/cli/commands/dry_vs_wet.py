@@ -17,11 +17,11 @@ def add_arguments(p):
 
 
 def run(args):
-    from pipelines.settings.keywords import keywords_of
     from pipelines.jobs.dry_vs_wet import dry_vs_wet
     from pipelines.output.units import length
+    from pipelines.settings.keywords import keywords_of
 
-    r = dry_vs_wet(args.scan, args.out, **keywords_of(args, add_dry_vs_wet_options))
+    r = dry_vs_wet(args.scan, args.out, **keywords_of(args, dry_vs_wet))
     print(f"{args.scan}: wetted {r['wetted_fraction']:.1%}, water {length(r['water_volume_m3_per_m2'])}, "
           f"rms dry {length(r['rms_height_dry_m'])} / wet {length(r['rms_height_wet_m'])} "
           f"-> {args.out}/report.html")
