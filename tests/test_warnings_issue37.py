@@ -122,3 +122,13 @@ def test_dropout_rule_named_when_dropouts_decide():
     line = invalid_mpd_warning("p", seg)
     assert "dropout rule" in line and "no option relaxes the dropout rule" in line
     assert "--mpd-spike-alpha" not in line
+
+
+def test_friction_command_warns_a_peak_at_the_end_of_the_speed_range(tmp_path, capsys):
+    out = tmp_path / "mu.csv"
+    rc, _, err = _run(["friction", "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
+                       "--velocities", "1e-3:1e-1:9", "--out", out], capsys)
+    assert rc == 0, err
+    s = json.loads((tmp_path / "mu_summary.json").read_text())
+    assert s["peak_at_edge"]
+    assert sum("no peak in the speed range" in w and "--velocities" in w for w in s["warnings"]) == 1

@@ -219,6 +219,9 @@ def _provenance(args, psd, band, res, rubber, settings, v, kw):
         cause = f"{cause}; {normalisation_cause()}"
     if cause:
         warn(f"{args.out}: {cause}")
+    edge = mp.edge_warning(res.v_m_per_s, res.mu)       # no peak inside the speed range
+    if edge:
+        warn(f"{args.out}: {edge}")
     return {"extrapolated_share": share, "extrapolated_share_at_peak": float(share[i]),
             "rubber": label, "implausible": cause,
             "extrapolated_from_per_m": q_meas}
