@@ -28,15 +28,18 @@ this module is as fast as the sparse solve on such maps and needs no scipy.
 from __future__ import annotations
 
 import contextlib
+import importlib
+from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from .bands import measured_mean_range
 from .blas_threads import single_threaded_blas
 
 try:            # numpy.linalg.solve's own gufunc: the same LAPACK gesv, 8 us less per call
-    from numpy.linalg._umath_linalg import solve as _gesv
-except ImportError:                                    # pragma: no cover
+    _gesv: Any = importlib.import_module("numpy.linalg._umath_linalg").solve
+except (ImportError, AttributeError):                  # pragma: no cover
     _gesv = None
 
 __all__ = ["biharmonic_fill_values", "SMALL"]
@@ -68,7 +71,7 @@ def _edge_stencil(shape, center):
     return _edge_cache[key]
 
 
-def grow4(bad):
+def grow4(bad: NDArray[np.bool_]) -> NDArray[np.bool_]:
     """``bad`` dilated by its 4-neighbourhood: two unmeasured points coupled by the stencil
     (|dx| + |dy| <= 2) are then 8-connected (scikit-image's ``split_into_regions`` grouping)."""
     grown = bad.copy()
@@ -334,7 +337,8 @@ def _forward(buf, meta, k0, k1, X, solve):
         X[k] = prev = solve(D, R[:, p + s:])
 
 
-def biharmonic_fill_values(h, bad, stats=None):
+def biharmonic_fill_values(h: NDArray[np.float64], bad: NDArray[np.bool_],
+                           stats: tuple[float, float, float] | None = None) -> NDArray[np.float64]:
     """Biharmonic heights for the unmeasured points of a map (see the module docstring).
 
     Parameters

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
+from numpy.typing import NDArray
 
 __all__ = ["priority_flood_fill"]
 
@@ -136,7 +137,7 @@ def _flood(h, low, conn8, out):
                 hk, hi, hn = _push(hk, hi, hn, z, ni)
 
 
-def priority_flood_fill(h, low, connectivity):
+def priority_flood_fill(h: NDArray[np.float64], low: float, connectivity: int) -> NDArray[np.float64]:
     """Spill level of every cell of ``h`` [float64 (ny, nx)]; non-finite cells count as ``low``.
 
     Returns a new float64 (ny, nx) array; unmeasured cells get the level water passes through

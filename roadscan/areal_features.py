@@ -40,7 +40,10 @@ Unmeasured points take the mean height (zero) before segmentation.
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+from numpy.typing import NDArray
 
 from .areal_critical import _NGROUPS, _REPS, _RING, _STEP, _critical_points, _lower_code, _patterns
 
@@ -101,6 +104,21 @@ def _critical_graph(flat, nx, extrema, sad, label):
     return first, dest[n:], np.concatenate([np.arange(n)] + more)
 
 
+def _needed(top, a, b, saddle, threshold):
+    """Which edges (a, b, saddle) between components (summits ``top``) can change an answer:
+    those joining two components, and, with a ``threshold``, only those less than it below
+    the lower summit. An edge at least the threshold below both summits cannot: whoever
+    merges through it into a higher component has a summit at least as high as one of them,
+    so a prominence of at least the threshold there; and a path to a higher summit through it
+    reaches first one of its ends, higher than its start (a path as good, without the edge)
+    or not (then the start stands at least the threshold above the edge too)."""
+    if threshold is None:
+        return np.flatnonzero(a != b)
+    low = np.minimum(np.take(top, a), np.take(top, b))
+    low -= saddle
+    return np.flatnonzero((low < threshold) & (a != b))
+
+
 def _change_tree(top, a, b, saddle, threshold=None, few=1000):
     """Prominence of each maximum (heights ``top``, in flattened-index order) over the graph of
     saddle edges: Kruskal's merging from the highest saddle down, where the lower component's
@@ -117,7 +135,7 @@ def _change_tree(top, a, b, saddle, threshold=None, few=1000):
     far); the rounds stop when none other is left."""
     prom = np.full(top.size, np.inf)
     ids = np.arange(top.size)                     # the summit of each component left
-    keep = np.flatnonzero(a != b)
+    keep = _needed(top, a, b, saddle, threshold)
     a, b = np.take(a, keep).astype(np.intp), np.take(b, keep).astype(np.intp)   # (indices)
     saddle = np.take(saddle, keep)
     while a.size > few:
@@ -163,7 +181,7 @@ def _change_tree(top, a, b, saddle, threshold=None, few=1000):
         ids, top = ids[left], top[left]
         root = np.take(renumber, root)
         a, b = np.take(root, a), np.take(root, b)
-        keep = np.flatnonzero(a != b)
+        keep = _needed(top, a, b, saddle, threshold)
         a, b, saddle = np.take(a, keep), np.take(b, keep), np.take(saddle, keep)
     if a.size:                                    # each pair once, with its highest saddle,
         order = np.argsort(saddle, kind="stable")[::-1]   # from the highest down
@@ -203,7 +221,7 @@ def _extremum_prominences(flat, nx, extrema, sad, label, top, sh, threshold=None
     return _change_tree(top, a, b, np.take(sh, s), threshold)
 
 
-def prominences(z):
+def prominences(z: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
     """(flattened summit indices, their prominence [m]) of every local maximum of ``z``: the
     height of the summit above the highest saddle through which a higher summit is reached
     (infinite for the highest). Equal heights are ordered by flattened index.
@@ -267,8 +285,10 @@ def _pits(z, low, minima, vsad, zmin, zvs, label, T, shift, deepest=None):
     return _significant(z, minima, prom, T, -1.0, shift)
 
 
-def feature_parameters(heights_m, dx_m, dy_m, prune_fraction=PRUNE_FRACTION, *, mean=None,
-                       z_min=None, z_max=None, count_pits=True):
+def feature_parameters(heights_m: NDArray[np.float64], dx_m: float, dy_m: float,
+                       prune_fraction: float = PRUNE_FRACTION, *, mean: float | None = None,
+                       z_min: float | None = None, z_max: float | None = None,
+                       count_pits: bool = True) -> dict[str, Any]:
     """Spd, Spc, S5p, S5v, S10z of a levelled height map (module docstring).
 
     Parameters

@@ -36,7 +36,10 @@ zero lag, far below s).
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+from numpy.typing import NDArray
 
 __all__ = ["spatial_parameters", "autocorrelation", "MAX_SIDE", "MAX_POINTS", "S_THRESHOLD"]
 
@@ -48,7 +51,7 @@ S_THRESHOLD = 0.2
 STR_ANISOTROPIC = 0.3
 
 
-def autocorrelation(z):
+def autocorrelation(z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], tuple[int, int]]:
     """(f_ACF on lags |t| <= L/2, centred; |Z(q)|^2 of the padded field) of a 2D field with
     NaN where unmeasured. f_ACF[cy, cx] = 1 at the centre (cy, cx) = (ny // 2, nx // 2).
 
@@ -266,7 +269,8 @@ def _varies(z):
     return good.size >= 4 and bool(good.max() > good.min())
 
 
-def spatial_parameters(heights_m, dx_m, dy_m, s=S_THRESHOLD):
+def spatial_parameters(heights_m: NDArray[np.float64], dx_m: float, dy_m: float,
+                       s: float = S_THRESHOLD) -> dict[str, Any]:
     """Sal, Str and Std of a levelled height map (module docstring for the definitions).
 
     Parameters

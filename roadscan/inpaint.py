@@ -14,10 +14,15 @@ sparse solve band by band; both equal one global ``inpaint_biharmonic`` to round
 """
 from __future__ import annotations
 
+from typing import Literal, TypeVar
+
 import numpy as np
+from numpy.typing import NDArray
 
 from .bands import measured_mean_range, row_chunks
 from .heightmap import HeightMap, Profile
+
+_Scan = TypeVar("_Scan", HeightMap, Profile)
 
 __all__ = ["fill_unmeasured", "unmeasured_fill", "METHODS"]
 
@@ -159,7 +164,7 @@ def _map_values(h, bad, method):
     return filled[bad]
 
 
-def unmeasured_fill(obj, method="biharmonic"):
+def unmeasured_fill(obj: HeightMap | Profile, method: Literal["biharmonic", "ns"] = "biharmonic") -> NDArray[np.float64]:
     """The values :func:`fill_unmeasured` puts at the unmeasured points, without the filled copy.
 
     Returns
@@ -187,7 +192,7 @@ def unmeasured_fill(obj, method="biharmonic"):
     return _map_values(obj.heights_m, bad, method)
 
 
-def fill_unmeasured(obj, method="biharmonic"):
+def fill_unmeasured(obj: _Scan, method: Literal["biharmonic", "ns"] = "biharmonic") -> tuple[_Scan, float]:
     """Fill unmeasured points so the object can be Fourier transformed.
 
     Parameters

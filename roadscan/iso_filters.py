@@ -23,10 +23,15 @@ Gaussian weight is below 2e-4 of its peak), with the exact continuous transfer f
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
+from typing import TypeVar
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .heightmap import HeightMap, Profile
+
+_Scan = TypeVar("_Scan", HeightMap, Profile)
 
 __all__ = ["ALPHA", "END_EFFECTS", "gaussian_lowpass", "apply_filters", "gaussian_transmission"]
 
@@ -38,7 +43,7 @@ END_EFFECTS = ("masked normalised Gaussian convolution: weights renormalised ove
                "by mirroring or extrapolation")
 
 
-def gaussian_transmission(wavelength_m, cutoff_m):
+def gaussian_transmission(wavelength_m: ArrayLike, cutoff_m: float) -> NDArray[np.float64]:
     """Amplitude transmission of the Gaussian low-pass, exp(-pi (alpha lambda_c / lambda)^2).
 
     Parameters
@@ -87,7 +92,8 @@ def _smooth(a, spacings, cutoff_m):
     return fft.irfft2(F, shape, workers=-1)[: a.shape[0], : a.shape[1]]
 
 
-def gaussian_lowpass(heights_m, spacings_m, cutoff_m, unmeasured=None):
+def gaussian_lowpass(heights_m: ArrayLike, spacings_m: Sequence[float], cutoff_m: float,
+                     unmeasured: ArrayLike | None = None) -> NDArray[np.float64]:
     """The Gaussian mean surface (or line) of ``heights_m`` for nesting index ``cutoff_m`` [m].
 
     Masked, normalised convolution (module docstring): (s * (w z)) / (s * w). A fully measured
@@ -114,11 +120,9 @@ def gaussian_lowpass(heights_m, spacings_m, cutoff_m, unmeasured=None):
         bad |= np.asarray(unmeasured, dtype=bool)
     w = (~bad).astype(np.float64)
     num = _smooth(np.where(bad, 0.0, z), spacings_m, cutoff_m)
-    if not bad.any():
-        dens = None
-        for n, d in zip(z.shape, spacings_m):
-            one = _smooth(np.ones(n), (d,), cutoff_m)
-            dens = one if dens is None else dens[:, None] * one[None, :]
+    if not bad.any():         # separable: the product of the axes' smoothed ones
+        ones = [_smooth(np.ones(n), (d,), cutoff_m) for n, d in zip(z.shape, spacings_m)]
+        dens = ones[0] if len(ones) == 1 else ones[0][:, None] * ones[1][None, :]
     else:
         dens = _smooth(w, spacings_m, cutoff_m)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -127,7 +131,7 @@ def gaussian_lowpass(heights_m, spacings_m, cutoff_m, unmeasured=None):
     return out
 
 
-def apply_filters(obj, s_filter_m=None, l_filter_m=None):
+def apply_filters(obj: _Scan, s_filter_m: float | None = None, l_filter_m: float | None = None) -> _Scan:
     """S-filter then L-filter (ISO 25178-2 S-L surface, ISO 21920 profile) of a levelled
     HeightMap or Profile; same type out, unmeasured points kept.
 
@@ -163,6 +167,7 @@ def apply_filters(obj, s_filter_m=None, l_filter_m=None):
     if s_filter_m is not None and l_filter_m is not None and s_filter_m >= l_filter_m:
         raise ValueError(f"S-filter nesting index {s_filter_m:g} m must be shorter than the "
                          f"L-filter's {l_filter_m:g} m")
+    spacings: tuple[float, ...]
     if isinstance(obj, Profile):
         spacings, size = (obj.dx_m,), obj.length_m
     elif isinstance(obj, HeightMap):

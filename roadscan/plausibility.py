@@ -30,11 +30,17 @@ Reference: ISO 25178-2:2012 (``S_q``); B. N. J. Persson et al., J. Phys.: Conden
 """
 from __future__ import annotations
 
+import os
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from .errors import InputError
 from .order_stats import median, percentiles
 from .units import length as _fmt
+
+if TYPE_CHECKING:
+    from .heightmap import HeightMap, Profile
 
 __all__ = ["detrended_rms", "check_plausible", "ROUGH_MAX", "SMOOTH_MIN", "UNITS"]
 
@@ -49,7 +55,7 @@ UNITS = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "nm": 1e-9}
 _MAX_POINTS = 65_536
 
 
-def detrended_rms(obj):
+def detrended_rms(obj: HeightMap | Profile) -> float:
     """rms height [m] about a least-squares plane (profile: line) of a regular subsample.
 
     Parameters
@@ -71,7 +77,8 @@ def detrended_rms(obj):
     else:
         step = max(1, int(np.ceil(np.sqrt(h.size / _MAX_POINTS))))
         z = h[::step, ::step]
-        yy, xx = np.indices(z.shape, dtype=np.float64)
+        grid = np.indices(z.shape, dtype=np.float64)
+        yy, xx = grid[0], grid[1]
         ok = np.isfinite(z)
         cols = [np.ones(int(ok.sum())), xx[ok], yy[ok]]
     zo = z[ok]
@@ -122,7 +129,8 @@ def _problem(rms, size, dx):
     return None
 
 
-def check_plausible(obj, path=None, units=None):
+def check_plausible(obj: HeightMap | Profile, path: str | os.PathLike[str] | None = None,
+                    units: str | None = None) -> float:
     """Refuse heights implausible for the scan (module notes) in one line with ``units?``.
 
     Parameters

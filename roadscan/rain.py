@@ -48,8 +48,10 @@ line of dropouts is capped from the lowest measured point of each part.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any, Literal
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy import ndimage
 
 from .heightmap import HeightMap
@@ -57,7 +59,7 @@ from .heightmap import HeightMap
 __all__ = ["RainFill", "rain_fill", "full_fill", "footprint", "capped_levels", "FLOOD_MIN_POINTS"]
 
 
-def footprint(connectivity):
+def footprint(connectivity: int) -> NDArray[np.bool_]:
     """Structuring element for 4- (cross) or 8- (3x3 square) connectivity.
 
     Parameters
@@ -98,7 +100,8 @@ def _flood_warm():
     return mod is not None and bool(mod._flood.signatures)
 
 
-def full_fill(heights_m, connectivity=4, method="auto"):
+def full_fill(heights_m: ArrayLike, connectivity: int = 4,
+              method: Literal["auto", "flood", "reconstruction"] = "auto") -> NDArray[np.float64]:
     """Fill every depression to its spill level (grayscale ``imfill``).
 
     Parameters
@@ -169,7 +172,8 @@ def _depressions(h, filled, connectivity):
     return labels, n, np.concatenate([[np.inf], np.asarray(lowest, dtype=np.float64)])
 
 
-def capped_levels(h, filled, labels, lowest, max_depth_m):
+def capped_levels(h: NDArray[np.float64], filled: NDArray[np.float64], labels: NDArray[np.integer[Any]], lowest: NDArray[np.float64],
+                  max_depth_m: float) -> NDArray[np.float64]:
     """Water level min(F, m_k + d) on wet points, h elsewhere (NaN stays NaN).
 
     Parameters
@@ -258,7 +262,9 @@ class RainFill:
     meta: dict = field(default_factory=dict)
 
 
-def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None, method="auto"):
+def rain_fill(hm: HeightMap, connectivity: int = 4, max_depth_m: float | None = None,
+              water_film_m: float | None = None,
+              method: Literal["auto", "flood", "reconstruction"] = "auto") -> RainFill:
     """Fill the depressions of a height map with water (thesis section 4.4, docs: Theory).
 
     Parameters
@@ -331,6 +337,7 @@ def rain_fill(hm, connectivity=4, max_depth_m=None, water_film_m=None, method="a
             b = filled[sel] - m
             cap_used, _ = _cap_for_film(a, b, n_measured, float(water_film_m))
         else:
+            assert max_depth_m is not None      # both None took the full fill above
             cap_used = float(max_depth_m)
         level = capped_levels(h, filled, labels, lowest, cap_used)
         # full to the spill level, to rounding: lowest + cap can differ from the spill level by

@@ -8,6 +8,10 @@ read from the file's metadata; every front end bounds it the same way.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from .heightmap import HeightMap, Profile
 
 __all__ = ["RESOLUTION_MAX_M", "resolution_of", "resolution_problem"]
 
@@ -27,7 +31,7 @@ def _positive(v):
     return v if math.isfinite(v) and v > 0 else None
 
 
-def resolution_of(obj, given_m=None):
+def resolution_of(obj: HeightMap | Profile, given_m: float | None = None) -> tuple[float | None, str | None]:
     """The lateral resolution of a scan and where it came from.
 
     Parameters
@@ -46,9 +50,10 @@ def resolution_of(obj, given_m=None):
     """
     if given_m is not None:
         return float(given_m), "given"
-    meta = getattr(obj, "meta", None)
-    meta = meta if isinstance(meta, dict) else {}
-    inst = meta.get("instrument") if isinstance(meta.get("instrument"), dict) else {}
+    found = getattr(obj, "meta", None)
+    meta: dict = found if isinstance(found, dict) else {}
+    found = meta.get("instrument")
+    inst: dict = found if isinstance(found, dict) else {}
     for block in (inst, meta):
         for key in _KEYS:
             v = _positive(block.get(key))
@@ -57,7 +62,7 @@ def resolution_of(obj, given_m=None):
     return None, None
 
 
-def resolution_problem(value_m):
+def resolution_problem(value_m: float) -> str | None:
     """Why ``value_m`` [m] is no lateral resolution, or None when it is one.
 
     Accepted: finite, 0 < r <= :data:`RESOLUTION_MAX_M`.

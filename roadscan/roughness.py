@@ -6,7 +6,10 @@ bare (``Ssk``, ``Sku``, ``Sdq``; ``Sdr`` is a fraction, not a percentage).
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .bands import gap_neighbours, row_chunks
 from .heightmap import HeightMap, Profile
@@ -25,7 +28,7 @@ def _moments(z):
             "p": float(z.max()), "v": float(-z.min())}
 
 
-def area_parameters(hm, level_degree=1):
+def area_parameters(hm: HeightMap, level_degree: int | None = 1) -> dict[str, Any]:
     """ISO 25178-2 height and hybrid parameters of the levelled, measured heights.
 
     z = h minus the least-squares plane (``level_degree``; None to skip) over measured points.
@@ -104,7 +107,7 @@ def area_parameters(hm, level_degree=1):
             "Sv_m": m["v"], "Sz_m": m["p"] + m["v"], "Sdq": sdq, "Sdr": sdr}
 
 
-def profile_parameters(profile, level_degree=1):
+def profile_parameters(profile: Profile, level_degree: int | None = 1) -> dict[str, Any]:
     """ISO 4287-style parameters of a profile's levelled, measured heights (no filtering:
     over the whole evaluation length). Ra, Rq, Rsk, Rku, Rp, Rv, Rt = Rp + Rv and
     Rdq = rms slope (finite differences between measured neighbours; None, undefined, when no
@@ -192,7 +195,8 @@ def _interp_rows(z, bad):
     return out
 
 
-def segment_depths(heights_m, dx_m, unmeasured=None, **settings):
+def segment_depths(heights_m: ArrayLike, dx_m: float, unmeasured: ArrayLike | None = None,
+                   **settings: Any) -> dict[str, Any]:
     """Mean segment depths (MSD) of ISO 13473-1:2019 for each row of ``heights_m``.
 
     Steps (ISO 13473-1:2019 sections 7.2 to 7.8 and annexes D and E, following the public
@@ -306,7 +310,7 @@ def _summarise(res, what):
     return mpd, base
 
 
-def mean_profile_depth(profile, **settings):
+def mean_profile_depth(profile: Profile, **settings: Any) -> tuple[float | None, str]:
     """Mean profile depth [m] of a line profile per ISO 13473-1 (see :func:`segment_depths`).
 
     MPD = mean of the valid segments' MSDs.
@@ -351,7 +355,7 @@ def _size(L):
     return (f"{L:#.3g}".rstrip(".") + " m") if L >= 1 else (f"{L * 1e3:#.3g}".rstrip(".") + " mm")
 
 
-def mean_profile_depth_area(hm, **settings):
+def mean_profile_depth_area(hm: HeightMap, **settings: Any) -> tuple[float | None, str]:
     """MPD of a height map averaged over its rows (profiles along x), per ISO 13473-1.
 
     Every row is processed as a profile (:func:`segment_depths`) and the MSDs of all valid

@@ -162,7 +162,7 @@ def _line(found, sigma, step_m, axis):
             f"plate edge, not roughness (the spectrum and H include it; crop it out)")
 
 
-def find_steps(obj):
+def find_steps(obj: HeightMap | Profile) -> list[str]:
     """Warning lines (possibly none) for steps or seams far above the texture of ``obj``.
 
     Parameters
