@@ -3,7 +3,8 @@
 In Persson's theory the shear stress tau_f acting in the area of real contact A(v) adds
 ``mu_adh = tau_f A(v) / (A0 sigma0)`` to the viscoelastic friction, with ``A(v)/A0 = P(q1)``
 the engine's contact area at the finest scale and speed v (Persson, J. Phys.: Condens. Matter
-18, 7789 (2006); Lorenz et al., EPL 103, 24003 (2013)). tau_f is a property of the rubber-road
+18, 7789 (2006); Lorenz et al., J. Phys.: Condens. Matter 25, 095007 (2013),
+doi:10.1088/0953-8984/25/9/095007). tau_f is a property of the rubber-road
 pair (about 1-10 MPa for tread rubber on road stone in Lorenz et al. 2013); it has no default
 here. Wet, only the contact that water does not separate keeps it: the real contact at the
 contact pressure left after squeeze-out, outside the pools the rubber seals (where it touches
@@ -38,7 +39,8 @@ def adhesive_mu(shear_stress_Pa, contact_area, sigma0_Pa, dry_fraction=1.0):
     References
     ----------
     B.N.J. Persson, J. Phys.: Condens. Matter 18, 7789 (2006), doi:10.1088/0953-8984/18/32/025.
-    B. Lorenz et al., EPL 103, 24003 (2013), doi:10.1209/0295-5075/103/24003.
+    B. Lorenz, B.N.J. Persson et al., J. Phys.: Condens. Matter 25, 095007 (2013),
+    doi:10.1088/0953-8984/25/9/095007.
     """
     A = np.asarray(contact_area, dtype=float)
     if shear_stress_Pa is None:

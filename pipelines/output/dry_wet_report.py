@@ -68,7 +68,7 @@ def dry_wet_figures(out_dir, name, r, v, mu_dry, mu_wet, wf=None):
     figs.append(report.plot_mu([("lost to sealing", v, parts["sealing"]),
                                 ("lost to the squeeze-out film", v, parts["squeeze_out"]),
                                 ("adhesion lost", v, parts["adhesion"]),
-                                ("μ_dry - μ_wet", v, mu_dry - mu_wet, "k--")],
+                                ("μ_dry - μ_wet", v, mu_dry - mu_wet, "--")],
                                out_dir / "mu_mechanisms.png",
                                title=f"{name}: what water takes from μ, by mechanism",
                                ylabel="part of μ_dry - μ_wet [-]"))
@@ -82,6 +82,13 @@ def dry_wet_figures(out_dir, name, r, v, mu_dry, mu_wet, wf=None):
                                out_dir / "film_left.png", title=f"{name}: water film under a tread block",
                                ylabel="thickness [mm]", logy=True))
     return figs
+
+
+def _film_text(x):
+    """A film thickness for the table: below 1 nm (the squeeze quadrature's floor) it is none."""
+    if x is None:
+        return "—"
+    return "< 1 nm" if x < 1e-9 else length(x)
 
 
 def _share(x):
@@ -105,7 +112,7 @@ def _friction_rows(r):
         d, w = r["mu_dry"][s], r["mu_wet"][s]
         row = [s, sig3(kmh[i]), sig3(d), sig3(w), sig3(w / d) if d else "—"]
         if film:
-            row += [length(film.get(s)) if film.get(s) is not None else "—",
+            row += [_film_text(film.get(s)),
                     *(_share(mech.get(k, {}).get(s)) for k in ("sealing", "squeeze_out", "adhesion"))]
         rows.append(row)
     head = ["v [m/s]", "v [km/h]", "μ dry", "μ wet", "wet / dry"]
@@ -127,12 +134,12 @@ def _speed_constant_rows(r):
             else f"none: {r.get('mpd_note') or 'no valid MPD'}",
     }
     if sp is not None and ifi is not None:
-        rows["model / IFI"] = f"{sp / ifi:.2f} (the PIARC experiment's scatter is about a factor 2)"
+        rows["model / IFI"] = f"{sp / ifi:.2f}"
     fall = r.get("fall_20_100_kmh")
     if fall:
         rows["fall of μ_wet from 20 to 100 km/h"] = (
-            f"{sig3(fall['mu_wet'])}: {sig3(fall['dry_curve'])} from the dry curve "
-            f"({r.get('model')}), {sig3(fall['water'])} from the water")
+            f"{sig3(fall['mu_wet'])} = {sig3(fall['dry_curve'])} from the dry curve ({r.get('model')}) "
+            f"+ {sig3(fall['water'])} from the water")
     return rows
 
 
@@ -144,7 +151,7 @@ def _contact_lost(r):
     top = max(film) if film else None
     if top is None:
         return "not within the speeds computed"
-    return (f"not within the speeds computed (largest film left {length(top)}, texture height "
+    return (f"not within the speeds computed (largest film left {_film_text(top)}, texture height "
             f"{length(r.get('texture_height_m'))})")
 
 
