@@ -11,7 +11,11 @@ band is too narrow.
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import numpy as np
+from numpy.typing import NDArray
 
 __all__ = ["disagreements", "widen_outliers", "DISAGREE_SIGMAS", "DISAGREE_FACTOR",
            "NEIGHBOUR_REACH", "Z95"]
@@ -23,7 +27,8 @@ Z95 = 1.6448536269514722
 NEIGHBOUR_REACH = 0.3
 
 
-def widen_outliers(q, lnC, d_lo, d_hi, covered, seg):
+def widen_outliers(q: NDArray[np.float64], lnC: NDArray[np.float64], d_lo: NDArray[np.float64], d_hi: NDArray[np.float64], covered: NDArray[np.bool_],
+                   seg: NDArray[np.integer[Any]]) -> list[float]:
     """Widen, in place, the band of each measured row that excludes what its neighbours say
     -> [q of each row widened].
 
@@ -91,7 +96,8 @@ DISAGREE_SIGMAS = 3.0
 DISAGREE_FACTOR = 1.25
 
 
-def disagreements(row, source, count, dof, C, edge, q_row, labels):
+def disagreements(row: NDArray[np.integer[Any]], source: NDArray[np.integer[Any]], count: NDArray[np.float64], dof: NDArray[np.float64],
+                  C: NDArray[np.float64], edge: NDArray[np.bool_], q_row: NDArray[np.float64], labels: Sequence[str]) -> list[dict[str, Any]]:
     """Pairs of sources whose C disagree where both measure: [{labels, factor, q_from_per_m,
     q_to_per_m, rows, sigma_ln}].
 

@@ -37,7 +37,9 @@ x runs along columns (dx), y along rows (dy). All tiles must share the same spac
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
 from scipy import ndimage
@@ -104,7 +106,9 @@ def _place(z, ok, frac, snap_px):
     return np.where(bad, np.nan, zs), ~bad
 
 
-def stitch(tiles, nominal_xy_m, max_shift_px=20, blend="feather", min_overlap_px=8, snap_px=0.05):
+def stitch(tiles: Sequence[HeightMap], nominal_xy_m: Sequence[tuple[float, float]], max_shift_px: int = 20,
+           blend: Literal["feather", "average"] = "feather", min_overlap_px: int = 8,
+           snap_px: float = 0.05) -> StitchResult:
     """Stitch overlapping tiles into one height map.
 
     Parameters

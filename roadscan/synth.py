@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.fft as sfft
+from numpy.typing import ArrayLike, NDArray
 
 from .errors import InputError
 from .heightmap import HeightMap
@@ -26,7 +27,8 @@ from .heightmap import HeightMap
 __all__ = ["self_affine_surface", "model_psd"]
 
 
-def model_psd(q_per_m, hurst, prefactor_m4=1.0, q0_per_m=0.0, q1_per_m=np.inf, q_roll_per_m=None):
+def model_psd(q_per_m: ArrayLike, hurst: float, prefactor_m4: float = 1.0, q0_per_m: float = 0.0,
+              q1_per_m: float = np.inf, q_roll_per_m: float | None = None) -> NDArray[np.float64]:
     """The piecewise self-affine spectrum above, C [m^4] at wave vectors ``q_per_m`` [1/m].
 
     ``prefactor_m4`` is K in C = K q^(-2(H+1)) (units m^4 when q is in 1/m, times m^(-2(H+1))).
@@ -59,9 +61,11 @@ def model_psd(q_per_m, hurst, prefactor_m4=1.0, q0_per_m=0.0, q1_per_m=np.inf, q
     return np.where(inside, prefactor_m4 * c, 0.0)
 
 
-def self_affine_surface(nx, ny=None, dx_m=55.4e-6, hurst=0.8, rms_height_m=0.5e-3,
-                        q_roll_per_m=None, q0_per_m=None, q1_per_m=None, seed=0,
-                        gaussian_amplitudes=True, dy_m=None, name="synthetic"):
+def self_affine_surface(nx: int, ny: int | None = None, dx_m: float = 55.4e-6, hurst: float = 0.8,
+                        rms_height_m: float = 0.5e-3, q_roll_per_m: float | None = None,
+                        q0_per_m: float | None = None, q1_per_m: float | None = None, seed: int = 0,
+                        gaussian_amplitudes: bool = True, dy_m: float | None = None,
+                        name: str = "synthetic") -> HeightMap:
     """A periodic self-affine height map with exactly the requested rms height.
 
     Parameters

@@ -25,8 +25,10 @@ from .synth import model_psd
 __all__ = ["measure_synthetic"]
 
 
-def measure_synthetic(n, spacing_m, hurst, prefactor_m4, q_roll_per_m=None, resolution_m=None,
-                      noise_rms_m=0.0, seed=0, oversample=2, pad=4, name="measured"):
+def measure_synthetic(n: int, spacing_m: float, hurst: float, prefactor_m4: float,
+                      q_roll_per_m: float | None = None, resolution_m: float | None = None,
+                      noise_rms_m: float = 0.0, seed: int = 0, oversample: int = 2, pad: int = 4,
+                      name: str = "measured") -> HeightMap:
     """An n x n HeightMap [m] of the surface above as the instrument records it.
 
     Parameters

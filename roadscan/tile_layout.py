@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 from pathlib import Path
 
 from .errors import InputError
@@ -19,7 +20,8 @@ __all__ = ["grid_positions", "read_manifest", "MANIFEST_HEADER"]
 MANIFEST_HEADER = ["file", "x_m", "y_m"]
 
 
-def grid_positions(n_rows, n_cols, tile_shape, dx_m, dy_m, overlap_fraction):
+def grid_positions(n_rows: int, n_cols: int, tile_shape: tuple[int, int], dx_m: float, dy_m: float,
+                   overlap_fraction: float) -> list[tuple[float, float]]:
     """Nominal positions of a ROWS x COLS grid of tiles, row-major (row 0 first).
 
     Parameters
@@ -48,7 +50,7 @@ def grid_positions(n_rows, n_cols, tile_shape, dx_m, dy_m, overlap_fraction):
     return [(c * sx, r * sy) for r in range(n_rows) for c in range(n_cols)]
 
 
-def read_manifest(path):
+def read_manifest(path: str | os.PathLike[str]) -> list[tuple[Path, float, float]]:
     """Read a tile manifest: CSV with header exactly ``file,x_m,y_m``.
 
     Each row names a tile file (relative to the manifest's folder, or absolute) and the

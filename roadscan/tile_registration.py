@@ -12,7 +12,11 @@ S. T. Thurman, J. R. Fienup, Opt. Lett. 33, 156 (2008).
 """
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import Any
+
 import numpy as np
+from numpy.typing import NDArray
 from scipy import ndimage
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
@@ -24,7 +28,7 @@ from .windows import tukey  # scipy.signal's, without importing scipy.signal
 
 __all__ = ["register_pair", "overlap_rect", "check_connected", "plane_removed", "highpass"]
 
-def plane_removed(z, ok):
+def plane_removed(z: NDArray[np.float64], ok: NDArray[np.bool_]) -> NDArray[np.float64]:
     """z minus its least-squares plane over the points ``ok``; unmeasured -> 0.
 
     Parameters
@@ -43,7 +47,7 @@ def plane_removed(z, ok):
     return np.where(ok, z - polynomial_form(z, ~ok, degree=1), 0.0)
 
 
-def highpass(z, ok, sigma=2.0):
+def highpass(z: NDArray[np.float64], ok: NDArray[np.bool_], sigma: float = 2.0) -> NDArray[np.float64]:
     """z minus its Gaussian-smoothed version (normalised convolution over measured points).
 
     A plane passes through the smoothing unchanged, so relative tilts vanish and the
@@ -70,7 +74,8 @@ def highpass(z, ok, sigma=2.0):
     return np.where(ok, z - smooth, 0.0)
 
 
-def overlap_rect(shape_i, shape_j, t):
+def overlap_rect(shape_i: tuple[int, ...], shape_j: tuple[int, ...],
+                 t: tuple[int, ...]) -> tuple[int, int, int, int]:
     """Overlap of tile i (origin 0) and tile j at integer offset t=(dr, dc), in i's coordinates.
 
     Parameters
@@ -90,7 +95,8 @@ def overlap_rect(shape_i, shape_j, t):
     return r0, r1, c0, c1
 
 
-def register_pair(zi, oki, zj, okj, t0, m, hpi, hpj):
+def register_pair(zi: NDArray[np.float64], oki: NDArray[np.bool_], zj: NDArray[np.float64], okj: NDArray[np.bool_], t0: tuple[int, ...], m: int,
+                  hpi: NDArray[np.float64], hpj: NDArray[np.float64]) -> tuple[NDArray[np.float64], bool]:
     """Offset T (float row, col) of tile j relative to tile i, starting from integer t0.
 
     ``zi, zj`` are plane-levelled tiles, ``hpi, hpj`` their high-passed versions (used for
@@ -153,7 +159,7 @@ def register_pair(zi, oki, zj, okj, t0, m, hpi, hpj):
 
 
 
-def check_connected(n, pairs, labels, how=""):
+def check_connected(n: int, pairs: Sequence[tuple[Any, ...]], labels: Sequence[str], how: str = "") -> None:
     """Raise InputError naming a tile cut off from tile 0 in the overlap graph (``how`` is
     appended to the message).
 
@@ -162,7 +168,7 @@ def check_connected(n, pairs, labels, how=""):
     n : int
         Number of tiles.
     pairs : list of tuple
-        Registered pairs (i, j).
+        Registered pairs (i, j, ...): tile indices first, anything after.
     labels : list of str
         Tile names.
     how : str, optional
