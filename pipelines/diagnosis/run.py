@@ -15,7 +15,8 @@ __all__ = ["validate", "run_friction", "diagnose_curve"]
 
 
 def _provenance(data, d, ctx, inputs):
-    """``inputs`` (provenance, :mod:`.provenance`) and ``engine_settings.sigma0_Pa`` of the JSON."""
+    """``inputs`` (provenance, :mod:`pipelines.diagnosis.report.provenance`) and
+    ``engine_settings.sigma0_Pa`` of the JSON."""
     from pipelines.diagnosis.report.provenance import inputs_json
 
     data["inputs"] = inputs_json(ctx, d, inputs)
@@ -88,7 +89,8 @@ def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=T
     """Diagnose ``curve`` (MeasuredCurve) on ``ctx``; write DIR/diagnosis.json and report.html.
 
     ``extra``: a dict of run settings added to the JSON (the command's band, nu, rubber checks).
-    ``uncertain``: dict key -> calibration.Uncertain; ``inputs``: provenance (:mod:`.provenance`).
+    ``uncertain``: dict key -> calibration.Uncertain; ``inputs``: provenance
+    (:mod:`pipelines.diagnosis.report.provenance`).
 
     Returns the JSON dict.
 

@@ -9,7 +9,8 @@ __all__ = ["provenance_hints", "run_measurements", "load_surface"]
 
 
 def provenance_hints(args, uncertain, measured=True):
-    """dict(files=[(role, path)], given=[inputs keys the user set]) for :mod:`.provenance`.
+    """dict(files=[(role, path)], given=[inputs keys the user set]) for
+    :mod:`pipelines.diagnosis.report.provenance`.
 
     Parameters
     ----------
