@@ -15,6 +15,8 @@ adding that effect closes the gap. One idea per module:
 - :mod:`.search_few`, :mod:`.verdict_few`, :mod:`.evidence`  fewer than 20 points: Bayesian
                      model comparison (Laplace evidence), PRESS residuals
 - :mod:`.equivalence` an effect the uncertain inputs beyond their ranges reproduce is them
+- :mod:`.same_physics` an effect that is an input continued (fine roughness and q1, load and
+                     sigma0, temperature offset and T0) is named once, with the input value
 - :mod:`.next_measurement` where the two most probable explanations differ most
 - :mod:`.stats`      multi-start bounded least squares, Jacobian, Gauss-Newton covariance
 - :mod:`.calibration` uncertain inputs (``--uncertain``, the default q1 range) as a pseudo-effect
