@@ -16,6 +16,8 @@ Conventions: q in 1/m, C in m^4 (Persson's normalisation, ``<h^2> = 2 pi int q C
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .psd import TabulatedPSD
@@ -43,7 +45,8 @@ def _ends(psd, q0_per_m, q1_per_m, q0_slack):
     return q0, q1, None
 
 
-def band_problem(psd, q0_per_m=None, q1_per_m=None, q0_slack=0.01):
+def band_problem(psd: TabulatedPSD, q0_per_m: float | None = None, q1_per_m: float | None = None,
+                 q0_slack: float = 0.01) -> str | None:
     """Why ``[q0, q1]`` makes no integration band for ``psd`` (one line), or None when it does:
     the check :func:`integration_band` applies, for callers that report bad input before the
     computation.
@@ -64,7 +67,8 @@ def band_problem(psd, q0_per_m=None, q1_per_m=None, q0_slack=0.01):
     return _ends(psd, q0_per_m, q1_per_m, q0_slack)[2]
 
 
-def integration_band(psd, q0_per_m=None, q1_per_m=None, q0_slack=0.01):
+def integration_band(psd: TabulatedPSD, q0_per_m: float | None = None, q1_per_m: float | None = None,
+                     q0_slack: float = 0.01) -> tuple[TabulatedPSD, dict[str, Any]]:
     """The spectrum on exactly ``[q0, q1]`` (see module docstring).
 
     Parameters

@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["cumulative_G", "contact_P", "contact_S", "p_weights"]
 
@@ -41,17 +42,17 @@ def _erf_pair(x, complement):
     return np.asarray(f(x), dtype=float).reshape(x.shape)
 
 
-def erf(x):
+def erf(x: ArrayLike) -> NDArray[np.float64]:
     """The error function ``erf(x) = 2/sqrt(pi) int_0^x exp(-t^2) dt``, elementwise, float64."""
     return _erf_pair(x, False)
 
 
-def erfc(x):
+def erfc(x: ArrayLike) -> NDArray[np.float64]:
     """The complementary error function ``erfc(x) = 1 - erf(x)``, elementwise, float64."""
     return _erf_pair(x, True)
 
 
-def cumulative_G(g, h):
+def cumulative_G(g: NDArray[np.float64], h: NDArray[np.float64]) -> NDArray[np.float64]:
     """Cumulative integral of a positive integrand ``g`` (..., n) over s with steps ``h`` (n-1,).
 
     Each interval is integrated exactly for g a power of q (linear in (s, ln g)):
@@ -80,7 +81,7 @@ def cumulative_G(g, h):
     return out
 
 
-def contact_P(G):
+def contact_P(G: ArrayLike) -> NDArray[np.float64]:
     """``P = erf(1 / (2 sqrt G))`` with P(0) = 1: the fraction of the nominal area in contact.
 
     Parameters
@@ -102,7 +103,7 @@ def contact_P(G):
         return np.where(G > 0, erf(0.5 / np.sqrt(np.maximum(G, 1e-300))), 1.0)
 
 
-def contact_S(P, gamma=None):
+def contact_S(P: ArrayLike, gamma: float | None = None) -> NDArray[np.float64] | float:
     """Persson's correction of the dissipation integrand, ``S(q) = gamma + (1 - gamma) P(q)^2``.
 
     It multiplies ``q^3 C(q) P(q) M(q)`` in mu (and, in the flash model, the heat source):
@@ -150,7 +151,7 @@ def _K(G):
         return 0.5 * G * G * erf(u) + e * (2 * G * sg - sg) / (12 * _SQPI) + erfc(u) / 24.0
 
 
-def p_weights(G, h):
+def p_weights(G: ArrayLike, h: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Weights ``w`` (..., n) with ``integral f(s) P(s) ds ~ sum_i w_i f_i`` for f linear on
     each interval and P = erf(1/(2 sqrt G)) with G linear in s on each interval.
 
@@ -174,6 +175,7 @@ def p_weights(G, h):
         P at the nodes.
     """
     G = np.asarray(G, dtype=float)
+    h = np.asarray(h, dtype=float)
     Ga, Gb = G[..., :-1], G[..., 1:]
     dG = Gb - Ga
     P = contact_P(G)

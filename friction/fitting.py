@@ -2,13 +2,14 @@
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from .rubber import WLF, Prony
+from .rubber import WLF, MasterCurve, Prony
 
 __all__ = ["fit_prony", "fit_wlf"]
 
 
-def fit_prony(master_curve, n_terms=None, per_decade=1.0):
+def fit_prony(master_curve: MasterCurve, n_terms: int | None = None, per_decade: float = 1.0) -> Prony:
     """Fit a generalized Maxwell (Prony) series to a master curve.
 
     Relaxation times are fixed, log-spaced over the measured range
@@ -57,7 +58,7 @@ def fit_prony(master_curve, n_terms=None, per_decade=1.0):
                  master_curve.shift, master_curve.thermal)
 
 
-def fit_wlf(T_C, log10_aT, T_s_C=None):
+def fit_wlf(T_C: ArrayLike, log10_aT: ArrayLike, T_s_C: float | None = None) -> WLF:
     """Fit WLF constants ``log10 aT = -C1 (T - T_s)/(C2 + T - T_s)`` to a shift table.
 
     ``T_s_C`` defaults to the table temperature where log10 aT = 0 (interpolated), i.e. the
@@ -108,10 +109,16 @@ def fit_wlf(T_C, log10_aT, T_s_C=None):
     if not (C1_0 > 0 and C2_0 > 0):
         C1_0, C2_0 = 10.0, 50.0
 
-    if fit_ts:
-        fun = lambda t, c1, c2, ts: -c1 * (t - ts) / (c2 + t - ts)  # noqa: E731
-        p, _ = curve_fit(fun, T, y, p0=[C1_0, C2_0, Ts0], maxfev=20000)
+    if T_s_C is None:
+        def wlf_free(t, c1, c2, ts):            # log10 aT with T_s fitted too
+            return -c1 * (t - ts) / (c2 + t - ts)
+
+        p, _ = curve_fit(wlf_free, T, y, p0=[C1_0, C2_0, Ts0], maxfev=20000)
         return WLF(float(p[0]), float(p[1]), float(p[2]))
-    fun = lambda t, c1, c2: -c1 * (t - T_s_C) / (c2 + t - T_s_C)  # noqa: E731
-    p, _ = curve_fit(fun, T, y, p0=[C1_0, C2_0], maxfev=20000)
-    return WLF(float(p[0]), float(p[1]), float(T_s_C))
+    T_s = float(T_s_C)
+
+    def wlf_fixed(t, c1, c2):                   # log10 aT at the given T_s
+        return -c1 * (t - T_s) / (c2 + t - T_s)
+
+    p, _ = curve_fit(wlf_fixed, T, y, p0=[C1_0, C2_0], maxfev=20000)
+    return WLF(float(p[0]), float(p[1]), T_s)

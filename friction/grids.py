@@ -16,13 +16,18 @@ from __future__ import annotations
 
 import weakref
 from itertools import pairwise
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+if TYPE_CHECKING:
+    from .rubber import Rubber
 
 __all__ = ["phi_rule", "q_grid", "q_nodes_per_decade", "PhiTable", "phi_table"]
 
 
-def phi_rule(n_gl=8, panels_per_decade=1.0, u_min=1e-8):
+def phi_rule(n_gl: int = 8, panels_per_decade: float = 1.0, u_min: float = 1e-8) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Gauss-Legendre panels on phi in [0, pi/2], graded geometrically towards phi = pi/2.
 
     With ``u = pi/2 - phi`` (so ``cos phi = sin u``) the range ``[u_min, pi/2]`` is cut into
@@ -60,7 +65,7 @@ def phi_rule(n_gl=8, panels_per_decade=1.0, u_min=1e-8):
     return np.sin(u), w
 
 
-def q_nodes_per_decade(tol, base=40.0, ref_tol=1e-3, minimum=8):
+def q_nodes_per_decade(tol: float, base: float = 40.0, ref_tol: float = 1e-3, minimum: int = 8) -> int:
     """q nodes per decade for a relative tolerance ``tol`` on mu (second-order rule:
     about 40 per decade at 1e-3, scaling as tol^-1/2; measured in tests).
 
@@ -83,7 +88,7 @@ def q_nodes_per_decade(tol, base=40.0, ref_tol=1e-3, minimum=8):
     return max(minimum, int(np.ceil(base * np.sqrt(ref_tol / tol))))
 
 
-def q_grid(breakpoints_per_m, nodes_per_decade, grade=8):
+def q_grid(breakpoints_per_m: ArrayLike, nodes_per_decade: float, grade: int = 8) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Nodes uniform in ln q between consecutive breakpoints (all breakpoints are nodes),
     with the first interval graded geometrically towards the lowest q: ``grade`` extra nodes at
     ``s0 + h / 2^k``, k = 1..grade, where G rises from 0 and P has its 1/sqrt(q - q_min)
@@ -211,7 +216,8 @@ class PhiTable:
         Panels per decade of the phi rule.
     """
 
-    def __init__(self, rubber, k_lo, k_hi, per_decade=24, n_gl=8, panels_per_decade=1.0):
+    def __init__(self, rubber: Rubber, k_lo: int, k_hi: int, per_decade: int = 24, n_gl: int = 8,
+                 panels_per_decade: float = 1.0) -> None:
         self.rubber, self.k_lo, self.k_hi, self.per_decade = rubber, int(k_lo), int(k_hi), per_decade
         lx = np.arange(self.k_lo, self.k_hi + 1) * (np.log(10.0) / per_decade)
         c, wphi = phi_rule(n_gl, panels_per_decade)
@@ -228,10 +234,11 @@ class PhiTable:
         self._lw = _NotAKnotSpline(lx, np.log(np.maximum(w, tiny)))
         self._ends = [f.ends() for f in (self._lm, self._lw)]
 
-    def covers(self, k_lo, k_hi):
+    def covers(self, k_lo: int, k_hi: int) -> bool:
+        """Whether the table spans the lattice range [k_lo, k_hi]."""
         return self.k_lo <= k_lo and k_hi <= self.k_hi
 
-    def __call__(self, x):
+    def __call__(self, x: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """``(m, w)`` at ``x = q v a`` [rad/s] (any shape, x > 0)."""
         lx = np.log(np.maximum(x, 1e-300))  # x = 0 (a shift factor that underflowed) stays finite
         lo, hi = self._lx[0], self._lx[-1]
@@ -245,10 +252,10 @@ class PhiTable:
         return out[0], out[1]
 
 
-_CACHE = weakref.WeakKeyDictionary()
+_CACHE: weakref.WeakKeyDictionary[Rubber, dict[int, PhiTable]] = weakref.WeakKeyDictionary()
 
 
-def phi_table(rubber, x_min, x_max, per_decade=24):
+def phi_table(rubber: Rubber, x_min: float, x_max: float, per_decade: int = 24) -> PhiTable:
     """A cached :class:`PhiTable` for ``rubber`` covering ``[x_min, x_max]`` (with margin).
 
     Parameters

@@ -37,8 +37,10 @@ Units: f in Hz, moduli in Pa, temperatures in C, shift factors as decimal logari
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .rubber import WLF, MasterCurve, Prony
 from .sweep_pairs import fit_power_offset, group_sweeps, pair_shift
@@ -49,7 +51,9 @@ __all__ = ["group_sweeps", "pair_shift", "shift_factors", "smooth_master", "TTSR
            "fit_power_offset"]
 
 
-def shift_factors(f_Hz, E1_Pa, E2_Pa, T_C, T_ref_C, set_id=None, max_sigma_decades=0.5, reach=2):
+def shift_factors(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: ArrayLike, T_ref_C: float,
+                  set_id: ArrayLike | None = None, max_sigma_decades: float = 0.5,
+                  reach: int = 2) -> tuple[NDArray[np.float64], NDArray[np.float64], list[NDArray[np.intp]], list[dict[str, Any]]]:
     """log10 aT of every sweep relative to T_ref (see module docstring).
 
     Every sweep is compared with its ``reach`` nearest neighbours in temperature on each side
@@ -164,7 +168,8 @@ def shift_factors(f_Hz, E1_Pa, E2_Pa, T_C, T_ref_C, set_id=None, max_sigma_decad
     return Tm, la, groups, info
 
 
-def smooth_master(f_Hz, E1_Pa, E2_Pa, per_decade=10, width_decades=0.2):
+def smooth_master(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, per_decade: int = 10,
+                  width_decades: float = 0.2) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Smoothed master curve on a log grid from scattered shifted points.
 
     Local linear regression of log10 E on log10 f with Gaussian weights of standard deviation
@@ -248,7 +253,8 @@ class TTSResult:
     sweep_info: list
 
 
-def build_master(f_Hz, E1_Pa, E2_Pa, T_C, T_ref_C, set_id=None, prony_per_decade=1.5):
+def build_master(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: ArrayLike, T_ref_C: float,
+                 set_id: ArrayLike | None = None, prony_per_decade: float = 1.5) -> TTSResult:
     """Raw sweeps -> shift table, smoothed master curve, WLF fit and Prony series (see module
     docstring). Raises ValueError with a one-line reason on unusable data.
 

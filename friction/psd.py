@@ -8,9 +8,10 @@ cut-off) and ``with_q1(q1)``.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["SelfAffinePSD", "TabulatedPSD"]
 
@@ -61,10 +62,13 @@ class SelfAffinePSD:
             raise ValueError("q_roll_per_m must lie in (0, q0)")
 
     @property
-    def q_min_per_m(self):
+    def q_min_per_m(self) -> float:
+        """Lower end of the spectrum [1/m]: the roll-off if any, else q0."""
         return self.q0_per_m if self.q_roll_per_m is None else self.q_roll_per_m
 
-    def C(self, q_per_m):
+    def C(self, q_per_m: ArrayLike) -> NDArray[np.float64]:
+        """C(q) [m^4]: H/(2 pi) (h0/q0)^2 (q/q0)^(-2(H+1)) on [q0, q1], the plateau C(q0) from
+        the roll-off to q0, 0 outside."""
         q = np.asarray(q_per_m, dtype=float)
         H, q0 = self.hurst, self.q0_per_m
         k = H / (2 * np.pi) * (self.h0_m / q0) ** 2
@@ -73,11 +77,12 @@ class SelfAffinePSD:
         inside = (q >= self.q_min_per_m * (1 - 1e-12)) & (q <= self.q1_per_m * (1 + 1e-12))
         return np.where(inside, out, 0.0)
 
-    def with_q1(self, q1_per_m):
+    def with_q1(self, q1_per_m: float) -> SelfAffinePSD:
+        """The same spectrum cut at another q1 [1/m]."""
         return replace(self, q1_per_m=float(q1_per_m))
 
     @property
-    def band_rms_m(self):
+    def band_rms_m(self) -> float:
         """rms height of the band ``q_min..q1`` [m] implied by the model."""
         from scipy.integrate import quad
         v = quad(lambda lq: 2 * np.pi * np.exp(2 * lq) * self.C(np.exp(lq)),
@@ -109,6 +114,8 @@ class TabulatedPSD:
     C_m4: np.ndarray
     q0_per_m: float | None = None
     q1_per_m: float | None = None
+    # (exponent, intercept) of the power law continuing the table above its last point
+    _tail: tuple[float, float] = field(init=False, repr=False)
 
     def __post_init__(self):
         q = np.asarray(self.q_per_m, dtype=float)
@@ -134,15 +141,18 @@ class TabulatedPSD:
         object.__setattr__(self, "_tail", (float(slope), float(icpt)))
 
     @property
-    def q_min_per_m(self):
+    def q_min_per_m(self) -> float:
+        """The first tabulated wave vector [1/m]."""
         return float(self.q_per_m[0])
 
     @property
-    def tail_exponent(self):
+    def tail_exponent(self) -> float:
         """Exponent of the fitted power-law continuation, ``C ~ q^exponent`` (= -2(H+1))."""
         return self._tail[0]
 
-    def C(self, q_per_m):
+    def C(self, q_per_m: ArrayLike) -> NDArray[np.float64]:
+        """C(q) [m^4] interpolated in (ln q, ln C), continued above the table by the fitted
+        power law up to q1, 0 outside [q_min, q1]."""
         q = np.asarray(q_per_m, dtype=float)
         lq = np.log(np.maximum(q, 1e-300))
         lqt = np.log(self.q_per_m)
@@ -150,8 +160,11 @@ class TabulatedPSD:
         # continuation anchored at the last data point with the fitted slope
         tail = self.C_m4[-1] * np.exp(self._tail[0] * (lq - lqt[-1]))
         out = np.where(q > self.q_per_m[-1], tail, inner)
-        inside = (q >= self.q_per_m[0] * (1 - 1e-12)) & (q <= self.q1_per_m * (1 + 1e-12))
+        q1 = self.q1_per_m
+        assert q1 is not None                         # set by the constructor
+        inside = (q >= self.q_per_m[0] * (1 - 1e-12)) & (q <= q1 * (1 + 1e-12))
         return np.where(inside, out, 0.0)
 
-    def with_q1(self, q1_per_m):
+    def with_q1(self, q1_per_m: float) -> TabulatedPSD:
+        """The same table cut (or continued) at another q1 [1/m]."""
         return TabulatedPSD(self.q_per_m, self.C_m4, self.q0_per_m, float(q1_per_m))

@@ -2,8 +2,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["FrictionResult"]
 
@@ -45,7 +47,8 @@ class FrictionResult:
     meta: dict = field(default_factory=dict)
 
     @property
-    def q0_per_m(self):
+    def q0_per_m(self) -> float:
+        """The spectrum's q0 [1/m] (the first wave vector unless recorded in ``meta``)."""
         return self.meta.get("q0_per_m", float(self.q_per_m[0]))
 
     def _interp_q(self, arr, q):
@@ -61,13 +64,13 @@ class FrictionResult:
         out = arr[:, i] * (1 - t) + arr[:, i + 1] * t
         return out[:, 0] if np.ndim(q) == 0 else out
 
-    def temperature_at(self, zeta):
+    def temperature_at(self, zeta: ArrayLike) -> NDArray[np.float64]:
         """Flash temperature [C] at magnification ``zeta`` (q = zeta q0), shape (nv,) or (nv, k)."""
         if self.T_q_C is None:
             raise ValueError("isothermal result: no flash temperatures")
         return self._interp_q(self.T_q_C, np.asarray(zeta, dtype=float) * self.q0_per_m)
 
-    def P_at(self, zeta):
+    def P_at(self, zeta: ArrayLike) -> NDArray[np.float64]:
         """Relative contact area at magnification ``zeta`` (q = zeta q0); P is interpolated
         linearly in ln G (G grows smoothly)."""
         with np.errstate(divide="ignore"):
@@ -76,7 +79,7 @@ class FrictionResult:
         return contact_P(np.exp(lG))
 
     @property
-    def peak(self):
+    def peak(self) -> tuple[float, float]:
         """(mu_max, v at mu_max [m/s]): the largest mu on the speed grid, refined by a parabola
         through it and its neighbours in ln v (the grid value at the ends of the grid)."""
         i = int(np.argmax(self.mu))
@@ -89,7 +92,7 @@ class FrictionResult:
                     return float(np.polyval(c, xs)), float(np.exp(x[1] + xs))
         return float(self.mu[i]), float(self.v_m_per_s[i])
 
-    def plot(self, ax=None, label=None, **kwargs):
+    def plot(self, ax: Any = None, label: str | None = None, **kwargs: Any) -> Any:
         """Plot mu(v) on a log speed axis; returns the axes."""
         if ax is None:
             import matplotlib.pyplot as plt

@@ -16,8 +16,10 @@ References: B.N.J. Persson, J. Chem. Phys. 115 (2001) 3840; the thesis (seeds/00
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["WLF", "ShiftTable", "Thermal", "StandardLinearSolid", "Prony", "MasterCurve",
            "thesis_rubber", "log10_shift", "EXTRAPOLATE"]
@@ -60,11 +62,12 @@ class WLF:
     T_g_C: float | None = None
 
     @classmethod
-    def thesis(cls, T_g_C=-30.0):
+    def thesis(cls, T_g_C: float = -30.0) -> WLF:
         """The thesis's WLF: C1 = 8.86, C2 = 51.5 K, T_s = Tg + 50, denominator at Tg."""
         return cls(8.86, 51.5, T_g_C + 50.0, T_g_C)
 
-    def log10_aT(self, T_C):
+    def log10_aT(self, T_C: ArrayLike) -> NDArray[np.float64]:
+        """log10 aT(T) = -C1 (T - T_s) / (C2 + T - T_d), T_d = T_g if given else T_s [T in C]."""
         T = np.asarray(T_C, dtype=float)
         Td = self.T_s_C if self.T_g_C is None else self.T_g_C
         return -self.C1 * (T - self.T_s_C) / np.maximum(self.C2_K + T - Td, 1e-3)
@@ -99,7 +102,8 @@ class ShiftTable:
         object.__setattr__(self, "T_C", T[o])
         object.__setattr__(self, "log10_aT_values", a[o])
 
-    def log10_aT(self, T_C):
+    def log10_aT(self, T_C: ArrayLike) -> NDArray[np.float64]:
+        """log10 aT at T [C]: linear interpolation of the table, linear continuation outside."""
         T = np.asarray(T_C, dtype=float)
         Tt, at = self.T_C, self.log10_aT_values
         s0 = (at[1] - at[0]) / (Tt[1] - Tt[0])
@@ -109,7 +113,8 @@ class ShiftTable:
         return np.where(T > Tt[-1], at[-1] + s1 * (T - Tt[-1]), y)
 
 
-def log10_shift(rubber, T_C, wlf_form="relative", T0_C=None):
+def log10_shift(rubber: Rubber, T_C: ArrayLike, wlf_form: Literal["relative", "literal"] = "relative",
+                T0_C: float | None = None) -> NDArray[np.float64]:
     """Decimal log of the factor multiplying omega in ``E(omega, T) = E_ref(omega * factor)``.
 
     ``relative``: ``log10 aT(T) - log10 aT(T_ref)`` (docs: Theory, default).
@@ -179,19 +184,30 @@ class Thermal:
                 raise ValueError(f"Thermal.{k} must be positive")
 
     @property
-    def diffusivity_m2_s(self):
+    def diffusivity_m2_s(self) -> float:
+        """Thermal diffusivity D = lambda / (rho c_v) [m^2/s]."""
         return self.conductivity_W_mK / (self.rho_kg_m3 * self.c_v_J_kgK)
 
     @property
-    def heat_capacity_J_m3K(self):
+    def heat_capacity_J_m3K(self) -> float:
+        """Volumetric heat capacity rho c_v [J/(m^3 K)]."""
         return self.rho_kg_m3 * self.c_v_J_kgK
 
 
 # --------------------------------------------------------------------------- moduli
-class _Rubber:
-    """Shared behaviour: ``modulus(omega, T_C)`` from ``modulus_ref(omega)`` and the shift."""
+class Rubber:
+    """The base of every rubber model (:class:`Prony`, :class:`StandardLinearSolid`,
+    :class:`MasterCurve`): ``modulus(omega, T_C)`` from the model's ``modulus_ref(omega)`` at
+    ``T_ref_C`` and its temperature shift."""
 
-    def modulus(self, omega_rad_s, T_C=None):
+    T_ref_C: float
+    shift: WLF | ShiftTable | None
+
+    def modulus_ref(self, omega_rad_s: ArrayLike) -> NDArray[np.complex128]:
+        """Complex modulus E [Pa] at T_ref and angular frequency omega [rad/s]."""
+        raise NotImplementedError
+
+    def modulus(self, omega_rad_s: ArrayLike, T_C: ArrayLike | None = None) -> NDArray[np.complex128]:
         """Complex modulus E [Pa] at angular frequency ``omega`` [rad/s] and temperature T [C].
 
         ``E(omega, T) = E_ref(omega aT(T) / aT(T_ref))``; ``T_C=None`` means T_ref.
@@ -205,7 +221,7 @@ class _Rubber:
 
 
 @dataclass(frozen=True, eq=False)
-class Prony(_Rubber):
+class Prony(Rubber):
     """Generalized Maxwell (Prony) series at the reference temperature:
 
     ``E(omega) = E_inf + sum_i E_i (i omega tau_i) / (1 + i omega tau_i)`` [Pa],
@@ -237,7 +253,7 @@ class Prony(_Rubber):
     E_i_Pa: np.ndarray
     tau_i_s: np.ndarray
     T_ref_C: float = 60.0
-    shift: object = field(default_factory=WLF.thesis)
+    shift: WLF | ShiftTable | None = field(default_factory=WLF.thesis)
     thermal: Thermal = field(default_factory=Thermal)
 
     def __post_init__(self):
@@ -250,7 +266,8 @@ class Prony(_Rubber):
         object.__setattr__(self, "E_i_Pa", Ei)
         object.__setattr__(self, "tau_i_s", ti)
 
-    def modulus_ref(self, omega_rad_s):
+    def modulus_ref(self, omega_rad_s: ArrayLike) -> NDArray[np.complex128]:
+        """E(omega) = E_inf + sum_i E_i i omega tau_i / (1 + i omega tau_i) [Pa] at T_ref."""
         w = np.asarray(omega_rad_s, dtype=float)
         out = np.full(w.shape, complex(self.E_inf_Pa))
         for Ei, ti in zip(self.E_i_Pa, self.tau_i_s):  # loop over terms, not over data
@@ -260,7 +277,7 @@ class Prony(_Rubber):
 
 
 @dataclass(frozen=True, eq=False)
-class StandardLinearSolid(_Rubber):
+class StandardLinearSolid(Rubber):
     """The thesis's standard linear solid (conjugated to ``Im E > 0``, docs: Theory):
 
     ``E(omega) = E1 (1 + i omega tau) / (1 + a1 + i omega tau)`` [Pa];
@@ -293,25 +310,27 @@ class StandardLinearSolid(_Rubber):
     a1: float = 1000.0
     tau_s: float = 1e-3
     T_ref_C: float = 60.0
-    shift: object = field(default_factory=WLF.thesis)
+    shift: WLF | ShiftTable | None = field(default_factory=WLF.thesis)
     thermal: Thermal = field(default_factory=Thermal)
 
     def __post_init__(self):
         if not (self.E1_Pa > 0 and self.a1 > 0 and self.tau_s > 0):
             raise ValueError("StandardLinearSolid needs E1 > 0, a1 > 0, tau > 0")
 
-    def modulus_ref(self, omega_rad_s):
+    def modulus_ref(self, omega_rad_s: ArrayLike) -> NDArray[np.complex128]:
+        """E(omega) = E1 (1 + i omega tau) / (1 + a1 + i omega tau) [Pa] at T_ref."""
         iwt = 1j * (np.asarray(omega_rad_s, dtype=float) * self.tau_s)
         return self.E1_Pa * (1.0 + iwt) / (1.0 + self.a1 + iwt)
 
-    def as_prony(self):
+    def as_prony(self) -> Prony:
+        """The same modulus as a one-term Prony series."""
         b = 1.0 + self.a1
-        return Prony(self.E1_Pa / b, [self.E1_Pa * self.a1 / b], [self.tau_s / b],
+        return Prony(self.E1_Pa / b, np.array([self.E1_Pa * self.a1 / b]), np.array([self.tau_s / b]),
                      self.T_ref_C, self.shift, self.thermal)
 
 
 @dataclass(frozen=True, eq=False)
-class MasterCurve(_Rubber):
+class MasterCurve(Rubber):
     """Measured master curve E'(f), E''(f) [Pa] at ``T_ref_C``, f in Hz (used at omega = 2 pi f).
 
     Interpolation is linear in (log f, log E') and (log f, log E''). Outside the measured range
@@ -344,9 +363,11 @@ class MasterCurve(_Rubber):
     E_storage_Pa: np.ndarray
     E_loss_Pa: np.ndarray
     T_ref_C: float = 20.0
-    shift: object = None
+    shift: WLF | ShiftTable | None = None
     thermal: Thermal = field(default_factory=Thermal)
     extrapolate: str = "powerlaw"
+    # log-log slopes of E'' continued below and above the measured range (set from the data)
+    _slopes: tuple[float, float] = field(init=False, repr=False)
 
     def __post_init__(self):
         if self.extrapolate not in EXTRAPOLATE:
@@ -373,11 +394,13 @@ class MasterCurve(_Rubber):
         slopes = (float(np.clip(s_lo, 0, 1)), float(np.clip(s_hi, -1, 0)))
         object.__setattr__(self, "_slopes", slopes if self.extrapolate == "powerlaw" else (0.0, 0.0))
 
-    def f_range_Hz(self):
+    def f_range_Hz(self) -> tuple[float, float]:
         """(lowest, highest) measured frequency [Hz] at ``T_ref_C``."""
         return float(self.f_Hz[0]), float(self.f_Hz[-1])
 
-    def modulus_ref(self, omega_rad_s):
+    def modulus_ref(self, omega_rad_s: ArrayLike) -> NDArray[np.complex128]:
+        """E' and E'' interpolated in log-log at f = omega / 2 pi [Pa] at T_ref; outside the
+        measured range E' is held and E'' continued by the end slopes (``extrapolate``)."""
         w = np.asarray(omega_rad_s, dtype=float)
         lf = np.log(self.f_Hz)
         with np.errstate(divide="ignore"):
@@ -393,7 +416,7 @@ class MasterCurve(_Rubber):
         return Es + 1j * El
 
 
-def thesis_rubber():
+def thesis_rubber() -> StandardLinearSolid:
     """The default rubber: the thesis's SLS at T_ref = 60 C with WLF (Tg = -30 C) and the
     default thermal properties (rho 1200 kg/m^3, c_v 1500 J/(kg K), lambda 0.25 W/(m K)).
 

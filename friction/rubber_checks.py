@@ -10,15 +10,20 @@ T spans ``[T0, T_max]``; aT falls with T, so the hottest state sets the lowest f
 """
 from __future__ import annotations
 
-import numpy as np
+from typing import Any, Literal
 
-from .rubber import MasterCurve, ShiftTable, log10_shift
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .rubber import MasterCurve, Rubber, ShiftTable, log10_shift
 
 __all__ = ["frequency_coverage", "wlf_fit_report"]
 
 
-def frequency_coverage(rubber, v_m_per_s, q0_per_m, q1_per_m, T0_C=None, T_max_C=None,
-                       wlf_form="relative", T_q_C=None, q_per_m=None):
+def frequency_coverage(rubber: Rubber, v_m_per_s: ArrayLike, q0_per_m: float, q1_per_m: float,
+                       T0_C: float | None = None, T_max_C: float | None = None,
+                       wlf_form: Literal["relative", "literal"] = "relative",
+                       T_q_C: ArrayLike | None = None, q_per_m: ArrayLike | None = None) -> dict[str, Any]:
     """Frequencies [Hz] a run needs, read on the reference-temperature curve, vs the curve's.
 
     Parameters
@@ -57,7 +62,7 @@ def frequency_coverage(rubber, v_m_per_s, q0_per_m, q1_per_m, T0_C=None, T_max_C
                           -300, 300)
         lf = np.log10(v[:, None] * np.asarray(q_per_m, float)[None, :] / (2 * np.pi)) + s_q
         lo, hi = float(lf.min()), float(lf.max())
-    out = dict(f_needed_Hz=[10.0 ** lo, 10.0 ** hi], temperatures_C=Ts,
+    out: dict[str, Any] = dict(f_needed_Hz=[10.0 ** lo, 10.0 ** hi], temperatures_C=Ts,
                log10_shift=[float(x) for x in sh], f_curve_Hz=None,
                extrapolated_decades_below=None, extrapolated_decades_above=None,
                extrapolated_decades=None)
@@ -71,7 +76,7 @@ def frequency_coverage(rubber, v_m_per_s, q0_per_m, q1_per_m, T0_C=None, T_max_C
     return out
 
 
-def wlf_fit_report(shift, T_s_C=None):
+def wlf_fit_report(shift: object, T_s_C: float | None = None) -> dict[str, Any] | None:
     """WLF constants fitted to a :class:`ShiftTable` and the misfit in decades.
 
     ``log10 aT = -C1 (T - T_s) / (C2 + T - T_s)`` fitted by :func:`friction.fit_wlf` (least

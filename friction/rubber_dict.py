@@ -18,6 +18,9 @@ temperature where its shift factor is 1 (:func:`unit_shift_temperature`). Raises
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
+from typing import Any
+
 import numpy as np
 
 from .rubber import WLF, MasterCurve, Prony, ShiftTable, StandardLinearSolid, Thermal
@@ -80,7 +83,7 @@ def _shift(d, model):
     raise ValueError(f"[shift] kind must be 'wlf', 'table' or 'none', not {kind!r}")
 
 
-def unit_shift_temperature(shift):
+def unit_shift_temperature(shift: WLF | ShiftTable | None) -> float | None:
     """The temperature [C] where aT = 1 (log10 aT = 0): T_s of a WLF, the interpolated zero
     crossing of a table (the first one); None without a shift or a crossing.
 
@@ -108,7 +111,7 @@ def unit_shift_temperature(shift):
     return None
 
 
-def rubber_from_dict(d):
+def rubber_from_dict(d: Mapping[str, Any]) -> StandardLinearSolid | Prony | MasterCurve:
     """Rubber model from a dict (see module docstring); raises ValueError on bad content.
 
     Parameters

@@ -12,12 +12,16 @@ Units: f in Hz, moduli in Pa, temperatures in C, shifts as decimal logarithms.
 """
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 __all__ = ["group_sweeps", "fit_power_offset", "pair_shift"]
 
 
-def group_sweeps(T_C, set_id=None, gap_C=2.0):
+def group_sweeps(T_C: ArrayLike, set_id: ArrayLike | None = None,
+                 gap_C: float = 2.0) -> tuple[NDArray[np.float64], list[NDArray[np.intp]]]:
     """Indices of the rows of each isothermal sweep, ordered by temperature.
 
     With ``set_id`` the rows are grouped by it; otherwise rows whose temperatures, sorted, lie
@@ -53,7 +57,8 @@ def group_sweeps(T_C, set_id=None, gap_C=2.0):
     return Tm[order], [groups[i] for i in order]
 
 
-def fit_power_offset(f, y, b_max=2.0, nb=801):
+def fit_power_offset(f: ArrayLike, y: ArrayLike, b_max: float = 2.0,
+                     nb: int = 801) -> tuple[float, float, float, float]:
     """Least-squares fit ``y = a f^b + e`` (a power law with an offset, in linear modulus).
 
     For each exponent b on a grid in [-b_max, b_max] the model is linear in (a, e) and solved in
@@ -191,7 +196,8 @@ def _overlap_shift(xa, Ya, xb, Yb, s0, min_overlap=1.0, span=1.5):
     return float(opt.x)
 
 
-def pair_shift(f_a, E1_a, E2_a, f_b, E1_b, E2_b):
+def pair_shift(f_a: NDArray[np.float64], E1_a: NDArray[np.float64], E2_a: NDArray[np.float64], f_b: NDArray[np.float64], E1_b: NDArray[np.float64],
+               E2_b: NDArray[np.float64]) -> tuple[float, dict[str, Any]]:
     """log10 of the factor by which sweep b's frequencies are multiplied to overlay sweep a.
 
     Two estimates: from the storage modulus (both sweeps fitted by ``E' = c f^b + e``,
