@@ -28,8 +28,13 @@ likely causes (:func:`pipelines.chain.provenance.implausible_cause`), never a re
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+
+if TYPE_CHECKING:
+    from friction.psd import TabulatedPSD
+    from friction.result import FrictionResult
 
 # SLOPE_TRUSTED: rms slope above which a band ending at the noise floor is cut (module docstring)
 from pipelines.chain.cutoff import MIN_TRUSTED_DECADES, SLOPE_TRUSTED
@@ -111,9 +116,9 @@ def friction_psd(spectrum, fit, rb, settings, name="", say=True):
     band : dict
     """
     from pipelines.chain.band import friction_ends
-    from pipelines.settings.friction import apply_band
     from pipelines.chain.surface import surface_psd
     from pipelines.output.units import quantity
+    from pipelines.settings.friction import apply_band
 
     q0, q1 = friction_ends(rb, fit, settings)
     psd = surface_psd(spectrum, fit, q1_per_m=q1)
@@ -167,8 +172,8 @@ def friction_of(psd, settings, v_m_per_s=None, tol=None):
     B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626; J. Phys.: Condens.
     Matter 18, 7789 (2006), doi:10.1088/0953-8984/18/32/025.
     """
-    from pipelines.settings.friction import with_extrapolation
     from pipelines.chain.surface import friction_curve
+    from pipelines.settings.friction import with_extrapolation
 
     rubber = with_extrapolation(settings.rubber, settings.extrapolate)
     v = settings.v_m_per_s if v_m_per_s is None else v_m_per_s
@@ -280,11 +285,11 @@ class FrictionOutcome:
         Rubber checks.
     """
 
-    result: object
-    psd: object
+    result: FrictionResult | None
+    psd: TabulatedPSD
     band: dict
     provenance: dict
-    checks: dict = None
+    checks: dict | None = None
 
 
 def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
@@ -314,9 +319,9 @@ def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
     FrictionOutcome
     """
     from pipelines.chain.band import friction_provenance
-    from pipelines.settings.friction import run_checks, with_extrapolation
     from pipelines.chain.provenance import rubber_label
     from pipelines.checks.validate import warn
+    from pipelines.settings.friction import run_checks, with_extrapolation
 
     name = an.name if name is None else name
     fit = an.fit if fit is None else fit

@@ -7,10 +7,16 @@ measured spectrum to the friction engine's PSD (docs: Theory, "which spectrum").
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from roadscan.heightmap import HeightMap, Profile
+
+if TYPE_CHECKING:
+    from roadscan.fit import SelfAffineFit
+    from roadscan.spectrum_types import Spectrum, Spectrum2D
+    from roadscan.texture_depth import MpdSegments
 
 __all__ = ["SurfaceAnalysis", "analyse_surface", "surface_psd", "default_velocities",
            "friction_curve", "spectrum_of"]
@@ -53,20 +59,20 @@ class SurfaceAnalysis:
         The MPD's per-segment table (ISO 13473-1), lines along x.
     """
 
-    source: object            # HeightMap or Profile as read
-    levelled: object          # levelled, unmeasured points still unmeasured
+    source: HeightMap | Profile          # as read
+    levelled: HeightMap | Profile        # levelled, unmeasured points still unmeasured
     fill: tuple               # (values at the unmeasured points in raster order, meta) or
                               # (the filled HeightMap/Profile, None)
     filled_fraction: float
-    spectrum: object          # roadscan.Spectrum: isotropic 2D C(q) [m^4]
-    spec2d: object = None     # roadscan.Spectrum2D for areas, None for profiles
-    psd1d: tuple = None       # (q_per_m, C1_m3) for profiles
-    fit: object = None        # roadscan.fit.SelfAffineFit
+    spectrum: Spectrum        # isotropic 2D C(q) [m^4]
+    spec2d: Spectrum2D | None = None     # for areas, None for profiles
+    psd1d: tuple | None = None           # (q_per_m, C1_m3) for profiles
+    fit: SelfAffineFit | None = None
     roughness: dict = field(default_factory=dict)
-    mpd_m: float = None
+    mpd_m: float | None = None
     mpd_note: str = ""
-    anisotropy: dict = None
-    mpd_segments: object = None   # roadscan.texture_depth.MpdSegments of the MPD (source's rows)
+    anisotropy: dict | None = None
+    mpd_segments: MpdSegments | None = None   # the MPD's segments (source's rows)
 
     @property
     def filled(self):
@@ -226,9 +232,8 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     friction.TabulatedPSD
     """
     from friction import TabulatedPSD
-    from roadscan.fit import extend_spectrum
-
     from pipelines.checks.validate import check_q1
+    from roadscan.fit import extend_spectrum
 
     check_q1(q1_per_m, float(np.min(spectrum.q_per_m)))
     if q1_per_m is not None and q1_per_m > spectrum.q_max_per_m:
@@ -310,7 +315,6 @@ def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None,
     B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001), doi:10.1063/1.1388626.
     """
     import friction
-
     from pipelines.checks.validate import check_mu, check_temperature
 
     rubber = friction.thesis_rubber() if rubber is None else rubber

@@ -6,11 +6,20 @@ from __future__ import annotations
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     import numpy as np
     from numpy.typing import NDArray
+
+    from friction.result import FrictionResult
+    from pipelines.chain.steps import FrictionOutcome
+    from pipelines.chain.surface import SurfaceAnalysis
+    from pipelines.settings.friction import FrictionSettings
+    from roadscan.fit import SelfAffineFit
+    from roadscan.reliable_band import ReliableBand
+    from roadscan.spectrum_types import Spectrum
+    from roadscan.texture_spectrum import TextureSpectrum
 
 __all__ = ["AnalysisResult"]
 
@@ -59,19 +68,19 @@ class AnalysisResult:
     """
 
     name: str
-    summary: dict
-    warnings: list
-    analysis: object
-    reliable_band: object
-    friction_outcome: object
-    texture: object
+    summary: dict[str, Any]
+    warnings: list[str]
+    analysis: SurfaceAnalysis
+    reliable_band: ReliableBand | None
+    friction_outcome: FrictionOutcome | None
+    texture: TextureSpectrum
     window_alpha: float = 0.25
-    settings: object = None
+    settings: FrictionSettings | None = None
     figures: bool = True
-    source_path: object = None
+    source_path: str | os.PathLike[str] | None = None
 
     @property
-    def spectrum(self):
+    def spectrum(self) -> Spectrum:
         """The angular-averaged spectrum (:class:`roadscan.Spectrum`; a profile's 2D estimate)."""
         return self.analysis.spectrum
 
@@ -86,7 +95,7 @@ class AnalysisResult:
         return self.analysis.spectrum.C_m4
 
     @property
-    def fit(self):
+    def fit(self) -> SelfAffineFit | None:
         """:class:`roadscan.fit.SelfAffineFit` (fitted inside the reliable band)."""
         return self.analysis.fit
 
@@ -97,7 +106,7 @@ class AnalysisResult:
         return None if rb is None else (float(rb.lo_per_m), float(rb.hi_per_m))
 
     @property
-    def friction(self):
+    def friction(self) -> FrictionResult | None:
         """The friction engine's result (``v_m_per_s``, ``mu``, ``P``, ``T_q_C``) or None."""
         return None if self.friction_outcome is None else self.friction_outcome.result
 
@@ -126,10 +135,10 @@ class AnalysisResult:
         if self.reliable_band_per_m is not None:
             lo, hi = self.reliable_band_per_m
             parts.append(f"band_per_m=({lo:.3g}, {hi:.3g})")
-        mu = self.mu
-        if mu is not None and len(mu):
+        mu, v = self.mu, self.v_m_per_s
+        if mu is not None and v is not None and len(mu):
             k = int(max(range(len(mu)), key=lambda i: mu[i]))
-            parts.append(f"mu_max={float(mu[k]):.3g} at v={float(self.v_m_per_s[k]):.3g} m/s")
+            parts.append(f"mu_max={float(mu[k]):.3g} at v={float(v[k]):.3g} m/s")
         else:
             parts.append("mu=None")
         parts.append(f"warnings={len(self.warnings)}")
