@@ -75,6 +75,17 @@ def _kind_table():
 _KIND = _kind_table()
 
 
+def _lookup(table, codes):
+    """``table[codes]`` for uint8 ``codes`` and a table of 256 int32 or narrower, by OpenCV's
+    LUT (about five times faster than ``np.take``, which first converts every index to
+    intp)."""
+    if codes.size == 0 or table.dtype.itemsize > 4:
+        return np.take(table, codes)
+    import cv2
+
+    return cv2.LUT(codes, table.reshape(1, 256)).reshape(-1)
+
+
 def _higher_code(z):
     """8-bit pattern of each point's neighbours that come after it in the order (z, flattened
     index), bit k for ring position k; neighbours outside the field never do. Four comparisons,
@@ -142,7 +153,7 @@ def _critical_points(code, low, cand, z, shift=0.0):
     increasing order, and their heights in ``z`` less ``shift``, from the patterns of higher
     and lower neighbours at the points ``cand`` (:func:`_look`, the border from both)."""
     ny, nx = code.shape
-    k = np.take(_KIND, np.take(code.ravel(), cand))
+    k = _lookup(_KIND, np.take(code.ravel(), cand))
     # the border (all of it in cand), where the lower pattern is not the higher one inverted
     rows = np.arange(1, ny - 1) * nx
     side = np.concatenate([np.arange(nx), np.arange(cand.size - nx, cand.size),
