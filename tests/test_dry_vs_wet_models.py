@@ -146,6 +146,8 @@ def test_contract_keys(model, persson, fill):
             assert sum(shares) == pytest.approx(1.0, abs=1e-6), s
         else:
             assert shares == [None, None, None], s
+    assert set(c["dynamic_lift_share"]) == speeds                  # Horne & Dreher's inertia
+    assert all(0 <= x <= 1 for x in c["dynamic_lift_share"].values())
     v_lost = c["contact_lost_v_m_per_s"]
     assert v_lost is None or f"{v_lost:g}" in speeds
     for k, (value, _) in DEFAULT_SOURCES.items():

@@ -1,4 +1,6 @@
 """friction.wet and roadscan.sealing against analytic limits and independent constructions."""
+import itertools
+
 import numpy as np
 import pytest
 
@@ -58,7 +60,8 @@ def test_separation_is_logarithmic_at_small_pressure_and_inverts():
     assert np.all(np.diff(u) < 0)
     # Persson: du/d ln p -> -sqrt(pi) gamma int q^2 C w dq as p -> 0 (independent quadrature)
     qq = np.geomspace(q[0], q[-1], 200001)
-    I3 = np.concatenate([[0], np.cumsum(0.5 * np.diff(qq) * (qq[1:] ** 3 * psd.C(qq[1:]) + qq[:-1] ** 3 * psd.C(qq[:-1])))])
+    f3 = qq ** 3 * psd.C(qq)
+    I3 = np.concatenate([[0], np.cumsum(0.5 * np.diff(qq) * (f3[1:] + f3[:-1]))])
     w = np.where(I3 > 0, 1 / np.sqrt(np.pi * np.maximum(I3, 1e-300)), 0)
     slope = np.sqrt(np.pi) * 0.4 * np.trapezoid(qq ** 2 * psd.C(qq) * w, qq)
     assert -(u[1] - u[0]) / np.log(p[1] / p[0]) == pytest.approx(slope, rel=0.03)
@@ -71,7 +74,8 @@ def test_sealing_wave_vector_against_the_elastic_contact_area():
     E_star = 1e7 / 2 / (1 - 0.25)
     qc = sealing_wave_vector(r.q_per_m, r.P[0], 0.42)
     qq = np.geomspace(100, 3e4, 400001)
-    I3 = np.concatenate([[0], np.cumsum(0.5 * np.diff(qq) * (qq[1:] ** 3 * psd.C(qq[1:]) + qq[:-1] ** 3 * psd.C(qq[:-1])))])
+    f3 = qq ** 3 * psd.C(qq)
+    I3 = np.concatenate([[0], np.cumsum(0.5 * np.diff(qq) * (f3[1:] + f3[:-1]))])
     P = contact_P(np.pi / 4 * (E_star / 2e5) ** 2 * I3)
     assert qc == pytest.approx(qq[np.argmax(P <= 0.42)], rel=0.02)
 
@@ -109,7 +113,7 @@ def test_more_or_colder_water_never_more_grip_and_falls_with_speed():
     v = np.concatenate([[1e-3], np.linspace(20, 100, 9) / 3.6])
     runs = {d: _wet(psd, rub, v, water_depth_m=d) for d in (0.1e-3, 0.5e-3, 2e-3, 4e-3)}
     mus = [runs[d].mu_wet for d in sorted(runs)]
-    for a, b in zip(mus, mus[1:]):
+    for a, b in itertools.pairwise(mus):
         assert np.all(b <= a * (1 + 1e-9))
     assert mus[-1][-1] < 0.9 * runs[4e-3].mu_dry[-1]   # the film left bites at 100 km/h
     assert runs[4e-3].contact_lost_v_m_per_s is None
@@ -123,3 +127,52 @@ def test_more_or_colder_water_never_more_grip_and_falls_with_speed():
     d = runs[4e-3].mu_dry - runs[4e-3].mu_wet
     ok = d > 0
     assert np.allclose((sh["sealing"] + sh["squeeze_out"] + sh["adhesion"])[ok], 1.0)
+
+
+def test_horne_dreher_speed_in_their_units_and_ours():
+    from friction.wet.inertia import horne_dreher_speed, implied_lift_coefficient
+
+    knot, psi = 1852.0 / 3600.0, 6894.757            # m/s and Pa
+    assert horne_dreher_speed(30 * psi) == pytest.approx(9 * np.sqrt(30) * knot, rel=1e-12)
+    assert horne_dreher_speed(200e3) * 3.6 == pytest.approx(6.35 * np.sqrt(200), rel=5e-4)
+    # dynamic pressure 1/2 rho v^2 C_L = p: one lift coefficient at every pressure
+    assert implied_lift_coefficient(100e3) == pytest.approx(implied_lift_coefficient(400e3), rel=1e-12)
+
+
+def test_dynamic_lift_is_horne_dreher_where_water_cannot_drain():
+    from friction.wet.inertia import dynamic_lift_share, horne_dreher_speed
+
+    vp = float(horne_dreher_speed(2e5))
+    v = vp * np.array([0.2, 0.5, 0.9, 1.0, 1.3])
+    undrained = dynamic_lift_share(v, p_Pa=2e5, front_time_s=np.inf, footprint_m=0.12)
+    assert np.allclose(undrained, np.minimum(1.0, (v / vp) ** 2), rtol=1e-12)
+    assert undrained[3] == 1.0 and undrained[2] < 1.0               # lifted at v_p, not before
+    assert np.all(dynamic_lift_share(v, p_Pa=2e5, front_time_s=0.0, footprint_m=0.12) == 0)
+    part = dynamic_lift_share(v, p_Pa=2e5, front_time_s=1e-3, footprint_m=0.12)   # front zone v t_1 / L
+    assert np.allclose(part, np.minimum(1, v * 1e-3 / 0.12) * np.minimum(1, (v / vp) ** 2))
+
+
+def test_squeeze_time_inverts_the_film_and_is_stefans_for_a_flat_disk():
+    from friction.wet.squeeze import squeeze_time
+
+    kw = dict(p0_Pa=2e5, eta_Pa_s=1e-3, R_m=0.014, u_table=None, p_table=None)
+    t_stefan = stefan_time(2e-5, 1e-3, 2e5, 1e-3, 0.014)
+    assert squeeze_time(1e-3, 2e-5, **kw) == pytest.approx(t_stefan, rel=2e-3)
+    t = squeeze_time(1e-3, 3e-5, **kw)
+    assert squeeze_film(1e-3, t, **kw)[()] == pytest.approx(3e-5, rel=2e-3)
+    assert squeeze_time(1e-4, 2e-4, **kw) == 0.0
+
+
+def test_in_the_model_undrained_water_lifts_the_tyre_at_horne_dreher_speed():
+    # a smooth tyre (one 0.15 m block: no grooves to drain to) on a polished road, 5 mm of water
+    from friction.wet.inertia import horne_dreher_speed
+
+    rub = _measured_rubber()
+    psd = friction.SelfAffinePSD(0.8, 8e-6, 314, 2e4, q_roll_per_m=150)
+    vp = float(horne_dreher_speed(2e5))
+    v = vp * np.array([0.4, 0.8, 0.95, 1.05])
+    wf = _wet(psd, rub, v, water_depth_m=5e-3, block_size_m=0.15)
+    zone = np.minimum(1, v * wf.meta["front_time_s"] / 0.12)
+    assert np.all(zone == 1.0)                           # the front zone is the whole footprint
+    assert np.allclose(wf.lift_share, np.minimum(1, (v / vp) ** 2), rtol=1e-9)
+    assert wf.contact_lost[-1] and wf.contact_lost_v_m_per_s <= v[-1]

@@ -6,7 +6,7 @@ model as the dry one)::
 
     mu_dry(v) = mu_h(v; C, p0) + tau_f P(q1; C, p0) / p0                          (adhesion optional)
     mu_wet(v) = (p_c / p0) mu_h(v; C_s, p_c) + tau_f P(q1; C_s, p_c) (1 - a_s) / p0
-    p_c       = p_cont(u(t_c)),  t_c = footprint / v
+    p_c       = (1 - L_w/W) p_cont(u(t_c)),  t_c = footprint / v
 
 * **Sealing** (Persson et al., PRB 71, 035428 (2005)): C_s is the spectrum of the road with the
   pools the contact closes at its percolation magnification filled with water
@@ -18,12 +18,18 @@ model as the dry one)::
   roughness only with p_c: Persson's P(q) at p_c falls at every scale, most at the shortest,
   so the small-scale roughness hidden under the film contributes no hysteresis (the engine's
   own P(q) does the cut, rather than a fixed q cut-off).
+* **Inertia** (Horne & Dreher, NASA TN D-2056 (1963); :mod:`friction.wet.inertia`): at the
+  footprint's front, where the film has not yet thinned to the texture's height, the water's
+  dynamic pressure carries ``L_w/W = min(1, v t_1 / footprint) min(1, (v / v_p)^2)`` of the
+  load (v_p = 6.35 sqrt(p0 / kPa) km/h); the contact carries the rest. Its loss is counted in
+  the squeeze-out film's share (the water film carrying load, viscously or by its inertia).
 * **Adhesion** (:mod:`friction.wet.adhesion`): only the real contact at p_c outside the sealed
   pools keeps tau_f.
 * **Contact lost** (hydroplaning): when the film left in excess of the dry separation exceeds
   the texture, ``3 h_rms`` above the mean plane (99.87 % of a Gaussian surface's heights lie
-  below it), the block rides on water: mu_wet is the viscous drag of the film,
-  ``eta v / (u p0)``. In mixed contact that Couette drag is below 1e-3 and is left out.
+  below it), or the water's dynamic pressure carries the whole load, the block rides on water:
+  mu_wet is the viscous drag of the film, ``eta v / (u p0)``. In mixed contact that Couette
+  drag is below 1e-3 and is left out.
 
 The shares of ``mu_dry - mu_wet`` at each speed: sealing ``mu_h(C, p0) - mu_h(C_s, p0)``,
 squeeze-out ``mu_h(C_s, p0) - (p_c/p0) mu_h(C_s, p_c)`` (or minus the drag), adhesion the
@@ -37,7 +43,8 @@ import numpy as np
 
 from .adhesion import adhesive_mu
 from .gap import contact_pressure, mean_separation
-from .squeeze import squeeze_film
+from .inertia import dynamic_lift_share, horne_dreher_speed
+from .squeeze import squeeze_film, squeeze_time
 from .water import WetConditions
 
 __all__ = ["TEXTURE_RMS_MULTIPLE", "WetFriction", "band_rms", "wet_friction"]
@@ -67,7 +74,8 @@ class WetFriction:
     film_m : ndarray, shape (nv,)
         Water film left in excess of the dry separation, ``separation - separation_dry`` [m].
     contact_share : ndarray, shape (nv,)
-        p_c / p0, the share of the load the contact carries.
+        The share of the load the contact carries: p_c / p0 after the squeeze, times
+        ``1 - lift_share``.
     shares : dict of ndarray
         ``sealing``, ``squeeze_out``, ``adhesion``: shares of ``mu_dry - mu_wet`` (NaN where
         that difference is not positive).
@@ -80,7 +88,11 @@ class WetFriction:
     sealed_fraction : float
         Area fraction of the sealed pools.
     meta : dict
-        Conditions and parameters.
+        Conditions and parameters (``front_time_s``: the squeeze time to the texture height per
+        speed; ``horne_dreher_v_m_per_s``: v_p at p0).
+    lift_share : ndarray, shape (nv,)
+        Share of the load the water's dynamic pressure carries at the footprint's front
+        (:mod:`friction.wet.inertia`); counted in the squeeze-out film's share of the loss.
     """
 
     v_m_per_s: np.ndarray
@@ -101,6 +113,7 @@ class WetFriction:
     q_seal_per_m: float | None = None
     sealed_fraction: float = 0.0
     meta: dict = field(default_factory=dict)
+    lift_share: np.ndarray | None = None
 
     @property
     def parts(self):
@@ -191,7 +204,15 @@ def wet_friction(*, dry, psd, engine, sigma0_Pa, conditions=None, psd_sealed=Non
     film = np.maximum(u - u_dry, 0.0)
     share = np.array([contact_pressure(u[i], u_tab[i], p_tab)[()] for i in range(v.size)]) / p0
     share = np.clip(np.where(film > 0, share, 1.0), 0.0, 1.0)
-    lost = film > TEXTURE_RMS_MULTIPLE * h_rms
+    # the water's inertia at the footprint's front (friction.wet.inertia): the front zone is
+    # where the film has not yet thinned to the texture's height
+    tex = TEXTURE_RMS_MULTIPLE * h_rms
+    t1 = np.array([squeeze_time(cond.water_depth_m, u_dry[i] + tex, p0_Pa=p0, eta_Pa_s=eta,
+                                R_m=cond.squeeze_radius_m, u_table=u_tab[i], p_table=p_tab,
+                                contact_area=float(dry.P[i, -1])) for i in range(v.size)])
+    lift = dynamic_lift_share(v, p_Pa=p0, front_time_s=t1, footprint_m=cond.footprint_m)
+    share = share * (1.0 - lift)
+    lost = (film > tex) | (lift >= 1.0 - 1e-12)
 
     h_wet, A_wet = h_seal.copy(), A_seal.copy()
     part = (share < 1.0 - 1e-12) & ~lost
@@ -213,7 +234,7 @@ def wet_friction(*, dry, psd, engine, sigma0_Pa, conditions=None, psd_sealed=Non
         shares = {k: np.where(diff > 0, x / diff, np.nan) for k, x in parts.items()}
     v_lost = float(v[np.argmax(lost)]) if lost.any() else None
     meta = {"conditions": cond, "viscosity_Pa_s": eta, "h_rms_m": h_rms, "sigma0_Pa": p0,
-                "squeeze_radius_m": cond.squeeze_radius_m, "dwell_time_s": t_c,
-                "texture_height_m": TEXTURE_RMS_MULTIPLE * h_rms}
+            "squeeze_radius_m": cond.squeeze_radius_m, "dwell_time_s": t_c, "texture_height_m": tex,
+            "front_time_s": t1, "horne_dreher_v_m_per_s": float(horne_dreher_speed(p0))}
     return WetFriction(v, mu_dry, mu_wet, dry.mu, h_seal, h_wet, a_dry, a_wet, u, u_dry, film,
-                       share, shares, lost, v_lost, q_seal_per_m, a_s, meta)
+                       share, shares, lost, v_lost, q_seal_per_m, a_s, meta, lift_share=lift)

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..contact import cumulative_G
 
-__all__ = ["flow_factor", "squeeze_film", "stefan_time"]
+__all__ = ["flow_factor", "squeeze_film", "squeeze_time", "stefan_time"]
 
 def flow_factor(contact_fraction):
     """Pressure flow factor phi_p = (1 - 2c) / (1 - c)^3 of a two-phase interface with a closed
@@ -114,16 +114,64 @@ def squeeze_film(u0_m, t_c_s, *, p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact
     ndarray
         u(t_c) [m], shaped like ``t_c_s``.
     """
-    from .gap import contact_pressure
-
     t_c = np.asarray(t_c_s, dtype=float)
-    rigid = u_table is None
-    u_dry = 0.0 if rigid else float(np.exp(np.interp(np.log(p0_Pa), np.log(p_table), np.log(u_table))))
+    u_dry, lx, T = _time_table(p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area, nodes)
     if not u0_m > u_dry:
         return np.full(t_c.shape, max(u_dry, float(u0_m)))
+    x0 = _film(u0_m, u_dry)
+    with np.errstate(divide="ignore"):
+        lT = np.log(T)
+        T0 = np.exp(np.interp(np.log(x0), lx[::-1], lT[::-1])) if x0 < 1.0 else 0.0
+        target = np.log(T0 + t_c)
+    out = np.exp(np.interp(target, lT[1:], lx[1:]))
+    return u_dry + np.where(T0 + t_c >= T[-1], np.exp(lx[-1]), out)
+
+
+def squeeze_time(u0_m, u1_m, *, p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area=0.0, nodes=1200):
+    """Time [s] the squeeze of :func:`squeeze_film` takes from separation ``u0_m`` down to ``u1_m``
+    (0 when ``u1_m >= u0_m``; inf when the flow stalls above ``u1_m``, e.g. sealed water).
+
+    Parameters
+    ----------
+    u0_m, u1_m : float
+        Separations at the start and the end [m].
+    p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area, nodes
+        As :func:`squeeze_film`.
+
+    Returns
+    -------
+    float
+        Time [s]; with ``u_table`` None, Stefan's :func:`stefan_time`.
+    """
+    if not u1_m < u0_m:
+        return 0.0
+    u_dry, lx, T = _time_table(p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area, nodes)
+    if not u1_m > u_dry:
+        return float("inf")
+    x0, x1 = _film(u0_m, u_dry), u1_m - u_dry
+    if x1 < np.exp(lx[-1]):
+        return float("inf")
+
+    def at(x):
+        return 0.0 if x >= 1.0 else float(np.exp(np.interp(np.log(x), lx[::-1], np.log(T)[::-1])))
+
+    with np.errstate(divide="ignore"):
+        return at(x1) - at(x0)
+
+
+def _film(u0_m, u_dry):
     if u0_m - u_dry >= 1.0:
         raise ValueError("a water film of a metre or more is not a film")
-    x0 = u0_m - u_dry
+    return u0_m - u_dry
+
+
+def _time_table(p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area, nodes):
+    """(u_dry, ln x nodes, T(x)): the time to squeeze from 1 m above u_dry down to u_dry + x, on
+    nodes down to a floor, cut at the first stall (T infinite beyond)."""
+    from .gap import contact_pressure
+
+    rigid = u_table is None
+    u_dry = 0.0 if rigid else float(np.exp(np.interp(np.log(p0_Pa), np.log(p_table), np.log(u_table))))
     # one node set for every u0 (so that more water never squeezes to less film): from 1 m
     # above u_dry down to a floor, T(x) = time to get from 1 m down to u_dry + x
     floor = 1e-10 * max(u_dry, 1e-6)
@@ -139,10 +187,4 @@ def squeeze_film(u0_m, t_c_s, *, p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact
     n = int(np.argmin(fin)) if not fin.all() else lx.size   # nodes before the first stall
     T = np.full(lx.shape, np.inf)
     T[:n] = cumulative_G(dtdl[:n], -np.diff(lx[:n])) if n > 1 else 0.0
-    lx, T = lx[:n], T[:n]          # each interval exact for dt/d(ln x) a power of x (Stefan's)
-    with np.errstate(divide="ignore"):
-        lT = np.log(T)
-        T0 = np.exp(np.interp(np.log(x0), lx[::-1], lT[::-1])) if x0 < 1.0 else 0.0
-        target = np.log(T0 + t_c)
-    out = np.exp(np.interp(target, lT[1:], lx[1:]))
-    return u_dry + np.where(T0 + t_c >= T[-1], np.exp(lx[-1]), out)
+    return u_dry, lx[:n], T[:n]    # each interval exact for dt/d(ln x) a power of x (Stefan's)

@@ -191,6 +191,8 @@ def persson_wet(dry_map, an_dry, rb_dry, outcome, settings, conditions, window_a
         "mechanisms_mu": {k: _by_speed(v, x) for k, x in wf.parts.items()},
         "separation_m": _by_speed(v, wf.separation_m),
         "texture_height_m": wf.meta["texture_height_m"],
+        "dynamic_lift_share": _by_speed(v, wf.lift_share),        # friction.wet.inertia
+        "horne_dreher_v_m_per_s": wf.meta["horne_dreher_v_m_per_s"],
         "contact_lost_v_m_per_s": wf.contact_lost_v_m_per_s,
         "sealing": {"q_seal_per_m": q_c, "sealed_fraction": sealed.sealed_fraction,
                     "pool_count": sealed.pool_count,

@@ -155,6 +155,16 @@ def _contact_lost(r):
             f"{length(r.get('texture_height_m'))})")
 
 
+def _lift_text(r):
+    lift = {k: x for k, x in (r.get("dynamic_lift_share") or {}).items() if x is not None}
+    vp = r.get("horne_dreher_v_m_per_s")
+    tail = f"; a tyre in undrained water is lifted at {speed_kmh(vp * 3.6)}" if vp else ""
+    if not lift:
+        return "—"
+    s, x = max(lift.items(), key=lambda kv: kv[1])
+    return f"at most {sig3(100 * x)} % of the load (at v = {s} m/s){tail}"
+
+
 def _parameter_rows(r, sigma0_text):
     wm = r.get("wet_model") or {}
     params = wm.get("parameters") or {}
@@ -234,6 +244,7 @@ def write_dry_wet_report(out_dir, r, figs):
                                    f"{sig3(100 * seal.get('sealed_fraction', 0))} % of the area, closed at "
                                    f"q = {sig3(seal.get('q_seal_per_m') or 0)} 1/m")
             key["contact lost (hydroplaning)"] = _contact_lost(r)
+            key["load carried by the water's inertia (Horne & Dreher)"] = _lift_text(r)
     sections = [("Key figures", report.table_html(key, ["quantity", "value"]))]
     notes = list(r.get("warnings") or []) + ([r["render_note"]] if r.get("render_note") else [])
     if notes:
@@ -260,10 +271,13 @@ def write_dry_wet_report(out_dir, r, figs):
             "film thins during the dwell time footprint / v by averaged Reynolds flow with Persson's contact "
             "pressure (Phys. Rev. Lett. 99, 125502 (2007); Lorenz & Persson, Eur. Phys. J. E 32, 281 "
             "(2010)); the film carries part of the load, so the rubber reaches less of the roughness. "
-            "Adhesion: Persson's τ_f A/A0, lost where water separates the surfaces. Contact lost: where the "
-            "film left exceeds the texture, μ_wet is the film's viscous drag. Left out: the water's inertia "
-            "at the front of the footprint (dynamic hydroplaning, Horne & Dreher, NASA TN D-2056 (1963)), "
-            "the viscous film on the asperity tops, and the water's effect on rubber temperature.",
+            "Inertia: at the footprint's front, until the film has thinned to the texture's height, the "
+            "water's dynamic pressure carries (v / v_p)² of the load there (Horne & Dreher, NASA TN D-2056 "
+            "(1963): v_p = 6.35 √(p/kPa) km/h); counted in the squeeze-out share. Adhesion: Persson's "
+            "τ_f A/A0, lost where water separates the surfaces. Contact lost: where the film left exceeds "
+            "the texture or the water's inertia carries the whole load, μ_wet is the film's viscous drag. "
+            "Left out: the viscous film on the asperity tops (the microtexture's thin-film lubrication), "
+            "the tread's grooves as water storage, and the water's effect on rubber temperature.",
             note=True)))
     elif r.get("wet_model"):
         sections.append(("What the wet model covers", wet_model_html()))
