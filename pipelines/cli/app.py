@@ -79,12 +79,11 @@ def _parsing_errors():
     import json
 
     found = [UnicodeError, json.JSONDecodeError, csv.Error]
-    try:
+    if sys.version_info >= (3, 11):
         import tomllib
-    except ModuleNotFoundError:   # Python < 3.11
-        pass
-    else:
-        found.append(tomllib.TOMLDecodeError)
+    else:                         # Python 3.10: the tomli backport (a dependency there)
+        import tomli as tomllib
+    found.append(tomllib.TOMLDecodeError)
     return tuple(found)
 
 

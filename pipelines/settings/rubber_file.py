@@ -15,8 +15,13 @@ pyvisco files of ../shared/data/rubber/).
 from __future__ import annotations
 
 import re
-import tomllib
+import sys
 from pathlib import Path
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:                           # Python 3.10: the tomli backport (a dependency there)
+    import tomli as tomllib
 
 import numpy as np
 
