@@ -11,7 +11,10 @@ numbers: roadscan knows no rubber), :func:`seal_pools` finds the pools on a heig
    (which regions touch is the bearing-area picture; the fraction is Persson's);
 3. the pools: the connected regions (4-connected by default) below z_c that do not reach the
    map's border: the contact around them closes them. Regions reaching the border are taken
-   as open (their water can leave the scan);
+   as open (their water can leave the scan) unless ``open_border=False``: for a scan inside a
+   contact larger than itself (a tyre's footprint) every region out of contact is a pool, since
+   at the percolation threshold the non-contact clusters are finite and only the contact's
+   own edge lets water out;
 4. the water: each pool holds water up to z_c (the rubber's surface over it), on the
    full-resolution heights; with a limited water film w (volume per area) the level in every
    pool is lowered alike until the sealed volume per area is w.
@@ -70,7 +73,8 @@ def _low_pass(h, dx, dy, q_c):
     return np.fft.irfft2(np.fft.rfft2(h) * keep, s=h.shape)
 
 
-def seal_pools(hm, *, q_seal_per_m, contact_fraction, water_film_m=None, connectivity=4):
+def seal_pools(hm, *, q_seal_per_m, contact_fraction, water_film_m=None, connectivity=4,
+               open_border=True):
     """Fill the pools sealed at wave vector ``q_seal_per_m`` (module docstring).
 
     Parameters
@@ -85,6 +89,12 @@ def seal_pools(hm, *, q_seal_per_m, contact_fraction, water_film_m=None, connect
         Water per nominal area [m]; None: every pool full to z_c.
     connectivity : {4, 8}, optional
         Neighbourhood of a pool.
+    open_border : bool, optional
+        True (default): regions reaching the map's border are open, their water leaves the
+        scan. False: every region out of contact is a pool -- the map lies inside a contact
+        larger than itself (a scan inside a tyre's footprint), whose edge, not the scan's, lets
+        water out; at the percolation threshold the non-contact clusters are finite, so all of
+        them are sealed.
 
     Returns
     -------
@@ -109,8 +119,11 @@ def seal_pools(hm, *, q_seal_per_m, contact_fraction, water_film_m=None, connect
     low = (hs < z_c) & measured
     footprint = ndimage.generate_binary_structure(2, 1 if connectivity == 4 else 2)
     labels, _n = ndimage.label(low, structure=footprint)
-    border = np.unique(np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]]))
-    pools = low & ~np.isin(labels, border)
+    if open_border:
+        border = np.unique(np.concatenate([labels[0], labels[-1], labels[:, 0], labels[:, -1]]))
+        pools = low & ~np.isin(labels, border)
+    else:
+        pools = low
     count = int(np.unique(labels[pools]).size)
     hp = np.where(pools, h, np.inf)
     n_meas = int(measured.sum())

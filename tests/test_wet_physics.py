@@ -91,6 +91,9 @@ def test_pools_whose_places_are_known():
     assert s.sealed_fraction == pytest.approx(250 / 1e4)
     assert s.volume_m3_per_m2 == pytest.approx((100 * 1e-3 + 150 * 2e-3) / 1e4)
     assert np.all(s.wet.heights_m[20:30, 20:30] == 0) and np.all(s.wet.heights_m[0:10, 80:90] == -1e-3)
+    inside = seal_pools(hm, q_seal_per_m=1e9, contact_fraction=0.42, open_border=False)
+    assert inside.pool_count == 3 and np.all(inside.wet.heights_m[0:10, 80:90] == 0)   # inside a footprint
+    assert inside.volume_m3_per_m2 == pytest.approx((200 * 1e-3 + 150 * 2e-3) / 1e4)
     lim = seal_pools(hm, q_seal_per_m=1e9, contact_fraction=0.42, water_film_m=1e-5)
     assert lim.volume_m3_per_m2 == pytest.approx(1e-5, rel=1e-6)
     assert lim.level_m == pytest.approx(-2e-3 + 1e-5 * 1e4 / 150, rel=1e-6)

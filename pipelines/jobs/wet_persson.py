@@ -169,8 +169,11 @@ def persson_wet(dry_map, an_dry, rb_dry, outcome, settings, conditions, window_a
     dry = outcome.result
     frac = conditions.percolation_contact_fraction
     q_c = sealing_wave_vector(dry.q_per_m, dry.P[0], frac)
+    # every region out of contact is a pool: the scan lies inside the footprint, whose edge and
+    # not the scan's lets water out, and at the percolation threshold the non-contact clusters
+    # are finite (open at the scan's border, 0.6 % of a 12 cm asphalt map was sealed, not 44 %)
     sealed = seal_pools(dry_map, q_seal_per_m=q_c, contact_fraction=frac,
-                        water_film_m=conditions.water_depth_m)
+                        water_film_m=conditions.water_depth_m, open_border=False)
     psd_s = None
     if sealed.pool_count:
         an_s = analyse_surface(sealed.wet, window_alpha=window_alpha)
@@ -196,6 +199,6 @@ def persson_wet(dry_map, an_dry, rb_dry, outcome, settings, conditions, window_a
         "contact_lost_v_m_per_s": wf.contact_lost_v_m_per_s,
         "sealing": {"q_seal_per_m": q_c, "sealed_fraction": sealed.sealed_fraction,
                     "pool_count": sealed.pool_count,
-                    "sealed_water_m3_per_m2": sealed.volume_m3_per_m2},
+                    "sealed_water_m3_per_m2": sealed.volume_m3_per_m2, "scan_border": "closed"},
     }
     return wf, keys
