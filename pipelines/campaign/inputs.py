@@ -44,9 +44,9 @@ class Job:
 
     file: str
     label: str = ""
-    chainage_m: float = None
-    error: str = None
-    subdir: str = None   # output folder name under DIR, set by :func:`assign_subdirs`
+    chainage_m: float | None = None
+    error: str | None = None
+    subdir: str | None = None   # output folder name under DIR, set by :func:`assign_subdirs`
 
 
 def _header_cells(path):

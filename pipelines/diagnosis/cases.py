@@ -84,8 +84,8 @@ class Case:
     scan: object = None
     spectrum: object = None
     fit: object = None
-    truth_mu: np.ndarray = None
-    base_mu: np.ndarray = None
+    truth_mu: np.ndarray | None = None
+    base_mu: np.ndarray | None = None
     info: dict = field(default_factory=dict)
 
     def context(self):

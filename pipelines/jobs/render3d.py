@@ -35,9 +35,9 @@ class View3D:
     """
 
     path: object = None
-    renderer: str = None
-    note: str = None
-    warning: str = None
+    renderer: str | None = None
+    note: str | None = None
+    warning: str | None = None
 
 
 def _have_pyvista():

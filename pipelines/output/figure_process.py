@@ -31,6 +31,7 @@ import os
 import signal
 import sys
 import types
+from typing import Any
 
 __all__ = ["InProcess", "FigureProcess", "figure_drawer"]
 
@@ -172,7 +173,7 @@ class FigureProcess(InProcess):
         super().close()
 
 
-_started = []       # helpers started by this process
+_started: list[Any] = []       # helpers started by this process
 
 
 def figure_drawer(figures=True):

@@ -21,6 +21,10 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
 
 from roadscan.errors import InputError
 
@@ -77,14 +81,14 @@ class FrictionSettings:
 
     rubber: object = None          # friction rubber; None -> thesis rubber
     sigma0_Pa: float = 0.2e6
-    T0_C: float = None             # None -> the rubber's T_ref
+    T0_C: float | None = None             # None -> the rubber's T_ref
     flash: bool = False
-    v_m_per_s: "np.ndarray" = None   # None -> 1e-4..1e2 m/s, 10 per decade
-    q1_per_m: float = None         # upper end; beyond Nyquist the self-affine fit extends C(q)
+    v_m_per_s: np.ndarray | None = None   # None -> 1e-4..1e2 m/s, 10 per decade
+    q1_per_m: float | None = None         # upper end; beyond Nyquist the self-affine fit extends C(q)
     enabled: bool = True
-    q0_per_m: float = None         # lower end of the friction integrals (None: lowest ring)
+    q0_per_m: float | None = None         # lower end of the friction integrals (None: lowest ring)
     nu: float = 0.5
-    contact_gamma: float = None    # Persson's S(q) = gamma + (1 - gamma) P^2 (None: S = 1)
+    contact_gamma: float | None = None    # Persson's S(q) = gamma + (1 - gamma) P^2 (None: S = 1)
     extrapolate: str = "powerlaw"  # master curve beyond its data: powerlaw | hold
 
 

@@ -71,7 +71,7 @@ def _check_value(job_name: str, name: str, value: Any, hint: Any) -> Any:
             return bool(value)
         raise InputError(None, f"{_flag(name)}: {job_name}() takes True or False, not {value!r}")
     if wants_num and isinstance(value, numbers.Real) and not isinstance(value, bool):
-        value = float(value) if float in parts else int(value)
+        value = float(value) if float in parts else math.trunc(value)   # int(), typed for Real
         if isinstance(value, float) and not math.isfinite(value):
             raise InputError(None, f"{_flag(name)} {value!r}: must be a finite number")
         return value

@@ -5,10 +5,13 @@
 """
 from __future__ import annotations
 
+from collections.abc import Callable
+from typing import Any
+
 __all__ = ["READERS", "WRITERS", "register_reader", "register_writer"]
 
-READERS = {}
-WRITERS = {}
+READERS: dict[str, Callable[..., Any]] = {}
+WRITERS: dict[str, Callable[..., Any]] = {}
 
 
 def register_reader(*extensions):

@@ -227,12 +227,12 @@ class Preamble:
         Other keys as written.
     """
 
-    spacing: tuple = None
-    dy: tuple = None
-    units: tuple = None
-    x_units: tuple = None
-    z_units: tuple = None
-    nodata: float = None
+    spacing: tuple | None = None
+    dy: tuple | None = None
+    units: tuple | None = None
+    x_units: tuple | None = None
+    z_units: tuple | None = None
+    nodata: float | None = None
     other: dict = field(default_factory=dict)
 
 

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
+from typing import Any
 
 from roadscan.errors import InputError
 
@@ -47,7 +48,7 @@ def run(args):
     return 0
 
 
-_AT_EXIT = []
+_AT_EXIT: list[Any] = []
 
 
 def _no_collection_at_exit():

@@ -103,15 +103,15 @@ class Effect:
     name: str
     level: str
     params: tuple
-    modify: Callable = None
-    apply_fn: Callable = None
+    modify: Callable | None = None
+    apply_fn: Callable | None = None
     requires: frozenset = frozenset()
-    prepare: Callable = None
+    prepare: Callable | None = None
     cost: float = 1.0
     description: str = ""
-    null: Callable = None
-    plausible: Callable = None
-    physical: Callable = None
+    null: Callable | None = None
+    plausible: Callable | None = None
+    physical: Callable | None = None
 
     def restricted(self, context, real_mu):
         """This effect with each parameter's bounds narrowed to its physical range

@@ -92,7 +92,7 @@ class Candidate:
     score: float = float("nan")
     nfev: int = 0
     seconds: float = 0.0
-    r_held: np.ndarray = None          # held-out residuals log10(real/pred) (CV: every point)
+    r_held: np.ndarray | None = None          # held-out residuals log10(real/pred) (CV: every point)
     shrink_interval: tuple = (float("nan"), float("nan"))
     at_bound: list = field(default_factory=list)
     implausible: list = field(default_factory=list)

@@ -80,11 +80,11 @@ class SurfaceContext:
     fit: object
     is_profile: bool
     inputs: set = field(default_factory=set)
-    skew_table: dict = None     # skewness grid -> height family, d rain family (height_skew)
-    moments: dict = None        # moment skewness / excess kurtosis: measured and twin block means
+    skew_table: dict | None = None     # skewness grid -> height family, d rain family (height_skew)
+    moments: dict | None = None        # moment skewness / excess kurtosis: measured and twin block means
     noise_inflation: dict = field(default_factory=dict)
-    whole_twins: np.ndarray = None  # (n_twins, n_rings) log10 C of the twins' whole-scan spectra
-    whole_height: dict = None       # whole-scan height-law statistics: measured, twins, skewed-twin table
+    whole_twins: np.ndarray | None = None  # (n_twins, n_rings) log10 C of the twins' whole-scan spectra
+    whole_height: dict | None = None       # whole-scan height-law statistics: measured, twins, skewed-twin table
     cache: dict = field(default_factory=dict)
 
     @property

@@ -19,6 +19,7 @@ few 2 pi / L bends only the lowest rings, so most held-out rings have nothing to
 """
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 
 import numpy as np
@@ -39,7 +40,7 @@ MIN_SHRINK_WHOLE = 0.4
 #: held-out shrink (a bend at the lowest rings touches few held-out rings; null scans give p
 #: of 0.2 to 1 in the blind benchmark)
 STRONG_P_WHOLE = 1e-5
-LOG10E = float(np.log10(np.e))
+LOG10E = math.log10(math.e)
 
 
 def whole_spectrum_check(an, twins=None):

@@ -44,10 +44,10 @@ class CombineInput:
 
     path: Path
     label: str
-    spacing: str = None          # as ``--spacing`` takes it: "DX" or "DX,DY" [m]
-    units: str = None
-    resolution_m: float = None
-    origin: str = None           # the manifest and row it came from, for messages
+    spacing: str | None = None          # as ``--spacing`` takes it: "DX" or "DX,DY" [m]
+    units: str | None = None
+    resolution_m: float | None = None
+    origin: str | None = None           # the manifest and row it came from, for messages
 
 
 def _header(path):

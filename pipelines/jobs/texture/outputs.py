@@ -49,12 +49,12 @@ class TextureSettings:
     """
 
     direction: str = "x"
-    friction: float = None          # FRS measured
-    slip_speed_kmh: float = None    # S
-    ifi_constants: tuple = None     # (A, B, C)
+    friction: float | None = None          # FRS measured
+    slip_speed_kmh: float | None = None    # S
+    ifi_constants: tuple | None = None     # (A, B, C)
     form: str = "plane"             # --form
-    s_filter_m: float = None        # --s-filter
-    l_filter_m: float = None        # --l-filter
+    s_filter_m: float | None = None        # --s-filter
+    l_filter_m: float | None = None        # --l-filter
 
 
 def add_texture_options(p):

@@ -24,6 +24,7 @@ import contextlib
 import contextvars
 import os
 import threading
+from typing import Any
 
 __all__ = ["TextureFigures", "MIN_POINTS", "levelled_from", "prepare_lattice_ahead"]
 
@@ -116,7 +117,7 @@ class _ReadAhead:
 
 
 #: the last scans read ahead (:func:`prepare_lattice_ahead`), held weakly
-_AHEAD = []
+_AHEAD: list[Any] = []
 #: scans read ahead that are remembered (a command reads all its files before analysing them)
 _AHEAD_KEPT = 8
 
