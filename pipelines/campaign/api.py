@@ -310,18 +310,24 @@ def summary_line(jobs, results, out):
             f"{out / 'campaign.csv'}, {out / 'report.html'}")
 
 
-def _clean_after_stop(out, jobs):
-    """Hidden temporary folders of scans whose worker was stopped mid-write (a signal to the
-    whole process group, a cluster closed under them): removed unless still locked by a live
-    writer (:func:`roadscan.io.atomic.recover_output_dir`)."""
-    from roadscan.io.atomic import recover_output_dir
+def _clean_after_stop(out, jobs, wait_s=5.0):
+    """What a stopped campaign's workers left in ``out`` removed (:func:`pipelines.campaign.
+    folder.recover_campaign`: hidden temporary scan folders, a set-aside folder put back). A
+    folder a worker still holds (``flock``: the cluster was closed, the worker process is still
+    dying, as happens under load) is waited for, up to ``wait_s`` seconds, then removed: the
+    stopped campaign leaves nothing half-written behind it."""
+    import time
 
-    for j in jobs:
-        if j.get("subdir"):
-            try:
-                recover_output_dir(out / j["subdir"])
-            except OSError:
-                pass
+    from pipelines.campaign.folder import campaign_leftovers, recover_campaign
+
+    scans = {j["subdir"] for j in jobs if j.get("subdir")}
+    deadline = time.monotonic() + wait_s
+    while True:
+        recover_campaign(out)
+        left = [p for p in campaign_leftovers(out) if any(p.name.startswith(f".{s}.") for s in scans)]
+        if not left or time.monotonic() > deadline:
+            return
+        time.sleep(0.05)
 
 
 def _earlier_campaign(out):

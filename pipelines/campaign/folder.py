@@ -160,8 +160,13 @@ def earlier_campaign(out):
         return False
     if any((p / SIDECAR).is_file() for p in entries if p.is_dir()):
         return True
+    from roadscan.io.overwrite_guard import untracked
+
     try:
-        with open(out / "campaign.csv", encoding="utf-8") as fh:
+        # our own earlier table, not an input: --resume replaces it (a campaign stopped before
+        # any scan finished has no sidecar, only this; tracked, the read made the new
+        # campaign.csv "replace an input": exit 2)
+        with untracked(), open(out / "campaign.csv", encoding="utf-8") as fh:
             if fh.readline().startswith("file,label,chainage_m,status"):
                 return True
     except (OSError, UnicodeDecodeError):
@@ -276,8 +281,11 @@ def read_sidecar(folder):
     -------
     dict or None
     """
+    from roadscan.io.overwrite_guard import untracked
+
     try:
-        return json.loads((Path(folder) / SIDECAR).read_text(encoding="utf-8"))
+        with untracked():      # our own earlier output, not an input (a rerun replaces it)
+            return json.loads((Path(folder) / SIDECAR).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
 

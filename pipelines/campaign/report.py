@@ -208,25 +208,28 @@ def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campa
     masks = {k: outlier_mask(v) for k, v in vals.items()}
     chain = np.array([np.nan if r["chainage_m"] is None else float(r["chainage_m"]) for r in records])
     n_ok = sum(r["status"] == "ok" for r in records)
-    pngs = [_plot_grid(out_dir / ".campaign_distributions.png", quantities, vals)]
-    sections = [("Distributions", [pngs[0]])]
-    if np.isfinite(chain).any():
-        pngs.append(_plot_grid(out_dir / ".campaign_chainage.png", quantities, vals, chain,
-                               [r["file"] for r in records]))
-        sections.append(("Along chainage", [pngs[1]]))
-    sections.append(("Scans", _table(records, quantities, vals, masks)))
-    warned = [r for r in records if r["status"] == "ok" and r["values"].get("warnings")]
-    if warned:                            # every warning of every scan
-        sections.append(("Warnings", report.table_html(
-            [[r.get("dir") or r["file"], w] for r in warned
-             for w in r["values"]["warnings"].split(" | ")], ["scan", "warning"])))
-    from pipelines.output.templates import render
-
-    intro = render("campaign_intro.html.j2", rows=len(records), ok=n_ok, warned=len(warned),
-                   failed=len(records) - n_ok, z=Z_OUTLIER)
+    # the figures' files are removed whatever happens, a signal while one is drawn included
+    # (only the report is an output; a killed campaign's are swept by the next run)
+    spare = [out_dir / ".campaign_distributions.png", out_dir / ".campaign_chainage.png"]
     try:
+        pngs = [_plot_grid(spare[0], quantities, vals)]
+        sections = [("Distributions", [pngs[0]])]
+        if np.isfinite(chain).any():
+            pngs.append(_plot_grid(spare[1], quantities, vals, chain,
+                                   [r["file"] for r in records]))
+            sections.append(("Along chainage", [pngs[1]]))
+        sections.append(("Scans", _table(records, quantities, vals, masks)))
+        warned = [r for r in records if r["status"] == "ok" and r["values"].get("warnings")]
+        if warned:                            # every warning of every scan
+            sections.append(("Warnings", report.table_html(
+                [[r.get("dir") or r["file"], w] for r in warned
+                 for w in r["values"]["warnings"].split(" | ")], ["scan", "warning"])))
+        from pipelines.output.templates import render
+
+        intro = render("campaign_intro.html.j2", rows=len(records), ok=n_ok, warned=len(warned),
+                       failed=len(records) - n_ok, z=Z_OUTLIER)
         report.write_html(out_dir / "report.html", title, sections, intro=intro)
     finally:
-        for p in pngs:
+        for p in spare:
             p.unlink(missing_ok=True)
     return out_dir / "report.html"

@@ -144,15 +144,22 @@ def _client(workers=None, scheduler=None):
             client.close()
         return
     n = workers or default_workers()
+    box = []
+    trim = dask.config.set({_TRIM_KEY: None}) if _TRIM_ENV not in os.environ else contextlib.nullcontext()
     try:
-        with dask.config.set({_TRIM_KEY: None}) if _TRIM_ENV not in os.environ else contextlib.nullcontext(), \
-                dask.config.set({_WORKER_LOG_KEY: "critical", "distributed.worker.preload":
-                                 ["pipelines.campaign.worker_signals"]}):
-            cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                   dashboard_address=None, silence_logs=logging.ERROR)
+        with trim, dask.config.set({_WORKER_LOG_KEY: "critical", "distributed.worker.preload":
+                                    ["pipelines.campaign.worker_signals"]}), _sigint_blocked():
+            box.append(LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                    dashboard_address=None, silence_logs=logging.ERROR))
     except Exception as exc:  # noqa: BLE001 - e.g. a script without the __main__ guard
         raise InputError(None, f"--workers {n}: cannot start a local Dask cluster "
                                f"({type(exc).__name__}: {exc})") from None
+    except KeyboardInterrupt:     # Ctrl-C held while the workers started: arrives here
+        for cluster in box:
+            with contextlib.suppress(Exception):
+                cluster.close()
+        raise
+    cluster = box[0]
     client = Client(cluster)
     try:
         yield client
@@ -161,6 +168,28 @@ def _client(workers=None, scheduler=None):
             client.close()
         with contextlib.suppress(Exception):
             cluster.close()
+
+
+@contextlib.contextmanager
+def _sigint_blocked():
+    """SIGINT blocked in this (the main) thread while a local cluster starts: the cluster's
+    event-loop thread, started now, inherits the mask, and so do the worker processes it spawns
+    (a signal mask survives ``exec``), so a terminal's Ctrl-C, sent to the whole process group,
+    never reaches a worker that is still importing, before its preload ignores SIGINT
+    (:mod:`pipelines.campaign.worker_signals`): it printed a KeyboardInterrupt traceback from
+    the import machinery. A Ctrl-C meanwhile stays pending and stops the campaign as soon as
+    the cluster is up (a second or two); SIGTERM and SIGHUP are not held."""
+    import signal
+    import threading
+
+    if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def _check_reachable(address):

@@ -28,7 +28,7 @@ import threading
 from ..errors import InputError
 
 __all__ = ["refuse_overwrite", "same_path", "inside", "reads_tracked", "check_not_read",
-           "tracked_reads"]
+           "tracked_reads", "untracked"]
 
 _LOCK = threading.Lock()
 _READS = None            # set of absolute paths read while tracking, or None when not tracking
@@ -44,8 +44,11 @@ def _skip_roots():
 _ROOTS = _skip_roots()
 
 
+_SUSPENDED = threading.local()   # .on: this thread's reads are not recorded (untracked)
+
+
 def _audit(event, args):
-    if event != "open" or _READS is None:
+    if event != "open" or _READS is None or getattr(_SUSPENDED, "on", False):
         return
     try:
         path, mode, flags = args
@@ -97,6 +100,33 @@ def reads_tracked():
     finally:
         if outer:
             _READS = None
+
+
+@contextlib.contextmanager
+def untracked():
+    """Inside the block, files this thread opens are not recorded by :func:`reads_tracked`:
+    a command looking at its own earlier output to recognise it (the header of a campaign's
+    ``campaign.csv`` before ``--resume``) has not read an input, and may replace that output.
+
+    Parameters
+    ----------
+    None
+
+    Yields
+    ------
+    None
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+        Use with ``with``.
+    """
+    before = getattr(_SUSPENDED, "on", False)
+    _SUSPENDED.on = True
+    try:
+        yield
+    finally:
+        _SUSPENDED.on = before
 
 
 def tracked_reads():
