@@ -44,7 +44,8 @@ from .rolloff import detect_roll_off
 from .units import length as _len
 
 __all__ = ["ReliableBand", "reliable_band", "leakage_factor", "resolution_limit",
-           "gaussian_response", "noise_limit", "NYQUIST_FRACTION", "RESPONSE_MIN"]
+           "gaussian_response", "noise_limit", "NYQUIST_FRACTION", "RESPONSE_MIN",
+           "ROLL_K_MIN"]
 
 NYQUIST_FRACTION = 0.6
 RESPONSE_MIN = 0.8
@@ -57,7 +58,9 @@ _LEAKAGE_TABLES = {0.25: ((2.6, 4.0), (3.0, 6.0), (3.6, 12.0), (4.0, 14.0)),
                    0.5: ((2.6, 4.0), (3.6, 6.0), (4.0, 7.0)),
                    1.0: ((2.6, 4.0), (3.6, 5.0), (4.0, 6.0))}
 _K_MIN, _K_MAX = 4.0, 15.0
-_ROLL_K_MIN = 4.0
+#: below a roll-off the modes longer than the view are as weak as the plateau: C is measured
+#: from this many 2 pi / L on (the steep part above a low knee, and a surface's plateau)
+ROLL_K_MIN = 4.0
 
 
 @dataclass(frozen=True)
@@ -315,10 +318,10 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
     q_roll = detect_roll_off(q, C, n if count is not None else None, slope, icpt, q_fov, hi_b)
     if q_roll is not None:
         limits["roll_off"] = q_roll
-        q_lo_roll = max(q_roll, _ROLL_K_MIN * q_fov)
+        q_lo_roll = max(q_roll, ROLL_K_MIN * q_fov)
         if q_lo_roll < lo:
             lo, lo_reason = q_lo_roll, (f"roll-off at {_wl(q_roll)} wavelength (flat below: "
-                                        f"little leakage; at least {_ROLL_K_MIN:g} x 2 pi / L)")
+                                        f"little leakage; at least {ROLL_K_MIN:g} x 2 pi / L)")
     hi, hi_reason = min(hi_cands, key=lambda c: c[0])
     return ReliableBand(float(lo), float(hi), lo_reason, hi_reason,
                         {k_: (None if v is None else float(v)) for k_, v in limits.items()},

@@ -20,9 +20,11 @@ move across a roll-off puts the plateau's row far above it). The first row of ea
 sits at its lowest ring (the curve starts where the band does), unless a bend lies within
 :data:`SLOPE_REACH` decade above or :data:`BEND_AHEAD` decade below it, or the stretch spans
 under :data:`MIN_STRETCH_DECADES`; the others sit at the count-weighted mean of ln q (where a
-slope error cancels to first order). Uncertainty: a periodogram value of a Gaussian surface is C times an
-exponential variable (2 degrees of freedom per independent mode, reduced by the window's
-equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
+slope error cancels to first order). With ``start_per_m`` given (combine: 8 x 2 pi / L of the
+largest field), a first row sitting above it whose rings reach it sits at it: the curve starts
+there, not up to 0.6 decade above where its bands do. Uncertainty: a periodogram value of a
+Gaussian surface is C times an exponential variable (2 degrees of freedom per independent
+mode, reduced by the window's equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
 band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
 Where several sources overlap, the weighted rms scatter s of their ln C_i about ln C_j is added
 in quadrature to each side (as 1.645 s), and so is ln(1 + b) times the share of the bin's
@@ -31,8 +33,9 @@ band tolerates there (``SpectrumPart.edge_bias``: about 10 % for leakage, aliasi
 25 % at a noise floor; :mod:`roadscan.reliable_band`), and so is the slope's standard error
 times the row's mean lever |ln(q_j / q_i)| (a row at its lowest ring moves rings far). Bins inside the union of the bands that no source
 covers are *gaps* (a bin inside some band that holds no ring, as 1D modes sparser than the
-grid at low q, gets no row): bridged by the power law fitted (inverse-variance weights) to the
-covered rows within 0.5 decade on either side, flagged ``n_sources = 0`` and listed.
+grid at low q, gets no row): bridged (:mod:`roadscan.spectrum_gaps`) by the power law fitted
+(inverse-variance weights) to the covered rows within 0.5 decade on either side, flagged
+``n_sources = 0`` and listed.
 
 Inputs whose C disagree where both measure beyond their scatter are listed
 (``MergedSpectrum.disagreements``), and a measured row whose band excludes the line through its
@@ -48,7 +51,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .spectrum_agreement import Z95, disagreements, widen_outliers   # Z95, disagreements re-exported
+from .spectrum_agreement import Z95, disagreements, widen_outliers  # Z95, disagreements re-exported
+from .spectrum_gaps import bridge, find_gaps, gap_edges
 
 __all__ = ["SpectrumPart", "MergedSpectrum", "merge_spectra", "aligned_range", "disagreements",
            "chi2_quantile", "RINGS_PER_DECADE", "Z95"]
@@ -73,9 +77,6 @@ BEND_AHEAD = 0.2
 #: a stretch of rows (between gaps) spanning less than this (decades) starts at its first
 #: row's mean ln q, not its lowest ring: its own rings cannot show the slope to move them by
 MIN_STRETCH_DECADES = 0.5
-#: a gap whose lower side is flatter than its upper side by more than this (log-log slope) is
-#: bridged by the lower of the two sides' power laws (a roll-off), not by one line
-BRIDGE_BEND = 1.0
 
 
 @dataclass(frozen=True)
@@ -183,7 +184,7 @@ def _bins(q, per_decade):
     return np.floor(per_decade * np.log10(q) + 1e-9).astype(np.int64)
 
 
-def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
+def merge_spectra(parts, per_decade=RINGS_PER_DECADE, *, start_per_m=None):
     """Merge the reliable parts of several spectra (see module docstring).
 
     Parameters
@@ -191,6 +192,9 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     parts : sequence of SpectrumPart
     per_decade : int
         Rings per decade of the common grid.
+    start_per_m : float, optional
+        Where a band starts below this wave vector [1/m], the merged curve's first row sits at
+        it or below (None: at its lowest ring or its rings' mean, as the rules above say).
 
     Returns
     -------
@@ -233,34 +237,19 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     row_of_bin, first_bin = _group_bins(np.bincount(b - j0, dof), MIN_ROW_DOF, MAX_ROW_BINS,
                                         seg_of_bin)
     idx = row_of_bin[b - j0]
+    N = np.bincount(idx, n, first_bin.size)
+    q = _place_rows(r[:, 1], n, idx, first_bin, N > 0, bend_bins, per_decade)
+    if start_per_m is not None:
+        # the curve's first row moved down to start_per_m when its rings reach there (its
+        # rings are moved along the local slope as any row's; their lever grows, and so does
+        # the slope error's share of its band)
+        i0 = int(np.argmax(N > 0))
+        if q[i0] > start_per_m and r[idx == i0, 1].min() <= start_per_m:
+            q[i0] = float(start_per_m)
     nb = first_bin.size
     seg_row, seg_ring = seg_of_bin[first_bin], seg_of_bin[b - j0]
-    N = np.bincount(idx, n, nb)
     covered = N > 0
     Nc = np.where(covered, N, 1.0)
-    # each row at the count-weighted mean of ln q (an error in the slope below cancels to first
-    # order in the moved rings' mean), but the first of each stretch at its lowest ring: the
-    # curve starts where the band does; not so near a bend, below one (its few rings' slope is
-    # uncertain) or at one (the bend's place, chosen from the data, favours high rings above it)
-    q = np.exp(np.bincount(idx, n * np.log(r[:, 1]), nb) / Nc)
-    q_first = np.full(nb, np.inf)
-    np.minimum.at(q_first, idx, r[:, 1])
-    reach = int(round(SLOPE_REACH * per_decade))
-    ahead = int(round(BEND_AHEAD * per_decade))
-    near_bend = np.zeros(nb, bool)
-    for bb in bend_bins:
-        near_bend |= (first_bin <= bb + ahead) & (first_bin >= bb - reach)
-    # stretches: runs of covered rows; one too short to show its own slope beyond its first row
-    # starts at its mean (a single row at its lowest ring over a roll-off was 9 x the truth)
-    starts = covered & ~np.r_[False, covered[:-1]]
-    stretch = np.cumsum(starts)
-    ln_top = np.full(stretch.max() + 1, -np.inf)
-    np.maximum.at(ln_top, stretch[idx], np.log10(r[:, 1]))
-    ln_bot = np.full(stretch.max() + 1, np.inf)
-    np.minimum.at(ln_bot, stretch[idx], np.log10(r[:, 1]))
-    with np.errstate(invalid="ignore"):         # a stretch index without rings: -inf - inf
-        long_enough = (ln_top - ln_bot)[stretch] >= MIN_STRETCH_DECADES
-    q = np.where(starts & ~near_bend & long_enough, q_first, q)
     # each ring's C moved to its row's q along the local slope (exact for a power law)
     slopes, slope_se = _row_slopes(r[:, 1], r[:, 2], dof, q, covered, seg_ring, seg_row)
     lever = np.log(q[idx] / r[:, 1])
@@ -292,16 +281,44 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE):
     row = covered | ~in_band
     q, C, N, covered, d_lo, d_hi, nsrc, seg = (
         a[row] for a in (np.where(covered, q, centre), C, N, covered, d_lo, d_hi, nsrc, seg_row))
-    gaps = _gaps(covered, q)
+    gaps = find_gaps(covered, q)
     lnC = np.log(np.where(covered, C, 1.0))
     widened = widen_outliers(q, lnC, d_lo, d_hi, covered, seg)
     for g in gaps:
-        _bridge(g, q, lnC, d_lo, d_hi, covered, seg)
-    _gap_edges(gaps, lows, highs)
+        bridge(g, q, lnC, d_lo, d_hi, covered, seg)
+    gap_edges(gaps, lows, highs)
     Cm = np.exp(lnC)
     return MergedSpectrum(q, Cm, Cm * np.exp(-d_lo), Cm * np.exp(d_hi), nsrc.astype(np.int64),
                           np.where(covered, N, 0.0),
                           (float(q[covered][0]), float(q[covered][-1])), gaps, clash, widened)
+
+
+def _place_rows(q_ring, n, idx, first_bin, covered, bend_bins, per_decade):
+    """Each row's wave vector [1/m]: the count-weighted mean of its rings' ln q (an error in the
+    slope below cancels to first order in the moved rings' mean), but the first of each stretch
+    at its lowest ring (the curve starts where the band does); not so near a bend, below one
+    (its few rings' slope is uncertain) or at one (the bend's place, chosen from the data,
+    favours high rings above it), nor in a stretch too short to show its own slope beyond its
+    first row (a single row at its lowest ring over a roll-off was 9 x the truth)."""
+    nb = first_bin.size
+    Nc = np.where(covered, np.bincount(idx, n, nb), 1.0)
+    q = np.exp(np.bincount(idx, n * np.log(q_ring), nb) / Nc)
+    q_first = np.full(nb, np.inf)
+    np.minimum.at(q_first, idx, q_ring)
+    reach = int(round(SLOPE_REACH * per_decade))
+    ahead = int(round(BEND_AHEAD * per_decade))
+    near_bend = np.zeros(nb, bool)
+    for bb in bend_bins:
+        near_bend |= (first_bin <= bb + ahead) & (first_bin >= bb - reach)
+    starts = covered & ~np.r_[False, covered[:-1]]
+    stretch = np.cumsum(starts)
+    ln_top = np.full(stretch.max() + 1, -np.inf)
+    np.maximum.at(ln_top, stretch[idx], np.log10(q_ring))
+    ln_bot = np.full(stretch.max() + 1, np.inf)
+    np.minimum.at(ln_bot, stretch[idx], np.log10(q_ring))
+    with np.errstate(invalid="ignore"):         # a stretch index without rings: -inf - inf
+        long_enough = (ln_top - ln_bot)[stretch] >= MIN_STRETCH_DECADES
+    return np.where(starts & ~near_bend & long_enough, q_first, q)
 
 
 def _group_bins(dof, min_dof, max_bins, segment=None):
@@ -345,85 +362,3 @@ def _row_slopes(q, C, dof, q_row, covered, seg_ring=None, seg_row=None, reach=No
             out[i] = (w @ ((x[near] - xm) * (y[near] - ym))) / sxx
             se[i] = 1.0 / np.sqrt(sxx)
     return out, se
-
-
-def _line(X, y, w):
-    """Weighted least-squares line y = c0 + c1 X -> (c0, c1, weighted rms residual) or None
-    (fewer than 2 points, or all at one X)."""
-    if X.size < 2 or np.ptp(X) <= 0:
-        return None
-    A = np.column_stack([np.ones(X.size), X])
-    sw = np.sqrt(w)
-    coef, *_ = np.linalg.lstsq(A * sw[:, None], y * sw, rcond=None)
-    return coef[0], coef[1], float(np.sqrt(np.sum(w * (y - A @ coef) ** 2) / np.sum(w)))
-
-
-def _bridge(gap, q, lnC, d_lo, d_hi, covered, seg=None, reach=0.5):
-    """Fill the rows of one gap in place from the covered rows within ``reach`` decades on
-    either side (inverse-variance weights from each row's band, so that a band end's tolerated
-    bias weighs less; only rows of the gap's own segment when two or more are there: the
-    plateau under a roll-off says nothing of the slope above it).
-
-    A power law is fitted on each side. When the lower side is flatter by over
-    :data:`BRIDGE_BEND` in slope (a roll-off in or beside the gap, found by no input), the
-    bridge is the lower of the two power laws (Persson's plateau-then-power-law, each side
-    extrapolated until they meet); else one power law is fitted to both sides. The band there
-    is the widest of the edges' with the fit's rms residual added.
-    """
-    x = np.log10(q)
-    lo, hi = np.log10(gap["q_from_per_m"]), np.log10(gap["q_to_per_m"])
-    inside = (x > lo + 1e-12) & (x < hi - 1e-12)
-    near = covered & (((x <= lo + 1e-12) & (x >= lo - reach)) | ((x >= hi - 1e-12) & (x <= hi + reach)))
-    if seg is not None and inside.any():
-        own = near & (seg == seg[np.argmax(inside)])
-        if own.sum() >= 2:
-            near = own
-    sigma = (d_lo + d_hi) / (2 * Z95)
-    w = 1.0 / np.maximum(sigma, 1e-6) ** 2
-    X = np.log(q)
-    below, above = near & (x <= lo + 1e-12), near & (x >= hi - 1e-12)
-    f_lo, f_hi = _line(X[below], lnC[below], w[below]), _line(X[above], lnC[above], w[above])
-    if f_lo is not None and f_hi is not None and f_lo[1] - f_hi[1] > BRIDGE_BEND:
-        lnC[inside] = np.minimum(f_lo[0] + f_lo[1] * X[inside], f_hi[0] + f_hi[1] * X[inside])
-        resid = max(f_lo[2], f_hi[2])
-        how = (f"the lower of the power laws fitted on either side within {reach:g} decade "
-               f"(C ~ q^{f_lo[1]:.2f} below, q^{f_hi[1]:.2f} above: a bend)")
-    else:
-        c0, c1, resid = _line(X[near], lnC[near], w[near])
-        lnC[inside] = c0 + c1 * X[inside]
-        how = f"a power law C ~ q^{c1:.2f} fitted to the rows within {reach:g} decade on either side"
-    d_lo[inside] = np.hypot(np.max(d_lo[near]), Z95 * resid)
-    d_hi[inside] = np.hypot(np.max(d_hi[near]), Z95 * resid)
-    gap["bridged_by"] = how
-
-
-def _gaps(covered, q):
-    """Runs of uncovered bins -> [{q_from_per_m, q_to_per_m, factor, rows}] (the reliable
-    rows on either side)."""
-    out = []
-    i = 0
-    while i < covered.size:
-        if covered[i]:
-            i += 1
-            continue
-        j = i
-        while not covered[j]:
-            j += 1
-        a, b = float(q[i - 1]), float(q[j])
-        out.append({"q_from_per_m": a, "q_to_per_m": b, "factor": b / a, "rows": int(j - i),
-                    "_bridged": (float(q[i]), float(q[j - 1]))})
-        i = j
-    return out
-
-
-def _gap_edges(gaps, lows, highs):
-    """Each gap's ends moved from the rows beside it to the reliable bands' own ends: from the
-    highest band top below its bridged bins to the lowest band start above them (rows pool
-    several rings, so their q lies inside the bands)."""
-    for g in gaps:
-        first, last = g.pop("_bridged")        # bridged bins lie outside every band
-        below = [h for h in highs if h < first]
-        above = [lo for lo in lows if lo > last]
-        if below and above:
-            g["q_from_per_m"], g["q_to_per_m"] = max(below), min(above)
-            g["factor"] = g["q_to_per_m"] / g["q_from_per_m"]

@@ -6,15 +6,16 @@ Road texture spans wavelengths from metres to micrometres; no single instrument 
 them. Here two simulated instruments look at the same kind of surface, one whose spectrum is
 known exactly: a texture laser (0.2 mm spacing, 0.4 mm lateral resolution, a 51 mm field) and a
 confocal microscope (5 µm spacing, 10 µm resolution, 0.3 µm noise, a 2.6 mm field). Each keeps
-only its *reliable band* (the field of view and roll-off at the low end; Nyquist, the lateral
-resolution and the noise floor at the high end), and the parts are merged on a common grid, as
-``roadscan combine`` does.
+only its *reliable band* (the field of view at the low end, and below the surface's roll-off
+its plateau; Nyquist, the lateral resolution and the noise floor at the high end), and the
+parts are merged on a common grid, as ``roadscan combine`` does.
 """
 import matplotlib.pyplot as plt
 import numpy as np
 
 from pipelines.jobs.combine.job import combine_sources
 from pipelines.jobs.combine.sources import source_spectrum
+from roadscan.rolloff_origin import surface_q0
 from roadscan.synth import model_psd
 from roadscan.synth_measure import measure_synthetic
 
@@ -31,6 +32,10 @@ for s in sources:
     print(f"{s.label}: reliable from {lo:.3g} to {hi:.3g} 1/m ({s.band.hi_reason})")
 print(f"merged: {merged.q_per_m[0]:.3g} to {merged.q_per_m[-1]:.3g} 1/m, fitted H = {fit['hurst']:.3f}"
       f" (true {H})")
+# the laser's knee is the surface's roll-off (far from its field of view and its resolution):
+# the plateau below it stays in the merged curve, and q0 is reported (combine.json's q0_per_m)
+q0, how = surface_q0(verdicts=[s.roll_off for s in sources if s.roll_off is not None])
+print(f"q0 = {q0:.3g} 1/m (true {Q_ROLL:g}): {how}" if q0 else how)
 
 # %%
 # The measured spectra, their reliable bands, and the merged spectrum

@@ -18,7 +18,11 @@ Outputs, all written into a temporary folder swapped in at the end
   of inputs whose C differ where both measure beyond their scatter: ``labels``, ``factor``
   C_a / C_b, ``q_from_per_m``, ``q_to_per_m``, ``rows``, ``sigma_ln``; each also a line of
   ``warnings`` naming the two labels and the factor); ``widened_rows_per_m`` (rows whose band
-  was widened to what their neighbours say); ``fit``; ``warnings``;
+  was widened to what their neighbours say); ``fit``; ``q0_per_m`` (the surface's roll-off,
+  Persson's q0 [1/m], or null when no input shows one: :mod:`roadscan.rolloff_origin` tells a
+  surface's knee, seen by every input measuring across it, from an instrument's, near its own
+  field of view or resolution) and ``q0_how`` (one line: who found it and why it is the
+  surface's, or why there is none); per input its knee's verdict (``roll_off``); ``warnings``;
 - ``combine.png`` (unless ``--no-figures``) and a self-contained ``report.html``.
 
 Reference: Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014 (2022) (merging the spectra
@@ -37,6 +41,8 @@ from roadscan.errors import InputError
 __all__ = ["combine", "run_combine", "combine_sources", "PSD_HEADER"]
 
 PSD_HEADER = ["q_per_m", "C_m4", "C_lo_m4", "C_hi_m4", "n_sources"]
+#: the merged curve has a row by this many 2 pi / L of the largest field of view
+START_FOV = 8.0
 
 
 def _spectra(entries, args):
@@ -67,10 +73,11 @@ def _edge_bias(band):
     return (EDGE_BIAS, max(EDGE_BIAS, hi))
 
 
-def _fit(spec, band):
+def _fit(spec, band, q0=None):
     """Self-affine fit of the merged curve -> (dict or None, note): over the straight stretch
     :func:`roadscan.fit.detect_band` finds, else (a gap in the middle leaves it no rings to
-    compare) over the whole measured band."""
+    compare) over the whole measured band; its roll-off the surface's q0 when one was found
+    (:func:`roadscan.rolloff_origin.surface_q0`), else its own test's."""
     import warnings
 
     from roadscan.fit import fit_self_affine
@@ -79,7 +86,7 @@ def _fit(spec, band):
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
-                f = fit_self_affine(spec, band=b)
+                f = fit_self_affine(spec, band=b, roll_off=q0)
         except ValueError as exc:
             last = exc
             continue
@@ -91,6 +98,26 @@ def _fit(spec, band):
             return d, note
         last = ValueError("the fit gave no finite H")
     return None, f"no self-affine fit of the merged spectrum ({last})"
+
+
+def _judge_roll_offs(sources):
+    """Each input's knee judged the surface's or its instrument's
+    (:func:`roadscan.rolloff_origin.judge_roll_offs`, on the bands as measured), then each
+    input's band and bends set from its verdict
+    (:func:`pipelines.jobs.combine.sources.with_roll_off_verdict`) -> the verdicts."""
+    from pipelines.jobs.combine.sources import with_roll_off_verdict
+    from roadscan.rolloff_origin import RollOffView, judge_roll_offs
+
+    views = [RollOffView(s.label, s.band.q_roll_per_m, s.q_fov_per_m,
+                         s.band.limits.get("field_of_view") or s.band.lo_per_m,
+                         tuple(s.band.band), s.q_per_m, s.C_m4, s.count * s.dof_per_count)
+             for s in sources]
+    verdicts = judge_roll_offs(views=views)
+    mine = iter(verdicts)
+    for s, v in zip(sources, views):
+        s.roll_off = next(mine) if v.q_roll_per_m is not None else None
+        s.band, s.bends = with_roll_off_verdict(s, verdict=s.roll_off)
+    return verdicts
 
 
 def combine_sources(sources):
@@ -109,24 +136,30 @@ def combine_sources(sources):
     warnings : list of str
     """
     from pipelines.output.units import sig3, wavelength_of_q
+    from roadscan.rolloff_origin import surface_q0
     from roadscan.spectrum_merge import SpectrumPart, merge_spectra
     from roadscan.spectrum_types import Spectrum
 
     notes = []
+    verdicts = _judge_roll_offs(sources)
+    q0, _ = surface_q0(verdicts=verdicts)
     for s in sources:
         if not s.band.valid:
             notes.append(f"{s.path}: left out: its reliable band [{sig3(s.band.lo_per_m)}, "
                          f"{sig3(s.band.hi_per_m)}] 1/m is under a factor 2 wide (low end: "
                          f"{s.band.lo_reason}; high end: {s.band.hi_reason})")
     parts = [SpectrumPart(s.label, s.q_per_m, s.C_m4, s.count, tuple(s.band.band),
-                          s.dof_per_count, _edge_bias(s.band),
-                          (s.band.q_roll_per_m,) if s.band.q_roll_per_m else ())
+                          s.dof_per_count, _edge_bias(s.band), s.bends)
              for s in sources if s.band.valid]
     if not parts:
         raise InputError(sources[0].path if len(sources) == 1 else None,
                          "no input has a reliable band at least a factor 2 wide: nothing to merge "
                          f"({notes[0]})")
-    merged = merge_spectra(parts)
+    # the curve starts by START_FOV x 2 pi / L of the largest field (issue 37): an area's band
+    # starts by k x 2 pi / L, k <= 7 for spectra up to q^-4 (roadscan.reliable_band)
+    q_fov = min(s.q_fov_per_m for s in sources if s.band.valid)
+    # (0.1 % under it: the value psd.csv rounds to stays by it too)
+    merged = merge_spectra(parts, start_per_m=0.999 * START_FOV * q_fov)
     for g in merged.gaps:
         notes.append(f"gap: no input measures {sig3(g['q_from_per_m'])} to {sig3(g['q_to_per_m'])} 1/m "
                      f"(wavelengths {wavelength_of_q(g['q_to_per_m'])} to "
@@ -152,13 +185,20 @@ def combine_sources(sources):
                          f"at Nyquist or its noise floor (give resolution_m in the manifest)")
     spec = Spectrum(merged.q_per_m, merged.C_m4, count=np.rint(merged.count).astype(np.int64),
                     kind="model", meta={"source": "roadscan combine"})
-    fit, why = _fit(spec, merged.band_per_m)
+    for v in verdicts:
+        if v.origin == "instrument":
+            notes.append(f"input {v.label!r}: its roll-off is taken for the instrument's, not "
+                         f"the surface's (not q0): {v.reason}")
+    fit, why = _fit(spec, merged.band_per_m, q0)
     if why:
         notes.append(why)
     return merged, fit, notes
 
 
 def _summary(sources, merged, fit, warnings):
+    from roadscan.rolloff_origin import surface_q0
+
+    q0, q0_how = surface_q0(verdicts=[s.roll_off for s in sources if s.roll_off is not None])
     return {
         "inputs": [s.as_dict() for s in sources],
         "merged_band_per_m": [float(b) for b in merged.band_per_m],
@@ -169,6 +209,8 @@ def _summary(sources, merged, fit, warnings):
         "disagreements": merged.disagreements,
         "widened_rows_per_m": merged.widened_rows_per_m,
         "fit": fit,
+        "q0_per_m": q0,
+        "q0_how": q0_how,
         "method": ("C per ring of a common grid of 20 rings per decade: mean over the lattice "
                    "points of every input measuring it reliably; C_lo/C_hi the 5-95 % band from "
                    "chi-square counts and the inputs' scatter (roadscan.spectrum_merge)"),
@@ -232,7 +274,8 @@ def combine(
         The ``combine.json`` content: ``inputs`` (per input its reliable band, reasons,
         spacing, size, resolution), ``merged_band_per_m``, ``q_range_per_m`` [1/m], ``rows``,
         ``gaps``, ``gap_details``, ``disagreements``, ``widened_rows_per_m``, ``fit`` (H, h0,
-        roll-off; or None), ``method`` and ``warnings``.
+        roll-off; or None), ``q0_per_m`` and ``q0_how`` (the surface's roll-off [1/m] or
+        None, and how it was found), ``method`` and ``warnings``.
 
     Raises
     ------

@@ -78,6 +78,15 @@ class SourceSpectrum:
     band: object                    # roadscan.reliable_band.ReliableBand
     dof_per_count: float
     meta: dict = field(default_factory=dict)
+    #: its knee judged (roadscan.rolloff_origin.RollOffVerdict) and the bends it passes to the
+    #: merge: set by combine's job once every input is read
+    roll_off: object = None
+    bends: tuple = ()
+
+    @property
+    def q_fov_per_m(self):
+        """2 pi / L [1/m], L the shorter side of an area or a profile's length."""
+        return float(2 * np.pi / min(self.size_m))
 
     def as_dict(self):
         d = {"label": self.label, "file": self.path, "kind": self.kind, "shape": self.shape,
@@ -86,7 +95,8 @@ class SourceSpectrum:
              "reliable_band_per_m": self.band.band,
              "reliable_band_reasons": self.band.reasons,
              "limits_per_m": dict(self.band.limits), "q_roll_per_m": self.band.q_roll_per_m,
-             "spectrum_slope": self.band.slope, "reliable_band_valid": self.band.valid}
+             "spectrum_slope": self.band.slope, "reliable_band_valid": self.band.valid,
+             "roll_off": None if self.roll_off is None else self.roll_off.as_dict()}
         d.update(self.meta)
         return d
 
@@ -297,31 +307,60 @@ def _profile_above_roll_off(band):
                              f"estimate C1 / q x f(H) holds for a power law only")
 
 
-def _plateau_start(band, q, dof):
-    """The band with its low end raised to the roll-off when the rings between them carry
-    under half a merged row's degrees of freedom (the band may then be under a factor 2 wide:
-    the input is left out, with a warning).
+def with_roll_off_verdict(source, *, verdict):
+    """The source's reliable band and bends once its knee is judged
+    (:func:`roadscan.rolloff_origin.judge_roll_offs`) -> (ReliableBand, bends [1/m]).
 
-    Below a roll-off the spectrum bends from its self-affine slope to a plateau; the merge
-    pools no rings across the bend (:attr:`roadscan.spectrum_merge.SpectrumPart.bends_per_m`),
-    so the rings under it make rows of their own, and under
-    :data:`roadscan.spectrum_merge.MIN_ROW_DOF` / 2 degrees of freedom such a row scatters by
-    over 10 % (sqrt(2 / dof)) on a level its few rings cannot place.
+    - the surface's knee, an area: the band reaches down into the plateau, to
+      :data:`roadscan.reliable_band.ROLL_K_MIN` x 2 pi / L (or its first ring): below a roll-off
+      the modes longer than the view are as weak as the plateau, so the window leaks little
+      into it (mean C / C_true 0.94-1.06 from 4 to 8 x 2 pi / L over 20 synthetic road-laser
+      views); the plateau's rows carry few degrees of freedom and say so in their 5-95 % band;
+    - the surface's knee, a profile: the band starts at the knee (the 2D estimate C1 / q x f(H)
+      holds for a power law only, :func:`_profile_above_roll_off`);
+    - the instrument's knee: the band starts at the knee when below it (its rings under it are
+      bent by the instrument); no bend is passed to the merge when another input measures
+      straight across it, else the bend is kept (rows pool no rings across it).
+
+    Parameters
+    ----------
+    source : SourceSpectrum
+        One input.
+    verdict : roadscan.rolloff_origin.RollOffVerdict or None
+        Its knee judged; None: no knee.
+
+    Returns
+    -------
+    band : ReliableBand
+    bends : tuple of float
     """
     from dataclasses import replace
 
-    from roadscan.spectrum_merge import MIN_ROW_DOF
+    from roadscan.reliable_band import ROLL_K_MIN
 
-    q_r = band.q_roll_per_m
-    if q_r is None or not band.lo_per_m < q_r < band.hi_per_m:
-        return band
-    k = float(np.sum(dof[(q >= band.lo_per_m * (1 - 1e-9)) & (q < q_r)]))
-    if k >= MIN_ROW_DOF / 2:
-        return band
-    return replace(band, lo_per_m=float(q_r),
-                   lo_reason=f"{band.lo_reason}; raised to the roll-off: the rings below it "
-                             f"carry {k:.0f} degrees of freedom, too few for a row of the "
-                             f"plateau")
+    band = source.band
+    if verdict is None:
+        return band, ()
+    q_r = verdict.q_roll_per_m
+    if verdict.origin == "surface":
+        if source.kind == "profile":
+            return _profile_above_roll_off(band), (q_r,)
+        lo = max(ROLL_K_MIN * source.q_fov_per_m, float(source.q_per_m[0]))
+        if lo >= band.lo_per_m:
+            return band, (q_r,)
+        return replace(band, lo_per_m=float(lo),
+                       lo_reason=f"the plateau below the surface's roll-off ({verdict.reason}), "
+                                 f"from {ROLL_K_MIN:g} x 2 pi / L: a flat spectrum leaks little "
+                                 f"(the band's own low end was {band.lo_per_m:.3g} 1/m: "
+                                 f"{band.lo_reason})"), (q_r,)
+    refuted = bool(verdict.refuted_by)
+    if band.lo_per_m < q_r < band.hi_per_m:
+        band = replace(band, lo_per_m=float(q_r),
+                       lo_reason=f"{band.lo_reason}; raised to the instrument's knee "
+                                 f"({verdict.reason})")
+    if source.kind == "profile":
+        band = _profile_above_roll_off(band)
+    return band, (() if refuted else (q_r,))
 
 
 def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
@@ -390,10 +429,7 @@ def source_spectrum(obj, path, label, resolution_m=None, per_decade=20):
             "applied": "C divided by T(q)^2, T = exp(-ln 2 (q r / 2 pi)^2) (Gaussian lateral "
                        "response, 50 % amplitude at the wavelength r)",
             "max_factor": float(1.0 / T2[inside].min()) if inside.any() else 1.0}
-    band = _trim_leaky_start(band, q, C, n * dof)
-    band = _plateau_start(band, q, n * dof)
-    if kind == "profile":
-        band = _profile_above_roll_off(band)
+    band = _trim_leaky_start(band, q, C, n * dof)   # the roll-off: with_roll_off_verdict
     from pipelines.settings.scan_input import read_record
 
     meta.update(read_record(obj))           # how the file was read: channel, overrides
