@@ -42,6 +42,8 @@ __all__ = ["mu_flash", "heat_kernel", "FlashConvergenceError", "T_RISE_MAX_K"]
 #: kept in [T0, T0 + 1e4 K]. A solve that fails after reaching rises above this is reported as
 #: runaway heating (rubber is destroyed long before), not as a numerical failure.
 T_RISE_MAX_K = 2000.0
+#: the default (a, b, c) of the asperity model (DESIGN.md sec 5): b = 2 sqrt(pi)
+ASPERITY_ABC = (0.0, 2 * float(np.sqrt(np.pi)), 0.5)
 
 
 def k_rule(k_lo, k_hi, per_decade=8):
@@ -167,7 +169,7 @@ def _solve_flash(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None, osc=-
     capped = np.zeros(nv, dtype=bool)     # the row's iterate went above T0 + T_RISE_MAX_K
     rr = np.zeros(0)
     it = 0
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007 - the count is returned after the loop
         Ta = T[act]
         Tn, R = phi_map(Ta, act)
         if not np.all(np.isfinite(Tn)):
@@ -249,7 +251,7 @@ def _speeds(v):
 
 
 def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=3.0,
-             asperity_abc=(0.0, 2 * np.sqrt(np.pi), 0.5), tol=1e-3, wlf_form="relative",
+             asperity_abc=ASPERITY_ABC, tol=1e-3, wlf_form="relative",
              max_iter=400, beta=0.5, memory=6, heat_scale=1.0, contact_gamma=None):
     """Kinetic friction with flash heating, solved self-consistently for T_q at every speed.
 
@@ -368,7 +370,7 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
 
     def phi_map(T, rows=slice(None)):
         """Phi(T) on the speeds ``rows`` (T holds those rows only); also R [m] there."""
-        m, G, P, wP, fmu = state(T, rows)
+        m, _G, P, wP, _fmu = state(T, rows)
         Pm = P[:, im]
         R = (a_ + b_ * Pm ** c_) / q_m
         s = D * R / v[rows]
@@ -379,7 +381,7 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
 
     T, R, it, res = _solve_flash(phi_map, v.size, q.size, T0, tol, int(max_iter), float(beta),
                                  memory, v=v)
-    m, G, P, wP, fmu = state(T)
+    _m, G, P, wP, fmu = state(T)
     mu = 0.5 * np.sum(wP * fmu, axis=-1)
     meta = dict(model="flash", sigma0_Pa=sigma0_Pa, nu=nu, T0_C=T0, tol=tol, wlf_form=wlf_form,
                 heat_scale=float(heat_scale), contact_gamma=contact_gamma,

@@ -36,7 +36,6 @@ _LAZY = {
 }
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and editors only
-    from roadscan.errors import RoadscanWarning
     from pipelines import chain
     from pipelines.campaign.api import batch
     from pipelines.diagnosis.job import diagnose
@@ -48,6 +47,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and editors only
     from pipelines.jobs.dry_vs_wet import dry_vs_wet
     from pipelines.jobs.friction_call import friction
     from pipelines.jobs.rain_fill import rain_fill
+    from roadscan.errors import RoadscanWarning
 
 
 def __getattr__(name: str) -> Any:

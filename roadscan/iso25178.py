@@ -41,8 +41,12 @@ def texture_parameters(obj):
     ----------
     ISO 25178-2:2021; ISO 21920-2:2021.
     """
-    from .material_ratio import (MaterialRatioCurve, functional_parameters,
-                                 profile_material_parameters, volume_parameters)
+    from .material_ratio import (
+        MaterialRatioCurve,
+        functional_parameters,
+        profile_material_parameters,
+        volume_parameters,
+    )
 
     z = obj.heights_m
     if isinstance(obj, Profile):

@@ -10,8 +10,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, fourier_surface
+
 from pipelines.campaign.folder import SIDECAR, atomic_folder
 from pipelines.campaign.records import flatten_summary
 from pipelines.cli.app import main
@@ -124,10 +124,10 @@ def test_resume_skips_unchanged_and_redoes_changed(campaign, tmp_path):
 
     shutil.rmtree(out / "scan05")
     os.utime(src / "scan07.npy", ns=(1, 1))
-    head0, rows0 = _read_campaign(out / "campaign.csv")
+    _head0, rows0 = _read_campaign(out / "campaign.csv")
     rc = main(campaign["args"] + ["--resume"])
     assert rc == 2
-    head, rows = _read_campaign(out / "campaign.csv")
+    _head, rows = _read_campaign(out / "campaign.csv")
     after = {p.name: (p / "summary.json").stat().st_mtime_ns for p in out.iterdir()
              if p.is_dir() and not p.name.startswith(".")}
     redone = {k for k in after if after[k] != before.get(k)}
@@ -177,7 +177,7 @@ def test_manifest_labels_chainage_and_bad_rows(tmp_path):
     rc = main(["batch", str(d / "manifest.csv"), "--spacing", str(DX), "--out", str(out),
                "--workers", "1", "--no-friction", "--figures"])
     assert rc == 2
-    head, rows = _read_campaign(out / "campaign.csv")
+    _head, rows = _read_campaign(out / "campaign.csv")
     # --figures: the PNGs analyse makes for an area scan (no mu.png without friction)
     assert {"heightmap.png", "psd.png", "psd2d.png"} <= {p.name for p in (out / "c2").iterdir()}
     assert [r["label"] for r in rows] == ["lane 1 wheel path", "start", "oops", "again"]
@@ -246,7 +246,7 @@ def test_ctrl_c_keeps_finished_scans_and_resume_completes(tmp_path):
     for d in finished:       # every folder present is complete
         assert {"summary.json", "psd.csv", "mu.csv", SIDECAR} <= {f.name for f in d.iterdir()}
         json.loads((d / "summary.json").read_text())
-    head, rows = _read_campaign(out / "campaign.csv")
+    _head, rows = _read_campaign(out / "campaign.csv")
     assert len(rows) == n
     ok = {Path(r["file"]).stem for r in rows if r["status"] == "ok"}
     assert ok == {d.name for d in finished}
@@ -311,6 +311,7 @@ def test_event_loop_errors_are_not_printed_during_a_campaign(capfd):
     import logging
 
     import distributed  # noqa: F401 - sets up Dask's logging (tornado.application: error)
+
     from pipelines.campaign.runner import _quiet_event_loop
 
     log = logging.getLogger("tornado.application")

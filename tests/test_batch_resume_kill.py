@@ -12,13 +12,12 @@ import os
 import signal
 import subprocess
 import time
-from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
 from fault_tools import DX, cli_env, hidden_leftovers, roadscan_cmd
+
 from pipelines.campaign.folder import SIDECAR, campaign_leftovers, earlier_campaign, recover_campaign
 
 N = 4

@@ -9,8 +9,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import ROOT, fourier_surface
+
 from pipelines.cli.app import main
 
 DASK = Path(sys.executable).with_name("dask")

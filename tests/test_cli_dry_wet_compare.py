@@ -3,8 +3,8 @@ import json
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
+
 from pipelines.cli.app import main
 
 V = "1e-4:1e2:7"   # whole decades: keys "0.0001" ... "100"

@@ -142,7 +142,7 @@ def test_psd_csv_feeds_friction(three_instruments, tmp_path):
     from pipelines.output.csv_files import read_psd_csv
 
     psd = read_psd_csv(out / "psd.csv")
-    _, (q, C, *_rest) = _read_psd(out / "psd.csv")
+    _, (q, _C, *_rest) = _read_psd(out / "psd.csv")
     assert psd.q_min_per_m == pytest.approx(q[0])
     rc = main(["friction", "--psd", str(out / "psd.csv"), "--out", str(tmp_path / "mu.csv")])
     assert rc == 0
@@ -270,9 +270,8 @@ def test_empty_bins_inside_a_band_are_no_gap():
 def test_area_window_low_end_is_unbiased_and_lower_than_analyses():
     """Tukey 0.5: the mean log bias of C over 10 non-periodic views is within 12 % from the
     band's low end, about 6 x 2 pi / L for q^-3.6 (analyse's 0.25: 12 x)."""
-    from roadscan.reliable_band import leakage_factor
-
     from pipelines.jobs.combine.sources import source_spectrum
+    from roadscan.reliable_band import leakage_factor
 
     n, a = 128, 1e-4
     fov = 2 * np.pi / (n * a)
@@ -291,9 +290,8 @@ def test_area_window_low_end_is_unbiased_and_lower_than_analyses():
 def test_leaky_start_is_trimmed_and_a_roll_off_is_not():
     from dataclasses import replace
 
-    from roadscan.reliable_band import ReliableBand
-
     from pipelines.jobs.combine.sources import _trim_leaky_start
+    from roadscan.reliable_band import ReliableBand
 
     q = 10 ** ((np.arange(60, 100) + 0.5) / 20)          # 1e3 .. 1e5, 20 per decade
     dof = np.full(q.size, 2000.0)

@@ -94,7 +94,7 @@ def test_merged_band_stops_before_finest_response_falls_to_0_3(combined):
 def test_each_band_ends_before_resolution_or_noise_dominates(combined):
     _, _, info, _ = combined
     assert [s["label"] for s in info["inputs"]] == [i[0] for i in INSTRUMENTS]
-    for s, (name, dx, res, at) in zip(info["inputs"], INSTRUMENTS):
+    for s, (_, dx, res, at) in zip(info["inputs"], INSTRUMENTS):
         lo, hi = s["reliable_band_per_m"]
         assert s["resolution_m"] == pytest.approx(res)
         assert hi < 2 * np.pi / res                       # before the resolution

@@ -82,7 +82,7 @@ def test_every_row_within_25_percent_of_a_rolled_off_truth(tmp_path, q_roll, see
 def test_two_different_surfaces_are_warned_with_labels_and_factor(tmp_path):
     """Two instruments whose bands overlap over half a decade, on surfaces a factor 2.7 apart."""
     two = [("road A", 256, 20e-6, 40e-6, 0.8), ("road B", 256, 5e-6, 10e-6, 0.8)]
-    t, info = _combine(tmp_path, None, 3, scale=(1.0, 2.7), instruments=two)
+    _t, info = _combine(tmp_path, None, 3, scale=(1.0, 2.7), instruments=two)
     (c,) = info["disagreements"]
     assert c["labels"] == ["road B", "road A"] and c["factor"] == pytest.approx(2.7, rel=0.2)
     a, b = (s["reliable_band_per_m"] for s in info["inputs"])

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import fourier_surface
+
 import pipelines as api
 from pipelines.cli.app import main
 
@@ -73,7 +73,7 @@ def test_dry_vs_wet_api_equals_cli(scan, tmp_path):
         api.dry_vs_wet(scan, tmp_path / "x", spacing=DX, colour="red")
     from roadscan.errors import InputError
 
-    with pytest.raises(InputError, match="max-depth|max_depth"):
+    with pytest.raises(InputError, match=r"max-depth|max_depth"):
         api.dry_vs_wet(scan, tmp_path / "x", spacing=DX, max_depth=-1)
     assert not (tmp_path / "x").exists()
 

@@ -62,7 +62,7 @@ def test_largest_ratio_inside_both_bands_and_is_the_spectra_ratio(tmp_path, caps
 def test_every_missing_figure_says_why(tmp_path, capsys):
     c, out = _compare(tmp_path, SAMPLES / "asphalt.x3p", SAMPLES / "coarse_asphalt.x3p", capsys)
     page = (out / "report.html").read_text()
-    for name, e in c.items():
+    for e in c.values():
         why = e["why_missing"]
         assert e["mpd_m"] is None and "100 mm" in why["mpd_m"]      # 54 mm rows: no MPD
         assert e.get("mu_peak") is None and "--no-friction" in why["mu_peak"]
@@ -73,9 +73,8 @@ def test_every_missing_figure_says_why(tmp_path, capsys):
 
 
 def test_no_shared_trusted_band_gives_no_ratio_and_says_why():
-    from roadscan.spectrum_types import Spectrum
-
     from pipelines.jobs.compare import spectrum_difference
+    from roadscan.spectrum_types import Spectrum
 
     q = np.geomspace(1e2, 1e5, 200)
     a, b = Spectrum(q, q ** -3.6), Spectrum(q, 4 * q ** -3.6)

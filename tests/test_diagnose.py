@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import re
+from typing import ClassVar
 
 import numpy as np
 import pytest
@@ -10,12 +11,12 @@ import pytest
 import friction
 from pipelines.cli.app import main as cli
 from pipelines.diagnosis import gap as gapmod
-from pipelines.diagnosis.report.bandmap import band_map
-from pipelines.diagnosis.effects import Effect, Param, all_effects, register, _REGISTRY
+from pipelines.diagnosis.effects import _REGISTRY, Effect, Param, all_effects, register
 from pipelines.diagnosis.effects.relaxation_spectrum import lognormal_prony
 from pipelines.diagnosis.inputs import build_context, write_psd_csv
 from pipelines.diagnosis.measured import read_measured
 from pipelines.diagnosis.model import SimSpec, simulate
+from pipelines.diagnosis.report.bandmap import band_map
 from pipelines.diagnosis.verdict.search import diagnose_friction, heldout_mask
 from pipelines.output.report import write_csv
 from roadscan.errors import InputError
@@ -83,7 +84,7 @@ def test_band_map_integrand_integrates_to_engine_mu():
     integrate over ln q to the engine's mu."""
     spec = SimSpec(PSD, friction.thesis_rubber())
     bands = gapmod.decade_bands(np.logspace(-6, 1, 30))
-    out, (q, f, vc) = band_map(spec, bands)
+    out, (q, f, _vc) = band_map(spec, bands)
     mu_int = np.trapezoid(f, np.log(q), axis=1)
     mu_eng = np.array([o["mu_at_centre"] for o in out])
     np.testing.assert_allclose(mu_int, mu_eng, rtol=0.01)
@@ -241,8 +242,8 @@ def test_cli_surface_level_finds_a_rolloff(tmp_path):
 
 
 def test_surface_level_null_on_a_pure_self_affine_scan(tmp_path):
-    from roadscan.synth import self_affine_surface
     from pipelines.diagnosis.surface.level import run_surface
+    from roadscan.synth import self_affine_surface
 
     hm = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.75, rms_height_m=3e-4, seed=9)
     d = run_surface(hm, tmp_path)
@@ -294,9 +295,10 @@ def test_seam_score_sees_a_seam_not_a_direction():
     of 10^2 and more); a directional (stretched) texture hardly moves it but moves the signed
     anisotropy components, which stay near 0 for the isotropic texture."""
     from scipy.ndimage import zoom
+
+    from pipelines.diagnosis.surface import blocks as bl
     from roadscan.heightmap import HeightMap
     from roadscan.synth import self_affine_surface
-    from pipelines.diagnosis.surface import blocks as bl
 
     big = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=4).heights_m
     h = big[:128, :128].copy()
@@ -318,8 +320,9 @@ def test_curvature_skewness_sees_the_height_law_not_linear_filters():
     """The L-skewness of the curvature is ~0 for a Gaussian field, smoothed or not, and takes the
     sign of g'' for a monotone map h -> g(h) (here exp: convex, sharp peaks)."""
     from scipy.ndimage import gaussian_filter
-    from roadscan.synth import self_affine_surface
+
     from pipelines.diagnosis.surface.blocks import curvature_l_skewness
+    from roadscan.synth import self_affine_surface
 
     h = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=8).heights_m
     z = h / h.std()
@@ -335,9 +338,9 @@ def test_every_surface_effect_has_a_reachable_no_effect_limit():
     class Ctx:  # the attributes effects read
         ring_q = np.geomspace(1e3, 1e5, 40)
         twin_rings = -12 - 3.6 * np.log10(ring_q / 1e3)
-        twin_mean = dict(height=np.array([0.0, 0.12, 0.0]), anisotropy=np.array([0.0, 0.0]), seams=np.array([0.9]),
+        twin_mean: ClassVar[dict] = dict(height=np.array([0.0, 0.12, 0.0]), anisotropy=np.array([0.0, 0.0]), seams=np.array([0.9]),
                          rain=np.array([-0.1, -0.1, -0.1, 0.2]), spectrum=np.zeros(7))
-        skew_table = dict(s=np.array([-1.0, 0.0, 1.0]),
+        skew_table: ClassVar[dict] = dict(s=np.array([-1.0, 0.0, 1.0]),
                           height=np.array([[-0.1, 0.13, 0.03], [0.0, 0.12, 0.0], [0.1, 0.13, -0.03]]),
                           rain=np.array([[0.1] * 4, [0.0] * 4, [-0.1] * 4]))
 
@@ -361,9 +364,10 @@ def test_every_surface_effect_has_a_reachable_no_effect_limit():
 
 def test_surface_level_names_anisotropy_with_family_gaps(tmp_path):
     from scipy.ndimage import zoom
+
+    from pipelines.diagnosis.surface.level import run_surface
     from roadscan.heightmap import HeightMap
     from roadscan.synth import self_affine_surface
-    from pipelines.diagnosis.surface.level import run_surface
 
     big = self_affine_surface(512, 512, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, seed=21).heights_m
     h = zoom(big[:256, :90], (1, 3), order=3)[:, :256]
@@ -452,8 +456,8 @@ def test_few_points_are_compared_by_evidence_and_fits_never_beat_by_no_effect():
 
 
 def test_at_bound_lists_a_parameter_pushed_onto_its_range():
-    from pipelines.diagnosis.verdict.search import at_bound
     from pipelines.diagnosis.effects import get
+    from pipelines.diagnosis.verdict.search import at_bound
 
     ctx = _ctx_for(np.logspace(-4, 0, 6))
     e = get("temperature_offset")

@@ -10,8 +10,8 @@ from scipy import integrate, stats
 
 import friction
 from pipelines.cli.app import main as cli
-from pipelines.diagnosis.fit.calibration import calibration_effect, parse_uncertain
 from pipelines.diagnosis.effects import get
+from pipelines.diagnosis.fit.calibration import calibration_effect, parse_uncertain
 from pipelines.diagnosis.fit.equivalence import equivalence, extended_ranges
 from pipelines.diagnosis.fit.evidence import log_occam, loglik
 from pipelines.diagnosis.fit.fitting import fit_candidate
@@ -40,7 +40,8 @@ def test_laplace_occam_factor_is_the_gaussian_integral_over_the_unit_cube(u, sd)
     occ, cov = log_occam(H, u)
     exact = 0.0
     for uj, sj in zip(u, sd):
-        val, _ = integrate.quad(lambda x: np.exp(-0.5 * ((x - uj) / sj) ** 2), 0, 1, points=[uj])
+        val, _ = integrate.quad(lambda x, uj=uj, sj=sj: np.exp(-0.5 * ((x - uj) / sj) ** 2), 0, 1,
+                                points=[uj])
         exact += np.log(val)
     assert occ == pytest.approx(exact, abs=1e-3)
     assert np.allclose(np.diag(cov), sd ** 2)

@@ -10,15 +10,15 @@ import pytest
 
 import friction
 from pipelines.cli.app import main as cli
+from pipelines.diagnosis.effects import Effect, Param, get
 from pipelines.diagnosis.fit import cv as cvmod
 from pipelines.diagnosis.fit.calibration import calibration_effect, parse_uncertain
-from pipelines.diagnosis.effects import Effect, Param, get
 from pipelines.diagnosis.fit.fitting import Candidate, too_many_parameters
 from pipelines.diagnosis.inputs import build_context, write_psd_csv
 from pipelines.diagnosis.measured import MeasuredCurve
 from pipelines.diagnosis.model import simulate
-from pipelines.diagnosis.verdict.search import diagnose_friction
 from pipelines.diagnosis.verdict.many import decide
+from pipelines.diagnosis.verdict.search import diagnose_friction
 from pipelines.output.report import write_csv
 from roadscan.errors import InputError
 
@@ -72,7 +72,7 @@ def test_interval_below_minimum_shrink_gives_low_confidence():
                          r_held=r, shrink_interval=(lo, 0.9))
 
     st = dict(g_all=0.1, g_ho=0.1, noise=0.01, n=30, significant=True, p=1e-9, boot=None)
-    v, best = decide([cand(0.6, 0.1)], [], None, [], st)
+    v, _best = decide([cand(0.6, 0.1)], [], None, [], st)
     assert v["effect"] == "temperature_offset" and v["confidence"] == "low"
     v, _ = decide([cand(0.6, 0.4)], [], None, [], st)
     assert v["confidence"] == "high"

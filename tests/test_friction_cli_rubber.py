@@ -291,9 +291,9 @@ def test_whitespace_and_semicolon_tables(tmp_path):
 
     (tmp_path / "m.dat").write_text("f_Hz  E_stor_MPa\tE_loss_MPa\n1 5 0.5\n10 8 1\n")
     (tmp_path / "a.csv").write_text("T_C;aT\n0;1\n10;0.01\n")
-    f, E1, E2 = read_master_curve_csv(tmp_path / "m.dat")
+    _f, E1, E2 = read_master_curve_csv(tmp_path / "m.dat")
     np.testing.assert_allclose(E1, [5e6, 8e6]) and np.testing.assert_allclose(E2, [5e5, 1e6])
-    T, la = read_shift_csv(tmp_path / "a.csv")
+    _T, la = read_shift_csv(tmp_path / "a.csv")
     np.testing.assert_allclose(la, [0.0, -2.0])
 
 
@@ -369,8 +369,8 @@ def test_shift_table_file_with_wlf_constants(tmp_path):
 def test_diagnose_engine_receives_nu_and_gamma():
     """diagnose's model passes nu and gamma to both engines (the flash branch too) and the band map."""
     from friction import SelfAffinePSD, mu_flash, mu_isothermal, thesis_rubber
-    from pipelines.diagnosis.report.bandmap import band_map
     from pipelines.diagnosis.model import FrictionContext, SimSpec, simulate
+    from pipelines.diagnosis.report.bandmap import band_map
 
     psd, r = SelfAffinePSD(0.8, 5e-4, 2000.0, 2e5), thesis_rubber()
     v = np.logspace(-3, 1, 4)

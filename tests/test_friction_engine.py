@@ -4,9 +4,21 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from friction import (WLF, MasterCurve, Prony, SelfAffinePSD, ShiftTable, StandardLinearSolid,
-                      TabulatedPSD, fit_prony, fit_wlf, mu_flash, mu_isothermal, rubber_from_dict,
-                      thesis_rubber)
+from friction import (
+    WLF,
+    MasterCurve,
+    Prony,
+    SelfAffinePSD,
+    ShiftTable,
+    StandardLinearSolid,
+    TabulatedPSD,
+    fit_prony,
+    fit_wlf,
+    mu_flash,
+    mu_isothermal,
+    rubber_from_dict,
+    thesis_rubber,
+)
 from friction.contact import contact_P, p_weights
 from friction.grids import phi_rule, phi_table
 
@@ -158,6 +170,7 @@ def test_master_curve_that_is_a_prony_series_gives_same_mu():
 
 def _pyvisco():
     from pathlib import Path
+
     from pipelines.settings.rubber_file import load_rubber
     here = Path(__file__).resolve().parents[1] / "sample_scans" / "rubbers"
     return load_rubber(here / "pyvisco_master_table.toml")

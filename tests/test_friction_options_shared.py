@@ -60,7 +60,7 @@ def test_speeds_and_flash_where_the_command_slides(cmd):
 @pytest.mark.parametrize("cmd", sorted(BASE))
 def test_a_bare_small_pressure_is_refused_everywhere(cmd):
     args = build_parser().parse_args([cmd, *BASE[cmd], "--sigma0", "0.3"])
-    with pytest.raises(InputError, match="did you mean 0.3MPa"):
+    with pytest.raises(InputError, match=r"did you mean 0.3MPa"):
         settings_from_args(args)
 
 

@@ -60,7 +60,7 @@ def _replace_synth_run(monkeypatch, run):
 
     def patched():
         parser = real()
-        for action in parser._actions:                  # noqa: SLF001
+        for action in parser._actions:
             if getattr(action, "choices", None) and "synth" in action.choices:
                 action.choices["synth"].set_defaults(_run=run)
         return parser
@@ -131,8 +131,8 @@ def test_one_resolution_and_one_bound(tmp_path):
     assert resolution_of(hm, 1e-5) == (1e-5, "given")
     assert resolution_problem(RESOLUTION_MAX_M) is None and resolution_problem(1.5 * RESOLUTION_MAX_M)
     assert resolution_problem(0.0) and resolution_problem(float("inf")) and resolution_problem("x")
-    from pipelines.settings.analyse import check_resolution
     from pipelines.jobs.combine.inputs import collect_inputs
+    from pipelines.settings.analyse import check_resolution
 
     with pytest.raises(InputError, match="--resolution"):
         check_resolution(5.0)                                 # combine accepted up to 10 m

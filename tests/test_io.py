@@ -117,16 +117,16 @@ def test_npz_keys_and_override(tmp_path):
     m = read(tmp_path / "a.npz")
     assert (m.dx_m, m.dy_m) == (1e-4, 2e-4)
     assert m.unmeasured[2, 3] and np.isnan(m.heights_m[2, 3]) and m.unmeasured.sum() == 1
-    with pytest.raises(InputError, match="a.npz: the file carries its own spacing"):
+    with pytest.raises(InputError, match=r"a.npz: the file carries its own spacing"):
         read(tmp_path / "a.npz", spacing="3e-5")     # never silently overridden (issue 22)
     m2 = read(tmp_path / "a.npz", spacing="3e-5", calibration="override")
     assert (m2.dx_m, m2.dy_m) == (3e-5, 3e-5)
     assert m2.meta["calibration_override"]["spacing"] == {"file": [1e-4, 2e-4], "flag": [3e-5, 3e-5]}
     np.savez(tmp_path / "b.npz", heights=h)
-    with pytest.raises(InputError, match="b.npz: no spacing"):
+    with pytest.raises(InputError, match=r"b.npz: no spacing"):
         read(tmp_path / "b.npz")
     np.savez(tmp_path / "c.npz", z=h)
-    with pytest.raises(InputError, match="c.npz.*'heights'"):
+    with pytest.raises(InputError, match=r"c.npz.*'heights'"):
         read(tmp_path / "c.npz")
 
 
@@ -289,7 +289,7 @@ def test_gwy_written_by_gwyfile(tmp_path):
     c2 = GwyContainer()
     c2["/3/data"] = GwyDataField(h * 1e6, xreal=1.0, yreal=1.0)
     c2.tofile(str(tmp_path / "b.gwy"))
-    with pytest.raises(InputError, match="b.gwy: no spacing"):
+    with pytest.raises(InputError, match=r"b.gwy: no spacing"):
         read(tmp_path / "b.gwy")
     b = read(tmp_path / "b.gwy", spacing=1e-5, units="um")
     np.testing.assert_allclose(b.heights_m, h, rtol=1e-12)
@@ -400,7 +400,7 @@ def test_profile_in_npz_and_one_column_text(tmp_path):
     assert isinstance(p, Profile) and p.dx_m == 1e-4
     np.testing.assert_array_equal(p.heights_m, z)
     np.savetxt(tmp_path / "c.txt", z * 1e3)
-    with pytest.raises(InputError, match="c.txt: no spacing"):
+    with pytest.raises(InputError, match=r"c.txt: no spacing"):
         read(tmp_path / "c.txt")
     c = read(tmp_path / "c.txt", spacing=1e-4, units="mm")
     np.testing.assert_allclose(c.heights_m, z, rtol=1e-12)
@@ -408,7 +408,7 @@ def test_profile_in_npz_and_one_column_text(tmp_path):
 
 def test_xyz_units_apply_to_coordinates_and_heights(tmp_path):
     """--units names the unit of x, y and z of a point list without unit titles."""
-    h, pts = _xyz_points()
+    _h, pts = _xyz_points()
     pts = pts.copy()
     pts *= 1e6   # coordinates and heights written in um
     np.savetxt(tmp_path / "u.xyz", pts, fmt="%.9g")

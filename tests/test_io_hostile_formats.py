@@ -103,7 +103,7 @@ def test_override_calibration_recorded_in_summary(tmp_path):
 
     from pipelines.cli.app import main
 
-    p, h = _x3p(tmp_path)
+    p, _h = _x3p(tmp_path)
     out = tmp_path / "o"
     assert main(["analyse", str(p), "--out", str(out), "--no-friction", "--no-figures",
                  "--spacing", "1e-4", "--override-calibration"]) == 0
@@ -120,7 +120,7 @@ def test_units_override_rescales_from_the_files_unit(tmp_path):
 
 
 def test_flag_equal_to_the_files_calibration_is_accepted(tmp_path):
-    p, h = _x3p(tmp_path)
+    p, _h = _x3p(tmp_path)
     m = read(p, spacing="2e-5", units="m")
     assert m.dx_m == 2e-5 and "calibration_override" not in m.meta
 
@@ -138,7 +138,7 @@ def test_mixed_batch_keeps_x3p_calibration(tmp_path):
 
     from pipelines.cli.app import main
 
-    p, h = _x3p(tmp_path, "a.x3p")
+    p, _h = _x3p(tmp_path, "a.x3p")
     np.save(tmp_path / "b.npy", np.random.default_rng(5).normal(size=(40, 40)) * 1e-4)
     out = tmp_path / "camp"
     rc = main(["batch", str(p), str(tmp_path / "b.npy"), "--out", str(out), "--no-friction",
@@ -198,7 +198,7 @@ def test_tiff_channel_chooses_page_sample_or_indices(tiffs):
 
 def test_channel_on_single_channel_formats_refused(tmp_path):
     np.save(tmp_path / "a.npy", H)
-    with pytest.raises(InputError, match="a.npy: 'channel' 1: a .npy file holds one"):
+    with pytest.raises(InputError, match=r"a.npy: 'channel' 1: a .npy file holds one"):
         read(tmp_path / "a.npy", spacing=1e-4, channel="1")
 
 
@@ -207,7 +207,7 @@ def test_channel_recorded_in_summary(tiffs):
 
     from pipelines.cli.app import main
 
-    d, src = tiffs
+    d, _src = tiffs
     out = d / "o"
     assert main(["analyse", str(d / "stack.tif"), "--spacing", "1e-4", "--channel", "1",
                  "--out", str(out), "--no-friction", "--no-figures"]) == 0
@@ -319,7 +319,7 @@ def test_npy_unknown_format_version_refused(tmp_path):
     raw = bytearray(p.read_bytes())
     raw[6] = 9                                              # major version byte
     p.write_bytes(bytes(raw))
-    with pytest.raises(InputError, match="v9.npy: not a readable NumPy file"):
+    with pytest.raises(InputError, match=r"v9.npy: not a readable NumPy file"):
         read(p, spacing=1e-4)
 
 
@@ -445,7 +445,7 @@ def test_text_header_over_binary_goes_to_surfacetopography(tmp_path):
     assert "afm.di" in str(ei.value) and "'.di'" in str(ei.value) and "\n" not in str(ei.value)
     q = tmp_path / "hdr.bin"
     q.write_bytes(b"instrument export\r\n" * 300 + b"\x00\x01" * 500)
-    with pytest.raises(InputError, match="hdr.bin"):
+    with pytest.raises(InputError, match=r"hdr.bin"):
         read(q)
 
 

@@ -21,11 +21,10 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from conftest import need_vendor
 
 from roadscan.errors import InputError
 from roadscan.io import read
-
-from conftest import need_vendor
 
 ROOT = Path(__file__).resolve().parents[1]
 IN_CI = os.environ.get("CI", "").lower() == "true"
@@ -123,9 +122,9 @@ def test_issue9_plu_regression(maps):
 def test_spacing_and_units_options(formats_dir, maps):
     """A flag never silently overrides the file's calibration (issue 22): refused by default,
     used and recorded under the override policy, set aside (and recorded) in a batch."""
-    with pytest.raises(InputError, match="carries its own spacing.*'override_calibration'"):
+    with pytest.raises(InputError, match=r"carries its own spacing.*'override_calibration'"):
         read(formats_dir / "plu-1.plu", spacing="2e-6,3e-6")
-    with pytest.raises(InputError, match="heights in .*'units' mm would override"):
+    with pytest.raises(InputError, match=r"heights in .*'units' mm would override"):
         read(formats_dir / "plu-1.plu", units="mm")
     m = read(formats_dir / "plu-1.plu", spacing="2e-6,3e-6", units="mm", calibration="override")
     assert (m.dx_m, m.dy_m) == (2e-6, 3e-6)

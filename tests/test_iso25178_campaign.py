@@ -5,11 +5,11 @@ import io
 from pathlib import Path
 
 import pytest
+from conftest import _shared_dir
 
 from pipelines.campaign.table import FIXED_COLUMNS, parse_columns, pick_columns
 from pipelines.cli.app import main
 from roadscan.errors import InputError
-from conftest import _shared_dir
 
 CAPTIF = (_shared_dir() or Path("/nonexistent")) / "data" / "profiles" / "captif"
 

@@ -6,8 +6,12 @@ from scipy import integrate
 from scipy.stats import norm
 
 from roadscan.heightmap import HeightMap
-from roadscan.material_ratio import (areal_material_parameters, material_ratio_curve,
-                                     profile_material_parameters, volume_parameters)
+from roadscan.material_ratio import (
+    areal_material_parameters,
+    material_ratio_curve,
+    profile_material_parameters,
+    volume_parameters,
+)
 from roadscan.roughness import area_parameters
 
 

@@ -51,7 +51,7 @@ def test_field_too_small_gives_str_null_with_a_note():
     """A wave four times longer than the field along x, constant along y: the ACF decays along
     x (the mean is removed) but not along y within half the field, and Sal / (half the field)
     is not below 0.3: too small to decide the aspect ratio."""
-    y, x = np.mgrid[0:200, 0:200] * 1e-4
+    _y, x = np.mgrid[0:200, 0:200] * 1e-4
     r = spatial_parameters(np.sin(2 * np.pi * x / 0.08), 1e-4, 1e-4)
     assert r["Sal_m"] is not None and r["Str"] is None
     assert "too small to decide" in r["spatial_note"]
@@ -151,7 +151,7 @@ def test_significant_peaks_match_scikit_image_h_maxima():
     for seed, width in ((9, 1.0), (10, 3.0)):
         z = gaussian_filter(np.random.default_rng(seed).normal(size=(300, 260)), width)
         T = 0.05 * (z.max() - z.min())
-        summits, prom = prominences(z)
+        _summits, prom = prominences(z)
         _, n = ndi.label(h_maxima(z, T), structure=np.ones((3, 3)))
         # within one peak in a thousand: h_maxima's float reconstruction misses the odd peak
         # whose prominence clearly exceeds T (checked against the union-find count above)
@@ -170,7 +170,7 @@ def test_flat_plateaus_count_once():
     z = 1e-3 * (x / 160.0) * 0.01
     z[(x - 40) ** 2 + (y - 60) ** 2 < 15 ** 2] = 1e-3
     z[(x - 110) ** 2 + (y - 60) ** 2 < 20 ** 2] = 1e-3
-    summits, prom = prominences(z)
+    summits, _prom = prominences(z)
     assert summits.size < 20
     assert feature_parameters(z, 1e-4, 1e-4)["Spd_per_m2"] * (120e-4 * 160e-4) == pytest.approx(2)
     w = gaussian_filter(np.random.default_rng(11).normal(size=(90, 90)), 2.0)

@@ -6,8 +6,12 @@ import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
 
-from roadscan.material_ratio import (areal_material_parameters, equivalent_line, material_ratio_curve,
-                                     profile_material_parameters)
+from roadscan.material_ratio import (
+    areal_material_parameters,
+    equivalent_line,
+    material_ratio_curve,
+    profile_material_parameters,
+)
 
 # a piecewise-linear material-ratio curve c(mr) [mm]: steep peaks (0-20 %), a flat plateau
 # (20-50 %), deep dales (50-100 %)

@@ -8,12 +8,12 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import _shared_dir
 
 from pipelines.cli.app import main
 from roadscan.heightmap import HeightMap, Profile
 from roadscan.roughness import mean_profile_depth, segment_depths
 from roadscan.texture_depth import mpd_segments
-from conftest import _shared_dir
 
 CAPTIF = (_shared_dir() or Path("/nonexistent")) / "data" / "profiles" / "captif"
 needs_captif = pytest.mark.skipif(not CAPTIF.is_dir(), reason="CAPTIF profiles not available")

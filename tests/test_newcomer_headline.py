@@ -7,9 +7,16 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from fault_tools import assert_one_line_error, run_cli
-from pipelines.output.headline import RUBBER_ILLUSTRATIVE, WET_MODEL, hurst_keys, hurst_text, peak_keys, peak_text
+
+from pipelines.output.headline import (
+    RUBBER_ILLUSTRATIVE,
+    WET_MODEL,
+    hurst_keys,
+    hurst_text,
+    peak_keys,
+    peak_text,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "sample_scans" / "asphalt.x3p"

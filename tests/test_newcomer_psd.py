@@ -6,10 +6,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-
 from fault_tools import assert_one_line_error, run_cli
-from pipelines.output.csv_files import read_psd_csv
+
 from pipelines.checks.psd_plausibility import check_psd_table, spectrum_figures
+from pipelines.output.csv_files import read_psd_csv
 from roadscan.errors import InputError
 
 ROOT = Path(__file__).resolve().parents[1]

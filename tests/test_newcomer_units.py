@@ -6,8 +6,8 @@ import re
 
 import numpy as np
 import pytest
-
 from fault_tools import assert_one_line_error, run_cli
+
 from roadscan.errors import InputError
 from roadscan.io import read
 from roadscan.io.text_units import line_rms, plausible_reading
@@ -70,7 +70,7 @@ def test_units_mm_through_analyse_gives_mm_texture(tmp_path, capsys):
 
 
 def test_spacing_replaces_the_inferred_step_with_a_note(tmp_path):
-    p, z = _mm_profile(tmp_path)
+    p, _z = _mm_profile(tmp_path)
     prof = read(p, spacing=2e-5, units="mm")          # not the file's 0.0375 mm: a note, no refusal
     assert prof.dx_m == pytest.approx(2e-5)
     notes = [str(w) for w in prof.meta.get("read_warnings", [])]
@@ -104,7 +104,7 @@ def test_metre_profile_still_read_as_metres(tmp_path):
 
 def test_explicit_units_m_accepts_a_long_unevenness_profile(tmp_path):
     """Metres stated by the user are taken: a 150 m profile with 0.7 m rms is their call."""
-    p, z = _mm_profile(tmp_path)
+    p, _z = _mm_profile(tmp_path)
     prof = read(p, units="m")
     assert prof.dx_m == pytest.approx(DX_MM, rel=1e-6)
 

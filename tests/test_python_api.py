@@ -9,6 +9,7 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import fourier_surface
 
 import friction
 import pipelines
@@ -17,8 +18,6 @@ from pipelines.settings.keywords import job_parameters
 from pipelines.settings.water import add_dry_vs_wet_options, add_rain_fill_options
 from roadscan import RoadscanWarning
 from roadscan.heightmap import HeightMap
-
-from conftest import fourier_surface
 
 JOBS = ["analyse", "compare", "dry_vs_wet", "rain_fill", "friction", "combine", "diagnose", "batch"]
 

@@ -76,7 +76,7 @@ def test_steep_noise_floor_band_of_three_decades_is_cut_where_the_slope_reaches_
     assert psd.q1_per_m < rb.hi_per_m
     assert rms_slope(psd) == pytest.approx(1.0, abs=0.02)
     assert "Persson" in band["q1_rule"] and "noise floor" in band["q1_rule"]
-    slope, refused = judge_fine_end(psd, rb, settings)
+    _slope, refused = judge_fine_end(psd, rb, settings)
     assert refused is None
 
 

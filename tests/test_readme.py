@@ -1,6 +1,11 @@
 """The README's Python example runs as written (from the repository root); the example commands of
 the README and of the Markdown documentation pages write only into out/."""
+import os
 import re
+import shlex
+import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -24,7 +29,7 @@ def test_readme_quick_start_has_exactly_two_commands():
     text = (ROOT / "README.md").read_text()
     quick = text.split("## Quick start", 1)[1].split("\n## ", 1)[0]
     block = re.findall(r"```bash\n(.*?)```", quick, flags=re.S)[0]
-    cmds = [l for l in block.splitlines() if l.strip() and not l.lstrip().startswith("#")]
+    cmds = [line for line in block.splitlines() if line.strip() and not line.lstrip().startswith("#")]
     assert len(cmds) == 2
     ci = (ROOT / ".ci" / "run").read_text()
     assert cmds[1].strip() in ci
@@ -32,12 +37,6 @@ def test_readme_quick_start_has_exactly_two_commands():
 
 
 # ---------------------------------------------------------------- examples write only into out/ (issue 22)
-
-import os
-import shlex
-import shutil
-import subprocess
-import sys
 
 
 def example_pages():

@@ -5,8 +5,14 @@ import numpy as np
 import pytest
 
 from roadscan import level
-from roadscan.reliable_band import (NYQUIST_FRACTION, RESPONSE_MIN, gaussian_response, leakage_factor,
-                                    reliable_band, resolution_limit)
+from roadscan.reliable_band import (
+    NYQUIST_FRACTION,
+    RESPONSE_MIN,
+    gaussian_response,
+    leakage_factor,
+    reliable_band,
+    resolution_limit,
+)
 from roadscan.rolloff import detect_roll_off
 from roadscan.spectrum import psd_area
 from roadscan.synth import model_psd
@@ -123,7 +129,7 @@ def test_profile_spectrum_band():
 
     hm = measure_synthetic(512, DX, H, K, seed=7, pad=2, oversample=1)
     profs = [level.level(Profile(row.copy(), DX, name="p"), degree=1) for row in hm.heights_m[::16]]
-    q, C1, spec = psd_profile(profs)
+    _q, _C1, spec = psd_profile(profs)
     C1b = np.asarray(spec.meta["C1_binned_m3"])
     rb = reliable_band(spec.q_per_m, C1b, spec.count, profs[0].length_m, DX)
     assert rb.slope == pytest.approx(-(1 + 2 * H), abs=0.45)
@@ -153,8 +159,8 @@ def test_resolution_from_the_flag_or_the_file_metadata(tmp_path):
     import json
     from pathlib import Path
 
-    from pipelines.cli.app import main
     from pipelines.chain.reliable import resolution_of, scan_band
+    from pipelines.cli.app import main
 
     sample = Path(__file__).resolve().parents[1] / "sample_scans" / "coarse_asphalt.x3p"
     assert main(["analyse", str(sample), "--out", str(tmp_path / "o"), "--no-figures",

@@ -54,7 +54,7 @@ FORMS = [
 
 @pytest.mark.parametrize("head, xu, zu", FORMS)
 def test_header_forms_give_each_column_its_unit(tmp_path, head, xu, zu):
-    x, z = _truth()
+    _x, z = _truth()
     p = read(_write(tmp_path / "p.csv", head, xu, zu))
     assert p.dx_m == pytest.approx(DX_M, rel=1e-6)
     np.testing.assert_allclose(p.heights_m, z, rtol=1e-6, atol=1e-15)
@@ -64,7 +64,7 @@ def test_header_forms_give_each_column_its_unit(tmp_path, head, xu, zu):
                                        (" ", "x (mm) z (um)"), (" ", "x_mm  z_um"),
                                        (" ", "x in mm z in um")])
 def test_header_forms_with_other_separators(tmp_path, sep, head):
-    x, z = _truth()
+    _x, z = _truth()
     p = read(_write(tmp_path / "p.txt", head, "mm", "um", sep=sep))
     assert p.dx_m == pytest.approx(DX_M, rel=1e-6)
     np.testing.assert_allclose(p.heights_m, z, rtol=1e-6, atol=1e-15)
@@ -77,7 +77,7 @@ MARKERS = ["", "NaN", "nan", "NA", "N/A", "n/a", "-", "null", "NULL", "#N/A", "N
 @pytest.mark.parametrize("marker", MARKERS)
 @pytest.mark.parametrize("sep, decimal", [(",", "."), (";", ","), ("\t", ","), ("\t", ".")])
 def test_missing_value_markers_are_dropouts(tmp_path, marker, sep, decimal):
-    x, z = _truth()
+    _x, z = _truth()
     head = sep.join(["x (mm)", "z (mm)"])
     p = read(_write(tmp_path / "p.csv", head, "mm", "mm", sep=sep, decimal=decimal,
                     missing=marker, at=(0, 7, 150, N - 1)))
@@ -95,7 +95,7 @@ def test_empty_field_in_a_matrix_is_a_dropout(tmp_path):
 
 
 def test_sentinels_far_from_the_heights_are_dropouts_with_a_warning(tmp_path):
-    x, z = _truth()
+    _x, _z = _truth()
     for s in ("-9999", "9999.0", "-99999", "1.70141e38"):
         p = read(_write(tmp_path / "p.csv", "x_mm,z_mm", "mm", "mm", missing=s))
         assert list(np.flatnonzero(p.unmeasured)) == [7, 150], s
@@ -105,7 +105,7 @@ def test_sentinels_far_from_the_heights_are_dropouts_with_a_warning(tmp_path):
 
 def test_a_sentinel_value_within_reach_of_the_heights_is_a_height(tmp_path):
     """Heights in nm spanning +-4000: -9999 nm is 1.25 spreads away, a real (deep) point."""
-    x, z = _truth()
+    _x, _z = _truth()
     p = _write(tmp_path / "p.csv", "x_mm,z_nm", "mm", "nm", missing="-9999")
     prof = read(p)
     assert not prof.unmeasured.any()
@@ -113,7 +113,7 @@ def test_a_sentinel_value_within_reach_of_the_heights_is_a_height(tmp_path):
 
 
 def test_declared_nodata_in_a_preamble(tmp_path):
-    x, z = _truth()
+    _x, _z = _truth()
     p = _write(tmp_path / "p.txt", "x (mm);z (um)", "mm", "um", sep=";", decimal=",", missing="-1",
                preamble=["Instrument: LS-40", "NoData = -1"])
     prof = read(p)
@@ -122,7 +122,7 @@ def test_declared_nodata_in_a_preamble(tmp_path):
 
 
 def test_preamble_states_units_and_spacing_of_a_heights_column(tmp_path):
-    x, z = _truth()
+    _x, z = _truth()
     text = "Operator: A. Smith\nSpacing: 0.05 mm\nUnits: um\n" + "\n".join(f"{v * 1e6:.6f}" for v in z)
     (tmp_path / "h.txt").write_text(text)
     prof = read(tmp_path / "h.txt")
@@ -176,7 +176,7 @@ def test_pandas_index_column_and_units_row(tmp_path):
 
 
 def test_utf16_spreadsheet_text(tmp_path):
-    x, z = _truth()
+    _x, z = _truth()
     p = _write(tmp_path / "u.txt", "x (mm)\tz (µm)", "mm", "um", sep="\t", decimal=",",
                encoding="utf-16")
     prof = read(p)
@@ -209,7 +209,7 @@ def test_what_cannot_be_known_is_refused_naming_what_decides(tmp_path, head, pre
 
 
 def test_unknown_token_decided_by_the_flag(tmp_path):
-    x, z = _truth()
+    _x, z = _truth()
     p = _write(tmp_path / "p.csv", "x (mm),z (a.u.)", "mm", "um")
     prof = read(p, units="um")
     np.testing.assert_allclose(prof.heights_m, z, rtol=1e-6, atol=1e-15)

@@ -5,8 +5,13 @@ import pytest
 
 from roadscan import roughness
 from roadscan.heightmap import HeightMap, Profile
-from roadscan.texture_depth import (estimated_texture_depth, ifi_f60, ifi_speed_constant,
-                                    short_segment_depth, spike_alpha_to_pass)
+from roadscan.texture_depth import (
+    estimated_texture_depth,
+    ifi_f60,
+    ifi_speed_constant,
+    short_segment_depth,
+    spike_alpha_to_pass,
+)
 
 
 def test_etd_and_speed_constant_formulas():

@@ -106,10 +106,9 @@ def test_invalid_mpd_names_the_rule_and_the_option_that_relaxes_it(tmp_path, cap
 
 
 def test_dropout_rule_named_when_dropouts_decide():
+    from pipelines.jobs.texture.mpd import invalid_mpd_warning
     from roadscan.heightmap import Profile
     from roadscan.texture_depth import mpd_segments
-
-    from pipelines.jobs.texture.mpd import invalid_mpd_warning
 
     rng = np.random.default_rng(3)
     dx = 0.25e-3

@@ -9,7 +9,6 @@ import subprocess
 import sys
 
 import numpy as np
-
 from conftest import ROOT, fourier_surface
 
 DX = 5e-5

@@ -16,10 +16,9 @@ from pathlib import Path
 
 import numpy as np
 
-from roadscan.errors import InputError
-
 from pipelines.campaign.folder import atomic_folder, file_identity, write_sidecar
 from pipelines.campaign.records import error_record, mu_at_speeds, ok_record
+from roadscan.errors import InputError
 
 __all__ = ["run_job", "SECTION_COLUMNS"]
 
@@ -70,8 +69,8 @@ def _analyse_one(job, tmp):
 
 
 def _analyse_sections(job, tmp):
-    from pipelines.jobs.analyse.job import run_analysis
     from pipelines.campaign.sections import iter_sections
+    from pipelines.jobs.analyse.job import run_analysis
 
     L = job["section_length_m"]
     base = job.get("chainage_m") or 0.0

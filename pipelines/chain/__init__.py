@@ -10,8 +10,14 @@ calls these steps (:mod:`pipelines.chain.steps`).
 """
 from __future__ import annotations
 
-from pipelines.chain.steps import (FrictionOutcome, friction_of, friction_psd, judge_fine_end,
-                                   measure, scan_friction)
+from pipelines.chain.steps import (
+                                   FrictionOutcome,
+                                   friction_of,
+                                   friction_psd,
+                                   judge_fine_end,
+                                   measure,
+                                   scan_friction,
+)
 
 __all__ = ["measure", "friction_psd", "friction_of", "scan_friction", "judge_fine_end",
            "FrictionOutcome"]

@@ -42,10 +42,9 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
     -------
     roadscan.reliable_band.ReliableBand or None
     """
+    from pipelines.chain.reliable import scan_band
     from roadscan.fit import detect_band, fit_self_affine
     from roadscan.spectrum_types import Spectrum
-
-    from pipelines.chain.reliable import scan_band
 
     spec = an.spectrum
 
@@ -148,8 +147,8 @@ def friction_provenance(an, spec, psd, fr, settings, rubber, name=None):
     A peak mu outside 0.3-3 is a warning naming its likely causes and the flags.
     """
     from pipelines.chain import provenance as mp
-    from pipelines.checks import validate
     from pipelines.chain.surface import friction_curve
+    from pipelines.checks import validate
 
     name = an.name if name is None else name
 

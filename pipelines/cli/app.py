@@ -60,9 +60,8 @@ import importlib
 import traceback
 import warnings
 
-from roadscan.errors import InputError
-
 from pipelines.cli.hints import flag_text
+from roadscan.errors import InputError
 
 # subcommand modules, in the order ``roadscan --help`` lists them
 # (``commands/`` computes from scans and spectra; ``inputs/`` prepares them)
@@ -222,12 +221,11 @@ def main(argv=None):
 
 def _main(args, cmd):
     # heavy modules (numpy, the readers) only now: --help and usage errors stay fast
-    from roadscan.io import _common as io_common
-    from roadscan.io.overwrite_guard import reads_tracked
-
     from pipelines.checks import validate
     from pipelines.checks.overwrite import check_command_paths
     from pipelines.checks.run_warnings import say_warnings
+    from roadscan.io import _common as io_common
+    from roadscan.io.overwrite_guard import reads_tracked
 
     debug = bool(getattr(args, "debug", False))
     validate.reset_warnings(prefix=cmd)
@@ -264,7 +262,7 @@ def _main(args, cmd):
         return _fail(cmd, debug, one_line(f"{str(name) + ': ' if name else ''}{exc.strerror or exc}"))
     except _parsing_errors() as exc:
         return _fail(cmd, debug, one_line(f"cannot parse this input ({type(exc).__name__}: {exc})"))
-    except Exception as exc:  # noqa: BLE001 - last resort: a bug, still one line
+    except Exception as exc:       # last resort: a bug, still one line
         if _interrupted(exc):          # a stop request that a library wrapped (Python wraps an
             raise KeyboardInterrupt from exc   # exception raised while a class is made, 3.11)
         if isinstance(exc, RuntimeError) and "symlink loop" in str(exc).lower():  # pathlib, a looping link

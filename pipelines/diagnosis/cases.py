@@ -256,7 +256,7 @@ def draw_cases(n_effect, n_null, seed0=0, effects=None, max_tries=6, log=None):
                 break
             rejected += 1
             say(f"  reject seed {seed} ({name}): {info.get('why')}")
-    for i in range(n_null):
+    for _ in range(n_null):
         seed += 1
         cases.append(make_case(seed, None))
     return cases, rejected

@@ -10,6 +10,8 @@ cross-validation (modified, gamma = 1.4), divided by the residual degrees of fre
 """
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 from scipy import interpolate, stats
 
@@ -183,7 +185,7 @@ def decade_bands(v_m_per_s, width_decades=1.0, min_points=3):
     hi = np.ceil((lv.max() + 1e-12) / width_decades) * width_decades
     edges = np.arange(lo, hi + width_decades / 2, width_decades)
     bands = []
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in pairwise(edges):
         m = (lv >= a) & (lv < b) if b < edges[-1] else (lv >= a) & (lv <= b)
         if m.any():
             bands.append([10 ** a, 10 ** b, m])

@@ -7,11 +7,8 @@ its lowest to its highest q (docs: Theory).
 """
 from __future__ import annotations
 
-
-
-
-from pipelines.output.csv_files import read_psd_csv
 from pipelines.diagnosis.model import FrictionContext, SimSpec
+from pipelines.output.csv_files import read_psd_csv
 
 __all__ = ["read_psd_csv", "write_psd_csv", "surface_from_scan", "scan_surface", "build_context"]
 
@@ -76,10 +73,9 @@ def scan_surface(obj, q0_per_m=None, q1_per_m=None, resolution_m=None):
     tuple
         (psd, filled scan, Spectrum, fit).
     """
-    from roadscan.errors import InputError
-
     from pipelines.chain.steps import friction_psd, judge_fine_end, measure
     from pipelines.settings.friction import FrictionSettings
+    from roadscan.errors import InputError
 
     an, rb = measure(obj, resolution_m=resolution_m)
     settings = FrictionSettings(q0_per_m=q0_per_m, q1_per_m=q1_per_m)
@@ -113,7 +109,6 @@ def build_context(curve, psd, rubber=None, scan=None, spectrum=None, fit=None, e
     FrictionContext
     """
     import friction
-
     from roadscan.heightmap import HeightMap
 
     rubber = friction.thesis_rubber() if rubber is None else rubber

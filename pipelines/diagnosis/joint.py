@@ -23,9 +23,8 @@ from pathlib import Path
 
 import numpy as np
 
-from roadscan.errors import InputError
-
 from pipelines.diagnosis.fit.calibration import KEYS, Uncertain, calibration_effect, default_q1, free_ranges
+from roadscan.errors import InputError
 
 __all__ = ["Row", "read_measurements", "joint_calibration", "run_joint", "SHARED"]
 
@@ -75,9 +74,9 @@ def read_measurements(path, sigma0_Pa=0.2e6, T0_C=None):
     -------
     list of Row
     """
+    from pipelines.diagnosis.measured import read_measured
     from pipelines.output.csv_files import read_csv_rows
     from pipelines.settings.rubber_file import load_rubber
-    from pipelines.diagnosis.measured import read_measured
 
     path = Path(path)
     header, body = read_csv_rows(path, "a header measured,rubber,label")
@@ -151,8 +150,8 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
     effects : list or None
     """
     from pipelines.diagnosis.fit.fitting import pack, unpack
-    from pipelines.diagnosis.model import simulate
     from pipelines.diagnosis.fit.stats import gauss_newton_cov, jacobian, multistart_lsq
+    from pipelines.diagnosis.model import simulate
 
     effs = [calibration_effect(c, ranges) for c in ctxs]
     if any(e is None for e in effs):

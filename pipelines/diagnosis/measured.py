@@ -12,9 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from roadscan.errors import InputError
-
 from pipelines.output.csv_files import read_csv_rows
+from roadscan.errors import InputError
 
 __all__ = ["MeasuredCurve", "read_measured"]
 

@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 
 from pipelines.diagnosis import gap as gapmod
-from pipelines.diagnosis.report.bandmap import band_map
 from pipelines.diagnosis.model import FrictionContext, simulate
+from pipelines.diagnosis.report.bandmap import band_map
 from pipelines.diagnosis.verdict.search import diagnose_friction, predict
 
 __all__ = ["validate", "run_friction", "diagnose_curve"]
@@ -122,8 +122,8 @@ def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=T
     dict
         ``diagnosis.json``.
     """
-    from pipelines.output import report as rep
     from pipelines.diagnosis.report.single import friction_json, write_friction_report
+    from pipelines.output import report as rep
 
     d, where, bm, bm_curves = diagnose_curve(curve, ctx, noise=noise, log=log, uncertain=uncertain)
     val = validate(ctx, d, other) if other is not None else None

@@ -61,9 +61,9 @@ def load_surface(args, say):
     tuple
         (psd, band, scan, spectrum, fit).
     """
+    from pipelines.diagnosis.inputs import read_psd_csv, scan_surface
     from pipelines.settings.friction import apply_band
     from pipelines.settings.scan_input import load_scan
-    from pipelines.diagnosis.inputs import read_psd_csv, scan_surface
 
     if args.psd:
         psd, scan, spec, fit = read_psd_csv(args.psd), None, None, None
@@ -103,14 +103,13 @@ def run_measurements(args, uncertain, settings_fn, say):
     """
     from dataclasses import replace
 
-    from roadscan.io.atomic import atomic_output_dir, check_output_dir
-
-    from pipelines.output import report as rep
-    from pipelines.settings.friction import with_extrapolation
     from pipelines.checks.validate import check_pressure, check_temperature
     from pipelines.diagnosis.inputs import build_context
     from pipelines.diagnosis.joint import read_measurements, run_joint
     from pipelines.diagnosis.report.joint import joint_json, write_joint_report
+    from pipelines.output import report as rep
+    from pipelines.settings.friction import with_extrapolation
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
     if args.measured or args.validate:
         raise InputError(args.measurements, "--measurements replaces --measured (and --validate)")

@@ -122,10 +122,8 @@ def run_friction(args):
     import numpy as np
 
     import friction
-
-    from pipelines.settings.friction import run_checks, settings_from_args, with_extrapolation
     from pipelines.chain.surface import default_velocities
-
+    from pipelines.settings.friction import run_checks, settings_from_args, with_extrapolation
     from roadscan.io.overwrite_guard import refuse_overwrite
 
     out = Path(args.out)                  # mu.csv, its summary and plot never replace an input
@@ -195,7 +193,6 @@ def _provenance(args, psd, band, res, rubber, settings, v, kw):
     import numpy as np
 
     import friction
-
     from pipelines.chain import provenance as mp
     from pipelines.checks.validate import warn
 

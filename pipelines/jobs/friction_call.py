@@ -148,11 +148,10 @@ def friction(
     import os
     from pathlib import Path
 
-    from roadscan.errors import InputError
-
     from pipelines.checks.validate import collecting
     from pipelines.jobs.friction import run_friction
     from pipelines.settings.keywords import options_of
+    from roadscan.errors import InputError
 
     args = options_of(friction, locals())
     if (psd is None) == (self_affine is None):   # the command's required either-or

@@ -16,7 +16,7 @@ import os
 from pathlib import Path
 from typing import Any, Literal
 
-from pipelines.settings.water import check_water  # noqa: F401 (its home; re-exported)
+from pipelines.settings.water import check_water
 from roadscan.errors import InputError
 
 __all__ = ["rain_fill", "check_water", "rain_fill_scan", "write_rain_fill"]

@@ -73,12 +73,12 @@ def render_3d_view(dry_hm, depth_m, path, title="surface and water"):
     if _have_pyvista():
         try:
             return View3D(render_surface_with_water(dry_hm, depth_m, path, title=title), "pyvista")
-        except Exception as exc:  # rendering needs an OpenGL context; the numbers do not
+        except Exception as exc:  # noqa: BLE001 - rendering needs an OpenGL context; the numbers do not
             return View3D(note=f"3D view not rendered: {type(exc).__name__}: {exc}")
     try:
         return View3D(render_surface_with_water_mpl(dry_hm, depth_m, path, title=title), "matplotlib",
                       note="3D view drawn with matplotlib (pyvista not installed: pip install 'roadscan[3d]')")
-    except Exception as exc:
+    except Exception as exc:  # noqa: BLE001 - matplotlib fails in many ways: the view is a note, the run goes on
         return View3D(note=f"3D view not rendered: {type(exc).__name__}: {exc}", warning=NEEDS_PYVISTA)
 
 

@@ -15,9 +15,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from roadscan.errors import InputError
-
 from pipelines.output.units import sig3
+from roadscan.errors import InputError
 
 __all__ = ["MASTER_SUFFIXES", "build_rubber_master"]
 
@@ -101,11 +100,10 @@ def build_rubber_master(raw, reference_temperature_C, out, prony_per_decade=1.5)
 
     import friction
     from friction.mastercurve import build_master
-    from roadscan.io.atomic import atomic_file_set, atomic_write_text
-    from roadscan.io.overwrite_guard import refuse_overwrite
-
     from pipelines.output.report import write_csv, write_json
     from pipelines.settings.rubber_file import load_rubber, read_dma_sweeps_csv
+    from roadscan.io.atomic import atomic_file_set, atomic_write_text
+    from roadscan.io.overwrite_guard import refuse_overwrite
 
     if not (math.isfinite(prony_per_decade) and 0.2 <= prony_per_decade <= 5):
         raise InputError(None, "--prony-per-decade must lie in [0.2, 5]")

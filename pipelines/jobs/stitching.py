@@ -13,9 +13,8 @@ import io
 import re
 from pathlib import Path
 
-from roadscan.errors import InputError
-
 from pipelines.settings.scan_input import load_scan
+from roadscan.errors import InputError
 
 __all__ = ["stitch_files", "overlaps_csv"]
 

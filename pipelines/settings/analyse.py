@@ -7,7 +7,6 @@ into the same settings (:func:`pipelines.settings.keywords.options_of`).
 from __future__ import annotations
 
 import argparse
-import os
 
 from roadscan.errors import InputError
 
@@ -29,9 +28,9 @@ def add_analysis_options(p):
     -------
     None
     """
+    from pipelines.jobs.texture.outputs import add_texture_options
     from pipelines.settings.friction import add_friction_options
     from pipelines.settings.scan_input import add_scan_options
-    from pipelines.jobs.texture.outputs import add_texture_options
 
     add_scan_options(p)
     add_spectrum_options(p, resolution=False)

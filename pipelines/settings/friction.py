@@ -33,7 +33,13 @@ __all__ = ["FrictionSettings", "add_friction_options", "add_contact_options", "s
            "PRESSURE_HELP", "MIN_BARE_PA", "with_extrapolation", "run_checks", "add_master_curve_options",
            "rubber_from_args"]
 
-from pipelines.settings.rubber import add_master_curve_options, coverage_note, rubber_from_args, run_checks, with_extrapolation
+from pipelines.settings.rubber import (
+    add_master_curve_options,
+    coverage_note,
+    rubber_from_args,
+    run_checks,
+    with_extrapolation,
+)
 
 MIN_BARE_PA = 1e3  # a bare --sigma0 below this is refused (no unit: almost surely MPa meant)
 _PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9, "bar": 1e5, "n/m2": 1.0,

@@ -58,8 +58,8 @@ def rubber_from_args(args):
         if t_ref is None and not shift:
             raise InputError(mc, "--master-curve needs --reference-temperature C (its T_ref) "
                                  "or a --shift-table with aT = 1 at T_ref")
-        from pipelines.settings.rubber_file import rubber_from_csv_files
         from pipelines.checks.validate import check_temperature
+        from pipelines.settings.rubber_file import rubber_from_csv_files
 
         check_temperature(t_ref, flag="--reference-temperature")   # absolute zero .. 1000 C
         return rubber_from_csv_files(mc, shift, t_ref)

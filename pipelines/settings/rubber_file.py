@@ -25,9 +25,8 @@ else:                           # Python 3.10: the tomli backport (a dependency 
 
 import numpy as np
 
-from roadscan.errors import InputError
-
 from pipelines.output.csv_files import read_csv_rows
+from roadscan.errors import InputError
 
 __all__ = ["load_rubber", "read_master_curve_csv", "read_shift_csv", "rubber_from_csv_files", "orient_shift",
            "read_dma_sweeps_csv", "read_wlf_csv"]

@@ -139,9 +139,8 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
     from pipelines.jobs.texture.prefetch import prepare_lattice_ahead
 
     prepare_lattice_ahead(obj)          # the spectrum's lattice, on the core idle during the checks
-    from pipelines.cli.hints import flag_text
     from pipelines.checks.validate import check_scan, warn
-
+    from pipelines.cli.hints import flag_text
     from roadscan.plausibility import check_plausible
 
     try:

@@ -17,7 +17,7 @@ from pathlib import Path
 from ..errors import InputError
 from ..heightmap import HeightMap, Profile
 from . import ascii_text, captif, gwy, numpy_files, tiff, vendor, x3p  # noqa: F401  (registration)
-from ._common import parse_spacing, parse_units, resolve_spacing, unit_factor
+from ._common import parse_spacing, parse_units, resolve_spacing
 from ._registry import READERS, WRITERS, register_reader, register_writer
 from .atomic import atomic_path
 from .calibration import calibration_policy

@@ -34,11 +34,18 @@ import re
 import numpy as np
 
 from ..errors import InputError, OptionNote
-from ._common import (NO_SPACING, check_declared_size, make_heightmap, make_profile, parse_units, regular_axis,
-                      resolve_spacing, unit_factor)
+from ._common import (
+    NO_SPACING,
+    check_declared_size,
+    make_heightmap,
+    make_profile,
+    parse_units,
+    regular_axis,
+    resolve_spacing,
+    unit_factor,
+)
 from ._registry import register_reader
-from .calibration import pick_spacing, pick_units
-from .calibration import current_x_units
+from .calibration import current_x_units, pick_spacing, pick_units
 from .text_columns import column_factors, index_column, mark_dropouts
 from .text_table import ESRI_KEYS, read_table, read_text
 from .text_titles import Titles, find_titles, read_preamble

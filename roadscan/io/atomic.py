@@ -36,8 +36,7 @@ import time
 from pathlib import Path
 
 from ..errors import InputError
-from .folder_swap import (OLD_TAG, TMP_TAG, _hold, _in_use, _leftovers, _swap_in,  # noqa: F401
-                          recover_output_dir)
+from .folder_swap import OLD_TAG, TMP_TAG, _hold, _in_use, _leftovers, _swap_in, recover_output_dir
 from .output_folder import OUTPUT_MARKERS, OUTPUT_SUFFIXES, check_output_dir  # noqa: F401 (re-exported)
 from .overwrite_guard import check_not_read
 

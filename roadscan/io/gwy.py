@@ -16,8 +16,15 @@ import struct
 import numpy as np
 
 from ..errors import InputError
-from ._common import (NO_SPACING, check_declared_size, check_file, make_heightmap, parse_units,
-                      resolve_spacing, unit_factor)
+from ._common import (
+    NO_SPACING,
+    check_declared_size,
+    check_file,
+    make_heightmap,
+    parse_units,
+    resolve_spacing,
+    unit_factor,
+)
 from ._registry import register_reader
 from .calibration import pick_spacing, pick_units
 

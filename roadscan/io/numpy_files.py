@@ -18,7 +18,16 @@ import numpy as np
 
 from ..errors import InputError
 from ..heightmap import HeightMap, Profile
-from ._common import NO_SPACING, check_compression_ratio, check_declared_size, check_file, make_heightmap, make_profile, resolve_spacing, unit_factor
+from ._common import (
+    NO_SPACING,
+    check_compression_ratio,
+    check_declared_size,
+    check_file,
+    make_heightmap,
+    make_profile,
+    resolve_spacing,
+    unit_factor,
+)
 from ._registry import register_reader, register_writer
 from .calibration import pick_spacing
 
@@ -58,7 +67,7 @@ def _check_header(path, shape, dtype, stored_bytes=None, member=None):
         raise InputError(path, f"{what} are not numbers (dtype {dtype})")
     if np.issubdtype(dtype, np.complexfloating):
         raise InputError(path, f"{what} are complex numbers: save real values")
-    if not (np.issubdtype(dtype, np.number) or dtype == bool):
+    if not (np.issubdtype(dtype, np.number) or dtype.kind == "b"):
         raise InputError(path, f"{what} are not numbers (dtype {dtype})")
     n = check_declared_size(path, shape, max(dtype.itemsize, 8))
     if stored_bytes is not None:

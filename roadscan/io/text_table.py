@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import InputError
-from ._common import check_file, get_max_pixels, default_max_pixels
+from ._common import check_file, default_max_pixels, get_max_pixels
 
 __all__ = ["Table", "read_table", "read_text", "column_units", "decimal_mark"]
 

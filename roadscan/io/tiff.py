@@ -24,8 +24,15 @@ import contextlib
 import numpy as np
 
 from ..errors import InputError
-from ._common import (NO_SPACING, check_compression_ratio, check_declared_size, check_file,
-                      make_heightmap, resolve_spacing, unit_factor)
+from ._common import (
+    NO_SPACING,
+    check_compression_ratio,
+    check_declared_size,
+    check_file,
+    make_heightmap,
+    resolve_spacing,
+    unit_factor,
+)
 from ._registry import register_reader, register_writer
 from .calibration import pick_spacing, pick_units
 from .tiff_pages import select_page, select_sample

@@ -97,7 +97,7 @@ def _pick_channel(reader, path, channel=None):
 def _declared_grid(ch, path):
     """(ny, nx) declared by the channel, or None when the reader does not say."""
     dim, n = ch.dim, ch.nb_grid_pts
-    if dim is not None and dim != 2 or n is not None and len(n) != 2:
+    if (dim is not None and dim != 2) or (n is not None and len(n) != 2):
         npts = f" of {n[0]} points" if n else ""
         raise InputError(path, f"channel {ch.name!r} is a line scan{npts}: roadscan reads area "
                                f"scans from this format (export the profile as text to read it)")

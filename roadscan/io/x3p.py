@@ -14,8 +14,14 @@ import numpy as np
 
 from ..errors import InputError
 from ..heightmap import HeightMap, Profile
-from ._common import (check_compression_ratio, check_declared_size, check_file, make_heightmap,
-                      make_profile, resolve_spacing)
+from ._common import (
+    check_compression_ratio,
+    check_declared_size,
+    check_file,
+    make_heightmap,
+    make_profile,
+    resolve_spacing,
+)
 from ._registry import register_reader, register_writer
 from .calibration import pick_spacing, pick_units
 

@@ -5,12 +5,11 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from roadscan.errors import InputError
-
-from pipelines.settings.analyse import add_analysis_options, analysis_kwargs  # noqa: F401 (batch uses them)
+from pipelines.settings.analyse import add_analysis_options, analysis_kwargs
 from pipelines.settings.analyse import unique_stems as _unique_dirs
 from pipelines.settings.friction import settings_from_args
 from pipelines.settings.scan_input import load_scan
+from roadscan.errors import InputError
 
 NAME = "analyse"
 HELP = "PSD, self-affine fit, roughness figures and friction mu(v) of height files"
@@ -28,9 +27,8 @@ def add_arguments(p):
 def run(args):
     kw = analysis_kwargs(args)
     settings = settings_from_args(args)
-    from roadscan.io.atomic import atomic_output_dir, check_output_dir
-
     from pipelines.output.figure_process import figure_drawer
+    from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
     out = Path(args.out)
     check_output_dir(out, inputs=args.files)
@@ -77,10 +75,9 @@ def _load(path, args):
 
 
 def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
+    from pipelines.checks.validate import collecting
     from pipelines.jobs.analyse.job import run_analysis
     from pipelines.output.units import length
-
-    from pipelines.checks.validate import collecting
 
     rows, own = [], []
     for i, (path, (scan, said), sub) in enumerate(zip(args.files, scans, _unique_dirs(args.files))):

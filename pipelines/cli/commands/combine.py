@@ -24,9 +24,9 @@ def add_arguments(p):
 
 
 def run(args):
-    from pipelines.settings.keywords import keywords_of
     from pipelines.jobs.combine.job import combine
     from pipelines.output.units import quantity
+    from pipelines.settings.keywords import keywords_of
 
     s = combine(args.inputs, args.out, **keywords_of(args, combine))
     lo, hi = s["merged_band_per_m"]

@@ -1,11 +1,10 @@
 """``roadscan compare SCAN_A SCAN_B [...] --out DIR``."""
 from __future__ import annotations
 
-from roadscan.errors import InputError
-
 from pipelines.settings.analyse import add_compare_options, unique_stems
 from pipelines.settings.friction import settings_from_args
 from pipelines.settings.scan_input import load_scan
+from roadscan.errors import InputError
 
 NAME = "compare"
 HELP = "compare surfaces: all spectra and mu(v), where and by how much they differ"

@@ -24,8 +24,8 @@ def add_arguments(p):
 
 
 def run(args):
-    from pipelines.settings.keywords import keywords_of
     from pipelines.diagnosis.job import diagnose
+    from pipelines.settings.keywords import keywords_of
 
     data = diagnose(args.out, **keywords_of(args, diagnose))
     if "measurements" in data and "joint" in data:       # several measurements

@@ -26,10 +26,10 @@ def add_arguments(p):
 
 
 def run(args):
-    from pipelines.settings.keywords import keywords_of
     from pipelines.jobs.friction_call import friction
     from pipelines.output.headline import peak_text
     from pipelines.output.units import quantity
+    from pipelines.settings.keywords import keywords_of
 
     s = friction(args.out, **keywords_of(args, friction))
     band = s["band"]

@@ -21,9 +21,9 @@ def add_arguments(p):
 
 
 def run(args):
-    from pipelines.settings.keywords import keywords_of
     from pipelines.jobs.rain_fill import rain_fill
     from pipelines.output.units import length
+    from pipelines.settings.keywords import keywords_of
 
     r = rain_fill(args.scan, args.out, **keywords_of(args, rain_fill))
     cap = (f", at most {length(args.max_depth)} deep" if args.max_depth is not None else

@@ -28,9 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from roadscan.errors import InputError
-
 from pipelines.diagnosis.effects import Effect, Param
+from roadscan.errors import InputError
 
 __all__ = ["Uncertain", "parse_uncertain", "calibration_effect", "default_q1", "REDUNDANT",
            "scale_psd", "intervals"]

@@ -2,8 +2,8 @@
 (self-contained: PNGs embedded base64, opens offline), via :mod:`pipelines.output.report`."""
 from __future__ import annotations
 
-from pathlib import Path
 import tempfile
+from pathlib import Path
 
 import numpy as np
 
@@ -51,8 +51,8 @@ def friction_json(d, where, bandmap, validate=None):
                                   "p_value", "significant")} for w in where],
         band_map=bandmap,
         effects=effect_entries(d),
-        effects_nominal=[c.as_dict() for c in d.candidates if _is_nominal_single(c, d) or c is d.best and
-                         len(c.effects) == 1 and d.calibration is not None],
+        effects_nominal=[c.as_dict() for c in d.candidates if _is_nominal_single(c, d) or (c is d.best and
+                         len(c.effects) == 1 and d.calibration is not None)],
         calibration=None if d.calibration is None else d.calibration.as_dict(),
         skipped=d.skipped,
         inconclusive=d.verdict["inconclusive"],

@@ -111,7 +111,7 @@ class Geometry:
             r[(q > e[-1] * (1 + 1e-12))] = -1
             r = np.clip(r, -1, e.size - 2)
             return dict(q=q, ring=r)
-        KX, KY, QX, QY, Q = _lattice_q(self.shape, self.dx_m, self.dy_m)
+        KX, KY, _QX, _QY, Q = _lattice_q(self.shape, self.dx_m, self.dy_m)
         r = np.searchsorted(e, Q.ravel(), side="right").reshape(Q.shape) - 1
         r[(Q > e[-1] * (1 + 1e-12)) | (Q < e[0] * (1 - 1e-12)) | (Q == 0)] = -1
         r = np.clip(r, -1, e.size - 2)

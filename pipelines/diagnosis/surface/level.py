@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from itertools import pairwise
 from pathlib import Path
 
 import numpy as np
@@ -236,9 +237,8 @@ def twin_whole_spectra(an, twins):
     """log10 C of each twin's whole-scan spectrum on the scan's rings (same window, rings and,
     for areas, axes left out): the reference and the noise of the whole-scan check
     (:mod:`.surface_whole`). Returns (n_twins, n_rings)."""
-    from roadscan.heightmap import HeightMap, Profile
-
     from pipelines.chain.surface import spectrum_of
+    from roadscan.heightmap import HeightMap, Profile
 
     q = np.asarray(an.spectrum.q_per_m, float)
     edges = (an.spectrum.meta or {}).get("ring_edges_per_m")
@@ -257,9 +257,8 @@ def twin_whole_spectra(an, twins):
 
 def _mu_gap(an, q, C_pl):
     import friction
-
-    from pipelines.chain.surface import surface_psd
     from friction import TabulatedPSD
+    from pipelines.chain.surface import surface_psd
 
     v = np.logspace(-6, 1, 36)
     r = friction.thesis_rubber()
@@ -294,10 +293,10 @@ def run_surface(obj, out_dir, log=None, seed=0):
     import matplotlib.pyplot as plt
     from scipy import stats
 
-    from pipelines.output import report as rep
     from pipelines.chain.surface import analyse_surface
     from pipelines.diagnosis.report.single import write_surface_report
     from pipelines.diagnosis.surface.search import MIN_SHRINK, _predict, surface_search
+    from pipelines.output import report as rep
 
     t0 = time.perf_counter()
     say = log or (lambda *_: None)
@@ -305,7 +304,13 @@ def run_surface(obj, out_dir, log=None, seed=0):
     ctx = descriptors(an, seed=seed, log=say)
     res = surface_search(ctx)
     verdict, best = res["verdict"], res["best"]
-    from pipelines.diagnosis.surface.whole import MIN_SHRINK_WHOLE, STRONG_P_WHOLE, whole_height_check, whole_seams_check, whole_spectrum_check
+    from pipelines.diagnosis.surface.whole import (
+        MIN_SHRINK_WHOLE,
+        STRONG_P_WHOLE,
+        whole_height_check,
+        whole_seams_check,
+        whole_spectrum_check,
+    )
 
     whole = whole_spectrum_check(an, ctx.whole_twins)
     wh = ctx.whole_height
@@ -352,7 +357,7 @@ def run_surface(obj, out_dir, log=None, seed=0):
     edges = np.arange(np.floor(lq[0] * 2) / 2, lq[-1] + 0.5, 0.5)
     cnt = np.maximum(np.asarray(spec.count, float)[ok], 1) if spec.count is not None else np.full(q.size, 4.0)
     sig = LOG10E * np.sqrt(2.0 / cnt)
-    for a, b in zip(edges[:-1], edges[1:]):
+    for a, b in pairwise(edges):
         m = (lq >= a) & (lq < b)
         if m.any():
             g = float(np.sqrt(np.mean(rs[m] ** 2)))

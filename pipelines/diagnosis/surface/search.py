@@ -23,10 +23,10 @@ listed) when another single explains the gap as well within the fold-to-fold sca
 from __future__ import annotations
 
 import numpy as np
-
-from pipelines.diagnosis.fit.fitting import pack, unpack as _unpack
 from scipy import stats
 
+from pipelines.diagnosis.fit.fitting import pack
+from pipelines.diagnosis.fit.fitting import unpack as _unpack
 from pipelines.diagnosis.surface.blocks import spectrum_shape
 
 __all__ = ["surface_search", "MIN_SHRINK"]

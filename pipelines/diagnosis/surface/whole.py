@@ -24,7 +24,6 @@ from types import SimpleNamespace
 
 import numpy as np
 
-
 __all__ = ["whole_spectrum_check", "whole_height_stats", "whole_height_check", "SPECTRAL", "MIN_SHRINK_WHOLE",
            "STRONG_P_WHOLE",
            "HEIGHT_STATS", "HEIGHT_HELD", "whole_seam_stats", "whole_seams_check"]
@@ -60,9 +59,9 @@ def whole_spectrum_check(an, twins=None):
     dict
     """
     from scipy import stats
-    from pipelines.diagnosis.fit.stats import multistart_lsq
 
     from pipelines.diagnosis.effects import get
+    from pipelines.diagnosis.fit.stats import multistart_lsq
 
     spec = an.spectrum
     ok = np.isfinite(spec.C_m4) & (spec.C_m4 > 0)
@@ -97,7 +96,7 @@ def whole_spectrum_check(an, twins=None):
     for name in SPECTRAL:
         e = get(name)
 
-        def resid(u):
+        def resid(u, e=e):
             p = {pp.name: pp.from_unit(u[j]) for j, pp in enumerate(e.params)}
             s = e.apply_fn(ctx, p, {"spec_rings": ref})["spec_rings"]
             return (y - s) / sig

@@ -53,8 +53,8 @@ def _predict(gctx, expl):
     """(mean log10 mu, variance) of one explanation on the grid context."""
     from pipelines.diagnosis.fit.evidence import _log10_model
     from pipelines.diagnosis.fit.fitting import pack
-    from pipelines.diagnosis.model import simulate
     from pipelines.diagnosis.fit.stats import jacobian
+    from pipelines.diagnosis.model import simulate
 
     if expl.get("candidate") is None:
         return np.log10(simulate(gctx.base, gctx)), np.zeros(gctx.n)

@@ -21,8 +21,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pipelines.diagnosis import gap as gapmod
-from pipelines.diagnosis.fit.cv import evaluate, heldout_mask, holdout
 from pipelines.diagnosis.effects import all_effects
+from pipelines.diagnosis.fit.cv import evaluate, heldout_mask, holdout
 from pipelines.diagnosis.fit.fitting import Candidate, at_bound, fit_candidate, predict, too_many_parameters
 from pipelines.diagnosis.verdict.explain import pick_pair
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, PAIR_GAIN, decide, rivals
@@ -225,8 +225,8 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skip
 
     from pipelines.diagnosis.fit.calibration import intervals
     from pipelines.diagnosis.fit.equivalence import equivalence
-    from pipelines.diagnosis.verdict.search_few import few_candidates
     from pipelines.diagnosis.verdict.few import decide_few
+    from pipelines.diagnosis.verdict.search_few import few_candidates
 
     cal, cands, s, nu, significant = few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
                                                     say)
@@ -290,10 +290,11 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     """
     from dataclasses import replace
 
-    from pipelines.diagnosis.fit.calibration import apply_known, calibration_effect, default_q1 as add_q1, free_ranges, intervals
+    from pipelines.diagnosis.fit.calibration import apply_known, calibration_effect, free_ranges, intervals
+    from pipelines.diagnosis.fit.calibration import default_q1 as add_q1
     from pipelines.diagnosis.fit.equivalence import equivalence
-    from pipelines.diagnosis.verdict.explain import heldout_evidence, top_two
     from pipelines.diagnosis.model import simulate
+    from pipelines.diagnosis.verdict.explain import heldout_evidence, top_two
 
     t0 = time.perf_counter()
     say = log or (lambda *_: None)

@@ -8,7 +8,6 @@ from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
-
 from pipelines.jobs.analyse.job import analyse_scan
 
 if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light

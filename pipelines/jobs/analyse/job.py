@@ -20,15 +20,18 @@ from pathlib import Path
 
 import numpy as np
 
-from roadscan.heightmap import Profile
-
 from pipelines.output import report
 from pipelines.settings.friction import FrictionSettings  # its one home; re-exported here
+from roadscan.heightmap import Profile
 
 __all__ = ["FrictionSettings", "summarise", "run_analysis", "write_outputs", "nominal_band",
            "analyse_scan"]
 
-from pipelines.jobs.analyse.outputs import MU_EXTRA, MU_HEADER, PSD1D_HEADER, PSD_HEADER, draw_psd2d_figure, psd2d_picture, write_outputs
+from pipelines.jobs.analyse.outputs import (
+    draw_psd2d_figure,
+    psd2d_picture,
+    write_outputs,
+)
 
 
 def nominal_band(obj):
@@ -227,12 +230,11 @@ def analyse_scan(scan, settings=None, window_alpha=0.25, fit_band=None, despike=
     AnalysisResult
     """
     from pipelines.chain import band as analyse_band
-    from pipelines.jobs.texture import outputs as texture_outputs
     from pipelines.chain.steps import measure, scan_friction
-    from pipelines.settings.friction import FrictionSettings
     from pipelines.checks.validate import warnings_list
-
+    from pipelines.jobs.texture import outputs as texture_outputs
     from pipelines.jobs.texture.prefetch import TextureFigures
+    from pipelines.settings.friction import FrictionSettings
 
     settings = settings or FrictionSettings()
     figures = TextureFigures((texture or texture_outputs.TextureSettings()).direction)

@@ -46,10 +46,10 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
     Path
         The output folder.
     """
-    from pipelines.jobs.texture import outputs as texture_outputs
     from pipelines.chain.steps import band_sidecar
-    from pipelines.output.figure_process import InProcess
+    from pipelines.jobs.texture import outputs as texture_outputs
     from pipelines.jobs.texture.iso import figure_note
+    from pipelines.output.figure_process import InProcess
 
     drawer = drawer if drawer is not None else InProcess()
     an, summary, tex = result.analysis, result.summary, result.texture
@@ -97,8 +97,8 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
 def _figures(drawer, out_dir, an, fit, fr, spec, q1_per_m, summary):
     """The PNGs of one scan after its height map and 2D spectrum (skipped by ``roadscan batch``
     without ``--figures``), submitted to ``drawer`` in the report's order."""
-    from pipelines.output.headline import hurst_text
     from pipelines.jobs.texture.iso import figure_note
+    from pipelines.output.headline import hurst_text
     from pipelines.output.units import wavelength_of_q
 
     if an.is_profile:
@@ -210,10 +210,9 @@ def draw_psd2d_figure(picture, path, name):
 def _report_sections(an, summary, tex=None, fr=None):
     """The sections of ``report.html`` before its figures, and its intro."""
     from pipelines.jobs.texture import outputs as texture_outputs
-    from pipelines.output.units import length, quantity, sig3
-
-    from pipelines.output.headline import hurst_text
     from pipelines.jobs.texture.iso import roughness_section
+    from pipelines.output.headline import hurst_text
+    from pipelines.output.units import length, quantity, sig3
 
     rough = roughness_section(summary)          # ISO 25178-2 / 21920-2 set, filters
     key = {

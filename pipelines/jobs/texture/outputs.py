@@ -154,10 +154,9 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
         The texture spectrum (and a short scan's short-baseline depth) already started on the
         levelled map.
     """
+    from pipelines.checks.validate import warn
     from roadscan import texture_depth as td
     from roadscan.texture_spectrum import texture_spectrum
-
-    from pipelines.checks.validate import warn
 
     settings = settings or TextureSettings()
     ts = (texture_spectrum(_spectrum_input(analysis), direction=settings.direction)
@@ -294,5 +293,12 @@ def add_to_summary(summary, analysis, settings=None, mpd_settings=None, figures=
 
 
 # the spectrum's files and the MPD's report rows live in their own modules; re-exported here
-from pipelines.jobs.texture.figures import TEXTURE_HEADER, draw_texture_spectrum, html_escape, texture_picture, texture_table_html, write_texture_csv
-from pipelines.jobs.texture.mpd import depth_rows, draw_extras, write_extras  # noqa: E402,F401
+from pipelines.jobs.texture.figures import (  # noqa: E402
+    TEXTURE_HEADER,
+    draw_texture_spectrum,
+    html_escape,
+    texture_picture,
+    texture_table_html,
+    write_texture_csv,
+)
+from pipelines.jobs.texture.mpd import depth_rows, draw_extras, write_extras  # noqa: E402

@@ -99,7 +99,7 @@ class _ReadAhead:
             if self.short_wanted:
                 try:
                     self.short = short_segment_depth(scan)
-                except BaseException as err:     # handed to the caller of short_depth()
+                except BaseException as err:  # noqa: BLE001 - handed to the caller of short_depth()
                     self.short_error = err
         finally:
             self.done.set()
@@ -210,7 +210,7 @@ class TextureFigures:
             if self._source is not None:
                 self._run_short()
             self._result = texture_parameters(self._surface)
-        except BaseException as err:        # handed to the caller of spectrum() / get()
+        except BaseException as err:  # noqa: BLE001 - handed to the caller of spectrum() / get()
             self._error = err
         finally:
             self._short_done.set()
@@ -220,7 +220,7 @@ class TextureFigures:
 
         try:
             self._short = short_segment_depth(self._source, **self._mpd_settings)
-        except BaseException as err:        # handed to the caller of short_depth()
+        except BaseException as err:  # noqa: BLE001 - handed to the caller of short_depth()
             self._short_error = err
         finally:
             self._short_done.set()
