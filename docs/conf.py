@@ -27,6 +27,7 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
+    "sphinx-mathjax-offline",   # MathJax 3 shipped in the package, copied into _static/mathjax
     "numpydoc",
     "sphinx_gallery.gen_gallery",
     "md_pages",
@@ -60,6 +61,8 @@ sphinx_gallery_conf = {
     "matplotlib_animations": False,
     "abort_on_example_error": True,
     "image_scrapers": ("matplotlib",),
+    # no computation-times pages: sphinx-gallery's table loads jQuery and DataTables from CDNs
+    "write_computation_times": False,
 }
 
 # -- HTML ----------------------------------------------------------------------------------
@@ -76,11 +79,10 @@ html_show_sourcelink = False
 
 suppress_warnings = ["misc.highlighting_failure"]
 
-# MathJax comes from its CDN when the pages are read; a local copy can be named instead
-# (``ROADSCAN_DOCS_MATHJAX=/usr/share/javascript/mathjax/MathJax.js?config=TeX-AMS_CHTML``,
-# e.g. to look at the pages offline).
-if os.environ.get("ROADSCAN_DOCS_MATHJAX"):
-    mathjax_path = os.environ["ROADSCAN_DOCS_MATHJAX"]
+# Equations render with no network: MathJax 3 comes with the sphinx-mathjax-offline package
+# (docs extra), which copies it into the site's _static/mathjax; the pages load it from there
+# (a path relative to _static), never from a CDN (tests/test_docs_site.py checks the built site).
+mathjax_path = "mathjax/tex-chtml.js"
 
 
 def _plain_text_safe(app, what, name, obj, options, lines):

@@ -2,8 +2,12 @@
 document, and the gallery has examples that draw figures. (The site itself is built by CI:
 ``sphinx-build -W -b html docs OUT``.)"""
 import ast
+import os
 import re
+import runpy
 from pathlib import Path
+
+import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 DOCS = ROOT / "docs"
@@ -125,3 +129,47 @@ def test_docstring_examples_run(monkeypatch):
             assert result.failed == 0, obj.__qualname__
             tried += result.attempted
     assert tried >= 20
+
+
+# hosts that serve MathJax or KaTeX (and other scripts) to pages that do not ship their own
+_CDNS = ("cdn.jsdelivr.net", "cdnjs.cloudflare.com", "unpkg.com", "polyfill.io", "mathjax.org",
+         "katex.org", "googleapis.com")
+_LOADED = re.compile(r'<(?:script|link)\b[^>]*\b(?:src|href)="([^"]+)"')
+
+
+def test_math_is_configured_to_come_from_the_site():
+    """conf.py renders equations without network: the MathJax shipped by sphinx-mathjax-offline
+    (copied into the site's _static) is the one the pages load, and the docs extra installs it."""
+    conf = runpy.run_path(str(DOCS / "conf.py"))
+    assert "sphinx-mathjax-offline" in conf["extensions"]
+    path = conf["mathjax_path"]
+    assert not re.match(r"(https?:)?//", path) and not any(cdn in path for cdn in _CDNS), path
+    tomllib = pytest.importorskip("tomllib")   # Python >= 3.11
+
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
+    assert any(req.startswith("sphinx-mathjax-offline") for req in extras["docs"])
+
+
+@pytest.mark.skipif(not os.environ.get("ROADSCAN_DOCS_SITE"),
+                    reason="needs a built site: ROADSCAN_DOCS_SITE=OUT after sphinx-build (CI sets it)")
+def test_built_site_loads_no_script_from_the_network():
+    """The built site: every page with an equation loads MathJax from a file of the site that
+    exists (with its fonts), and no page loads a script or style sheet from another host."""
+    site = Path(os.environ["ROADSCAN_DOCS_SITE"])
+    pages = sorted(site.rglob("*.html"))
+    math_pages = 0
+    for page in pages:
+        text = page.read_text(encoding="utf-8")
+        loaded = _LOADED.findall(text)
+        scripts = re.findall(r'<script\b[^>]*\bsrc="([^"]+)"', text)
+        assert not [u for u in scripts if re.match(r"(https?:)?//", u)], page
+        assert not [u for u in loaded if any(cdn in u for cdn in _CDNS)], page
+        if 'class="math' in text:
+            math_pages += 1
+            mathjax = [u for u in scripts if "mathjax" in u.lower()]
+            assert mathjax, page
+            for u in mathjax:
+                assert (page.parent / u.split("?")[0]).resolve().is_file(), (page, u)
+    assert math_pages >= 10         # the theory page, the API pages, the gallery...
+    fonts = site / "_static" / "mathjax" / "output" / "chtml" / "fonts"
+    assert any(fonts.rglob("*.woff")), fonts
