@@ -5,6 +5,8 @@ Build it with ``pip install -e '.[docs]'`` then ``sphinx-build -W -b html docs O
 import os
 import re
 import sys
+from importlib.metadata import PackageNotFoundError
+from importlib.metadata import version as _version
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -17,9 +19,8 @@ project = "roadscan"
 author = "the roadscan developers"
 copyright = "roadscan developers, BSD-3-Clause"
 try:
-    from importlib.metadata import version as _version
     release = _version("roadscan")
-except Exception:          # an uninstalled checkout
+except PackageNotFoundError:          # an uninstalled checkout
     release = "0.1.0"
 version = release
 
