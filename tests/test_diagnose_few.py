@@ -57,8 +57,10 @@ def test_student_t_likelihood_is_the_normal_one_with_the_noise_integrated_out():
     n, s, nu = 6, 0.01, 4.0
 
     def marg(rss):
-        f = lambda v: (v ** (-n / 2) * np.exp(-rss / (2 * v))  # noqa: E731
-                       * stats.invgamma.pdf(v, nu / 2, scale=nu * s * s / 2))
+        def f(v):               # N(r | sigma) with the Inv-chi2 prior of v = sigma^2
+            prior = stats.invgamma.pdf(v, nu / 2, scale=nu * s * s / 2)
+            return v ** (-n / 2) * np.exp(-rss / (2 * v)) * prior
+
         return np.log(integrate.quad(f, 1e-8, 1.0, points=[s * s, rss / n], limit=200)[0])
 
     for a, b in ((1e-4, 6e-4), (3e-4, 3e-3)):
