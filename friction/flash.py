@@ -42,7 +42,7 @@ __all__ = ["mu_flash", "heat_kernel", "FlashConvergenceError", "T_RISE_MAX_K"]
 #: kept in [T0, T0 + 1e4 K]. A solve that fails after reaching rises above this is reported as
 #: runaway heating (rubber is destroyed long before), not as a numerical failure.
 T_RISE_MAX_K = 2000.0
-#: the default (a, b, c) of the asperity model (DESIGN.md sec 5): b = 2 sqrt(pi)
+#: default (a, b, c) of the hot spots' radius R = (a + b P(q_m)^c) / q_m [m]: (0, 2 sqrt(pi), 1/2)
 ASPERITY_ABC = (0.0, 2 * float(np.sqrt(np.pi)), 0.5)
 
 

@@ -14,7 +14,8 @@ Format (see RUBBER_TOML.md)::
 
 Missing ``[shift]`` means the thesis WLF for "sls"/"prony" and no shift for "master_curve";
 missing ``T_ref_C`` means 60 C (the thesis) for "sls"/"prony", and for a master curve the
-temperature where its shift factor is 1 (:func:`unit_shift_temperature`). Raises ValueError naming the bad key.
+temperature where its shift factor is 1 (:func:`unit_shift_temperature`). Raises ValueError naming the bad
+key.
 """
 from __future__ import annotations
 

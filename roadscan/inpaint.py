@@ -5,7 +5,8 @@ scikit-image ``inpaint_biharmonic`` (one global sparse solve, ``split_into_regio
 0.12 s and the most accurate (rms error 0.034 of the surface's rms at the filled points);
 OpenCV Navier-Stokes ``cv2.inpaint(..., INPAINT_NS)`` 0.04 s, rms error 0.053; OpenCV Telea
 0.2 s with errors as large as the surface's rms on float32 data, so it is not offered.
-Biharmonic is the default; ``"ns"`` is the fast alternative. Profiles are filled by linear interpolation (ends held at the nearest measured value).
+Biharmonic is the default; ``"ns"`` is the fast alternative. Profiles are filled by linear interpolation (ends
+held at the nearest measured value).
 
 The biharmonic system is scikit-image's. Maps of up to :data:`DIRECT_MAX_POINTS` points solve it
 with :mod:`roadscan._biharmonic` (numpy dense blocks per dropout cluster; no scipy import, which

@@ -6,9 +6,9 @@ fresh process) and partition a copy on one more order statistic than needed; the
 place when allowed and import nothing.
 
 Formulas: the median of n sorted values s is s[(n - 1) / 2] (n odd) or
-(s[n/2 - 1] + s[n/2]) / 2 (n even; summed from +0.0 as numpy's mean does, so -0.0 reads 0.0); the percentile p (linear method, Hyndman and Fan's
-definition 7) is at the virtual index v = (n - 1) p / 100, between s[i] and s[i + 1] with
-i = floor(v), g = v - i: s[i] + (s[i + 1] - s[i]) g, or s[i + 1] - (s[i + 1] - s[i]) (1 - g)
+(s[n/2 - 1] + s[n/2]) / 2 (n even; summed from +0.0 as numpy's mean does, so -0.0 reads 0.0); the percentile p
+(linear method, Hyndman and Fan's definition 7) is at the virtual index v = (n - 1) p / 100, between s[i] and
+s[i + 1] with i = floor(v), g = v - i: s[i] + (s[i + 1] - s[i]) g, or s[i + 1] - (s[i + 1] - s[i]) (1 - g)
 when g >= 0.5 (numpy's order of operations, kept for the same bits).
 
 References

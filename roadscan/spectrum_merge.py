@@ -24,16 +24,16 @@ slope error cancels to first order). With ``start_per_m`` given (combine: 8 x 2 
 largest field), a first row sitting above it whose rings reach it sits at it: the curve starts
 there, not up to 0.6 decade above where its bands do. Uncertainty: a periodogram value of a
 Gaussian surface is C times an exponential variable (2 degrees of freedom per independent
-mode, reduced by the window's equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k, so the 5-95 %
-band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
+mode, reduced by the window's equivalent noise bandwidth); the mean of k degrees of freedom is C chi2_k / k,
+so the 5-95 % band of the truth is [C k / chi2_k(0.95), C k / chi2_k(0.05)].
 Where several sources overlap, the weighted rms scatter s of their ln C_i about ln C_j is added
 in quadrature to each side (as 1.645 s), and so is ln(1 + b) times the share of the bin's
 lattice points lying within 0.15 decade of their source's band ends, b the bias the reliable
 band tolerates there (``SpectrumPart.edge_bias``: about 10 % for leakage, aliasing, resolution,
 25 % at a noise floor; :mod:`roadscan.reliable_band`), and so is the slope's standard error
-times the row's mean lever |ln(q_j / q_i)| (a row at its lowest ring moves rings far). Bins inside the union of the bands that no source
-covers are *gaps* (a bin inside some band that holds no ring, as 1D modes sparser than the
-grid at low q, gets no row): bridged (:mod:`roadscan.spectrum_gaps`) by the power law fitted
+times the row's mean lever |ln(q_j / q_i)| (a row at its lowest ring moves rings far). Bins inside the union
+of the bands that no source covers are *gaps* (a bin inside some band that holds no ring, as 1D modes sparser
+than the grid at low q, gets no row): bridged (:mod:`roadscan.spectrum_gaps`) by the power law fitted
 (inverse-variance weights) to the covered rows within 0.5 decade on either side, flagged
 ``n_sources = 0`` and listed.
 

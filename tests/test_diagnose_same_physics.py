@@ -101,17 +101,55 @@ def test_q1_stated_on_the_command_line_is_given_unless_uncertain_names_it(tmp_pa
     assert d["inputs"]["uncertain"]["q1"]["source"] == "given"
 
 
-@pytest.mark.parametrize("dT", [-12.0, 10.0])
-def test_the_two_regimes_agree_at_their_switch(dT):
-    """19 speeds (Bayesian evidence) and 20 speeds (held-out third) of the same world over the
-    same span name the same effect."""
-    rng = np.random.default_rng(int(abs(dT)))
-    names = []
+#: every friction-level effect kind with a value that moves mu well beyond 2 % noise (the
+#: world is made by the effect's own model: the test is about the two regimes, not the model)
+WORLDS = {
+    "temperature_offset": {"dT_C": -12.0},
+    "relaxation_spectrum": {"width_decades": 1.2},
+    "fine_roughness": {"q1_factor": 5.0},
+    "contact_correction": {"contact_gamma": 0.2},
+    "load": {"sigma0_scale": 4.0},
+    "adhesion": {"amplitude": 0.3, "v_c_m_per_s": 1e-3, "exponent": 1.5, "rise_decades": 20.0},
+    "flash_temperature": {"zeta_m": 3.0, "heat_scale": 2.0},
+    "water": {"fill_fraction": 0.6},
+}
+#: cheap rivals fitted besides the world's own effect
+RIVALS = ("temperature_offset", "contact_correction", "load")
+
+
+def _scan():
+    from roadscan.synth import self_affine_surface
+
+    hm = self_affine_surface(128, 128, dx_m=6e-5, hurst=0.8, rms_height_m=3e-4,
+                             q_roll_per_m=4 * 2 * np.pi / (128 * 6e-5), seed=36)
+    from pipelines.diagnosis.inputs import surface_from_scan
+
+    return surface_from_scan(hm)
+
+
+@pytest.mark.parametrize("kind", sorted(WORLDS))
+def test_the_two_regimes_agree_at_their_switch(kind):
+    """19 speeds (Bayesian evidence) and 20 speeds (held-out third, checked by the evidence over
+    every point) of the same world over the same span name the same explanation, for every
+    friction-level effect kind; where the 20-speed verdict names the world's effect, so does the
+    19-speed one."""
+    rng = np.random.default_rng(sorted(WORLDS).index(kind) + 36)
+    surf = _scan() if kind == "water" else None
+    calls = []
     for n in (19, 20):
         v = np.logspace(-5, 0, n)
-        ctx = _ctx(v)
-        mu = simulate(ctx.base.with_(T0_shift_C=dT), ctx) * np.exp(0.02 * rng.standard_normal(n))
-        effs = [get(k) for k in ("temperature_offset", "contact_correction", "load")]
+        curve = MeasuredCurve(v, np.ones(n), np.full(n, np.nan), np.full(n, 2e5), np.zeros(n, bool), False, "t")
+        if surf is None:
+            ctx = build_context(curve, PSD)
+        else:
+            psd, filled, spec, fit = surf
+            ctx = build_context(curve, psd, scan=filled, spectrum=spec, fit=fit)
+        e = get(kind)
+        if e.prepare is not None:
+            assert e.prepare(ctx) is None
+        mu = simulate(e.modify(ctx.base, WORLDS[kind], ctx), ctx) * np.exp(0.02 * rng.standard_normal(n))
+        effs = [get(k) for k in dict.fromkeys((kind,) + RIVALS)]
         d = diagnose_friction(ctx, mu, noise=0.0087, effects=effs, default_q1=False)
-        names.append(d.verdict["effect"])
-    assert names[0] == names[1] == "temperature_offset"
+        ver = d.verdict
+        calls.append(ver["effect"] or ("inconclusive" if ver["inconclusive"] else None))
+    assert calls[0] == calls[1] or (calls[1] != kind and calls[0] in (None, "inconclusive")), calls

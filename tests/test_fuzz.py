@@ -286,7 +286,7 @@ def test_friction_flags(base, goods, data, kw):
         run_cli("friction", argv, d, watch=[goods])
 
 
-# ------------------------------------------------------------------------------ rain-fill, dry-vs-wet, compare
+# ------------------------------------------------------------------------- rain-fill, dry-vs-wet, compare
 WATER = {"connectivity": F(["4", "8"], ["6", "0"], 3),
          "max_depth": F(["1e-4", "1e-3"], ["0", "-1e-4"], 4),
          "water_film": F(["1e-5", "1e-4"], ["0", "1e3"], 5)}
@@ -427,7 +427,7 @@ def test_convert(base, data, spec, kw):
         run_cli("convert", ["convert", p, d / out, *_flags(**kw)], d, desc=repr(spec))
 
 
-# ------------------------------------------------------------------------------ outputs, subprocesses, figures
+# ------------------------------------------------------------------------- outputs, subprocesses, figures
 @given(data=st.data())
 @fuzz_settings(12)
 def test_out_targets(base, goods, data):

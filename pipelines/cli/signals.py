@@ -128,8 +128,8 @@ def signals_as_interrupt(restore=True):
     SIGINT raises KeyboardInterrupt (whatever handler a library installed before). A signal the
     parent set to be ignored stays ignored (``nohup`` ignores SIGHUP). Outside the main thread
     this does nothing (Python allows handlers only there). With ``restore`` the handlers, the
-    logging switch, ``sys.unraisablehook`` and ``threading.excepthook`` are as before after the block (a program calling
-    ``main()``); the command line passes False (the process ends with the block).
+    logging switch, ``sys.unraisablehook`` and ``threading.excepthook`` are as before after the block (a
+    program calling ``main()``); the command line passes False (the process ends with the block).
 
     Parameters
     ----------

@@ -4,8 +4,8 @@ Gap: the rms over points of ``r_i = log10(real_i / sim_i)`` (decimal logarithm, 
 0.0212 is about 5 % multiplicative). Noise: the rms of log10 of the multiplicative measurement
 noise, either given or estimated from the data alone (never from the simulation) as the residual
 rms of a smoothing spline of log10 mu against log10 v whose smoothing is chosen by generalised
-cross-validation (modified, gamma = 1.4), divided by the residual degrees of freedom ``n - tr(S)`` (Wahba 1990,
-*Spline models for observational data*, ch. 4). Significance: under "model right, noise only"
+cross-validation (modified, gamma = 1.4), divided by the residual degrees of freedom ``n - tr(S)``
+(Wahba 1990, *Spline models for observational data*, ch. 4). Significance: under "model right, noise only"
 ``n gap^2 / noise^2`` is chi-square with n degrees of freedom.
 """
 from __future__ import annotations

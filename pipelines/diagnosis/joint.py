@@ -13,8 +13,8 @@ grid; one sigma0 for every row), with Gauss-Newton 95 % intervals (as
 :func:`calibration.intervals`): ``joint.calibrated``. Each row is then diagnosed on its own
 (:func:`run.diagnose_curve`) within the same ranges (not the joint interval: a local interval can
 exclude the truth where the shared inputs trade off against one another, and a row forced
-outside it would blame an effect); an ``--uncertain`` temperature range applies to every row. ``joint.effects``: every
-effect named in some row, with the rows naming it and whether it holds in every row.
+outside it would blame an effect); an ``--uncertain`` temperature range applies to every row.
+``joint.effects``: every effect named in some row, with the rows naming it and whether it holds in every row.
 """
 from __future__ import annotations
 

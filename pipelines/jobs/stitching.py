@@ -70,7 +70,8 @@ def _refuse_overwrite(args, out):
 
 
 def overlaps_csv(result):
-    """The overlaps table of a stitch (one row per registered pair, its offset and residual mismatch) as CSV text.
+    """The overlaps table of a stitch as CSV text: one row per registered pair, its offset and
+    residual mismatch.
 
     Parameters
     ----------

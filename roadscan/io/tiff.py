@@ -2,16 +2,16 @@
 
 Reading: one image, rows along y, columns along x, NaN where unmeasured; multi-page,
 multi-sample (RGB) and palette-colour TIFFs are refused unless ``channel`` chooses a page,
-sample or the palette indices (:mod:`roadscan.io.tiff_pages`). Heights are metres unless ``units`` says otherwise
-(integer images are converted with the same factor). The spacing comes, in this order, from
+sample or the palette indices (:mod:`roadscan.io.tiff_pages`). Heights are metres unless ``units`` says
+otherwise (integer images are converted with the same factor). The spacing comes, in this order, from
 ``spacing=``; from the JSON description roadscan writes (``dx_m``, ``dy_m``, ``units``); from a
 GeoTIFF ModelPixelScaleTag (assumed metres: a projected CRS); from the resolution tags when they
 carry real units (centimetre, or inch with a value other than the screen/print defaults 72, 96,
 150, 300 and 600 dpi, which image programs write without meaning it). Otherwise ``spacing`` is
 required.
 
-Writing: float64 (or float32 on request, ``write(path, hmap, dtype="float32")``); metres, NaN unmeasured, resolution
-tags in pixels per centimetre and a JSON description with ``dx_m``, ``dy_m``.
+Writing: float64 (or float32 on request, ``write(path, hmap, dtype="float32")``); metres, NaN unmeasured,
+resolution tags in pixels per centimetre and a JSON description with ``dx_m``, ``dy_m``.
 
 A Park Systems TIFF (private tag 50432, its magic) keeps its heights in a private tag while the
 image is a coloured preview: it is handed to SurfaceTopography's Park Systems reader

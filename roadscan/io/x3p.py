@@ -5,8 +5,8 @@ information). Surfaces on an incremental (regular) grid become a :class:`HeightM
 y, columns along x, as in x3pio); regular profiles a :class:`Profile`. The first layer is read;
 irregular grids and point clouds are refused. ``units`` is ignored (the file is in metres).
 
-Writing stores float64 heights by default (z_scale 1, so no quantisation; float32 on request): a write-then-read gives the same
-heights, spacings and unmeasured points bit for bit.
+Writing stores float64 heights by default (z_scale 1, so no quantisation; float32 on request): a
+write-then-read gives the same heights, spacings and unmeasured points bit for bit.
 """
 from __future__ import annotations
 

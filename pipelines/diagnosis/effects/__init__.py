@@ -15,8 +15,8 @@ may instead give ``apply_fn(context, params) -> mu`` directly. Surface-level eff
 ``spec_rings``, the ring-level log10 spectrum) to the twin's prediction, the effect returns the
 modified prediction (see :mod:`pipelines.diagnosis.surface.level`), so that effects compose in pairs.
 ``null(context) -> params`` gives the parameters at which the effect is no effect (every effect
-has one within its bounds: fits start there and keep it unless the training data improve). ``cost`` > 1 marks expensive effects (the
-search spends fewer evaluations on them).
+has one within its bounds: fits start there and keep it unless the training data improve). ``cost`` > 1 marks
+expensive effects (the search spends fewer evaluations on them).
 
 Physical plausibility: the bounds of a parameter are where the fit may go; ``plausible(context,
 params, real_mu) -> [(name, why), ...]`` names the fitted parameters outside the range where

@@ -8,8 +8,8 @@ heat source (``friction.mu_flash(heat_scale=...)``): the temperature rise scales
 frictional heat over the rubber's heat capacity and conductivity, which a measurement's rubber
 need not share with the model's defaults. heat_scale -> 1e-3 is no effect (a temperature rise a
 thousand times smaller: the isothermal model within 1e-3), so the fit can always fall back on
-the baseline. Physical: heat_scale within a factor 3 of 1 (``plausible``). The effect is expensive (about 0.02-0.3 s per curve), so the search spends few
-evaluations on it.
+the baseline. Physical: heat_scale within a factor 3 of 1 (``plausible``). The effect is expensive (about
+0.02-0.3 s per curve), so the search spends few evaluations on it.
 """
 from pipelines.diagnosis.effects import Effect, Param, register
 

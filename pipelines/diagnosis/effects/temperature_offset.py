@@ -1,8 +1,8 @@
 """``temperature_offset``: the rubber's background temperature T0 differs from the assumed one.
 
 Every row's T0 is shifted by ``dT_C`` [K]; through the WLF shift (docs: Theory,
-E(w, T) = E_ref(w aT(T)/aT(T_ref))) this moves mu(v) along the speed axis. Physical: T0 + dT inside the rubber's shift table (when it
-has one; outside it the master curve is extrapolated).
+E(w, T) = E_ref(w aT(T)/aT(T_ref))) this moves mu(v) along the speed axis. Physical: T0 + dT inside the
+rubber's shift table (when it has one; outside it the master curve is extrapolated).
 """
 import numpy as np
 

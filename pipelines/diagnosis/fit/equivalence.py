@@ -2,9 +2,9 @@
 what an uncertain input does beyond its range is that input's calibration, not a finding.
 
 The test: the calibration alone, with every uncertain input's range continued beyond its ends
-by half its width (:func:`extended_ranges`), is fitted on the same rows, started from the effect fit's own calibrated inputs. When its
-best fit reproduces the effect's fit to within the noise (its log-likelihood, Student-t as in
-:mod:`.evidence`, lower by at most ``EQUIV_NATS``), the two explanations cannot be told apart
+by half its width (:func:`extended_ranges`), is fitted on the same rows, started from the effect fit's own
+calibrated inputs. When its best fit reproduces the effect's fit to within the noise (its log-likelihood,
+Student-t as in :mod:`.evidence`, lower by at most ``EQUIV_NATS``), the two explanations cannot be told apart
 from these data: fine roughness beyond q1 and a larger q1, a load and a wrong sigma0, a
 temperature offset and a shift of the master curve are the same curve.
 """

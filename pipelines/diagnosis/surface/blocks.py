@@ -5,11 +5,11 @@ profile); each block, after removing its own mean plane (line), gives one value 
 five descriptor families:
 
 ``spectrum``
-    the shape of the spectrum: log10 of the ring-averaged 2D PSD (Persson's normalisation, Tukey window alpha = 0.25,
-    :func:`roadscan.spectrum.psd_2d`) in log-spaced rings (``RINGS_PER_DECADE``) from
+    the shape of the spectrum: log10 of the ring-averaged 2D PSD (Persson's normalisation, Tukey window
+    alpha = 0.25, :func:`roadscan.spectrum.psd_2d`) in log-spaced rings (``RINGS_PER_DECADE``) from
     2 pi / L_block to the Nyquist wave vector, *excluding the two lattice axes* (qx = 0 or
-    qy = 0, where seams put their power, :func:`near_axes`); averaged into bands of ``RINGS_PER_BAND`` rings, minus
-    the mean over the bands (a block's overall level is no diagnostic: the shape is).
+    qy = 0, where seams put their power, :func:`near_axes`); averaged into bands of ``RINGS_PER_BAND`` rings,
+    minus the mean over the bands (a block's overall level is no diagnostic: the shape is).
     Profiles: log10 of the 1D PSD C1 of the section in the same rings.
 ``height``
     the L-skewness tau3 and L-kurtosis tau4 of the block's heights (Hosking 1990, J. R. Stat.
@@ -194,7 +194,8 @@ def near_axes(KX, KY):
 def geometry(obj, n_blocks=None, rain=True):
     """Block layout of a levelled HeightMap or Profile.
 
-    Areas: ``nb x nb`` equal tiles, nb = 2 below 600 points a side, else 3. Profiles: sections of at least 256 points, 4 to 8 of them.
+    Areas: ``nb x nb`` equal tiles, nb = 2 below 600 points a side, else 3. Profiles: sections of at least 256
+    points, 4 to 8 of them.
 
     Parameters
     ----------

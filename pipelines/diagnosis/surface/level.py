@@ -7,9 +7,9 @@ pure power law C(q) = C(q0) (q/q0)^(-2(H+1)) of the scan's self-affine fit, isot
 The scan and ``N_TWINS`` twins are split into the same blocks (:mod:`.blocks`: tiles of an area,
 sections of a profile) and every block gives five descriptor families: spectrum bands,
 height distribution (L-skewness, L-kurtosis, curvature L-skewness), anisotropy components,
-straight line discontinuities (seams) and rain-fill response (areas only for the last three). The twin's prediction of an entry is
-its mean over the twins' blocks; its per-block noise sigma^2 = var_twin x max(1, lambda_f) x
-(1 + 1 / n_twin_blocks), var_twin the variance over the twins' blocks (the null hypothesis's own
+straight line discontinuities (seams) and rain-fill response (areas only for the last three). The twin's
+prediction of an entry is its mean over the twins' blocks; its per-block noise sigma^2 = var_twin x max(1,
+lambda_f) x (1 + 1 / n_twin_blocks), var_twin the variance over the twins' blocks (the null hypothesis's own
 scatter) and lambda_f the family's median ratio of the measured blocks' variance to it (the
 measured scatter, when larger, widens the noise of the whole family). Each family so has its own
 noise and, in noise units, one family's gap counts as much as another's.

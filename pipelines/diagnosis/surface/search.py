@@ -16,9 +16,10 @@ over folds; ``shrink_raw`` = 1 - G_after / G_before on the total gaps.
 
 Verdict. "No effect" when no family's baseline gap is significant (chi-square over its
 held-out z, p < 1e-3, and g_f > 1.5) or no candidate shrinks the systematic gap by
-``MIN_SHRINK``. Every pair of single effects is fitted (started from the two single fits). A pair replaces the best single when the single leaves a significant family
-and the pair's score is lower by ``PAIR_GAIN`` and its shrink higher by ``PAIR_MIN_GAIN``. "Inconclusive" (no effect named, the competitors
-listed) when another single explains the gap as well within the fold-to-fold scatter.
+``MIN_SHRINK``. Every pair of single effects is fitted (started from the two single fits). A pair replaces the
+best single when the single leaves a significant family and the pair's score is lower by ``PAIR_GAIN`` and its
+shrink higher by ``PAIR_MIN_GAIN``. "Inconclusive" (no effect named, the competitors listed) when another
+single explains the gap as well within the fold-to-fold scatter.
 """
 from __future__ import annotations
 

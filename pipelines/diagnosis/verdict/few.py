@@ -11,8 +11,8 @@ Verdict, once the baseline gap is significant against the noise (as :mod:`.verdi
 - an effect is named when its posterior probability is at least ``P_NAME`` (0.9) and its fit is
   physical and not equivalent to the uncertain inputs continued beyond their ranges
   (:mod:`.equivalence`; else the verdict is inconclusive naming the effect and
-  ``"calibration"``, unless those inputs are the effect's own physics, :mod:`.same_physics`). Confidence: high at posterior >= 0.99, medium at >= 0.95, else low; low
-  whenever a parameter sits on a bound of its range.
+  ``"calibration"``, unless those inputs are the effect's own physics, :mod:`.same_physics`). Confidence: high
+  at posterior >= 0.99, medium at >= 0.95, else low; low whenever a parameter sits on a bound of its range.
 - ``"calibration"`` when the baseline is the most probable explanation, no effect's Bayes factor
   against it reaches 3, and the calibration shrinks the gap over all points by ``MIN_SHRINK``
   (confidence high at posterior >= 0.9, medium at >= 0.5, else low; low on a bound).
@@ -60,9 +60,10 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
 
     ``cal``: the calibration alone (None without uncertain inputs); ``cands``: the effects fitted
     on every point (with the calibration when there is one); ``st``: dict(g_all, noise, n,
-    significant, p, s, nu) (s, nu: the likelihood's noise scale and degrees of freedom); ``equiv(c)``: :func:`equivalence.equivalence` bound to the ranges (None
-    without uncertain inputs); ``intervals(c)``: calibrated inputs with intervals.
-    ``explanations``: the explanations ranked by posterior, dicts(name, candidate, H, posterior).
+    significant, p, s, nu) (s, nu: the likelihood's noise scale and degrees of freedom); ``equiv(c)``:
+    :func:`equivalence.equivalence` bound to the ranges (None without uncertain inputs); ``intervals(c)``:
+    calibrated inputs with intervals. ``explanations``: the explanations ranked by posterior, dicts(name,
+    candidate, H, posterior).
 
     Parameters
     ----------

@@ -10,8 +10,10 @@ with more free parameters than half its training points is not fitted (listed un
 ``load`` with sigma0, ``temperature_offset`` with the temperature) are skipped too, except
 ``fine_roughness`` beyond a default q1 range (its factor multiplies the calibrated q1). The verdict
 is :func:`verdict.decide`, then re-checked for equivalence with the uncertain inputs continued
-beyond their ranges (:mod:`.equivalence`). Below 20 points the candidates are fitted on every
-point and compared by their evidence instead (:mod:`.search_few`, :mod:`.verdict_few`).
+beyond their ranges (:mod:`.equivalence`), after the evidence over every point has checked it
+(:mod:`.evidence_check`: a name the all-point evidence strongly contradicts is withdrawn). Below
+20 points the candidates are fitted on every point and compared by their evidence instead
+(:mod:`.search_few`, :mod:`.verdict_few`).
 """
 from __future__ import annotations
 
@@ -379,6 +381,11 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     icals = lambda c: intervals(c, ctx, real_mu, ho.train, noise)  # noqa: E731
     equiv = (lambda c, rows=None: equivalence(ctx, real_mu, c, ranges, free, noise, rows=rows)) if free else None
     verdict, best = decide(singles, pair_list, cal, calpairs, st, intervals=icals)
+    if best is not None and verdict.get("effect") not in (None, "calibration"):
+        from pipelines.diagnosis.verdict.evidence_check import check_named
+
+        pool = calpairs if "calibration" in best.effects[0].name else singles + pair_list
+        best = check_named(verdict, best, pool, n, noise)
     best = _one_explanation(verdict, best, equiv, ho.train)
     expl = None
     if best is not None and cal_e is not None and any(ranges[k].source == "given" for k in free) \
@@ -391,7 +398,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         verdict["equivalent_input"] = equivalent_input(ctx, best)
     if "evidence" not in verdict:
         verdict["evidence"] = heldout_evidence(ho, g_ho, ranked, best)
-    for key in ("equivalence", "bayes"):
+    for key in ("equivalence", "bayes", "all_points"):
         if key in verdict:
             verdict["evidence"][key] = verdict.pop(key)
     nxt = None

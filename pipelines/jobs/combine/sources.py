@@ -3,8 +3,8 @@ band; the scan itself is dropped before the next one is read (memory bounded by 
 single input).
 
 Areas: levelled (plane), unmeasured points filled (biharmonic), Tukey-windowed (alpha 0.5, see
-:data:`AREA_WINDOW_ALPHA`) angular average :func:`roadscan.spectrum.psd_area` on rings aligned with the common grid
-(:func:`roadscan.spectrum_merge.aligned_range`). Profiles: the road section
+:data:`AREA_WINDOW_ALPHA`) angular average :func:`roadscan.spectrum.psd_area` on rings aligned with the common
+grid (:func:`roadscan.spectrum_merge.aligned_range`). Profiles: the road section
 (:func:`roadscan.trim.road_section`), levelled (line) and filled, the 1D spectrum (alpha 0.25)
 :func:`roadscan.spectrum.psd_profile` binned on the same grid and turned into the isotropic 2D
 estimate C(q) = C1(q) / q Gamma(1 + H) / (sqrt(pi) Gamma(H + 1/2)) (the H psd_profile fitted).
@@ -14,8 +14,8 @@ q^-1), that level is taken off C (white noise adds a constant to the periodogram
 finds none, a white level fitted under the top (:func:`_white_level`) is taken off when
 significant. With a lateral resolution r (given, or from the file), C is then
 divided by the Gaussian response T(q)^2 = exp(-2 ln 2 (q r / 2 pi)^2) inside the band, where
-T^2 >= 0.64 (``RESPONSE_MIN`` squared): the merged curve is not pulled down at each band's top (Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001
-(2017)).
+T^2 >= 0.64 (``RESPONSE_MIN`` squared): the merged curve is not pulled down at each band's top (Jacobs, Junge,
+Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017)).
 """
 from __future__ import annotations
 
