@@ -162,6 +162,9 @@ def _lift_text(r):
     if not lift:
         return "—"
     s, x = max(lift.items(), key=lambda kv: kv[1])
+    if x <= 0:
+        return ("none: no film stands above the texture at the footprint's front (the texture holds "
+                f"or drains the water){tail}")
     return f"at most {sig3(100 * x)} % of the load (at v = {s} m/s){tail}"
 
 
@@ -216,8 +219,9 @@ def write_dry_wet_report(out_dir, r, figs):
     wm = r.get("wet_model") or {}
     persson = wm.get("name") == "persson"
     key = {
-        "wet model": ("persson: the pools the contact seals, the squeeze-out film, the adhesion water "
-                      "removes (Persson et al. 2005; Lorenz & Persson 2010)" if persson
+        "wet model": ("persson: the pools the contact seals, the squeeze-out film and the water's inertia "
+                      "at its front, the adhesion water removes (Persson et al. 2005; Lorenz & Persson "
+                      "2010; Horne & Dreher 1963)" if persson
                       else "fill: every basin filled, the rubber on the filled surface (the thesis)"),
         "rms height dry / wet (rain-filled)": (f"{length(r['rms_height_dry_m'])} / "
                                                f"{length(r['rms_height_wet_m'])}"),
