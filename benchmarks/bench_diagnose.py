@@ -28,7 +28,8 @@ from pipelines.diagnosis.verdict.search import diagnose_friction
 def main(n_effect=48, n_null=20, seed0=1000):
     t0 = time.perf_counter()
     cases, rejected = draw_cases(n_effect, n_null, seed0=seed0, log=print)
-    print(f"drew {len(cases)} cases ({rejected} rejected as not identifiable) in {time.perf_counter() - t0:.0f} s")
+    print(f"drew {len(cases)} cases ({rejected} rejected as not "
+          f"identifiable) in {time.perf_counter() - t0:.0f} s")
     hits, shrinks, fps, nulls, times, engine = 0, [], 0, 0, [], []
     per_effect = {}
     for c in cases:
@@ -42,7 +43,8 @@ def main(n_effect=48, n_null=20, seed0=1000):
         if c.effect is None:
             nulls += 1
             fps += got not in (None, "calibration")   # calibration names no effect (issue 19)
-            print(f"seed {c.seed:5d} null  -> {got}  gap {d.baseline_gap:.4f} noise {d.noise:.4f} ({d.seconds:.1f} s)")
+            print(f"seed {c.seed:5d} null  -> {got}  gap {d.baseline_gap:.4f} "
+                  f"noise {d.noise:.4f} ({d.seconds:.1f} s)")
             continue
         # fine roughness answered by calibrating q1 (uncertain by default where mu is carried by
         # the cut-off) is right (issue 19)
@@ -54,7 +56,8 @@ def main(n_effect=48, n_null=20, seed0=1000):
             shrinks.append(d.verdict["shrink"])
         else:
             shrinks.append(0.0)
-        print(f"seed {c.seed:5d} {c.effect:20s} -> {got!s:40s} shrink {d.verdict['shrink'] if d.verdict['shrink'] is None else round(d.verdict['shrink'], 3)}"
+        print(f"seed {c.seed:5d} {c.effect:20s} -> {got!s:40s} shrink "
+              f"{d.verdict['shrink'] if d.verdict['shrink'] is None else round(d.verdict['shrink'], 3)}"
               f"  ({d.seconds:.1f} s)")
     n_eff = len(cases) - nulls
     print("\nper effect:", {k: f"{sum(v)}/{len(v)}" for k, v in per_effect.items()})

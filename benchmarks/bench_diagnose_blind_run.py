@@ -130,13 +130,17 @@ def summary_tables(surf, fric):
         nul = [r for r in surf if r["kind"] == "null"]
         ok = sum(r.get("right", False) for r in eff)
         sh = [r["shrink"] for r in eff if r.get("right") and r.get("shrink") is not None]
-        out.append(f"  effect cases named right {ok}/{len(eff)} = {100 * ok / max(1, len(eff)):.0f} % (target >= 80 %, "
+        out.append(f"  effect cases named right {ok}/{len(eff)} = "
+                   f"{100 * ok / max(1, len(eff)):.0f} "
+                   "% (target >= 80 %, "
                    f">= 3/5 per kind); false positives {sum(not r.get('right', False) for r in nul)}/{len(nul)} "
-                   f"(<= 10 %); median held-out shrink of right verdicts {np.median(sh) if sh else float('nan'):.2f} "
+                   "(<= 10 %); median held-out shrink of right verdicts "
+                   f"{np.median(sh) if sh else float('nan'):.2f} "
                    f"(>= 0.5); median time per diagnosis {np.median([r['seconds'] for r in surf]):.1f} s")
     if fric:
         seeds = sorted({r["seed_set"] for r in fric})
-        out.append("\n== friction level, all seed sets (counted: signal > 3 x noise, no own alternative within 1.5 x) ==")
+        out.append("\n== friction level, all seed sets (counted: signal "
+                   "> 3 x noise, no own alternative within 1.5 x) ==")
         for s in seeds + [None]:
             sel = [r for r in fric if s is None or r["seed_set"] == s]
             eff = [r for r in sel if r["effect"] != "null" and r["strong"] and r["unambiguous"]]
@@ -145,7 +149,8 @@ def summary_tables(surf, fric):
             sh = [r["shrink"] for r in eff if r["strict"] and r["shrink"] is not None]
             allc = [r for r in sel if r["effect"] != "null"]
             out.append(f"  {'all' if s is None else 'seed ' + str(s):10s} counted {ok}/{len(eff)} = "
-                       f"{100 * ok / max(1, len(eff)):.1f} % (unfiltered {sum(r['strict'] for r in allc)}/{len(allc)}); "
+                       f"{100 * ok / max(1, len(eff)):.1f} % "
+                       f"(unfiltered {sum(r['strict'] for r in allc)}/{len(allc)}); "
                        f"false positives {sum(named(r['called']) for r in nul)}/{len(nul)}; median shrink "
                        f"{np.median(sh) if sh else float('nan'):.3f}")
         per = collections.defaultdict(lambda: [0, 0])

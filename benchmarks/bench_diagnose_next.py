@@ -107,16 +107,19 @@ def main(argv=None):
     shutil.rmtree(root, ignore_errors=True)
     with_next = [r for r in rows if r.get("between")]
     for r in with_next:
-        print(f"  seed {r['seed']} {r['effect']:20s} n={r['n']:2d} {r['between'][0]} vs {r['between'][1]}: expected "
+        print(f"  seed {r['seed']} {r['effect']:20s} n={r['n']:2d} "
+              f"{r['between'][0]} vs {r['between'][1]}: expected "
               + ", ".join(f"{x:.2g}" for x in r["expected_sigma"]) + f" sigma, {r['new_points']} new points; separated before "
               f"{r['separated_before']}, proposed {r['separated_proposed']}, random {r['separated_random']}")
     sp = sum(bool(r["separated_proposed"]) for r in with_next)
     sr = sum(bool(r["separated_random"]) for r in with_next)
     print(f"\n{len(with_next)} of {len(rows)} worlds carry next_measurement; measuring at the proposed speeds "
-          f"separates the top two (odds >= {ODDS:g}) in {sp}/{len(with_next)}, the same number of random speeds "
+          f"separates the top two (odds >= {ODDS:g}) in "
+          f"{sp}/{len(with_next)}, the same number of random speeds "
           f"in {sr}/{len(with_next)}")
     open_ = [r for r in with_next if not r["separated_before"]]
-    print(f"of them {len(open_)} not yet separated before the new points: separated after measuring as proposed "
+    print(f"of them {len(open_)} not yet separated before the "
+          "new points: separated after measuring as proposed "
           f"{sum(bool(r['separated_proposed']) for r in open_)}/{len(open_)}, at random speeds "
           f"{sum(bool(r['separated_random']) for r in open_)}/{len(open_)}")
     print(f"total wall time {time.perf_counter() - t0:.0f} s ({a.jobs} jobs)")

@@ -748,9 +748,11 @@ def rubber_toml_files(draw):
             if draw(st.integers(0, 5)):
                 lines.append(f"{k} = {_toml_value(draw, typ)}")
     elif model == "prony":
+        moduli = ["[3.0e7, 2.0e8, 5.0e8]"] * 3 + ["[]", "[1e7]", "[-1e7, 1e8, 1e9]", "[nan, 1, 2]"]
+        times = ["[1e-2, 1e-5, 1e-8]"] * 3 + ["[1e-2]", "[0, 1, 2]", "[inf, 1, 2]"]
         lines += ["[prony]", f"E_inf_Pa = {_toml_value(draw, ['1.0e6'])}",
-                  f"E_i_Pa = {draw(st.sampled_from(['[3.0e7, 2.0e8, 5.0e8]'] * 3 + ['[]', '[1e7]', '[-1e7, 1e8, 1e9]', '[nan, 1, 2]']))}",
-                  f"tau_i_s = {draw(st.sampled_from(['[1e-2, 1e-5, 1e-8]'] * 3 + ['[1e-2]', '[0, 1, 2]', '[inf, 1, 2]']))}"]
+                  f"E_i_Pa = {draw(st.sampled_from(moduli))}",
+                  f"tau_i_s = {draw(st.sampled_from(times))}"]
     else:
         lines += ["[master_curve]", f'file = "{draw(st.sampled_from(["master.csv", "missing.csv", "../master.csv", ""]))}"']
     shift = draw(st.sampled_from(["absent", "wlf", "wlf", "none", "table", "odd"]))

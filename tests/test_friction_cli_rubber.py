@@ -38,7 +38,8 @@ def rubber_files(tmp_path_factory):
     sh = _table(RUBBERS / "freq_user_master__shift_factors.csv", skip_units=True)
     (d / "aT.csv").write_text("T_C,aT\n" + "".join(f"{t:g},{10 ** a:.10e}\n" for t, a in sh))
     (d / "rubber.toml").write_text(
-        f'model = "master_curve"\nT_ref_C = -5.0\n[master_curve]\nfile = "{RUBBERS / "freq_user_master.csv"}"\n'
+        'model = "master_curve"\nT_ref_C = -5.0\n[master_curve]\nfile '
+        f'= "{RUBBERS / "freq_user_master.csv"}"\n'
         '[shift]\nkind = "table"\nfile = "aT.csv"\n')
     return d
 

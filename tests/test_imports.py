@@ -102,7 +102,8 @@ def test_every_listed_command_is_checked():
 def test_reports_and_friction_engine_load_matplotlib_only_to_draw(tmp_path):
     # the analysis modules and a friction run pull in no plotting (figures import it on demand),
     # and the engine's phi table needs no scipy.interpolate (0.1 s of every run)
-    code = ("import numpy as np\nimport pipelines.output.report, pipelines.jobs.analyse.call, pipelines.jobs.compare, "
+    code = ("import numpy as np\nimport pipelines.output.report, "
+            "pipelines.jobs.analyse.call, pipelines.jobs.compare, "
             "pipelines.jobs.dry_vs_wet\nimport friction\n"
             "psd = friction.SelfAffinePSD(hurst=0.8, h0_m=5e-4, q0_per_m=2e3, q1_per_m=2e5)\n"
             "friction.mu_isothermal(psd, friction.thesis_rubber(), np.logspace(-6, 2, 9))\n")

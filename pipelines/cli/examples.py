@@ -22,7 +22,8 @@ EXAMPLES = {
         "roadscan analyse sample_scans/captif_station_1_excerpt.dat --mpd-spike-alpha 6 --out out/captif",
     ],
     "batch": [
-        "roadscan batch sample_scans/asphalt.x3p sample_scans/coarse_asphalt.x3p --out out/campaign --workers 2",
+        "roadscan batch sample_scans/asphalt.x3p "
+        "sample_scans/coarse_asphalt.x3p --out out/campaign --workers 2",
         "roadscan batch '../shared/data/profiles/captif/*.dat' --mpd-spike-alpha 6 --section-length 0.25 "
         "--out out/sections",
     ],

@@ -273,6 +273,7 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
         uncertain={k: dict(range=[float(u.lo), float(u.hi)], source=u.source) for k, u in shared.items()},
         effects=[dict(name=n, rows=labels, all_rows=len(labels) == len(rows)) for n, labels in sorted(named.items())],
         noise=nz,
-        method=("shared inputs fitted on the training points of every row together (Gauss-Newton 95 % intervals); "
+        method=("shared inputs fitted on the training points of "
+                "every row together (Gauss-Newton 95 % intervals); "
                 "each row then diagnosed with them uncertain within the same ranges"))
     return joint, results

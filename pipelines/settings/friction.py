@@ -274,7 +274,8 @@ def apply_band(psd, q0, q1, log=None):
         from pipelines.output.units import quantity
         info["note"] = (f"q1 = {quantity('q1_per_m', info['q1_per_m'])} is above the spectrum's "
                         f"last point {quantity('q_per_m', info['q_table_max_per_m'])}: C(q) extended "
-                        f"{info['extended_decades']:.2f} decades by the fitted power law C ~ q^{info['tail_exponent']:.3f}")
+                        f"{info['extended_decades']:.2f} decades by the "
+                        f"fitted power law C ~ q^{info['tail_exponent']:.3f}")
         (log or _say)("note: " + info["note"])
     return out, info
 

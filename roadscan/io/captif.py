@@ -16,7 +16,8 @@ Layout (CAPTIF Road Research Centre, captif-slp project)::
   Missing grid nodes and ``NaN`` depths become unmeasured points.
 - Despite its name the "Depth" column is a height, positive up (the reference plates at the
   ends read about +47 mm); it is converted from mm to m with its sign kept.
-- The header fields are kept in ``meta["header"]``; the file says mm: a contradicting ``units`` follows :mod:`roadscan.io.calibration`.
+- The header fields are kept in ``meta["header"]``; the file says mm: a contradicting ``units``
+  follows :mod:`roadscan.io.calibration`.
 
 A ``.dat`` file without the ``*****DATA*****`` marker is handed to the vendor reader
 (SurfaceTopography: Zygo MetroPro ``.dat`` and its plain-text reader).

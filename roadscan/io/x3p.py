@@ -268,7 +268,8 @@ def x3p_metadata(meta, comment=None):
         kind = x3pio.ProbingType.CONTACTING
     else:
         kind = x3pio.ProbingType.SOFTWARE
-        ident = f"unknown probing system{': ' + ident if ident else ''} (from {inst.get('format', fmt) or 'a file'})"
+        ident = (f"unknown probing system{': ' + ident if ident else ''} "
+                 f"(from {inst.get('format', fmt) or 'a file'})")
     notes = [c for c in (inst.get("comment"), comment) if c]
     if not known:
         notes.append(_DATE_UNKNOWN)

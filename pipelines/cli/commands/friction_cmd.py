@@ -16,7 +16,8 @@ from pathlib import Path
 from pipelines.jobs.friction_call import add_friction_command_options
 
 NAME = "friction"
-HELP = "friction coefficient mu(v) and contact area A/A0 from a spectrum (psd.csv or self-affine model) and a rubber"
+HELP = ("friction coefficient mu(v) and contact area A/A0 from "
+        "a spectrum (psd.csv or self-affine model) and a rubber")
 
 
 def add_arguments(p):

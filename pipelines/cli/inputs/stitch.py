@@ -51,6 +51,7 @@ def run(args):
         flag = "" if o["registered"] else "  (not registered: nominal kept)"
         print(f"{Path(names[o['i']]).name:>24} {Path(names[o['j']]).name:>24} {o['n_points']:>8d} "
               f"{length(o['rms_mismatch_m']):>14} {o['shift_px'][0]:>7.2f},{o['shift_px'][1]:>7.2f}{flag}")
-    print(f"wrote {out}: {hm.ny} x {hm.nx} points at {length(hm.dx_m)} x {length(hm.dy_m)} from {len(res.meta['tile_names'])} tiles, "
+    print(f"wrote {out}: {hm.ny} x {hm.nx} points at {length(hm.dx_m)} x "
+          f"{length(hm.dy_m)} from {len(res.meta['tile_names'])} tiles, "
           f"{hm.measured_fraction:.1%} measured")
     return 0

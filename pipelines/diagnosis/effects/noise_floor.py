@@ -20,5 +20,6 @@ EFFECT = register(Effect(
     name="noise_floor", level="surface",
     params=(Param("floor_rel", 1e-4, 1e3, 1e-2, "log"), Param("q_c_rel", 0.05, 20.0, 10.0, "log")),
     apply_fn=_apply, null=lambda ctx: {"floor_rel": 1e-4, "q_c_rel": 20.0},
-    description="white floor C_n = floor_rel x C_twin(q_max) plus Gaussian smoothing cut-off q_c = q_c_rel x q_max",
+    description="white floor C_n = floor_rel x C_twin(q_max) plus "
+                "Gaussian smoothing cut-off q_c = q_c_rel x q_max",
 ))

@@ -336,13 +336,15 @@ def run_surface(obj, out_dir, log=None, seed=0):
                              "rings (the blocks lose the lowest wave vectors)"))
         if whole_h["significant"] and whole_h["shrink"] >= MIN_SHRINK_WHOLE:
             opts.append((fam_gap.get("height", 0.0), whole_h["shrink"], "height_skew", "whole-scan height law (curvature at lags 1 and 4 held out)",
-                         f"a height law of skewness {whole_h['skewness']:.2f} (fitted to the whole scan's L-skewness "
+                         f"a height law of skewness {whole_h['skewness']:.2f} "
+                         "(fitted to the whole scan's L-skewness "
                          f"of heights and curvature) closes {whole_h['shrink']:.0%} of the gap of the held-out "
                          "curvature lags (the height law shows unevenly from block to block)"))
         if whole_s is not None and whole_s["significant"] and whole_s["shrink"] >= MIN_SHRINK_WHOLE:
             opts.append((fam_gap.get("seams", 0.0), whole_s["shrink"], "seams", "whole-scan line scores (two-fold over halves along the lines)",
                          f"straight line discontinuities: the line-score excess of one half of the scan predicts "
-                         f"the other's and closes {whole_s['shrink']:.0%} of the gap (a seam crosses only some blocks)"))
+                         f"the other's and closes {whole_s['shrink']:.0%} "
+                         "of the gap (a seam crosses only some blocks)"))
         if opts:
             _, sh, name, ev, why = max(opts)
             verdict.update(effect=name, shrink=sh, shrink_interval=None, confidence="medium", evidence=ev,
