@@ -1,6 +1,6 @@
 """Gaps of a merged spectrum: grid bins inside the union of the inputs' reliable bands that no
-input measures, found, bridged and given the bands' own ends (:func:`roadscan.spectrum_merge.
-merge_spectra`).
+input measures, found, bridged and given the bands' own ends
+(:func:`roadscan.spectrum_merge.merge_spectra`).
 
 A gap is bridged in ln C against ln q from the covered rows within 0.5 decade on either side
 (inverse-variance weights from each row's 5-95 % band): by one power law, or, when the lower
