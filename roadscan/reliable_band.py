@@ -92,8 +92,8 @@ class ReliableBand:
     hi_reason: str
     limits: dict = field(default_factory=dict)
     slope: float = float("nan")        # fitted log-log slope of the spectrum analysed
-    q_roll_per_m: float = None
-    noise_floor: float = None          # white level of the spectrum analysed (its units)
+    q_roll_per_m: float | None = None
+    noise_floor: float | None = None          # white level of the spectrum analysed (its units)
 
     @property
     def band(self):

@@ -9,10 +9,8 @@ import os
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
-
-from roadscan.errors import InputError
-
 from pipelines.checks.run_warnings import note
+from roadscan.errors import InputError
 
 if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
     from numpy.typing import ArrayLike
@@ -199,7 +197,8 @@ def batch(
     if args.workers is not None and args.workers < 1:
         raise InputError(None, f"--workers {args.workers}: need at least 1")
     if args.workers is not None and args.scheduler:
-        raise InputError(None, "--workers and --scheduler exclude each other (the cluster has its own workers)")
+        raise InputError(None, "--workers and --scheduler exclude each other "
+                               "(the cluster has its own workers)")
     if args.section_length is not None and not args.section_length > 0:
         raise InputError(None, f"--section-length {args.section_length}: must be positive (metres)")
     out = Path(args.out)
