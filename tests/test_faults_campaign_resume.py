@@ -1,6 +1,7 @@
 """Fault suite, campaign family (issue 37): a ``roadscan batch`` stopped by SIGINT, SIGTERM or
 SIGHUP at any moment (while its Dask cluster starts, while scans run; the command alone or, as
-a terminal's Ctrl-C does, its whole process group) then ``--resume``: exit 0, the same
+a terminal's Ctrl-C or a closed terminal's SIGHUP does, its whole process group) then
+``--resume``: exit 0, the same
 ``campaign.csv`` values as an uninterrupted run, never a traceback, nothing hidden left.
 
 A campaign stopped before any scan finished leaves a ``campaign.csv`` listing every scan as
@@ -72,8 +73,11 @@ def test_resume_after_a_stop_before_any_scan_finished(scans, tmp_path, capsys, m
     assert hidden_leftovers(out) == []
 
 
+#: (signal, seconds after start, to the whole process group): SIGHUP to the group once the
+#: cluster is up killed multiprocessing's resource tracker, whose successor printed KeyError
+#: tracebacks while the cluster closed (6 of 6 runs at 2.0-3.0 s)
 CASES = [(signal.SIGINT, 0.8, True), (signal.SIGTERM, 1.5, False), (signal.SIGHUP, 2.5, False),
-         (signal.SIGINT, 3.0, True), (signal.SIGINT, 4.0, False)]
+         (signal.SIGHUP, 2.5, True), (signal.SIGINT, 3.0, True), (signal.SIGINT, 4.0, False)]
 
 
 @pytest.mark.parametrize("sig, delay, group", CASES,

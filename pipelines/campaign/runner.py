@@ -185,9 +185,32 @@ def _sigint_blocked():
     if threading.current_thread() is not threading.main_thread() or not hasattr(signal, "pthread_sigmask"):
         yield
         return
+    _start_resource_tracker()
     old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _start_resource_tracker():
+    """multiprocessing's resource tracker started now with SIGHUP blocked (the mask survives
+    its ``exec``; it ignores SIGINT and SIGTERM itself, not SIGHUP). A SIGHUP to the whole
+    process group (a closed terminal) killed it; multiprocessing started a new one, and each
+    semaphore the closing cluster released then printed a ``KeyError`` traceback from it (an
+    unregister of a name the new tracker never saw). Does nothing when one runs already."""
+    import signal
+
+    hup = getattr(signal, "SIGHUP", None)
+    if hup is None:
+        return
+    from multiprocessing import resource_tracker
+
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {hup})
+    try:
+        resource_tracker.ensure_running()
+    except Exception:  # noqa: BLE001 - no tracker: multiprocessing starts its own when needed
+        pass
     finally:
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
