@@ -17,6 +17,23 @@ from pipelines.output.units import length, sig3, speed_kmh
 
 __all__ = ["dry_wet_figures", "write_dry_wet_report", "FRICTION_MODEL_WHY"]
 
+# the report's paragraph on what the wet model covers, and what it leaves out
+_WET_MODEL_SCOPE = (
+    "Sealing: at low speed the water the contact holds is what it seals in the pools closed at the "
+    "magnification where the contact percolates (Persson, Tartaglino, Albohr, Tosatti, Phys. Rev. B "
+    "71, 035428 (2005)); the rubber feels those pools filled. Squeeze-out: under a tread block the "
+    "film thins during the dwell time footprint / v by averaged Reynolds flow with Persson's contact "
+    "pressure (Phys. Rev. Lett. 99, 125502 (2007); Lorenz & Persson, Eur. Phys. J. E 32, 281 "
+    "(2010)); the film carries part of the load, so the rubber reaches less of the roughness. "
+    "Inertia: at the footprint's front, until the film has thinned to the texture's height, the "
+    "water's dynamic pressure carries (v / v_p)² of the load there (Horne & Dreher, NASA TN D-2056 "
+    "(1963): v_p = 6.35 √(p/kPa) km/h); counted in the squeeze-out share. Adhesion: Persson's "
+    "τ_f A/A0, lost where water separates the surfaces. Contact lost: where the film left exceeds "
+    "the texture or the water's inertia carries the whole load, μ_wet is the film's viscous drag. "
+    "Left out: the viscous film on the asperity tops (the microtexture's thin-film lubrication), "
+    "the tread's grooves as water storage, and the water's effect on rubber temperature."
+)
+
 #: why both curves use the run's friction model, and what each choice means for the shares
 FRICTION_MODEL_WHY = {
     "isothermal": ("isothermal (the default, as roadscan analyse): the dry curve is the one analyse reports "
@@ -125,13 +142,13 @@ def _speed_constant_rows(r):
     sp = r.get("speed_constant_model_kmh")
     ifi = r.get("ifi_speed_constant_kmh")
     mpd = r.get("mpd_m")
+    model = (speed_kmh(sp) if sp is not None
+             else "none: μ_wet does not fall over 20-100 km/h (or the speeds do not reach there)")
+    surface = (f"{speed_kmh(ifi)} (MPD {length(mpd)}, ISO 13473-1)" if ifi is not None
+               else f"none: {r.get('mpd_note') or 'no valid MPD'}")
     rows = {
-        "model: Sp of μ_wet = F exp(-S / Sp) fitted over 20-100 km/h":
-            speed_kmh(sp) if sp is not None else "none: μ_wet does not fall over 20-100 km/h "
-                                                 "(or the speeds do not reach there)",
-        "surface: IFI Sp = 14.2 + 89.7 MPD [mm] (ASTM E1960)":
-            f"{speed_kmh(ifi)} (MPD {length(mpd)}, ISO 13473-1)" if ifi is not None
-            else f"none: {r.get('mpd_note') or 'no valid MPD'}",
+        "model: Sp of μ_wet = F exp(-S / Sp) fitted over 20-100 km/h": model,
+        "surface: IFI Sp = 14.2 + 89.7 MPD [mm] (ASTM E1960)": surface,
     }
     if sp is not None and ifi is not None:
         rows["model / IFI"] = f"{sp / ifi:.2f}"
@@ -268,21 +285,7 @@ def write_dry_wet_report(out_dir, r, figs):
                      report.table_html(_parameter_rows(r, _sigma0_text(r)),
                                        ["parameter", "value", "given or default", "source"])))
     if persson:
-        sections.append(("What the wet model covers", report.paragraph_html(
-            "Sealing: at low speed the water the contact holds is what it seals in the pools closed at the "
-            "magnification where the contact percolates (Persson, Tartaglino, Albohr, Tosatti, Phys. Rev. B "
-            "71, 035428 (2005)); the rubber feels those pools filled. Squeeze-out: under a tread block the "
-            "film thins during the dwell time footprint / v by averaged Reynolds flow with Persson's contact "
-            "pressure (Phys. Rev. Lett. 99, 125502 (2007); Lorenz & Persson, Eur. Phys. J. E 32, 281 "
-            "(2010)); the film carries part of the load, so the rubber reaches less of the roughness. "
-            "Inertia: at the footprint's front, until the film has thinned to the texture's height, the "
-            "water's dynamic pressure carries (v / v_p)² of the load there (Horne & Dreher, NASA TN D-2056 "
-            "(1963): v_p = 6.35 √(p/kPa) km/h); counted in the squeeze-out share. Adhesion: Persson's "
-            "τ_f A/A0, lost where water separates the surfaces. Contact lost: where the film left exceeds "
-            "the texture or the water's inertia carries the whole load, μ_wet is the film's viscous drag. "
-            "Left out: the viscous film on the asperity tops (the microtexture's thin-film lubrication), "
-            "the tread's grooves as water storage, and the water's effect on rubber temperature.",
-            note=True)))
+        sections.append(("What the wet model covers", report.paragraph_html(_WET_MODEL_SCOPE, note=True)))
     elif r.get("wet_model"):
         sections.append(("What the wet model covers", wet_model_html()))
     sections.append(("Figures", [list(figs)]))
