@@ -15,6 +15,8 @@ from roadscan.errors import InputError
 if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
     from numpy.typing import ArrayLike
 
+    from friction.rubber import Rubber
+
 __all__ = ["batch", "summary_line"]
 
 
@@ -38,7 +40,7 @@ def batch(
         form: Literal['plane', 'poly2', 'poly3'] = 'plane',
         s_filter: float | None = None,
         l_filter: float | None = None,
-        rubber: str | os.PathLike[str] | Any | None = None,
+        rubber: str | os.PathLike[str] | Rubber | None = None,
         sigma0: float | str = 200000.0,
         temperature: float | None = None,
         flash: bool = False,

@@ -7,8 +7,12 @@ from __future__ import annotations
 import os
 from typing import TYPE_CHECKING, Any, Literal
 
+from pipelines.settings.option_docs import document_options
+
 if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
     from numpy.typing import ArrayLike
+
+    from friction.rubber import Rubber
 
 
 __all__ = ["friction", "add_friction_command_options"]
@@ -42,12 +46,20 @@ def add_friction_command_options(p):
     p.add_argument("--tol", type=float, default=1e-3, help="relative accuracy target for mu (1e-3)")
 
 
+#: what this job's options mean where it narrows the shared text
+_OPTION_TEXT = {
+    "q1": ("``--q1``: upper end (cut-off) of the friction integrals [1/m]; above the spectrum's "
+           "last point C(q) continues as its fitted power law (default: the last point)."),
+}
+
+
+@document_options(overrides=_OPTION_TEXT)
 def friction(
         out: str | os.PathLike[str],
         *,
         psd: str | os.PathLike[str] | None = None,
         self_affine: str | None = None,
-        rubber: str | os.PathLike[str] | Any | None = None,
+        rubber: str | os.PathLike[str] | Rubber | None = None,
         master_curve: str | os.PathLike[str] | None = None,
         shift_table: str | os.PathLike[str] | None = None,
         reference_temperature: float | None = None,
@@ -79,53 +91,7 @@ def friction(
     ----------
     out : str or Path
         The output CSV, as ``--out`` (the command's default is ``mu.csv``).
-    psd : str or os.PathLike[str] or None, default None
-        ``--psd``: psd.csv with header q_per_m,C_m4 [1/m, m^4].
-    self_affine : str or None, default None
-        ``--self-affine``: self-affine model (thesis appendix A): Hurst H, h0 [m], q0, q1 [1/m],
-        optional qroll [1/m].
-    rubber : str or os.PathLike[str] or Any or None, default None
-        ``--rubber``: rubber model, friction/RUBBER_TOML.md (default: the thesis's standard
-        linear solid, T_ref = 60 C).
-    master_curve : str or os.PathLike[str] or None, default None
-        ``--master-curve``: master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa'
-        or header E_stor_MPa; default Pa) at --reference-temperature.
-    shift_table : str or os.PathLike[str] or None, default None
-        ``--shift-table``: with --master-curve: shift factors, columns T_C and aT (linear) or
-        log10_aT; or one row of WLF constants C1,C2_K,T_s_C.
-    reference_temperature : float or None, default None
-        ``--reference-temperature``: with --master-curve: the temperature of the master curve
-        T_ref [C] (default: where the shift table has aT = 1).
-    sigma0 : float or str, default 200000.0
-        ``--sigma0``: nominal contact pressure sigma0 = load / nominal area, with a unit:
-        0.3MPa, 300kPa, 3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0
-        in P(q) (default 0.2MPa).
-    temperature : float or None, default None
-        ``--temperature``: background temperature T0 [C] (default: the rubber's reference
-        temperature).
-    flash : bool, default False
-        ``--flash``: flash-temperature model (Persson 2006).
-    velocities : ArrayLike or str or None, default None
-        ``--velocities``: N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,..
-        (e.g. another program's table; default 1e-4:1e2:61, where tyres slide).
-    q0 : float or None, default None
-        ``--q0``: lower end of the friction integrals [1/m], inside the spectrum (default: its
-        lowest wave vector).
-    q1 : float or None, default None
-        ``--q1``: upper end (cut-off) of the friction integrals [1/m]; above the spectrum's last
-        point C(q) continues as its fitted power law (default: the last point).
-    contact_gamma : float or None, default None
-        ``--contact-gamma``: Persson's S(q) = G + (1 - G) P(q)^2 in the dissipation integrand
-        (mu = 1/2 int q^3 C S P M dq); 0 <= G <= 1, e.g. 0.5 (default: off, S = 1).
-    nu : float, default 0.5
-        ``--nu``: Poisson ratio of the rubber, 0 <= nu <= 0.5 (default 0.5).
-    extrapolate : Literal['powerlaw', 'hold'], default 'powerlaw'
-        ``--extrapolate``: master curve beyond its measured frequencies: powerlaw (E' held, E''
-        continues as the power law of its last decade; default) or hold (both held).
-    magnifications : str, default ''
-        ``--magnifications``: with --flash: also report T at these magnifications zeta = q/q0.
-    tol : float, default 0.001
-        ``--tol``: relative accuracy target for mu (1e-3).
+    {options}
 
     Returns
     -------

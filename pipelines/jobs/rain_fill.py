@@ -16,12 +16,14 @@ import os
 from pathlib import Path
 from typing import Any, Literal
 
+from pipelines.settings.option_docs import document_options
 from pipelines.settings.water import check_water
 from roadscan.errors import InputError
 
 __all__ = ["rain_fill", "check_water", "rain_fill_scan", "write_rain_fill"]
 
 
+@document_options()
 def rain_fill(
         scan: Any, out: str | os.PathLike[str],
         *,
@@ -50,33 +52,7 @@ def rain_fill(
         An area height file, or a scan in memory [m].
     out : str or Path
         Output folder, as ``--out``.
-    spacing : float or str or tuple[float, float] or None, default None
-        ``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or
-        5e-5,6e-5).
-    units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--units``: units of the heights in files that carry no units, and of the x (and y)
-        columns of text files without unit titles (default m).
-    x_units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--x-units``: units of the x (and y) columns of an x,z or x,y,z text file without unit
-        titles, when they differ from --units (e.g. x in m, heights in mm).
-    override_calibration : bool, default False
-        ``--override-calibration``: let --spacing/--units replace the spacing/units a file
-        carries (X3P, vendor, .npz with dx/dy..; refused otherwise); recorded as
-        calibration_override in summary.json.
-    channel : int or str or None, default None
-        ``--channel``: page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or
-        channel of an instrument file with several (index from 0 or name); recorded in
-        summary.json.
-    connectivity : Literal[4, 8], default 4
-        ``--connectivity``: connectivity of the fill (default 4, as Matlab's imfill).
-    max_depth : float or None, default None
-        ``--max-depth``: water at most this deep above each depression's lowest point [m].
-    water_film : float or None, default None
-        ``--water-film``: water available per area [m^3/m^2 = m]; fills to the smallest depth
-        cap holding it.
-    no_level : bool, default False
-        ``--no-level``: fill the heights as read (default: remove the least-squares plane
-        first).
+    {options}
 
     Returns
     -------

@@ -91,9 +91,10 @@ def _check_value(job_name: str, name: str, value: Any, hint: Any) -> Any:
 
 @functools.lru_cache(maxsize=64)
 def _hints(job: Callable[..., Any]) -> dict[str, Any]:
-    """The evaluated annotations of ``job`` (once per job). ``ArrayLike`` is imported by the
-    job modules for type checkers only (numpy stays out of ``--help``); here it is any value."""
-    return typing.get_type_hints(job, localns={"ArrayLike": Any})
+    """The evaluated annotations of ``job`` (once per job). ``ArrayLike`` and friction's
+    ``Rubber`` are imported by the job modules for type checkers only (numpy stays out of
+    ``--help``): here each is any value (the builder that reads it checks it)."""
+    return typing.get_type_hints(job, localns={"ArrayLike": Any, "Rubber": Any})
 
 
 def options_of(job: Callable[..., Any], values: dict[str, Any]) -> argparse.Namespace:
