@@ -32,6 +32,8 @@ def run(args):
     lo, hi = s["merged_band_per_m"]
     print(f"{len(s['inputs'])} inputs merged: C(q) from {quantity('q_per_m', lo)} to "
           f"{quantity('q_per_m', hi)}, "
-          f"{len(s['gaps'])} gap(s) bridged" + (f", H = {s['fit']['hurst']:.3f}" if s["fit"] else ""))
+          f"{len(s['gaps'])} gap(s) bridged" + (f", H = {s['fit']['hurst']:.3f}" if s["fit"] else "")
+          + (f", q0 = {quantity('q_per_m', s['q0_per_m'])} (the surface's roll-off)"
+             if s.get("q0_per_m") else ", no roll-off of the surface seen (q0 below the curve)"))
     print(f"-> {args.out}/psd.csv, {args.out}/report.html")
     return 0

@@ -124,6 +124,9 @@ def write_combine_report(path, summary, figure=None):
                     f"in psd.csv (q_per_m,C_m4,C_lo_m4,C_hi_m4,n_sources)")]
                  + ([figure] if figure else [])),
                 ("Gaps", gaps), ("Self-affine fit of the merged spectrum", fit_html),
+                ("q0, the surface's roll-off", report.paragraph_html(
+                    (f"q0 = {sig3(summary['q0_per_m'])} 1/m (λ {wavelength_of_q(summary['q0_per_m'])}): "
+                     if summary.get("q0_per_m") else "") + summary.get("q0_how", ""))),
                 ("Warnings", warn_html)]
     intro = html.escape(summary["method"])
     return report.write_html(path, "roadscan combine: one spectrum from several measurements",
