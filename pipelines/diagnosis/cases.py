@@ -13,6 +13,7 @@ noiseless curve, comes within the noise of it.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -24,7 +25,7 @@ from pipelines.diagnosis.model import simulate
 
 __all__ = ["RANGES", "Case", "make_case", "identifiable", "draw_cases"]
 
-LOG10E = float(np.log10(np.e))
+LOG10E = math.log10(math.e)
 
 
 def _u(rng, a, b):

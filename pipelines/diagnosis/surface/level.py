@@ -23,6 +23,7 @@ whole scan's spectrum against the power law per half decade of q.
 """
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from itertools import pairwise
@@ -34,7 +35,7 @@ from pipelines.diagnosis import gap as gapmod
 
 __all__ = ["SurfaceContext", "descriptors", "run_surface"]
 
-LOG10E = float(np.log10(np.e))
+LOG10E = math.log10(math.e)
 N_TWINS = 8
 N_SKEW_TWINS = 4
 SKEW_GRID = (-3.0, -2.0, -1.2, -0.6, 0.0, 0.6, 1.2, 2.0, 3.0)
