@@ -170,6 +170,16 @@ def test_flags_reach_the_model(long_scan, tmp_path, persson):
     assert any((c["mechanisms"]["adhesion"][s] or 0) > 0 for s in c["mu_dry"])
 
 
+def test_fill_says_it_ignores_the_persson_flags(tmp_path):
+    import pipelines
+
+    scan = HeightMap(fourier_surface(64, 1e-4, 0.8, 2e-4, seed=3), 1e-4, 1e-4)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = pipelines.dry_vs_wet(scan, tmp_path / "o", wet_model="fill", water_depth=1e-3, no_friction=True)
+    assert any("--water-depth" in w and "ignores" in w for w in r["warnings"])
+
+
 def test_a_wrong_wet_flag_is_refused_in_one_line(long_scan, tmp_path, capsys):
     rc = main(["dry-vs-wet", str(long_scan), "--spacing", "1e-4", "--out", str(tmp_path / "o"),
                "--water-temperature", "120"])

@@ -194,6 +194,13 @@ def dry_vs_wet(
     with collecting():
         check_water_options(args)
         conditions = wet_conditions(args)
+        unused = [f"--{k.replace('_', '-')}" for k in ("water_depth", "water_temperature", "footprint",
+                                                        "block_size", "shear_stress")
+                  if args.wet_model == "fill" and getattr(args, k) is not None]
+        if unused:
+            from pipelines.checks.validate import warn
+
+            warn(f"{', '.join(unused)}: used by --wet-model persson only; the fill model ignores them")
         check_output_dir(out, inputs=inputs)
         settings = settings_from_args(args)
         sk = spectrum_kwargs(args)
