@@ -150,7 +150,8 @@ OPTION_TEXT: dict[str, str] = {
         "[C] (default: where the shift table has aT = 1)."
     ),
     "magnifications": (
-        "``--magnifications``: with --flash: also report T at these magnifications zeta = q/q0."
+        "``--magnifications``: with --flash: also report T at these "
+        "magnifications zeta = q/q0."
     ),
     "tol": "``--tol``: relative accuracy target for mu (1e-3).",
     "measured": (
