@@ -15,11 +15,10 @@ import logging
 import os
 import sys
 
-from roadscan.errors import InputError
-
 from pipelines.campaign.folder import read_sidecar, same_input
 from pipelines.campaign.records import error_record
 from pipelines.campaign.worker import run_job
+from roadscan.errors import InputError
 
 __all__ = ["default_workers", "resumed_records", "run_campaign", "Interrupted"]
 
