@@ -137,9 +137,13 @@ _CDNS = ("cdn.jsdelivr.net", "cdnjs.cloudflare.com", "unpkg.com", "polyfill.io",
 _LOADED = re.compile(r'<(?:script|link)\b[^>]*\b(?:src|href)="([^"]+)"')
 
 
-def test_math_is_configured_to_come_from_the_site():
+def test_math_is_configured_to_come_from_the_site(monkeypatch):
     """conf.py renders equations without network: the MathJax shipped by sphinx-mathjax-offline
     (copied into the site's _static) is the one the pages load, and the docs extra installs it."""
+    import sys
+
+    monkeypatch.setattr(sys, "path", list(sys.path))        # conf.py adds its folders
+    monkeypatch.setenv("MPLBACKEND", os.environ.get("MPLBACKEND", "Agg"))
     conf = runpy.run_path(str(DOCS / "conf.py"))
     assert "sphinx-mathjax-offline" in conf["extensions"]
     path = conf["mathjax_path"]
