@@ -43,7 +43,9 @@ def _psd_surface(rng, d):
     q_nyq = np.pi / a_m
     band_rms = rng.uniform(0.2e-3, 1.0e-3)
     h0 = np.sqrt(2) * band_rms / np.sqrt(1 - (q_nyq / q0) ** (-2 * H))
-    truth = lambda q1: F.SelfAffinePSD(H, h0, q0, q1, q_roll_per_m=q_roll)
+    def truth(q1):
+        return F.SelfAffinePSD(H, h0, q0, q1, q_roll_per_m=q_roll)
+
     q = np.logspace(np.log10(q_roll), np.log10(q_nyq), int(20 * np.log10(q_nyq / q_roll)) + 1)
     C = truth(q_nyq).C(q)
     path = d / "psd.csv"
@@ -309,9 +311,11 @@ def draw_speeds(rng, n=None):
 def write_mu_csv(path, v, mu, T0_C=None, sigma0_Pa=None):
     cols, names = [v, mu], ["v_m_per_s", "mu"]
     if T0_C is not None:
-        cols.append(np.full_like(v, T0_C)); names.append("T0_C")
+        cols.append(np.full_like(v, T0_C))
+        names.append("T0_C")
     if sigma0_Pa is not None:
-        cols.append(np.full_like(v, sigma0_Pa)); names.append("sigma0_Pa")
+        cols.append(np.full_like(v, sigma0_Pa))
+        names.append("sigma0_Pa")
     np.savetxt(path, np.column_stack(cols), delimiter=",", header=",".join(names), comments="",
                fmt="%.10e")
 

@@ -138,7 +138,8 @@ def test_the_two_regimes_agree_at_their_switch(kind):
     calls = []
     for n in (19, 20):
         v = np.logspace(-5, 0, n)
-        curve = MeasuredCurve(v, np.ones(n), np.full(n, np.nan), np.full(n, 2e5), np.zeros(n, bool), False, "t")
+        curve = MeasuredCurve(v, np.ones(n), np.full(n, np.nan), np.full(n, 2e5), np.zeros(n, bool), False,
+                              "t")
         if surf is None:
             ctx = build_context(curve, PSD)
         else:

@@ -2,17 +2,18 @@
 
 Candidates (each fitted by :func:`fitting.fit_candidate`, scored by :func:`cv.evaluate`): every
 usable effect alone at the nominal inputs; without uncertain inputs, greedy pairs (the best
-single combined with each other usable effect, started from the two single fits); with uncertain
-inputs (:mod:`.calibration`), the calibration alone and every effect fitted together with it
+single combined with each other usable effect, started from the two single fits; then the best
+single restarted from its fit within the best pair, kept when it fits the training points
+better); with uncertain inputs (:mod:`.calibration`), the calibration alone and every effect fitted together with it
 (started from the calibration's fit and the effect's single fit, besides cold starts). A model
 with more free parameters than half its training points is not fitted (listed under
 ``skipped``). Effects that an uncertain input makes redundant (``fine_roughness`` with q1,
 ``load`` with sigma0, ``temperature_offset`` with the temperature) are skipped too, except
 ``fine_roughness`` beyond a default q1 range (its factor multiplies the calibrated q1). The verdict
 is :func:`verdict.decide`, then re-checked for equivalence with the uncertain inputs continued
-beyond their ranges (:mod:`.equivalence`), after the evidence over every point has checked it
-(:mod:`.evidence_check`: a name the all-point evidence strongly contradicts is withdrawn). Below
-20 points the candidates are fitted on every point and compared by their evidence instead
+beyond their ranges (:mod:`.equivalence`), after the evidence over every point has ruled on it
+(:mod:`.evidence_check`: the few-point rule, posterior >= 0.9, with the held-out verdict as its
+check; the module says why two forms of the evidence remain). Below 20 points the candidates are fitted on every point and compared by their evidence instead
 (:mod:`.search_few`, :mod:`.verdict_few`).
 """
 from __future__ import annotations
@@ -192,6 +193,24 @@ def _one_explanation(verdict, best, equiv, train):
                            f"the given range does the same within the noise (log-likelihood "
                            f"{eq['dloglik']:+.2f}): the same explanation"))
     return None
+
+
+def _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho):
+    """The held-out verdict under the evidence over every point (:mod:`.evidence_check`): the
+    explanations of the named one's kind (each with the calibration when it carries it) against
+    their baseline (the calibration, else the nominal model)."""
+    from pipelines.diagnosis.fit.evidence import loglik, noise_scale
+    from pipelines.diagnosis.verdict.evidence_check import all_points_evidence, check_named
+
+    with_cal = best is not None and best.effects[0].name == "calibration"
+    if best is None and cal is not None:
+        return best
+    if with_cal:
+        pool, z0, base = calpairs, all_points_evidence(cal, n, noise), "calibration"
+    else:
+        pool, base = list(singles) + list(pair_list), "nominal"
+        z0 = loglik(n * g_all * g_all, n, noise_scale(noise))
+    return check_named(verdict, best, pool, n, noise, z0, g_ref=g_ho, base_name=base, rescue=cal is None)
 
 
 def _as_explanation(ctx, real_mu, c, s):
@@ -375,17 +394,24 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
                     budget=12 if max(first.effects[0].cost, other.effects[0].cost) > 1 else 40)
             if c is not None:
                 pair_list.append(c)
+        if pair_list:
+            # the best single restarted from its parameters in the best pair: a pair started from
+            # the single may only have continued a fit the single's budget stopped (kept when it
+            # fits the training points better, never chosen by the held-out points)
+            bp = min(pair_list, key=lambda c: c.gap_train)
+            c = run(first.effects, start=bp.params[:1],
+                    budget=12 if first.effects[0].cost > 1 else 40)
+            if c is not None and c.gap_train < first.gap_train:
+                singles[0] = c
+                singles.sort(key=lambda c: c.score)
     ranked = sorted(singles + pair_list + ([cal] if cal else []) + calpairs, key=lambda c: c.score)
     st = dict(g_all=g_all, g_ho=g_ho, noise=noise, n=n, significant=significant, p=p, boot=ho.boot,
               default_only=bool(free) and all(ranges[k].source == "default" for k in free))
     icals = lambda c: intervals(c, ctx, real_mu, ho.train, noise)  # noqa: E731
     equiv = (lambda c, rows=None: equivalence(ctx, real_mu, c, ranges, free, noise, rows=rows)) if free else None
     verdict, best = decide(singles, pair_list, cal, calpairs, st, intervals=icals)
-    if best is not None and verdict.get("effect") not in (None, "calibration"):
-        from pipelines.diagnosis.verdict.evidence_check import check_named
-
-        pool = calpairs if "calibration" in best.effects[0].name else singles + pair_list
-        best = check_named(verdict, best, pool, n, noise)
+    if significant and verdict.get("effect") != "calibration":
+        best = _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho)
     best = _one_explanation(verdict, best, equiv, ho.train)
     expl = None
     if best is not None and cal_e is not None and any(ranges[k].source == "given" for k in free) \
