@@ -65,7 +65,8 @@ def _psd(args, settings=None):
 
     if args.psd:
         table = read_psd_csv(args.psd)
-        from pipelines.chain.steps import friction_psd, read_band_sidecar
+        from pipelines.chain.sidecar import read_band_sidecar
+        from pipelines.chain.steps import friction_psd
 
         side = read_band_sidecar(args.psd) if settings is not None else None
         if side is not None:

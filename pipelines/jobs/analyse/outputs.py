@@ -46,7 +46,7 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
     Path
         The output folder.
     """
-    from pipelines.chain.steps import band_sidecar
+    from pipelines.chain.sidecar import band_sidecar
     from pipelines.jobs.texture import outputs as texture_outputs
     from pipelines.jobs.texture.iso import figure_note
     from pipelines.output.figure_process import InProcess
