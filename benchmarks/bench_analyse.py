@@ -13,6 +13,7 @@ friction, each figure.
 
 Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_analyse.py [N] [--phases]
 """
+
 from __future__ import annotations
 
 import os
@@ -26,12 +27,14 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLE = ROOT / "sample_scans" / "asphalt.x3p"
 GOALS = {"figures": 1.2, "no-figures": 0.7, "api": 0.5}
-API = "import pipelines\npipelines.analyse({!r})"     # the computation alone: nothing written
+API = "import pipelines\npipelines.analyse({!r})"  # the computation alone: nothing written
 ENTRY = "import sys\nfrom pipelines.cli.app import main\nsys.argv[0] = 'roadscan'\nsys.exit(main({}))"
 #: the command's own CPU time, printed at its exit: a helper process it reaps (the figure worker
 #: of concurrent.futures) is not counted, as the docstring says
-OWN_CPU = ("import atexit, resource, sys\natexit.register(lambda: sys.stderr.write("
-           "'\\nBENCH_OWN_CPU %r\\n' % sum(resource.getrusage(resource.RUSAGE_SELF)[:2])))\n")
+OWN_CPU = (
+    "import atexit, resource, sys\natexit.register(lambda: sys.stderr.write("
+    "'\\nBENCH_OWN_CPU %r\\n' % sum(resource.getrusage(resource.RUSAGE_SELF)[:2])))\n"
+)
 
 PHASES = r"""
 import sys, time
@@ -84,6 +87,7 @@ def main(argv=None):
     env.pop("PYTHONDONTWRITEBYTECODE", None)
     load0 = os.getloadavg()
     with tempfile.TemporaryDirectory(prefix="bench_analyse_") as tmp:
+
         def code(name, i):
             if name == "import numpy":
                 return "import numpy"
@@ -99,10 +103,14 @@ def main(argv=None):
                 times[name].append(run_once(code(name, i), env))
         load1 = os.getloadavg()
         print(f"roadscan analyse {SAMPLE.name} (1088 x 978), fresh interpreter each, best of {n}")
-        print(f"machine: {os.cpu_count()} CPUs, load average {load0[0]:.2f} before, {load1[0]:.2f} after "
-              f"(wall times grow with load; CPU times much less)")
-        print("(cpu s: the command's own process; the PNGs are drawn by a helper process it does "
-              "not wait for, whose CPU time is not counted)")
+        print(
+            f"machine: {os.cpu_count()} CPUs, load average {load0[0]:.2f} before, {load1[0]:.2f} after "
+            f"(wall times grow with load; CPU times much less)"
+        )
+        print(
+            "(cpu s: the command's own process; the PNGs are drawn by a helper process it does "
+            "not wait for, whose CPU time is not counted)"
+        )
         print(f"{'case':14s} {'wall s':>8s} {'cpu s':>8s} {'goal s':>7s}")
         for name, ts in times.items():
             wall, cpu = min(t[0] for t in ts), min(t[1] for t in ts)
@@ -110,13 +118,20 @@ def main(argv=None):
             print(f"{name:14s} {wall:8.3f} {cpu:8.3f} {goal if goal else '':>7}")
         for name, goal in GOALS.items():
             wall, cpu = min(t[0] for t in times[name]), min(t[1] for t in times[name])
-            print(f"RATIO | roadscan analyse sample ({name}), wall / goal | {wall / goal:.2f} | <= 1 "
-                  f"({goal} s) | {'PASS' if wall <= goal else 'FAIL'} | {wall:.2f} s wall, {cpu:.2f} s "
-                  f"CPU, load {max(load0[0], load1[0]):.1f} on {os.cpu_count()} CPUs")
+            print(
+                f"RATIO | roadscan analyse sample ({name}), wall / goal | {wall / goal:.2f} | <= 1 "
+                f"({goal} s) | {'PASS' if wall <= goal else 'FAIL'} | {wall:.2f} s wall, {cpu:.2f} s "
+                f"CPU, load {max(load0[0], load1[0]):.1f} on {os.cpu_count()} CPUs"
+            )
         if "--phases" in argv:
             print("where the time goes (one fresh process; wall s, cpu s):")
-            out = subprocess.run([sys.executable, "-c", PHASES, str(SAMPLE), tmp], env=env, cwd=ROOT,
-                                 capture_output=True, text=True)
+            out = subprocess.run(
+                [sys.executable, "-c", PHASES, str(SAMPLE), tmp],
+                env=env,
+                cwd=ROOT,
+                capture_output=True,
+                text=True,
+            )
             print(out.stdout.rstrip() or out.stderr.strip()[-400:])
 
 

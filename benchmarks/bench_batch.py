@@ -20,6 +20,7 @@ Prints, all measured in this run:
 - with ``--long N``: an N-point x,z text profile (0.5 mm spacing) in 10 m sections through the
   worker function in a fresh process: wall time and peak RSS against the profile's own size.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -60,8 +61,19 @@ def _env():
 
 
 def time_batch(paths, out, workers, dx, figures=False):
-    cmd = [sys.executable, "-m", "pipelines.cli", "batch", *map(str, paths), "--spacing", str(dx),
-           "--out", str(out), "--workers", str(workers)] + (["--figures"] if figures else [])
+    cmd = [
+        sys.executable,
+        "-m",
+        "pipelines.cli",
+        "batch",
+        *map(str, paths),
+        "--spacing",
+        str(dx),
+        "--out",
+        str(out),
+        "--workers",
+        str(workers),
+    ] + (["--figures"] if figures else [])
     t = time.perf_counter()
     r = subprocess.run(cmd, env=_env(), capture_output=True, text=True)
     dt = time.perf_counter() - t
@@ -99,8 +111,22 @@ def time_run_analysis(paths, out, dx):
 def time_analyse_processes(paths, out, dx):
     t = time.perf_counter()
     for p in paths:
-        subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(p), "--spacing", str(dx),
-                        "--out", str(out / p.stem)], env=_env(), check=True, capture_output=True)
+        subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "pipelines.cli",
+                "analyse",
+                str(p),
+                "--spacing",
+                str(dx),
+                "--out",
+                str(out / p.stem),
+            ],
+            env=_env(),
+            check=True,
+            capture_output=True,
+        )
     return (time.perf_counter() - t) / len(paths)
 
 
@@ -136,11 +162,15 @@ def long_profile(n, folder):
         raise SystemExit(r.stderr)
     rows, ok, dt, rss = r.stdout.split()
     whole = n * 2 * 8
-    print(f"long profile: {n:,} points ({path.stat().st_size / 1e6:.0f} MB of text, {whole / 1e6:.0f} MB "
-          f"as x,z float64), {rows} sections of 10 m ({ok} ok) in {float(dt):.1f} s")
-    print(f"  peak RSS of the whole run, interpreter and libraries included: {int(rss) / 1e6:.0f} MB "
-          f"= {int(rss) / whole:.2f} x the profile's own size as x,z float64 (bounded: one chunk and "
-          f"one section in memory)")
+    print(
+        f"long profile: {n:,} points ({path.stat().st_size / 1e6:.0f} MB of text, {whole / 1e6:.0f} MB "
+        f"as x,z float64), {rows} sections of 10 m ({ok} ok) in {float(dt):.1f} s"
+    )
+    print(
+        f"  peak RSS of the whole run, interpreter and libraries included: {int(rss) / 1e6:.0f} MB "
+        f"= {int(rss) / whole:.2f} x the profile's own size as x,z float64 (bounded: one chunk and "
+        f"one section in memory)"
+    )
 
 
 def main():
@@ -153,7 +183,7 @@ def main():
     dx = 5e-5
     with tempfile.TemporaryDirectory() as td:
         td = Path(td)
-        if a.scans == 0:               # --scans 0 --long N: the long profile alone
+        if a.scans == 0:  # --scans 0 --long N: the long profile alone
             long_profile(a.long, td)
             return
         (td / "scans").mkdir()
@@ -175,32 +205,50 @@ def main():
         f2f = time_batch(paths[:k], td / "f2f", 2, dx, figures=True)
         load1 = os.getloadavg()
         n = len(paths)
-        print(f"{n} scans of {a.size} x {a.size}, friction on, {os.cpu_count()} cores; load average "
-              f"(1 min) {load0[0]:.1f} before, {load1[0]:.1f} after (> 0.5 means other work shared the cores)")
+        print(
+            f"{n} scans of {a.size} x {a.size}, friction on, {os.cpu_count()} cores; load average "
+            f"(1 min) {load0[0]:.1f} before, {load1[0]:.1f} after (> 0.5 means other work shared the cores)"
+        )
         print(f"analyse in-process      : {t_in:6.3f} s per scan")
         print(f"analysis alone, no PNGs : {t_run:6.3f} s per scan (run_analysis in-process, as a worker)")
         print(f"analyse, one process each: {t_proc:6.3f} s per scan (shell loop)")
-        print(f"batch --workers 1       : {t1:6.2f} s = {t1 / n:6.3f} s per scan "
-              f"({t1 / n / t_proc:.2f} x the shell loop, {t1 / n / t_run:.2f} x the analysis alone)")
-        print(f"batch --workers 2       : {t2:6.2f} s = {t2 / n:6.3f} s per scan "
-              f"({t2 / n / t_proc:.2f} x the shell loop)")
-        print(f"batch -w 1 --figures    : {t1f:6.2f} s = {t1f / n:6.3f} s per scan "
-              f"({t1f / n / t_proc:.2f} x the shell loop, same outputs as analyse)")
-        print(f"batch -w 2 --figures    : {t2f:6.2f} s = {t2f / n:6.3f} s per scan "
-              f"({t2f / n / t_proc:.2f} x the shell loop)")
-        print(f"speed-up 1 -> 2 workers : {t1 / t2:.2f} x without figures, {t1f / t2f:.2f} x with figures "
-              f"(aim >= 1.7 on 2 free cores; without figures a scan takes ~0.1 s, so the cluster's "
-              f"start and the workers' imports, a few seconds paid once, weigh on 40 scans)")
+        print(
+            f"batch --workers 1       : {t1:6.2f} s = {t1 / n:6.3f} s per scan "
+            f"({t1 / n / t_proc:.2f} x the shell loop, {t1 / n / t_run:.2f} x the analysis alone)"
+        )
+        print(
+            f"batch --workers 2       : {t2:6.2f} s = {t2 / n:6.3f} s per scan "
+            f"({t2 / n / t_proc:.2f} x the shell loop)"
+        )
+        print(
+            f"batch -w 1 --figures    : {t1f:6.2f} s = {t1f / n:6.3f} s per scan "
+            f"({t1f / n / t_proc:.2f} x the shell loop, same outputs as analyse)"
+        )
+        print(
+            f"batch -w 2 --figures    : {t2f:6.2f} s = {t2f / n:6.3f} s per scan "
+            f"({t2f / n / t_proc:.2f} x the shell loop)"
+        )
+        print(
+            f"speed-up 1 -> 2 workers : {t1 / t2:.2f} x without figures, {t1f / t2f:.2f} x with figures "
+            f"(aim >= 1.7 on 2 free cores; without figures a scan takes ~0.1 s, so the cluster's "
+            f"start and the workers' imports, a few seconds paid once, weigh on 40 scans)"
+        )
         if n > k:
-            print(f"fixed cost ({k} scans)  : {f1:.2f} s with 1 worker, {f2:.2f} s with 2 (cluster start, "
-                  f"imports, campaign.csv, report.html); {f1f:.2f} / {f2f:.2f} s with --figures")
-            print(f"speed-up on the scans   : {(t1 - f1) / max(t2 - f2, 1e-9):.2f} x without figures, "
-                  f"{(t1f - f1f) / max(t2f - f2f, 1e-9):.2f} x with figures (the other {n - k} scans: "
-                  f"whole run minus the fixed cost; aim >= 1.7)")
+            print(
+                f"fixed cost ({k} scans)  : {f1:.2f} s with 1 worker, {f2:.2f} s with 2 (cluster start, "
+                f"imports, campaign.csv, report.html); {f1f:.2f} / {f2f:.2f} s with --figures"
+            )
+            print(
+                f"speed-up on the scans   : {(t1 - f1) / max(t2 - f2, 1e-9):.2f} x without figures, "
+                f"{(t1f - f1f) / max(t2f - f2f, 1e-9):.2f} x with figures (the other {n - k} scans: "
+                f"whole run minus the fixed cost; aim >= 1.7)"
+            )
         if max(load0[0], load1[0]) > 0.5 and _autogroup():
-            print("  note: the kernel shares CPU between sessions (sched_autogroup), not processes: "
-                  "while other sessions keep the cores busy, this one gets the same share with 1 or 2 "
-                  "workers, so the speed-up above measures the machine's load, not batch")
+            print(
+                "  note: the kernel shares CPU between sessions (sched_autogroup), not processes: "
+                "while other sessions keep the cores busy, this one gets the same share with 1 or 2 "
+                "workers, so the speed-up above measures the machine's load, not batch"
+            )
         if a.long:
             long_profile(a.long, td)
 

@@ -17,6 +17,7 @@ at most 100 over 1e2..1e4 m/s, at most half the previous solver's time.
 
 Run:  .venv/bin/python benchmarks/bench_friction.py [--quick]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -47,10 +48,10 @@ def loop_isothermal(psd, rubber, v, q, sigma0=0.2e6, nu=0.5):
         for i, qq in enumerate(q):
             E = rubber.modulus_ref(qq * vv * c)
             M = 4 * np.dot(c * E.imag, wphi) / s
-            W = 4 * np.dot(np.abs(E) ** 2, wphi) / s ** 2
+            W = 4 * np.dot(np.abs(E) ** 2, wphi) / s**2
             Cq = psd.C(qq)
-            g = qq ** 4 * Cq * W / 8
-            f = qq ** 4 * Cq * M
+            g = qq**4 * Cq * W / 8
+            f = qq**4 * Cq * M
             if i == 0:
                 G, P = 0.0, 1.0
             else:
@@ -67,15 +68,26 @@ def loop_isothermal(psd, rubber, v, q, sigma0=0.2e6, nu=0.5):
 # ----------------------------------------------------------------------------- flash reference
 def _gl(n):
     x, w = np.polynomial.legendre.leggauss(n)
-    return 0.5 * (x + 1), 0.5 * w                       # nodes and weights on (0, 1)
+    return 0.5 * (x + 1), 0.5 * w  # nodes and weights on (0, 1)
 
 
 SQRT_PI = float(np.sqrt(np.pi))
 
 
-def flash_reference(psd, rubber, v, sigma0=0.4e6, nu=0.5, zeta_m=3.0,
-                    abc=(0.0, 2 * SQRT_PI, 0.5), per_decade=32, beta=0.3, rtol=1e-9,
-                    engine_rtol=1e-5, max_iter=4000):
+def flash_reference(
+    psd,
+    rubber,
+    v,
+    sigma0=0.4e6,
+    nu=0.5,
+    zeta_m=3.0,
+    abc=(0.0, 2 * SQRT_PI, 0.5),
+    per_decade=32,
+    beta=0.3,
+    rtol=1e-9,
+    engine_rtol=1e-5,
+    max_iter=4000,
+):
     """The flash model of DESIGN.md sec 5 written from the equations, solved by a plain damped
     fixed point ``T <- T + beta (Phi(T) - T)`` until ``max|Phi(T) - T| <= rtol max(1 K, rise)``.
 
@@ -96,11 +108,11 @@ def flash_reference(psd, rubber, v, sigma0=0.4e6, nu=0.5, zeta_m=3.0,
     n_int = int(np.ceil((hi - lo) / np.log(10) * per_decade))
     h = (hi - lo) / n_int
     s_, ws = _gl(4)
-    t_ = s_ ** 2
+    t_ = s_**2
     xi = lo + h * np.arange(n_int)
-    q = np.exp(xi[:, None] + h * t_[None, :]).ravel()                   # (nf,)
+    q = np.exp(xi[:, None] + h * t_[None, :]).ravel()  # (nf,)
     wq = (h * 2 * s_ * ws)[None, :] * np.exp(xi[:, None] + h * t_[None, :])
-    wq = wq.ravel()                                                     # dq weights
+    wq = wq.ravel()  # dq weights
     C = psd.C(q)
     # phi panels graded towards pi/2
     edges = np.pi / 2 * np.concatenate([1 - 0.5 ** np.arange(7), [1.0]])
@@ -119,23 +131,22 @@ def flash_reference(psd, rubber, v, sigma0=0.4e6, nu=0.5, zeta_m=3.0,
     lk = (np.log(10) * (dec[:, None] + xg[None, :])).ravel()
     k = np.exp(lk)
     wk = (np.log(10) * np.ones_like(dec)[:, None] * wg[None, :]).ravel() * k
-    A = 4 * q[None, :] / (k[:, None] ** 2 + 4 * q[None, :] ** 2)                # (nk, nf)
-    B = 4 * q[None, :] ** 2 / (k[:, None] ** 2 + 4 * q[None, :] ** 2)           # (nk, nf)
+    A = 4 * q[None, :] / (k[:, None] ** 2 + 4 * q[None, :] ** 2)  # (nk, nf)
+    B = 4 * q[None, :] ** 2 / (k[:, None] ** 2 + 4 * q[None, :] ** 2)  # (nk, nf)
     ref_shift = rubber.shift.log10_aT(T0)
     im = np.searchsorted(q, q_m)
     tm = (np.log(q_m) - np.log(q[im - 1])) / (np.log(q[im]) - np.log(q[im - 1]))
 
     def contact(T):
-        a = 10.0 ** (rubber.shift.log10_aT(T) - ref_shift)               # (nv, nf)
-        E = rubber.modulus_ref((v[:, None, None] * q[None, :, None] * a[:, :, None])
-                               * cphi[None, None, :])
-        m = np.einsum("vqp,p->vq", cphi * E.imag, wphi)                   # int_0^pi/2 cos Im E
+        a = 10.0 ** (rubber.shift.log10_aT(T) - ref_shift)  # (nv, nf)
+        E = rubber.modulus_ref((v[:, None, None] * q[None, :, None] * a[:, :, None]) * cphi[None, None, :])
+        m = np.einsum("vqp,p->vq", cphi * E.imag, wphi)  # int_0^pi/2 cos Im E
         w2 = np.einsum("vqp,p->vq", np.abs(E) ** 2, wphi)
-        g = q ** 3 * C * (4 * w2 / (s_fac * sigma0) ** 2) / 8
+        g = q**3 * C * (4 * w2 / (s_fac * sigma0) ** 2) / 8
         # G at the interval ends, then linear in ln q inside each interval
         Gint = np.cumsum((g * wq).reshape(v.size, n_int, 4).sum(-1), axis=1)
-        Gn = np.concatenate([np.zeros((v.size, 1)), Gint], axis=1)        # at xi and hi
-        G = (Gn[:, :-1, None] + (Gn[:, 1:] - Gn[:, :-1])[:, :, None] * t_[None, None, :])
+        Gn = np.concatenate([np.zeros((v.size, 1)), Gint], axis=1)  # at xi and hi
+        G = Gn[:, :-1, None] + (Gn[:, 1:] - Gn[:, :-1])[:, :, None] * t_[None, None, :]
         G = G.reshape(v.size, -1)
         with np.errstate(divide="ignore"):
             P = np.where(G > 0, erf(0.5 / np.sqrt(G)), 1.0)
@@ -144,10 +155,10 @@ def flash_reference(psd, rubber, v, sigma0=0.4e6, nu=0.5, zeta_m=3.0,
     def phi_map(T):
         m, P = contact(T)
         Pm = P[:, im - 1] * (1 - tm) + P[:, im] * tm
-        R = (a_ + b_ * Pm ** c_) / q_m
+        R = (a_ + b_ * Pm**c_) / q_m
         t0 = R / v
         F = -np.expm1(-D * k[None, :] ** 2 * t0[:, None]) / (D * k[None, :] ** 2) / np.pi
-        f = v[:, None] * q ** 4 * C * P / (rc * Pm[:, None]) * 4 * m / s_fac   # [K m/s]
+        f = v[:, None] * q**4 * C * P / (rc * Pm[:, None]) * 4 * m / s_fac  # [K m/s]
         return T0 + ((f * wq) @ A.T * F * wk) @ B, m, P
 
     T = np.full((v.size, q.size), T0)
@@ -165,9 +176,16 @@ def flash_reference(psd, rubber, v, sigma0=0.4e6, nu=0.5, zeta_m=3.0,
     else:
         raise RuntimeError(f"reference flash solver did not converge in {max_iter} iterations")
     m, P = contact(T)
-    mu = 0.5 * np.sum(q ** 3 * C * P * (4 * m / (s_fac * sigma0)) * wq, axis=1)
-    return dict(mu=mu, T=T, q=q, it_engine=it_engine, t_engine=t_engine, it_tight=it,
-                t_tight=time.perf_counter() - t_start)
+    mu = 0.5 * np.sum(q**3 * C * P * (4 * m / (s_fac * sigma0)) * wq, axis=1)
+    return dict(
+        mu=mu,
+        T=T,
+        q=q,
+        it_engine=it_engine,
+        t_engine=t_engine,
+        it_tight=it,
+        t_tight=time.perf_counter() - t_start,
+    )
 
 
 def previous_solver(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None):
@@ -206,15 +224,21 @@ def previous_solver(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None):
 
 def bench_flash(quick=False):
     rub = thesis_rubber()
-    fpsd = SelfAffinePSD(0.8, 6.67e-4, 1500.0, 6e5)       # DESIGN.md sec 6, flash set
-    cases = [("1e-8..1e4", -8, 4, 0.4e6, 60), ("1e2..1e4", 2, 4, 0.4e6, 100),
-             ("1e-8..1e4", -8, 4, 0.2e6, 60), ("1e2..1e4", 2, 4, 0.2e6, 100)]
+    fpsd = SelfAffinePSD(0.8, 6.67e-4, 1500.0, 6e5)  # DESIGN.md sec 6, flash set
+    cases = [
+        ("1e-8..1e4", -8, 4, 0.4e6, 60),
+        ("1e2..1e4", 2, 4, 0.4e6, 100),
+        ("1e-8..1e4", -8, 4, 0.2e6, 60),
+        ("1e2..1e4", 2, 4, 0.2e6, 100),
+    ]
     if quick:
         cases = cases[:2]
     print("flash, 50 speeds, tol 1e-3 (flash PSD of DESIGN.md sec 6: H 0.8, q0 1500, q1/q0 400)")
-    print(f"{'speeds [m/s]':>12} {'sigma0':>7} | {'engine it':>9} {'ms':>6} | {'previous it':>11} "
-          f"{'ms':>6} {'t/prev':>6} | {'plain it':>8} {'ms':>7} {'it tight':>8} | "
-          f"{'mu diff':>8} {'dT(1)':>7} {'dT(max)':>7} | goal")
+    print(
+        f"{'speeds [m/s]':>12} {'sigma0':>7} | {'engine it':>9} {'ms':>6} | {'previous it':>11} "
+        f"{'ms':>6} {'t/prev':>6} | {'plain it':>8} {'ms':>7} {'it tight':>8} | "
+        f"{'mu diff':>8} {'dT(1)':>7} {'dT(max)':>7} | goal"
+    )
     ok = True
     ratios = []
     for name, lo, hi, s0, goal in cases:
@@ -237,21 +261,27 @@ def bench_flash(quick=False):
         dm = np.max(np.abs(res.temperature_at(zmax) - Tm) / rise)
         good = res.iterations <= goal and t_new <= 0.5 * t_old
         ok &= good
-        print(f"{name:>12} {s0 / 1e6:5.1f}MP | {res.iterations:9d} {t_new * 1e3:6.0f} | "
-              f"{old.iterations:11d} {t_old * 1e3:6.0f} {t_new / t_old:6.2f} | "
-              f"{ref['it_engine']:8d} {ref['t_engine'] * 1e3:7.0f} {ref['it_tight']:8d} | "
-              f"{dmu:8.1e} {d1:7.1e} {dm:7.1e} | <= {goal} it, <= 0.5x: {'OK' if good else 'MISSED'}")
+        print(
+            f"{name:>12} {s0 / 1e6:5.1f}MP | {res.iterations:9d} {t_new * 1e3:6.0f} | "
+            f"{old.iterations:11d} {t_old * 1e3:6.0f} {t_new / t_old:6.2f} | "
+            f"{ref['it_engine']:8d} {ref['t_engine'] * 1e3:7.0f} {ref['it_tight']:8d} | "
+            f"{dmu:8.1e} {d1:7.1e} {dm:7.1e} | <= {goal} it, <= 0.5x: {'OK' if good else 'MISSED'}"
+        )
         ratios.append(
             f"RATIO | flash iterations / goal, 50 speeds {name} m/s, {s0 / 1e6:g} MPa | "
             f"{res.iterations / goal:.2f} | <= 1 ({goal} it) | "
             f"{'PASS' if res.iterations <= goal else 'FAIL'} | {res.iterations} it; the plain damped "
-            f"fixed point needs {ref['it_engine']} to the same residual; mu within {dmu:.1e} of it")
+            f"fixed point needs {ref['it_engine']} to the same residual; mu within {dmu:.1e} of it"
+        )
         ratios.append(
             f"RATIO | flash time / previous solver's, 50 speeds {name} m/s, {s0 / 1e6:g} MPa | "
             f"{t_new / t_old:.2f} | <= 0.5 | {'PASS' if t_new <= 0.5 * t_old else 'FAIL'} | "
-            f"{t_new * 1e3:.0f} ms against {t_old * 1e3:.0f} ms ({old.iterations} it)")
-    print("  mu diff: max |mu/mu_ref - 1|; dT: max |T - T_ref| / max(1 K, rise at zeta_max), both "
-          "against the plain damped fixed point converged to 1e-9 (its own discretisation)")
+            f"{t_new * 1e3:.0f} ms against {t_old * 1e3:.0f} ms ({old.iterations} it)"
+        )
+    print(
+        "  mu diff: max |mu/mu_ref - 1|; dT: max |T - T_ref| / max(1 K, rise at zeta_max), both "
+        "against the plain damped fixed point converged to 1e-9 (its own discretisation)"
+    )
     print("\n".join(ratios))
     return ok
 
@@ -282,16 +312,24 @@ def main(argv=None):
     t_loop, mu_loop = best_of(lambda: loop_isothermal(psd, rub, v, q), n=1)
     ref = mu_isothermal(psd, rub, v, tol=1e-5).mu
     print(f"isothermal, 100 speeds, tol 1e-3 ({q.size} q nodes, {res.meta['phi_nodes']} phi nodes)")
-    print(f"  fast: {t_fast * 1e3:.1f} ms (first call incl. phi table: {t_cold * 1e3:.1f} ms)   "
-          f"loop: {t_loop * 1e3:.0f} ms   ratio {t_loop / t_fast:.0f}x")
-    print(f"  max |mu/mu(tol 1e-5) - 1|: fast {np.max(np.abs(res.mu / ref - 1)):.2e}, "
-          f"loop {np.max(np.abs(mu_loop / ref - 1)):.2e}")
-    print(f"  targets: < 30 ms: {'OK' if t_fast < 0.03 else 'MISSED'}; "
-          f">= 20x: {'OK' if t_loop / t_fast >= 20 else 'MISSED'}")
-    print(f"RATIO | isothermal mu(v), 100 speeds at 0.1 %: engine time / loop reference's | "
-          f"{t_fast / t_loop:.3f} | <= 0.05 (20x) | {'PASS' if t_loop / t_fast >= 20 else 'FAIL'} | "
-          f"{t_fast * 1e3:.1f} ms against {t_loop * 1e3:.0f} ms; mu within "
-          f"{np.max(np.abs(res.mu / ref - 1)):.1e} of tol 1e-5")
+    print(
+        f"  fast: {t_fast * 1e3:.1f} ms (first call incl. phi table: {t_cold * 1e3:.1f} ms)   "
+        f"loop: {t_loop * 1e3:.0f} ms   ratio {t_loop / t_fast:.0f}x"
+    )
+    print(
+        f"  max |mu/mu(tol 1e-5) - 1|: fast {np.max(np.abs(res.mu / ref - 1)):.2e}, "
+        f"loop {np.max(np.abs(mu_loop / ref - 1)):.2e}"
+    )
+    print(
+        f"  targets: < 30 ms: {'OK' if t_fast < 0.03 else 'MISSED'}; "
+        f">= 20x: {'OK' if t_loop / t_fast >= 20 else 'MISSED'}"
+    )
+    print(
+        f"RATIO | isothermal mu(v), 100 speeds at 0.1 %: engine time / loop reference's | "
+        f"{t_fast / t_loop:.3f} | <= 0.05 (20x) | {'PASS' if t_loop / t_fast >= 20 else 'FAIL'} | "
+        f"{t_fast * 1e3:.1f} ms against {t_loop * 1e3:.0f} ms; mu within "
+        f"{np.max(np.abs(res.mu / ref - 1)):.1e} of tol 1e-5"
+    )
 
     bench_flash(quick=quick)
 

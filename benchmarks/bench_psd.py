@@ -31,6 +31,7 @@ defaults.
 Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_psd.py [--sizes 512,1024,2048,4096]
 [--default-malloc]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -62,10 +63,10 @@ def make_floor(hm, window_alpha=0.25, rings_per_decade=20):
     edges = sp._ring_edges(q_min, q_max, rings_per_decade)
     n = edges.size - 1
     ring = sp._ring_index(np.hypot(qx[None, :], qy[:, None]).ravel(), q_min, q_max, n)
-    ring[ring < 0] = n                                  # the spare bin
+    ring[ring < 0] = n  # the spare bin
     scale = (dx * dy) ** 2 / ((2 * np.pi) ** 2 * nx * dx * ny * dy * w2)
     h = hm.heights_m
-    fft = sp.fft_backend(h.size)                       # the FFT psd_area uses for this size
+    fft = sp.fft_backend(h.size)  # the FFT psd_area uses for this size
 
     def floor():
         F = fft.rfft2(h * W)
@@ -78,7 +79,7 @@ def make_floor(hm, window_alpha=0.25, rings_per_decade=20):
 def best_times(fns, repeat):
     """Interleaved runs (background load hits every candidate alike): best and median [s]."""
     for fn in fns:
-        fn()                                            # warm up: FFT plans, ring caches
+        fn()  # warm up: FFT plans, ring caches
     times = [[] for _ in fns]
     for _ in range(repeat):
         for fn, ts in zip(fns, times):
@@ -106,42 +107,57 @@ def _fix_malloc():
         ok = libc.mallopt(M_MMAP_THRESHOLD, 256 << 20) and libc.mallopt(M_TRIM_THRESHOLD, 512 << 20)
     except (OSError, AttributeError):
         ok = 0
-    return ("glibc mmap threshold 256 MiB, trim threshold 512 MiB (same for floor and psd_area)"
-            if ok else "mallopt not available: the platform's defaults")
+    return (
+        "glibc mmap threshold 256 MiB, trim threshold 512 MiB (same for floor and psd_area)"
+        if ok
+        else "mallopt not available: the platform's defaults"
+    )
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sizes", default="512,1024,2048,4096")
-    ap.add_argument("--default-malloc", action="store_true",
-                    help="keep glibc's dynamic mmap/trim thresholds (see the module docstring)")
+    ap.add_argument(
+        "--default-malloc",
+        action="store_true",
+        help="keep glibc's dynamic mmap/trim thresholds (see the module docstring)",
+    )
     args = ap.parse_args(argv)
     sizes = [int(s) for s in args.sizes.split(",")]
     print("allocator:", "glibc defaults" if args.default_malloc else _fix_malloc())
-    print(f"psd_area against the same-FFT floor (psd_area's own FFT for each size: numpy.fft up to "
-          f"{sp.NUMPY_FFT_MAX_POINTS} points, scipy.fft workers={sp._WORKERS} above; float64, "
-          "window and ring index cached); best of N interleaved, median in brackets")
-    print(f"{'size':>6} {'N':>3} {'floor ms':>16} {'psd_area ms':>16} {'ratio':>6} "
-          f"{'level ms':>14} {'level/floor':>11}")
+    print(
+        f"psd_area against the same-FFT floor (psd_area's own FFT for each size: numpy.fft up to "
+        f"{sp.NUMPY_FFT_MAX_POINTS} points, scipy.fft workers={sp._WORKERS} above; float64, "
+        "window and ring index cached); best of N interleaved, median in brackets"
+    )
+    print(
+        f"{'size':>6} {'N':>3} {'floor ms':>16} {'psd_area ms':>16} {'ratio':>6} "
+        f"{'level ms':>14} {'level/floor':>11}"
+    )
     rows = []
     for n in sizes:
         raw = self_affine_surface(n, dx_m=A_M, hurst=0.86, rms_height_m=0.5e-3, seed=0)
         x = np.linspace(0.0, 1.0, n)
-        raw = raw.with_heights(raw.heights_m + 1e-4 + 2e-4 * x[None, :])   # offset and tilt
+        raw = raw.with_heights(raw.heights_m + 1e-4 + 2e-4 * x[None, :])  # offset and tilt
         hm = level(raw)
         if n <= 1024:
             check_same(hm)
         floor = make_floor(hm)
         rep = REPEATS.get(n, 3)
         (tf, mf), (tp, mp), (tl, ml) = best_times(
-            [floor, lambda hm=hm: sp.psd_area(hm), lambda raw=raw: level(raw)], rep)
+            [floor, lambda hm=hm: sp.psd_area(hm), lambda raw=raw: level(raw)], rep
+        )
         ratio = tp / tf
         rows.append((n, ratio, tl / tf))
-        print(f"{n:>6} {rep:>3} {tf * 1e3:8.1f} ({mf * 1e3:5.1f}) {tp * 1e3:8.1f} ({mp * 1e3:5.1f}) "
-              f"{ratio:6.2f} {tl * 1e3:6.1f} ({ml * 1e3:5.1f}) {tl / tf:11.2f}")
+        print(
+            f"{n:>6} {rep:>3} {tf * 1e3:8.1f} ({mf * 1e3:5.1f}) {tp * 1e3:8.1f} ({mp * 1e3:5.1f}) "
+            f"{ratio:6.2f} {tl * 1e3:6.1f} ({ml * 1e3:5.1f}) {tl / tf:11.2f}"
+        )
     for n, ratio, lvl in rows:
-        print(f"RATIO | psd_area / same-FFT floor, {n}^2 | {ratio:.2f} | <= {GOAL} | "
-              f"{'PASS' if ratio <= GOAL else 'FAIL'} | level adds {lvl:.2f}x the floor")
+        print(
+            f"RATIO | psd_area / same-FFT floor, {n}^2 | {ratio:.2f} | <= {GOAL} | "
+            f"{'PASS' if ratio <= GOAL else 'FAIL'} | level adds {lvl:.2f}x the floor"
+        )
     try:
         from SurfaceTopography import Topography
     except ImportError:
@@ -150,12 +166,16 @@ def main(argv=None):
     n = min(max(sizes), 2048)
     hm = level(self_affine_surface(n, dx_m=A_M, hurst=0.86, rms_height_m=0.5e-3, seed=0))
     topo = Topography(hm.heights_m, physical_sizes=(n * A_M, n * A_M))
-    (tp, _), (ts, _) = best_times([lambda: sp.psd_area(hm), lambda: topo.power_spectrum_from_area()],
-                                  REPEATS.get(n, 3))
-    print(f"SurfaceTopography power_spectrum_from_area at {n}^2: {ts * 1e3:.1f} ms, roadscan "
-          f"{tp * 1e3:.1f} ms")
-    print(f"RATIO | psd_area / SurfaceTopography, {n}^2 | {tp / ts:.2f} | < 1 | "
-          f"{'PASS' if tp < ts else 'FAIL'} | power_spectrum_from_area on the same heights")
+    (tp, _), (ts, _) = best_times(
+        [lambda: sp.psd_area(hm), lambda: topo.power_spectrum_from_area()], REPEATS.get(n, 3)
+    )
+    print(
+        f"SurfaceTopography power_spectrum_from_area at {n}^2: {ts * 1e3:.1f} ms, roadscan {tp * 1e3:.1f} ms"
+    )
+    print(
+        f"RATIO | psd_area / SurfaceTopography, {n}^2 | {tp / ts:.2f} | < 1 | "
+        f"{'PASS' if tp < ts else 'FAIL'} | power_spectrum_from_area on the same heights"
+    )
 
 
 if __name__ == "__main__":

@@ -23,6 +23,7 @@ held before the call, in units of one float64 map (8 N^2 bytes).
 Usage: ``python benchmarks/bench_rainfill.py [--repeats N] [--sizes 1024,2048,4096]
 [--memory 8192]``.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -70,9 +71,11 @@ def best_of(fn, repeats):
     return min(times), out
 
 
-COLD = ("import time; t = time.perf_counter(); import numpy as np; t1 = time.perf_counter(); "
-        "from roadscan.rain import full_fill; "
-        "full_fill(np.zeros((3, 3)), method='flood'); print(time.perf_counter() - t1)")
+COLD = (
+    "import time; t = time.perf_counter(); import numpy as np; t1 = time.perf_counter(); "
+    "from roadscan.rain import full_fill; "
+    "full_fill(np.zeros((3, 3)), method='flood'); print(time.perf_counter() - t1)"
+)
 
 
 MEMORY = """
@@ -102,24 +105,39 @@ print((rss("VmHWM:") - base) / hm.heights_m.nbytes, dt)
 def memory(n):
     for what, label in (("fill", "full_fill (flood)"), ("rain", "rain_fill (flood)")):
         code = MEMORY.format(bench=str(Path(__file__).resolve().parent), n=n, what=what)
-        out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                             cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": ""}, check=True)
+        out = subprocess.run(
+            [sys.executable, "-c", code],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            env={"PYTHONPATH": str(ROOT), "PATH": ""},
+            check=True,
+        )
         ratio, dt = (float(x) for x in out.stdout.split())
-        print(f"{n}^2 {label}: {dt:.1f} s, peak memory above the input {ratio:.2f} x the "
-              f"float64 map ({8 * n * n / 2 ** 20:.0f} MiB)")
+        print(
+            f"{n}^2 {label}: {dt:.1f} s, peak memory above the input {ratio:.2f} x the "
+            f"float64 map ({8 * n * n / 2**20:.0f} MiB)"
+        )
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--sizes", default="1024,2048,4096")
-    ap.add_argument("--memory", type=int, default=0, metavar="N",
-                    help="also measure peak memory on an N x N scan (Linux; e.g. 8192)")
+    ap.add_argument(
+        "--memory",
+        type=int,
+        default=0,
+        metavar="N",
+        help="also measure peak memory on an N x N scan (Linux; e.g. 8192)",
+    )
     a = ap.parse_args(argv)
     sizes = [int(s) for s in a.sizes.split(",")]
-    full_fill(np.zeros((3, 3)), method="flood")          # load the compiled code (warm runs)
-    print(f"rain fill, compiled priority-flood vs skimage reconstruction (same process); "
-          f"threshold of method='auto': {FLOOD_MIN_POINTS} points")
+    full_fill(np.zeros((3, 3)), method="flood")  # load the compiled code (warm runs)
+    print(
+        f"rain fill, compiled priority-flood vs skimage reconstruction (same process); "
+        f"threshold of method='auto': {FLOOD_MIN_POINTS} points"
+    )
     print(f"{'size':>10} {'conn':>4} {'skimage [s]':>12} {'flood [s]':>10} {'ratio':>7}  identical")
     worst, all_same = {}, True
     for n in sizes:
@@ -129,37 +147,47 @@ def main(argv=None):
             t_ref, ref = best_of(lambda h=h, conn=conn: imfill_reference(h, conn), reps)
             t_fl, f = best_of(lambda h=h, conn=conn: full_fill(h, conn, method="flood"), reps)
             same = bool(np.array_equal(f, ref))
-            print(f"{n:>5}^2    {conn:>4} {t_ref:12.3f} {t_fl:10.3f} {t_fl / t_ref:7.3f}  {same}",
-                  flush=True)
+            print(f"{n:>5}^2    {conn:>4} {t_ref:12.3f} {t_fl:10.3f} {t_fl / t_ref:7.3f}  {same}", flush=True)
             worst[n] = max(worst.get(n, 0.0), t_fl / t_ref)
             all_same &= same
             del ref, f
     if 4096 in worst:
-        print(f"goal at 4096^2: ratio <= 0.5 -> {worst[4096]:.3f} "
-              f"{'OK' if worst[4096] <= 0.5 else 'MISSED'}")
+        print(f"goal at 4096^2: ratio <= 0.5 -> {worst[4096]:.3f} {'OK' if worst[4096] <= 0.5 else 'MISSED'}")
     big = max(sizes)
     good = worst[big] <= 0.5 and all_same
-    print(f"RATIO | rain fill / scikit-image reconstruction at {big}^2, 4- and 8-connected (worse "
-          f"of the two) | {worst[big]:.2f} | <= 0.5{'' if big == 4096 else ' (goal set at 4096^2)'} | "
-          f"{'PASS' if good else 'FAIL'} | identical results at every size and connectivity: "
-          f"{all_same}")
+    print(
+        f"RATIO | rain fill / scikit-image reconstruction at {big}^2, 4- and 8-connected (worse "
+        f"of the two) | {worst[big]:.2f} | <= 0.5{'' if big == 4096 else ' (goal set at 4096^2)'} | "
+        f"{'PASS' if good else 'FAIL'} | identical results at every size and connectivity: "
+        f"{all_same}"
+    )
 
     colds = []
     for _ in range(3):
-        out = subprocess.run([sys.executable, "-c", COLD], capture_output=True, text=True,
-                             cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": ""}, check=True)
+        out = subprocess.run(
+            [sys.executable, "-c", COLD],
+            capture_output=True,
+            text=True,
+            cwd=ROOT,
+            env={"PYTHONPATH": str(ROOT), "PATH": ""},
+            check=True,
+        )
         colds.append(float(out.stdout.strip()))
-    print(f"cold start of the compiled path in a fresh interpreter (import numba, load cached "
-          f"code, 3x3 fill): {min(colds):.3f} s (best of 3)")
+    print(
+        f"cold start of the compiled path in a fresh interpreter (import numba, load cached "
+        f"code, 3x3 fill): {min(colds):.3f} s (best of 3)"
+    )
 
     hm = scan()
     h = hm.heights_m
     t_ref, ref = best_of(lambda: imfill_reference(h, 4), a.repeats)
     t_rs, res = best_of(lambda: rain_fill(hm), a.repeats)
     assert np.array_equal(res.wet.heights_m, ref), "rain_fill differs from skimage"
-    print(f"sample grid 1088 x 978, rain_fill (auto, warm), connectivity 4: {t_rs:.3f} s, "
-          f"skimage {t_ref:.3f} s, ratio {t_rs / t_ref:.3f}; wetted fraction "
-          f"{res.wetted_fraction:.4f}")
+    print(
+        f"sample grid 1088 x 978, rain_fill (auto, warm), connectivity 4: {t_rs:.3f} s, "
+        f"skimage {t_ref:.3f} s, ratio {t_rs / t_ref:.3f}; wetted fraction "
+        f"{res.wetted_fraction:.4f}"
+    )
     if a.memory:
         memory(a.memory)
 

@@ -32,6 +32,7 @@ starts, and of rain fill (``roadscan rainfill``'s step, not part of analyse) on 
 Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_scale.py [--sizes 1024,2048,4096,8192]
 [--steps]   (8192^2 needs about 4 GB of free memory and 3 to 5 minutes on 2 cores)
 """
+
 from __future__ import annotations
 
 import argparse
@@ -46,7 +47,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 SPACING = 55.4e-6
 GOAL = 6.0
-GOAL_FROM = 4096       # the memory goal is judged on big scans (issue 14: 8192^2)
+GOAL_FROM = 4096  # the memory goal is judged on big scans (issue 14: 8192^2)
 TIME_SLACK = 1.25
 
 GENERATE = r"""
@@ -78,7 +79,9 @@ import pipelines.cli.app, pipelines.jobs.analyse.job, pipelines.output.report, p
 import pipelines.checks.validate, pipelines.settings.friction, pipelines.settings.scan_input
 """
 
-MEASURE = PREIMPORT + r"""
+MEASURE = (
+    PREIMPORT
+    + r"""
 import json, sys, time
 from pipelines.cli.app import main
 
@@ -99,8 +102,11 @@ rc = main(["analyse", scan, "--spacing", "{spacing}", "--out", out])
 dt = time.perf_counter() - t
 print(json.dumps({{"rc": rc, "seconds": dt, "base": base, "peak": status("VmHWM:"), "reset": reset}}))
 """
+)
 
-STEPS = PREIMPORT + r"""
+STEPS = (
+    PREIMPORT
+    + r"""
 import functools, json, sys, time
 import numpy as np
 from roadscan import fit, inpaint, level, rain, roughness, spectrum
@@ -167,13 +173,16 @@ rows.append(("rain fill (not in analyse)", time.perf_counter() - t, status("VmHW
              status("VmHWM:") - base2 + (base2 - r0), None))
 print(json.dumps(rows))
 """
+)
 
 
 def child(code, *args):
-    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""),
-               MPLBACKEND="Agg")
-    res = subprocess.run([sys.executable, "-c", code, *map(str, args)], capture_output=True,
-                         text=True, cwd=ROOT, env=env)
+    env = dict(
+        os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""), MPLBACKEND="Agg"
+    )
+    res = subprocess.run(
+        [sys.executable, "-c", code, *map(str, args)], capture_output=True, text=True, cwd=ROOT, env=env
+    )
     if res.returncode != 0:
         raise SystemExit(f"child failed:\n{res.stderr[-3000:]}")
     return res.stdout.strip().splitlines()[-1]
@@ -191,10 +200,14 @@ def main(argv=None):
     rows = []
     with tempfile.TemporaryDirectory(prefix="bench_scale_") as tmp:
         tmp = Path(tmp)
-        print(f"roadscan analyse on N x N scans (spacing {SPACING * 1e6:g} um, 2.3 % unmeasured); "
-              "peak RSS above the RSS before reading, libraries pre-imported")
-        print(f"{'N':>6} {'float64 MiB':>11} {'time s':>7} {'peak MiB':>9} {'peak/array':>10} "
-              f"{'t/(N^2 log N^2), rel.':>22}")
+        print(
+            f"roadscan analyse on N x N scans (spacing {SPACING * 1e6:g} um, 2.3 % unmeasured); "
+            "peak RSS above the RSS before reading, libraries pre-imported"
+        )
+        print(
+            f"{'N':>6} {'float64 MiB':>11} {'time s':>7} {'peak MiB':>9} {'peak/array':>10} "
+            f"{'t/(N^2 log N^2), rel.':>22}"
+        )
         for n in sizes:
             scan = tmp / f"scan_{n}.npy"
             child(GENERATE.format(spacing=SPACING), n, scan)
@@ -202,40 +215,57 @@ def main(argv=None):
             if r["rc"] != 0:
                 raise SystemExit(f"analyse returned {r['rc']} at {n}^2")
             array = 8 * n * n
-            rows.append((n, r["seconds"], (r["peak"] - r["base"]) / 2 ** 20,
-                         (r["peak"] - r["base"]) / array, r["reset"]))
+            rows.append(
+                (
+                    n,
+                    r["seconds"],
+                    (r["peak"] - r["base"]) / 2**20,
+                    (r["peak"] - r["base"]) / array,
+                    r["reset"],
+                )
+            )
             if n != sizes[-1]:
                 scan.unlink()
         norm = [t / (n * n * math.log2(n * n)) for n, t, *_ in rows]
         for (n, t, peak, ratio, reset), v in zip(rows, norm):
-            print(f"{n:>6} {8 * n * n / 2 ** 20:11.0f} {t:7.2f} {peak:9.0f} {ratio:10.2f} "
-                  f"{v / norm[-1]:22.2f}" + ("" if reset else "  (peak over the whole life)"))
+            print(
+                f"{n:>6} {8 * n * n / 2**20:11.0f} {t:7.2f} {peak:9.0f} {ratio:10.2f} "
+                f"{v / norm[-1]:22.2f}" + ("" if reset else "  (peak over the whole life)")
+            )
         if any(n < GOAL_FROM for n, *_ in rows):
-            print(f"(below {GOAL_FROM}^2 the fixed costs of a run, about 50 MiB for the figures' "
-                  "canvases, the friction tables and the allocator, dominate the ratio)")
+            print(
+                f"(below {GOAL_FROM}^2 the fixed costs of a run, about 50 MiB for the figures' "
+                "canvases, the friction tables and the allocator, dominate the ratio)"
+            )
         for n, t, peak, ratio, _ in rows:
             if n < GOAL_FROM:
                 continue
-            print(f"RATIO | analyse peak memory / float64 array, {n}^2 | {ratio:.2f} | <= {GOAL:g} | "
-                  f"{'PASS' if ratio <= GOAL else 'FAIL'} | {peak:.0f} MiB above the baseline, {t:.1f} s")
+            print(
+                f"RATIO | analyse peak memory / float64 array, {n}^2 | {ratio:.2f} | <= {GOAL:g} | "
+                f"{'PASS' if ratio <= GOAL else 'FAIL'} | {peak:.0f} MiB above the baseline, {t:.1f} s"
+            )
         if len(rows) >= 2:
             (n1, t1, *_), (n2, t2, *_) = rows[-2], rows[-1]
             growth = (t2 / t1) / ((n2 * n2 * math.log2(n2 * n2)) / (n1 * n1 * math.log2(n1 * n1)))
-            print(f"RATIO | analyse time growth {n1}^2 -> {n2}^2 / N^2 log N growth | {growth:.2f} | "
-                  f"<= {TIME_SLACK:g} | {'PASS' if growth <= TIME_SLACK else 'FAIL'} | "
-                  f"{t1:.1f} s -> {t2:.1f} s")
+            print(
+                f"RATIO | analyse time growth {n1}^2 -> {n2}^2 / N^2 log N growth | {growth:.2f} | "
+                f"<= {TIME_SLACK:g} | {'PASS' if growth <= TIME_SLACK else 'FAIL'} | "
+                f"{t1:.1f} s -> {t2:.1f} s"
+            )
         if args.steps:
             n = sizes[-1]
-            steps = json.loads(child(STEPS.format(spacing=SPACING), tmp / f"scan_{n}.npy",
-                                     tmp / f"steps_{n}"))
+            steps = json.loads(
+                child(STEPS.format(spacing=SPACING), tmp / f"scan_{n}.npy", tmp / f"steps_{n}")
+            )
             array = 8 * n * n
-            print(f"\nper step at {n}^2, in units of the float64 array ({array / 2 ** 20:.0f} MiB):")
-            print(f"{'step':28s} {'time s':>7} {'peak above start':>16} {'peak above base':>15} "
-                  f"{'held after':>10}")
+            print(f"\nper step at {n}^2, in units of the float64 array ({array / 2**20:.0f} MiB):")
+            print(
+                f"{'step':28s} {'time s':>7} {'peak above start':>16} {'peak above base':>15} "
+                f"{'held after':>10}"
+            )
             for label, t, above_start, above_base, held in steps:
                 held_s = "" if held is None else f"{held / array:10.2f}"
-                print(f"{label:28s} {t:7.2f} {above_start / array:16.2f} {above_base / array:15.2f} "
-                      f"{held_s}")
+                print(f"{label:28s} {t:7.2f} {above_start / array:16.2f} {above_base / array:15.2f} {held_s}")
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ Every command ``roadscan --help`` lists is timed (read from the parser).
 
 Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_startup.py [N]
 """
+
 import os
 import resource
 import subprocess
@@ -81,13 +82,17 @@ def main():
             worst = max(worst, best)
             verdict = "ok" if best <= GOAL_S else f"OVER {GOAL_S} s"
         print(f"{name:44s} {best:8.3f} {best - floor:12.3f} {min(cpus[name]):7.3f}  {verdict}")
-    print(f"slowest roadscan ... --help: {worst:.3f} s (goal <= {GOAL_S} s); "
-          f"ratio to 'import numpy': {worst / min(times[NUMPY]):.2f}")
+    print(
+        f"slowest roadscan ... --help: {worst:.3f} s (goal <= {GOAL_S} s); "
+        f"ratio to 'import numpy': {worst / min(times[NUMPY]):.2f}"
+    )
     n_cmd = sum(1 for name in times if name.startswith("roadscan ")) - 1
-    print(f"RATIO | slowest of roadscan --help and its {n_cmd} commands' --help, wall / goal | "
-          f"{worst / GOAL_S:.2f} | <= 1 ({GOAL_S} s) | {'PASS' if worst <= GOAL_S else 'FAIL'} | "
-          f"{worst:.3f} s; 'import numpy' takes {min(times[NUMPY]):.3f} s, load "
-          f"{max(load0, os.getloadavg()[0]):.1f} on {os.cpu_count()} CPUs")
+    print(
+        f"RATIO | slowest of roadscan --help and its {n_cmd} commands' --help, wall / goal | "
+        f"{worst / GOAL_S:.2f} | <= 1 ({GOAL_S} s) | {'PASS' if worst <= GOAL_S else 'FAIL'} | "
+        f"{worst:.3f} s; 'import numpy' takes {min(times[NUMPY]):.3f} s, load "
+        f"{max(load0, os.getloadavg()[0]):.1f} on {os.cpu_count()} CPUs"
+    )
 
 
 if __name__ == "__main__":

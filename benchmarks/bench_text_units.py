@@ -7,6 +7,7 @@ file). Goal: the check under 5 % of the read. Printed: best of N wall times [s].
 
 Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_text_units.py [N]
 """
+
 from __future__ import annotations
 
 import sys
@@ -38,14 +39,15 @@ def main(n=3):
         pts = Path(d) / "map.xyz"
         h = rng.normal(size=(1000, 1000)) * 1e-4
         yy, xx = np.mgrid[0:1000, 0:1000]
-        np.savetxt(pts, np.column_stack([xx.ravel() * 5e-5, yy.ravel() * 5e-5, h.ravel()]),
-                   fmt="%.6e")
+        np.savetxt(pts, np.column_stack([xx.ravel() * 5e-5, yy.ravel() * 5e-5, h.ravel()]), fmt="%.6e")
         for name, path, heights in (("x,z profile 51k", prof, z), ("x,y,z map 1 Mpx", pts, h)):
-            t_read = _best(lambda: read(path), n)
-            t_check = _best(lambda: line_rms(heights), n)
+            t_read = _best(lambda path=path: read(path), n)
+            t_check = _best(lambda heights=heights: line_rms(heights), n)
             share = 100 * t_check / t_read
-            print(f"{name:18s} read {t_read:7.3f} s   unit check {t_check:7.4f} s   "
-                  f"{share:5.1f} %  {'ok' if share < 5 else 'ABOVE GOAL (5 %)'}")
+            print(
+                f"{name:18s} read {t_read:7.3f} s   unit check {t_check:7.4f} s   "
+                f"{share:5.1f} %  {'ok' if share < 5 else 'ABOVE GOAL (5 %)'}"
+            )
 
 
 if __name__ == "__main__":

@@ -38,6 +38,7 @@ analyse runs it 0.227 s (ratio 1.39: the goal met on two cores).
 
 Run: PYTHONPATH=. .venv/bin/python benchmarks/bench_texture.py [N] [--size 2048]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -99,7 +100,8 @@ def main():
         "Sal, Str, Std": lambda: spatial_parameters(z, lev.dx_m, lev.dy_m),
         "Spd, Spc, S5p, S5v, S10z": lambda: feature_parameters(z, lev.dx_m, lev.dy_m),
     }
-    def as_analyse():                            # the texture set on a second thread
+
+    def as_analyse():  # the texture set on a second thread
         import threading
 
         t = threading.Thread(target=texture_parameters, args=(lev,))
@@ -108,10 +110,10 @@ def main():
         mpd_and_segments(hm)
         t.join()
 
-    candidate()                                  # warm-up (imports, page faults)
+    candidate()  # warm-up (imports, page faults)
     as_analyse()
     tb = cb = tc = cc = tt = np.inf
-    for _ in range(a.n):                         # interleaved
+    for _ in range(a.n):  # interleaved
         w, c = _best2(baseline, 1)
         tb, cb = min(tb, w), min(cb, c)
         w, c = _best2(candidate, 1)
@@ -120,8 +122,10 @@ def main():
     import os
 
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
-    print(f"map {a.size} x {a.size}, best of {a.n}, load average {load:.1f} on {os.cpu_count()} "
-          f"CPUs (wall s, CPU s)")
+    print(
+        f"map {a.size} x {a.size}, best of {a.n}, load average {load:.1f} on {os.cpu_count()} "
+        f"CPUs (wall s, CPU s)"
+    )
     for name, fn in steps.items():
         w, c = _best2(fn, a.n)
         print(f"  {name:28s} {w:7.3f} {c:7.3f}")
@@ -132,16 +136,20 @@ def main():
         print(f"  {'(skimage h_maxima, peaks)':28s} {_best(lambda: h_maxima(z, T), 1):7.3f} s")
     except ImportError:
         pass
-    print(f"baseline (height figures + MPD) {tb:.3f} s wall, {cb:.3f} s CPU; with the texture "
-          f"set one after the other {tc:.3f} s wall, {cc:.3f} s CPU (ratio {tc / tb:.2f}, CPU "
-          f"ratio {cc / cb:.2f}); as analyse runs it (texture set on a second thread) {tt:.3f} s")
-    threaded = (os.cpu_count() or 1) >= 2        # analyse starts no thread on one core
+    print(
+        f"baseline (height figures + MPD) {tb:.3f} s wall, {cb:.3f} s CPU; with the texture "
+        f"set one after the other {tc:.3f} s wall, {cc:.3f} s CPU (ratio {tc / tb:.2f}, CPU "
+        f"ratio {cc / cb:.2f}); as analyse runs it (texture set on a second thread) {tt:.3f} s"
+    )
+    threaded = (os.cpu_count() or 1) >= 2  # analyse starts no thread on one core
     ratio = (tt if threaded else tc) / tb
     verdict = "PASS" if ratio <= GOAL else "FAIL"
     how = "as analyse runs it, texture set on a second thread" if threaded else "one core"
-    print(f"RATIO | texture set + MPD / height figures + MPD at {a.size}^2 ({how}) | {ratio:.2f} | "
-          f"<= {GOAL} | {verdict} | baseline {tb:.3f} s, candidate {tt if threaded else tc:.3f} s, "
-          f"one after the other {tc / tb:.2f}, load {load:.1f}")
+    print(
+        f"RATIO | texture set + MPD / height figures + MPD at {a.size}^2 ({how}) | {ratio:.2f} | "
+        f"<= {GOAL} | {verdict} | baseline {tb:.3f} s, candidate {tt if threaded else tc:.3f} s, "
+        f"one after the other {tc / tb:.2f}, load {load:.1f}"
+    )
 
 
 if __name__ == "__main__":

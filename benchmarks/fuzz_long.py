@@ -11,6 +11,7 @@ NaN in an output, leftovers, time limit). Exit code 1 when any case failed.
 
 ``--batch`` adds ``roadscan batch`` runs (each starts a Dask cluster: ~20 s a case).
 """
+
 from __future__ import annotations
 
 import argparse
@@ -35,12 +36,25 @@ def main(argv=None):
     args = ap.parse_args(argv)
 
     report = Path(args.report or tempfile.mkstemp(prefix="fuzz_long_", suffix=".json")[1])
-    env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg",
-           "ROADSCAN_FUZZ_SCALE": str(args.scale), "ROADSCAN_FUZZ_COLLECT": "1",
-           "ROADSCAN_FUZZ_REPORT": str(report)}
+    env = {
+        **os.environ,
+        "PYTHONPATH": str(ROOT),
+        "MPLBACKEND": "Agg",
+        "ROADSCAN_FUZZ_SCALE": str(args.scale),
+        "ROADSCAN_FUZZ_COLLECT": "1",
+        "ROADSCAN_FUZZ_REPORT": str(report),
+    }
     if args.figures:
         env["ROADSCAN_FUZZ_FIGURES"] = "1"
-    cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", str(ROOT / "tests" / "test_fuzz.py")]
+    cmd = [
+        sys.executable,
+        "-m",
+        "pytest",
+        "-q",
+        "-p",
+        "no:cacheprovider",
+        str(ROOT / "tests" / "test_fuzz.py"),
+    ]
     if not args.batch:
         cmd += ["--deselect", "tests/test_fuzz.py::test_batch_subprocess"]
     if args.k:
@@ -64,13 +78,18 @@ def main(argv=None):
             total[k] += v
         print(f"{g:<16}" + "".join(f"{v:>14}" for v in row))
     print(f"{'total':<16}" + "".join(f"{total[k]:>14}" for k in keys))
-    broken = [ln for ln in proc.stdout.splitlines() if ln.startswith(("FAILED ", "ERROR "))
-              and "test_cases_were_counted" not in ln]
-    for ln in broken:       # a test that stopped for another reason than a judged case
+    broken = [
+        ln
+        for ln in proc.stdout.splitlines()
+        if ln.startswith(("FAILED ", "ERROR ")) and "test_cases_were_counted" not in ln
+    ]
+    for ln in broken:  # a test that stopped for another reason than a judged case
         print(f"pytest: {ln}")
     for f in failures:
-        print(f"\nFAILED {f['group']}: {'; '.join(f['problems'])}\n  case: {f['case'][:600]}\n"
-              f"  stderr: {f['stderr_tail'][-400:]}")
+        print(
+            f"\nFAILED {f['group']}: {'; '.join(f['problems'])}\n  case: {f['case'][:600]}\n"
+            f"  stderr: {f['stderr_tail'][-400:]}"
+        )
     if not args.report:
         report.unlink()
     return 1 if failures or broken else 0

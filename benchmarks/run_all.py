@@ -10,6 +10,7 @@ A script not present in this checkout is listed as such.
 
 Run: PYTHONPATH=. .venv/bin/python benchmarks/run_all.py [--quick] [--readme] [--only NAME,...]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -30,13 +31,25 @@ BEGIN, END = "<!-- run_all:begin -->", "<!-- run_all:end -->"
 #: (script, arguments, arguments with --quick, what it measures)
 SCRIPTS = [
     ("bench_startup.py", ["7"], ["3"], "roadscan --help and every CMD --help, fresh interpreters"),
-    ("bench_analyse.py", ["5", "--phases"], ["3", "--phases"],
-     "roadscan analyse on the sample, with and without figures"),
+    (
+        "bench_analyse.py",
+        ["5", "--phases"],
+        ["3", "--phases"],
+        "roadscan analyse on the sample, with and without figures",
+    ),
     ("bench_psd.py", [], [], "psd_area against the same-FFT floor and SurfaceTopography"),
-    ("bench_scale.py", [], ["--sizes", "1024,2048,4096"],
-     "roadscan analyse time and peak memory, 1024^2 to 8192^2 (issue 14)"),
-    ("bench_rainfill.py", [], ["--sizes", "1024,2048", "--repeats", "1"],
-     "rain fill against scikit-image, 1024^2 to 4096^2"),
+    (
+        "bench_scale.py",
+        [],
+        ["--sizes", "1024,2048,4096"],
+        "roadscan analyse time and peak memory, 1024^2 to 8192^2 (issue 14)",
+    ),
+    (
+        "bench_rainfill.py",
+        [],
+        ["--sizes", "1024,2048", "--repeats", "1"],
+        "rain fill against scikit-image, 1024^2 to 4096^2",
+    ),
     ("bench_friction.py", [], ["--quick"], "isothermal and flash engines against independent references"),
     ("bench_texture.py", ["3"], ["1"], "ISO 25178-2 texture set + MPD against height figures + MPD, 2048^2"),
 ]
@@ -57,9 +70,14 @@ def machine():
         pass
     ram = ""
     try:
-        kb = int(next(row.split()[1] for row in Path("/proc/meminfo").read_text().splitlines()
-                      if row.startswith("MemTotal")))
-        ram = f", {kb / 2 ** 20:.0f} GiB RAM"
+        kb = int(
+            next(
+                row.split()[1]
+                for row in Path("/proc/meminfo").read_text().splitlines()
+                if row.startswith("MemTotal")
+            )
+        )
+        ram = f", {kb / 2**20:.0f} GiB RAM"
     except (OSError, StopIteration, ValueError):
         pass
     versions = [f"Python {platform.python_version()}"]
@@ -86,8 +104,14 @@ def run(script, args, timeout):
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     t = time.perf_counter()
     try:
-        p = subprocess.run([sys.executable, str(HERE / script), *args], cwd=ROOT, env=env,
-                           capture_output=True, text=True, timeout=timeout)
+        p = subprocess.run(
+            [sys.executable, str(HERE / script), *args],
+            cwd=ROOT,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+        )
         out, rc = p.stdout + (f"\n[stderr]\n{p.stderr.strip()}" if p.returncode else ""), p.returncode
     except subprocess.TimeoutExpired as exc:
         out, rc = (exc.stdout or b"").decode() if isinstance(exc.stdout, bytes) else (exc.stdout or ""), -1
@@ -135,8 +159,10 @@ def main(argv=None):
             found = [(f"{script}: {what}", "—", "—", "FAIL", f"no ratio printed (exit {rc})")]
         rows.extend(tuple(r) for r in found)
     mach = machine()
-    stamp = (f"{started:%Y-%m-%d %H:%M %Z}; load average {min(loads):.1f} to {max(loads):.1f} "
-             f"during the run{' (--quick)' if a.quick else ''}")
+    stamp = (
+        f"{started:%Y-%m-%d %H:%M %Z}; load average {min(loads):.1f} to {max(loads):.1f} "
+        f"during the run{' (--quick)' if a.quick else ''}"
+    )
     print("== every ratio")
     print(table(rows))
     print(f"\nmachine: {mach}\ndate: {stamp}")

@@ -9,20 +9,42 @@ nor pipelines.
 Imports are on demand: ``import friction`` loads nothing heavy; each public name below loads
 its submodule when first used (``fit_prony``/``fit_wlf`` bring in ``scipy.optimize`` only then).
 """
+
 from importlib import import_module
 
-__all__ = ["SelfAffinePSD", "TabulatedPSD", "StandardLinearSolid", "Prony", "MasterCurve", "WLF",
-           "ShiftTable", "Thermal", "thesis_rubber", "fit_prony", "fit_wlf", "mu_isothermal",
-           "mu_flash", "FrictionResult", "rubber_from_dict"]
+__all__ = [
+    "SelfAffinePSD",
+    "TabulatedPSD",
+    "StandardLinearSolid",
+    "Prony",
+    "MasterCurve",
+    "WLF",
+    "ShiftTable",
+    "Thermal",
+    "thesis_rubber",
+    "fit_prony",
+    "fit_wlf",
+    "mu_isothermal",
+    "mu_flash",
+    "FrictionResult",
+    "rubber_from_dict",
+]
 
 _LAZY = {
-    "fit_prony": ".fitting", "fit_wlf": ".fitting",
+    "fit_prony": ".fitting",
+    "fit_wlf": ".fitting",
     "mu_flash": ".flash",
     "mu_isothermal": ".isothermal",
-    "SelfAffinePSD": ".psd", "TabulatedPSD": ".psd",
+    "SelfAffinePSD": ".psd",
+    "TabulatedPSD": ".psd",
     "FrictionResult": ".result",
-    "WLF": ".rubber", "MasterCurve": ".rubber", "Prony": ".rubber", "ShiftTable": ".rubber",
-    "StandardLinearSolid": ".rubber", "Thermal": ".rubber", "thesis_rubber": ".rubber",
+    "WLF": ".rubber",
+    "MasterCurve": ".rubber",
+    "Prony": ".rubber",
+    "ShiftTable": ".rubber",
+    "StandardLinearSolid": ".rubber",
+    "Thermal": ".rubber",
+    "thesis_rubber": ".rubber",
     "rubber_from_dict": ".rubber_dict",
 }
 

@@ -14,6 +14,7 @@ restricted (or extended) to exactly [q0, q1]:
 
 Conventions: q in 1/m, C in m^4 (Persson's normalisation, ``<h^2> = 2 pi int q C dq``).
 """
+
 from __future__ import annotations
 
 from typing import Any
@@ -24,7 +25,7 @@ from .psd import TabulatedPSD
 
 __all__ = ["integration_band", "band_problem"]
 
-_REL = 1e-6   # relative slack on q comparisons (rounded numbers typed on a command line)
+_REL = 1e-6  # relative slack on q comparisons (rounded numbers typed on a command line)
 
 
 def _ends(psd, q0_per_m, q1_per_m, q0_slack):
@@ -37,16 +38,23 @@ def _ends(psd, q0_per_m, q1_per_m, q0_slack):
         return q0, q1, "q0 and q1 must be positive wave vectors [1/m]"
     if q0 < qt[0] * (1 - _REL):
         if q0 < qt[0] * (1 - q0_slack):
-            return q0, q1, (f"q0 = {q0:.6g} 1/m is below the spectrum's lowest wave vector "
-                            f"{qt[0]:.6g} 1/m (the spectrum is not extrapolated to long wavelengths)")
+            return (
+                q0,
+                q1,
+                (
+                    f"q0 = {q0:.6g} 1/m is below the spectrum's lowest wave vector "
+                    f"{qt[0]:.6g} 1/m (the spectrum is not extrapolated to long wavelengths)"
+                ),
+            )
         q0 = float(qt[0])
     if not q1 > q0 * (1 + _REL):
         return q0, q1, f"need q0 < q1 (q0 = {q0:.6g}, q1 = {q1:.6g} 1/m)"
     return q0, q1, None
 
 
-def band_problem(psd: TabulatedPSD, q0_per_m: float | None = None, q1_per_m: float | None = None,
-                 q0_slack: float = 0.01) -> str | None:
+def band_problem(
+    psd: TabulatedPSD, q0_per_m: float | None = None, q1_per_m: float | None = None, q0_slack: float = 0.01
+) -> str | None:
     """Why ``[q0, q1]`` makes no integration band for ``psd`` (one line), or None when it does:
     the check :func:`integration_band` applies, for callers that report bad input before the
     computation.
@@ -67,8 +75,9 @@ def band_problem(psd: TabulatedPSD, q0_per_m: float | None = None, q1_per_m: flo
     return _ends(psd, q0_per_m, q1_per_m, q0_slack)[2]
 
 
-def integration_band(psd: TabulatedPSD, q0_per_m: float | None = None, q1_per_m: float | None = None,
-                     q0_slack: float = 0.01) -> tuple[TabulatedPSD, dict[str, Any]]:
+def integration_band(
+    psd: TabulatedPSD, q0_per_m: float | None = None, q1_per_m: float | None = None, q0_slack: float = 0.01
+) -> tuple[TabulatedPSD, dict[str, Any]]:
     """The spectrum on exactly ``[q0, q1]`` (see module docstring).
 
     Parameters
@@ -105,8 +114,12 @@ def integration_band(psd: TabulatedPSD, q0_per_m: float | None = None, q1_per_m:
     q = np.concatenate([[q0], inner, [q1]])
     C = ext.C(q)
     extended = q1 > qt[-1] * (1 + _REL)
-    info = dict(q0_per_m=q0, q1_per_m=q1, q_table_min_per_m=float(qt[0]),
-                q_table_max_per_m=float(qt[-1]),
-                extended_decades=float(np.log10(q1 / qt[-1])) if extended else 0.0,
-                tail_exponent=float(psd.tail_exponent) if extended else None)
+    info = dict(
+        q0_per_m=q0,
+        q1_per_m=q1,
+        q_table_min_per_m=float(qt[0]),
+        q_table_max_per_m=float(qt[-1]),
+        extended_decades=float(np.log10(q1 / qt[-1])) if extended else 0.0,
+        tail_exponent=float(psd.tail_exponent) if extended else None,
+    )
     return TabulatedPSD(q, C, q0_per_m=q0, q1_per_m=q1), info

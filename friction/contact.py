@@ -7,6 +7,7 @@ Near the lower end G grows linearly from 0 and P falls like 1/sqrt(q - q_min) at
 sampling P at the nodes (trapezoid) overestimates mu badly. :func:`p_weights` integrates P
 exactly on each interval, taking G linear in s there and the smooth co-factor linear too.
 """
+
 from __future__ import annotations
 
 import math
@@ -37,6 +38,7 @@ def _erf_pair(x, complement):
     x = np.asarray(x, dtype=float)
     if x.size >= _SCIPY_FROM:
         from scipy import special
+
         return special.erfc(x) if complement else special.erf(x)
     f = _MATH_ERFC if complement else _MATH_ERF
     return np.asarray(f(x), dtype=float).reshape(x.shape)

@@ -1,4 +1,5 @@
 """Fitting rubber models to measurements: a Prony series to a master curve, WLF to shift factors."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -44,18 +45,28 @@ def fit_prony(master_curve: MasterCurve, n_terms: int | None = None, per_decade:
         n_terms = max(2, int(np.ceil((decades + 2) * per_decade)) + 1)
     tau = np.logspace(np.log10(1 / w[-1]) - 1, np.log10(1 / w[0]) + 1, int(n_terms))
     wt = w[:, None] * tau[None, :]
-    re = wt ** 2 / (1 + wt ** 2)
-    im = wt / (1 + wt ** 2)
+    re = wt**2 / (1 + wt**2)
+    im = wt / (1 + wt**2)
     E1, E2 = master_curve.E_storage_Pa, master_curve.E_loss_Pa
-    A = np.vstack([np.hstack([np.ones((f.size, 1)), re]) / E1[:, None],
-                   np.hstack([np.zeros((f.size, 1)), im]) / E2[:, None]])
+    A = np.vstack(
+        [
+            np.hstack([np.ones((f.size, 1)), re]) / E1[:, None],
+            np.hstack([np.zeros((f.size, 1)), im]) / E2[:, None],
+        ]
+    )
     b = np.concatenate([np.ones(f.size), np.ones(f.size)])
     from scipy.optimize import nnls
 
     coef, _ = nnls(A, b, maxiter=50 * A.shape[1])
     keep = coef[1:] > 0
-    return Prony(float(coef[0]), coef[1:][keep], tau[keep], master_curve.T_ref_C,
-                 master_curve.shift, master_curve.thermal)
+    return Prony(
+        float(coef[0]),
+        coef[1:][keep],
+        tau[keep],
+        master_curve.T_ref_C,
+        master_curve.shift,
+        master_curve.thermal,
+    )
 
 
 def fit_wlf(T_C: ArrayLike, log10_aT: ArrayLike, T_s_C: float | None = None) -> WLF:
@@ -110,14 +121,15 @@ def fit_wlf(T_C: ArrayLike, log10_aT: ArrayLike, T_s_C: float | None = None) -> 
         C1_0, C2_0 = 10.0, 50.0
 
     if T_s_C is None:
-        def wlf_free(t, c1, c2, ts):            # log10 aT with T_s fitted too
+
+        def wlf_free(t, c1, c2, ts):  # log10 aT with T_s fitted too
             return -c1 * (t - ts) / (c2 + t - ts)
 
         p, _ = curve_fit(wlf_free, T, y, p0=[C1_0, C2_0, Ts0], maxfev=20000)
         return WLF(float(p[0]), float(p[1]), float(p[2]))
     T_s = float(T_s_C)
 
-    def wlf_fixed(t, c1, c2):                   # log10 aT at the given T_s
+    def wlf_fixed(t, c1, c2):  # log10 aT at the given T_s
         return -c1 * (t - T_s) / (c2 + t - T_s)
 
     p, _ = curve_fit(wlf_fixed, T, y, p0=[C1_0, C2_0], maxfev=20000)

@@ -26,6 +26,7 @@ only. On the thesis's flash-temperature parameter set it takes about 20 map eval
 iteration count and the final residual ``max |Phi(T) - T|`` [K] are reported, and a
 :class:`FlashConvergenceError` (a RuntimeError, one line) is raised if it does not converge.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -125,9 +126,27 @@ def _anderson_step(X, R, T, r, beta, reg=1e-10):
     return T + b * r - np.einsum("vm,vmq->vq", gam, dX + b[:, :, None] * dR)
 
 
-def _solve_flash(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None, osc=-0.3,
-                 cut=0.5, recover=1.25, T_cap=1e4, max_stretch=np.inf, enter=2, near=0.3,
-                 reg=1e-10, align=0.9, beta_max=1.0):
+def _solve_flash(
+    phi_map,
+    nv,
+    nq,
+    T0,
+    tol,
+    max_iter,
+    beta,
+    memory,
+    v=None,
+    osc=-0.3,
+    cut=0.5,
+    recover=1.25,
+    T_cap=1e4,
+    max_stretch=np.inf,
+    enter=2,
+    near=0.3,
+    reg=1e-10,
+    align=0.9,
+    beta_max=1.0,
+):
     """Self-consistent T_q at every speed: damped fixed point with Anderson acceleration.
 
     The speeds are independent problems ``T = Phi(T)`` (rows of T, nq unknowns each), solved
@@ -166,7 +185,7 @@ def _solve_flash(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None, osc=-
     calm = np.zeros(nv, dtype=int)
     bv = np.full(nv, float(beta))
     ceil = np.full(nv, float(beta_max))
-    capped = np.zeros(nv, dtype=bool)     # the row's iterate went above T0 + T_RISE_MAX_K
+    capped = np.zeros(nv, dtype=bool)  # the row's iterate went above T0 + T_RISE_MAX_K
     rr = np.zeros(0)
     it = 0
     for it in range(1, max_iter + 1):  # noqa: B007 - the count is returned after the loop
@@ -191,17 +210,27 @@ def _solve_flash(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None, osc=-
                 arr[:k] = arr[keep]
             act, Ta, r, rr, rise = act[keep], Ta[keep], r[keep], rr[keep], rise[keep]
         k = act.size
-        hx, hr, n, rp, rrp, cm, b, cl = (HX[:k], HR[:k], nh[:k], r_prev[:k], rr_prev[:k],
-                                          calm[:k], bv[:k], ceil[:k])
-        cos = np.sum(r * rp, axis=1) / (np.sqrt(np.sum(r * r, axis=1) * np.sum(rp * rp, axis=1))
-                                        + 1e-300)
+        hx, hr, n, rp, rrp, cm, b, cl = (
+            HX[:k],
+            HR[:k],
+            nh[:k],
+            r_prev[:k],
+            rr_prev[:k],
+            calm[:k],
+            bv[:k],
+            ceil[:k],
+        )
+        cos = np.sum(r * rp, axis=1) / (np.sqrt(np.sum(r * r, axis=1) * np.sum(rp * rp, axis=1)) + 1e-300)
         oscil = cos < osc
         aligned = cos > align
         # an oscillating row lowers its own ceiling for good (so that beta cannot climb back
         # into the cycle), then beta grows again only along aligned residuals, up to that ceiling
         cl[:] = np.where(oscil, np.maximum(0.75 * b, 1.0 / 64), cl)
-        b[:] = np.where(oscil, np.maximum(b * cut, 1.0 / 64),
-                        np.where(aligned, np.minimum(b * recover, cl), np.minimum(b, beta)))
+        b[:] = np.where(
+            oscil,
+            np.maximum(b * cut, 1.0 / 64),
+            np.where(aligned, np.minimum(b * recover, cl), np.minimum(b, beta)),
+        )
         # Anderson only where the map behaves like a contraction: the residual fell in each of
         # the last `enter` steps and is small against the rise; any growth restarts the history
         cm[:] = np.where(rr < rrp, cm + 1, 0)
@@ -217,15 +246,14 @@ def _solve_flash(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None, osc=-
         hx[idx, n[idx]] = Ta[idx]
         hr[idx, n[idx]] = r[idx]
         n[idx] += 1
-        step = b[:, None] * r                          # the damped fixed-point step
+        step = b[:, None] * r  # the damped fixed-point step
         Tnew = Ta + step
         for L in np.unique(n[n >= 2]):
             g = np.flatnonzero(n == L)
             Ta_g = _anderson_step(hx[g, :L], hr[g, :L], Ta[g], r[g], b[g], reg)
             # an extrapolation far longer than the damped step is not trusted: damped step,
             # history dropped
-            wild = (np.max(np.abs(Ta_g - Ta[g]), axis=1)
-                    > max_stretch * np.max(np.abs(step[g]), axis=1))
+            wild = np.max(np.abs(Ta_g - Ta[g]), axis=1) > max_stretch * np.max(np.abs(step[g]), axis=1)
             Tnew[g[~wild]] = Ta_g[~wild]
             n[g[wild]] = 0
         capped[:k] |= np.max(Tnew, axis=1) > T0 + T_RISE_MAX_K
@@ -237,11 +265,13 @@ def _solve_flash(phi_map, nv, nq, T0, tol, max_iter, beta, memory, v=None, osc=-
             speeds = "" if v is None else f" at v = {_speeds(v[act[hot]])} m/s"
             raise FlashConvergenceError(
                 f"flash temperature runs away{speeds}: no self-consistent solution found, the "
-                f"iterates rose more than {T_RISE_MAX_K:g} K above T0 (outside the model's range)")
+                f"iterates rose more than {T_RISE_MAX_K:g} K above T0 (outside the model's range)"
+            )
         speeds = "" if v is None else f" at v = {_speeds(v[act])} m/s"
         raise FlashConvergenceError(
             f"flash temperature did not converge{speeds}: residual {float(rr.max()):.3g} K "
-            f"after {it} iterations")
+            f"after {it} iterations"
+        )
     return T_out, R_out, it, float(res_out.max())
 
 
@@ -250,9 +280,23 @@ def _speeds(v):
     return ", ".join(f"{x:.3g}" for x in v[:3]) + (f" (and {v.size - 3} more)" if v.size > 3 else "")
 
 
-def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=3.0,
-             asperity_abc=ASPERITY_ABC, tol=1e-3, wlf_form="relative",
-             max_iter=400, beta=0.5, memory=6, heat_scale=1.0, contact_gamma=None):
+def mu_flash(
+    psd,
+    rubber,
+    v_m_per_s,
+    sigma0_Pa=0.2e6,
+    nu=0.5,
+    T0_C=None,
+    zeta_m=3.0,
+    asperity_abc=ASPERITY_ABC,
+    tol=1e-3,
+    wlf_form="relative",
+    max_iter=400,
+    beta=0.5,
+    memory=6,
+    heat_scale=1.0,
+    contact_gamma=None,
+):
     """Kinetic friction with flash heating, solved self-consistently for T_q at every speed.
 
     The rubber at length scale 2 pi / q is at ``T_q = T0 + int_0^inf dq' g(q, q') f(q')``
@@ -342,7 +386,7 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
     im = int(np.argmin(np.abs(np.log(q / q_m))))
     C = psd.C(q)
     a_, b_, c_ = asperity_abc
-    s_fac = (1.0 - nu * nu)
+    s_fac = 1.0 - nu * nu
 
     # heat kernel factors on a k grid wide enough for every speed and every R <= R_max
     R_max = (a_ + b_) / q_m
@@ -351,14 +395,14 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
     khi = 1e3 * 2 * q[-1]
     k, wk = k_rule(klo, khi)
     A = 4 * q[:, None] / (k[None, :] ** 2 + 4 * q[:, None] ** 2) * q[:, None]  # (nq, nk), incl. dq = q ds
-    B = 4 * q[None, :] ** 2 / (k[:, None] ** 2 + 4 * q[None, :] ** 2)            # (nk, nq)
+    B = 4 * q[None, :] ** 2 / (k[:, None] ** 2 + 4 * q[None, :] ** 2)  # (nk, nq)
     k2 = k * k
-    pre = (v[:, None] * q ** 4 * C) * (4.0 * heat_scale / (rc * s_fac))          # (nv, nq)
+    pre = (v[:, None] * q**4 * C) * (4.0 * heat_scale / (rc * s_fac))  # (nv, nq)
 
     x0 = v[:, None] * q[None, :]
     span = log10_shift(rubber, np.array([T0, T0 + T_RISE_MAX_K]), wlf_form, T0)
     lo_shift, hi_shift = float(np.clip(np.min(span), -300, 300)), float(np.clip(np.max(span), -300, 300))
-    tab = phi_table(rubber, x0.min() * 10 ** lo_shift, x0.max() * 10 ** hi_shift)
+    tab = phi_table(rubber, x0.min() * 10**lo_shift, x0.max() * 10**hi_shift)
 
     def state(T, rows=slice(None)):
         # the clip keeps 10**shift a finite non-zero number where a shift table is extrapolated
@@ -372,20 +416,33 @@ def mu_flash(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, zeta_m=
         """Phi(T) on the speeds ``rows`` (T holds those rows only); also R [m] there."""
         m, _G, P, wP, _fmu = state(T, rows)
         Pm = P[:, im]
-        R = (a_ + b_ * Pm ** c_) / q_m
+        R = (a_ + b_ * Pm**c_) / q_m
         s = D * R / v[rows]
         F = -np.expm1(-s[:, None] * k2[None, :]) / (D * k2[None, :]) / np.pi  # (nv, nk)
-        u = wP * pre[rows] * m / Pm[:, None]                                   # (nv, nq)
+        u = wP * pre[rows] * m / Pm[:, None]  # (nv, nq)
         Tn = T0 + ((u @ A) * (F * wk)) @ B
         return Tn, R
 
-    T, R, it, res = _solve_flash(phi_map, v.size, q.size, T0, tol, int(max_iter), float(beta),
-                                 memory, v=v)
+    T, R, it, res = _solve_flash(phi_map, v.size, q.size, T0, tol, int(max_iter), float(beta), memory, v=v)
     _m, G, P, wP, fmu = state(T)
     mu = 0.5 * np.sum(wP * fmu, axis=-1)
-    meta = dict(model="flash", sigma0_Pa=sigma0_Pa, nu=nu, T0_C=T0, tol=tol, wlf_form=wlf_form,
-                heat_scale=float(heat_scale), contact_gamma=contact_gamma,
-                q0_per_m=psd.q0_per_m, zeta_m=zeta_m, q_m_per_m=q_m, asperity_abc=tuple(asperity_abc),
-                R_m=R, q_nodes=q.size, k_nodes=k.size, phi_nodes=tab.phi_nodes,
-                thermal=th)
+    meta = dict(
+        model="flash",
+        sigma0_Pa=sigma0_Pa,
+        nu=nu,
+        T0_C=T0,
+        tol=tol,
+        wlf_form=wlf_form,
+        heat_scale=float(heat_scale),
+        contact_gamma=contact_gamma,
+        q0_per_m=psd.q0_per_m,
+        zeta_m=zeta_m,
+        q_m_per_m=q_m,
+        asperity_abc=tuple(asperity_abc),
+        R_m=R,
+        q_nodes=q.size,
+        k_nodes=k.size,
+        phi_nodes=tab.phi_nodes,
+        thermal=th,
+    )
     return FrictionResult(v, mu, q, P, G, T, it, res, meta)

@@ -12,6 +12,7 @@ A temperature T only rescales the frequency, ``E(omega, T) = E_ref(omega a)``, s
 any temperature are ``m(x a)`` and ``w(x a)``: one table per rubber serves every speed,
 wave vector and temperature. The table is a cubic spline of (ln x, ln m) and (ln x, ln w).
 """
+
 from __future__ import annotations
 
 import weakref
@@ -27,7 +28,9 @@ if TYPE_CHECKING:
 __all__ = ["phi_rule", "q_grid", "q_nodes_per_decade", "PhiTable", "phi_table"]
 
 
-def phi_rule(n_gl: int = 8, panels_per_decade: float = 1.0, u_min: float = 1e-8) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def phi_rule(
+    n_gl: int = 8, panels_per_decade: float = 1.0, u_min: float = 1e-8
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Gauss-Legendre panels on phi in [0, pi/2], graded geometrically towards phi = pi/2.
 
     With ``u = pi/2 - phi`` (so ``cos phi = sin u``) the range ``[u_min, pi/2]`` is cut into
@@ -88,7 +91,9 @@ def q_nodes_per_decade(tol: float, base: float = 40.0, ref_tol: float = 1e-3, mi
     return max(minimum, int(np.ceil(base * np.sqrt(ref_tol / tol))))
 
 
-def q_grid(breakpoints_per_m: ArrayLike, nodes_per_decade: float, grade: int = 8) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def q_grid(
+    breakpoints_per_m: ArrayLike, nodes_per_decade: float, grade: int = 8
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Nodes uniform in ln q between consecutive breakpoints (all breakpoints are nodes),
     with the first interval graded geometrically towards the lowest q: ``grade`` extra nodes at
     ``s0 + h / 2^k``, k = 1..grade, where G rises from 0 and P has its 1/sqrt(q - q_min)
@@ -113,7 +118,7 @@ def q_grid(breakpoints_per_m: ArrayLike, nodes_per_decade: float, grade: int = 8
         Interval widths in ln q.
     """
     bp = np.sort(np.asarray(breakpoints_per_m, dtype=float).ravel())
-    if bp.size and not np.isnan(bp[-1]):          # np.unique's values, without numpy.ma
+    if bp.size and not np.isnan(bp[-1]):  # np.unique's values, without numpy.ma
         bp = bp[np.r_[True, bp[1:] != bp[:-1]]]
     else:
         bp = np.unique(bp)
@@ -153,9 +158,9 @@ class _NotAKnotSpline:
             raise ValueError("the not-a-knot spline needs at least 4 nodes")
         h = np.diff(x)
         d = np.diff(y) / h
-        lower = np.empty(n)          # A[i, i-1]
-        diag = np.empty(n)           # A[i, i]
-        upper = np.empty(n)          # A[i, i+1]
+        lower = np.empty(n)  # A[i, i-1]
+        diag = np.empty(n)  # A[i, i]
+        upper = np.empty(n)  # A[i, i+1]
         rhs = np.empty(n)
         lower[1:-1], diag[1:-1], upper[1:-1] = h[1:], 2 * (h[:-1] + h[1:]), h[:-1]
         rhs[1:-1] = 3 * (h[1:] * d[:-1] + h[:-1] * d[1:])
@@ -179,7 +184,7 @@ class _NotAKnotSpline:
         s = np.array(slope)
         t = (s[:-1] + s[1:] - 2 * d) / h
         self.x, self.slope = x, s
-        self.c = np.stack([t / h, (d - s[:-1]) / h - t, s[:-1], y[:-1]])   # c0 u^3 + ... + c3
+        self.c = np.stack([t / h, (d - s[:-1]) / h - t, s[:-1], y[:-1]])  # c0 u^3 + ... + c3
 
     def __call__(self, xi):
         """Spline values at ``xi`` (inside [x_0, x_{n-1}]; the end cubics continue outside)."""
@@ -216,8 +221,15 @@ class PhiTable:
         Panels per decade of the phi rule.
     """
 
-    def __init__(self, rubber: Rubber, k_lo: int, k_hi: int, per_decade: int = 24, n_gl: int = 8,
-                 panels_per_decade: float = 1.0) -> None:
+    def __init__(
+        self,
+        rubber: Rubber,
+        k_lo: int,
+        k_hi: int,
+        per_decade: int = 24,
+        n_gl: int = 8,
+        panels_per_decade: float = 1.0,
+    ) -> None:
         self.rubber, self.k_lo, self.k_hi, self.per_decade = rubber, int(k_lo), int(k_hi), per_decade
         lx = np.arange(self.k_lo, self.k_hi + 1) * (np.log(10.0) / per_decade)
         c, wphi = phi_rule(n_gl, panels_per_decade)
@@ -225,7 +237,7 @@ class PhiTable:
         with np.errstate(over="ignore", under="ignore", invalid="ignore", divide="ignore"):
             E = rubber.modulus_ref(np.exp(lx)[:, None] * c[None, :])
             m = (c * E.imag) @ wphi
-            w = (E.real ** 2 + E.imag ** 2) @ wphi
+            w = (E.real**2 + E.imag**2) @ wphi
         m = np.where(np.isfinite(m), m, 0.0)
         w = np.where(np.isfinite(w), w, np.finfo(float).max)
         tiny = 1e-300
@@ -279,8 +291,10 @@ def phi_table(rubber: Rubber, x_min: float, x_max: float, per_decade: int = 24) 
     """
     d = np.log(10.0) / per_decade
     if not (np.isfinite(x_min) and np.isfinite(x_max) and 0 < x_min <= x_max):
-        raise ValueError(f"reduced frequencies q v aT out of range ({x_min:.3g}..{x_max:.3g} rad/s): "
-                         "is the temperature far outside the rubber's shift table?")
+        raise ValueError(
+            f"reduced frequencies q v aT out of range ({x_min:.3g}..{x_max:.3g} rad/s): "
+            "is the temperature far outside the rubber's shift table?"
+        )
     k_lo = int(np.floor(np.log(x_min) / d)) - 3
     k_hi = int(np.ceil(np.log(x_max) / d)) + 3
     tabs = _CACHE.setdefault(rubber, {})

@@ -15,6 +15,7 @@ Numerics: nodes uniform in ln q (count per decade from ``tol``), the phi integra
 per-rubber spline table of x = q v a (see :mod:`friction.grids`), G integrated exactly for
 piecewise power laws, and P integrated exactly over each interval (:func:`p_weights`).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -75,17 +76,26 @@ def contact_state(q, h, C, m, w, sigma0_Pa, nu):
         ``q^4 C M`` without P, ready for the weights.
     """
     s = (1.0 - nu * nu) * sigma0_Pa
-    if np.ndim(s):                 # one pressure per speed: a column against the (nv, nq) tables
+    if np.ndim(s):  # one pressure per speed: a column against the (nv, nq) tables
         s = np.asarray(s, dtype=float)[:, None]
-    q4C = q ** 4 * C
+    q4C = q**4 * C
     g = q4C * (4.0 * w / (s * s)) / 8.0
     G = cumulative_G(g, h)
     wP, P = p_weights(G, h)
     return G, P, wP, q4C * (4.0 * m / s)
 
 
-def mu_isothermal(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, tol=1e-3,
-                  contact_gamma=None, wlf_form="relative"):
+def mu_isothermal(
+    psd,
+    rubber,
+    v_m_per_s,
+    sigma0_Pa=0.2e6,
+    nu=0.5,
+    T0_C=None,
+    tol=1e-3,
+    contact_gamma=None,
+    wlf_form="relative",
+):
     """Isothermal kinetic friction mu(v) by Persson's theory.
 
     With ``s = (1 - nu^2) sigma0`` and the rubber's modulus E(omega) at the background
@@ -150,7 +160,17 @@ def mu_isothermal(psd, rubber, v_m_per_s, sigma0_Pa=0.2e6, nu=0.5, T0_C=None, to
     G, P, wP, f = contact_state(q, h, C, m, w, sigma0_Pa, nu)
     f = f * contact_S(P, contact_gamma)
     mu = 0.5 * np.sum(wP * f, axis=-1)
-    meta = dict(model="isothermal", sigma0_Pa=sigma0_Pa, nu=nu, T0_C=T0, tol=tol,
-                contact_gamma=contact_gamma, wlf_form=wlf_form, q0_per_m=psd.q0_per_m,
-                q_nodes=q.size, phi_nodes=tab.phi_nodes, log10_shift=float(np.log10(a)))
+    meta = dict(
+        model="isothermal",
+        sigma0_Pa=sigma0_Pa,
+        nu=nu,
+        T0_C=T0,
+        tol=tol,
+        contact_gamma=contact_gamma,
+        wlf_form=wlf_form,
+        q0_per_m=psd.q0_per_m,
+        q_nodes=q.size,
+        phi_nodes=tab.phi_nodes,
+        log10_shift=float(np.log10(a)),
+    )
     return FrictionResult(v, mu, q, P, G, None, 0, 0.0, meta)

@@ -34,6 +34,7 @@ regression of (log f, log E) with Gaussian weights (width ``0.2`` decade) on a l
 
 Units: f in Hz, moduli in Pa, temperatures in C, shift factors as decimal logarithms.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -47,13 +48,27 @@ from .sweep_pairs import fit_power_offset, group_sweeps, pair_shift
 
 TREND_N = 4  # placed sweeps whose linear trend in T places an unconnected sweep
 
-__all__ = ["group_sweeps", "pair_shift", "shift_factors", "smooth_master", "TTSResult", "build_master",
-           "fit_power_offset"]
+__all__ = [
+    "group_sweeps",
+    "pair_shift",
+    "shift_factors",
+    "smooth_master",
+    "TTSResult",
+    "build_master",
+    "fit_power_offset",
+]
 
 
-def shift_factors(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: ArrayLike, T_ref_C: float,
-                  set_id: ArrayLike | None = None, max_sigma_decades: float = 0.5,
-                  reach: int = 2) -> tuple[NDArray[np.float64], NDArray[np.float64], list[NDArray[np.intp]], list[dict[str, Any]]]:
+def shift_factors(
+    f_Hz: ArrayLike,
+    E1_Pa: ArrayLike,
+    E2_Pa: ArrayLike,
+    T_C: ArrayLike,
+    T_ref_C: float,
+    set_id: ArrayLike | None = None,
+    max_sigma_decades: float = 0.5,
+    reach: int = 2,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], list[NDArray[np.intp]], list[dict[str, Any]]]:
     """log10 aT of every sweep relative to T_ref (see module docstring).
 
     Every sweep is compared with its ``reach`` nearest neighbours in temperature on each side
@@ -107,8 +122,9 @@ def shift_factors(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: Arra
         if g.size < 4 or np.unique(f[g]).size < 4:
             raise ValueError("every sweep needs at least 4 distinct frequencies")
     if not (Tm[0] - 1e-9 <= T_ref_C <= Tm[-1] + 1e-9):
-        raise ValueError(f"reference temperature {T_ref_C:g} C lies outside the sweeps' "
-                         f"{Tm[0]:.3g}..{Tm[-1]:.3g} C")
+        raise ValueError(
+            f"reference temperature {T_ref_C:g} C lies outside the sweeps' {Tm[0]:.3g}..{Tm[-1]:.3g} C"
+        )
     k = int(np.argmin(np.abs(Tm - T_ref_C)))
     rows = []
     for i in range(n):
@@ -119,7 +135,7 @@ def shift_factors(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: Arra
             except ValueError:
                 continue
             sig = 1.0 / np.sqrt(dd["w_storage"] + dd["w_loss"])
-            if j > i + 1 and dd["overlap"] is None:   # distant pairs only where the sweeps overlap
+            if j > i + 1 and dd["overlap"] is None:  # distant pairs only where the sweeps overlap
                 continue
             if sig <= max_sigma_decades and np.isfinite(d):
                 rows.append((i, j, d, sig))
@@ -168,8 +184,9 @@ def shift_factors(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: Arra
     return Tm, la, groups, info
 
 
-def smooth_master(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, per_decade: int = 10,
-                  width_decades: float = 0.2) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+def smooth_master(
+    f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, per_decade: int = 10, width_decades: float = 0.2
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Smoothed master curve on a log grid from scattered shifted points.
 
     Local linear regression of log10 E on log10 f with Gaussian weights of standard deviation
@@ -195,10 +212,10 @@ def smooth_master(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, per_decad
     x = np.log10(np.asarray(f_Hz, float))
     ys = np.log10(np.column_stack([E1_Pa, E2_Pa]))
     g = np.arange(np.ceil(x.min() * per_decade), np.floor(x.max() * per_decade) + 1) / per_decade
-    d = x[None, :] - g[:, None]                                   # (m, n)
+    d = x[None, :] - g[:, None]  # (m, n)
     w = np.exp(-0.5 * (d / width_decades) ** 2)
     S0, S1, S2 = w.sum(1), (w * d).sum(1), (w * d * d).sum(1)
-    T0 = w @ ys                                                   # (m, 2)
+    T0 = w @ ys  # (m, 2)
     T1 = (w * d) @ ys
     den = S0 * S2 - S1 * S1
     ok = (S0 > 1e-3) & (den > 1e-12 * np.maximum(S0 * S2, 1e-300))
@@ -253,8 +270,15 @@ class TTSResult:
     sweep_info: list
 
 
-def build_master(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: ArrayLike, T_ref_C: float,
-                 set_id: ArrayLike | None = None, prony_per_decade: float = 1.5) -> TTSResult:
+def build_master(
+    f_Hz: ArrayLike,
+    E1_Pa: ArrayLike,
+    E2_Pa: ArrayLike,
+    T_C: ArrayLike,
+    T_ref_C: float,
+    set_id: ArrayLike | None = None,
+    prony_per_decade: float = 1.5,
+) -> TTSResult:
     """Raw sweeps -> shift table, smoothed master curve, WLF fit and Prony series (see module
     docstring). Raises ValueError with a one-line reason on unusable data.
 
@@ -289,8 +313,9 @@ def build_master(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: Array
     f, E1, E2, T = (np.asarray(a, dtype=float) for a in (f_Hz, E1_Pa, E2_Pa, T_C))
     if not (f.shape == E1.shape == E2.shape == T.shape and f.ndim == 1):
         raise ValueError("f, E_stor, E_loss and T must be 1D arrays of equal length")
-    if not (np.all(np.isfinite(np.stack([f, E1, E2, T]))) and np.all(f > 0) and np.all(E1 > 0)
-            and np.all(E2 > 0)):
+    if not (
+        np.all(np.isfinite(np.stack([f, E1, E2, T]))) and np.all(f > 0) and np.all(E1 > 0) and np.all(E2 > 0)
+    ):
         raise ValueError("frequencies and moduli must be positive and finite")
     Tm, la, groups, info = shift_factors(f, E1, E2, T, T_ref_C, set_id)
     sweep = np.empty(f.size, int)
@@ -310,5 +335,16 @@ def build_master(f_Hz: ArrayLike, E1_Pa: ArrayLike, E2_Pa: ArrayLike, T_C: Array
     prony = fit_prony(master, per_decade=prony_per_decade)
     Ep = prony.modulus_ref(2 * np.pi * fg)
     prms = float(np.sqrt(np.mean(np.concatenate([(Ep.real / g1 - 1) ** 2, (Ep.imag / g2 - 1) ** 2]))))
-    return TTSResult(float(T_ref_C), Tm, la, shifted, master, wlf, float(np.sqrt(np.mean(r * r))),
-                     float(np.max(np.abs(r))), prony, prms, info)
+    return TTSResult(
+        float(T_ref_C),
+        Tm,
+        la,
+        shifted,
+        master,
+        wlf,
+        float(np.sqrt(np.mean(r * r))),
+        float(np.max(np.abs(r))),
+        prony,
+        prms,
+        info,
+    )

@@ -6,6 +6,7 @@ used for the macro-asperity scale ``q_m = zeta_m q0``), ``q_min_per_m`` (lower e
 friction integrals: the roll-off ``q_roll`` when given, else ``q0``), ``q1_per_m`` (upper
 cut-off) and ``with_q1(q1)``.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
@@ -85,8 +86,13 @@ class SelfAffinePSD:
     def band_rms_m(self) -> float:
         """rms height of the band ``q_min..q1`` [m] implied by the model."""
         from scipy.integrate import quad
-        v = quad(lambda lq: 2 * np.pi * np.exp(2 * lq) * self.C(np.exp(lq)),
-                 np.log(self.q_min_per_m), np.log(self.q1_per_m), limit=200)[0]
+
+        v = quad(
+            lambda lq: 2 * np.pi * np.exp(2 * lq) * self.C(np.exp(lq)),
+            np.log(self.q_min_per_m),
+            np.log(self.q1_per_m),
+            limit=200,
+        )[0]
         return float(np.sqrt(v))
 
 
@@ -161,7 +167,7 @@ class TabulatedPSD:
         tail = self.C_m4[-1] * np.exp(self._tail[0] * (lq - lqt[-1]))
         out = np.where(q > self.q_per_m[-1], tail, inner)
         q1 = self.q1_per_m
-        assert q1 is not None                         # set by the constructor
+        assert q1 is not None  # set by the constructor
         inside = (q >= self.q_per_m[0] * (1 - 1e-12)) & (q <= q1 * (1 + 1e-12))
         return np.where(inside, out, 0.0)
 

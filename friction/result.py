@@ -1,4 +1,5 @@
 """The result object of the friction engine."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -56,8 +57,9 @@ class FrictionResult:
         lq = np.log(self.q_per_m)
         qq = np.atleast_1d(np.asarray(q, dtype=float))
         if np.any(qq < self.q_per_m[0] * (1 - 1e-9)) or np.any(qq > self.q_per_m[-1] * (1 + 1e-9)):
-            raise ValueError("wave vector outside the computed range "
-                             f"[{self.q_per_m[0]:.4g}, {self.q_per_m[-1]:.4g}] 1/m")
+            raise ValueError(
+                f"wave vector outside the computed range [{self.q_per_m[0]:.4g}, {self.q_per_m[-1]:.4g}] 1/m"
+            )
         x = np.clip(np.log(qq), lq[0], lq[-1])
         i = np.clip(np.searchsorted(lq, x) - 1, 0, lq.size - 2)
         t = (x - lq[i]) / (lq[i + 1] - lq[i])
@@ -76,6 +78,7 @@ class FrictionResult:
         with np.errstate(divide="ignore"):
             lG = self._interp_q(np.log(np.maximum(self.G, 1e-300)), np.asarray(zeta, float) * self.q0_per_m)
         from .contact import contact_P
+
         return contact_P(np.exp(lG))
 
     @property
@@ -84,8 +87,8 @@ class FrictionResult:
         through it and its neighbours in ln v (the grid value at the ends of the grid)."""
         i = int(np.argmax(self.mu))
         if 0 < i < self.mu.size - 1:
-            x = np.log(self.v_m_per_s[i - 1:i + 2])
-            c = np.polyfit(x - x[1], self.mu[i - 1:i + 2], 2)
+            x = np.log(self.v_m_per_s[i - 1 : i + 2])
+            c = np.polyfit(x - x[1], self.mu[i - 1 : i + 2], 2)
             if c[0] < 0:
                 xs = -c[1] / (2 * c[0])
                 if abs(xs) <= max(abs(x[0] - x[1]), abs(x[2] - x[1])):
@@ -96,6 +99,7 @@ class FrictionResult:
         """Plot mu(v) on a log speed axis; returns the axes."""
         if ax is None:
             import matplotlib.pyplot as plt
+
             _, ax = plt.subplots(figsize=(6, 4))
         ax.semilogx(self.v_m_per_s, self.mu, label=label, **kwargs)
         ax.set_xlabel("sliding speed v [m/s]")

@@ -410,7 +410,8 @@ class MasterCurve(Rubber):
         l2 = np.interp(xc, lf, np.log(self.E_loss_Pa))
         s_lo, s_hi = self._slopes
         with np.errstate(invalid="ignore"):
-            l2 = l2 + np.where(x < lf[0], s_lo * (x - lf[0]), 0.0) + np.where(x > lf[-1], s_hi * (x - lf[-1]), 0.0)
+            l2 = (l2 + np.where(x < lf[0], s_lo * (x - lf[0]), 0.0)
+                  + np.where(x > lf[-1], s_hi * (x - lf[-1]), 0.0))
         with np.errstate(over="ignore", invalid="ignore"):
             El = np.where(w > 0, np.exp(l2), 0.0)
         return Es + 1j * El

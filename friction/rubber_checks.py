@@ -8,6 +8,7 @@ time-temperature superposition ``E(omega, T) = E_ref(omega a)`` with ``log10 a``
 :func:`friction.rubber.log10_shift`, so the run reads the curve at ``f a``. With flash heating
 T spans ``[T0, T_max]``; aT falls with T, so the hottest state sets the lowest frequency.
 """
+
 from __future__ import annotations
 
 from typing import Any, Literal
@@ -20,10 +21,17 @@ from .rubber import MasterCurve, Rubber, ShiftTable, log10_shift
 __all__ = ["frequency_coverage", "wlf_fit_report"]
 
 
-def frequency_coverage(rubber: Rubber, v_m_per_s: ArrayLike, q0_per_m: float, q1_per_m: float,
-                       T0_C: float | None = None, T_max_C: float | None = None,
-                       wlf_form: Literal["relative", "literal"] = "relative",
-                       T_q_C: ArrayLike | None = None, q_per_m: ArrayLike | None = None) -> dict[str, Any]:
+def frequency_coverage(
+    rubber: Rubber,
+    v_m_per_s: ArrayLike,
+    q0_per_m: float,
+    q1_per_m: float,
+    T0_C: float | None = None,
+    T_max_C: float | None = None,
+    wlf_form: Literal["relative", "literal"] = "relative",
+    T_q_C: ArrayLike | None = None,
+    q_per_m: ArrayLike | None = None,
+) -> dict[str, Any]:
     """Frequencies [Hz] a run needs, read on the reference-temperature curve, vs the curve's.
 
     Parameters
@@ -58,21 +66,31 @@ def frequency_coverage(rubber: Rubber, v_m_per_s: ArrayLike, q0_per_m: float, q1
     hi = float(np.log10(v.max() * q1_per_m / (2 * np.pi)) + sh.max())
     if T_q_C is not None and q_per_m is not None:
         with np.errstate(over="ignore", invalid="ignore"):
-            s_q = np.clip(np.asarray(log10_shift(rubber, np.asarray(T_q_C, float), wlf_form, T0), float),
-                          -300, 300)
+            s_q = np.clip(
+                np.asarray(log10_shift(rubber, np.asarray(T_q_C, float), wlf_form, T0), float), -300, 300
+            )
         lf = np.log10(v[:, None] * np.asarray(q_per_m, float)[None, :] / (2 * np.pi)) + s_q
         lo, hi = float(lf.min()), float(lf.max())
-    out: dict[str, Any] = dict(f_needed_Hz=[10.0 ** lo, 10.0 ** hi], temperatures_C=Ts,
-               log10_shift=[float(x) for x in sh], f_curve_Hz=None,
-               extrapolated_decades_below=None, extrapolated_decades_above=None,
-               extrapolated_decades=None)
+    out: dict[str, Any] = dict(
+        f_needed_Hz=[10.0**lo, 10.0**hi],
+        temperatures_C=Ts,
+        log10_shift=[float(x) for x in sh],
+        f_curve_Hz=None,
+        extrapolated_decades_below=None,
+        extrapolated_decades_above=None,
+        extrapolated_decades=None,
+    )
     if isinstance(rubber, MasterCurve):
         a, b = rubber.f_range_Hz()
         below = max(0.0, float(np.log10(a)) - lo)
         above = max(0.0, hi - float(np.log10(b)))
-        out.update(f_curve_Hz=[a, b], extrapolated_decades_below=below,
-                   extrapolated_decades_above=above, extrapolated_decades=max(below, above),
-                   extrapolate=rubber.extrapolate)
+        out.update(
+            f_curve_Hz=[a, b],
+            extrapolated_decades_below=below,
+            extrapolated_decades_above=above,
+            extrapolated_decades=max(below, above),
+            extrapolate=rubber.extrapolate,
+        )
     return out
 
 
@@ -111,6 +129,11 @@ def wlf_fit_report(shift: object, T_s_C: float | None = None) -> dict[str, Any] 
         return None
     if not np.all(np.isfinite(r)):
         return None
-    return dict(C1=float(w.C1), C2_K=float(w.C2_K), T_s_C=float(w.T_s_C),
-                rms_decades=float(np.sqrt(np.mean(r * r))), max_abs_decades=float(np.max(np.abs(r))),
-                n_points=int(T.size))
+    return dict(
+        C1=float(w.C1),
+        C2_K=float(w.C2_K),
+        T_s_C=float(w.T_s_C),
+        rms_decades=float(np.sqrt(np.mean(r * r))),
+        max_abs_decades=float(np.max(np.abs(r))),
+        n_points=int(T.size),
+    )

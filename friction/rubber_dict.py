@@ -17,6 +17,7 @@ missing ``T_ref_C`` means 60 C (the thesis) for "sls"/"prony", and for a master 
 temperature where its shift factor is 1 (:func:`unit_shift_temperature`). Raises ValueError naming the bad
 key.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -133,8 +134,22 @@ def rubber_from_dict(d: Mapping[str, Any]) -> StandardLinearSolid | Prony | Mast
     """
     if not isinstance(d, dict):
         raise ValueError("rubber description must be a table")
-    _unknown(d, ("model", "name", "description", "source", "T_ref_C", "sls", "prony",
-                 "master_curve", "shift", "thermal"), "top level")
+    _unknown(
+        d,
+        (
+            "model",
+            "name",
+            "description",
+            "source",
+            "T_ref_C",
+            "sls",
+            "prony",
+            "master_curve",
+            "shift",
+            "thermal",
+        ),
+        "top level",
+    )
     model = str(d.get("model", "")).lower()
     if model not in MODELS:
         raise ValueError(f"'model' must be one of {', '.join(MODELS)}")
@@ -144,8 +159,10 @@ def rubber_from_dict(d: Mapping[str, Any]) -> StandardLinearSolid | Prony | Mast
     elif model == "master_curve":
         T_ref = unit_shift_temperature(shift)
         if T_ref is None:
-            raise ValueError("a master curve needs 'T_ref_C' (its temperature), or a shift table "
-                             "or WLF constants with aT = 1 somewhere")
+            raise ValueError(
+                "a master curve needs 'T_ref_C' (its temperature), or a shift table "
+                "or WLF constants with aT = 1 somewhere"
+            )
     else:
         T_ref = 60.0
     th = d.get("thermal", {})
@@ -163,8 +180,20 @@ def rubber_from_dict(d: Mapping[str, Any]) -> StandardLinearSolid | Prony | Mast
         return StandardLinearSolid(**kw, T_ref_C=T_ref, shift=shift, thermal=thermal)
     if model == "prony":
         _unknown(sec, ("E_inf_Pa", "E_i_Pa", "tau_i_s"), "prony")
-        return Prony(_num(sec, "E_inf_Pa", "prony"), _arr(sec, "E_i_Pa", "prony"),
-                     _arr(sec, "tau_i_s", "prony"), T_ref, shift, thermal)
+        return Prony(
+            _num(sec, "E_inf_Pa", "prony"),
+            _arr(sec, "E_i_Pa", "prony"),
+            _arr(sec, "tau_i_s", "prony"),
+            T_ref,
+            shift,
+            thermal,
+        )
     _unknown(sec, ("f_Hz", "E_storage_Pa", "E_loss_Pa", "file", "units"), "master_curve")
-    return MasterCurve(_arr(sec, "f_Hz", "master_curve"), _arr(sec, "E_storage_Pa", "master_curve"),
-                       _arr(sec, "E_loss_Pa", "master_curve"), T_ref, shift, thermal)
+    return MasterCurve(
+        _arr(sec, "f_Hz", "master_curve"),
+        _arr(sec, "E_storage_Pa", "master_curve"),
+        _arr(sec, "E_loss_Pa", "master_curve"),
+        T_ref,
+        shift,
+        thermal,
+    )

@@ -10,6 +10,7 @@ Properties of Polymers*, 3rd ed., Wiley 1980, ch. 11).
 
 Units: f in Hz, moduli in Pa, temperatures in C, shifts as decimal logarithms.
 """
+
 from __future__ import annotations
 
 from typing import Any
@@ -20,8 +21,9 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = ["group_sweeps", "fit_power_offset", "pair_shift"]
 
 
-def group_sweeps(T_C: ArrayLike, set_id: ArrayLike | None = None,
-                 gap_C: float = 2.0) -> tuple[NDArray[np.float64], list[NDArray[np.intp]]]:
+def group_sweeps(
+    T_C: ArrayLike, set_id: ArrayLike | None = None, gap_C: float = 2.0
+) -> tuple[NDArray[np.float64], list[NDArray[np.intp]]]:
     """Indices of the rows of each isothermal sweep, ordered by temperature.
 
     With ``set_id`` the rows are grouped by it; otherwise rows whose temperatures, sorted, lie
@@ -57,8 +59,9 @@ def group_sweeps(T_C: ArrayLike, set_id: ArrayLike | None = None,
     return Tm[order], [groups[i] for i in order]
 
 
-def fit_power_offset(f: ArrayLike, y: ArrayLike, b_max: float = 2.0,
-                     nb: int = 801) -> tuple[float, float, float, float]:
+def fit_power_offset(
+    f: ArrayLike, y: ArrayLike, b_max: float = 2.0, nb: int = 801
+) -> tuple[float, float, float, float]:
     """Least-squares fit ``y = a f^b + e`` (a power law with an offset, in linear modulus).
 
     For each exponent b on a grid in [-b_max, b_max] the model is linear in (a, e) and solved in
@@ -90,11 +93,11 @@ def fit_power_offset(f: ArrayLike, y: ArrayLike, b_max: float = 2.0,
     from scipy.optimize import minimize_scalar
 
     f, y = np.asarray(f, float), np.asarray(y, float)
-    lf = np.log(f / np.exp(np.mean(np.log(f))))          # centred: a is the value at the mean f
+    lf = np.log(f / np.exp(np.mean(np.log(f))))  # centred: a is the value at the mean f
 
     def solve(b):
         b = np.atleast_1d(b)
-        X = np.exp(b[:, None] * lf[None, :])             # (nb, n)
+        X = np.exp(b[:, None] * lf[None, :])  # (nb, n)
         n = f.size
         sx, sy, sxx, sxy = X.sum(1), y.sum(), (X * X).sum(1), X @ y
         den = n * sxx - sx * sx
@@ -109,11 +112,15 @@ def fit_power_offset(f: ArrayLike, y: ArrayLike, b_max: float = 2.0,
     _, _, rms = solve(bs)
     i = int(np.nanargmin(rms))
     db = bs[1] - bs[0]
-    opt = minimize_scalar(lambda b: float(solve(b)[2][0]), bounds=(bs[i] - db, bs[i] + db),
-                          method="bounded", options={"xatol": 1e-6})
+    opt = minimize_scalar(
+        lambda b: float(solve(b)[2][0]),
+        bounds=(bs[i] - db, bs[i] + db),
+        method="bounded",
+        options={"xatol": 1e-6},
+    )
     b = float(opt.x) if opt.fun <= rms[i] else float(bs[i])
     a, e, r = solve(b)
-    scale = np.exp(-b * np.mean(np.log(f)))               # back to y = a' f^b + e
+    scale = np.exp(-b * np.mean(np.log(f)))  # back to y = a' f^b + e
     return float(a[0] * scale), b, float(e[0]), float(r[0])
 
 
@@ -178,26 +185,37 @@ def _overlap_shift(xa, Ya, xb, Yb, s0, min_overlap=1.0, span=1.5):
     w = [1.0 / (max(a, 1e-3) ** 2 + max(b, 1e-3) ** 2) for a, b in zip(ra, rb)]
     lo_s = max(s0 - span, xa.min() - xb.max() + min_overlap)
     hi_s = min(s0 + span, xa.max() - xb.min() - min_overlap)
-    if not lo_s < s0 < hi_s:     # the first estimate leaves too little overlap: keep it
+    if not lo_s < s0 < hi_s:  # the first estimate leaves too little overlap: keep it
         return None
     t = np.linspace(0.0, 1.0, 41)
 
     def cost(s):
         lo, hi = max(xa.min(), xb.min() + s), min(xa.max(), xb.max() + s)
         x = lo + (hi - lo) * t
-        return sum(wk * np.mean((np.polyval(a, x) - np.polyval(b, x - s)) ** 2)
-                   for wk, a, b in zip(w, ca, cb))
+        return sum(
+            wk * np.mean((np.polyval(a, x) - np.polyval(b, x - s)) ** 2) for wk, a, b in zip(w, ca, cb)
+        )
 
     grid = np.linspace(lo_s, hi_s, 61)
     i = int(np.argmin([cost(g) for g in grid]))
     d = grid[1] - grid[0]
-    opt = minimize_scalar(cost, bounds=(grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)] + 1e-12 * d),
-                          method="bounded", options={"xatol": 1e-4})
+    opt = minimize_scalar(
+        cost,
+        bounds=(grid[max(i - 1, 0)], grid[min(i + 1, grid.size - 1)] + 1e-12 * d),
+        method="bounded",
+        options={"xatol": 1e-4},
+    )
     return float(opt.x)
 
 
-def pair_shift(f_a: NDArray[np.float64], E1_a: NDArray[np.float64], E2_a: NDArray[np.float64], f_b: NDArray[np.float64], E1_b: NDArray[np.float64],
-               E2_b: NDArray[np.float64]) -> tuple[float, dict[str, Any]]:
+def pair_shift(
+    f_a: NDArray[np.float64],
+    E1_a: NDArray[np.float64],
+    E2_a: NDArray[np.float64],
+    f_b: NDArray[np.float64],
+    E1_b: NDArray[np.float64],
+    E2_b: NDArray[np.float64],
+) -> tuple[float, dict[str, Any]]:
     """log10 of the factor by which sweep b's frequencies are multiplied to overlay sweep a.
 
     Two estimates: from the storage modulus (both sweeps fitted by ``E' = c f^b + e``,
@@ -237,8 +255,10 @@ def pair_shift(f_a: NDArray[np.float64], E1_a: NDArray[np.float64], E2_a: NDArra
         s1 = s_line
     s2, w2 = _line_shift(xa, np.log10(E2_a), xb, np.log10(E2_b))
     if w1 + w2 == 0:
-        raise ValueError("neither E' nor E'' of two neighbouring sweeps changes with frequency "
-                         "consistently: no shift can be determined")
+        raise ValueError(
+            "neither E' nor E'' of two neighbouring sweeps changes with frequency "
+            "consistently: no shift can be determined"
+        )
     s0 = (w1 * s1 + w2 * s2) / (w1 + w2)
     s = _overlap_shift(xa, [np.log10(E1_a), np.log10(E2_a)], xb, [np.log10(E1_b), np.log10(E2_b)], s0)
     return (s0 if s is None else s), dict(storage=s1, loss=s2, w_storage=w1, w_loss=w2, first=s0, overlap=s)

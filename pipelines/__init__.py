@@ -12,13 +12,26 @@ the command line and the API both build), ``checks/`` (input trust, run warnings
 (one module or folder per job), ``output/`` (reports, figures, files), ``cli/`` (the
 command), ``campaign/`` (batch on Dask), ``diagnosis/`` (the sim-to-real gap diagnosis).
 """
+
 from __future__ import annotations
 
 import importlib
 from typing import TYPE_CHECKING, Any
 
-__all__ = ["analyse", "analyse_scan", "AnalysisResult", "compare", "dry_vs_wet", "rain_fill",
-           "friction", "combine", "diagnose", "batch", "chain", "RoadscanWarning"]
+__all__ = [
+    "analyse",
+    "analyse_scan",
+    "AnalysisResult",
+    "compare",
+    "dry_vs_wet",
+    "rain_fill",
+    "friction",
+    "combine",
+    "diagnose",
+    "batch",
+    "chain",
+    "RoadscanWarning",
+]
 
 # public name -> module that defines it (imported on first attribute access)
 _LAZY = {

@@ -8,6 +8,7 @@ command's ``--help`` stays fast. The submodules (``roadscan.spectrum``, ``roadsc
 numpy and the parts of scipy they need; none imports matplotlib, ``scipy.optimize`` or
 ``scipy.signal`` at import time (guarded by ``tests/test_imports.py``).
 """
+
 from importlib import import_module
 
 from .errors import InputError, RoadscanWarning
@@ -16,8 +17,11 @@ __all__ = ["InputError", "RoadscanWarning", "HeightMap", "Profile", "Spectrum", 
 __version__ = "0.1.0"
 
 #: public name -> the submodule that defines it, loaded on first use (PEP 562)
-_HOMES = {".heightmap": ("HeightMap", "Profile"), ".spectrum_types": ("Spectrum", "Spectrum2D"),
-          ".spectrum": ("psd_area",)}
+_HOMES = {
+    ".heightmap": ("HeightMap", "Profile"),
+    ".spectrum_types": ("Spectrum", "Spectrum2D"),
+    ".spectrum": ("psd_area",),
+}
 _LAZY = {name: home for home, names in _HOMES.items() for name in names}
 
 
@@ -25,7 +29,7 @@ def __getattr__(name):
     home = _LAZY.get(name)
     if home is None:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    globals()[name] = value = getattr(import_module(home, __name__), name)   # once only
+    globals()[name] = value = getattr(import_module(home, __name__), name)  # once only
     return value
 
 

@@ -25,6 +25,7 @@ Why not scikit-image: its sparse solve needs ``scipy.sparse.linalg``, and import
 (1.17, with its array-API layer) took 0.3 s of the 0.9 s ``roadscan analyse`` of the sample;
 this module is as fast as the sparse solve on such maps and needs no scipy.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -37,9 +38,9 @@ from numpy.typing import NDArray
 from .bands import measured_mean_range
 from .blas_threads import single_threaded_blas
 
-try:            # numpy.linalg.solve's own gufunc: the same LAPACK gesv, 8 us less per call
+try:  # numpy.linalg.solve's own gufunc: the same LAPACK gesv, 8 us less per call
     _gesv: Any = importlib.import_module("numpy.linalg._umath_linalg").solve
-except (ImportError, AttributeError):                  # pragma: no cover
+except (ImportError, AttributeError):  # pragma: no cover
     _gesv = None
 
 __all__ = ["biharmonic_fill_values", "SMALL"]
@@ -47,8 +48,23 @@ __all__ = ["biharmonic_fill_values", "SMALL"]
 #: clusters of at most this many unknowns go to the batched dense solve
 SMALL = 128
 
-_OFFSETS = np.array([(0, 0), (-1, 0), (1, 0), (0, -1), (0, 1), (-1, -1), (-1, 1), (1, -1), (1, 1),
-                     (-2, 0), (2, 0), (0, -2), (0, 2)])
+_OFFSETS = np.array(
+    [
+        (0, 0),
+        (-1, 0),
+        (1, 0),
+        (0, -1),
+        (0, 1),
+        (-1, -1),
+        (-1, 1),
+        (1, -1),
+        (1, 1),
+        (-2, 0),
+        (2, 0),
+        (0, -2),
+        (0, 2),
+    ]
+)
 _COEFS = np.array([20.0, -8, -8, -8, -8, 2, 2, 2, 2, 1, 1, 1, 1])
 _edge_cache: dict = {}
 
@@ -95,12 +111,12 @@ def _clusters(bad):
     e = np.zeros((ny, w + 1), np.int8)
     e[:, 1:-1] = grow4(bad)
     d = np.diff(e, axis=1)
-    st = np.flatnonzero(d)                             # row * w + column: start, end, ...
+    st = np.flatnonzero(d)  # row * w + column: start, end, ...
     st, en = st[0::2], st[1::2]
     del e, d
-    nxt = st - st % w + w                              # start of the next row
-    lo = np.searchsorted(en, nxt + st % w)             # runs below ending at or after the
-    hi = np.searchsorted(st, nxt + en % w, side="right")   # start, starting at or before the end
+    nxt = st - st % w + w  # start of the next row
+    lo = np.searchsorted(en, nxt + st % w)  # runs below ending at or after the
+    hi = np.searchsorted(st, nxt + en % w, side="right")  # start, starting at or before the end
     cnt = np.maximum(hi - lo, 0)
     u = np.repeat(np.arange(st.size), cnt)
     v = np.arange(int(cnt.sum())) + np.repeat(lo - (np.cumsum(cnt) - cnt), cnt)
@@ -140,7 +156,7 @@ def _stencil_groups(ps, ny, nx):
         r0, c0 = np.maximum(re - 2, 0), np.maximum(ce - 2, 0)
         kind = np.stack([np.minimum(re + 3, ny) - r0, re - r0, np.minimum(ce + 3, nx) - c0, ce - c0])
         code = ((kind[0] * 5 + kind[1]) * 6 + kind[2]) * 5 + kind[3]
-        for g in np.flatnonzero(np.bincount(code)):     # (np.unique would import numpy.ma)
+        for g in np.flatnonzero(np.bincount(code)):  # (np.unique would import numpy.ma)
             sel = np.flatnonzero(code == g)
             k = kind[:, sel[0]]
             offs, cf = _edge_stencil((int(k[0]), int(k[2])), (int(k[1]), int(k[3])))
@@ -161,12 +177,12 @@ def _system(h, ref, ps, where):
     parts = []
     for sel, off, cf in _stencil_groups(ps, ny, nx):
         for i0 in range(0, sel.size, _CHUNK):
-            s = sel[i0:i0 + _CHUNK]
+            s = sel[i0 : i0 + _CHUNK]
             nb = ps[s, None] + off
             j = where[nb]
             unk = j >= 0
             rhs[s] -= (np.where(unk, ref, zf[nb]) - ref) @ cf
-            f = np.flatnonzero(unk)                    # entries by row, then offset
+            f = np.flatnonzero(unk)  # entries by row, then offset
             c = np.bincount(f // off.size, minlength=s.size)
             cnt[s] = c
             parts.append((s, c, j.ravel()[f], cf[f % off.size]))
@@ -190,10 +206,10 @@ def _solve_small(coo, rowptr, rhs, start, sizes, x):
     """All clusters of ``sizes`` (each <= SMALL) as batched dense solves, by size, at most
     :data:`_BATCH_ENTRIES` matrix entries at a time."""
     for m in np.flatnonzero(np.bincount(sizes)):
-        same = start[sizes == m]                       # solve-order start of each such cluster
+        same = start[sizes == m]  # solve-order start of each such cluster
         step = max(1, _BATCH_ENTRIES // int(m * m))
         for i0 in range(0, same.size, step):
-            _solve_batch(coo, rowptr, rhs, same[i0:i0 + step], int(m), x)
+            _solve_batch(coo, rowptr, rhs, same[i0 : i0 + step], int(m), x)
 
 
 def _gather(lo, hi):
@@ -206,7 +222,7 @@ def _solve_batch(coo, rowptr, rhs, first, m, x):
     """Clusters of m unknowns starting at ``first`` (solve order): one stacked dense solve."""
     rows, cols, vals = coo
     k = first.size
-    lo, hi = rowptr[first], rowptr[first + m]          # each cluster's entries (rows sorted)
+    lo, hi = rowptr[first], rowptr[first + m]  # each cluster's entries (rows sorted)
     e = _gather(lo, hi)
     ci = np.repeat(np.arange(k), hi - lo)
     base = first[ci]
@@ -242,12 +258,12 @@ def _blocks(start, sizes, pr, pc):
         for parity in (0, 1):
             b = (line + parity) // 2
             nk = np.bincount(cl * span + b, minlength=sizes.size * span).astype(float)
-            work = (nk ** 3 + _BLOCK_COST * (nk > 0)).reshape(sizes.size, span).sum(1)
+            work = (nk**3 + _BLOCK_COST * (nk > 0)).reshape(sizes.size, span).sum(1)
             take = work < best
             best[take] = work[take]
             sel = take[cl]
             blk[sel] = b[sel]
-    o = np.lexsort((blk, cl))                          # by cluster, block; raster inside
+    o = np.lexsort((blk, cl))  # by cluster, block; raster inside
     key = cl[o] * (int(blk.max()) + 1) + blk[o]
     return idx[o], cl[o], np.cumsum(np.r_[True, key[1:] != key[:-1]]) - 1
 
@@ -259,28 +275,33 @@ def _solve_large(coo, rowptr, rhs, start, sizes, pr, pc, x):
     x_k = g_k - G_k x_k+1."""
     u, cl, gb = _blocks(start, sizes, pr, pc)
     nbk = int(gb[-1]) + 1
-    bs = np.bincount(gb, minlength=nbk)                # block sizes
+    bs = np.bincount(gb, minlength=nbk)  # block sizes
     b0 = np.concatenate([[0], np.cumsum(bs)[:-1]])
-    bcl = cl[b0]                                       # cluster of each block
-    sp = np.where(np.r_[False, bcl[1:] == bcl[:-1]], np.r_[0, bs[:-1]], 0)   # previous block
-    sn = np.where(np.r_[bcl[:-1] == bcl[1:], False], np.r_[bs[1:], 0], 0)    # next block
-    w = sp + bs + sn + 1                               # [A_k,k-1 | A_kk | A_k,k+1 | y]
+    bcl = cl[b0]  # cluster of each block
+    sp = np.where(np.r_[False, bcl[1:] == bcl[:-1]], np.r_[0, bs[:-1]], 0)  # previous block
+    sn = np.where(np.r_[bcl[:-1] == bcl[1:], False], np.r_[bs[1:], 0], 0)  # next block
+    w = sp + bs + sn + 1  # [A_k,k-1 | A_kk | A_k,k+1 | y]
     off = np.concatenate([[0], np.cumsum(bs * w)])
-    loc = np.empty(x.size, np.intp)                    # unknown -> position in sorted order
+    loc = np.empty(x.size, np.intp)  # unknown -> position in sorted order
     loc[u] = np.arange(u.size)
     X = [None] * nbk
     k0 = 0
-    while k0 < nbk:                                    # blocks of at most _BUFFER_ENTRIES
+    while k0 < nbk:  # blocks of at most _BUFFER_ENTRIES
         k1 = int(np.searchsorted(off, off[k0] + _BUFFER_ENTRIES, side="right")) - 1
         k1 = min(max(k0 + 1, k1), nbk)
         _eliminate(coo, rowptr, rhs, u, loc, gb, (bs, sp, w, off, b0), k0, k1, X)
         k0 = k1
-    v = np.ones(u.size + nbk)                          # x_k of each block, then a 1
+    v = np.ones(u.size + nbk)  # x_k of each block, then a 1
     at = b0 + np.arange(nbk)
-    nxt = at + bs + (sn > 0)                           # [x_k+1 | 1], or the block's own 1
-    for k, a, s, b, c in zip(range(nbk - 1, -1, -1), at[::-1].tolist(), bs[::-1].tolist(),
-                             nxt[::-1].tolist(), (nxt + sn + 1)[::-1].tolist()):
-        np.matmul(X[k], v[b:c], out=v[a:a + s])        # x_k = g_k - G_k x_k+1
+    nxt = at + bs + (sn > 0)  # [x_k+1 | 1], or the block's own 1
+    for k, a, s, b, c in zip(
+        range(nbk - 1, -1, -1),
+        at[::-1].tolist(),
+        bs[::-1].tolist(),
+        nxt[::-1].tolist(),
+        (nxt + sn + 1)[::-1].tolist(),
+    ):
+        np.matmul(X[k], v[b:c], out=v[a : a + s])  # x_k = g_k - G_k x_k+1
     x[u] = v[np.arange(u.size) + gb]
 
 
@@ -297,15 +318,15 @@ def _solve_gufunc(a, b):
 def _eliminate(coo, rowptr, rhs, u, loc, gb, meta, k0, k1, X):
     """Forward elimination of blocks k0..k1-1 (their matrices built in one buffer)."""
     bs, sp, w, off, b0 = meta
-    a, b = int(b0[k0]), int(b0[k1 - 1] + bs[k1 - 1])   # their unknowns (sorted order)
+    a, b = int(b0[k0]), int(b0[k1 - 1] + bs[k1 - 1])  # their unknowns (sorted order)
     g = gb[a:b]
     o0 = off[k0]
-    row = off[g] - o0 + (np.arange(a, b) - b0[g]) * w[g]   # each row's place in the buffer
+    row = off[g] - o0 + (np.arange(a, b) - b0[g]) * w[g]  # each row's place in the buffer
     cnt = rowptr[u[a:b] + 1] - rowptr[u[a:b]]
     e = _gather(rowptr[u[a:b]], rowptr[u[a:b] + 1])
     j = loc[coo[1][e]]
     v = coo[2][e]
-    right = j >= np.repeat(b0[g] + bs[g], cnt)         # in the next block: -A_k,k+1
+    right = j >= np.repeat(b0[g] + bs[g], cnt)  # in the next block: -A_k,k+1
     v[right] *= -1
     buf = np.zeros(int(off[k1] - o0))
     buf[np.repeat(row - (b0[g] - sp[g]), cnt) + j] = v
@@ -313,10 +334,9 @@ def _eliminate(coo, rowptr, rhs, u, loc, gb, meta, k0, k1, X):
     del e, j, v, right
     if _gesv is None:
         solve, guard = np.linalg.solve, contextlib.nullcontext()
-    else:                     # a singular block raises LinAlgError, as np.linalg.solve does
+    else:  # a singular block raises LinAlgError, as np.linalg.solve does
         solve = _solve_gufunc
-        guard = np.errstate(call=_singular, invalid="call", over="ignore", divide="ignore",
-                            under="ignore")
+        guard = np.errstate(call=_singular, invalid="call", over="ignore", divide="ignore", under="ignore")
     with guard:
         _forward(buf, (bs, sp, w, off - o0), k0, k1, X, solve)
 
@@ -325,20 +345,22 @@ def _forward(buf, meta, k0, k1, X, solve):
     """Block-tridiagonal LU of blocks k0..k1-1 in ``buf``: X_k = [-G_k | g_k]."""
     bs, sp, w, off = meta
     prev = X[k0 - 1] if k0 else None
-    for k, s, p, q, o in zip(range(k0, k1), bs[k0:k1].tolist(), sp[k0:k1].tolist(),
-                             w[k0:k1].tolist(), off[k0:k1].tolist()):
-        R = buf[o:o + s * q].reshape(s, q)
-        D = R[:, p:p + s]
+    for k, s, p, q, o in zip(
+        range(k0, k1), bs[k0:k1].tolist(), sp[k0:k1].tolist(), w[k0:k1].tolist(), off[k0:k1].tolist()
+    ):
+        R = buf[o : o + s * q].reshape(s, q)
+        D = R[:, p : p + s]
         if p:
-            upd = R[:, :p] @ prev                      # A_k,k-1 [-G | g]
+            upd = R[:, :p] @ prev  # A_k,k-1 [-G | g]
             D += upd[:, :s]
             y = R[:, -1]
             y -= upd[:, s]
-        X[k] = prev = solve(D, R[:, p + s:])
+        X[k] = prev = solve(D, R[:, p + s :])
 
 
-def biharmonic_fill_values(h: NDArray[np.float64], bad: NDArray[np.bool_],
-                           stats: tuple[float, float, float] | None = None) -> NDArray[np.float64]:
+def biharmonic_fill_values(
+    h: NDArray[np.float64], bad: NDArray[np.bool_], stats: tuple[float, float, float] | None = None
+) -> NDArray[np.float64]:
     """Biharmonic heights for the unmeasured points of a map (see the module docstring).
 
     Parameters
@@ -369,16 +391,16 @@ def biharmonic_fill_values(h: NDArray[np.float64], bad: NDArray[np.bool_],
     ref = float(stats[0])
     lo, hi = float(stats[1]) - ref, float(stats[2]) - ref
     lab = _clusters(bad)
-    order_sorted = np.argsort(lab, kind="stable")      # unknowns by cluster, raster inside
-    ps = pts[order_sorted]                             # flat position of each, solve order
-    where = np.full(h.size, -1, np.int32 if pts.size < 2 ** 31 else np.intp)
+    order_sorted = np.argsort(lab, kind="stable")  # unknowns by cluster, raster inside
+    ps = pts[order_sorted]  # flat position of each, solve order
+    where = np.full(h.size, -1, np.int32 if pts.size < 2**31 else np.intp)
     where[ps] = np.arange(pts.size)
     counts = np.bincount(lab)[1:]
     counts = counts[counts > 0]
     start = np.concatenate([[0], np.cumsum(counts)[:-1]])
     x = np.empty(pts.size)
     small = counts <= SMALL
-    with single_threaded_blas():                       # many small products: no thread pool
+    with single_threaded_blas():  # many small products: no thread pool
         coo, rowptr, rhs = _system(h, ref, ps, where)
         del where
         if small.any():

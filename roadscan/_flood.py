@@ -18,6 +18,7 @@ Memory: the output (float64, n), a binary heap of (float64 key, int32 index) and
 int32, both grown by doubling from the border's size; no other per-pixel storage (an unvisited
 cell is marked by +inf in the output, and every effective height is finite).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -82,10 +83,10 @@ def _flood(h, low, conn8, out):
     for i in range(n):
         out[i] = inf
     cap = 2 * (ny + nx) + 1024
-    hk = np.empty(cap, dtype=np.float64)   # heap keys (levels)
-    hi = np.empty(cap, dtype=np.int32)     # heap cell indices
+    hk = np.empty(cap, dtype=np.float64)  # heap keys (levels)
+    hi = np.empty(cap, dtype=np.int32)  # heap cell indices
     hn = 0
-    st = np.empty(cap, dtype=np.int32)     # plain stack of cells inside a depression
+    st = np.empty(cap, dtype=np.int32)  # plain stack of cells inside a depression
     sn = 0
     dr = np.array([-1, 1, 0, 0, -1, -1, 1, 1], dtype=np.int64)
     dc = np.array([0, 0, -1, 1, -1, 1, -1, 1], dtype=np.int64)
@@ -164,7 +165,7 @@ def priority_flood_fill(h: NDArray[np.float64], low: float, connectivity: int) -
     (2014), doi:10.1016/j.cageo.2013.04.024.
     """
     h = np.ascontiguousarray(h, dtype=np.float64)
-    if h.size >= 2 ** 31 - 1:
+    if h.size >= 2**31 - 1:
         raise ValueError(f"height map too large for the priority-flood ({h.size} points)")
     out = np.empty(h.size, dtype=np.float64)
     _flood(h, float(low), connectivity == 8, out)

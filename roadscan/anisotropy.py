@@ -8,6 +8,7 @@ the anisotropy index (l1 - l2) / (l1 + l2), its principal axis the dominant dire
 Reference: Persson et al., J. Phys.: Condens. Matter 17, R1 (2005) (anisotropic surfaces);
 ISO 25178-2 (texture direction Std, an analogous areal parameter).
 """
+
 from __future__ import annotations
 
 from functools import lru_cache
@@ -24,8 +25,14 @@ from .rings import _default_range, _grid_of, _half_qx, _mirror_columns, _ring_ed
 
 __all__ = ["anisotropy"]
 
-def anisotropy(spec2d: Spectrum2D, q_min: float | None = None, q_max: float | None = None,
-               rings_per_decade: int = 10, n_sectors: int = 36) -> dict[str, Any]:
+
+def anisotropy(
+    spec2d: Spectrum2D,
+    q_min: float | None = None,
+    q_max: float | None = None,
+    rings_per_decade: int = 10,
+    n_sectors: int = 36,
+) -> dict[str, Any]:
     """Directional distribution of a 2D PSD map (for a figure and the summary).
 
     Each lattice point in [q_min, q_max] (defaults as :func:`angular_average`) is weighted by
@@ -74,8 +81,7 @@ def anisotropy(spec2d: Spectrum2D, q_min: float | None = None, q_max: float | No
     w = np.where(ok[r], C / mean_c[r], 0.0)
     w /= w.sum()
     ux, uy = QX.ravel()[sel] / q[sel], QY.ravel()[sel] / q[sel]
-    M = np.array([[np.sum(w * ux * ux), np.sum(w * ux * uy)],
-                  [np.sum(w * ux * uy), np.sum(w * uy * uy)]])
+    M = np.array([[np.sum(w * ux * ux), np.sum(w * ux * uy)], [np.sum(w * ux * uy), np.sum(w * uy * uy)]])
     ang = np.degrees(np.arctan2(uy, ux)) % 180.0
     sec = np.minimum((ang / 180.0 * n_sectors).astype(int), n_sectors - 1)
     return _summary(M, np.bincount(sec, weights=w, minlength=n_sectors), q_min, q_max)
@@ -88,12 +94,14 @@ def _summary(M, sector_power, q_min, q_max):
     evals, evecs = np.linalg.eigh(M)
     v = evecs[:, 1]
     theta = np.degrees(np.arctan2(v[1], v[0])) % 180.0
-    return {"power_ratio_x_to_y": float(M[0, 0] / M[1, 1]),
-            "dominant_direction_deg": float(theta),
-            "anisotropy_index": float((evals[1] - evals[0]) / (evals[1] + evals[0])),
-            "sector_angle_deg": ((np.arange(n_sectors) + 0.5) * 180.0 / n_sectors).tolist(),
-            "sector_power_fraction": (sector_power / sector_power.sum()).tolist(),
-            "q_range_per_m": (q_min, q_max)}
+    return {
+        "power_ratio_x_to_y": float(M[0, 0] / M[1, 1]),
+        "dominant_direction_deg": float(theta),
+        "anisotropy_index": float((evals[1] - evals[0]) / (evals[1] + evals[0])),
+        "sector_angle_deg": ((np.arange(n_sectors) + 0.5) * 180.0 / n_sectors).tolist(),
+        "sector_power_fraction": (sector_power / sector_power.sum()).tolist(),
+        "q_range_per_m": (q_min, q_max),
+    }
 
 
 @lru_cache(maxsize=4)
@@ -118,8 +126,7 @@ def _sector_runs(ny, nx, dx, dy, q_min, q_max, n_rings, n_sectors):
         flat = key.ravel()
         st = np.flatnonzero(np.concatenate([[True], flat[1:] != flat[:-1]]))
         ok = key >= 0
-        count += np.bincount(key[ok], weights=np.broadcast_to(wcol, key.shape)[ok],
-                             minlength=count.size)
+        count += np.bincount(key[ok], weights=np.broadcast_to(wcol, key.shape)[ok], minlength=count.size)
         edges = tuple((c, key[:, c].copy()) for c in _mirror_columns(nx))
         bands.append((sl, st, flat[st], edges))
     return bands, count
@@ -145,14 +152,14 @@ def _anisotropy_half(half, ny, dx, dy, q_min, q_max, rings_per_decade, n_sectors
         for i, a in enumerate((p, p * ux * ux, p * uy * uy, p * ux * uy)):
             part = np.add.reduceat(a.ravel(), st)[ok]
             sums[i] += 2.0 * np.bincount(key[ok], weights=part, minlength=nk)
-            for c, kc in edges:                       # columns stored once count once
+            for c, kc in edges:  # columns stored once count once
                 sel = kc >= 0
                 sums[i] -= np.bincount(kc[sel], weights=a[:, c][sel], minlength=nk)
     cnt_r = cnt.reshape(n, n_sectors).sum(axis=1)
     csum_r = sums[0].reshape(n, n_sectors).sum(axis=1)
     ok = (cnt_r > 0) & (csum_r > 0)
-    inv = np.where(ok, cnt_r / np.where(ok, csum_r, 1.0), 0.0)      # 1 / mean C of the ring
-    wk = sums * np.repeat(inv, n_sectors)[None, :]                  # weights C / mean C
+    inv = np.where(ok, cnt_r / np.where(ok, csum_r, 1.0), 0.0)  # 1 / mean C of the ring
+    wk = sums * np.repeat(inv, n_sectors)[None, :]  # weights C / mean C
     total = wk[0].sum()
     Mxx, Myy, Mxy = wk[1].sum() / total, wk[2].sum() / total, wk[3].sum() / total
     M = np.array([[Mxx, Mxy], [Mxy, Myy]])

@@ -14,6 +14,7 @@ References
 Wolf, G. W. (1991), A Fortran subroutine for cartographic generalization, Computers &
 Geosciences 17, 1359-1381.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -46,7 +47,7 @@ def _ring_tables():
                 root[max(ra, rb)] = min(ra, rb)
         groups = sorted({find(k) for k in on})
         ngroups[code] = len(groups)
-        runs = []                                 # (length, middle) of each run of set cells
+        runs = []  # (length, middle) of each run of set cells
         for k in on:
             if code == 255 or not code >> ((k - 1) % 8) & 1:
                 n = 1
@@ -68,8 +69,9 @@ def _kind_table():
     peaks (two or more groups of higher neighbours), bit 1 of the pits (of lower ones), bit 2
     a maximum, bit 3 a minimum."""
     codes = np.arange(256)
-    return ((_NGROUPS >= 2) | (_NGROUPS[255 - codes] >= 2) << 1
-            | (codes == 0) << 2 | (codes == 255) << 3).astype(np.uint8)
+    return (
+        (_NGROUPS >= 2) | (_NGROUPS[255 - codes] >= 2) << 1 | (codes == 0) << 2 | (codes == 255) << 3
+    ).astype(np.uint8)
 
 
 _KIND = _kind_table()
@@ -95,15 +97,15 @@ def _higher_code(z):
     ny, nx = z.shape
     flat = z.ravel()
     code = np.zeros(ny * nx, np.uint8)
-    for k in (0, 1, 2, 7):                        # offsets (-1, -1), (-1, 0), (-1, 1), (0, -1)
+    for k in (0, 1, 2, 7):  # offsets (-1, -1), (-1, 0), (-1, 1), (0, -1)
         dy, dx = _RING[k]
         o = -(dy * nx + dx)
-        if not 0 < o < flat.size:                 # (a single column has no (-1, 1))
+        if not 0 < o < flat.size:  # (a single column has no (-1, 1))
             continue
         t = np.greater(flat[:-o], flat[o:]).view(np.uint8)  # equal: the earlier is the lower
-        bit = np.multiply(t, np.uint8(1 << k))    # (a multiplication: faster than a shift)
+        bit = np.multiply(t, np.uint8(1 << k))  # (a multiplication: faster than a shift)
         code[o:] |= bit
-        t ^= np.uint8(1)                          # the point seen from that neighbour
+        t ^= np.uint8(1)  # the point seen from that neighbour
         np.multiply(t, np.uint8(1 << (k + 4) % 8), out=bit)
         code[:-o] |= bit
     code = code.reshape(ny, nx)
@@ -130,14 +132,14 @@ def _look(code, first, last):
     ring or more (two groups need two runs, of the higher and so of the lower ones); the
     border columns, and the first and last rows when they are the field's (``first``,
     ``last``)."""
-    run = code * np.uint8(2)                      # bit k: bit k - 1 of the pattern
+    run = code * np.uint8(2)  # bit k: bit k - 1 of the pattern
     run |= (code >= 128).view(np.uint8)
     np.invert(run, out=run)
-    run &= code                                   # the first cell of each run
+    run &= code  # the first cell of each run
     more = run - 1
-    more &= run                                   # nonzero: two runs or more
+    more &= run  # nonzero: two runs or more
     ends = code + 1
-    ends &= 254                                   # zero: no higher neighbour, or all
+    ends &= 254  # zero: no higher neighbour, or all
     look = more != 0
     look |= ends == 0
     look[:, 0] = look[:, -1] = True
@@ -156,10 +158,16 @@ def _critical_points(code, low, cand, z, shift=0.0):
     k = _lookup(_KIND, np.take(code.ravel(), cand))
     # the border (all of it in cand), where the lower pattern is not the higher one inverted
     rows = np.arange(1, ny - 1) * nx
-    side = np.concatenate([np.arange(nx), np.arange(cand.size - nx, cand.size),
-                           np.searchsorted(cand, rows), np.searchsorted(cand, rows + nx - 1)])
+    side = np.concatenate(
+        [
+            np.arange(nx),
+            np.arange(cand.size - nx, cand.size),
+            np.searchsorted(cand, rows),
+            np.searchsorted(cand, rows + nx - 1),
+        ]
+    )
     c, lo = np.take(code.ravel(), cand[side]), np.take(low.ravel(), cand[side])
-    k[side] = ((_NGROUPS[c] >= 2) | (_NGROUPS[lo] >= 2) << 1 | (c == 0) << 2 | (lo == 0) << 3)
+    k[side] = (_NGROUPS[c] >= 2) | (_NGROUPS[lo] >= 2) << 1 | (c == 0) << 2 | (lo == 0) << 3
     zc = np.take(z.ravel(), cand)
     if shift:
         zc -= shift
@@ -177,8 +185,8 @@ def _patterns(z, mean, band=64):
     order, code, cand = np.empty(z.shape, np.float32), np.empty(z.shape, np.uint8), []
     for r0 in range(0, ny, band):
         r1, a, b = min(r0 + band, ny), max(r0 - 1, 0), min(r0 + band + 1, ny)
-        done = r0 + (r0 > 0)                      # rows before it are in the copy already
+        done = r0 + (r0 > 0)  # rows before it are in the copy already
         np.subtract(z[done:b], mean, out=order[done:b], casting="unsafe")
-        code[r0:r1] = _higher_code(order[a:b])[r0 - a:r1 - a]
+        code[r0:r1] = _higher_code(order[a:b])[r0 - a : r1 - a]
         cand.append(np.flatnonzero(_look(code[r0:r1], r0 == 0, r1 == ny)) + r0 * nx)
     return order, code, np.concatenate(cand)

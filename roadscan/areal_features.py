@@ -40,6 +40,7 @@ be the flank of a feature cut by the field's edge).
 
 Unmeasured points take the mean height (zero) before segmentation.
 """
+
 from __future__ import annotations
 
 from typing import Any
@@ -71,9 +72,9 @@ def _climb(flat, start, step, sparse=0.3):
     intp (numpy converts any other index type on every gather)."""
     step = step.copy()
     step[0] = 0
-    end = start.astype(np.intp)                   # (a copy)
-    pos, slot = end, None                         # slot: which paths pos holds (None: all)
-    for _ in range(flat.size + 1):                # (no path is longer: heights increase)
+    end = start.astype(np.intp)  # (a copy)
+    pos, slot = end, None  # slot: which paths pos holds (None: all)
+    for _ in range(flat.size + 1):  # (no path is longer: heights increase)
         c = np.take(flat, pos)
         moving = np.count_nonzero(c)
         if moving == 0:
@@ -99,16 +100,15 @@ def _critical_graph(flat, nx, extrema, sad, label):
     neighbour each step, so the path stays above the point) to the maximum it belongs to, and
     the first group's maximum is joined to each other's. ``label`` is int32 scratch of the
     size of ``flat``."""
-    off = np.array([dy * nx + dx for dy, dx in _RING], dtype=np.int64 if flat.size >= 2 ** 31
-                   else np.int32)
-    reps = np.where(_REPS >= 0, off[_REPS], 0)    # (256, 4): where each group's path starts
+    off = np.array([dy * nx + dx for dy, dx in _RING], dtype=np.int64 if flat.size >= 2**31 else np.int32)
+    reps = np.where(_REPS >= 0, off[_REPS], 0)  # (256, 4): where each group's path starts
     sad = sad.astype(np.intp, copy=False)
     sc = np.take(flat, sad)
-    more = [np.flatnonzero(_lookup(_NGROUPS, sc) > j) for j in (2, 3)]   # a third, a fourth
-    start = np.concatenate([sad + _lookup(reps[:, 0].copy(), sc),
-                            sad + _lookup(reps[:, 1].copy(), sc)]
-                           + [np.take(sad, i) + _lookup(reps[:, j + 2].copy(), np.take(sc, i))
-                              for j, i in enumerate(more)])
+    more = [np.flatnonzero(_lookup(_NGROUPS, sc) > j) for j in (2, 3)]  # a third, a fourth
+    start = np.concatenate(
+        [sad + _lookup(reps[:, 0].copy(), sc), sad + _lookup(reps[:, 1].copy(), sc)]
+        + [np.take(sad, i) + _lookup(reps[:, j + 2].copy(), np.take(sc, i)) for j, i in enumerate(more)]
+    )
     end = _climb(flat, start, np.take(off, _STEP))
     label[extrema] = np.arange(extrema.size, dtype=np.int32)
     dest = np.take(label, end)
@@ -147,25 +147,25 @@ def _change_tree(top, a, b, saddle, threshold=None, few=1000):
     dropped (a path through such a component, lower than where it starts, dips at least that
     far); the rounds stop when none other is left."""
     prom = np.full(top.size, np.inf)
-    ids = np.arange(top.size)                     # the summit of each component left
+    ids = np.arange(top.size)  # the summit of each component left
     keep = _needed(top, a, b, saddle, threshold)
-    a, b = np.take(a, keep).astype(np.intp), np.take(b, keep).astype(np.intp)   # (indices)
+    a, b = np.take(a, keep).astype(np.intp), np.take(b, keep).astype(np.intp)  # (indices)
     saddle = np.take(saddle, keep)
     while a.size > few:
         m = top.size
-        best = np.full(m, -np.inf)                # the highest saddle of each component
+        best = np.full(m, -np.inf)  # the highest saddle of each component
         np.maximum.at(best, a, saddle)
         np.maximum.at(best, b, saddle)
         if threshold is not None:
             low = top - best < threshold
-            low[m - 1 - np.argmax(top[::-1])] = False             # the highest summit
+            low[m - 1 - np.argmax(top[::-1])] = False  # the highest summit
             nlow = np.count_nonzero(low)
             if nlow == 0:
                 return prom
-            if nlow < m // 2:                     # an edge between two such is no longer needed
+            if nlow < m // 2:  # an edge between two such is no longer needed
                 keep = np.flatnonzero(np.take(low, a) | np.take(low, b))
                 a, b, saddle = np.take(a, keep), np.take(b, keep), np.take(saddle, keep)
-        edge = np.full(m, -1)                     # an edge reaching it (equal saddles: any)
+        edge = np.full(m, -1)  # an edge reaching it (equal saddles: any)
         on = np.flatnonzero(saddle == np.take(best, b))
         edge[np.take(b, on)] = on
         on = np.flatnonzero(saddle == np.take(best, a))
@@ -175,14 +175,14 @@ def _change_tree(top, a, b, saddle, threshold=None, few=1000):
         ea, eb = np.take(a, e), np.take(b, e)
         o = np.where(ea == v, eb, ea)
         tv, to = np.take(top, v), np.take(top, o)
-        up = np.flatnonzero((to > tv) | ((to == tv) & (o > v)))   # equal heights: by index
+        up = np.flatnonzero((to > tv) | ((to == tv) & (o > v)))  # equal heights: by index
         if not up.size:
             break
         v, o = np.take(v, up), np.take(o, up)
         prom[np.take(ids, v)] = np.take(tv, up) - np.take(saddle, np.take(e, up))
         root = np.arange(m)
         root[v] = o
-        while True:                               # to the final component, by pointer jumping
+        while True:  # to the final component, by pointer jumping
             nxt = np.take(root, o)
             if np.array_equal(nxt, o):
                 break
@@ -196,8 +196,8 @@ def _change_tree(top, a, b, saddle, threshold=None, few=1000):
         a, b = np.take(root, a), np.take(root, b)
         keep = _needed(top, a, b, saddle, threshold)
         a, b, saddle = np.take(a, keep), np.take(b, keep), np.take(saddle, keep)
-    if a.size:                                    # each pair once, with its highest saddle,
-        order = np.argsort(saddle, kind="stable")[::-1]   # from the highest down
+    if a.size:  # each pair once, with its highest saddle,
+        order = np.argsort(saddle, kind="stable")[::-1]  # from the highest down
         a, b, saddle = a[order], b[order], saddle[order]
         lo, hi = np.minimum(a, b), np.maximum(a, b)
         _, first = np.unique(lo.astype(np.int64) * top.size + hi, return_index=True)
@@ -212,11 +212,11 @@ def _change_tree(top, a, b, saddle, threshold=None, few=1000):
             if p == i:
                 return i
             g = parent.get(p, p)
-            parent[i] = g                         # path halving
+            parent[i] = g  # path halving
             i = g
 
     for e, sa, sb in zip(saddle.tolist(), a.tolist(), b.tolist()):
-        ra, rb = find(sa), find(sb)               # a component is named by its summit
+        ra, rb = find(sa), find(sb)  # a component is named by its summit
         if ra == rb:
             continue
         if (topl[ra], ra) < (topl[rb], rb):
@@ -260,7 +260,7 @@ def prominences(z: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray[np.fl
     z = np.asarray(z, dtype=np.float64)
     order, code, cand = _patterns(z, z.mean())
     (maxima, sad, _, _), (top, sh, _, _) = _critical_points(code, _lower_code(code), cand, z)
-    label = order.view(np.int32).ravel()          # scratch now
+    label = order.view(np.int32).ravel()  # scratch now
     return maxima, _extremum_prominences(code.ravel(), z.shape[1], maxima, sad, label, top, sh)
 
 
@@ -287,8 +287,7 @@ def _pits(z, low, minima, vsad, zmin, zvs, label, T, shift, deepest=None):
     while deepest is not None and k < minima.size:
         zk = np.partition(zmin, k - 1)[k - 1]
         mi, si = np.flatnonzero(zmin < zk + 2 * T), np.flatnonzero(zvs < zk + 2 * T)
-        prom = _extremum_prominences(low.ravel(), nx, minima[mi], vsad[si], label, -zmin[mi],
-                                     -zvs[si], T)
+        prom = _extremum_prominences(low.ravel(), nx, minima[mi], vsad[si], label, -zmin[mi], -zvs[si], T)
         sure = zmin[mi] <= zk
         pos, hv = _significant(z, minima[mi][sure], prom[sure], T, -1.0, shift)
         if hv.size >= deepest:
@@ -298,10 +297,17 @@ def _pits(z, low, minima, vsad, zmin, zvs, label, T, shift, deepest=None):
     return _significant(z, minima, prom, T, -1.0, shift)
 
 
-def feature_parameters(heights_m: NDArray[np.float64], dx_m: float, dy_m: float,
-                       prune_fraction: float = PRUNE_FRACTION, *, mean: float | None = None,
-                       z_min: float | None = None, z_max: float | None = None,
-                       count_pits: bool = True) -> dict[str, Any]:
+def feature_parameters(
+    heights_m: NDArray[np.float64],
+    dx_m: float,
+    dy_m: float,
+    prune_fraction: float = PRUNE_FRACTION,
+    *,
+    mean: float | None = None,
+    z_min: float | None = None,
+    z_max: float | None = None,
+    count_pits: bool = True,
+) -> dict[str, Any]:
     """Spd, Spc, S5p, S5v, S10z of a levelled height map (module docstring).
 
     Parameters
@@ -338,16 +344,21 @@ def feature_parameters(heights_m: NDArray[np.float64], dx_m: float, dy_m: float,
     lo = z.min() if z_min is None else z_min
     hi = z.max() if z_max is None else z_max
     ny, nx = z.shape
-    sz = float((hi - shift) - (lo - shift))       # max and min of z - shift
+    sz = float((hi - shift) - (lo - shift))  # max and min of z - shift
     if sz <= 0:
-        return {"Spd_per_m2": 0.0, "Spc_per_m": None, "S10z_m": 0.0, "S5p_m": 0.0, "S5v_m": 0.0,
-                "features_note": "flat surface: no peak, no pit"}
+        return {
+            "Spd_per_m2": 0.0,
+            "Spc_per_m": None,
+            "S10z_m": 0.0,
+            "S5p_m": 0.0,
+            "S5v_m": 0.0,
+            "features_note": "flat surface: no peak, no pit",
+        }
     T = prune_fraction * sz
     order, code, cand = _patterns(z, mean)
     low = _lower_code(code)
-    (maxima, psad, minima, vsad), (zmax, zps, zmin, zvs) = _critical_points(code, low, cand, z,
-                                                                          shift)
-    label = order.view(np.int32).ravel()          # scratch now
+    (maxima, psad, minima, vsad), (zmax, zps, zmin, zvs) = _critical_points(code, low, cand, z, shift)
+    label = order.view(np.int32).ravel()  # scratch now
     prom = _extremum_prominences(code.ravel(), nx, maxima, psad, label, zmax, zps, T)
     peaks, hp = _significant(z, maxima, prom, T, 1.0, shift)
     _, hv = _pits(z, low, minima, vsad, zmin, zvs, label, T, shift, None if count_pits else 5)
@@ -359,16 +370,26 @@ def feature_parameters(heights_m: NDArray[np.float64], dx_m: float, dy_m: float,
     spc = None
     if len(peaks):
         r, c = peaks[:, 0], peaks[:, 1]
-        h = z[r, c] - shift                       # (the heights z - shift, as in S5p)
-        zxx = ((z[r, c + 1] - shift) - 2 * h + (z[r, c - 1] - shift)) / dx_m ** 2
-        zyy = ((z[r + 1, c] - shift) - 2 * h + (z[r - 1, c] - shift)) / dy_m ** 2
+        h = z[r, c] - shift  # (the heights z - shift, as in S5p)
+        zxx = ((z[r, c + 1] - shift) - 2 * h + (z[r, c - 1] - shift)) / dx_m**2
+        zyy = ((z[r + 1, c] - shift) - 2 * h + (z[r - 1, c] - shift)) / dy_m**2
         spc = float(-0.5 * np.mean(zxx + zyy))
     from .units import length
 
-    note = (f"watershed segmentation with Wolf pruning at {100 * prune_fraction:g} % of Sz "
-            f"({length(T)}): {len(hp)} significant peaks, "
-            + (f"{len(hv)} pits" if count_pits else
-               "the five deepest significant pits for S5v (pits not counted further)"))
-    return {"Spd_per_m2": len(hp) / area, "Spc_per_m": spc,
-            "S10z_m": None if s5p is None or s5v is None else s5p + s5v,
-            "S5p_m": s5p, "S5v_m": s5v, "features_note": note}
+    note = (
+        f"watershed segmentation with Wolf pruning at {100 * prune_fraction:g} % of Sz "
+        f"({length(T)}): {len(hp)} significant peaks, "
+        + (
+            f"{len(hv)} pits"
+            if count_pits
+            else "the five deepest significant pits for S5v (pits not counted further)"
+        )
+    )
+    return {
+        "Spd_per_m2": len(hp) / area,
+        "Spc_per_m": spc,
+        "S10z_m": None if s5p is None or s5v is None else s5p + s5v,
+        "S5p_m": s5p,
+        "S5v_m": s5v,
+        "features_note": note,
+    }

@@ -34,6 +34,7 @@ products averaged falls). The FFTs run in double precision (numpy's pocketfft is
 than in single), but the last one, back along x, in single (relative error near 1e-7 of the
 zero lag, far below s).
 """
+
 from __future__ import annotations
 
 from typing import Any
@@ -51,7 +52,9 @@ S_THRESHOLD = 0.2
 STR_ANISOTROPIC = 0.3
 
 
-def autocorrelation(z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64], tuple[int, int]]:
+def autocorrelation(
+    z: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64], tuple[int, int]]:
     """(f_ACF on lags |t| <= L/2, centred; |Z(q)|^2 of the padded field) of a 2D field with
     NaN where unmeasured. f_ACF[cy, cx] = 1 at the centre (cy, cx) = (ny // 2, nx // 2).
 
@@ -75,7 +78,7 @@ def autocorrelation(z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArra
     n = int(np.count_nonzero(good))
     ny, nx = z.shape
     hy, hx = ny // 2, nx // 2
-    shape = (_fast_len(ny + hy + 1), _fast_len(nx + hx + 1))   # no wrap-around up to L/2
+    shape = (_fast_len(ny + hy + 1), _fast_len(nx + hx + 1))  # no wrap-around up to L/2
     zz = z - (z.mean() if n == z.size else np.add.reduce(z, axis=None, where=good) / n)
     if n < z.size:
         np.copyto(zz, 0.0, where=~good)
@@ -83,22 +86,22 @@ def autocorrelation(z: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArra
     # half spectrum is written transposed, so that every later transform runs along
     # contiguous memory (pocketfft runs about half as fast along a strided axis)
     F = np.fft.fft(_rfft_transposed(zz, shape[1]), shape[0], axis=1)
-    Fv = F.view(F.real.dtype)                             # (re, im) pairs
+    Fv = F.view(F.real.dtype)  # (re, im) pairs
     np.square(Fv, out=Fv)
-    PT = np.add(Fv[:, 0::2], Fv[:, 1::2])                 # |Z|^2, rows kx, columns ky
+    PT = np.add(Fv[:, 0::2], Fv[:, 1::2])  # |Z|^2, rows kx, columns ky
     del F, Fv
     # P is real: its inverse transform along ky is G[-k] = H[k] / n (and G[k] = conj(H[k]) / n)
     # with H = rfft(P) (half the work of a complex transform; the 1/n goes with the
     # normalisation). Row k >= 0 of H, transformed back along x, is the ACF at the lags
     # (-k, tx); the lags (k, tx) are those of (-k, -tx) (the ACF of a real field is even).
     H = _rfft_transposed(PT)
-    R = np.fft.irfft(H[:hy + 1].astype(np.complex64), shape[1], axis=1)   # row k: ty = -k
+    R = np.fft.irfft(H[: hy + 1].astype(np.complex64), shape[1], axis=1)  # row k: ty = -k
     del H
     acf = np.empty((2 * hy + 1, 2 * hx + 1))
-    neg = acf[hy::-1]                                     # ty = 0, -1, ..., -hy
+    neg = acf[hy::-1]  # ty = 0, -1, ..., -hy
     np.divide(R[:, -hx:], R[0, 0], out=neg[:, :hx])
-    np.divide(R[:, :hx + 1], R[0, 0], out=neg[:, hx:])
-    acf[hy + 1:] = acf[hy - 1::-1, ::-1]                  # f(ty, tx) = f(-ty, -tx)
+    np.divide(R[:, : hx + 1], R[0, 0], out=neg[:, hx:])
+    acf[hy + 1 :] = acf[hy - 1 :: -1, ::-1]  # f(ty, tx) = f(-ty, -tx)
     return acf, PT.T, shape
 
 
@@ -109,10 +112,10 @@ def _rfft_transposed(x, n=None):
     longer than needed: a power-of-two row length would send the transposed writes to a few
     cache sets (twice slower on 1024 rows)."""
     m = (x.shape[1] if n is None else n) // 2 + 1
-    out = np.empty((m, x.shape[0] + 8), np.complex128)[:, :x.shape[0]]
+    out = np.empty((m, x.shape[0] + 8), np.complex128)[:, : x.shape[0]]
     try:
         np.fft.rfft(x, n, axis=1, out=out.T)
-    except TypeError:                                     # numpy < 2
+    except TypeError:  # numpy < 2
         out.T[...] = np.fft.rfft(x, n, axis=1)
     return out
 
@@ -139,7 +142,7 @@ def _bilinear(img, y, x):
     y0 = np.clip(np.floor(y), 0, ny - 2)
     x0 = np.clip(np.floor(x), 0, nx - 2)
     fy, fx = y - y0, x - x0
-    i = y0.astype(np.intp) * nx + x0.astype(np.intp)      # flattened upper-left corner
+    i = y0.astype(np.intp) * nx + x0.astype(np.intp)  # flattened upper-left corner
     f = img.ravel()
     a, b = f[i], f[i + 1]
     top = a + fx * (b - a)
@@ -161,8 +164,9 @@ def _decay_lengths(acf, dy, dx, s, step_deg=0.5):
     theta = np.radians(np.arange(0.0, 180.0, step_deg))
     c, sn = np.cos(theta), np.sin(theta)
     with np.errstate(divide="ignore"):
-        r_max = np.minimum(np.where(c != 0, hx * dx / np.abs(c), np.inf),
-                           np.where(sn != 0, hy * dy / np.abs(sn), np.inf))      # [m]
+        r_max = np.minimum(
+            np.where(c != 0, hx * dx / np.abs(c), np.inf), np.where(sn != 0, hy * dy / np.abs(sn), np.inf)
+        )  # [m]
     dr = 0.25 * min(dx, dy)
     r_all = np.arange(0.0, r_max.max() + dr, dr)
     hit = np.zeros(theta.size, bool)
@@ -210,42 +214,42 @@ def _texture_direction(P, shape, dy, dx, step_deg=0.25):
     nk, nc = PT.shape
     Pt = np.empty((nk, nc), np.float32)
     h = nc // 2
-    Pt[:, h:] = PT[:, :nc - h]
-    Pt[:, :h] = PT[:, nc - h:]
+    Pt[:, h:] = PT[:, : nc - h]
+    Pt[:, :h] = PT[:, nc - h :]
     dqy, dqx = 1.0 / (shape[0] * dy), 1.0 / (shape[1] * dx)
     q_top = min(0.5 / dx, 0.5 / dy)
     dq = min(dqx, dqy)
-    r = np.arange(1.0, q_top / dq) * dq                   # [1/m], from the first ring outwards
+    r = np.arange(1.0, q_top / dq) * dq  # [1/m], from the first ring outwards
     theta = np.radians(np.arange(0.0, 180.0, step_deg))
     c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
-    sign = np.where(c < 0, -1.0, 1.0)                     # P(q) = P(-q): keep qx >= 0
+    sign = np.where(c < 0, -1.0, 1.0)  # P(q) = P(-q): keep qx >= 0
     sc, ss = sign * c, sign * s
     f = Pt.ravel()
-    f1, fn, fn1 = f[1:], f[nc:], f[nc + 1:]               # the corners right, below, diagonal
+    f1, fn, fn1 = f[1:], f[nc:], f[nc + 1 :]  # the corners right, below, diagonal
     aps = np.empty(theta.size)
-    for t0 in range(0, theta.size, 32):                   # 32 rays at a time: cache-sized
+    for t0 in range(0, theta.size, 32):  # 32 rays at a time: cache-sized
         rows = slice(t0, t0 + 32)
         kx = sc[rows] * r
         kx /= dqx
         ky = ss[rows] * r
         ky /= dqy
         ky += ny // 2
-        i = kx.astype(np.intp)                            # floor: kx, ky >= 0
+        i = kx.astype(np.intp)  # floor: kx, ky >= 0
         np.minimum(i, nk - 2, out=i)
-        kx -= i                                           # fraction along kx
+        kx -= i  # fraction along kx
         i *= nc
         j = ky.astype(np.intp)
         np.minimum(j, nc - 2, out=j)
-        ky -= j                                           # fraction along ky
-        i += j                                            # flattened corner (kx0, ky0)
+        ky -= j  # fraction along ky
+        i += j  # flattened corner (kx0, ky0)
         a = f[i]
         lo = f1[i] - a
         lo = lo * ky
-        lo += a                                           # at kx0
+        lo += a  # at kx0
         a = fn[i]
         hi = fn1[i] - a
         hi = hi * ky
-        hi += a                                           # at kx0 + 1
+        hi += a  # at kx0 + 1
         hi -= lo
         hi *= kx
         hi += lo
@@ -269,8 +273,9 @@ def _varies(z):
     return good.size >= 4 and bool(good.max() > good.min())
 
 
-def spatial_parameters(heights_m: NDArray[np.float64], dx_m: float, dy_m: float,
-                       s: float = S_THRESHOLD) -> dict[str, Any]:
+def spatial_parameters(
+    heights_m: NDArray[np.float64], dx_m: float, dy_m: float, s: float = S_THRESHOLD
+) -> dict[str, Any]:
     """Sal, Str and Std of a levelled height map (module docstring for the definitions).
 
     Parameters
@@ -294,16 +299,19 @@ def spatial_parameters(heights_m: NDArray[np.float64], dx_m: float, dy_m: float,
     z = np.asarray(heights_m, dtype=np.float64)
     ny, nx = z.shape
     if min(ny, nx) < 4 or not _varies(z):
-        return {"Sal_m": None, "Str": None, "Std_deg": None,
-                "spatial_note": "no autocorrelation: the field is flat or smaller than 4 x 4 "
-                                "measured points"}
+        return {
+            "Sal_m": None,
+            "Str": None,
+            "Std_deg": None,
+            "spatial_note": "no autocorrelation: the field is flat or smaller than 4 x 4 measured points",
+        }
     k = 1
     while -(-ny // k) * -(-nx // k) > MAX_POINTS:
         k += 1
     how, sal = "whole field", None
-    if k > 1:                                     # the central window first: enough when
-        y0, x0 = max(0, (ny - MAX_SIDE) // 2), max(0, (nx - MAX_SIDE) // 2)   # Sal is short
-        acf, P, shape = autocorrelation(z[y0:y0 + MAX_SIDE, x0:x0 + MAX_SIDE])
+    if k > 1:  # the central window first: enough when
+        y0, x0 = max(0, (ny - MAX_SIDE) // 2), max(0, (nx - MAX_SIDE) // 2)  # Sal is short
+        acf, P, shape = autocorrelation(z[y0 : y0 + MAX_SIDE, x0 : x0 + MAX_SIDE])
         sal, longest, open_ = _decay_lengths(acf, dy_m, dx_m, s)
         if sal is not None and sal < 10 * k * min(dx_m, dy_m):
             std = _texture_direction(P, shape, dy_m, dx_m)
@@ -317,21 +325,33 @@ def spatial_parameters(heights_m: NDArray[np.float64], dx_m: float, dy_m: float,
         std = _texture_direction(P, shape, dy_m * k, dx_m * k)
     note = f"autocorrelation (s = {s:g}) over the {how}"
     if sal is None:
-        return {"Sal_m": None, "Str": None, "Std_deg": std,
-                "spatial_note": note + "; it does not decay to s within half the field: "
-                                       "Sal and Str undefined (field too small)"}
+        return {
+            "Sal_m": None,
+            "Str": None,
+            "Std_deg": std,
+            "spatial_note": note + "; it does not decay to s within half the field: "
+            "Sal and Str undefined (field too small)",
+        }
     ratio = sal / longest if longest > 0 else None
     if open_ is not None:
         bound = sal / open_
         if bound < STR_ANISOTROPIC:
             ratio = bound
-            note += ("; along the lay it has not decayed to s within half the field: Str is an "
-                     "upper bound (strongly anisotropic)")
+            note += (
+                "; along the lay it has not decayed to s within half the field: Str is an "
+                "upper bound (strongly anisotropic)"
+            )
         else:
-            note += ("; along its slowest direction it has not decayed to s within half the "
-                     "field: too small to decide the texture aspect ratio, Str null")
+            note += (
+                "; along its slowest direction it has not decayed to s within half the "
+                "field: too small to decide the texture aspect ratio, Str null"
+            )
             ratio = None
     if ratio is not None and ratio > 0.5:
         note += "; isotropic (Str > 0.5): Std is the direction of a random fluctuation"
-    return {"Sal_m": float(sal), "Str": None if ratio is None else float(min(ratio, 1.0)),
-            "Std_deg": std, "spatial_note": note}
+    return {
+        "Sal_m": float(sal),
+        "Str": None if ratio is None else float(min(ratio, 1.0)),
+        "Std_deg": std,
+        "spatial_note": note,
+    }

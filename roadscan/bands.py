@@ -7,6 +7,7 @@ memory is a band's, not the map's. This module is their one home.
 
 Reference: the memory measurements in ``benchmarks/bench_scale.py``.
 """
+
 from __future__ import annotations
 
 from typing import Any, NamedTuple
@@ -14,8 +15,14 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["row_chunks", "measured_stats", "measured_mean_range", "MeasuredStats", "CHUNK_BYTES",
-           "gap_neighbours"]
+__all__ = [
+    "row_chunks",
+    "measured_stats",
+    "measured_mean_range",
+    "MeasuredStats",
+    "CHUNK_BYTES",
+    "gap_neighbours",
+]
 
 #: rows per chunk of the grid-sized passes: about 2 MiB of float64 per chunk, so temporaries
 #: stay in cache and the peak memory does not grow with the map
@@ -70,8 +77,12 @@ class MeasuredStats(NamedTuple):
         return self.sum / self.count
 
 
-def measured_stats(h: NDArray[np.floating[Any]], unmeasured: NDArray[np.bool_] | None = None,
-                   chunk_bytes: int = CHUNK_BYTES, with_sum: bool = False) -> MeasuredStats:
+def measured_stats(
+    h: NDArray[np.floating[Any]],
+    unmeasured: NDArray[np.bool_] | None = None,
+    chunk_bytes: int = CHUNK_BYTES,
+    with_sum: bool = False,
+) -> MeasuredStats:
     """Count, min, max (and sum) of the finite heights not marked ``unmeasured``, band by band.
 
     Parameters
@@ -109,8 +120,9 @@ def measured_stats(h: NDArray[np.floating[Any]], unmeasured: NDArray[np.bool_] |
     return MeasuredStats(n, lo, hi, total if with_sum else None)
 
 
-def measured_mean_range(h: NDArray[np.floating[Any]],
-                        unmeasured: NDArray[np.bool_]) -> tuple[float, float, float]:
+def measured_mean_range(
+    h: NDArray[np.floating[Any]], unmeasured: NDArray[np.bool_]
+) -> tuple[float, float, float]:
     """(mean, min, max) [m] of the measured heights of a map, read band by band (float64):
     the reference and the clip range of the biharmonic fill (:mod:`roadscan.inpaint`).
 
@@ -130,8 +142,7 @@ def measured_mean_range(h: NDArray[np.floating[Any]],
     return s.mean, s.min, s.max
 
 
-def gap_neighbours(at: NDArray[np.integer[Any]],
-                   size: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+def gap_neighbours(at: NDArray[np.integer[Any]], size: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """For each flattened index in ``at`` (sorted, the unmeasured points of a map of ``size``
     points), the previous and the next index not in ``at`` (the measured points around its run
     of consecutive unmeasured points): -1 before the first, ``size`` after the last. Found on
@@ -149,7 +160,7 @@ def gap_neighbours(at: NDArray[np.integer[Any]],
     p, q : ndarray of int, shape (k,)
         Previous and next measured index of each.
     """
-    first = np.empty(at.size, dtype=bool)           # a run of consecutive indices starts
+    first = np.empty(at.size, dtype=bool)  # a run of consecutive indices starts
     first[0] = True
     np.not_equal(at[1:], at[:-1] + 1, out=first[1:])
     last = np.empty_like(first)

@@ -15,6 +15,7 @@ References
 OpenBLAS, ``openblas_set_num_threads`` / ``openblas_get_num_threads`` (OpenBLAS README,
 "Setting the number of threads at runtime").
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -25,9 +26,11 @@ __all__ = ["single_threaded_blas"]
 
 # exported names of the getter and setter, by build: numpy's scipy-openblas (64-bit integers,
 # symbol suffix), its 32-bit-integer build, a plain OpenBLAS
-_NAMES = (("scipy_openblas_get_num_threads64_", "scipy_openblas_set_num_threads64_"),
-          ("scipy_openblas_get_num_threads", "scipy_openblas_set_num_threads"),
-          ("openblas_get_num_threads", "openblas_set_num_threads"))
+_NAMES = (
+    ("scipy_openblas_get_num_threads64_", "scipy_openblas_set_num_threads64_"),
+    ("scipy_openblas_get_num_threads", "scipy_openblas_set_num_threads"),
+    ("openblas_get_num_threads", "openblas_set_num_threads"),
+)
 
 
 @functools.lru_cache(maxsize=1)

@@ -7,6 +7,7 @@ or note names the option as the keyword (``'spacing'``), the way a Python caller
 the ``roadscan`` command renders the same message with its flag (``--spacing``) through
 :meth:`InputError.render`.
 """
+
 from __future__ import annotations
 
 import os
@@ -32,8 +33,9 @@ def _library_name(key):
     return repr(key)
 
 
-def render_options(template: str, options: Iterable[str],
-                   name_option: Callable[[str], str] | None = None) -> str:
+def render_options(
+    template: str, options: Iterable[str], name_option: Callable[[str], str] | None = None
+) -> str:
     """``template`` with each ``{key}`` of ``options`` replaced by ``name_option(key)``.
 
     Parameters
@@ -92,8 +94,12 @@ class InputError(ValueError):
         The problem with its ``{key}`` placeholders.
     """
 
-    def __init__(self, path: str | os.PathLike[str] | None, problem: str,
-                 hint_option: str | Sequence[str] | None = None) -> None:
+    def __init__(
+        self,
+        path: str | os.PathLike[str] | None,
+        problem: str,
+        hint_option: str | Sequence[str] | None = None,
+    ) -> None:
         if hint_option is None and isinstance(problem, OptionNote):
             hint_option = problem.hint_option
             problem = problem.template
@@ -123,10 +129,9 @@ class InputError(ValueError):
     def reworded(self, path: str | os.PathLike[str] | None = None, prefix: str = "") -> InputError:
         """A new error with the same options: ``prefix`` + this problem, at ``path`` (default:
         this error's file)."""
-        return InputError(self.path if path is None else path, str(prefix) + self.template,
-                          self.hint_option)
+        return InputError(self.path if path is None else path, str(prefix) + self.template, self.hint_option)
 
-    def __reduce__(self):          # across processes (Dask workers) with its options
+    def __reduce__(self):  # across processes (Dask workers) with its options
         return (InputError, (self.path, self.template, self.hint_option))
 
 

@@ -6,6 +6,7 @@ FFT of a 4 Mpx map, while scipy's runs on every core (``workers=-1``) and transf
 
 Reference: M. Reinecke, pocketfft (numpy.fft and scipy.fft since numpy 1.17 / scipy 1.4).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -52,7 +53,7 @@ class _ScipyFFT:
     def fft(F, axis):
         import scipy.fft as sfft
 
-        return sfft.fft(F, axis=axis, overwrite_x=True, workers=_WORKERS)   # in place
+        return sfft.fft(F, axis=axis, overwrite_x=True, workers=_WORKERS)  # in place
 
     @staticmethod
     def rfft2(x):

@@ -13,6 +13,7 @@ weigh every decade alike); H = -slope/2 - 1 and its standard error is half the s
 standard error from the regression. q0 is the roll-off wave vector where one is detected,
 else the lowest wave vector of the spectrum (docs: Theory); q1 is the highest.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -145,8 +146,9 @@ def _usable(spectrum, min_count):
     return np.flatnonzero(ok)
 
 
-def detect_band(spectrum: Spectrum, tolerance: float = 0.5, window_decades: float = 0.4,
-                min_count: int = 8) -> tuple[float, float]:
+def detect_band(
+    spectrum: Spectrum, tolerance: float = 0.5, window_decades: float = 0.4, min_count: int = 8
+) -> tuple[float, float]:
     """Self-affine band of a spectrum: the stretch around the middle where log C is straight.
 
     Local slopes of log C vs log q (window ``window_decades``) are compared with the median
@@ -187,7 +189,7 @@ def detect_band(spectrum: Spectrum, tolerance: float = 0.5, window_decades: floa
     # contiguous runs of good points; keep the one spanning most decades that meets the middle
     edges = np.flatnonzero(np.diff(np.r_[0, good.astype(np.int8), 0]))
     runs = [(a, b - 1) for a, b in zip(edges[::2], edges[1::2])]
-    runs = [r for r in runs if mid[r[0]: r[1] + 1].any()] or runs
+    runs = [r for r in runs if mid[r[0] : r[1] + 1].any()] or runs
     if not runs:
         raise InputError(None, "no straight stretch found in the spectrum")
     i0, i1 = max(runs, key=lambda r: x[r[1]] - x[r[0]])
@@ -197,8 +199,13 @@ def detect_band(spectrum: Spectrum, tolerance: float = 0.5, window_decades: floa
     return float(q[i0]), float(q[i1])
 
 
-def fit_self_affine(spectrum: Spectrum, band: tuple[float, float] | None = None, min_count: int = 8,
-                    window_decades: float = 0.4, roll_off: float | None = None) -> SelfAffineFit:
+def fit_self_affine(
+    spectrum: Spectrum,
+    band: tuple[float, float] | None = None,
+    min_count: int = 8,
+    window_decades: float = 0.4,
+    roll_off: float | None = None,
+) -> SelfAffineFit:
     """Fit the self-affine form to a (2D, isotropic) spectrum.
 
     log10 C is fitted against log10 q over the band by least squares, each ring weighted by
@@ -269,14 +276,23 @@ def fit_self_affine(spectrum: Spectrum, band: tuple[float, float] | None = None,
     else:
         h0 = float("nan")
         band_rms = float(np.sqrt(2 * np.pi * c0 * q0**2 * np.log(q1 / q0)))
-    return SelfAffineFit(hurst=float(hurst), hurst_stderr=float(se / 2.0), h0_m=float(h0),
-                         band_rms_m=float(band_rms), fit_band_per_m=(lo, hi),
-                         q_roll_per_m=q_roll, q0_per_m=float(q0), q1_per_m=q1,
-                         C_at_q0_m4=float(c0), n_points=n)
+    return SelfAffineFit(
+        hurst=float(hurst),
+        hurst_stderr=float(se / 2.0),
+        h0_m=float(h0),
+        band_rms_m=float(band_rms),
+        fit_band_per_m=(lo, hi),
+        q_roll_per_m=q_roll,
+        q0_per_m=float(q0),
+        q1_per_m=q1,
+        C_at_q0_m4=float(c0),
+        n_points=n,
+    )
 
 
-def extend_spectrum(spectrum: Spectrum, fit: SelfAffineFit, q1_per_m: float,
-                    points_per_decade: int = 20) -> Spectrum:
+def extend_spectrum(
+    spectrum: Spectrum, fit: SelfAffineFit, q1_per_m: float, points_per_decade: int = 20
+) -> Spectrum:
     """The measured spectrum continued by the fitted power law up to ``q1_per_m``.
 
     Points of ``spectrum`` are kept up to its highest wave vector; above it, log-spaced
@@ -300,15 +316,25 @@ def extend_spectrum(spectrum: Spectrum, fit: SelfAffineFit, q1_per_m: float,
     """
     q_top = spectrum.q_max_per_m
     meta = dict(spectrum.meta)
-    meta.update(extended_from_per_m=q_top, extended_to_per_m=float(q1_per_m),
-                extension_hurst=fit.hurst, source_kind=spectrum.kind)
-    cnt = (np.asarray(spectrum.count) if spectrum.count is not None
-           else np.zeros(spectrum.q_per_m.size, dtype=np.int64))
+    meta.update(
+        extended_from_per_m=q_top,
+        extended_to_per_m=float(q1_per_m),
+        extension_hurst=fit.hurst,
+        source_kind=spectrum.kind,
+    )
+    cnt = (
+        np.asarray(spectrum.count)
+        if spectrum.count is not None
+        else np.zeros(spectrum.q_per_m.size, dtype=np.int64)
+    )
     if q1_per_m <= q_top:
         return Spectrum(spectrum.q_per_m, spectrum.C_m4, count=cnt, kind="extended", meta=meta)
     n = max(1, int(np.ceil(points_per_decade * np.log10(q1_per_m / q_top))))
     q_new = q_top * (q1_per_m / q_top) ** (np.arange(1, n + 1) / n)
-    return Spectrum(np.concatenate([spectrum.q_per_m, q_new]),
-                    np.concatenate([spectrum.C_m4, fit.model_C(q_new)]),
-                    count=np.concatenate([cnt, np.zeros(n, dtype=np.int64)]),
-                    kind="extended", meta=meta)
+    return Spectrum(
+        np.concatenate([spectrum.q_per_m, q_new]),
+        np.concatenate([spectrum.C_m4, fit.model_C(q_new)]),
+        count=np.concatenate([cnt, np.zeros(n, dtype=np.int64)]),
+        kind="extended",
+        meta=meta,
+    )

@@ -4,6 +4,7 @@ Heights are in metres, spacings in metres. Unmeasured points (instrument dropout
 carried explicitly: ``heights_m`` holds NaN there and ``unmeasured`` is True there; the two
 are kept consistent by the constructors.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
@@ -57,8 +58,9 @@ class _Measured:
         for k, v in zip(spacings, values):
             object.__setattr__(self, k, float(v))
 
-    def with_heights(self: _M, heights_m: ArrayLike, unmeasured: ArrayLike | None = None,
-                     **changes: Any) -> _M:
+    def with_heights(
+        self: _M, heights_m: ArrayLike, unmeasured: ArrayLike | None = None, **changes: Any
+    ) -> _M:
         """A copy with new heights (same spacing, name, meta unless changed)."""
         if unmeasured is None:
             unmeasured = self.unmeasured
@@ -115,8 +117,12 @@ class HeightMap(_Measured):
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
-        self._settle("height map", 2, ("dx_m", "dy_m"),
-                     lambda h: f"too small: shape {h.shape}" if min(h.shape) < 2 else None)
+        self._settle(
+            "height map",
+            2,
+            ("dx_m", "dy_m"),
+            lambda h: f"too small: shape {h.shape}" if min(h.shape) < 2 else None,
+        )
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -169,8 +175,7 @@ class Profile(_Measured):
     meta: dict = field(default_factory=dict)
 
     def __post_init__(self):
-        self._settle("profile", 1, ("dx_m",),
-                     lambda h: f"too short: {h.size} points" if h.size < 4 else None)
+        self._settle("profile", 1, ("dx_m",), lambda h: f"too short: {h.size} points" if h.size < 4 else None)
 
     @property
     def n(self) -> int:
@@ -211,5 +216,7 @@ def require_filled(obj: HeightMap | Profile, fill_values: ArrayLike | None = Non
             raise ValueError(f"fill_values must be {n} finite heights (one per unmeasured point)")
         return
     if obj.unmeasured.any():
-        raise ValueError(f"{obj.name or type(obj).__name__}: {int(obj.unmeasured.sum())} unmeasured "
-                         "points; fill them first (roadscan.inpaint.fill_unmeasured)")
+        raise ValueError(
+            f"{obj.name or type(obj).__name__}: {int(obj.unmeasured.sum())} unmeasured "
+            "points; fill them first (roadscan.inpaint.fill_unmeasured)"
+        )

@@ -13,6 +13,7 @@ with :mod:`roadscan._biharmonic` (numpy dense blocks per dropout cluster; no sci
 took a third of ``roadscan analyse``'s time on the sample), larger maps with scikit-image's
 sparse solve band by band; both equal one global ``inpaint_biharmonic`` to round-off (tests).
 """
+
 from __future__ import annotations
 
 from typing import Literal, TypeVar
@@ -85,7 +86,7 @@ def _two_free_points(mask, reach):
     for axis in (1, 0):
         c = np.concatenate([[0], np.cumsum(mask.any(axis=axis))])
         i = np.arange(c.size - 1)
-        busy = c[np.minimum(i + 3, c.size - 1)] - c[np.maximum(i - 2, 0)]   # masked lines within 2
+        busy = c[np.minimum(i + 3, c.size - 1)] - c[np.maximum(i - 2, 0)]  # masked lines within 2
         idle = np.flatnonzero(busy == 0)
         if idle.size and mask.shape[axis] >= 2:
             i = int(idle[0])
@@ -116,9 +117,9 @@ def _biharmonic_banded(h, bad, values):
     ref, lo, hi = measured_mean_range(h, bad)
     lo, hi = lo - ref, hi - ref
     labels, n, groups = _bands(bad)
-    where = np.flatnonzero(bad)                         # raster positions of the values
+    where = np.flatnonzero(bad)  # raster positions of the values
     reach = ndimage.generate_binary_structure(2, 1)
-    reach = ndimage.iterate_structure(reach, 2)          # |dx| + |dy| <= 2
+    reach = ndimage.iterate_structure(reach, 2)  # |dx| + |dy| <= 2
     member = np.zeros(n + 1, dtype=bool)
     for r0, r1, labs in groups:
         a, b = max(r0 - 2, 0), min(r1 + 2, ny)
@@ -128,7 +129,7 @@ def _biharmonic_banded(h, bad, values):
         crop = h[a:b] - ref
         crop[bad[a:b]] = 0.0
         free = _two_free_points(mask, reach)
-        if free is None:                                 # no room for the clip range: one solve
+        if free is None:  # no room for the clip range: one solve
             return False
         crop[free[0]], crop[free[1]] = lo, hi
         filled = inpaint_biharmonic(crop, mask)
@@ -146,7 +147,7 @@ def _map_values(h, bad, method):
 
             try:
                 return biharmonic_fill_values(h, bad, measured_mean_range(h, bad))
-            except np.linalg.LinAlgError:     # a singular block: scikit-image's sparse LU
+            except np.linalg.LinAlgError:  # a singular block: scikit-image's sparse LU
                 pass
         values = np.empty(int(np.count_nonzero(bad)))
         if _biharmonic_banded(h, bad, values):
@@ -165,7 +166,9 @@ def _map_values(h, bad, method):
     return filled[bad]
 
 
-def unmeasured_fill(obj: HeightMap | Profile, method: Literal["biharmonic", "ns"] = "biharmonic") -> NDArray[np.float64]:
+def unmeasured_fill(
+    obj: HeightMap | Profile, method: Literal["biharmonic", "ns"] = "biharmonic"
+) -> NDArray[np.float64]:
     """The values :func:`fill_unmeasured` puts at the unmeasured points, without the filled copy.
 
     Returns
@@ -225,7 +228,7 @@ def fill_unmeasured(obj: _Scan, method: Literal["biharmonic", "ns"] = "biharmoni
         filled[bad] = unmeasured_fill(obj, method)
     meta["filled_fraction"] = frac
     none = np.zeros_like(bad)
-    if not frac or _all_finite(filled):      # nothing to fill (shared), or a fresh array: no copy
+    if not frac or _all_finite(filled):  # nothing to fill (shared), or a fresh array: no copy
         return obj._adopt(filled, unmeasured=none, meta=meta), frac
     return obj.with_heights(filled, unmeasured=none, meta=meta), frac
 

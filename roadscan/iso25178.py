@@ -8,6 +8,7 @@ Rmr (:func:`roadscan.material_ratio.profile_material_parameters`).
 Input: a levelled (and, when asked, S- and L-filtered) HeightMap or Profile, heights in
 metres, NaN where unmeasured. Output keys are SI with their unit in the name.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -16,9 +17,25 @@ from .heightmap import HeightMap, Profile
 
 __all__ = ["AREAL_KEYS", "PROFILE_KEYS", "texture_parameters"]
 
-AREAL_KEYS = ("Sk_m", "Spk_m", "Svk_m", "Smr1_pct", "Smr2_pct", "Vmp_m3_per_m2", "Vmc_m3_per_m2",
-              "Vvc_m3_per_m2", "Vvv_m3_per_m2", "Sal_m", "Str", "Std_deg", "Spd_per_m2",
-              "Spc_per_m", "S10z_m", "S5p_m", "S5v_m")
+AREAL_KEYS = (
+    "Sk_m",
+    "Spk_m",
+    "Svk_m",
+    "Smr1_pct",
+    "Smr2_pct",
+    "Vmp_m3_per_m2",
+    "Vmc_m3_per_m2",
+    "Vvc_m3_per_m2",
+    "Vvv_m3_per_m2",
+    "Sal_m",
+    "Str",
+    "Std_deg",
+    "Spd_per_m2",
+    "Spc_per_m",
+    "S10z_m",
+    "S5p_m",
+    "S5v_m",
+)
 PROFILE_KEYS = ("Rk_m", "Rpk_m", "Rvk_m", "Rmr1_pct", "Rmr2_pct", "Rmr_pct")
 
 
@@ -57,7 +74,7 @@ def texture_parameters(obj):
     if not isinstance(obj, HeightMap):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
     mean = float(z.mean()) if z.size else np.nan
-    filled = z                                    # all finite (the mean is): no copy
+    filled = z  # all finite (the mean is): no copy
     if not np.isfinite(mean):
         ok = np.isfinite(z)
         n_ok = int(np.count_nonzero(ok))
@@ -71,13 +88,14 @@ def texture_parameters(obj):
 
     if filled is None or z.size < 2:
         return dict.fromkeys(AREAL_KEYS), {}
-    curve = MaterialRatioCurve(z)                 # (areal_material_parameters; NaN left out)
+    curve = MaterialRatioCurve(z)  # (areal_material_parameters; NaN left out)
     out = {**functional_parameters(curve), **volume_parameters(curve)}
     # no full-size copy about the mean: the spatial figures take their own (NaN where
     # unmeasured), the features shift only the heights they use
     sp = spatial_parameters(z, obj.dx_m, obj.dy_m)
-    ft = feature_parameters(filled, obj.dx_m, obj.dy_m, mean=mean, z_min=curve.z_min_m,
-                            z_max=curve.z_max_m, count_pits=False)
+    ft = feature_parameters(
+        filled, obj.dx_m, obj.dy_m, mean=mean, z_min=curve.z_min_m, z_max=curve.z_max_m, count_pits=False
+    )
     del filled
     notes = {"spatial": sp.pop("spatial_note"), "features": ft.pop("features_note")}
     out.update(sp)

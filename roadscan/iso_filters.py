@@ -20,6 +20,7 @@ stay unmeasured.
 The convolution is done by FFT on a zero-padded grid (pad >= 0.75 lambda_c, where the
 Gaussian weight is below 2e-4 of its peak), with the exact continuous transfer function.
 """
+
 from __future__ import annotations
 
 import math
@@ -38,9 +39,11 @@ __all__ = ["ALPHA", "END_EFFECTS", "gaussian_lowpass", "apply_filters", "gaussia
 #: ISO 16610-21 / -61 Gaussian constant
 ALPHA = math.sqrt(math.log(2.0) / math.pi)
 #: how the edges and unmeasured points are handled (recorded with every filtered result)
-END_EFFECTS = ("masked normalised Gaussian convolution: weights renormalised over the measured "
-               "points inside the field (ISO 16610-28 zero-order end correction), no padding "
-               "by mirroring or extrapolation")
+END_EFFECTS = (
+    "masked normalised Gaussian convolution: weights renormalised over the measured "
+    "points inside the field (ISO 16610-28 zero-order end correction), no padding "
+    "by mirroring or extrapolation"
+)
 
 
 def gaussian_transmission(wavelength_m: ArrayLike, cutoff_m: float) -> NDArray[np.float64]:
@@ -92,8 +95,9 @@ def _smooth(a, spacings, cutoff_m):
     return fft.irfft2(F, shape, workers=-1)[: a.shape[0], : a.shape[1]]
 
 
-def gaussian_lowpass(heights_m: ArrayLike, spacings_m: Sequence[float], cutoff_m: float,
-                     unmeasured: ArrayLike | None = None) -> NDArray[np.float64]:
+def gaussian_lowpass(
+    heights_m: ArrayLike, spacings_m: Sequence[float], cutoff_m: float, unmeasured: ArrayLike | None = None
+) -> NDArray[np.float64]:
     """The Gaussian mean surface (or line) of ``heights_m`` for nesting index ``cutoff_m`` [m].
 
     Masked, normalised convolution (module docstring): (s * (w z)) / (s * w). A fully measured
@@ -120,7 +124,7 @@ def gaussian_lowpass(heights_m: ArrayLike, spacings_m: Sequence[float], cutoff_m
         bad |= np.asarray(unmeasured, dtype=bool)
     w = (~bad).astype(np.float64)
     num = _smooth(np.where(bad, 0.0, z), spacings_m, cutoff_m)
-    if not bad.any():         # separable: the product of the axes' smoothed ones
+    if not bad.any():  # separable: the product of the axes' smoothed ones
         ones = [_smooth(np.ones(n), (d,), cutoff_m) for n, d in zip(z.shape, spacings_m)]
         dens = ones[0] if len(ones) == 1 else ones[0][:, None] * ones[1][None, :]
     else:
@@ -165,8 +169,9 @@ def apply_filters(obj: _Scan, s_filter_m: float | None = None, l_filter_m: float
         if v is not None and not (math.isfinite(v) and v > 0):
             raise ValueError(f"{name} nesting index must be a positive length in m, got {v!r}")
     if s_filter_m is not None and l_filter_m is not None and s_filter_m >= l_filter_m:
-        raise ValueError(f"S-filter nesting index {s_filter_m:g} m must be shorter than the "
-                         f"L-filter's {l_filter_m:g} m")
+        raise ValueError(
+            f"S-filter nesting index {s_filter_m:g} m must be shorter than the L-filter's {l_filter_m:g} m"
+        )
     spacings: tuple[float, ...]
     if isinstance(obj, Profile):
         spacings, size = (obj.dx_m,), obj.length_m
@@ -175,11 +180,12 @@ def apply_filters(obj: _Scan, s_filter_m: float | None = None, l_filter_m: float
     else:
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
     if s_filter_m is not None and s_filter_m < 2 * max(spacings) * (1 - 1e-9):
-        raise ValueError(f"S-filter nesting index {s_filter_m:g} m is shorter than two sampling "
-                         f"intervals ({2 * max(spacings):g} m)")
+        raise ValueError(
+            f"S-filter nesting index {s_filter_m:g} m is shorter than two sampling "
+            f"intervals ({2 * max(spacings):g} m)"
+        )
     if l_filter_m is not None and l_filter_m > size * (1 + 1e-9):
-        raise ValueError(f"L-filter nesting index {l_filter_m:g} m is longer than the scan "
-                         f"({size:g} m)")
+        raise ValueError(f"L-filter nesting index {l_filter_m:g} m is longer than the scan ({size:g} m)")
     z, bad = obj.heights_m, obj.unmeasured
     if s_filter_m is not None:
         z = gaussian_lowpass(z, spacings, s_filter_m, bad)

@@ -4,6 +4,7 @@ Both work on :class:`roadscan.HeightMap` and :class:`roadscan.Profile` and retur
 type. Unmeasured points (``unmeasured`` True, NaN heights) never enter a fit and stay
 unmeasured in the result.
 """
+
 from __future__ import annotations
 
 from typing import TypeVar
@@ -45,17 +46,19 @@ class PolynomialForm:
     """
 
     def __init__(self, C: NDArray[np.float64], U: NDArray[np.float64], V: NDArray[np.float64]) -> None:
-        self.C, self.U, self.V = C, U, V              # C[j, i]; U (nx, d+1); V (ny, d+1)
-        self.U = np.asfortranarray(U)                 # columns u^i contiguous
+        self.C, self.U, self.V = C, U, V  # C[j, i]; U (nx, d+1); V (ny, d+1)
+        self.U = np.asfortranarray(U)  # columns u^i contiguous
 
-    def rows(self, sl: slice, out: NDArray[np.float64] | None = None, minus: NDArray[np.float64] | None = None) -> NDArray[np.float64]:
+    def rows(
+        self, sl: slice, out: NDArray[np.float64] | None = None, minus: NDArray[np.float64] | None = None
+    ) -> NDArray[np.float64]:
         """The form on rows ``sl`` (a slice), shape (rows, nx) [m]; with ``minus`` (heights
         of those rows) the difference ``minus - form`` instead, into ``out`` if given."""
         # broadcasting, not a matmul with an inner dimension of d + 1: the BLAS call costs
         # more than the arithmetic, and its threads fight the FFT's on a small machine
-        a = np.einsum("rj,ji->ri", self.V[sl], self.C)          # coefficient of u^i per row
+        a = np.einsum("rj,ji->ri", self.V[sl], self.C)  # coefficient of u^i per row
         if minus is None:
-            out = np.multiply(np.ones(self.U.shape[0]), a[:, :1], out=out)   # u^0 = 1
+            out = np.multiply(np.ones(self.U.shape[0]), a[:, :1], out=out)  # u^0 = 1
             for i in range(1, a.shape[1]):
                 out += a[:, i, None] * self.U[:, i]
             return out
@@ -69,8 +72,9 @@ class PolynomialForm:
         return self.rows(slice(None))
 
 
-def fit_polynomial(heights_m: NDArray[np.float64], unmeasured: NDArray[np.bool_],
-                   degree: int = 1) -> PolynomialForm:
+def fit_polynomial(
+    heights_m: NDArray[np.float64], unmeasured: NDArray[np.bool_], degree: int = 1
+) -> PolynomialForm:
     """Least-squares polynomial form of total degree ``degree`` fitted to measured points.
 
     Same fit as :func:`polynomial_form` (which see), returned as a :class:`PolynomialForm`.
@@ -100,8 +104,8 @@ def fit_polynomial(heights_m: NDArray[np.float64], unmeasured: NDArray[np.bool_]
     if one_d:
         h, bad = h[None, :], bad[None, :]
     ny, nx = h.shape
-    U = _powers(_unit_coords(nx), 2 * degree)        # (nx, 2d+1)
-    V = _powers(_unit_coords(ny), 2 * degree)        # (ny, 2d+1)
+    U = _powers(_unit_coords(nx), 2 * degree)  # (nx, 2d+1)
+    V = _powers(_unit_coords(ny), 2 * degree)  # (ny, 2d+1)
     if one_d:
         V = np.zeros((1, 2 * degree + 1))
         V[0, 0] = 1.0
@@ -115,25 +119,30 @@ def fit_polynomial(heights_m: NDArray[np.float64], unmeasured: NDArray[np.bool_]
             hz = np.where(b, 0.0, h[sl])
             m = (~b).astype(np.float64)
             mu = np.stack([m.dot(U[:, i]) for i in range(U.shape[1])], axis=1)
-            S += np.einsum("rj,ri->ji", V[sl], mu)             # S[j, i] = sum m v^j u^i
+            S += np.einsum("rj,ri->ji", V[sl], mu)  # S[j, i] = sum m v^j u^i
         else:
             hz = h[sl]
             S += np.outer(V[sl].sum(axis=0), U.sum(axis=0))
         rs = np.stack([hz.dot(Ud[:, i]) for i in range(degree + 1)], axis=1)
-        R += np.einsum("rj,ri->ji", Vd[sl], rs)              # R[j, i] = sum m h v^j u^i
-    terms = [(i, j) for i in range(degree + 1) for j in range(degree + 1)
-             if i + j <= degree and (not one_d or j == 0)]
+        R += np.einsum("rj,ri->ji", Vd[sl], rs)  # R[j, i] = sum m h v^j u^i
+    terms = [
+        (i, j)
+        for i in range(degree + 1)
+        for j in range(degree + 1)
+        if i + j <= degree and (not one_d or j == 0)
+    ]
     G = np.array([[S[j + m, i + k] for (k, m) in terms] for (i, j) in terms])
     rhs = np.array([R[j, i] for (i, j) in terms])
     c = np.linalg.lstsq(G, rhs, rcond=None)[0]
-    C = np.zeros((degree + 1, degree + 1))           # C[j, i]
+    C = np.zeros((degree + 1, degree + 1))  # C[j, i]
     for (i, j), cij in zip(terms, c):
         C[j, i] = cij
     return PolynomialForm(C, Ud, np.ascontiguousarray(Vd))
 
 
-def polynomial_form(heights_m: NDArray[np.float64], unmeasured: NDArray[np.bool_],
-                    degree: int = 1) -> NDArray[np.float64]:
+def polynomial_form(
+    heights_m: NDArray[np.float64], unmeasured: NDArray[np.bool_], degree: int = 1
+) -> NDArray[np.float64]:
     """Least-squares polynomial form of total degree ``degree`` fitted to measured points.
 
     Fits z(x, y) = sum_{i + j <= degree} c_ij u^i v^j, with u, v the column and row
@@ -189,12 +198,12 @@ def level(obj: _Scan, degree: int = 1) -> _Scan:
     h2 = h[None, :] if h.ndim == 1 else h
     bad2 = bad[None, :] if bad.ndim == 1 else bad
     out = np.empty(h2.shape)
-    consistent = True                                 # NaN exactly where unmeasured
+    consistent = True  # NaN exactly where unmeasured
     for sl in row_chunks(*h2.shape):
         form.rows(sl, out=out[sl], minus=h2[sl])
         consistent = consistent and np.array_equal(np.isfinite(out[sl]), ~bad2[sl])
     out = out.reshape(h.shape)
-    if not consistent:                                # e.g. an overflow: let the constructor mark it
+    if not consistent:  # e.g. an overflow: let the constructor mark it
         return obj.with_heights(out, meta=meta)
     return obj._adopt(out, meta=meta)
 
@@ -205,7 +214,7 @@ def _nearest_filled(h, bad):
         return h
     from scipy import ndimage
 
-    idx = np.empty((bad.ndim,) + bad.shape, dtype=np.int32)        # scipy's own index type
+    idx = np.empty((bad.ndim,) + bad.shape, dtype=np.int32)  # scipy's own index type
     ndimage.distance_transform_edt(bad, return_distances=False, return_indices=True, indices=idx)
     out = h.copy()
     out[bad] = h[tuple(i[bad] for i in idx)]
@@ -241,7 +250,7 @@ def remove_spikes(obj: _Scan, threshold: float = 6.0, size: int = 3) -> _Scan:
 
     hf = _nearest_filled(h, bad)
     dev = ndimage.median_filter(hf, size=size, mode="nearest")
-    np.subtract(hf, dev, out=dev)                                   # h - local median
+    np.subtract(hf, dev, out=dev)  # h - local median
     del hf
     d_meas = dev[~bad]
     spread = np.abs(d_meas - np.median(d_meas))

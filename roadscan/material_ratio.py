@@ -12,13 +12,21 @@ tolerance of the figures it feeds.
 
 Heights in metres; material ratios in percent; volumes per unit area in m^3/m^2 (= m).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MaterialRatioCurve", "material_ratio_curve", "equivalent_line", "functional_parameters",
-           "volume_parameters", "areal_material_parameters", "profile_material_parameters",
-           "N_BINS"]
+__all__ = [
+    "MaterialRatioCurve",
+    "material_ratio_curve",
+    "equivalent_line",
+    "functional_parameters",
+    "volume_parameters",
+    "areal_material_parameters",
+    "profile_material_parameters",
+    "N_BINS",
+]
 
 #: histogram bins of the material-ratio curve
 N_BINS = 1 << 14
@@ -46,8 +54,8 @@ class MaterialRatioCurve:
         z = np.asarray(z, dtype=np.float64).ravel()
         lo, hi = _min_max(z)
         n = int(z.size)
-        finite_only = not (np.isfinite(lo) and np.isfinite(hi))   # NaN or inf: left out,
-        if finite_only:                                           # block by block (no copy)
+        finite_only = not (np.isfinite(lo) and np.isfinite(hi))  # NaN or inf: left out,
+        if finite_only:  # block by block (no copy)
             lo, hi, n = _min_max_finite(z)
         if n < 2:
             raise ValueError("a material-ratio curve needs at least two measured heights")
@@ -81,8 +89,8 @@ def _min_max(z):
         return (float(z.min()), float(z.max())) if z.size else (np.nan, np.nan)
     lo, hi = np.inf, -np.inf
     for b in range(0, z.size, _BLOCK):
-        blk = z[b:b + _BLOCK]
-        lo, hi = np.minimum(lo, blk.min()), np.maximum(hi, blk.max())   # NaN propagates
+        blk = z[b : b + _BLOCK]
+        lo, hi = np.minimum(lo, blk.min()), np.maximum(hi, blk.max())  # NaN propagates
     return float(lo), float(hi)
 
 
@@ -91,7 +99,7 @@ def _min_max_finite(z):
     full-size copy); (nan, nan, 0) when none is finite."""
     lo, hi, n = np.inf, -np.inf, 0
     for b in range(0, z.size, _BLOCK):
-        blk = z[b:b + _BLOCK]
+        blk = z[b : b + _BLOCK]
         blk = blk[np.isfinite(blk)]
         if blk.size:
             lo, hi, n = min(lo, float(blk.min())), max(hi, float(blk.max())), n + blk.size
@@ -108,15 +116,15 @@ def _bin_counts(z, lo, span, n_bins, finite_only=False):
     t = np.empty(min(_BLOCK, z.size))
     k = np.empty(t.size, np.intp)
     for b in range(0, z.size, _BLOCK):
-        blk = z[b:b + _BLOCK]
+        blk = z[b : b + _BLOCK]
         if finite_only:
             blk = blk[np.isfinite(blk)]
-        tb, kb = t[:blk.size], k[:blk.size]
+        tb, kb = t[: blk.size], k[: blk.size]
         np.subtract(blk, lo, out=tb)
         tb *= scale
-        kb[...] = tb                                      # truncation = floor (tb >= 0)
+        kb[...] = tb  # truncation = floor (tb >= 0)
         counts += np.bincount(kb, minlength=n_bins + 1)
-    counts[n_bins - 1] += counts[n_bins]                  # tb <= n_bins (1 + eps) < n_bins + 1
+    counts[n_bins - 1] += counts[n_bins]  # tb <= n_bins (1 + eps) < n_bins + 1
     return counts[:n_bins]
 
 
@@ -178,12 +186,12 @@ def equivalent_line(curve, window_pct=40.0):
     """
     mr, c = curve.mr_pct, curve.c_m
     k = int(round(window_pct / MR_STEP_PCT))
-    slope = (c[:-k] - c[k:]) / window_pct                 # >= 0: c falls with mr
+    slope = (c[:-k] - c[k:]) / window_pct  # >= 0: c falls with mr
     i = int(np.argmin(slope))
-    m, h = mr[i:i + k + 1], c[i:i + k + 1]
+    m, h = mr[i : i + k + 1], c[i : i + k + 1]
     m0, c0 = float(m.mean()), float(h.mean())
     dm = m - m0
-    s = float(np.dot(dm, h - c0) / np.dot(dm, dm))        # <= 0 [m per %]
+    s = float(np.dot(dm, h - c0) / np.dot(dm, dm))  # <= 0 [m per %]
     return c0 - s * m0, c0 + s * (100.0 - m0), float(mr[i])
 
 
@@ -214,7 +222,7 @@ def functional_parameters(curve, window_pct=40.0):
         Keys ``Sk_m``, ``Spk_m``, ``Svk_m``, ``Smr1_pct``, ``Smr2_pct``.
     """
     mr, c = curve.mr_pct, curve.c_m
-    if curve.z_max_m <= curve.z_min_m:             # flat: no core, no peaks, no dales
+    if curve.z_max_m <= curve.z_min_m:  # flat: no core, no peaks, no dales
         return {"Sk_m": 0.0, "Spk_m": 0.0, "Svk_m": 0.0, "Smr1_pct": 0.0, "Smr2_pct": 100.0}
     top, bottom, _ = equivalent_line(curve, window_pct)
     smr1 = float(np.clip(curve.ratio_at(top), 0.0, 100.0))
@@ -223,8 +231,13 @@ def functional_parameters(curve, window_pct=40.0):
     a2 = -_integral(mr, c - bottom, smr2, 100.0)
     spk = 2.0 * a1 / smr1 if smr1 > 0 else 0.0
     svk = 2.0 * a2 / (100.0 - smr2) if smr2 < 100 else 0.0
-    return {"Sk_m": top - bottom, "Spk_m": max(spk, 0.0), "Svk_m": max(svk, 0.0),
-            "Smr1_pct": smr1, "Smr2_pct": smr2}
+    return {
+        "Sk_m": top - bottom,
+        "Spk_m": max(spk, 0.0),
+        "Svk_m": max(svk, 0.0),
+        "Smr1_pct": smr1,
+        "Smr2_pct": smr2,
+    }
 
 
 def volume_parameters(curve, p_pct=10.0, q_pct=80.0):
@@ -257,8 +270,12 @@ def volume_parameters(curve, p_pct=10.0, q_pct=80.0):
         return -_integral(mr, c - curve.height_at(x), x, 100.0) / 100.0
 
     vmp, vmq, vvp, vvq = vm(p_pct), vm(q_pct), vv(p_pct), vv(q_pct)
-    return {"Vmp_m3_per_m2": vmp, "Vmc_m3_per_m2": vmq - vmp, "Vvc_m3_per_m2": vvp - vvq,
-            "Vvv_m3_per_m2": vvq}
+    return {
+        "Vmp_m3_per_m2": vmp,
+        "Vmc_m3_per_m2": vmq - vmp,
+        "Vvc_m3_per_m2": vvp - vvq,
+        "Vvv_m3_per_m2": vvq,
+    }
 
 
 def areal_material_parameters(z):
@@ -302,6 +319,11 @@ def profile_material_parameters(z):
     """
     curve = MaterialRatioCurve(z)
     f = functional_parameters(curve)
-    return {"Rk_m": f["Sk_m"], "Rpk_m": f["Spk_m"], "Rvk_m": f["Svk_m"],
-            "Rmr1_pct": f["Smr1_pct"], "Rmr2_pct": f["Smr2_pct"],
-            "Rmr_pct": float(curve.ratio_at(0.0))}
+    return {
+        "Rk_m": f["Sk_m"],
+        "Rpk_m": f["Spk_m"],
+        "Rvk_m": f["Svk_m"],
+        "Rmr1_pct": f["Smr1_pct"],
+        "Rmr2_pct": f["Smr2_pct"],
+        "Rmr_pct": float(curve.ratio_at(0.0)),
+    }

@@ -16,6 +16,7 @@ References
 Hyndman, R. J. and Fan, Y. (1996). Sample quantiles in statistical packages. The American
 Statistician 50(4), 361-365.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -50,15 +51,16 @@ def median(v: NDArray[np.floating[Any]], overwrite: bool = False) -> float:
     kth = [h - 1, h] if n % 2 == 0 else [h]
     part = v.reshape(-1) if overwrite else np.array(v, copy=True).reshape(-1)
     part.partition(kth)
-    if np.isnan(part[h:]).any():            # NaN sorts last: numpy's median is NaN then
+    if np.isnan(part[h:]).any():  # NaN sorts last: numpy's median is NaN then
         return float("nan")
-    if n % 2:                               # numpy's mean: a sum from +0.0, then divided
+    if n % 2:  # numpy's mean: a sum from +0.0, then divided
         return float(0.0 + part[h])
     return float((0.0 + part[h - 1] + part[h]) / 2)
 
 
-def percentiles(v: NDArray[np.floating[Any]], p: Sequence[float],
-                overwrite: bool = False) -> NDArray[np.float64]:
+def percentiles(
+    v: NDArray[np.floating[Any]], p: Sequence[float], overwrite: bool = False
+) -> NDArray[np.float64]:
     """``np.percentile(v, p)`` (method ``"linear"``) of a 1D float array without NaN.
 
     Parameters
@@ -80,8 +82,8 @@ def percentiles(v: NDArray[np.floating[Any]], p: Sequence[float],
     virt = (n - 1) * q
     prev = np.floor(virt)
     above = virt >= n - 1
-    prev[above] = -1                                  # numpy's markers: the last value ...
-    prev[virt < 0] = 0                                # ... or the first
+    prev[above] = -1  # numpy's markers: the last value ...
+    prev[virt < 0] = 0  # ... or the first
     i = prev.astype(np.intp)
     j = np.where(above, -1, np.where(virt < 0, 0, i + 1))
     gamma = virt - i

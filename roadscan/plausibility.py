@@ -28,6 +28,7 @@ refusal, which contains ``units?`` and the flag that fixes it (``--units mm``, w
 Reference: ISO 25178-2:2012 (``S_q``); B. N. J. Persson et al., J. Phys.: Condens. Matter 17
 (2005) R1 (self-affine surfaces, rms height against scale).
 """
+
 from __future__ import annotations
 
 import os
@@ -83,11 +84,11 @@ def detrended_rms(obj: HeightMap | Profile) -> float:
         cols = [np.ones(int(ok.sum())), xx[ok], yy[ok]]
     zo = z[ok]
     if zo.size < len(cols) + 1:
-        if step > 1:                  # the subsample missed the measured points: take them all
+        if step > 1:  # the subsample missed the measured points: take them all
             return _all_points_rms(h)
         return float(np.std(zo)) if zo.size else float("nan")
-    lo, hi = percentiles(zo, [1.0, 99.0])      # np.percentile's values
-    keep = (zo >= lo) & (zo <= hi)            # a few spikes neither tilt the plane nor the rms
+    lo, hi = percentiles(zo, [1.0, 99.0])  # np.percentile's values
+    keep = (zo >= lo) & (zo <= hi)  # a few spikes neither tilt the plane nor the rms
     if keep.sum() < len(cols) + 1:
         keep[:] = True
     zk = zo[keep]
@@ -129,8 +130,9 @@ def _problem(rms, size, dx):
     return None
 
 
-def check_plausible(obj: HeightMap | Profile, path: str | os.PathLike[str] | None = None,
-                    units: str | None = None) -> float:
+def check_plausible(
+    obj: HeightMap | Profile, path: str | os.PathLike[str] | None = None, units: str | None = None
+) -> float:
     """Refuse heights implausible for the scan (module notes) in one line with ``units?``.
 
     Parameters
@@ -156,11 +158,11 @@ def check_plausible(obj: HeightMap | Profile, path: str | os.PathLike[str] | Non
     """
     rms = detrended_rms(obj)
     if np.isnan(rms):
-        return rms        # too few measured points to judge (the caller's checks refuse them)
+        return rms  # too few measured points to judge (the caller's checks refuse them)
     size, dx = _lateral(obj)
     why = _problem(rms, size, dx)
     if why is None or (rms <= 1e-9 * _span(obj) and rms <= ROUGH_MAX * size):
-        return rms        # plausible, or an exact plane (a synthetic form, not a units question)
+        return rms  # plausible, or an exact plane (a synthetic form, not a units question)
     info = obj.meta.get("height_unit") if isinstance(obj.meta, dict) else None
     if info:
         cur_name, cur = str(info["unit"]), float(info["m_per_unit"])
@@ -177,11 +179,13 @@ def check_plausible(obj: HeightMap | Profile, path: str | os.PathLike[str] | Non
         score = abs(np.log10(rms * s / dx))
         if best is None or score < best[0]:
             best = (score, name)
-    where = (f"rms height {_fmt(rms)} on a {_fmt(size)} {'profile' if obj.heights_m.ndim == 1 else 'scan'} "
-             f"with {_fmt(dx)} spacing ({why})")
+    where = (
+        f"rms height {_fmt(rms)} on a {_fmt(size)} {'profile' if obj.heights_m.ndim == 1 else 'scan'} "
+        f"with {_fmt(dx)} spacing ({why})"
+    )
     said = f"heights read as {cur_name}" + (" as the file states" if from_file else "")
     if best is None and not np.isfinite(rms):
-        return rms        # beyond any unit: the caller's absolute bounds name it (spikes, 1 km)
+        return rms  # beyond any unit: the caller's absolute bounds name it (spikes, 1 km)
     if best is None:
         fix = "check the file's units and spacing ({units}, {spacing})"
     elif from_file:

@@ -15,6 +15,7 @@ with H estimated from the slope of C1 (C1 ~ q^-(1 + 2H)) over its self-affine ba
 Reference: Persson et al., J. Phys.: Condens. Matter 17, R1 (2005); Jacobs, Junge, Pastewka,
 Surf. Topogr.: Metrol. Prop. 5, 013001 (2017).
 """
+
 from __future__ import annotations
 
 import math
@@ -71,9 +72,13 @@ def _profiles_array(profiles):
     return np.stack([p.heights_m for p in profiles]), dx
 
 
-def psd_profile(profiles: Profile | Sequence[Profile] | HeightMap, window_alpha: float = 0.25,
-                hurst: float | None = None, rings_per_decade: int = 20,
-                detrend: Literal["mean", "linear"] | None = "mean") -> tuple[NDArray[np.float64], NDArray[np.float64], Spectrum]:
+def psd_profile(
+    profiles: Profile | Sequence[Profile] | HeightMap,
+    window_alpha: float = 0.25,
+    hurst: float | None = None,
+    rings_per_decade: int = 20,
+    detrend: Literal["mean", "linear"] | None = "mean",
+) -> tuple[NDArray[np.float64], NDArray[np.float64], Spectrum]:
     """1D PSD of line profiles and its isotropic 2D estimate.
 
     C1(q_k) = dx^2 |FFT(w h)_k|^2 / (2 pi L <w^2>) [m^3] at q_k = 2 pi k / L, k = 1 .. n/2,
@@ -137,12 +142,21 @@ def psd_profile(profiles: Profile | Sequence[Profile] | HeightMap, window_alpha:
         hurst = float(np.clip((-slope - 1.0) / 2.0, 0.01, 1.0))
         source = f"fitted to C1 on [{lo:.4g}, {hi:.4g}] 1/m"
     factor = profile_to_area_factor(hurst)
-    meta = {"conversion": "power-law Abel inversion: C(q) = C1(q)/q * Gamma(1+H)/(sqrt(pi) Gamma(H+1/2))",
-            "conversion_hurst": float(hurst), "conversion_hurst_source": source,
-            "window": "tukey", "window_alpha": float(window_alpha), "window_mean_square": w2,
-            "dx_m": dx, "n_profiles": int(h.shape[0]), "profile_length_m": L,
-            "normalisation_1d": NORMALISATION_1D, "normalisation": NORMALISATION_2D,
-            "rings_per_decade": rings_per_decade, "q_range_per_m": (q_min, q_max),
-            "C1_binned_m3": c1b.tolist()}
+    meta = {
+        "conversion": "power-law Abel inversion: C(q) = C1(q)/q * Gamma(1+H)/(sqrt(pi) Gamma(H+1/2))",
+        "conversion_hurst": float(hurst),
+        "conversion_hurst_source": source,
+        "window": "tukey",
+        "window_alpha": float(window_alpha),
+        "window_mean_square": w2,
+        "dx_m": dx,
+        "n_profiles": int(h.shape[0]),
+        "profile_length_m": L,
+        "normalisation_1d": NORMALISATION_1D,
+        "normalisation": NORMALISATION_2D,
+        "rings_per_decade": rings_per_decade,
+        "q_range_per_m": (q_min, q_max),
+        "C1_binned_m3": c1b.tolist(),
+    }
     spec = Spectrum(qb, c1b / qb * factor, count=counts, kind="profile", meta=meta)
     return q, C1, spec

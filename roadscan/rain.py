@@ -45,6 +45,7 @@ border lets water out at the level of its measured neighbours. Consequences:
 The depression labelling for the depth cap uses measured points only, so a pit cut in two by a
 line of dropouts is capped from the lowest measured point of each part.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -82,7 +83,7 @@ def footprint(connectivity: int) -> NDArray[np.bool_]:
 #: below this many points the fill uses scikit-image by default: the compiled priority-flood is
 #: 3 to 4x faster per call, but loading numba and its cached machine code costs about 0.6 s once
 #: per process, more than scikit-image needs for a 1-Mpx scan (benchmarks/bench_rainfill.py).
-FLOOD_MIN_POINTS = 2 ** 21
+FLOOD_MIN_POINTS = 2**21
 
 
 def _flood_kernel():
@@ -96,12 +97,14 @@ def _flood_kernel():
 
 def _flood_warm():
     import sys
+
     mod = sys.modules.get("roadscan._flood")
     return mod is not None and bool(mod._flood.signatures)
 
 
-def full_fill(heights_m: ArrayLike, connectivity: int = 4,
-              method: Literal["auto", "flood", "reconstruction"] = "auto") -> NDArray[np.float64]:
+def full_fill(
+    heights_m: ArrayLike, connectivity: int = 4, method: Literal["auto", "flood", "reconstruction"] = "auto"
+) -> NDArray[np.float64]:
     """Fill every depression to its spill level (grayscale ``imfill``).
 
     Parameters
@@ -172,8 +175,13 @@ def _depressions(h, filled, connectivity):
     return labels, n, np.concatenate([[np.inf], np.asarray(lowest, dtype=np.float64)])
 
 
-def capped_levels(h: NDArray[np.float64], filled: NDArray[np.float64], labels: NDArray[np.integer[Any]], lowest: NDArray[np.float64],
-                  max_depth_m: float) -> NDArray[np.float64]:
+def capped_levels(
+    h: NDArray[np.float64],
+    filled: NDArray[np.float64],
+    labels: NDArray[np.integer[Any]],
+    lowest: NDArray[np.float64],
+    max_depth_m: float,
+) -> NDArray[np.float64]:
     """Water level min(F, m_k + d) on wet points, h elsewhere (NaN stays NaN).
 
     Parameters
@@ -262,9 +270,13 @@ class RainFill:
     meta: dict = field(default_factory=dict)
 
 
-def rain_fill(hm: HeightMap, connectivity: int = 4, max_depth_m: float | None = None,
-              water_film_m: float | None = None,
-              method: Literal["auto", "flood", "reconstruction"] = "auto") -> RainFill:
+def rain_fill(
+    hm: HeightMap,
+    connectivity: int = 4,
+    max_depth_m: float | None = None,
+    water_film_m: float | None = None,
+    method: Literal["auto", "flood", "reconstruction"] = "auto",
+) -> RainFill:
     """Fill the depressions of a height map with water (thesis section 4.4, docs: Theory).
 
     Parameters
@@ -322,7 +334,7 @@ def rain_fill(hm: HeightMap, connectivity: int = 4, max_depth_m: float | None = 
         # full fill: the wet surface is F itself (HeightMap keeps its own copy), and F turns into
         # the depth map in place, so the peak is two maps beside the input
         wet = hm.with_heights(filled, unmeasured=hm.unmeasured, name=wet_name, meta=dict(hm.meta))
-        depth = np.subtract(filled, h, out=filled)   # NaN where unmeasured (both NaN there)
+        depth = np.subtract(filled, h, out=filled)  # NaN where unmeasured (both NaN there)
         del filled
         capacity = volume = float(np.sum(depth, where=measured) / n_measured)  # no NaN copy
     else:
@@ -337,7 +349,7 @@ def rain_fill(hm: HeightMap, connectivity: int = 4, max_depth_m: float | None = 
             b = filled[sel] - m
             cap_used, _ = _cap_for_film(a, b, n_measured, float(water_film_m))
         else:
-            assert max_depth_m is not None      # both None took the full fill above
+            assert max_depth_m is not None  # both None took the full fill above
             cap_used = float(max_depth_m)
         level = capped_levels(h, filled, labels, lowest, cap_used)
         # full to the spill level, to rounding: lowest + cap can differ from the spill level by
@@ -346,11 +358,12 @@ def rain_fill(hm: HeightMap, connectivity: int = 4, max_depth_m: float | None = 
         all_full = bool(np.all(np.abs(level[measured] - filled[measured]) <= tol))
         del labels, filled
         depth = np.where(measured, level - h, np.nan)
-        wet = hm.with_heights(np.where(measured, level, np.nan), unmeasured=hm.unmeasured,
-                              name=wet_name, meta=dict(hm.meta))
+        wet = hm.with_heights(
+            np.where(measured, level, np.nan), unmeasured=hm.unmeasured, name=wet_name, meta=dict(hm.meta)
+        )
         del level
         volume = float(np.nansum(depth) / n_measured)
-    wetted = float(np.count_nonzero(depth > 0) / n_measured)   # NaN > 0 is False
+    wetted = float(np.count_nonzero(depth > 0) / n_measured)  # NaN > 0 is False
     meta = {
         "max_depth_m": cap_used,
         "water_film_m": None if water_film_m is None else float(water_film_m),
@@ -362,5 +375,11 @@ def rain_fill(hm: HeightMap, connectivity: int = 4, max_depth_m: float | None = 
         "method": "grayscale reconstruction by erosion from the border (imfill)",
     }
     wet.meta["rain_fill"] = dict(meta, connectivity=connectivity)
-    return RainFill(wet=wet, depth_m=depth, wetted_fraction=wetted,
-                    water_volume_m3_per_m2=volume, connectivity=int(connectivity), meta=meta)
+    return RainFill(
+        wet=wet,
+        depth_m=depth,
+        wetted_fraction=wetted,
+        water_volume_m3_per_m2=volume,
+        connectivity=int(connectivity),
+        meta=meta,
+    )

@@ -5,6 +5,7 @@ calls the related figure the lateral period limit); the reliable band of a spect
 the instrument still passes 80 % (:mod:`roadscan.reliable_band`). It is given by the caller or
 read from the file's metadata; every front end bounds it the same way.
 """
+
 from __future__ import annotations
 
 import math

@@ -8,6 +8,7 @@ its mirror -q, so ring sums count it twice.
 
 Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 2.3.
 """
+
 from __future__ import annotations
 
 from functools import lru_cache
@@ -16,7 +17,8 @@ import numpy as np
 
 from .bands import row_chunks
 
-__all__: list[str] = []      # helpers of the spectrum modules, private names
+__all__: list[str] = []  # helpers of the spectrum modules, private names
+
 
 def _ring_edges(q_min, q_max, rings_per_decade):
     if not (0 < q_min < q_max):
@@ -29,7 +31,7 @@ def _ring_index(q, q_min, q_max, n_rings):
     """Ring number of each |q| (-1 outside [q_min, q_max]); rings log-spaced."""
     qc = np.maximum(q, q_min * 1e-3)
     r = np.floor(np.log(qc / q_min) / np.log(q_max / q_min) * n_rings).astype(np.int64)
-    r = np.clip(r, 0, n_rings - 1)                      # |q| == q_min or q_max up to round-off
+    r = np.clip(r, 0, n_rings - 1)  # |q| == q_min or q_max up to round-off
     r[(q < q_min * (1 - 1e-12)) | (q > q_max * (1 + 1e-12)) | (q <= 0)] = -1
     return r
 

@@ -21,6 +21,7 @@ numbers: roadscan knows no rubber), :func:`seal_pools` finds the pools on a heig
 
 Unmeasured points stay unmeasured and are never part of a pool.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -73,8 +74,7 @@ def _low_pass(h, dx, dy, q_c):
     return np.fft.irfft2(np.fft.rfft2(h) * keep, s=h.shape)
 
 
-def seal_pools(hm, *, q_seal_per_m, contact_fraction, water_film_m=None, connectivity=4,
-               open_border=True):
+def seal_pools(hm, *, q_seal_per_m, contact_fraction, water_film_m=None, connectivity=4, open_border=True):
     """Fill the pools sealed at wave vector ``q_seal_per_m`` (module docstring).
 
     Parameters
@@ -141,7 +141,13 @@ def seal_pools(hm, *, q_seal_per_m, contact_fraction, water_film_m=None, connect
     wet_h = np.where(pools & (h < level), level, h)
     depth = np.where(measured, wet_h - h, np.nan)
     under = pools & (h < level)
-    wet = HeightMap(np.where(measured, wet_h, np.nan), hm.dx_m, hm.dy_m,
-                    name=f"{hm.name} (sealed)" if hm.name else "sealed", meta=dict(hm.meta or {}))
-    return SealedPools(wet, depth, under, float(under.sum()) / n_meas, volume(level) if count else 0.0,
-                       level, count)
+    wet = HeightMap(
+        np.where(measured, wet_h, np.nan),
+        hm.dx_m,
+        hm.dy_m,
+        name=f"{hm.name} (sealed)" if hm.name else "sealed",
+        meta=dict(hm.meta or {}),
+    )
+    return SealedPools(
+        wet, depth, under, float(under.sum()) / n_meas, volume(level) if count else 0.0, level, count
+    )

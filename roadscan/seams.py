@@ -23,6 +23,7 @@ many there are); the caller prints and records them (``summary.json`` ``warnings
 
 Reference: ISO 25178-2:2012 (``S_q``); P. J. Huber, Robust Statistics (1981) (MAD scale).
 """
+
 from __future__ import annotations
 
 import warnings
@@ -49,7 +50,7 @@ def _mad_sigma(v):
     v = v[np.isfinite(v)]
     if v.size == 0:
         return 0.0
-    d = np.abs(v - median(v, overwrite=True))    # v is a copy already
+    d = np.abs(v - median(v, overwrite=True))  # v is a copy already
     return 1.4826 * median(d, overwrite=True)
 
 
@@ -64,14 +65,13 @@ def _jumps(profiles, sigma):
     limit = max(STEP_SIGMAS * sigma, OUTLIER_FACTOR * spread)
     if limit <= 0:
         return None
-    half = np.abs(d) > 0.5 * limit            # parts of a split step
+    half = np.abs(d) > 0.5 * limit  # parts of a split step
     best, count = None, 0
     for band in range(d.shape[0]):
         idx = np.flatnonzero(half[band])
         if idx.size == 0:
             continue
-        runs = np.split(idx, np.flatnonzero((np.diff(idx) != 1) |
-                                            (np.diff(np.sign(d[band, idx])) != 0)) + 1)
+        runs = np.split(idx, np.flatnonzero((np.diff(idx) != 1) | (np.diff(np.sign(d[band, idx])) != 0)) + 1)
         for run in runs:
             size = abs(float(d[band, run].sum()))
             if size > limit:
@@ -88,8 +88,7 @@ def _band_profiles(z, axis, n_other):
     bands = max(1, min(4, n_other // 32))
     edges = np.linspace(0, n_other, bands + 1).astype(int)
     take = (lambda a, b: z[a:b]) if axis == 0 else (lambda a, b: z[:, a:b])
-    return edges, np.array([_nanmedian(take(a, b), axis)
-                            for a, b in pairwise(edges)])
+    return edges, np.array([_nanmedian(take(a, b), axis) for a, b in pairwise(edges)])
 
 
 def _nanmedian(x, axis):
@@ -97,7 +96,7 @@ def _nanmedian(x, axis):
     value, or the half sum of the two middle values, of each line's measured points; NaN for a
     line without any), from one sort: numpy's own goes through masked arrays for lines shorter
     than 600 points, 4-8 times slower on a 250 x 1000 band."""
-    s = np.sort(x, axis=axis)                          # NaN sort last
+    s = np.sort(x, axis=axis)  # NaN sort last
     n = np.count_nonzero(~np.isnan(x), axis=axis)
     lo = np.take_along_axis(s, np.expand_dims(np.maximum(n - 1, 0) // 2, axis), axis)
     hi = np.take_along_axis(s, np.expand_dims(np.minimum(n // 2, x.shape[axis] - 1), axis), axis)
@@ -123,7 +122,7 @@ def _map_steps(hmap):
     if min(ny, nx) < 8:
         return []
     with warnings.catch_warnings():
-        warnings.simplefilter("ignore", RuntimeWarning)     # all-NaN rows/columns
+        warnings.simplefilter("ignore", RuntimeWarning)  # all-NaN rows/columns
         profs = {0: _band_profiles(z, 0, ny), 1: _band_profiles(z, 1, nx)}
         # the local texture: what the band-wise median profiles (steps included) leave
         r = z - _spread(profs[0], ny, axis=0)
@@ -157,9 +156,11 @@ def _profile_steps(prof):
 def _line(found, sigma, step_m, axis):
     size, j, count = found
     more = f" ({count} such steps)" if count > 1 else ""
-    return (f"a step of {_fmt(size)} along {axis} at {axis} = {_fmt((j + 1) * step_m)}{more}, "
-            f"{size / sigma:.3g} times the local texture's rms {_fmt(sigma)}: a stitching fault or a "
-            f"plate edge, not roughness (the spectrum and H include it; crop it out)")
+    return (
+        f"a step of {_fmt(size)} along {axis} at {axis} = {_fmt((j + 1) * step_m)}{more}, "
+        f"{size / sigma:.3g} times the local texture's rms {_fmt(sigma)}: a stitching fault or a "
+        f"plate edge, not roughness (the spectrum and H include it; crop it out)"
+    )
 
 
 def find_steps(obj: HeightMap | Profile) -> list[str]:

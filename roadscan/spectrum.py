@@ -23,6 +23,7 @@ the anisotropy (:mod:`roadscan.anisotropy`).
 Reference: Persson et al., J. Phys.: Condens. Matter 17, R1 (2005); Jacobs, Junge, Pastewka,
 Surf. Topogr.: Metrol. Prop. 5, 013001 (2017).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -44,13 +45,30 @@ from .spectrum_types import (
 )
 from .windows import tukey_cached as _tukey
 
-__all__ = ["psd_2d", "angular_average", "psd_area", "psd_profile", "anisotropy",
-           "window_2d", "profile_to_area_factor", "NORMALISATION_2D", "NORMALISATION_1D",
-           "fft_backend", "prepare_lattice"]
+__all__ = [
+    "psd_2d",
+    "angular_average",
+    "psd_area",
+    "psd_profile",
+    "anisotropy",
+    "window_2d",
+    "profile_to_area_factor",
+    "NORMALISATION_2D",
+    "NORMALISATION_1D",
+    "fft_backend",
+    "prepare_lattice",
+]
 
 
-def prepare_lattice(ny: int, nx: int, dx_m: float, dy_m: float, rings_per_decade: int = 20,
-                    anisotropy_rings: int = 10, n_sectors: int = 36) -> None:
+def prepare_lattice(
+    ny: int,
+    nx: int,
+    dx_m: float,
+    dy_m: float,
+    rings_per_decade: int = 20,
+    anisotropy_rings: int = 10,
+    n_sectors: int = 36,
+) -> None:
     """Compute (and cache) the lattice bookkeeping that :func:`psd_area` and :func:`anisotropy`
     use on an (ny, nx) grid with their default |q| range: the runs of equal ring of the rfft2
     half lattice and its (ring, direction sector) runs. They depend on the grid alone, so a
@@ -152,18 +170,18 @@ def _half_psd(hm, window_alpha, fill_values=None):
         if filled:
             b = bad[sl]
             m = int(np.count_nonzero(b))
-            x[b] = fill_values[k:k + m]
+            x[b] = fill_values[k : k + m]
             k += m
             if rows_tapered:
                 x *= wy[sl, None]
-        if ry is None or rx is None:                   # e.g. the Hann window: every point
+        if ry is None or rx is None:  # e.g. the Hann window: every point
             x *= wx
         else:
             if rx[0] > 0:
                 x[:, : rx[0]] *= wx[: rx[0]]
             if rx[1] < nx:
-                x[:, rx[1]:] *= wx[rx[1]:]
-        if F is None:                                  # one band: the map itself
+                x[:, rx[1] :] *= wx[rx[1] :]
+        if F is None:  # one band: the map itself
             F = fft.rfft2(x)
         else:
             F[sl] = fft.rfft(x, axis=1)
@@ -182,16 +200,23 @@ def _half_psd(hm, window_alpha, fill_values=None):
 
 
 def _meta_2d(hm, alpha, w2):
-    return {"window": "tukey2d", "window_alpha": float(alpha), "window_mean_square": w2,
-            "dx_m": hm.dx_m, "dy_m": hm.dy_m, "nx": hm.nx, "ny": hm.ny,
-            "normalisation": NORMALISATION_2D, "name": hm.name}
+    return {
+        "window": "tukey2d",
+        "window_alpha": float(alpha),
+        "window_mean_square": w2,
+        "dx_m": hm.dx_m,
+        "dy_m": hm.dy_m,
+        "nx": hm.nx,
+        "ny": hm.ny,
+        "normalisation": NORMALISATION_2D,
+        "name": hm.name,
+    }
 
 
 def _spectrum2d(hm, P, scale, window_alpha, w2):
     qx = np.fft.fftshift(2 * np.pi * np.fft.fftfreq(hm.nx, hm.dx_m))
     qy = np.fft.fftshift(2 * np.pi * np.fft.fftfreq(hm.ny, hm.dy_m))
-    return Spectrum2D(qx, qy, meta=_meta_2d(hm, window_alpha, w2),
-                      half=HalfLattice(P, scale, hm.nx))
+    return Spectrum2D(qx, qy, meta=_meta_2d(hm, window_alpha, w2), half=HalfLattice(P, scale, hm.nx))
 
 
 def psd_2d(hm: HeightMap, window_alpha: float = 0.25) -> Spectrum2D:
@@ -227,12 +252,12 @@ def psd_2d(hm: HeightMap, window_alpha: float = 0.25) -> Spectrum2D:
 def _spectrum_from_rings(csum, count, qsum, edges, meta):
     keep = count > 0
     c = count[keep]
-    return Spectrum(qsum[keep] / c, csum[keep] / c, count=np.rint(c).astype(np.int64),
-                    kind="area", meta=meta)
+    return Spectrum(qsum[keep] / c, csum[keep] / c, count=np.rint(c).astype(np.int64), kind="area", meta=meta)
 
 
-def angular_average(spec2d: Spectrum2D, rings_per_decade: int = 20, q_min: float | None = None,
-                    q_max: float | None = None) -> Spectrum:
+def angular_average(
+    spec2d: Spectrum2D, rings_per_decade: int = 20, q_min: float | None = None, q_max: float | None = None
+) -> Spectrum:
     """Average a 2D PSD map over log-spaced rings of |q|.
 
     Rings: ``rings_per_decade`` per decade (rounded so that they tile [q_min, q_max]
@@ -268,14 +293,20 @@ def angular_average(spec2d: Spectrum2D, rings_per_decade: int = 20, q_min: float
     csum = np.bincount(r, weights=np.asarray(spec2d.C_m4).ravel()[sel], minlength=n)
     qsum = np.bincount(r, weights=q[sel], minlength=n)
     meta = dict(spec2d.meta)
-    meta.update(rings_per_decade=rings_per_decade, ring_edges_per_m=edges.tolist(),
-                q_range_per_m=(q_min, q_max))
+    meta.update(
+        rings_per_decade=rings_per_decade, ring_edges_per_m=edges.tolist(), q_range_per_m=(q_min, q_max)
+    )
     return _spectrum_from_rings(csum, count, qsum, edges, meta)
 
 
-def psd_area(hm: HeightMap, window_alpha: float = 0.25, rings_per_decade: int = 20,
-             q_min: float | None = None, q_max: float | None = None,
-             fill_values: ArrayLike | None = None) -> tuple[Spectrum, Spectrum2D]:
+def psd_area(
+    hm: HeightMap,
+    window_alpha: float = 0.25,
+    rings_per_decade: int = 20,
+    q_min: float | None = None,
+    q_max: float | None = None,
+    fill_values: ArrayLike | None = None,
+) -> tuple[Spectrum, Spectrum2D]:
     """The whole spectrum step of a levelled, filled height map: window, FFT, angular average.
 
     Same normalisation and rings as :func:`psd_2d` and :func:`angular_average` (the ring
@@ -335,7 +366,7 @@ def psd_area(hm: HeightMap, window_alpha: float = 0.25, rings_per_decade: int = 
     csum = _ring_sums(P, runs, n) * scale
     spec2d = _spectrum2d(hm, P, scale, window_alpha, w2)
     meta = dict(spec2d.meta)
-    meta.update(rings_per_decade=rings_per_decade, ring_edges_per_m=edges.tolist(),
-                q_range_per_m=(q_min, q_max))
+    meta.update(
+        rings_per_decade=rings_per_decade, ring_edges_per_m=edges.tolist(), q_range_per_m=(q_min, q_max)
+    )
     return _spectrum_from_rings(csum, runs[3].copy(), runs[4].copy(), edges, meta), spec2d
-

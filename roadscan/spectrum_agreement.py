@@ -9,6 +9,7 @@ inputs well beyond that, over the rows both measure, says they are not one surfa
 carries a unit or calibration error); a row far off the line through its neighbours says its
 band is too narrow.
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -17,8 +18,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["disagreements", "widen_outliers", "DISAGREE_SIGMAS", "DISAGREE_FACTOR",
-           "NEIGHBOUR_REACH", "Z95"]
+__all__ = ["disagreements", "widen_outliers", "DISAGREE_SIGMAS", "DISAGREE_FACTOR", "NEIGHBOUR_REACH", "Z95"]
 
 #: one-sided 95 % point of the standard normal
 Z95 = 1.6448536269514722
@@ -27,8 +27,14 @@ Z95 = 1.6448536269514722
 NEIGHBOUR_REACH = 0.3
 
 
-def widen_outliers(q: NDArray[np.float64], lnC: NDArray[np.float64], d_lo: NDArray[np.float64], d_hi: NDArray[np.float64], covered: NDArray[np.bool_],
-                   seg: NDArray[np.integer[Any]]) -> list[float]:
+def widen_outliers(
+    q: NDArray[np.float64],
+    lnC: NDArray[np.float64],
+    d_lo: NDArray[np.float64],
+    d_hi: NDArray[np.float64],
+    covered: NDArray[np.bool_],
+    seg: NDArray[np.integer[Any]],
+) -> list[float]:
     """Widen, in place, the band of each measured row that excludes what its neighbours say
     -> [q of each row widened].
 
@@ -96,8 +102,16 @@ DISAGREE_SIGMAS = 3.0
 DISAGREE_FACTOR = 1.25
 
 
-def disagreements(row: NDArray[np.integer[Any]], source: NDArray[np.integer[Any]], count: NDArray[np.float64], dof: NDArray[np.float64],
-                  C: NDArray[np.float64], edge: NDArray[np.bool_], q_row: NDArray[np.float64], labels: Sequence[str]) -> list[dict[str, Any]]:
+def disagreements(
+    row: NDArray[np.integer[Any]],
+    source: NDArray[np.integer[Any]],
+    count: NDArray[np.float64],
+    dof: NDArray[np.float64],
+    C: NDArray[np.float64],
+    edge: NDArray[np.bool_],
+    q_row: NDArray[np.float64],
+    labels: Sequence[str],
+) -> list[dict[str, Any]]:
     """Pairs of sources whose C disagree where both measure: [{labels, factor, q_from_per_m,
     q_to_per_m, rows, sigma_ln}].
 
@@ -156,8 +170,15 @@ def disagreements(row: NDArray[np.integer[Any]], source: NDArray[np.integer[Any]
             sd = float(np.sqrt(var))
             if abs(D) > DISAGREE_SIGMAS * sd and abs(D) > np.log(DISAGREE_FACTOR):
                 qs = q_row[:nb][both]
-                hi_, lo_ = (a, b) if D > 0 else (b, a)       # the higher C first: factor > 1
-                out.append({"labels": [labels[hi_], labels[lo_]], "factor": float(np.exp(abs(D))),
-                            "q_from_per_m": float(qs.min()), "q_to_per_m": float(qs.max()),
-                            "rows": m, "sigma_ln": sd})
+                hi_, lo_ = (a, b) if D > 0 else (b, a)  # the higher C first: factor > 1
+                out.append(
+                    {
+                        "labels": [labels[hi_], labels[lo_]],
+                        "factor": float(np.exp(abs(D))),
+                        "q_from_per_m": float(qs.min()),
+                        "q_to_per_m": float(qs.max()),
+                        "rows": m,
+                        "sigma_ln": sd,
+                    }
+                )
     return out

@@ -5,6 +5,7 @@ PSD convention (Persson's, docs: Theory): for an isotropic surface
 ``<h^2> = integral d^2q C(q) = 2 pi integral q C(q) dq``; C [m^4]. A 1D (profile) PSD C1 [m^3]
 satisfies ``<h^2> = 2 integral_0^inf C1(q) dq``.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -94,9 +95,9 @@ class HalfLattice:
         Columns of the full lattice.
     """
 
-    P: np.ndarray          # (ny, nx // 2 + 1), unscaled |FFT2(w h)|^2
-    scale: float           # C [m^4] = scale * P
-    nx: int                # columns of the full lattice
+    P: np.ndarray  # (ny, nx // 2 + 1), unscaled |FFT2(w h)|^2
+    scale: float  # C [m^4] = scale * P
+    nx: int  # columns of the full lattice
 
     def full(self) -> NDArray[np.float64]:
         """The fftshifted (ny, nx) map C [m^4]."""
@@ -108,7 +109,7 @@ class HalfLattice:
         """C [m^4] at the fftshifted row and column indices ``rows`` x ``cols`` (1D integer
         arrays), read from the half lattice (the same values as ``full()[np.ix_(rows, cols)]``)."""
         ny, nxr = self.P.shape
-        uy = (np.asarray(rows) - ny // 2) % ny                  # unshifted indices
+        uy = (np.asarray(rows) - ny // 2) % ny  # unshifted indices
         ux = (np.asarray(cols) - self.nx // 2) % self.nx
         mirrored = ux >= nxr
         r = np.where(mirrored[None, :], ((-uy) % ny)[:, None], uy[:, None])
@@ -138,8 +139,15 @@ class Spectrum2D:
 
     __slots__ = ("_C", "half", "meta", "qx_per_m", "qy_per_m")
 
-    def __init__(self, qx_per_m: NDArray[np.float64], qy_per_m: NDArray[np.float64], C_m4: NDArray[np.float64] | None = None,
-                 meta: dict[str, Any] | None = None, *, half: HalfLattice | None = None) -> None:
+    def __init__(
+        self,
+        qx_per_m: NDArray[np.float64],
+        qy_per_m: NDArray[np.float64],
+        C_m4: NDArray[np.float64] | None = None,
+        meta: dict[str, Any] | None = None,
+        *,
+        half: HalfLattice | None = None,
+    ) -> None:
         if C_m4 is None and half is None:
             raise ValueError("Spectrum2D needs C_m4 or its half lattice")
         self.qx_per_m = qx_per_m
@@ -152,11 +160,13 @@ class Spectrum2D:
     def C_m4(self) -> NDArray[np.float64]:
         """The fftshifted (ny, nx) map C [m^4] (built from the half lattice on first read)."""
         if self._C is None:
-            assert self.half is not None        # the constructor asks for one of the two
+            assert self.half is not None  # the constructor asks for one of the two
             self._C = self.half.full()
         return self._C
 
-    def central(self, q_limit_per_m: float) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    def central(
+        self, q_limit_per_m: float
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """(qx, qy, C) on the lattice points with |qx| and |qy| <= ``q_limit_per_m`` [1/m]."""
         qx, qy = np.asarray(self.qx_per_m), np.asarray(self.qy_per_m)
         ix = np.flatnonzero(np.abs(qx) <= q_limit_per_m)
@@ -168,5 +178,7 @@ class Spectrum2D:
         return qx[ix], qy[iy], C
 
     def __repr__(self):
-        return (f"Spectrum2D({np.size(self.qy_per_m)} x {np.size(self.qx_per_m)}, "
-                f"{'map' if self._C is not None else 'half lattice'})")
+        return (
+            f"Spectrum2D({np.size(self.qy_per_m)} x {np.size(self.qx_per_m)}, "
+            f"{'map' if self._C is not None else 'half lattice'})"
+        )

@@ -34,6 +34,7 @@ other tile (a disconnected overlap graph) are refused with :class:`roadscan.erro
 Conventions: a tile's nominal position is the (x, y) [m] of its first sample (row 0, column 0);
 x runs along columns (dx), y along rows (dy). All tiles must share the same spacing.
 """
+
 from __future__ import annotations
 
 import math
@@ -88,6 +89,7 @@ class StitchResult:
 
 # --- helpers ---------------------------------------------------------------------------------
 
+
 def _tile_label(hm, k):
     src = hm.meta.get("path") or hm.meta.get("source") or hm.name
     return str(src) if src else f"#{k}"
@@ -106,9 +108,14 @@ def _place(z, ok, frac, snap_px):
     return np.where(bad, np.nan, zs), ~bad
 
 
-def stitch(tiles: Sequence[HeightMap], nominal_xy_m: Sequence[tuple[float, float]], max_shift_px: int = 20,
-           blend: Literal["feather", "average"] = "feather", min_overlap_px: int = 8,
-           snap_px: float = 0.05) -> StitchResult:
+def stitch(
+    tiles: Sequence[HeightMap],
+    nominal_xy_m: Sequence[tuple[float, float]],
+    max_shift_px: int = 20,
+    blend: Literal["feather", "average"] = "feather",
+    min_overlap_px: int = 8,
+    snap_px: float = 0.05,
+) -> StitchResult:
     """Stitch overlapping tiles into one height map.
 
     Parameters
@@ -152,11 +159,13 @@ def stitch(tiles: Sequence[HeightMap], nominal_xy_m: Sequence[tuple[float, float
     dx, dy = tiles[0].dx_m, tiles[0].dy_m
     for k, t in enumerate(tiles):
         if not (math.isclose(t.dx_m, dx, rel_tol=1e-6) and math.isclose(t.dy_m, dy, rel_tol=1e-6)):
-            raise InputError(_tile_label(t, k), f"spacing {t.dx_m:g} x {t.dy_m:g} m differs from "
-                             f"the first tile's {dx:g} x {dy:g} m")
+            raise InputError(
+                _tile_label(t, k),
+                f"spacing {t.dx_m:g} x {t.dy_m:g} m differs from the first tile's {dx:g} x {dy:g} m",
+            )
     labels = [_tile_label(t, k) for k, t in enumerate(tiles)]
     xy = np.asarray(nominal_xy_m, dtype=float).reshape(n, 2)
-    P0 = np.column_stack([xy[:, 1] / dy, xy[:, 0] / dx])        # (row, col) [samples]
+    P0 = np.column_stack([xy[:, 1] / dy, xy[:, 0] / dx])  # (row, col) [samples]
 
     # candidate pairs from nominal footprints
     pairs = []
@@ -178,10 +187,14 @@ def stitch(tiles: Sequence[HeightMap], nominal_xy_m: Sequence[tuple[float, float
         T, good = register_pair(lev[i], ok[i], lev[j], ok[j], t0, m, hp[i], hp[j])
         r0, r1, c0, c1 = overlap_rect(tiles[i].shape, tiles[j].shape, tuple(np.rint(T).astype(int)))
         reg.append((i, j, T, good, max(1, (r1 - r0) * (c1 - c0)), P0[j] - P0[i]))
-    if n > 1:   # a nominal overlap whose textures do not match is no overlap
-        check_connected(n, [(i, j, None) for i, j, _, good, *_ in reg if good], labels,
-                         how=" whose texture matches (no correlation peak within max_shift_px "
-                             "of the nominal position: check the positions)")
+    if n > 1:  # a nominal overlap whose textures do not match is no overlap
+        check_connected(
+            n,
+            [(i, j, None) for i, j, _, good, *_ in reg if good],
+            labels,
+            how=" whose texture matches (no correlation peak within max_shift_px "
+            "of the nominal position: check the positions)",
+        )
 
     # 2. one weighted least-squares solve for all positions (gauge: tile 0 nominal)
     P = P0.copy()
@@ -204,7 +217,7 @@ def stitch(tiles: Sequence[HeightMap], nominal_xy_m: Sequence[tuple[float, float
     placed = [_place(t.heights_m, o, f, snap_px) for t, o, f in zip(tiles, ok, frac)]
 
     # 3. one global least-squares solve for the plane corrections (gauge: tile 0 = 0)
-    sx, sy = shape[1] / 2.0, shape[0] / 2.0          # scaled coordinates for conditioning
+    sx, sy = shape[1] / 2.0, shape[0] / 2.0  # scaled coordinates for conditioning
     A = np.zeros((3 * n, 3 * n))
     b = np.zeros(3 * n)
     ov = []
@@ -216,8 +229,7 @@ def stitch(tiles: Sequence[HeightMap], nominal_xy_m: Sequence[tuple[float, float
         rr, cc = np.nonzero(both)
         if rr.size < 3:
             continue
-        X = np.column_stack([np.ones(rr.size), (cc + sl[1].start - sx) / sx,
-                             (rr + sl[0].start - sy) / sy])
+        X = np.column_stack([np.ones(rr.size), (cc + sl[1].start - sx) / sx, (rr + sl[0].start - sy) / sy])
         d = placed[i][0][si][both] - placed[j][0][sj][both]
         M = X.T @ X
         v = X.T @ d
@@ -238,7 +250,7 @@ def stitch(tiles: Sequence[HeightMap], nominal_xy_m: Sequence[tuple[float, float
     by = U[:, 2] / (sy * dy)
     a = U[:, 0] - U[:, 1] - U[:, 2]
 
-    rows, cols = np.mgrid[0:shape[0], 0:shape[1]]
+    rows, cols = np.mgrid[0 : shape[0], 0 : shape[1]]
     acc = np.zeros(shape)
     wsum = np.zeros(shape)
     corrected = []
@@ -259,17 +271,30 @@ def stitch(tiles: Sequence[HeightMap], nominal_xy_m: Sequence[tuple[float, float
     overlaps = []
     for i, j, _, si, sj, both, shift, good in ov:
         diff = corrected[i][si][both] - corrected[j][sj][both]
-        overlaps.append({"i": i, "j": j, "n_points": int(both.sum()),
-                         "rms_mismatch_m": float(np.sqrt(np.mean(diff ** 2))),
-                         "shift_px": (float(shift[0]), float(shift[1])), "registered": bool(good)})
+        overlaps.append(
+            {
+                "i": i,
+                "j": j,
+                "n_points": int(both.sum()),
+                "rms_mismatch_m": float(np.sqrt(np.mean(diff**2))),
+                "shift_px": (float(shift[0]), float(shift[1])),
+                "registered": bool(good),
+            }
+        )
 
     origin_xy = (origin[1] * dx, origin[0] * dy)
-    hm = HeightMap(mosaic, dx, dy, name="mosaic",
-                   meta={"origin_xy_m": origin_xy, "tiles": labels, "stitch_blend": blend})
+    hm = HeightMap(
+        mosaic, dx, dy, name="mosaic", meta={"origin_xy_m": origin_xy, "tiles": labels, "stitch_blend": blend}
+    )
     positions = np.column_stack([P[:, 1] * dx, P[:, 0] * dy])
-    return StitchResult(heightmap=hm, positions_m=positions, offsets_m=a,
-                        tilts=np.column_stack([bx, by]), overlaps=overlaps,
-                        meta={"tile_names": labels, "blend": blend, "max_shift_px": m})
+    return StitchResult(
+        heightmap=hm,
+        positions_m=positions,
+        offsets_m=a,
+        tilts=np.column_stack([bx, by]),
+        overlaps=overlaps,
+        meta={"tile_names": labels, "blend": blend, "max_shift_px": m},
+    )
 
 
 def _common(Ni, shape_i, Nj, shape_j):

@@ -15,6 +15,7 @@ rescaled so that its rms is exactly ``rms_height_m``; its mean is zero.
 
 Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 3.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -27,8 +28,14 @@ from .heightmap import HeightMap
 __all__ = ["self_affine_surface", "model_psd"]
 
 
-def model_psd(q_per_m: ArrayLike, hurst: float, prefactor_m4: float = 1.0, q0_per_m: float = 0.0,
-              q1_per_m: float = np.inf, q_roll_per_m: float | None = None) -> NDArray[np.float64]:
+def model_psd(
+    q_per_m: ArrayLike,
+    hurst: float,
+    prefactor_m4: float = 1.0,
+    q0_per_m: float = 0.0,
+    q1_per_m: float = np.inf,
+    q_roll_per_m: float | None = None,
+) -> NDArray[np.float64]:
     """The piecewise self-affine spectrum above, C [m^4] at wave vectors ``q_per_m`` [1/m].
 
     ``prefactor_m4`` is K in C = K q^(-2(H+1)) (units m^4 when q is in 1/m, times m^(-2(H+1))).
@@ -61,11 +68,20 @@ def model_psd(q_per_m: ArrayLike, hurst: float, prefactor_m4: float = 1.0, q0_pe
     return np.where(inside, prefactor_m4 * c, 0.0)
 
 
-def self_affine_surface(nx: int, ny: int | None = None, dx_m: float = 55.4e-6, hurst: float = 0.8,
-                        rms_height_m: float = 0.5e-3, q_roll_per_m: float | None = None,
-                        q0_per_m: float | None = None, q1_per_m: float | None = None, seed: int = 0,
-                        gaussian_amplitudes: bool = True, dy_m: float | None = None,
-                        name: str = "synthetic") -> HeightMap:
+def self_affine_surface(
+    nx: int,
+    ny: int | None = None,
+    dx_m: float = 55.4e-6,
+    hurst: float = 0.8,
+    rms_height_m: float = 0.5e-3,
+    q_roll_per_m: float | None = None,
+    q0_per_m: float | None = None,
+    q1_per_m: float | None = None,
+    seed: int = 0,
+    gaussian_amplitudes: bool = True,
+    dy_m: float | None = None,
+    name: str = "synthetic",
+) -> HeightMap:
     """A periodic self-affine height map with exactly the requested rms height.
 
     Parameters
@@ -114,8 +130,9 @@ def self_affine_surface(nx: int, ny: int | None = None, dx_m: float = 55.4e-6, h
     h -= h.mean()
     std = h.std()
     if std == 0:
-        raise InputError(None, "no lattice wave vector lies inside [{q0}, {q1}]: empty spectrum",
-                         ("q0", "q1"))
+        raise InputError(
+            None, "no lattice wave vector lies inside [{q0}, {q1}]: empty spectrum", ("q0", "q1")
+        )
     h *= rms_height_m / std
     # prefactor: rms^2 = sum_full_lattice K shape (2 pi)^2 / A (rfft half counted with weights)
     w = np.full(qx.size, 2.0)
@@ -124,9 +141,17 @@ def self_affine_surface(nx: int, ny: int | None = None, dx_m: float = 55.4e-6, h
         w[-1] = 1.0
     area = nx * dx_m * ny * dy_m
     K = rms_height_m**2 / ((shape * w[None, :]).sum() * (2 * np.pi) ** 2 / area)
-    meta = {"model": {"hurst": hurst, "prefactor_m4": float(K), "q0_per_m": q0,
-                      "q1_per_m": q1, "q_roll_per_m": q_roll_per_m,
-                      "rms_height_m": rms_height_m, "seed": seed,
-                      "gaussian_amplitudes": bool(gaussian_amplitudes)},
-            "source": "roadscan.synth.self_affine_surface"}
+    meta = {
+        "model": {
+            "hurst": hurst,
+            "prefactor_m4": float(K),
+            "q0_per_m": q0,
+            "q1_per_m": q1,
+            "q_roll_per_m": q_roll_per_m,
+            "rms_height_m": rms_height_m,
+            "seed": seed,
+            "gaussian_amplitudes": bool(gaussian_amplitudes),
+        },
+        "source": "roadscan.synth.self_affine_surface",
+    }
     return HeightMap(h, dx_m, dy_m, name=name, meta=meta)

@@ -15,6 +15,7 @@ times complex white noise of unit variance per point, so E|h_q|^2 = C(q) (2 pi)^
 
 Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 3.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -25,10 +26,19 @@ from .synth import model_psd
 __all__ = ["measure_synthetic"]
 
 
-def measure_synthetic(n: int, spacing_m: float, hurst: float, prefactor_m4: float,
-                      q_roll_per_m: float | None = None, resolution_m: float | None = None,
-                      noise_rms_m: float = 0.0, seed: int = 0, oversample: int = 2, pad: int = 4,
-                      name: str = "measured") -> HeightMap:
+def measure_synthetic(
+    n: int,
+    spacing_m: float,
+    hurst: float,
+    prefactor_m4: float,
+    q_roll_per_m: float | None = None,
+    resolution_m: float | None = None,
+    noise_rms_m: float = 0.0,
+    seed: int = 0,
+    oversample: int = 2,
+    pad: int = 4,
+    name: str = "measured",
+) -> HeightMap:
     """An n x n HeightMap [m] of the surface above as the instrument records it.
 
     Parameters
@@ -63,10 +73,18 @@ def measure_synthetic(n: int, spacing_m: float, hurst: float, prefactor_m4: floa
     if resolution_m:
         amp *= np.exp(-np.log(2.0) * (q * resolution_m / (2 * np.pi)) ** 2)
     F = np.fft.rfft2(rng.standard_normal((m, m))) * amp
-    h = np.fft.irfft2(F, s=(m, m))[: n * oversample: oversample, : n * oversample: oversample]
+    h = np.fft.irfft2(F, s=(m, m))[: n * oversample : oversample, : n * oversample : oversample]
     if noise_rms_m:
         h = h + rng.normal(0.0, noise_rms_m, h.shape)
-    meta = {"model": {"hurst": hurst, "prefactor_m4": prefactor_m4, "q_roll_per_m": q_roll_per_m,
-                      "resolution_m": resolution_m, "noise_rms_m": noise_rms_m, "seed": seed},
-            "source": "roadscan.synth_measure.measure_synthetic"}
+    meta = {
+        "model": {
+            "hurst": hurst,
+            "prefactor_m4": prefactor_m4,
+            "q_roll_per_m": q_roll_per_m,
+            "resolution_m": resolution_m,
+            "noise_rms_m": noise_rms_m,
+            "seed": seed,
+        },
+        "source": "roadscan.synth_measure.measure_synthetic",
+    }
     return HeightMap(np.ascontiguousarray(h), spacing_m, spacing_m, name=name, meta=meta)

@@ -5,15 +5,24 @@ than the 100 mm MPD baseline (not an ISO figure).
 Lengths in metres inside; the ASTM formulas take MPD in millimetres and speeds in km/h, as
 the standard writes them.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from .heightmap import HeightMap, Profile
 
-__all__ = ["estimated_texture_depth", "ifi_speed_constant", "ifi_f60", "short_segment_depth",
-           "spike_alpha_to_pass", "SHORT_MIN_BASELINE_M", "MpdSegments", "mpd_segments",
-           "mpd_and_segments"]
+__all__ = [
+    "estimated_texture_depth",
+    "ifi_speed_constant",
+    "ifi_f60",
+    "short_segment_depth",
+    "spike_alpha_to_pass",
+    "SHORT_MIN_BASELINE_M",
+    "MpdSegments",
+    "mpd_segments",
+    "mpd_and_segments",
+]
 
 #: Shortest baseline a short-scan segment depth is given for [m].
 SHORT_MIN_BASELINE_M = 10e-3
@@ -210,7 +219,7 @@ def spike_alpha_to_pass(obj, settings=None, upper=50.0, step=0.1, max_rows=256):
     iso = nv >= need_frac * nt
     need = int(np.ceil(need_frac * nt)) if iso else 1
     k_lo, k_hi = int(np.floor(lo / step + 1e-9)), int(np.ceil(upper / step - 1e-9))
-    while k_hi - k_lo > 1:                 # alpha = k step: k_lo fails, k_hi passes
+    while k_hi - k_lo > 1:  # alpha = k step: k_lo fails, k_hi passes
         k = (k_lo + k_hi) // 2
         if _valid_counts(obj, k * step, settings)[0] >= need:
             k_hi = k
@@ -287,7 +296,7 @@ class MpdSegments:
         return {"dropouts": int(drop.sum()), "spikes": int(spk.sum())}
 
     def validity_text(self):
-        """"valid per ISO 13473-1 (17 of 18 segments)" or "not valid per ISO 13473-1 (3 of 18
+        """ "valid per ISO 13473-1 (17 of 18 segments)" or "not valid per ISO 13473-1 (3 of 18
         segments)"."""
         what = "valid" if self.mpd_valid else "not valid"
         return f"{what} per ISO 13473-1 ({self.n_valid} of {self.n_total} segments)"
@@ -370,8 +379,13 @@ def mpd_and_segments(obj, **settings):
         seg = settings.get("segment_m", roughness.MPD_SETTINGS["segment_m"])
         what, length = f"{obj.ny} rows", L
         if L < seg * (1 - 1e-9):
-            mpd, note = None, (f"no MPD: rows are {L * 1e3:.1f} mm long, shorter than the "
-                               f"{seg * 1e3:.0f} mm baseline of ISO 13473-1")
+            mpd, note = (
+                None,
+                (
+                    f"no MPD: rows are {L * 1e3:.1f} mm long, shorter than the "
+                    f"{seg * 1e3:.0f} mm baseline of ISO 13473-1"
+                ),
+            )
         elif res is None:
             mpd, note = None, f"no MPD: {err}"
         else:
@@ -385,4 +399,3 @@ def mpd_and_segments(obj, **settings):
     if res is None:
         return mpd, note, None
     return mpd, note, MpdSegments(res, roughness._summarise(res, what)[1], length)
-

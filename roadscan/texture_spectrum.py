@@ -37,6 +37,7 @@ CAPTIF profile up to 100 mm.
 Reference: ISO 13473-4:2008, Characterization of pavement texture by use of surface profiles,
 Part 4: Spectral analysis of surface profiles; ISO 266:1997 (preferred frequencies).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -47,18 +48,58 @@ from .bands import gap_neighbours
 from .heightmap import HeightMap, Profile
 from .windows import tukey
 
-__all__ = ["NOMINAL_MM", "A_REF_M", "MIN_BINS", "MIN_SAMPLES_PER_WAVELENGTH", "TextureSpectrum",
-           "third_octave_bands", "texture_spectrum", "line_band_power", "nominal_label"]
+__all__ = [
+    "NOMINAL_MM",
+    "A_REF_M",
+    "MIN_BINS",
+    "MIN_SAMPLES_PER_WAVELENGTH",
+    "TextureSpectrum",
+    "third_octave_bands",
+    "texture_spectrum",
+    "line_band_power",
+    "nominal_label",
+]
 
 #: Nominal centre wavelengths [mm] of the preferred series, k = -3 ... 27 (10^(k/10) mm).
-NOMINAL_MM = (0.5, 0.63, 0.8, 1, 1.25, 1.6, 2, 2.5, 3.15, 4, 5, 6.3, 8, 10, 12.5, 16, 20, 25,
-              31.5, 40, 50, 63, 80, 100, 125, 160, 200, 250, 315, 400, 500)
+NOMINAL_MM = (
+    0.5,
+    0.63,
+    0.8,
+    1,
+    1.25,
+    1.6,
+    2,
+    2.5,
+    3.15,
+    4,
+    5,
+    6.3,
+    8,
+    10,
+    12.5,
+    16,
+    20,
+    25,
+    31.5,
+    40,
+    50,
+    63,
+    80,
+    100,
+    125,
+    160,
+    200,
+    250,
+    315,
+    400,
+    500,
+)
 _K0 = -3
-A_REF_M = 1e-6                 # reference rms amplitude of ISO 13473-4 [m]
-MIN_BINS = 4                   # FFT bins a band must span
+A_REF_M = 1e-6  # reference rms amplitude of ISO 13473-4 [m]
+MIN_BINS = 4  # FFT bins a band must span
 MIN_SAMPLES_PER_WAVELENGTH = 4  # samples per shortest wavelength of a band
-WINDOW_ALPHA = 0.5             # Tukey window: cosine tapers over the outer quarters
-_HALF = 10 ** (1 / 20)         # band edge factor
+WINDOW_ALPHA = 0.5  # Tukey window: cosine tapers over the outer quarters
+_HALF = 10 ** (1 / 20)  # band edge factor
 
 
 def nominal_label(nominal_mm):
@@ -132,8 +173,10 @@ class TextureSpectrum:
 
     def as_dict(self):
         """{nominal label: level dB} (the ``texture_level_dB`` object of summary.json)."""
-        return {nominal_label(n): (float(v) if np.isfinite(v) else None)
-                for n, v in zip(self.nominal_mm, self.level_dB)}
+        return {
+            nominal_label(n): (float(v) if np.isfinite(v) else None)
+            for n, v in zip(self.nominal_mm, self.level_dB)
+        }
 
 
 def _fill_lines(z):
@@ -146,10 +189,10 @@ def _fill_lines(z):
         return z
     m, n = z.shape
     bi = np.flatnonzero(bad)
-    out = np.array(z, dtype=np.float64)                 # a copy, C-ordered
+    out = np.array(z, dtype=np.float64)  # a copy, C-ordered
     flat = out.ravel()
     row = bi // n
-    p, q = gap_neighbours(bi, m * n)                    # previous and next measured point
+    p, q = gap_neighbours(bi, m * n)  # previous and next measured point
     has_p = (p >= 0) & (p // n == row)
     has_q = (q < m * n) & (q // n == row)
     p = np.where(has_p, p, q)
@@ -195,18 +238,18 @@ def line_band_power(lines, dx_m, lo_m, hi_m):
     t = np.arange(n) - (n - 1) / 2.0
     total = np.zeros(f.size)
     used = 0
-    step = max(1, (1 << 22) // max(n, 1))                  # a few MB of lines at a time
+    step = max(1, (1 << 22) // max(n, 1))  # a few MB of lines at a time
     for s in range(0, z.shape[0], step):
-        zc = _fill_lines(z[s:s + step])
+        zc = _fill_lines(z[s : s + step])
         full = np.isfinite(zc).all(axis=1)
-        if not full.all():                                 # no copy when every line has data
+        if not full.all():  # no copy when every line has data
             zc = zc[full]
         if not zc.shape[0]:
             continue
         zc = zc - zc.mean(axis=1, keepdims=True)
         zc = zc - (zc @ t / (t @ t))[:, None] * t
         X = np.fft.rfft(zc * w, axis=1)
-        total += (X.real ** 2 + X.imag ** 2).sum(axis=0)
+        total += (X.real**2 + X.imag**2).sum(axis=0)
         used += zc.shape[0]
     if not used:
         return np.full(len(lo_m), np.nan), 0
@@ -244,19 +287,22 @@ def texture_spectrum(obj, direction="x"):
     n = z.shape[1]
     L = n * dx
     nom, centre, lo, hi = third_octave_bands()
-    ok = (lo >= MIN_SAMPLES_PER_WAVELENGTH * dx * (1 - 1e-9)) & \
-         ((1.0 / lo - 1.0 / hi) * L >= MIN_BINS * (1 - 1e-9))
+    ok = (lo >= MIN_SAMPLES_PER_WAVELENGTH * dx * (1 - 1e-9)) & (
+        (1.0 / lo - 1.0 / hi) * L >= MIN_BINS * (1 - 1e-9)
+    )
     drop = float(np.mean(~np.isfinite(z)))
     length = (f"{L:#.3g}".rstrip(".") + " m") if L >= 1 else (f"{L * 1e3:#.3g}".rstrip(".") + " mm")
-    note = (f"ISO 13473-4 third-octave levels re 1 µm, FFT (Tukey 0.5 window) of {what} of "
-            f"{length} at {dx * 1e3:.3g} mm; bands from {MIN_SAMPLES_PER_WAVELENGTH} "
-            f"samples per shortest wavelength to {MIN_BINS} FFT bins per band")
+    note = (
+        f"ISO 13473-4 third-octave levels re 1 µm, FFT (Tukey 0.5 window) of {what} of "
+        f"{length} at {dx * 1e3:.3g} mm; bands from {MIN_SAMPLES_PER_WAVELENGTH} "
+        f"samples per shortest wavelength to {MIN_BINS} FFT bins per band"
+    )
     if drop > 0:
         note += f"; {drop:.1%} dropouts filled linearly along the lines"
     if not ok.any():
         e = np.array([])
         return TextureSpectrum(e, e, e, e, e, e, note + "; no band resolved", drop)
-    a2, used = line_band_power(z, dx, lo[ok], hi[ok])
+    a2, _ = line_band_power(z, dx, lo[ok], hi[ok])
     with np.errstate(divide="ignore"):
-        level = 10.0 * np.log10(a2 / A_REF_M ** 2)
+        level = 10.0 * np.log10(a2 / A_REF_M**2)
     return TextureSpectrum(nom[ok], centre[ok], lo[ok], hi[ok], np.sqrt(a2), level, note, drop)

@@ -6,6 +6,7 @@ grid with overlap fraction f steps by (1 - f) n_x dx along x and (1 - f) n_y dy 
 
 Reference: thesis section 4.1 (tiled profiler scans).
 """
+
 from __future__ import annotations
 
 import csv
@@ -20,8 +21,9 @@ __all__ = ["grid_positions", "read_manifest", "MANIFEST_HEADER"]
 MANIFEST_HEADER = ["file", "x_m", "y_m"]
 
 
-def grid_positions(n_rows: int, n_cols: int, tile_shape: tuple[int, int], dx_m: float, dy_m: float,
-                   overlap_fraction: float) -> list[tuple[float, float]]:
+def grid_positions(
+    n_rows: int, n_cols: int, tile_shape: tuple[int, int], dx_m: float, dy_m: float, overlap_fraction: float
+) -> list[tuple[float, float]]:
     """Nominal positions of a ROWS x COLS grid of tiles, row-major (row 0 first).
 
     Parameters

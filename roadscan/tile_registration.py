@@ -10,6 +10,7 @@ removed, Tukey-windowed). The overlap graph must connect every tile to tile 0.
 References: D. Padfield, IEEE Trans. Image Process. 21, 2706 (2012); M. Guizar-Sicairos,
 S. T. Thurman, J. R. Fienup, Opt. Lett. 33, 156 (2008).
 """
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -27,6 +28,7 @@ from .level import polynomial_form
 from .windows import tukey  # scipy.signal's, without importing scipy.signal
 
 __all__ = ["register_pair", "overlap_rect", "check_connected", "plane_removed", "highpass"]
+
 
 def plane_removed(z: NDArray[np.float64], ok: NDArray[np.bool_]) -> NDArray[np.float64]:
     """z minus its least-squares plane over the points ``ok``; unmeasured -> 0.
@@ -74,8 +76,9 @@ def highpass(z: NDArray[np.float64], ok: NDArray[np.bool_], sigma: float = 2.0) 
     return np.where(ok, z - smooth, 0.0)
 
 
-def overlap_rect(shape_i: tuple[int, ...], shape_j: tuple[int, ...],
-                 t: tuple[int, ...]) -> tuple[int, int, int, int]:
+def overlap_rect(
+    shape_i: tuple[int, ...], shape_j: tuple[int, ...], t: tuple[int, ...]
+) -> tuple[int, int, int, int]:
     """Overlap of tile i (origin 0) and tile j at integer offset t=(dr, dc), in i's coordinates.
 
     Parameters
@@ -95,8 +98,16 @@ def overlap_rect(shape_i: tuple[int, ...], shape_j: tuple[int, ...],
     return r0, r1, c0, c1
 
 
-def register_pair(zi: NDArray[np.float64], oki: NDArray[np.bool_], zj: NDArray[np.float64], okj: NDArray[np.bool_], t0: tuple[int, ...], m: int,
-                  hpi: NDArray[np.float64], hpj: NDArray[np.float64]) -> tuple[NDArray[np.float64], bool]:
+def register_pair(
+    zi: NDArray[np.float64],
+    oki: NDArray[np.bool_],
+    zj: NDArray[np.float64],
+    okj: NDArray[np.bool_],
+    t0: tuple[int, ...],
+    m: int,
+    hpi: NDArray[np.float64],
+    hpj: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], bool]:
     """Offset T (float row, col) of tile j relative to tile i, starting from integer t0.
 
     ``zi, zj`` are plane-levelled tiles, ``hpi, hpj`` their high-passed versions (used for
@@ -134,8 +145,7 @@ def register_pair(zi: NDArray[np.float64], oki: NDArray[np.bool_], zj: NDArray[n
     mov[sl] = hpj[sj]
     mov_ok[sl] = okj[sj]
     # masked normalised cross-correlation: ref[c] = mov[c - s]  =>  T = t0 + s
-    s = phase_cross_correlation(ref, mov, reference_mask=ref_ok, moving_mask=mov_ok,
-                                overlap_ratio=0.5)
+    s = phase_cross_correlation(ref, mov, reference_mask=ref_ok, moving_mask=mov_ok, overlap_ratio=0.5)
     s = np.rint(np.asarray(s[0] if isinstance(s, tuple) else s, dtype=float)).astype(int)
     if np.any(np.abs(s) > m):
         return np.asarray(t0, float), False
@@ -145,8 +155,8 @@ def register_pair(zi: NDArray[np.float64], oki: NDArray[np.bool_], zj: NDArray[n
     if r1 - r0 < 4 or c1 - c0 < 4:
         return np.asarray(t, float), True
     a = zi[r0:r1, c0:c1]
-    b = zj[r0 - t[0]:r1 - t[0], c0 - t[1]:c1 - t[1]]
-    ok = oki[r0:r1, c0:c1] & okj[r0 - t[0]:r1 - t[0], c0 - t[1]:c1 - t[1]]
+    b = zj[r0 - t[0] : r1 - t[0], c0 - t[1] : c1 - t[1]]
+    ok = oki[r0:r1, c0:c1] & okj[r0 - t[0] : r1 - t[0], c0 - t[1] : c1 - t[1]]
     if ok.sum() < 16:
         return np.asarray(t, float), True
     w = np.outer(tukey(a.shape[0], 0.5), tukey(a.shape[1], 0.5))
@@ -156,7 +166,6 @@ def register_pair(zi: NDArray[np.float64], oki: NDArray[np.bool_], zj: NDArray[n
     if np.all(np.abs(d) < 1.0):
         return np.asarray(t, float) + d, True
     return np.asarray(t, float), True
-
 
 
 def check_connected(n: int, pairs: Sequence[tuple[Any, ...]], labels: Sequence[str], how: str = "") -> None:
@@ -196,6 +205,7 @@ def check_connected(n: int, pairs: Sequence[tuple[Any, ...]], labels: Sequence[s
         k = int(isolated[0])
         raise InputError(labels[k], f"tile {labels[k]} does not overlap any other tile{how}")
     k = int(np.nonzero(comp != comp[0])[0][0])
-    raise InputError(labels[k], f"tile {labels[k]} and its neighbours do not overlap the "
-                     f"tiles connected to {labels[0]}{how}")
-
+    raise InputError(
+        labels[k],
+        f"tile {labels[k]} and its neighbours do not overlap the tiles connected to {labels[0]}{how}",
+    )

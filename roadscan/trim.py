@@ -1,4 +1,5 @@
 """Cropping measured data to the surface of interest."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -46,7 +47,10 @@ def road_section(profile: Profile, plate_height_m: float = 0.02, margin_m: float
     stop = right.min() - margin if right.size else n
     if stop - start < 16:
         return profile
-    meta = dict(profile.meta, trimmed_m=(start * profile.dx_m, stop * profile.dx_m),
-                trim_note=f"reference plates removed: kept {start * profile.dx_m * 1e3:.1f} to "
-                          f"{stop * profile.dx_m * 1e3:.1f} mm")
+    meta = dict(
+        profile.meta,
+        trimmed_m=(start * profile.dx_m, stop * profile.dx_m),
+        trim_note=f"reference plates removed: kept {start * profile.dx_m * 1e3:.1f} to "
+        f"{stop * profile.dx_m * 1e3:.1f} mm",
+    )
     return Profile(h[start:stop], profile.dx_m, profile.unmeasured[start:stop], profile.name, meta)

@@ -15,6 +15,7 @@ and :mod:`pipelines.output.units` re-exports it for reports and figures.
 >>> lengths((5e-5, 5e-5))
 '50.0 µm x 50.0 µm'
 """
+
 from __future__ import annotations
 
 import math
@@ -54,7 +55,7 @@ def sig3(x: float | None, digits: int = 3) -> str:
         return f"{x:.{digits - 1}e}"
     decimals = digits - 1 - e
     r = round(x, decimals)
-    if r != 0 and math.floor(math.log10(abs(r))) > e:     # 999.7 -> 1000: one decimal fewer
+    if r != 0 and math.floor(math.log10(abs(r))) > e:  # 999.7 -> 1000: one decimal fewer
         decimals -= 1
         r = round(x, decimals)
     return f"{r:.{max(0, decimals)}f}"
@@ -84,8 +85,7 @@ def length(x_m: float | None, unit: str | None = None) -> str:
     if x == 0 and unit is None:
         return "0 mm"
     if unit is None:
-        unit, f = next(((u, f) for u, f in LENGTH_UNITS if abs(x) >= f * (1 - 5e-4)),
-                       LENGTH_UNITS[-1])
+        unit, f = next(((u, f) for u, f in LENGTH_UNITS if abs(x) >= f * (1 - 5e-4)), LENGTH_UNITS[-1])
     else:
         unit = "µm" if unit == "um" else unit
         f = dict(LENGTH_UNITS)[unit]

@@ -4,6 +4,7 @@ load ``scipy.signal`` (about a second of start-up on a busy 2-core machine).
 Each function reproduces the scipy.signal function named in its docstring to float round-off
 (checked against scipy.signal in ``tests/test_windows.py``).
 """
+
 from __future__ import annotations
 
 from functools import lru_cache
@@ -41,10 +42,10 @@ def tukey(n: int, alpha: float = 0.5) -> NDArray[np.float64]:
         return 0.5 + 0.5 * np.cos(np.linspace(-np.pi, np.pi, n))
     k = np.arange(n)
     width = int(np.floor(alpha * (n - 1) / 2.0))
-    k1, k3 = k[: width + 1], k[n - width - 1:]
+    k1, k3 = k[: width + 1], k[n - width - 1 :]
     w = np.ones(n)
     w[: width + 1] = 0.5 * (1 + np.cos(np.pi * (-1 + 2.0 * k1 / alpha / (n - 1))))
-    w[n - width - 1:] = 0.5 * (1 + np.cos(np.pi * (-2.0 / alpha + 1 + 2.0 * k3 / alpha / (n - 1))))
+    w[n - width - 1 :] = 0.5 * (1 + np.cos(np.pi * (-2.0 / alpha + 1 + 2.0 * k3 / alpha / (n - 1))))
     return w
 
 
@@ -92,8 +93,10 @@ def butter2_lowpass(wn: float) -> tuple[NDArray[np.float64], NDArray[np.float64]
     s2 = np.sqrt(2.0)
     D = 1.0 + s2 * K + K * K
     b0 = K * K / D
-    return (np.array([b0, 2.0 * b0, b0]),
-            np.array([1.0, 2.0 * (K * K - 1.0) / D, (1.0 - s2 * K + K * K) / D]))
+    return (
+        np.array([b0, 2.0 * b0, b0]),
+        np.array([1.0, 2.0 * (K * K - 1.0) / D, (1.0 - s2 * K + K * K) / D]),
+    )
 
 
 def _lfilter2(b, a, x, z0, z1):
@@ -133,7 +136,7 @@ def filtfilt2(b: NDArray[np.float64], a: NDArray[np.float64], x: ArrayLike) -> N
     if x.shape[-1] <= pad:
         raise ValueError(f"need more than {pad} samples, got {x.shape[-1]}")
     left = 2 * x[..., :1] - x[..., pad:0:-1]
-    right = 2 * x[..., -1:] - x[..., -2:-pad - 2:-1]
+    right = 2 * x[..., -1:] - x[..., -2 : -pad - 2 : -1]
     ext = np.concatenate([left, x, right], axis=-1)
     # steady state: (I - A^T) zi = b[1:] - a[1:] b[0], A the companion matrix of a
     M = np.array([[1.0 + a[1], -1.0], [a[2], 1.0]])

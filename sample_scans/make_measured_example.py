@@ -5,14 +5,15 @@ engine with flash heating (which the default, isothermal model lacks); 30 speeds
 10 m/s, 3 % multiplicative log-normal noise, fixed seed. Run from the repository root:
 python sample_scans/make_measured_example.py
 """
+
 from pathlib import Path
 
 import numpy as np
 
 import friction
+from pipelines.chain.surface import analyse_surface, surface_psd
 from pipelines.output.report import write_csv
 from pipelines.settings.scan_input import load_scan
-from pipelines.chain.surface import analyse_surface, surface_psd
 
 HERE = Path(__file__).resolve().parent
 
@@ -24,7 +25,9 @@ def main():
     v = np.logspace(-4, 1, 30)
     mu = friction.mu_flash(psd, friction.thesis_rubber(), v, sigma0_Pa=0.2e6).mu
     rng = np.random.default_rng(2008)
-    write_csv(HERE / "measured_mu_example.csv", ["v_m_per_s", "mu"], [v, mu * np.exp(rng.normal(0, 0.03, v.size))])
+    write_csv(
+        HERE / "measured_mu_example.csv", ["v_m_per_s", "mu"], [v, mu * np.exp(rng.normal(0, 0.03, v.size))]
+    )
 
 
 if __name__ == "__main__":

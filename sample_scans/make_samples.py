@@ -8,6 +8,7 @@ real asphalt whose rounded aggregate tops stand above narrow voids), with the de
 optical scan added: a tilt, a height offset, and unmeasured points clustered in the deepest
 cavities (where an optical profiler loses the reflection) plus scattered dropouts.
 """
+
 from __future__ import annotations
 
 import csv
@@ -25,13 +26,14 @@ HERE = Path(__file__).resolve().parent
 def asphalt_like(nx, ny, dx_m, hurst, rms_m, q_roll, seed, skew_strength=0.3):
     g = self_affine_surface(nx, ny, dx_m=dx_m, hurst=hurst, rms_height_m=1.0, q_roll_per_m=q_roll, seed=seed)
     z = g.heights_m / g.heights_m.std()
-    h = -np.expm1(-skew_strength * z) / skew_strength      # deep voids, rounded tops
+    h = -np.expm1(-skew_strength * z) / skew_strength  # deep voids, rounded tops
     h -= h.mean()
     return h * (rms_m / h.std())
 
 
-def add_scan_defects(h, dx_m, seed, slope=(2.0e-3, -1.2e-3), offset_m=12e-3, deep_fraction=0.015,
-                     speck_fraction=0.008):
+def add_scan_defects(
+    h, dx_m, seed, slope=(2.0e-3, -1.2e-3), offset_m=12e-3, deep_fraction=0.015, speck_fraction=0.008
+):
     rng = np.random.default_rng(seed + 1000)
     ny, nx = h.shape
     y, x = np.mgrid[0:ny, 0:nx] * dx_m
@@ -55,22 +57,27 @@ def main():
 
     # 2. a coarser-aggregate surface for the comparison example: 640 x 640 at 80 um (51 mm)
     b = 80e-6
-    hc = asphalt_like(640, 640, b, hurst=0.75, rms_m=1.0e-3, q_roll=2 * np.pi / 14e-3, seed=16,
-                      skew_strength=0.45)
-    write_x3p_float32(HERE / "coarse_asphalt.x3p", add_scan_defects(hc, b, seed=16, slope=(-1e-3, 0.5e-3)), b, b)
+    hc = asphalt_like(
+        640, 640, b, hurst=0.75, rms_m=1.0e-3, q_roll=2 * np.pi / 14e-3, seed=16, skew_strength=0.45
+    )
+    write_x3p_float32(
+        HERE / "coarse_asphalt.x3p", add_scan_defects(hc, b, seed=16, slope=(-1e-3, 0.5e-3)), b, b
+    )
 
     # 3. overlapping tiles of one asphalt-like surface: 2 x 3 tiles of 320 x 320, 64 px overlap,
     #    each with its own height offset and tilt (stage and levelling errors), and nominal
     #    positions that are off by a few pixels (stage error), as a manifest file,x_m,y_m
     tiles_dir = HERE / "tiles"
     tiles_dir.mkdir(exist_ok=True)
-    full = asphalt_like(3 * 256 + 64, 2 * 256 + 64, a, hurst=0.86, rms_m=0.45e-3, q_roll=2 * np.pi / 6e-3, seed=7)
+    full = asphalt_like(
+        3 * 256 + 64, 2 * 256 + 64, a, hurst=0.86, rms_m=0.45e-3, q_roll=2 * np.pi / 6e-3, seed=7
+    )
     rng = np.random.default_rng(7)
     rows = []
     for r in range(2):
         for c in range(3):
             y0, x0 = 256 * r, 256 * c
-            t = full[y0:y0 + 320, x0:x0 + 320].copy()
+            t = full[y0 : y0 + 320, x0 : x0 + 320].copy()
             yy, xx = np.mgrid[0:320, 0:320] * a
             t += rng.normal(0, 0.3e-3) + rng.normal(0, 1e-3) * xx + rng.normal(0, 1e-3) * yy
             t[rng.random(t.shape) < 0.005] = np.nan

@@ -33,6 +33,7 @@ def need_vendor():
     a skip elsewhere."""
     if IN_CI:
         import SurfaceTopography  # noqa: F401  (CI installs the extra: an ImportError fails)
+
         return
     pytest.importorskip("SurfaceTopography")
 

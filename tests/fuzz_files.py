@@ -7,6 +7,7 @@ for a failing case). Height data come from :func:`height_arrays`: rough fields a
 grids, integer/bool/complex/string/object dtypes). Files are then often mutated: truncated,
 bytes flipped, garbage appended or prepended, emptied, or replaced by random bytes.
 """
+
 from __future__ import annotations
 
 import io
@@ -50,22 +51,58 @@ class Arr:
 
 
 # ------------------------------------------------------------------------------ numbers
-ODD_TOKENS = ["0", "-0", "-1", "1", "nan", "NaN", "inf", "-inf", "1e-300", "5e-324", "2.2e-308",
-              "1e300", "1e308", "1e309", "-1e309", "", " ", "abc", "1_000", "0x10", "1e", "1..2", "+5",
-              " 7 ", "1,5", "½", "None", "True", "1e-12", "1e12", "-1e-9", "3.4e38"]
+ODD_TOKENS = [
+    "0",
+    "-0",
+    "-1",
+    "1",
+    "nan",
+    "NaN",
+    "inf",
+    "-inf",
+    "1e-300",
+    "5e-324",
+    "2.2e-308",
+    "1e300",
+    "1e308",
+    "1e309",
+    "-1e309",
+    "",
+    " ",
+    "abc",
+    "1_000",
+    "0x10",
+    "1e",
+    "1..2",
+    "+5",
+    " 7 ",
+    "1,5",
+    "½",
+    "None",
+    "True",
+    "1e-12",
+    "1e12",
+    "-1e-9",
+    "3.4e38",
+]
 
 
 def tokens(typical, odd_weight=1):
     """A flag value: one of ``typical`` (as often as the odd ones), an odd token, or a random
     float (any, including NaN, inf, denormals) printed by repr or %g."""
-    odd = st.one_of(st.sampled_from(ODD_TOKENS),
-                    st.floats(allow_nan=True, allow_infinity=True).map(repr),
-                    st.floats(-1e6, 1e6).map(lambda x: f"{x:.4g}"))
+    odd = st.one_of(
+        st.sampled_from(ODD_TOKENS),
+        st.floats(allow_nan=True, allow_infinity=True).map(repr),
+        st.floats(-1e6, 1e6).map(lambda x: f"{x:.4g}"),
+    )
     return st.one_of(*([st.sampled_from(list(typical))] * max(1, 3 - odd_weight)), odd)
 
 
-ODD = st.one_of(st.sampled_from(ODD_TOKENS), st.floats(allow_nan=True, allow_infinity=True).map(repr),
-                st.floats(-1e6, 1e6).map(lambda x: f"{x:.4g}"))
+ODD = st.one_of(
+    st.sampled_from(ODD_TOKENS),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.floats(-1e6, 1e6).map(lambda x: f"{x:.4g}"),
+)
 
 
 def F(typical, odd=(), absent=2):
@@ -115,16 +152,30 @@ SHAPES = st.one_of(
     st.tuples(st.integers(8, 48), st.integers(8, 48)),
     st.tuples(st.integers(8, 48), st.integers(8, 48)),
     st.tuples(st.integers(8, 48), st.integers(8, 48)),
-    st.sampled_from([(1, 40), (40, 1), (2, 2), (3, 3), (7, 9), (8, 8), (0, 5), (5, 0), (1, 1),
-                     (2, 64), (64, 2), (9, 7)]),
+    st.sampled_from(
+        [(1, 40), (40, 1), (2, 2), (3, 3), (7, 9), (8, 8), (0, 5), (5, 0), (1, 1), (2, 64), (64, 2), (9, 7)]
+    ),
     st.sampled_from([(40,), (3,), (0,), (200,), (), (3, 4, 5), (16, 16, 1)]),
 )
-VALUE_KINDS = ["rough"] * 6 + ["constant", "zero", "nan_most", "nan_all", "two_measured", "inf",
-                               "neg_inf", "spike", "denormal", "huge", "tiny", "steps", "ramp",
-                               "nan_rows", "one_value_off"]
+VALUE_KINDS = ["rough"] * 6 + [
+    "constant",
+    "zero",
+    "nan_most",
+    "nan_all",
+    "two_measured",
+    "inf",
+    "neg_inf",
+    "spike",
+    "denormal",
+    "huge",
+    "tiny",
+    "steps",
+    "ramp",
+    "nan_rows",
+    "one_value_off",
+]
 SCALES = [1e-4, 1e-4, 1e-4, 1e-3, 1e-5, 1e-6, 1.0, 30.0, 1e-12, 1e-300, 1e30, 5e-324]
-DTYPES = ["<f8"] * 6 + ["<f4", "<f2", ">f8", "<i2", "<i4", "<i8", "|u1", "<u8", "|b1", "<c16", "<U4",
-                        "|O"]
+DTYPES = ["<f8"] * 6 + ["<f4", "<f2", ">f8", "<i2", "<i4", "<i8", "|u1", "<u8", "|b1", "<c16", "<U4", "|O"]
 
 
 @st.composite
@@ -172,7 +223,9 @@ def height_arrays(draw, shapes=SHAPES, kinds=VALUE_KINDS, dtypes=DTYPES, scales=
             flat = a.reshape(-1)
             flat[rng.integers(n)] = 2e-3
         if dtype[1] in "iub":
-            a = np.nan_to_num(np.asarray(a) / (scale if scale > 1e-200 else 1.0) * 100, nan=0, posinf=0, neginf=0)
+            a = np.nan_to_num(
+                np.asarray(a) / (scale if scale > 1e-200 else 1.0) * 100, nan=0, posinf=0, neginf=0
+            )
             a = np.clip(a, -1e4, 1e4)
         if dtype == "<U4":
             arr = np.asarray(a).astype(str).astype("<U4")
@@ -187,11 +240,12 @@ def height_arrays(draw, shapes=SHAPES, kinds=VALUE_KINDS, dtypes=DTYPES, scales=
 
 def good_arrays(side=(16, 40)):
     """Mostly analysable grids: rough float64 with odd scales/NaN patterns but valid shapes."""
-    return height_arrays(shapes=st.tuples(st.integers(*side), st.integers(*side)),
-                         kinds=["rough"] * 8 + ["nan_rows", "steps", "spike", "one_value_off", "nan_most",
-                                                "constant", "inf"],
-                         dtypes=["<f8"] * 6 + ["<f4", "<i4", ">f8"],
-                         scales=[1e-4, 1e-4, 3e-4, 1e-3, 1e-5, 2e-6, 1e-2])
+    return height_arrays(
+        shapes=st.tuples(st.integers(*side), st.integers(*side)),
+        kinds=["rough"] * 8 + ["nan_rows", "steps", "spike", "one_value_off", "nan_most", "constant", "inf"],
+        dtypes=["<f8"] * 6 + ["<f4", "<i4", ">f8"],
+        scales=[1e-4, 1e-4, 3e-4, 1e-3, 1e-5, 2e-6, 1e-2],
+    )
 
 
 # ------------------------------------------------------------------------------ mutations
@@ -241,19 +295,44 @@ def npy_files(draw, arrays=height_arrays(), mutations=MUTATIONS, edits=True):
     edit = draw(st.sampled_from(["none"] * 4 + ["shape", "descr", "garbage_header"])) if edits else "none"
     desc = f"npy {a.desc}"
     if edit == "shape":
-        shape = draw(st.sampled_from([(200000, 200000), (2**40,), (2**31, 2**31), (-1, 4), (0, 5), (3,),
-                                      (1, 1), (2, 2, 2), (2**62, 4), (65536, 65536)]))
+        shape = draw(
+            st.sampled_from(
+                [
+                    (200000, 200000),
+                    (2**40,),
+                    (2**31, 2**31),
+                    (-1, 4),
+                    (0, 5),
+                    (3,),
+                    (1, 1),
+                    (2, 2, 2),
+                    (2**62, 4),
+                    (65536, 65536),
+                ]
+            )
+        )
         raw = np.ascontiguousarray(a.array).tobytes() if a.array.dtype != object else b""
         data = _npy_header(a.array.dtype.str if a.array.dtype != object else "|O", False, shape) + raw
         desc += f", header shape {shape}"
     elif edit == "descr":
-        descr = draw(st.sampled_from(["<c16", "|O", "<U4", "|V8", ">f8", "<m8", "<M8[D]", "<f16", "xx", "<i1"]))
+        descr = draw(
+            st.sampled_from(["<c16", "|O", "<U4", "|V8", ">f8", "<m8", "<M8[D]", "<f16", "xx", "<i1"])
+        )
         raw = np.ascontiguousarray(a.array).tobytes() if a.array.dtype != object else b""
         data = _npy_header(descr, draw(st.booleans()), a.array.shape) + raw
         desc += f", header descr {descr}"
     elif edit == "garbage_header":
-        junk = draw(st.sampled_from(["{'descr': '<f8', 'fortran_order': False, 'shape': (3, 4), 'x': __import__('os')}",
-                                     "{'descr':", "[1, 2]", "{'descr': '<f8', 'shape': (3, 4)}", "\x00\x01"]))
+        junk = draw(
+            st.sampled_from(
+                [
+                    "{'descr': '<f8', 'fortran_order': False, 'shape': (3, 4), 'x': __import__('os')}",
+                    "{'descr':",
+                    "[1, 2]",
+                    "{'descr': '<f8', 'shape': (3, 4)}",
+                    "\x00\x01",
+                ]
+            )
+        )
         data = b"\x93NUMPY\x01\x00" + struct.pack("<H", len(junk)) + junk.encode("latin1") + b"\0" * 96
         desc += f", header {junk[:30]!r}"
     data, how = draw(mutate(data, mutations))
@@ -279,7 +358,11 @@ def npz_files(draw, arrays=height_arrays(), mutations=MUTATIONS, edits=True):
         elif choice == "string":
             members[key] = np.array("5e-5")
         desc.append(f"{key}={members.get(key, 'absent')!r}"[:40])
-    um = draw(st.sampled_from(["absent", "absent", "ok", "wrong_shape", "float", "all"] if edits else ["absent", "ok"]))
+    um = draw(
+        st.sampled_from(
+            ["absent", "absent", "ok", "wrong_shape", "float", "all"] if edits else ["absent", "ok"]
+        )
+    )
     shape = np.shape(a.array)
     if um == "ok":
         members["unmeasured"] = np.random.default_rng(1).random(shape) < 0.1
@@ -311,8 +394,11 @@ def tif_files(draw, arrays=height_arrays(dtypes=["<f8", "<f8", "<f4", "<i2", "|u
     if meta == "roadscan":
         kw["metadata"] = {"dx_m": sp, "dy_m": 5e-5, "units": draw(st.sampled_from(["m", "mm", "furlong"]))}
     elif meta == "odd":
-        kw["metadata"] = draw(st.sampled_from([{"dx_m": "abc", "dy_m": None}, {"dx_m": [1, 2], "dy_m": 1},
-                                               {"dx_m": 5e-5}, {"units": "um"}]))
+        kw["metadata"] = draw(
+            st.sampled_from(
+                [{"dx_m": "abc", "dy_m": None}, {"dx_m": [1, 2], "dy_m": 1}, {"dx_m": 5e-5}, {"units": "um"}]
+            )
+        )
     elif meta == "tags":
         kw["resolution"] = (draw(st.sampled_from([200.0, 1e-300, 1e300, 1.0])), 200.0)
         kw["resolutionunit"] = "CENTIMETER"
@@ -330,7 +416,9 @@ def tif_files(draw, arrays=height_arrays(dtypes=["<f8", "<f8", "<f4", "<i2", "|u
         data = b"II*\x00" + bytes(64)
         meta += f" (tifffile refused: {type(exc).__name__})"
     data, how = draw(mutate(data))
-    return FileSpec(draw(st.sampled_from(["scan.tif", "scan.tiff"])), data, f"tif {a.desc} meta={meta} sp={sp}{how}")
+    return FileSpec(
+        draw(st.sampled_from(["scan.tif", "scan.tiff"])), data, f"tif {a.desc} meta={meta} sp={sp}{how}"
+    )
 
 
 _X3P_EDITS = {
@@ -345,9 +433,15 @@ _X3P_EDITS = {
 
 
 @st.composite
-def x3p_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
-        st.tuples(st.integers(1, 40), st.integers(1, 40)), st.sampled_from([(40,), (2, 2)]))),
-              mutations=MUTATIONS, edits=True):
+def x3p_files(
+    draw,
+    arrays=height_arrays(
+        dtypes=["<f8"],
+        shapes=st.one_of(st.tuples(st.integers(1, 40), st.integers(1, 40)), st.sampled_from([(40,), (2, 2)])),
+    ),
+    mutations=MUTATIONS,
+    edits=True,
+):
     from roadscan.heightmap import HeightMap, Profile
     from roadscan.io.x3p import write_x3p
 
@@ -358,7 +452,7 @@ def x3p_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
         p = Path(d) / "a.x3p"
         try:
             obj = HeightMap(h, 5e-5, 5e-5) if h.ndim == 2 else Profile(h, 5e-5)
-            with warnings.catch_warnings():       # float32 of 1e300: inf on purpose
+            with warnings.catch_warnings():  # float32 of 1e300: inf on purpose
                 warnings.simplefilter("ignore")
                 write_x3p(p, obj, dtype=draw(st.sampled_from(["float64", "float32"])))
             files = {}
@@ -376,14 +470,18 @@ def x3p_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
         xml = xml.replace(f"<{tag}>", f"<{tag}>\x00", 1)
         head, _, rest = xml.partition(f"<{tag}>\x00")
         if rest:
-            xml = head + f"<{tag}>{val}" + rest[rest.find("<"):]
+            xml = head + f"<{tag}>{val}" + rest[rest.find("<") :]
         desc += f", {tag}={val!r}"
     files["main.xml"] = xml.encode("utf-8")
     if "md5checksum.hex" in files:
         import hashlib
 
         files["md5checksum.hex"] = f"{hashlib.md5(files['main.xml']).hexdigest()} *main.xml\n".encode()
-    drop = draw(st.sampled_from(["none", "none", "none", "md5checksum.hex", "bindata/data.bin", "half_data"])) if edits else "none"
+    drop = (
+        draw(st.sampled_from(["none", "none", "none", "md5checksum.hex", "bindata/data.bin", "half_data"]))
+        if edits
+        else "none"
+    )
     if drop == "half_data" and "bindata/data.bin" in files:
         files["bindata/data.bin"] = files["bindata/data.bin"][: len(files["bindata/data.bin"]) // 2]
     elif drop in files:
@@ -398,8 +496,15 @@ def x3p_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
 
 
 @st.composite
-def gwy_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
-        st.tuples(st.integers(1, 40), st.integers(1, 40)), st.sampled_from([(2, 2), (1, 1)])))):
+def gwy_files(
+    draw,
+    arrays=height_arrays(
+        dtypes=["<f8"],
+        shapes=st.one_of(
+            st.tuples(st.integers(1, 40), st.integers(1, 40)), st.sampled_from([(2, 2), (1, 1)])
+        ),
+    ),
+):
     from gwyfile.objects import GwyContainer, GwyDataField
 
     a = draw(arrays)
@@ -412,8 +517,9 @@ def gwy_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
     desc = f"gwy {a.desc} xreal={xreal} xy={uxy!r} z={uz!r} channel={ch}"
     try:
         if ch is not None:
-            c[f"/{ch}/data"] = GwyDataField(h, xreal=xreal, yreal=1e-3, si_unit_xy=uxy or None,
-                                            si_unit_z=uz or None)
+            c[f"/{ch}/data"] = GwyDataField(
+                h, xreal=xreal, yreal=1e-3, si_unit_xy=uxy or None, si_unit_z=uz or None
+            )
             c[f"/{ch}/data/title"] = "Height"
         with tempfile.TemporaryDirectory() as d:
             p = Path(d) / "a.gwy"
@@ -445,9 +551,18 @@ def _cells(draw, values, edits=True):
 
 
 @st.composite
-def text_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
-        st.tuples(st.integers(1, 32), st.integers(1, 32)), st.sampled_from([(2, 2), (1, 6), (6, 1), (30,)]))),
-               mutations=("none",) * 8 + ("truncate", "flip", "append", "empty"), edits=True):
+def text_files(
+    draw,
+    arrays=height_arrays(
+        dtypes=["<f8"],
+        shapes=st.one_of(
+            st.tuples(st.integers(1, 32), st.integers(1, 32)),
+            st.sampled_from([(2, 2), (1, 6), (6, 1), (30,)]),
+        ),
+    ),
+    mutations=("none",) * 8 + ("truncate", "flip", "append", "empty"),
+    edits=True,
+):
     a = draw(arrays)
     h = np.asarray(a.array, dtype=float)
     h2 = h if h.ndim == 2 else h.reshape(1, -1) if h.ndim == 1 else h.reshape(1, 1)
@@ -455,20 +570,32 @@ def text_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
     sep = draw(st.sampled_from([",", ";", "\t", " ", "  "]))
     cells = draw(_cells(h2, edits))
     ny, nx = h2.shape
-    rows = [sep.join(cells[i * nx:(i + 1) * nx]) for i in range(ny)]
+    rows = [sep.join(cells[i * nx : (i + 1) * nx]) for i in range(ny)]
     header = []
     desc = f"text {layout} {a.desc} sep={sep!r}"
     if layout == "esri":
-        ncols = draw(st.sampled_from([str(nx)] * 3 + (["100000", "-3", "0", "1.5", "abc", "1e9", str(nx + 1)] if edits else [])))
-        nrows = draw(st.sampled_from([str(ny)] * 3 + (["100000", "-1", "0", "abc", "70000"] if edits else [])))
-        cell = draw(st.sampled_from(["5e-5", "5e-5"] + (["0", "-1", "nan", "abc", "1e300", "1e-300"] if edits else [])))
+        ncols = draw(
+            st.sampled_from(
+                [str(nx)] * 3 + (["100000", "-3", "0", "1.5", "abc", "1e9", str(nx + 1)] if edits else [])
+            )
+        )
+        nrows = draw(
+            st.sampled_from([str(ny)] * 3 + (["100000", "-1", "0", "abc", "70000"] if edits else []))
+        )
+        cell = draw(
+            st.sampled_from(
+                ["5e-5", "5e-5"] + (["0", "-1", "nan", "abc", "1e300", "1e-300"] if edits else [])
+            )
+        )
         header = [f"ncols {ncols}", f"nrows {nrows}", "xllcorner 0", "yllcorner 0", f"cellsize {cell}"]
         if draw(st.booleans()):
             header.append(f"NODATA_value {draw(st.sampled_from(['-9999', 'nan', 'abc', '0']))}")
         rows = [" ".join(r.split(sep)) for r in rows]
         desc += f" ncols={ncols} nrows={nrows} cellsize={cell}"
     elif layout == "gwyddion":
-        w = draw(st.sampled_from(["1.2", "1.2"] + (["0", "-1", "nan", "abc", "1e300", "1e-300"] if edits else [])))
+        w = draw(
+            st.sampled_from(["1.2", "1.2"] + (["0", "-1", "nan", "abc", "1e300", "1e-300"] if edits else []))
+        )
         u = draw(st.sampled_from(["mm", "mm", "um", "µm", "m"] + (["furlong", ""] if edits else [])))
         vu = draw(st.sampled_from(["m", "m", "um", "mm"] + (["kg", ""] if edits else [])))
         header = ["# Channel: Height", f"# Width: {w} {u}", f"# Height: {w} {u}", f"# Value units: {vu}"]
@@ -497,8 +624,19 @@ def text_files(draw, arrays=height_arrays(dtypes=["<f8"], shapes=st.one_of(
             pts = pts[::2]
         csep = "," if sep in (",", ";") else " "
         rows = [csep.join(draw(_cells(np.array(p), edits))) for p in pts]
-        title = draw(st.sampled_from(["", "", "x (mm), y (mm), z (um)", "x,y,z", "distance (mm), height (mm)",
-                                      "x (furlong), z (m)", "z"]))
+        title = draw(
+            st.sampled_from(
+                [
+                    "",
+                    "",
+                    "x (mm), y (mm), z (um)",
+                    "x,y,z",
+                    "distance (mm), height (mm)",
+                    "x (furlong), z (m)",
+                    "z",
+                ]
+            )
+        )
         if title:
             header = [title]
         desc += f" step={step} jitter={jitter} order={order} title={title!r}"
@@ -519,8 +657,24 @@ def captif_files(draw):
     step = draw(st.sampled_from([0.0375, 0.0375, 0.0, -0.0375, 1e-9, 1e300]))
     dist = np.arange(n) * step
     depth = np.cumsum(rng.standard_normal(n)) * draw(st.sampled_from([0.05, 0.05, 0.0, 1e300, 1e-300]))
-    odd = draw(st.sampled_from(["none", "none", "nan_some", "nan_all", "swap", "dup", "irregular", "text",
-                                "missing_col", "extra_col", "huge_number", "no_title"]))
+    odd = draw(
+        st.sampled_from(
+            [
+                "none",
+                "none",
+                "nan_some",
+                "nan_all",
+                "swap",
+                "dup",
+                "irregular",
+                "text",
+                "missing_col",
+                "extra_col",
+                "huge_number",
+                "no_title",
+            ]
+        )
+    )
     rows = []
     for i in range(n):
         d, z = dist[i], depth[i]
@@ -553,9 +707,33 @@ def captif_files(draw):
     return FileSpec("station.dat", data, f"captif n={n} step={step} odd={odd}{how}")
 
 
-VENDOR_EXTS = [".plu", ".plux", ".sur", ".sdf", ".vk4", ".opd", ".al3d", ".zmg", ".datx", ".zon", ".os3d",
-               ".nms", ".tmd", ".sflz", ".lext", ".oir", ".hdat", ".fits", ".dat", ".di", ".ibw", ".mi",
-               ".opdx", ".sdf", ".x3d"]
+VENDOR_EXTS = [
+    ".plu",
+    ".plux",
+    ".sur",
+    ".sdf",
+    ".vk4",
+    ".opd",
+    ".al3d",
+    ".zmg",
+    ".datx",
+    ".zon",
+    ".os3d",
+    ".nms",
+    ".tmd",
+    ".sflz",
+    ".lext",
+    ".oir",
+    ".hdat",
+    ".fits",
+    ".dat",
+    ".di",
+    ".ibw",
+    ".mi",
+    ".opdx",
+    ".sdf",
+    ".x3d",
+]
 _VENDOR_SAMPLES = Path("/work/shared/data/formats")
 
 
@@ -563,7 +741,11 @@ _VENDOR_SAMPLES = Path("/work/shared/data/formats")
 def vendor_files(draw):
     """Garbage bytes (or a real vendor file cut short) with a vendor extension."""
     ext = draw(st.sampled_from(VENDOR_EXTS))
-    real = sorted(p for p in _VENDOR_SAMPLES.glob("*") if p.suffix in VENDOR_EXTS) if _VENDOR_SAMPLES.is_dir() else []
+    real = (
+        sorted(p for p in _VENDOR_SAMPLES.glob("*") if p.suffix in VENDOR_EXTS)
+        if _VENDOR_SAMPLES.is_dir()
+        else []
+    )
     if real and draw(st.booleans()):
         src = draw(st.sampled_from(real))
         raw = src.read_bytes()
@@ -575,17 +757,27 @@ def vendor_files(draw):
 
 
 def any_height_file():
-    return st.one_of(npy_files(), npz_files(), tif_files(), x3p_files(), gwy_files(), text_files(),
-                     captif_files(), vendor_files())
+    return st.one_of(
+        npy_files(),
+        npz_files(),
+        tif_files(),
+        x3p_files(),
+        gwy_files(),
+        text_files(),
+        captif_files(),
+        vendor_files(),
+    )
 
 
 def analysable_height_file():
     """Height files that mostly read: odd data in valid containers, mutated rarely."""
     rare = ["none"] * 12 + ["truncate", "flip"]
-    return st.one_of(npy_files(arrays=good_arrays(), mutations=rare, edits=False),
-                     npz_files(arrays=good_arrays(), mutations=rare, edits=False),
-                     x3p_files(arrays=good_arrays(), mutations=rare, edits=False),
-                     text_files(arrays=good_arrays((8, 24)), mutations=rare, edits=False))
+    return st.one_of(
+        npy_files(arrays=good_arrays(), mutations=rare, edits=False),
+        npz_files(arrays=good_arrays(), mutations=rare, edits=False),
+        x3p_files(arrays=good_arrays(), mutations=rare, edits=False),
+        text_files(arrays=good_arrays((8, 24)), mutations=rare, edits=False),
+    )
 
 
 # ------------------------------------------------------------------------------ other inputs
@@ -598,8 +790,23 @@ def _csv(draw, header, rows, name, desc):
     return FileSpec(name, data, desc + how)
 
 
-ROW_EDITS = ["none"] * 4 + ["negative", "nan", "zero", "inf", "dup_x", "reverse", "one_row", "two_rows",
-                            "text", "huge", "tiny", "extra_col", "missing_col", "blank_lines", "rising"]
+ROW_EDITS = ["none"] * 4 + [
+    "negative",
+    "nan",
+    "zero",
+    "inf",
+    "dup_x",
+    "reverse",
+    "one_row",
+    "two_rows",
+    "text",
+    "huge",
+    "tiny",
+    "extra_col",
+    "missing_col",
+    "blank_lines",
+    "rising",
+]
 
 
 def _edit_rows(draw, table, rng):
@@ -610,7 +817,7 @@ def _edit_rows(draw, table, rng):
     col = int(rng.integers(1, len(t[0]))) if n and len(t[0]) > 1 else 0
     if not n:
         return t, edit
-    if edit == "negative":                        # a cell may already be text (a generator's)
+    if edit == "negative":  # a cell may already be text (a generator's)
         v = t[i][col]
         t[i][col] = -abs(v) if isinstance(v, (int, float)) else f"-{v}"
     elif edit == "nan":
@@ -656,7 +863,9 @@ def psd_csv_files(draw):
     H = draw(st.sampled_from([0.8, 0.8, 0.5, 0.0, 1.5, -0.5]))
     C = 1e-22 * (q / 1e3) ** (-2 * (1 + H)) * np.exp(0.1 * rng.standard_normal(n))
     table, edit = _edit_rows(draw, [[a, b] for a, b in zip(q, C)], rng)
-    header = draw(st.sampled_from(["q_per_m,C_m4"] * 4 + ["q,C", "", "q_per_m;C_m4", "C_m4,q_per_m", "a,b,c"]))
+    header = draw(
+        st.sampled_from(["q_per_m,C_m4"] * 4 + ["q,C", "", "q_per_m;C_m4", "C_m4,q_per_m", "a,b,c"])
+    )
     return _csv(draw, header, _fmt_rows(table), "psd.csv", f"psd n={n} H={H} edit={edit} header={header!r}")
 
 
@@ -666,12 +875,16 @@ def measured_csv_files(draw):
     n = draw(st.sampled_from([20, 20, 12, 5, 3, 1, 0]))
     one_speed = draw(st.integers(0, 5)) == 0
     v = np.full(n, 0.01) if one_speed else np.geomspace(1e-4, 1e1, n)
-    mu = 0.3 + 0.5 * np.exp(-np.log10(v / 1e-2) ** 2) + 0.02 * rng.standard_normal(n)
-    cols = draw(st.sampled_from(["v_m_per_s,mu", "v_m_per_s,mu", "v_m_per_s,mu,T0_C,sigma0_Pa,condition", "v,mu"]))
+    mu = 0.3 + 0.5 * np.exp(-(np.log10(v / 1e-2) ** 2)) + 0.02 * rng.standard_normal(n)
+    cols = draw(
+        st.sampled_from(["v_m_per_s,mu", "v_m_per_s,mu", "v_m_per_s,mu,T0_C,sigma0_Pa,condition", "v,mu"])
+    )
     extra = cols.count(",") - 1
     table = [[a, b] + ([20.0, 2e5, "dry"] if extra else []) for a, b in zip(v, mu)]
     table, edit = _edit_rows(draw, table, rng)
-    return _csv(draw, cols, _fmt_rows(table), "measured.csv", f"measured n={n} one_speed={one_speed} edit={edit}")
+    return _csv(
+        draw, cols, _fmt_rows(table), "measured.csv", f"measured n={n} one_speed={one_speed} edit={edit}"
+    )
 
 
 def _sample_rows(path, skip):
@@ -693,8 +906,12 @@ def master_curve_files(draw):
     rng = np.random.default_rng(draw(st.integers(0, 999)))
     table = table[:: draw(st.sampled_from([1, 4, 16]))]
     table, edit = _edit_rows(draw, table, rng)
-    hdr = draw(st.sampled_from(["\n".join(head)] * 3 + ["f,E_stor,E_loss", "f_Hz,E_stor_MPa,E_loss_MPa",
-                                                         "f, E_stor, E_loss\nHz, kg, MPa", ""]))
+    hdr = draw(
+        st.sampled_from(
+            ["\n".join(head)] * 3
+            + ["f,E_stor,E_loss", "f_Hz,E_stor_MPa,E_loss_MPa", "f, E_stor, E_loss\nHz, kg, MPa", ""]
+        )
+    )
     return _csv(draw, hdr, _fmt_rows(table), "master.csv", f"master curve edit={edit} header={hdr[:30]!r}")
 
 
@@ -703,9 +920,11 @@ def shift_table_files(draw):
     kind = draw(st.sampled_from(["table", "table", "wlf_row"]))
     rng = np.random.default_rng(draw(st.integers(0, 999)))
     if kind == "wlf_row":
-        vals = [draw(st.sampled_from(["8.86", "8.86", "0", "-5", "nan", "1e300", "abc"])),
-                draw(st.sampled_from(["51.5", "51.5", "0", "-51.5", "nan", "inf"])),
-                draw(st.sampled_from(["20", "20", "-300", "nan", "1e6"]))]
+        vals = [
+            draw(st.sampled_from(["8.86", "8.86", "0", "-5", "nan", "1e300", "abc"])),
+            draw(st.sampled_from(["51.5", "51.5", "0", "-51.5", "nan", "inf"])),
+            draw(st.sampled_from(["20", "20", "-300", "nan", "1e6"])),
+        ]
         return _csv(draw, "C1,C2_K,T_s_C", [",".join(vals)], "shift.csv", f"shift wlf {vals}")
     head, table = _sample_rows(SAMPLES / "rubbers" / "freq_user_master__shift_factors.csv", 2)
     table, edit = _edit_rows(draw, table, rng)
@@ -726,14 +945,21 @@ def raw_dma_files(draw):
     elif sub == "few":
         table = table[::25]
     table, edit = _edit_rows(draw, table, rng)
-    hdr = draw(st.sampled_from(["\n".join(head)] * 3 + ["f,E_stor,E_loss,T,Set", "f,E_stor,E_loss,T,Set\nHz, kg, MPa, C, -",
-                                                         "f,E_stor,E_loss"]))
+    hdr = draw(
+        st.sampled_from(
+            ["\n".join(head)] * 3
+            + ["f,E_stor,E_loss,T,Set", "f,E_stor,E_loss,T,Set\nHz, kg, MPa, C, -", "f,E_stor,E_loss"]
+        )
+    )
     return _csv(draw, hdr, _fmt_rows(table), "raw.csv", f"raw DMA {sub} edit={edit} header={hdr[:25]!r}")
 
 
 def _toml_value(draw, typical):
-    return draw(st.sampled_from(list(typical) * 3 + ["0", "-1", "nan", "inf", "-inf", "1e300", "1e-300", '"abc"', "[]",
-                                                     "true"]))
+    return draw(
+        st.sampled_from(
+            list(typical) * 3 + ["0", "-1", "nan", "inf", "-inf", "1e300", "1e-300", '"abc"', "[]", "true"]
+        )
+    )
 
 
 @st.composite
@@ -750,29 +976,46 @@ def rubber_toml_files(draw):
     elif model == "prony":
         moduli = ["[3.0e7, 2.0e8, 5.0e8]"] * 3 + ["[]", "[1e7]", "[-1e7, 1e8, 1e9]", "[nan, 1, 2]"]
         times = ["[1e-2, 1e-5, 1e-8]"] * 3 + ["[1e-2]", "[0, 1, 2]", "[inf, 1, 2]"]
-        lines += ["[prony]", f"E_inf_Pa = {_toml_value(draw, ['1.0e6'])}",
-                  f"E_i_Pa = {draw(st.sampled_from(moduli))}",
-                  f"tau_i_s = {draw(st.sampled_from(times))}"]
+        lines += [
+            "[prony]",
+            f"E_inf_Pa = {_toml_value(draw, ['1.0e6'])}",
+            f"E_i_Pa = {draw(st.sampled_from(moduli))}",
+            f"tau_i_s = {draw(st.sampled_from(times))}",
+        ]
     else:
-        lines += ["[master_curve]", f'file = "{draw(st.sampled_from(["master.csv", "missing.csv", "../master.csv", ""]))}"']
+        lines += [
+            "[master_curve]",
+            f'file = "{draw(st.sampled_from(["master.csv", "missing.csv", "../master.csv", ""]))}"',
+        ]
     shift = draw(st.sampled_from(["absent", "wlf", "wlf", "none", "table", "odd"]))
     if shift == "wlf":
-        lines += ["[shift]", 'kind = "wlf"', f"C1 = {_toml_value(draw, ['8.86'])}", f"C2_K = {_toml_value(draw, ['51.5'])}",
-                  f"T_s_C = {_toml_value(draw, ['20.0'])}"]
+        lines += [
+            "[shift]",
+            'kind = "wlf"',
+            f"C1 = {_toml_value(draw, ['8.86'])}",
+            f"C2_K = {_toml_value(draw, ['51.5'])}",
+            f"T_s_C = {_toml_value(draw, ['20.0'])}",
+        ]
         if draw(st.booleans()):
             lines.append(f"T_g_C = {_toml_value(draw, ['-30.0'])}")
     elif shift == "none":
         lines += ["[shift]", 'kind = "none"']
     elif shift == "table":
-        lines += ["[shift]", 'kind = "table"',
-                  f"T_C = {draw(st.sampled_from(['[-20, -5, 20, 50]', '[20]', '[20, 20, 30]', '[]']))}",
-                  f"log10_aT = {draw(st.sampled_from(['[2.58, 0, -3.5, -6.9]', '[0]', '[0, 1, nan]', '[1, 2]']))}"]
+        lines += [
+            "[shift]",
+            'kind = "table"',
+            f"T_C = {draw(st.sampled_from(['[-20, -5, 20, 50]', '[20]', '[20, 20, 30]', '[]']))}",
+            f"log10_aT = {draw(st.sampled_from(['[2.58, 0, -3.5, -6.9]', '[0]', '[0, 1, nan]', '[1, 2]']))}",
+        ]
     elif shift == "odd":
         lines += ["[shift]", f'kind = "{draw(st.sampled_from(["wlf2", "", "table"]))}"']
     if draw(st.integers(0, 4)) == 0:
-        lines += ["[thermal]", f"rho_kg_m3 = {_toml_value(draw, ['1200.0'])}",
-                  f"c_v_J_kgK = {_toml_value(draw, ['1500.0'])}",
-                  f"conductivity_W_mK = {_toml_value(draw, ['0.25'])}"]
+        lines += [
+            "[thermal]",
+            f"rho_kg_m3 = {_toml_value(draw, ['1200.0'])}",
+            f"c_v_J_kgK = {_toml_value(draw, ['1500.0'])}",
+            f"conductivity_W_mK = {_toml_value(draw, ['0.25'])}",
+        ]
     if draw(st.integers(0, 8)) == 0:
         lines.append(draw(st.sampled_from(["unknown_key = 1", "[sls", "model = ", "= 3"])))
     text = "\n".join(lines) + "\n"

@@ -9,6 +9,7 @@
 The graph is built from the abstract syntax tree of every module, so the check needs no import
 and runs in a fraction of a second.
 """
+
 import ast
 from pathlib import Path
 
@@ -54,21 +55,27 @@ def import_graph(modules):
             elif isinstance(node, ast.ImportFrom):
                 if node.level:
                     anchor = package.split(".")
-                    anchor = anchor[:len(anchor) - (node.level - 1)]
+                    anchor = anchor[: len(anchor) - (node.level - 1)]
                     base = ".".join(anchor + ([node.module] if node.module else []))
                 else:
                     base = node.module or ""
                 # `from pkg import mod` is an edge to pkg.mod; `from mod import name` to mod
-                wanted = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
-                          for alias in node.names]
+                wanted = [
+                    f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base
+                    for alias in node.names
+                ]
             else:
                 continue
             for w in wanted:
                 target = _resolve(w, modules)
                 # a package importing its own submodules, or a module its parent package,
                 # is the package's own structure, not an edge between concepts
-                if target and target != name and not target.startswith(name + ".") \
-                        and not name.startswith(target + "."):
+                if (
+                    target
+                    and target != name
+                    and not target.startswith(name + ".")
+                    and not name.startswith(target + ".")
+                ):
                     targets.add(target)
         graph[name] = targets
     return graph
@@ -144,8 +151,11 @@ def test_foundations_import_neither_each_other_nor_pipelines(graph):
 
 
 def test_no_module_over_450_lines():
-    long = {name: n for name, path in _module_files().items()
-            if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_LINES}
+    long = {
+        name: n
+        for name, path in _module_files().items()
+        if (n := len(path.read_text(encoding="utf-8").splitlines())) > MAX_LINES
+    }
     assert long == {}
 
 
@@ -162,8 +172,7 @@ def test_the_checks_catch_what_they_guard_against(tmp_path):
     (tmp_path / "pipelines" / "d.py").write_text("import numpy\n")
     g = import_graph(_module_files(tmp_path))
     assert strongly_connected(g) == [["roadscan.a", "roadscan.b"]]
-    assert layer_violations(g) == ["friction.c imports pipelines.d",
-                                   "roadscan.a imports friction.c"]
+    assert layer_violations(g) == ["friction.c imports pipelines.d", "roadscan.a imports friction.c"]
 
 
 # ---- the rules of ARCHITECTURE.md beyond the import graph ------------------------------------
@@ -198,8 +207,12 @@ def flag_names(modules, top="roadscan"):
         tree = ast.parse(path.read_text(encoding="utf-8"))
         skip = _docstrings(tree)
         for node in ast.walk(tree):
-            if isinstance(node, ast.Constant) and isinstance(node.value, str) \
-                    and id(node) not in skip and _FLAG_WORD.search(node.value):
+            if (
+                isinstance(node, ast.Constant)
+                and isinstance(node.value, str)
+                and id(node) not in skip
+                and _FLAG_WORD.search(node.value)
+            ):
                 hits.append(f"{name}: {node.value.strip()[:60]!r}")
     return sorted(hits)
 
@@ -229,7 +242,10 @@ def computing_commands(modules):
     """``{command module: sorted numeric libraries it imports}`` (anywhere in the module)."""
     out = {}
     for name, path in modules.items():
-        if not name.startswith(("pipelines.cli.commands.", "pipelines.cli.inputs.")) or path.name == "__init__.py":
+        if (
+            not name.startswith(("pipelines.cli.commands.", "pipelines.cli.inputs."))
+            or path.name == "__init__.py"
+        ):
             continue
         hit = {lib.split(".")[0] for lib in _imported(ast.parse(path.read_text(encoding="utf-8")), False)}
         hit &= set(NUMERIC)
@@ -278,8 +294,12 @@ def test_commands_hold_nothing_numeric():
 def test_every_command_module_is_listed():
     from pipelines.cli.app import COMMAND_MODULES
 
-    files = {f"{p.parent.name}.{p.stem}" for folder in ("commands", "inputs")
-             for p in (ROOT / "pipelines" / "cli" / folder).glob("*.py") if p.stem != "__init__"}
+    files = {
+        f"{p.parent.name}.{p.stem}"
+        for folder in ("commands", "inputs")
+        for p in (ROOT / "pipelines" / "cli" / folder).glob("*.py")
+        if p.stem != "__init__"
+    }
     assert files == set(COMMAND_MODULES)
 
 
@@ -299,8 +319,12 @@ def hand_built_html(modules):
         tree = ast.parse(path.read_text(encoding="utf-8"))
         skip = _docstrings(tree)
         for node in ast.walk(tree):
-            if isinstance(node, ast.Constant) and isinstance(node.value, str) \
-                    and id(node) not in skip and _HTML_TAG.search(node.value):
+            if (
+                isinstance(node, ast.Constant)
+                and isinstance(node.value, str)
+                and id(node) not in skip
+                and _HTML_TAG.search(node.value)
+            ):
                 found.add(name)
                 break
     return found
@@ -314,8 +338,9 @@ def test_html_comes_from_templates():
 def test_the_rule_checks_catch_what_they_guard_against(tmp_path):
     (tmp_path / "roadscan").mkdir()
     (tmp_path / "pipelines" / "cli" / "commands").mkdir(parents=True)
-    (tmp_path / "roadscan" / "a.py").write_text('"""Use --spacing."""\nimport matplotlib\n'
-                                                'X = "pass --spacing DX"\nY = "a -- b, x--y"\n')
+    (tmp_path / "roadscan" / "a.py").write_text(
+        '"""Use --spacing."""\nimport matplotlib\nX = "pass --spacing DX"\nY = "a -- b, x--y"\n'
+    )
     (tmp_path / "pipelines" / "cli" / "commands" / "c.py").write_text("def run():\n    import numpy\n")
     (tmp_path / "roadscan" / "b.py").write_text("def f():\n    print('x')\n")
     (tmp_path / "pipelines" / "r.py").write_text("X = f\"<p class='note'>{1}</p>\"\n")

@@ -1,5 +1,6 @@
 """The friction engine's error function (C library below a size, scipy.special above) against
 scipy.special's, and the analytic values erf(0) = 0, erf(inf) = 1, erfc(-inf) = 2."""
+
 import numpy as np
 from scipy import special
 
@@ -8,7 +9,7 @@ from friction import contact
 
 def test_erf_matches_scipy_on_both_paths(monkeypatch):
     x = np.concatenate([np.linspace(-8, 8, 4001), [0.0, np.inf, -np.inf]]).reshape(-1, 1)
-    for threshold in (10**9, 1):                           # the C library's, then scipy's
+    for threshold in (10**9, 1):  # the C library's, then scipy's
         monkeypatch.setattr(contact, "_SCIPY_FROM", threshold)
         monkeypatch.delitem(__import__("sys").modules, "scipy.special", raising=False)
         e, c = contact.erf(x), contact.erfc(x)
@@ -24,9 +25,11 @@ def test_erf_bits_do_not_depend_on_what_the_process_imported():
     import subprocess
     import sys
 
-    code = ("import numpy as np; from friction import contact; x = np.linspace(0.01, 4, 3001); "
-            "a = contact.erf(x).tobytes(); import scipy.special; b = contact.erf(x).tobytes(); "
-            "print(a == b)")
+    code = (
+        "import numpy as np; from friction import contact; x = np.linspace(0.01, 4, 3001); "
+        "a = contact.erf(x).tobytes(); import scipy.special; b = contact.erf(x).tobytes(); "
+        "print(a == b)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "True"
 

@@ -1,5 +1,6 @@
 """The texture figures computed beside the chain equal the direct computation; they are handed
 over only for the surface they were started on; an error in the thread reaches the caller."""
+
 import numpy as np
 import pytest
 
@@ -27,7 +28,7 @@ def test_background_figures_equal_the_direct_ones():
     pre.start(a)
     assert pre._thread is not None or (__import__("os").cpu_count() or 1) < 2
     assert pre.get(a) == texture_parameters(a)
-    assert pre.get(b) == texture_parameters(b)        # another surface: computed on the spot
+    assert pre.get(b) == texture_parameters(b)  # another surface: computed on the spot
     assert pre.get(b) != pre.get(a)
 
 
@@ -53,7 +54,7 @@ def test_background_spectrum_equals_the_direct_one():
     pre.start(a)
     got, want = pre.spectrum(a, "x"), texture_spectrum(a, direction="x")
     assert got.level_dB.size and np.array_equal(got.level_dB, want.level_dB)
-    other = pre.spectrum(a, "y")                      # another direction: computed on the spot
+    other = pre.spectrum(a, "y")  # another direction: computed on the spot
     assert np.array_equal(other.level_dB, texture_spectrum(a, direction="y").level_dB)
     assert pre.get(a) == texture_parameters(a)
 
@@ -80,24 +81,23 @@ def test_background_short_depth_for_that_scan_and_settings_only(monkeypatch):
         pre.start(levelled)
     want = td.short_segment_depth(src, spike_alpha=3.5)
     assert want[0] is not None
-    pre._short_done.wait()                           # the thread took the real function
+    pre._short_done.wait()  # the thread took the real function
     calls = []
-    monkeypatch.setattr(td, "short_segment_depth",
-                        lambda obj, **kw: calls.append(kw) or ("spot", None, ""))
-    assert pre.short_depth(src, {"spike_alpha": 3.5}) == want       # from the thread
+    monkeypatch.setattr(td, "short_segment_depth", lambda obj, **kw: calls.append(kw) or ("spot", None, ""))
+    assert pre.short_depth(src, {"spike_alpha": 3.5}) == want  # from the thread
     assert not calls
     copy = HeightMap(src.heights_m.copy(), src.dx_m, src.dy_m)
     assert pre.short_depth(copy, {"spike_alpha": 3.5})[0] == "spot"  # equal, not the same
-    assert pre.short_depth(src, None)[0] == "spot"                   # other settings
+    assert pre.short_depth(src, None)[0] == "spot"  # other settings
     assert calls == [{"spike_alpha": 3.5}, {}]
 
 
 def test_no_background_short_depth_along_y_or_for_long_rows():
     src = _short_scan(5)
-    pre = TextureFigures("y")                        # rows along y: transposed by the caller
+    pre = TextureFigures("y")  # rows along y: transposed by the caller
     pre.start(src, src)
     assert pre._source is None
-    long_rows = HeightMap(np.zeros((20, 1100)), 1e-4, 1e-4)      # 110 mm rows: an MPD
+    long_rows = HeightMap(np.zeros((20, 1100)), 1e-4, 1e-4)  # 110 mm rows: an MPD
     pre = TextureFigures("x")
     pre.start(long_rows, long_rows)
     assert pre._source is None
@@ -115,7 +115,7 @@ def test_an_error_of_the_short_depth_is_raised_by_short_depth(monkeypatch):
     pre.start(src, src)
     with pytest.raises(RuntimeError, match="short boom"):
         pre.short_depth(src)
-    assert pre.get(src) == texture_parameters(src)   # the figures are still handed over
+    assert pre.get(src) == texture_parameters(src)  # the figures are still handed over
 
 
 def test_lattice_prepared_ahead_gives_the_same_spectrum_and_anisotropy():
@@ -155,7 +155,7 @@ def test_short_depth_read_ahead_for_that_scan_with_default_settings_only(monkeyp
     monkeypatch.setattr(td, "short_segment_depth", lambda obj, **kw: ("spot", None, ""))
     pre = TextureFigures("x")
     pre.start(src, src)
-    assert pre._source is None                          # read ahead already: not done again
+    assert pre._source is None  # read ahead already: not done again
     assert pre.short_depth(src) == want
     assert pre.short_depth(src, {"spike_alpha": 3.5})[0] == "spot"
     assert pre.short_depth(HeightMap(src.heights_m, src.dx_m, src.dy_m))[0] == "spot"

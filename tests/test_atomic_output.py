@@ -1,4 +1,5 @@
 """Output folders appear whole or not at all (issue 14): atomic_output_dir, umask, kill -9."""
+
 import json
 import os
 import random
@@ -29,11 +30,11 @@ def test_new_folder_appears_only_on_success(tmp_path):
             (tmp / "a.csv").write_text("1\n")
             raise RuntimeError("boom")
     assert not target.exists()
-    assert list(tmp_path.iterdir()) == []          # temporary folder removed
+    assert list(tmp_path.iterdir()) == []  # temporary folder removed
     with atomic_output_dir(target) as tmp:
         (tmp / "a.csv").write_text("1\n")
         (tmp / "summary.json").write_text("{}")
-        assert not target.exists()                 # nothing visible before the end
+        assert not target.exists()  # nothing visible before the end
     assert sorted(p.name for p in target.iterdir()) == ["a.csv", "summary.json"]
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
 
@@ -47,7 +48,7 @@ def test_old_set_replaced_as_a_whole(tmp_path):
         (tmp / "summary.json").write_text('{"new": 1}')
     assert sorted(p.name for p in target.iterdir()) == ["summary.json"]
     assert json.loads((target / "summary.json").read_text()) == {"new": 1}
-    with pytest.raises(KeyboardInterrupt):      # a failed run leaves the old set alone
+    with pytest.raises(KeyboardInterrupt):  # a failed run leaves the old set alone
         with atomic_output_dir(target) as tmp:
             (tmp / "summary.json").write_text('{"newer": 1}')
             raise KeyboardInterrupt
@@ -110,8 +111,9 @@ def test_analyse_several_inputs_all_or_nothing(tmp_path):
     flat = tmp_path / "flat.npy"
     np.save(flat, np.full((64, 64), 2e-3))
     out = tmp_path / "D"
-    assert main(["analyse", str(good), str(flat), "--spacing", "5e-5", "--out", str(out),
-                 "--no-friction"]) == 2
+    assert (
+        main(["analyse", str(good), str(flat), "--spacing", "5e-5", "--out", str(out), "--no-friction"]) == 2
+    )
     assert not out.exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["flat.npy", "good.npy"]
 
@@ -121,8 +123,10 @@ def test_analyse_output_files_have_normal_permissions(tmp_path):
     np.save(good, fourier_surface(64, 5e-5, 0.8, 3e-4, seed=1))
     old = os.umask(0o022)
     try:
-        assert main(["analyse", str(good), "--spacing", "5e-5", "--out", str(tmp_path / "o"),
-                     "--no-friction"]) == 0
+        assert (
+            main(["analyse", str(good), "--spacing", "5e-5", "--out", str(tmp_path / "o"), "--no-friction"])
+            == 0
+        )
     finally:
         os.umask(old)
     for p in (tmp_path / "o").iterdir():
@@ -139,10 +143,19 @@ def test_sigkill_at_random_moments_never_mixes_sets(tmp_path):
     np.save(scan, fourier_surface(192, 5e-5, 0.8, 3e-4, seed=2))
     out = tmp_path / "out"
     env = {**os.environ, "PYTHONPATH": str(ROOT), "MPLBACKEND": "Agg"}
-    base = [sys.executable, "-m", "pipelines.cli", "analyse", str(scan), "--spacing", "5e-5",
-            "--out", str(out)]
-    old_cmd = base + ["--no-friction"]                  # old set: no mu.csv / mu.png
-    new_cmd = base + ["--velocities", "1e-3:1e1:5"]     # new set: with mu.csv / mu.png
+    base = [
+        sys.executable,
+        "-m",
+        "pipelines.cli",
+        "analyse",
+        str(scan),
+        "--spacing",
+        "5e-5",
+        "--out",
+        str(out),
+    ]
+    old_cmd = base + ["--no-friction"]  # old set: no mu.csv / mu.png
+    new_cmd = base + ["--velocities", "1e-3:1e1:5"]  # new set: with mu.csv / mu.png
     t0 = time.monotonic()
     subprocess.run(new_cmd, env=env, check=True, capture_output=True)
     t_full = time.monotonic() - t0
@@ -164,12 +177,12 @@ def test_sigkill_at_random_moments_never_mixes_sets(tmp_path):
         assert _hidden(out) == []
         summary = json.loads((out / "summary.json").read_text())
         assert ("friction" in summary) == (now == new_set)
-        if now == new_set:                                                  # back to the old set
+        if now == new_set:  # back to the old set
             subprocess.run(old_cmd, env=env, check=True, capture_output=True)
             assert _run_set(out) == old_set
-            assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "scan.npy"]   # cleaned
+            assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "scan.npy"]  # cleaned
     assert kills >= 2
-    assert _survivors(str(scan)) == []          # no figure helper outlives a killed command
+    assert _survivors(str(scan)) == []  # no figure helper outlives a killed command
 
 
 def _survivors(marker, wait_s=5.0):

@@ -1,4 +1,5 @@
 """Issue 14: every example of bad input is one line on stderr, exit 2, no output, no traceback."""
+
 import json
 import zipfile
 
@@ -33,16 +34,18 @@ def files(tmp_path_factory):
     save("spike.npy", spike)
     f["huge.npy"] = d / "huge.npy"
     with open(f["huge.npy"], "wb") as fh:
-        np.lib.format.write_array_header_1_0(fh, {"descr": "<f8", "fortran_order": False,
-                                                   "shape": (200000, 200000)})
+        np.lib.format.write_array_header_1_0(
+            fh, {"descr": "<f8", "fortran_order": False, "shape": (200000, 200000)}
+        )
         fh.write(b"\0" * 64)
     q = np.geomspace(1e3, 1e5, 30)
     f["rise.csv"] = d / "rise.csv"
     f["rise.csv"].write_text("q_per_m,C_m4\n" + "".join(f"{a},{1e-30 * a**3}\n" for a in q))
     for name, bad in (("neg.csv", "-1e-20"), ("nan.csv", "nan")):
         f[name] = d / name
-        f[name].write_text("q_per_m,C_m4\n" + "".join(
-            f"{a},{1e-10 * a**-3 if i != 5 else bad}\n" for i, a in enumerate(q)))
+        f[name].write_text(
+            "q_per_m,C_m4\n" + "".join(f"{a},{1e-10 * a**-3 if i != 5 else bad}\n" for i, a in enumerate(q))
+        )
     f["sls.toml"] = d / "sls.toml"
     f["sls.toml"].write_text('model = "sls"\n[sls]\nE1_Pa = 1e9\n')
     f["file.txt"] = d / "file.txt"
@@ -61,7 +64,7 @@ def _refused(capsys, argv, *needles):
     rc, err = _run(capsys, argv)
     lines = err.strip().splitlines()
     assert rc == 2, err
-    assert len(lines) == 1, err                      # one line, no traceback, no warnings first
+    assert len(lines) == 1, err  # one line, no traceback, no warnings first
     assert "error:" in lines[0] and "Traceback" not in err
     for n in needles:
         assert n in lines[0], (n, lines[0])
@@ -71,14 +74,17 @@ def _refused(capsys, argv, *needles):
 SP = ["--spacing", "5e-5"]
 
 
-@pytest.mark.parametrize("name, needle", [
-    ("grid2.npy", "2 x 2"),                 # was ZeroDivisionError in the Tukey window
-    ("flat.npy", "equal"),                  # was H = -3.75, rms 6e-20
-    ("two.npy", "only 2 of 16384"),         # was H = 5.1
-    ("complex.npy", "complex"),             # imaginary part was dropped
-    ("spike.npy", "1e+300"),                # rain fill said 0 % wet
-    ("huge.npy", "--max-pixels"),           # was MemoryError
-])
+@pytest.mark.parametrize(
+    "name, needle",
+    [
+        ("grid2.npy", "2 x 2"),  # was ZeroDivisionError in the Tukey window
+        ("flat.npy", "equal"),  # was H = -3.75, rms 6e-20
+        ("two.npy", "only 2 of 16384"),  # was H = 5.1
+        ("complex.npy", "complex"),  # imaginary part was dropped
+        ("spike.npy", "1e+300"),  # rain fill said 0 % wet
+        ("huge.npy", "--max-pixels"),  # was MemoryError
+    ],
+)
 def test_bad_scans_refused(files, capsys, tmp_path, name, needle):
     out = tmp_path / "o"
     line = _refused(capsys, ["analyse", files[name], *SP, "--out", out], name, needle)
@@ -90,21 +96,27 @@ def test_spike_refused_by_rain_fill(files, capsys, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-@pytest.mark.parametrize("extra, needle", [
-    (["--spacing", "1e-300"], "--spacing 1e-300"),
-    (["--temperature", "-400"], "--temperature -400"),
-    (["--temperature", "-81.5"], "WLF pole"),           # thesis rubber: Tg - C2 = -81.5 C
-    (["--q1", "-5"], "--q1 -5"),
-    (["--q1", "10"], "--q1 10"),                          # below the lowest measured q
-    (["--q1", "nan"], "--q1"),
-    (["--sigma0", "-1"], "--sigma0"),
-    (["--sigma0", "0.3"], "did you mean 0.3MPa"),          # was taken as 0.3 Pa
-    (["--nu", "0.7"], "--nu 0.7"),                        # was accepted
-])
+@pytest.mark.parametrize(
+    "extra, needle",
+    [
+        (["--spacing", "1e-300"], "--spacing 1e-300"),
+        (["--temperature", "-400"], "--temperature -400"),
+        (["--temperature", "-81.5"], "WLF pole"),  # thesis rubber: Tg - C2 = -81.5 C
+        (["--q1", "-5"], "--q1 -5"),
+        (["--q1", "10"], "--q1 10"),  # below the lowest measured q
+        (["--q1", "nan"], "--q1"),
+        (["--sigma0", "-1"], "--sigma0"),
+        (["--sigma0", "0.3"], "did you mean 0.3MPa"),  # was taken as 0.3 Pa
+        (["--nu", "0.7"], "--nu 0.7"),  # was accepted
+    ],
+)
 def test_bad_numbers_refused(files, capsys, tmp_path, extra, needle):
     sp = [] if "--spacing" in extra else SP
-    _refused(capsys, ["analyse", files["good.npy"], *sp, *extra, "--out", tmp_path / "o",
-                      "--velocities", "1e-3:1:3"], needle)
+    _refused(
+        capsys,
+        ["analyse", files["good.npy"], *sp, *extra, "--out", tmp_path / "o", "--velocities", "1e-3:1:3"],
+        needle,
+    )
     assert list(tmp_path.iterdir()) == []
 
 
@@ -128,16 +140,19 @@ def test_out_naming_a_file_refused(files, capsys, target):
     assert files["file.txt"].read_text() == "not a folder\n"
 
 
-@pytest.mark.parametrize("argv, needle", [
-    (["--psd", "{rise.csv}"], "rises with q"),                     # mu was up to 4e4
-    (["--psd", "{neg.csv}"], "data row 6"),                        # was dropped silently
-    (["--psd", "{nan.csv}"], "data row 6"),
-    (["--self-affine", "H=0.8,h0=inf,q0=1e3,q1=1e6"], "h0=inf"),   # mu was all NaN
-    (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--rubber", "{sls.toml}"], "a1, tau_s"),
-    (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--temperature", "-400"], "-400"),
-    (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--temperature", "-81.5"], "WLF pole"),
-    (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--nu", "0.7"], "--nu 0.7"),
-])
+@pytest.mark.parametrize(
+    "argv, needle",
+    [
+        (["--psd", "{rise.csv}"], "rises with q"),  # mu was up to 4e4
+        (["--psd", "{neg.csv}"], "data row 6"),  # was dropped silently
+        (["--psd", "{nan.csv}"], "data row 6"),
+        (["--self-affine", "H=0.8,h0=inf,q0=1e3,q1=1e6"], "h0=inf"),  # mu was all NaN
+        (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--rubber", "{sls.toml}"], "a1, tau_s"),
+        (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--temperature", "-400"], "-400"),
+        (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--temperature", "-81.5"], "WLF pole"),
+        (["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--nu", "0.7"], "--nu 0.7"),
+    ],
+)
 def test_friction_inputs_refused(files, capsys, tmp_path, argv, needle):
     argv = [files[a[1:-1]] if a.startswith("{") else a for a in argv]
     out = tmp_path / "mu.csv"
@@ -203,10 +218,12 @@ def test_numpy_warnings_become_one_named_line(monkeypatch, capsys, tmp_path):
 
 
 def test_max_pixels_flag_before_or_after_command(files, capsys, tmp_path):
-    for argv in (["--max-pixels", "1000", "analyse", files["good.npy"], *SP, "--out", tmp_path / "o"],
-                 ["analyse", files["good.npy"], *SP, "--out", tmp_path / "o", "--max-pixels", "1000"]):
+    for argv in (
+        ["--max-pixels", "1000", "analyse", files["good.npy"], *SP, "--out", tmp_path / "o"],
+        ["analyse", files["good.npy"], *SP, "--out", tmp_path / "o", "--max-pixels", "1000"],
+    ):
         _refused(capsys, argv, "64 x 64", "--max-pixels")
-    assert _common.get_max_pixels() is None          # restored after the command
+    assert _common.get_max_pixels() is None  # restored after the command
 
 
 def _x3p_bomb(path, nx, ny, payload_mb=1):
@@ -226,11 +243,19 @@ def _x3p_bomb(path, nx, ny, payload_mb=1):
 
 def test_x3p_zip_bomb_refused_before_allocating(capsys, tmp_path):
     bomb = tmp_path / "bomb.x3p"
-    _x3p_bomb(bomb, 20000, 20000)                 # 3.2 GB declared, 1 KB stored
-    _refused(capsys, ["analyse", bomb, "--out", tmp_path / "o", "--max-pixels", "100000000"],
-             "bomb.x3p", "20000 x 20000")
-    _refused(capsys, ["analyse", bomb, "--out", tmp_path / "o", "--max-pixels", "1000000000"],
-             "bomb.x3p", "zip bomb")
+    _x3p_bomb(bomb, 20000, 20000)  # 3.2 GB declared, 1 KB stored
+    _refused(
+        capsys,
+        ["analyse", bomb, "--out", tmp_path / "o", "--max-pixels", "100000000"],
+        "bomb.x3p",
+        "20000 x 20000",
+    )
+    _refused(
+        capsys,
+        ["analyse", bomb, "--out", tmp_path / "o", "--max-pixels", "1000000000"],
+        "bomb.x3p",
+        "zip bomb",
+    )
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bomb.x3p"]
 
 
@@ -241,9 +266,13 @@ def test_npz_and_tiff_declared_sizes_checked(capsys, tmp_path):
     np.savez_compressed(tmp_path / "a.npz", heights=g, dx=5e-5)
     tifffile.imwrite(tmp_path / "a.tif", g.astype(np.float32))
     for name in ("a.npz", "a.tif"):
-        _refused(capsys, ["analyse", tmp_path / name, *SP, "--out", tmp_path / "o",
-                          "--max-pixels", "4000"], name, "64 x 64")
-    z = np.zeros((3000, 3000))                    # 72 MB of zeros compress ~1000x
+        _refused(
+            capsys,
+            ["analyse", tmp_path / name, *SP, "--out", tmp_path / "o", "--max-pixels", "4000"],
+            name,
+            "64 x 64",
+        )
+    z = np.zeros((3000, 3000))  # 72 MB of zeros compress ~1000x
     np.savez_compressed(tmp_path / "zeros.npz", heights=z, dx=5e-5)
     _refused(capsys, ["analyse", tmp_path / "zeros.npz", "--out", tmp_path / "o"], "zip bomb")
 
@@ -257,15 +286,15 @@ def test_text_file_size_checked(capsys, tmp_path):
 def test_warnings_land_in_summary(capsys, tmp_path):
     """A scan that is still meaningful but odd: the warning is one line and in summary.json."""
     rng = np.random.default_rng(0)
-    white = rng.normal(0, 1e-4, (64, 64))       # white noise: H outside [0, 1]
+    white = rng.normal(0, 1e-4, (64, 64))  # white noise: H outside [0, 1]
     p = tmp_path / "white.npy"
     np.save(p, white)
     rc, err = _run(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--no-friction"])
     assert rc == 0
     warn = [line for line in err.splitlines() if "warning:" in line]
-    assert sum("Hurst" in w for w in warn) == 1       # (a 64 x 64 scan's narrow band warns too)
+    assert sum("Hurst" in w for w in warn) == 1  # (a 64 x 64 scan's narrow band warns too)
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
-    assert [w.split("warning: ", 1)[1] for w in warn] == s["warnings"]   # every line, in order
+    assert [w.split("warning: ", 1)[1] for w in warn] == s["warnings"]  # every line, in order
 
 
 def test_undefined_h0_is_null_with_a_warning_not_a_nan(monkeypatch, capsys, tmp_path):
@@ -283,7 +312,7 @@ def test_undefined_h0_is_null_with_a_warning_not_a_nan(monkeypatch, capsys, tmp_
     rc, err = _run(capsys, ["analyse", p, *SP, "--out", tmp_path / "o", "--no-friction"])
     assert rc == 0
     s = written[-1]
-    assert s["hurst_fit"] < 0 and s["hurst"] is None and s["h0_m"] is None   # not float("nan")
+    assert s["hurst_fit"] < 0 and s["hurst"] is None and s["h0_m"] is None  # not float("nan")
     assert "outside [0, 1]" in s["hurst_note"]
     assert "h0 is undefined" in err and "h0 is undefined" in s["warnings"][0]
 
@@ -297,8 +326,21 @@ def test_real_master_curve_runs_without_numpy_warnings(capsys, tmp_path, flash):
 
     rub = ROOT / "sample_scans" / "rubbers" / "pyvisco_master_wlf.toml"
     psd = ROOT / "sample_scans" / "asphalt_psd.csv"
-    rc, err = _run(capsys, ["friction", "--psd", psd, "--rubber", rub, "--temperature", "20",
-                            "--out", tmp_path / "mu.csv", *(["--flash"] if flash else [])])
+    rc, err = _run(
+        capsys,
+        [
+            "friction",
+            "--psd",
+            psd,
+            "--rubber",
+            rub,
+            "--temperature",
+            "20",
+            "--out",
+            tmp_path / "mu.csv",
+            *(["--flash"] if flash else []),
+        ],
+    )
     assert rc == 0 and "warning" not in err, err
 
 
@@ -343,11 +385,11 @@ def test_check_heights_flat_and_spike_rules_without_copying():
     masked = np.zeros((64, 64), dtype=bool)
     masked[10, 10] = True
     spiky[20:30] = rng.normal(0, 1e-4, (10, 64))
-    check_heights(spiky, unmeasured=masked)                 # the spike is marked unmeasured
+    check_heights(spiky, unmeasured=masked)  # the spike is marked unmeasured
     h = rough.copy()
     h[5, 7], h[9, 9] = np.nan, 7.0
     m = np.zeros(h.shape, dtype=bool)
     m[9, 9] = True
-    n, lo, hi = _measured_range(h, m, chunk_bytes=8 * 200 * 7)          # bands of 7 rows
+    n, lo, hi = _measured_range(h, m, chunk_bytes=8 * 200 * 7)  # bands of 7 rows
     ref = h[np.isfinite(h) & ~m]
     assert (n, lo, hi) == (ref.size, ref.min(), ref.max())

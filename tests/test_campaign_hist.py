@@ -1,18 +1,23 @@
 """The campaign report's histograms when every scan gives (nearly) the same number: identical
 scans made matplotlib refuse "Too many bins for data range" and the campaign report fail."""
+
 import numpy as np
 import pytest
 
 from pipelines.campaign.report import _hist_bins
 
 
-@pytest.mark.parametrize("values", [
-    [2.5e-4, 2.5e-4],                        # identical scans
-    [1.0, 1.0 + 2e-16, 1.0 - 2e-16],         # a few ulps apart
-    [0.0, 0.0, 0.0],                         # all zero
-])
+@pytest.mark.parametrize(
+    "values",
+    [
+        [2.5e-4, 2.5e-4],  # identical scans
+        [1.0, 1.0 + 2e-16, 1.0 - 2e-16],  # a few ulps apart
+        [0.0, 0.0, 0.0],  # all zero
+    ],
+)
 def test_agreeing_values_draw_one_bar(values):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 

@@ -1,6 +1,7 @@
 """One chain, one answer: ``pipelines.analyse`` equals ``roadscan analyse``; every door that
 computes mu(v) from a scan agrees; warnings belong to their run; the band's fine end is judged
 by the measurement, whatever the rubber."""
+
 import json
 from pathlib import Path
 
@@ -13,18 +14,40 @@ ROOT = Path(__file__).resolve().parents[1]
 RUBBER = ROOT / "sample_scans" / "rubbers" / "pyvisco_master_wlf.toml"
 DX = "1e-4"
 #: non-default friction flags (a measured rubber, pressure, Poisson ratio, S(q), extrapolation)
-FLAGS = ["--rubber", str(RUBBER), "--sigma0", "0.25MPa", "--nu", "0.45", "--contact-gamma", "0.6",
-         "--extrapolate", "hold", "--temperature", "30", "--velocities", "1e-3:10:9"]
-OPTIONS = dict(rubber=str(RUBBER), sigma0="0.25MPa", nu=0.45, contact_gamma=0.6,
-               extrapolate="hold", temperature=30, velocities="1e-3:10:9")
+FLAGS = [
+    "--rubber",
+    str(RUBBER),
+    "--sigma0",
+    "0.25MPa",
+    "--nu",
+    "0.45",
+    "--contact-gamma",
+    "0.6",
+    "--extrapolate",
+    "hold",
+    "--temperature",
+    "30",
+    "--velocities",
+    "1e-3:10:9",
+]
+OPTIONS = dict(
+    rubber=str(RUBBER),
+    sigma0="0.25MPa",
+    nu=0.45,
+    contact_gamma=0.6,
+    extrapolate="hold",
+    temperature=30,
+    velocities="1e-3:10:9",
+)
 
 
 @pytest.fixture(scope="module")
 def scan(tmp_path_factory):
     from roadscan.synth import self_affine_surface
 
-    hm = self_affine_surface(160, 160, dx_m=1e-4, hurst=0.8, rms_height_m=3e-4,
-                             q_roll_per_m=2 * np.pi / 6e-3, seed=7, name="s")
+    hm = self_affine_surface(
+        160, 160, dx_m=1e-4, hurst=0.8, rms_height_m=3e-4, q_roll_per_m=2 * np.pi / 6e-3, seed=7, name="s"
+    )
     p = tmp_path_factory.mktemp("scan") / "s.npy"
     np.save(p, hm.heights_m)
     return p
@@ -41,21 +64,34 @@ def _mu_csv(path, col=1):
 def test_api_summary_equals_cli_summary_json(scan, tmp_path):
     import pipelines
 
-    _run(["analyse", scan, "--spacing", DX, "--window-alpha", "0.3", "--no-figures",
-          "--out", tmp_path / "cli", *FLAGS])
+    _run(
+        [
+            "analyse",
+            scan,
+            "--spacing",
+            DX,
+            "--window-alpha",
+            "0.3",
+            "--no-figures",
+            "--out",
+            tmp_path / "cli",
+            *FLAGS,
+        ]
+    )
     r = pipelines.analyse(scan, spacing=DX, window_alpha=0.3, no_figures=True, **OPTIONS)
     cli = json.loads((tmp_path / "cli" / "summary.json").read_text())
     assert r.summary == cli
-    assert "alpha 0.3 " in r.summary["psd_convention"]       # the window actually used
+    assert "alpha 0.3 " in r.summary["psd_convention"]  # the window actually used
     assert r.summary["friction"]["nu"] == 0.45 and r.summary["friction"]["sigma0_Pa"] == 2.5e5
     np.testing.assert_allclose(r.mu, _mu_csv(tmp_path / "cli" / "mu.csv"), rtol=1e-9)
     np.testing.assert_allclose(r.area_fraction, _mu_csv(tmp_path / "cli" / "mu.csv", 2), rtol=1e-9)
     lo, hi = r.reliable_band_per_m
     assert [lo, hi] == pytest.approx(cli["reliable_band_per_m"])
     assert r.q_per_m.shape == r.C_m4.shape and r.fit.hurst == cli["hurst"]
-    r.write(tmp_path / "api")                                  # the very files of the command
-    assert sorted(p.name for p in (tmp_path / "api").iterdir()) == \
-        sorted(p.name for p in (tmp_path / "cli").iterdir())
+    r.write(tmp_path / "api")  # the very files of the command
+    assert sorted(p.name for p in (tmp_path / "api").iterdir()) == sorted(
+        p.name for p in (tmp_path / "cli").iterdir()
+    )
     assert json.loads((tmp_path / "api" / "summary.json").read_text()) == cli
 
 
@@ -79,8 +115,9 @@ def test_every_door_gives_the_same_mu(scan, tmp_path):
     scan_flags = ["--spacing", DX, "--window-alpha", "0.3", "--resolution", "4e-4", *FLAGS]
     _run(["analyse", scan, "--no-figures", "--out", out / "a", *scan_flags])
     ref = _mu_csv(out / "a" / "mu.csv")
-    assert json.loads((out / "a" / "summary.json").read_text())["reliable_band_reasons"]["hi"] \
-        .startswith("lateral resolution")                      # the flag shaped the band
+    assert json.loads((out / "a" / "summary.json").read_text())["reliable_band_reasons"]["hi"].startswith(
+        "lateral resolution"
+    )  # the flag shaped the band
     _run(["friction", "--psd", out / "a" / "psd.csv", "--out", out / "f" / "mu.csv", *FLAGS])
     _run(["compare", scan, scan, "--out", out / "c", *scan_flags])
     _run(["dry-vs-wet", scan, "--out", out / "w", *scan_flags])
@@ -93,8 +130,9 @@ def test_every_door_gives_the_same_mu(scan, tmp_path):
         "compare": np.array(list(first.values())),
         "dry-vs-wet": _mu_csv(out / "w" / "mu.csv"),
         "batch": _mu_csv(out / "b" / "s" / "mu.csv"),
-        "pipelines.analyse": pipelines.analyse(scan, spacing=DX, window_alpha=0.3, resolution=4e-4,
-                                               **OPTIONS).mu,
+        "pipelines.analyse": pipelines.analyse(
+            scan, spacing=DX, window_alpha=0.3, resolution=4e-4, **OPTIONS
+        ).mu,
     }
     for door, mu in doors.items():
         np.testing.assert_allclose(mu, ref, rtol=1e-6, err_msg=door)
@@ -113,23 +151,54 @@ def test_diagnose_scan_takes_the_chains_spectrum(scan):
 
 
 #: flag -> value that must change mu(v) (against the defaults)
-CHANGES = [("--nu", "0.3"), ("--contact-gamma", "0.5"), ("--sigma0", "0.5MPa"),
-           ("--temperature", "20"), ("--q1", "2e4"), ("--q0", "1500"), ("--flash", None),
-           ("--rubber", str(ROOT / "sample_scans" / "rubbers" / "pyvisco_master_table.toml"))]
+CHANGES = [
+    ("--nu", "0.3"),
+    ("--contact-gamma", "0.5"),
+    ("--sigma0", "0.5MPa"),
+    ("--temperature", "20"),
+    ("--q1", "2e4"),
+    ("--q0", "1500"),
+    ("--flash", None),
+    ("--rubber", str(ROOT / "sample_scans" / "rubbers" / "pyvisco_master_table.toml")),
+]
 
 
 def _mu_of(cmd, scan, out, extra):
     if cmd == "friction":
-        _run(["friction", "--psd", out.parent / "base_a" / "psd.csv", "--out", out / "mu.csv",
-              "--velocities", "1e-3:10:5", *extra])
+        _run(
+            [
+                "friction",
+                "--psd",
+                out.parent / "base_a" / "psd.csv",
+                "--out",
+                out / "mu.csv",
+                "--velocities",
+                "1e-3:10:5",
+                *extra,
+            ]
+        )
         return _mu_csv(out / "mu.csv")
     if cmd == "analyse":
-        _run(["analyse", scan, "--spacing", DX, "--no-figures", "--out", out,
-              "--velocities", "1e-3:10:5", *extra])
+        _run(
+            [
+                "analyse",
+                scan,
+                "--spacing",
+                DX,
+                "--no-figures",
+                "--out",
+                out,
+                "--velocities",
+                "1e-3:10:5",
+                *extra,
+            ]
+        )
         return _mu_csv(out / "mu.csv")
     if cmd == "compare":
         _run(["compare", scan, scan, "--spacing", DX, "--out", out, "--velocities", "1e-3:10:5", *extra])
-        return np.array(list(next(iter(json.loads((out / "comparison.json").read_text()).values()))["mu"].values()))
+        return np.array(
+            list(next(iter(json.loads((out / "comparison.json").read_text()).values()))["mu"].values())
+        )
     _run(["dry-vs-wet", scan, "--spacing", DX, "--out", out, "--velocities", "1e-3:10:5", *extra])
     return _mu_csv(out / "mu.csv")
 
@@ -170,8 +239,23 @@ def test_compare_api_equals_the_command(scan, tmp_path):
 
     flags = dict(spacing=DX, nu=0.3, contact_gamma=0.5, velocities="1e-3:10:5")
     r = compare([scan, scan], tmp_path / "api", **flags)
-    _run(["compare", scan, scan, "--spacing", DX, "--nu", "0.3", "--contact-gamma", "0.5",
-          "--velocities", "1e-3:10:5", "--out", tmp_path / "cli"])
+    _run(
+        [
+            "compare",
+            scan,
+            scan,
+            "--spacing",
+            DX,
+            "--nu",
+            "0.3",
+            "--contact-gamma",
+            "0.5",
+            "--velocities",
+            "1e-3:10:5",
+            "--out",
+            tmp_path / "cli",
+        ]
+    )
     cli = json.loads((tmp_path / "cli" / "comparison.json").read_text())
     assert json.loads((tmp_path / "api" / "comparison.json").read_text()) == cli
     assert r["s"]["mu_peak"] == cli["s"]["mu_peak"]

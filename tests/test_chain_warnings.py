@@ -1,4 +1,5 @@
 """Warnings belong to their run, and the measurement (not the rubber) judges a band's fine end."""
+
 import json
 import re
 from pathlib import Path
@@ -45,7 +46,7 @@ def test_two_api_calls_never_share_a_warning(shared_data):
     again = pipelines.analyse(first)
     assert a.warnings, "the CAPTIF band's fine end is warned about"
     assert not set(a.warnings) & set(b.warnings)
-    assert again.warnings == a.warnings          # not swallowed as 'already said'
+    assert again.warnings == a.warnings  # not swallowed as 'already said'
     assert a.summary["warnings"] == a.warnings
 
 

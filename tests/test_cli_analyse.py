@@ -1,4 +1,5 @@
 """End-to-end: ``roadscan analyse`` as a user runs it (contract of issue 2, item 8)."""
+
 import csv
 import json
 import subprocess
@@ -16,8 +17,8 @@ def scan_npy(tmp_path_factory):
     d = tmp_path_factory.mktemp("scan")
     h = fourier_surface(256, 5e-5, 0.8, 3e-4, seed=3)
     x = np.arange(256) * 5e-5
-    h = h + 2e-3 * x[None, :] - 1e-3 * x[:, None]   # tilt
-    h[100:104, 50:60] = np.nan                          # dropouts
+    h = h + 2e-3 * x[None, :] - 1e-3 * x[:, None]  # tilt
+    h[100:104, 50:60] = np.nan  # dropouts
     p = d / "tile.npy"
     np.save(p, h)
     return p, h
@@ -28,11 +29,23 @@ def test_analyse_single_file_contract(scan_npy, tmp_path):
     out = tmp_path / "out"
     assert main(["analyse", str(path), "--spacing", "5e-5", "--out", str(out)]) == 0
     s = json.loads((out / "summary.json").read_text())
-    for key in ("hurst", "hurst_stderr", "rms_height_m", "band_rms_m", "h0_m", "q_min_per_m", "q_max_per_m",
-                "fit_band_per_m", "roughness", "mpd_m", "mpd_note", "filled_fraction"):
+    for key in (
+        "hurst",
+        "hurst_stderr",
+        "rms_height_m",
+        "band_rms_m",
+        "h0_m",
+        "q_min_per_m",
+        "q_max_per_m",
+        "fit_band_per_m",
+        "roughness",
+        "mpd_m",
+        "mpd_note",
+        "filled_fraction",
+    ):
         assert key in s, key
     assert len(s["fit_band_per_m"]) == 2
-    assert s["mpd_m"] is None and s["mpd_note"]          # 12.8 mm: too short for a 100 mm baseline
+    assert s["mpd_m"] is None and s["mpd_note"]  # 12.8 mm: too short for a 100 mm baseline
     assert abs(s["hurst"] - 0.8) < 0.1
     # rms height is Sq of the levelled measured heights: the tilt must be gone
     assert s["rms_height_m"] == pytest.approx(s["roughness"]["Sq_m"])
@@ -68,7 +81,7 @@ def test_analyse_single_file_contract(scan_npy, tmp_path):
     for png in ("heightmap.png", "psd.png", "mu.png"):
         assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     html = (out / "report.html").read_text()
-    assert "data:image/png;base64," in html and "src=\"http" not in html
+    assert "data:image/png;base64," in html and 'src="http' not in html
 
 
 def test_analyse_units_give_same_spectrum(scan_npy, tmp_path):
@@ -77,7 +90,10 @@ def test_analyse_units_give_same_spectrum(scan_npy, tmp_path):
     np.save(mm, h * 1e3)
     a, b = tmp_path / "a", tmp_path / "b"
     assert main(["analyse", str(path), "--spacing", "5e-5", "--out", str(a), "--no-friction"]) == 0
-    assert main(["analyse", str(mm), "--spacing", "5e-5", "--units", "mm", "--out", str(b), "--no-friction"]) == 0
+    assert (
+        main(["analyse", str(mm), "--spacing", "5e-5", "--units", "mm", "--out", str(b), "--no-friction"])
+        == 0
+    )
     ca = np.loadtxt(a / "psd.csv", delimiter=",", skiprows=1)
     cb = np.loadtxt(b / "psd.csv", delimiter=",", skiprows=1)
     np.testing.assert_allclose(ca, cb, rtol=1e-6)
@@ -89,9 +105,24 @@ def test_analyse_several_files(scan_npy, tmp_path):
     other = tmp_path / "other.npy"
     np.save(other, fourier_surface(128, 5e-5, 0.5, 1e-4, seed=9))
     out = tmp_path / "many"
-    r = subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(path), str(other),
-                        "--spacing", "5e-5", "--out", str(out), "--velocities", "1e-4:1e2:13"],
-                       capture_output=True, text=True)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pipelines.cli",
+            "analyse",
+            str(path),
+            str(other),
+            "--spacing",
+            "5e-5",
+            "--out",
+            str(out),
+            "--velocities",
+            "1e-4:1e2:13",
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 0, r.stderr
     assert "[1/2]" in r.stderr and "[2/2]" in r.stderr
     assert (out / "tile" / "summary.json").exists() and (out / "other" / "summary.json").exists()
@@ -100,18 +131,24 @@ def test_analyse_several_files(scan_npy, tmp_path):
     assert json.loads((out / "other" / "summary.json").read_text())["hurst"] < 0.7
 
 
-@pytest.mark.parametrize("content,expect", [
-    (None, "no such file"),
-    (b"", ""),
-    (b"1 2 3\n4 5\n", ""),
-])
+@pytest.mark.parametrize(
+    "content,expect",
+    [
+        (None, "no such file"),
+        (b"", ""),
+        (b"1 2 3\n4 5\n", ""),
+    ],
+)
 def test_bad_input_is_one_line_exit_2(tmp_path, content, expect):
     p = tmp_path / "bad.txt"
     if content is not None:
         p.write_bytes(content)
     out = tmp_path / "o"
-    r = subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(p), "--out", str(out)],
-                       capture_output=True, text=True)
+    r = subprocess.run(
+        [sys.executable, "-m", "pipelines.cli", "analyse", str(p), "--out", str(out)],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 2
     err = r.stderr.strip()
     assert len(err.splitlines()) == 1 and "Traceback" not in err
@@ -121,8 +158,11 @@ def test_bad_input_is_one_line_exit_2(tmp_path, content, expect):
 
 def test_npy_without_spacing_is_refused(scan_npy, tmp_path):
     path, _ = scan_npy
-    r = subprocess.run([sys.executable, "-m", "pipelines.cli", "analyse", str(path), "--out", str(tmp_path / "o")],
-                       capture_output=True, text=True)
+    r = subprocess.run(
+        [sys.executable, "-m", "pipelines.cli", "analyse", str(path), "--out", str(tmp_path / "o")],
+        capture_output=True,
+        text=True,
+    )
     assert r.returncode == 2 and "tile.npy" in r.stderr and "spacing" in r.stderr
 
 
@@ -139,8 +179,10 @@ def test_extension_beyond_nyquist_raises_friction(scan_npy, tmp_path):
     assert sa["q1_per_m"] <= np.pi / 5e-5
     assert sb["mu_peak"] > 1.2 * sa["mu_peak"]
     # the measured spectrum itself (psd.csv) is not changed by the extension
-    np.testing.assert_allclose(np.loadtxt(a / "psd.csv", delimiter=",", skiprows=1),
-                               np.loadtxt(b / "psd.csv", delimiter=",", skiprows=1))
+    np.testing.assert_allclose(
+        np.loadtxt(a / "psd.csv", delimiter=",", skiprows=1),
+        np.loadtxt(b / "psd.csv", delimiter=",", skiprows=1),
+    )
 
 
 def test_analyse_captif_line_profile(shared_data, tmp_path):
@@ -153,7 +195,7 @@ def test_analyse_captif_line_profile(shared_data, tmp_path):
     assert "reference plates removed" in s["trim_note"]
     assert {"Ra_m", "Rq_m"} <= set(s["roughness"])
     assert s["rms_height_m"] == pytest.approx(s["roughness"]["Rq_m"])
-    assert 1e-3 < s["mpd_m"] < 5e-3                      # a chip seal: a few mm
+    assert 1e-3 < s["mpd_m"] < 5e-3  # a chip seal: a few mm
     assert 0.3 < s["hurst"] < 1.0 and s["filled_fraction"] > 0
     c1 = np.loadtxt(out / "psd1d.csv", delimiter=",", skiprows=1)
     assert (out / "psd1d.csv").read_text().splitlines()[0] == "q_per_m,C1_m3"
@@ -170,7 +212,9 @@ def test_mpd_spike_criterion_option(shared_data, tmp_path):
     notes = {}
     for alpha in ("3", "6"):
         out = tmp_path / alpha
-        assert main(["analyse", str(src), "--out", str(out), "--no-friction", "--mpd-spike-alpha", alpha]) == 0
+        assert (
+            main(["analyse", str(src), "--out", str(out), "--no-friction", "--mpd-spike-alpha", alpha]) == 0
+        )
         notes[alpha] = json.loads((out / "summary.json").read_text())
     assert notes["3"]["mpd_m"] is None and "no valid segment" in notes["3"]["mpd_note"]
     assert 2e-3 < notes["6"]["mpd_m"] < 5e-3 and "14 of 18" in notes["6"]["mpd_note"]

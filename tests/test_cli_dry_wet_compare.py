@@ -1,4 +1,5 @@
 """End-to-end: ``roadscan dry-vs-wet`` and ``roadscan compare`` (issue 4, items 3 and 4)."""
+
 import json
 
 import numpy as np
@@ -7,7 +8,7 @@ from conftest import fourier_surface
 
 from pipelines.cli.app import main
 
-V = "1e-4:1e2:7"   # whole decades: keys "0.0001" ... "100"
+V = "1e-4:1e2:7"  # whole decades: keys "0.0001" ... "100"
 
 
 @pytest.fixture(scope="module")
@@ -24,10 +25,22 @@ def scans(tmp_path_factory):
 def test_dry_vs_wet_contract(scans, tmp_path):
     fine_path, _, fine = scans
     out = tmp_path / "dw"
-    assert main(["dry-vs-wet", str(fine_path), "--spacing", "5e-5", "--out", str(out), "--velocities", V]) == 0
+    assert (
+        main(["dry-vs-wet", str(fine_path), "--spacing", "5e-5", "--out", str(out), "--velocities", V]) == 0
+    )
     c = json.loads((out / "comparison.json").read_text())
-    for key in ("rms_height_dry_m", "rms_height_wet_m", "hurst_dry", "hurst_wet", "wetted_fraction",
-                "water_volume_m3_per_m2", "connectivity", "mu_dry", "mu_wet", "max_difference_v_m_per_s"):
+    for key in (
+        "rms_height_dry_m",
+        "rms_height_wet_m",
+        "hurst_dry",
+        "hurst_wet",
+        "wetted_fraction",
+        "water_volume_m3_per_m2",
+        "connectivity",
+        "mu_dry",
+        "mu_wet",
+        "max_difference_v_m_per_s",
+    ):
         assert key in c, key
     assert c["connectivity"] == 4
     assert set(c["mu_dry"]) == {"0.0001", "0.001", "0.01", "0.1", "1", "10", "100"}
@@ -38,10 +51,11 @@ def test_dry_vs_wet_contract(scans, tmp_path):
     assert c["max_difference_v_m_per_s"] in [float(k) for k in c["mu_dry"]]
     wet = np.load(out / "wet.npy")
     assert wet.shape == fine.shape
-    assert np.array_equal(np.isnan(wet), np.isnan(fine))      # unmeasured stays unmeasured
+    assert np.array_equal(np.isnan(wet), np.isnan(fine))  # unmeasured stays unmeasured
     # same levelled frame as the dry surface: wet >= levelled dry everywhere measured
     from roadscan.heightmap import HeightMap
     from roadscan.level import level
+
     dry = level(HeightMap(fine, 5e-5, 5e-5), degree=1).heights_m
     ok = ~np.isnan(fine)
     assert np.all(wet[ok] >= dry[ok] - 1e-15)
@@ -55,8 +69,22 @@ def test_dry_vs_wet_connectivity_8_holds_less_water(scans, tmp_path):
     fine_path = scans[0]
     a, b = tmp_path / "a", tmp_path / "b"
     assert main(["dry-vs-wet", str(fine_path), "--spacing", "5e-5", "--out", str(a), "--no-friction"]) == 0
-    assert main(["dry-vs-wet", str(fine_path), "--spacing", "5e-5", "--out", str(b), "--no-friction",
-                 "--connectivity", "8"]) == 0
+    assert (
+        main(
+            [
+                "dry-vs-wet",
+                str(fine_path),
+                "--spacing",
+                "5e-5",
+                "--out",
+                str(b),
+                "--no-friction",
+                "--connectivity",
+                "8",
+            ]
+        )
+        == 0
+    )
     ca = json.loads((a / "comparison.json").read_text())
     cb = json.loads((b / "comparison.json").read_text())
     assert cb["connectivity"] == 8
@@ -66,8 +94,22 @@ def test_dry_vs_wet_connectivity_8_holds_less_water(scans, tmp_path):
 def test_compare_contract(scans, tmp_path):
     fine_path, coarse_path, _ = scans
     out = tmp_path / "cmp"
-    assert main(["compare", str(fine_path), str(coarse_path), "--spacing", "5e-5", "--out", str(out),
-                 "--velocities", V]) == 0
+    assert (
+        main(
+            [
+                "compare",
+                str(fine_path),
+                str(coarse_path),
+                "--spacing",
+                "5e-5",
+                "--out",
+                str(out),
+                "--velocities",
+                V,
+            ]
+        )
+        == 0
+    )
     c = json.loads((out / "comparison.json").read_text())
     assert set(c) == {"fine", "coarse"}
     for name in c:

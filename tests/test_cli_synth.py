@@ -1,4 +1,5 @@
 """``roadscan synth``: reproducible Gaussian self-affine surfaces written to a file."""
+
 import numpy as np
 import pytest
 
@@ -21,7 +22,9 @@ def test_synth_writes_reproducible_surface_with_exact_rms(tmp_path):
 
 def test_synth_surface_analyses_to_its_hurst_exponent(tmp_path):
     p = tmp_path / "s.x3p"
-    assert main(["synth", "--out", str(p), "--nx", "512", "--hurst", "0.6", "--rms", "2e-4", "--seed", "1"]) == 0
+    assert (
+        main(["synth", "--out", str(p), "--nx", "512", "--hurst", "0.6", "--rms", "2e-4", "--seed", "1"]) == 0
+    )
     from roadscan.fit import fit_self_affine
     from roadscan.spectrum import psd_area
 

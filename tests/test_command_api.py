@@ -1,6 +1,7 @@
 """Each computing command is one function of ``pipelines``: the function and the command
 (which parses, calls it and prints) write the same main JSON and the same files; an unknown
 keyword is a TypeError; a keyword changes the result as its flag does."""
+
 import json
 from pathlib import Path
 
@@ -59,8 +60,22 @@ def _json_of(d):
 
 
 def test_dry_vs_wet_api_equals_cli(scan, tmp_path):
-    _cli(["dry-vs-wet", scan, "--spacing", DX, "--connectivity", "8", "--nu", "0.45",
-          "--velocities", V, "--out", tmp_path / "cli"])
+    _cli(
+        [
+            "dry-vs-wet",
+            scan,
+            "--spacing",
+            DX,
+            "--connectivity",
+            "8",
+            "--nu",
+            "0.45",
+            "--velocities",
+            V,
+            "--out",
+            tmp_path / "cli",
+        ]
+    )
     r = api.dry_vs_wet(scan, tmp_path / "api", spacing=DX, connectivity=8, nu=0.45, velocities=V)
     cli = _json(tmp_path / "cli" / "comparison.json")
     assert _json(tmp_path / "api" / "comparison.json") == cli
@@ -68,7 +83,7 @@ def test_dry_vs_wet_api_equals_cli(scan, tmp_path):
     assert _names(tmp_path / "api") == _names(tmp_path / "cli")
     assert cli["connectivity"] == 8
     r3 = api.dry_vs_wet(scan, tmp_path / "nu3", spacing=DX, connectivity=8, nu=0.3, velocities=V)
-    assert r3["mu_dry"] != r["mu_dry"]                    # the flag reaches the friction
+    assert r3["mu_dry"] != r["mu_dry"]  # the flag reaches the friction
     with pytest.raises(TypeError, match="colour"):
         api.dry_vs_wet(scan, tmp_path / "x", spacing=DX, colour="red")
     from roadscan.errors import InputError
@@ -79,8 +94,9 @@ def test_dry_vs_wet_api_equals_cli(scan, tmp_path):
 
 
 def test_rain_fill_api_equals_cli(scan, tmp_path):
-    _cli(["rain-fill", scan, "--spacing", DX, "--water-film", "2e-5", "--no-level",
-          "--out", tmp_path / "cli"])
+    _cli(
+        ["rain-fill", scan, "--spacing", DX, "--water-film", "2e-5", "--no-level", "--out", tmp_path / "cli"]
+    )
     r = api.rain_fill(scan, tmp_path / "api", spacing=DX, water_film=2e-5, no_level=True)
     cli = _json(tmp_path / "cli" / "rainfill.json")
     assert _json(tmp_path / "api" / "rainfill.json") == cli == _json_of(r)
@@ -99,14 +115,28 @@ SELF_AFFINE = "H=0.8,h0=2e-4,q0=2e3,q1=1e6"
 def test_friction_api_equals_cli(tmp_path):
     psd = ROOT / "sample_scans" / "asphalt_psd.csv"
     (tmp_path / "cli").mkdir()
-    _cli(["friction", "--psd", psd, "--nu", "0.45", "--sigma0", "0.3MPa", "--velocities", V,
-          "--out", tmp_path / "cli" / "mu.csv"])
+    _cli(
+        [
+            "friction",
+            "--psd",
+            psd,
+            "--nu",
+            "0.45",
+            "--sigma0",
+            "0.3MPa",
+            "--velocities",
+            V,
+            "--out",
+            tmp_path / "cli" / "mu.csv",
+        ]
+    )
     r = api.friction(tmp_path / "api" / "mu.csv", psd=psd, nu=0.45, sigma0="0.3MPa", velocities=V)
     cli = _json(tmp_path / "cli" / "mu_summary.json")
     api_json = _json(tmp_path / "api" / "mu_summary.json")
     # a warning names the file it is about: the two runs wrote to two folders
-    api_json["warnings"] = [w.replace(str(tmp_path / "api"), str(tmp_path / "cli"))
-                            for w in api_json["warnings"]]
+    api_json["warnings"] = [
+        w.replace(str(tmp_path / "api"), str(tmp_path / "cli")) for w in api_json["warnings"]
+    ]
     assert api_json == cli
     assert _json(tmp_path / "api" / "mu_summary.json") == _json_of(r)
     assert _names(tmp_path / "api") == _names(tmp_path / "cli") == ["mu.csv", "mu.png", "mu_summary.json"]
@@ -119,10 +149,9 @@ def test_friction_api_equals_cli(tmp_path):
     from roadscan.errors import InputError
 
     with pytest.raises(InputError):
-        api.friction(tmp_path / "c.csv", self_affine=SELF_AFFINE, psd=psd)    # one of the two
+        api.friction(tmp_path / "c.csv", self_affine=SELF_AFFINE, psd=psd)  # one of the two
     with pytest.raises(InputError, match="nu"):
         api.friction(tmp_path / "c.csv", self_affine=SELF_AFFINE, nu=0.7)
-
 
 
 def test_combine_api_equals_cli(tmp_path):
@@ -141,7 +170,7 @@ def test_combine_api_equals_cli(tmp_path):
     assert _json(tmp_path / "api" / "combine.json") == cli == _json_of(r)
     assert _names(tmp_path / "api") == _names(tmp_path / "cli") == ["combine.json", "psd.csv", "report.html"]
     fine = api.combine(ins, tmp_path / "r", resolution=5e-6, no_figures=True)
-    assert fine["merged_band_per_m"] != r["merged_band_per_m"]       # the flag reaches the band
+    assert fine["merged_band_per_m"] != r["merged_band_per_m"]  # the flag reaches the band
     with pytest.raises(TypeError, match="figures"):
         api.combine(ins, tmp_path / "x", figures=False)
 
@@ -162,15 +191,30 @@ def measured(tmp_path_factory):
 
 def test_diagnose_api_equals_cli(measured, tmp_path):
     mu, psd = measured
-    _cli(["diagnose", "--measured", mu, "--psd", psd, "--nu", "0.45", "--noise", "0.02",
-          "--uncertain", "q1=known", "--out", tmp_path / "cli"])      # q1 known: fewer candidates
+    _cli(
+        [
+            "diagnose",
+            "--measured",
+            mu,
+            "--psd",
+            psd,
+            "--nu",
+            "0.45",
+            "--noise",
+            "0.02",
+            "--uncertain",
+            "q1=known",
+            "--out",
+            tmp_path / "cli",
+        ]
+    )  # q1 known: fewer candidates
     r = api.diagnose(tmp_path / "api", measured=mu, psd=psd, nu=0.45, noise=0.02, uncertain="q1=known")
     cli = _json(tmp_path / "cli" / "diagnosis.json")
     assert _json(tmp_path / "api" / "diagnosis.json") == cli == _json_of(r)
     assert _names(tmp_path / "api") == _names(tmp_path / "cli") == ["diagnosis.json", "report.html"]
     assert cli["engine_settings"]["nu"] == 0.45 and cli["noise"] == 0.02
     r3 = api.diagnose(tmp_path / "nu3", measured=mu, psd=psd, nu=0.3, noise=0.02, uncertain="q1=known")
-    assert r3["baseline_gap"] != r["baseline_gap"]          # the flag reaches the model
+    assert r3["baseline_gap"] != r["baseline_gap"]  # the flag reaches the model
     with pytest.raises(TypeError, match="measure"):
         api.diagnose(tmp_path / "x", measure=mu, psd=psd)
     from roadscan.errors import InputError

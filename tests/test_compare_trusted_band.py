@@ -2,6 +2,7 @@
 comparison.json's ``largest_psd_ratio`` = {ratio, q_per_m, band_per_m}, lies inside both
 surfaces' fit and reliable bands and is the ratio of the two spectra there; every missing figure
 says why."""
+
 from __future__ import annotations
 
 import json
@@ -42,14 +43,15 @@ def test_largest_ratio_inside_both_bands_and_is_the_spectra_ratio(tmp_path, caps
     q_ref, C_ref, s_ref = _psd(ref)
     q_oth, C_oth, s_oth = _psd(oth)
     lo, hi = big["band_per_m"]
-    for s in (s_ref, s_oth):                             # inside each fit and reliable band
+    for s in (s_ref, s_oth):  # inside each fit and reliable band
         for band in (s["fit_band_per_m"], s["reliable_band_per_m"]):
             assert band[0] * (1 - 1e-9) <= lo and hi <= band[1] * (1 + 1e-9)
     for e in (c[names[0]], c[names[1]]):
         assert e["fit_band_per_m"][0] * (1 - 1e-9) <= big["q_per_m"] <= e["fit_band_per_m"][1] * (1 + 1e-9)
     # the ratio is the spectra's own at that q, and no point inside the band is farther from 1
-    at = np.interp(np.log(big["q_per_m"]), np.log(q_oth), np.log(C_oth)) - \
-        np.interp(np.log(big["q_per_m"]), np.log(q_ref), np.log(C_ref))
+    at = np.interp(np.log(big["q_per_m"]), np.log(q_oth), np.log(C_oth)) - np.interp(
+        np.log(big["q_per_m"]), np.log(q_ref), np.log(C_ref)
+    )
     assert big["ratio"] == pytest.approx(float(np.exp(at)), rel=1e-6)
     inside = (q_ref >= lo) & (q_ref <= hi)
     r = np.exp(np.interp(np.log(q_ref[inside]), np.log(q_oth), np.log(C_oth))) / C_ref[inside]
@@ -64,7 +66,7 @@ def test_every_missing_figure_says_why(tmp_path, capsys):
     page = (out / "report.html").read_text()
     for e in c.values():
         why = e["why_missing"]
-        assert e["mpd_m"] is None and "100 mm" in why["mpd_m"]      # 54 mm rows: no MPD
+        assert e["mpd_m"] is None and "100 mm" in why["mpd_m"]  # 54 mm rows: no MPD
         assert e.get("mu_peak") is None and "--no-friction" in why["mu_peak"]
         assert why["mpd_m"] in page.replace("&#39;", "'")
         for key, value in e.items():
@@ -77,7 +79,7 @@ def test_no_shared_trusted_band_gives_no_ratio_and_says_why():
     from roadscan.spectrum_types import Spectrum
 
     q = np.geomspace(1e2, 1e5, 200)
-    a, b = Spectrum(q, q ** -3.6), Spectrum(q, 4 * q ** -3.6)
+    a, b = Spectrum(q, q**-3.6), Spectrum(q, 4 * q**-3.6)
     d = spectrum_difference(a, b, None, "the bands do not overlap")
     assert d["largest_psd_ratio"] is None and d["largest_psd_ratio_note"] == "the bands do not overlap"
     d = spectrum_difference(a, b, (1e3, 1e4))

@@ -1,6 +1,7 @@
 """``roadscan convert IN OUT`` (issue 9): real instrument files to .x3p, .npz, .tif and .npy,
 read back bit for bit (heights, NaN positions, spacing), with the instrument's metadata in the
 X3P record; bad requests refused in one line with nothing written."""
+
 from __future__ import annotations
 
 import os
@@ -18,7 +19,6 @@ IN_CI = os.environ.get("CI", "").lower() == "true"
 FILES = ["plu-1.plu", "opd-1.opd", "sur-2.sur", "al3d-1.al3d"]
 
 
-
 @pytest.fixture(scope="module")
 def originals(formats_dir):
     return {name: read(formats_dir / name) for name in FILES}
@@ -27,7 +27,7 @@ def originals(formats_dir):
 def _same(a, b):
     np.testing.assert_array_equal(a.unmeasured, b.unmeasured)
     assert np.array_equal(a.heights_m, b.heights_m, equal_nan=True)
-    assert a.heights_m.tobytes() == b.heights_m.tobytes()          # bit for bit, NaN included
+    assert a.heights_m.tobytes() == b.heights_m.tobytes()  # bit for bit, NaN included
     assert (a.dx_m, a.dy_m) == (b.dx_m, b.dy_m)
 
 
@@ -46,7 +46,7 @@ def test_real_files_round_trip_through_x3p(name, formats_dir, originals, tmp_pat
     for key in ("vendor", "name", "software"):
         if key in src:
             assert inst[key] == src[key]
-    if "acquired" in src:                       # same wall-clock time (x3p adds the zone)
+    if "acquired" in src:  # same wall-clock time (x3p adds the zone)
         assert inst["acquired"].startswith(src["acquired"])
     else:
         assert "acquired" not in inst and "acquisition date unknown" in inst["comment"]
@@ -66,7 +66,7 @@ def test_x3p_record_of_the_sensofar_file(formats_dir, tmp_path):
 
 
 @pytest.mark.parametrize("ext", [".npz", ".tif"])
-@pytest.mark.parametrize("name", ["opd-1.opd", "sur-2.sur"])      # both with undefined points
+@pytest.mark.parametrize("name", ["opd-1.opd", "sur-2.sur"])  # both with undefined points
 def test_npz_and_tif_round_trips(name, ext, formats_dir, originals, tmp_path):
     out = tmp_path / (Path(name).stem + ext)
     assert main(["convert", str(formats_dir / name), str(out)]) == 0
@@ -83,8 +83,20 @@ def test_npy_keeps_heights_and_asks_for_spacing(formats_dir, originals, tmp_path
 
 def test_float32_and_spacing_options(formats_dir, originals, tmp_path):
     out = tmp_path / "f.x3p"
-    assert main(["convert", str(formats_dir / "opd-1.opd"), str(out), "--float32",
-                 "--spacing", "2e-7,3e-7", "--override-calibration"]) == 0
+    assert (
+        main(
+            [
+                "convert",
+                str(formats_dir / "opd-1.opd"),
+                str(out),
+                "--float32",
+                "--spacing",
+                "2e-7,3e-7",
+                "--override-calibration",
+            ]
+        )
+        == 0
+    )
     back, o = read(out), originals["opd-1.opd"]
     assert (back.dx_m, back.dy_m) == (2e-7, 3e-7)
     np.testing.assert_array_equal(back.heights_m, o.heights_m.astype(np.float32).astype(np.float64))

@@ -1,6 +1,7 @@
 """The documentation site's sources: the API pages name the entry points the site must
 document, and the gallery has examples that draw figures. (The site itself is built by CI:
 ``sphinx-build -W -b html docs OUT``.)"""
+
 import ast
 import os
 import re
@@ -37,13 +38,16 @@ def test_gallery_examples_draw_figures_and_parse():
     for path in examples:
         src = path.read_text()
         tree = ast.parse(src)
-        assert ast.get_docstring(tree), path.name          # the title block of the page
+        assert ast.get_docstring(tree), path.name  # the title block of the page
         assert "plt.subplots" in src or "plt.figure" in src, path.name
 
 
 def test_ci_builds_the_site_after_the_tests():
-    lines = [row for row in (ROOT / ".ci" / "run").read_text().splitlines()
-             if row.strip() and not row.startswith("#")]
+    lines = [
+        row
+        for row in (ROOT / ".ci" / "run").read_text().splitlines()
+        if row.strip() and not row.startswith("#")
+    ]
     test_line = next(i for i, row in enumerate(lines) if "pytest" in row)
     build_line = next(i for i, row in enumerate(lines) if "sphinx-build -W" in row)
     assert build_line > test_line and ".[docs]" in lines[build_line]
@@ -55,7 +59,7 @@ def _rst_blocks(text, language):
     for i, line in enumerate(lines):
         if line.strip() == f".. code-block:: {language}":
             body = []
-            for nxt in lines[i + 2:]:
+            for nxt in lines[i + 2 :]:
                 if nxt.strip() and not nxt.startswith("   "):
                     break
                 body.append(nxt[3:])
@@ -103,8 +107,10 @@ def test_markdown_pages_convert_to_clean_rest():
     sources = [ROOT / src for src, _ in md_pages.PAGES] + sorted((DOCS / "md").glob("*.md"))
     for src in sources:
         assert _rst_problems(md_pages.md_to_rst(src.read_text(encoding="utf-8"))) == [], src.name
-    sample = ("# T\n\nText with `a|b` and **bold** [`FORMATS.md`](FORMATS.md) x_1 *y\n\n"
-              "| a | b |\n|---|---|\n| `x \\| y` | 2 |\n\n```bash\nroadscan x\n```\n")
+    sample = (
+        "# T\n\nText with `a|b` and **bold** [`FORMATS.md`](FORMATS.md) x_1 *y\n\n"
+        "| a | b |\n|---|---|\n| `x \\| y` | 2 |\n\n```bash\nroadscan x\n```\n"
+    )
     rst = md_pages.md_to_rst(sample)
     assert ".. list-table::" in rst and ".. code-block:: bash" in rst and "``a|b``" in rst
     assert "``x | y``" in rst and _rst_problems(rst) == []
@@ -119,8 +125,15 @@ def test_docstring_examples_run(monkeypatch):
     from roadscan import fit, io, rain
 
     monkeypatch.chdir(ROOT)
-    objects = [io.read, fit.fit_self_affine, rain.rain_fill, roadscan.psd_area,
-               friction.mu_isothermal, friction.mu_flash, friction.SelfAffinePSD]
+    objects = [
+        io.read,
+        fit.fit_self_affine,
+        rain.rain_fill,
+        roadscan.psd_area,
+        friction.mu_isothermal,
+        friction.mu_flash,
+        friction.SelfAffinePSD,
+    ]
     finder, runner = doctest.DocTestFinder(recurse=False), doctest.DocTestRunner(optionflags=doctest.ELLIPSIS)
     tried = 0
     for obj in objects:
@@ -132,8 +145,15 @@ def test_docstring_examples_run(monkeypatch):
 
 
 # hosts that serve MathJax or KaTeX (and other scripts) to pages that do not ship their own
-_CDNS = ("cdn.jsdelivr.net", "cdnjs.cloudflare.com", "unpkg.com", "polyfill.io", "mathjax.org",
-         "katex.org", "googleapis.com")
+_CDNS = (
+    "cdn.jsdelivr.net",
+    "cdnjs.cloudflare.com",
+    "unpkg.com",
+    "polyfill.io",
+    "mathjax.org",
+    "katex.org",
+    "googleapis.com",
+)
 _LOADED = re.compile(r'<(?:script|link)\b[^>]*\b(?:src|href)="([^"]+)"')
 
 
@@ -142,20 +162,22 @@ def test_math_is_configured_to_come_from_the_site(monkeypatch):
     (copied into the site's _static) is the one the pages load, and the docs extra installs it."""
     import sys
 
-    monkeypatch.setattr(sys, "path", list(sys.path))        # conf.py adds its folders
+    monkeypatch.setattr(sys, "path", list(sys.path))  # conf.py adds its folders
     monkeypatch.setenv("MPLBACKEND", os.environ.get("MPLBACKEND", "Agg"))
     conf = runpy.run_path(str(DOCS / "conf.py"))
     assert "sphinx-mathjax-offline" in conf["extensions"]
     path = conf["mathjax_path"]
     assert not re.match(r"(https?:)?//", path) and not any(cdn in path for cdn in _CDNS), path
-    tomllib = pytest.importorskip("tomllib")   # Python >= 3.11
+    tomllib = pytest.importorskip("tomllib")  # Python >= 3.11
 
     extras = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["optional-dependencies"]
     assert any(req.startswith("sphinx-mathjax-offline") for req in extras["docs"])
 
 
-@pytest.mark.skipif(not os.environ.get("ROADSCAN_DOCS_SITE"),
-                    reason="needs a built site: ROADSCAN_DOCS_SITE=OUT after sphinx-build (CI sets it)")
+@pytest.mark.skipif(
+    not os.environ.get("ROADSCAN_DOCS_SITE"),
+    reason="needs a built site: ROADSCAN_DOCS_SITE=OUT after sphinx-build (CI sets it)",
+)
 def test_built_site_loads_no_script_from_the_network():
     """The built site: every page with an equation loads MathJax from a file of the site that
     exists (with its fonts), and no page loads a script or style sheet from another host."""
@@ -174,13 +196,15 @@ def test_built_site_loads_no_script_from_the_network():
             assert mathjax, page
             for u in mathjax:
                 assert (page.parent / u.split("?")[0]).resolve().is_file(), (page, u)
-    assert math_pages >= 10         # the theory page, the API pages, the gallery...
+    assert math_pages >= 10  # the theory page, the API pages, the gallery...
     fonts = site / "_static" / "mathjax" / "output" / "chtml" / "fonts"
     assert any(fonts.rglob("*.woff")), fonts
 
 
-@pytest.mark.skipif(not os.environ.get("ROADSCAN_DOCS_SITE"),
-                    reason="needs a built site: ROADSCAN_DOCS_SITE=OUT after sphinx-build (CI sets it)")
+@pytest.mark.skipif(
+    not os.environ.get("ROADSCAN_DOCS_SITE"),
+    reason="needs a built site: ROADSCAN_DOCS_SITE=OUT after sphinx-build (CI sets it)",
+)
 def test_built_api_page_lists_every_parameter_of_every_job():
     """The pipelines API page documents each public job with every parameter of its real
     signature (names taken from inspect.signature, looked up in the rendered entry)."""
@@ -194,7 +218,7 @@ def test_built_api_page_lists_every_parameter_of_every_job():
         start = page.find(f'id="pipelines.{name}"')
         assert start >= 0, name
         end = page.find('<dt class="sig', start + 1)
-        entry = page[start:end if end > 0 else None]
+        entry = page[start : end if end > 0 else None]
         params = list(inspect.signature(getattr(pipelines, name)).parameters)
         assert len(params) >= 2, name
         missing = [p for p in params if f"<strong>{p}</strong>" not in entry]

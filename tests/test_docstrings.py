@@ -1,5 +1,6 @@
 """Documentation a package user can follow: numpydoc sections on the exported names, and no
 citation of files or trackers a user does not have (DESIGN.md, issue numbers)."""
+
 import importlib
 import inspect
 import pkgutil
@@ -16,8 +17,9 @@ def exported(package):
     """(module, name, object) for every function and class listed in an ``__all__`` of the
     package or of one of its modules (constants carry no docstring of their own)."""
     top = importlib.import_module(package)
-    mods = [top] + [importlib.import_module(m.name)
-                    for m in pkgutil.walk_packages(top.__path__, package + ".")]
+    mods = [top] + [
+        importlib.import_module(m.name) for m in pkgutil.walk_packages(top.__path__, package + ".")
+    ]
     out = []
     for mod in mods:
         for name in getattr(mod, "__all__", ()):
@@ -66,8 +68,9 @@ def test_coverage_counter_tells_documented_from_undocumented():
     assert has_numpydoc(documented) and not has_numpydoc(prose)
 
 
-@pytest.mark.parametrize("packages,floor", [(("friction",), 0.95), (("roadscan",), 0.95),
-                                            (("pipelines",), 0.95), (PACKAGES, 0.95)])
+@pytest.mark.parametrize(
+    "packages,floor", [(("friction",), 0.95), (("roadscan",), 0.95), (("pipelines",), 0.95), (PACKAGES, 0.95)]
+)
 def test_exported_names_carry_numpydoc_sections(packages, floor):
     pytest.importorskip("numpydoc")
     share, missing, n = coverage(packages)

@@ -1,6 +1,7 @@
 """``roadscan dry-vs-wet --wet-model persson|fill`` (issue 35): the fill model is the thesis's
 as it was, the persson model writes the contract keys, the flags reach the model, and every
 warning is in comparison.json and the report."""
+
 from __future__ import annotations
 
 import html
@@ -21,11 +22,18 @@ from roadscan import RoadscanWarning
 from roadscan.heightmap import HeightMap
 
 ROOT = Path(__file__).resolve().parents[1]
-V = "1e-3,1e-1,5.556,11.11,27.78"          # 20, 40 and 100 km/h among them
+V = "1e-3,1e-1,5.556,11.11,27.78"  # 20, 40 and 100 km/h among them
 #: the last commit before the persson model was wired in (the move of pipelines/ alone)
 BEFORE_WIRING = "4c5eaac"
-CONTRACT = ("wet_model", "film_m", "mechanisms", "speed_constant_model_kmh", "mpd_m",
-            "ifi_speed_constant_kmh", "contact_lost_v_m_per_s")
+CONTRACT = (
+    "wet_model",
+    "film_m",
+    "mechanisms",
+    "speed_constant_model_kmh",
+    "mpd_m",
+    "ifi_speed_constant_kmh",
+    "contact_lost_v_m_per_s",
+)
 
 
 @pytest.fixture(scope="module")
@@ -38,8 +46,10 @@ def long_scan(tmp_path_factory):
 
 
 def _run(scan, out, *flags):
-    assert main(["dry-vs-wet", str(scan), "--spacing", "1e-4", "--out", str(out), "--velocities", V,
-                 *flags]) == 0
+    assert (
+        main(["dry-vs-wet", str(scan), "--spacing", "1e-4", "--out", str(out), "--velocities", V, *flags])
+        == 0
+    )
     return json.loads((out / "comparison.json").read_text())
 
 
@@ -58,8 +68,14 @@ def fill(long_scan, tmp_path_factory):
 def _old_module():
     """The dry-vs-wet job of commit BEFORE_WIRING, from git (skip without the history)."""
     try:
-        src = subprocess.run(["git", "show", f"{BEFORE_WIRING}:pipelines/jobs/dry_vs_wet.py"], cwd=ROOT,
-                             capture_output=True, text=True, check=True, timeout=30).stdout
+        src = subprocess.run(
+            ["git", "show", f"{BEFORE_WIRING}:pipelines/jobs/dry_vs_wet.py"],
+            cwd=ROOT,
+            capture_output=True,
+            text=True,
+            check=True,
+            timeout=30,
+        ).stdout
     except (OSError, subprocess.SubprocessError):
         pytest.skip("no git history to read the code before the persson model")
     spec = importlib.util.spec_from_loader("old_dry_vs_wet", loader=None)
@@ -87,7 +103,7 @@ def test_fill_reproduces_the_thesis_model_as_it_was(tmp_path):
         with collecting():
             b = run_dry_vs_wet(scan, tmp_path / "new", settings, wet_model="fill")
     a, b = (json.loads((tmp_path / d / "comparison.json").read_text()) for d in ("old", "new"))
-    assert a["mu_wet"] and a["mu_wet"] != a["mu_dry"]          # a run with friction to compare
+    assert a["mu_wet"] and a["mu_wet"] != a["mu_dry"]  # a run with friction to compare
     for key, value in a.items():
         if key == "wet_model":
             assert {k: b[key][k] for k in value} == value
@@ -142,28 +158,50 @@ def test_contract_keys(model, persson, fill):
     for s in speeds:
         shares = [c["mechanisms"][k][s] for k in ("sealing", "squeeze_out", "adhesion")]
         loss = c["mu_dry"][s] - c["mu_wet"][s]
-        if loss > 1e-12 * c["mu_dry"][s]:       # shares of a positive loss add up to it
+        if loss > 1e-12 * c["mu_dry"][s]:  # shares of a positive loss add up to it
             assert sum(shares) == pytest.approx(1.0, abs=1e-6), s
         else:
             assert shares == [None, None, None], s
-    assert set(c["dynamic_lift_share"]) == speeds                  # Horne & Dreher's inertia
+    assert set(c["dynamic_lift_share"]) == speeds  # Horne & Dreher's inertia
     assert all(0 <= x <= 1 for x in c["dynamic_lift_share"].values())
     v_lost = c["contact_lost_v_m_per_s"]
     assert v_lost is None or f"{v_lost:g}" in speeds
     for k, (value, _) in DEFAULT_SOURCES.items():
-        assert wm["parameters"][k] == value and wm["sources"][k]        # defaults with sources
+        assert wm["parameters"][k] == value and wm["sources"][k]  # defaults with sources
     assert wm["given"] == [] and "left out" in wm["adhesion"]
 
 
 def test_flags_reach_the_model(long_scan, tmp_path, persson):
-    c = _run(long_scan, tmp_path / "o", "--water-depth", "2e-3", "--water-temperature", "5",
-             "--footprint", "0.1", "--block-size", "0.02", "--shear-stress", "2e6")
+    c = _run(
+        long_scan,
+        tmp_path / "o",
+        "--water-depth",
+        "2e-3",
+        "--water-temperature",
+        "5",
+        "--footprint",
+        "0.1",
+        "--block-size",
+        "0.02",
+        "--shear-stress",
+        "2e6",
+    )
     p = c["wet_model"]["parameters"]
-    assert (p["water_depth_m"], p["water_temperature_C"], p["footprint_m"], p["block_size_m"],
-            p["shear_stress_Pa"]) == (2e-3, 5.0, 0.1, 0.02, 2e6)
-    assert p["water_viscosity_Pa_s"] > 1.4e-3          # colder water is more viscous
-    assert set(c["wet_model"]["given"]) == {"water_depth_m", "water_temperature_C", "footprint_m",
-                                            "block_size_m", "shear_stress_Pa"}
+    assert (
+        p["water_depth_m"],
+        p["water_temperature_C"],
+        p["footprint_m"],
+        p["block_size_m"],
+        p["shear_stress_Pa"],
+    ) == (2e-3, 5.0, 0.1, 0.02, 2e6)
+    assert p["water_viscosity_Pa_s"] > 1.4e-3  # colder water is more viscous
+    assert set(c["wet_model"]["given"]) == {
+        "water_depth_m",
+        "water_temperature_C",
+        "footprint_m",
+        "block_size_m",
+        "shear_stress_Pa",
+    }
     # tau_f adds the adhesive term to dry friction, and water removes some of it
     base = persson[0]
     assert all(c["mu_dry"][s] > base["mu_dry"][s] for s in base["mu_dry"])
@@ -181,8 +219,18 @@ def test_fill_says_it_ignores_the_persson_flags(tmp_path):
 
 
 def test_a_wrong_wet_flag_is_refused_in_one_line(long_scan, tmp_path, capsys):
-    rc = main(["dry-vs-wet", str(long_scan), "--spacing", "1e-4", "--out", str(tmp_path / "o"),
-               "--water-temperature", "120"])
+    rc = main(
+        [
+            "dry-vs-wet",
+            str(long_scan),
+            "--spacing",
+            "1e-4",
+            "--out",
+            str(tmp_path / "o"),
+            "--water-temperature",
+            "120",
+        ]
+    )
     err = capsys.readouterr().err
     assert rc == 2 and "--water-temperature" in err and len(err.strip().splitlines()) == 1
 
@@ -191,14 +239,22 @@ def test_a_wrong_wet_flag_is_refused_in_one_line(long_scan, tmp_path, capsys):
 def test_report_says_what_the_issue_asks(model, persson, fill):
     c, out = persson if model == "persson" else fill
     text = html.unescape((out / "report.html").read_text())
-    for w in c["warnings"]:                     # every warning on the page too
+    for w in c["warnings"]:  # every warning on the page too
         assert " ".join(w.split()) in " ".join(text.split()), w
     assert "IFI" in text and "14.2 + 89.7 MPD" in text
     assert "Parameters, defaults and sources" in text
     assert text.count("data:image/png;base64") >= 4
     if model == "persson":
-        for phrase in ("contact lost", "isothermal", "ASTM E274", "Gent & Walter", "Dapp et al.",
-                       "Which friction model", "squeeze-out", "adhesion left out"):
+        for phrase in (
+            "contact lost",
+            "isothermal",
+            "ASTM E274",
+            "Gent & Walter",
+            "Dapp et al.",
+            "Which friction model",
+            "squeeze-out",
+            "adhesion left out",
+        ):
             assert phrase in text, phrase
         assert (out / "film_left.png").exists() and (out / "mu_mechanisms.png").exists()
     else:
@@ -213,7 +269,6 @@ def test_every_warning_lands_in_comparison_json(tmp_path):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         r = pipelines.dry_vs_wet(scan, tmp_path / "o", velocities="1e-3,1,10")
-    said = {" ".join(str(w.message).split()) for w in caught
-            if issubclass(w.category, RoadscanWarning)}
+    said = {" ".join(str(w.message).split()) for w in caught if issubclass(w.category, RoadscanWarning)}
     assert said and said <= set(r["warnings"])
     assert json.loads((tmp_path / "o" / "comparison.json").read_text())["warnings"] == r["warnings"]

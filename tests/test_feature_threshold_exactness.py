@@ -10,6 +10,7 @@
   prominences of the peaks and pits, written out here from the ISO 25178-2 definitions.
 - OpenCV's table look-up (``roadscan.areal_critical._lookup``) equals ``np.take`` for every code.
 """
+
 import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
@@ -24,7 +25,7 @@ def _surface(kind, seed, shape=(97, 131)):
     z = rng.normal(size=shape)
     if kind == "smooth":
         z = gaussian_filter(z, 2.5)
-    elif kind == "quantised":                     # plateaus, equal saddles
+    elif kind == "quantised":  # plateaus, equal saddles
         z = np.round(gaussian_filter(z, 1.2) * 5) / 5
     elif kind == "anisotropic":
         z = gaussian_filter(z, (0.7, 6.0))
@@ -55,11 +56,11 @@ def test_dropped_edges_change_no_significant_extremum(kind, pits):
     for seed in range(4):
         z = _surface(kind, 10 * seed + KINDS.index(kind))
         _, top, a, b, saddle = _graph(z, pits)
-        full = _change_tree(top, a, b, saddle)    # every prominence, no edge dropped
+        full = _change_tree(top, a, b, saddle)  # every prominence, no edge dropped
         sz = float(z.max() - z.min())
         for fraction in (0.005, 0.02, 0.05, 0.1, 0.2, 0.4):
             T = fraction * sz
-            fast = _change_tree(top, a, b, saddle, T, few=50)   # the rounds run too
+            fast = _change_tree(top, a, b, saddle, T, few=50)  # the rounds run too
             np.testing.assert_array_equal(fast >= T, full >= T)
 
 
@@ -77,12 +78,17 @@ def _figures_from_full_prominences(z, dx, fraction):
         h = (-1.0 if pits else 1.0) * (z[r, c] - z.mean())
         out[pits] = (r, c, np.sort(h)[::-1][:5])
     r, c, top5 = out[False]
-    curv = (z[r, c + 1] - 2 * z[r, c] + z[r, c - 1]) / dx ** 2 + \
-        (z[r + 1, c] - 2 * z[r, c] + z[r - 1, c]) / dx ** 2
+    curv = (z[r, c + 1] - 2 * z[r, c] + z[r, c - 1]) / dx**2 + (
+        z[r + 1, c] - 2 * z[r, c] + z[r - 1, c]
+    ) / dx**2
     deep5 = out[True][2]
-    return {"Spd_per_m2": r.size / (ny * dx * nx * dx), "Spc_per_m": -0.5 * float(np.mean(curv)),
-            "S5p_m": float(top5.mean()), "S5v_m": float(deep5.mean()),
-            "S10z_m": float(top5.mean()) + float(deep5.mean())}
+    return {
+        "Spd_per_m2": r.size / (ny * dx * nx * dx),
+        "Spc_per_m": -0.5 * float(np.mean(curv)),
+        "S5p_m": float(top5.mean()),
+        "S5v_m": float(deep5.mean()),
+        "S10z_m": float(top5.mean()) + float(deep5.mean()),
+    }
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -102,10 +108,8 @@ def test_feature_figures_equal_those_of_the_full_prominences(kind):
 
 def test_lookup_equals_numpy_take_for_every_code():
     rng = np.random.default_rng(5)
-    codes = np.concatenate([np.arange(256, dtype=np.uint8),
-                            rng.integers(0, 256, 100_000).astype(np.uint8)])
-    for table in (rng.integers(-5000, 5000, 256).astype(np.int32),
-                  rng.integers(0, 4, 256).astype(np.uint8)):
+    codes = np.concatenate([np.arange(256, dtype=np.uint8), rng.integers(0, 256, 100_000).astype(np.uint8)])
+    for table in (rng.integers(-5000, 5000, 256).astype(np.int32), rng.integers(0, 4, 256).astype(np.uint8)):
         got = _lookup(table, codes)
         assert got.dtype == table.dtype
         np.testing.assert_array_equal(got, np.take(table, codes))

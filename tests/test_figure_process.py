@@ -1,5 +1,6 @@
 """The figure helper process of ``roadscan analyse`` (issue 13): same PNGs, drawn elsewhere,
 and every failure of the helper ends in the figure being drawn (or failing) here."""
+
 import math
 import os
 import subprocess
@@ -23,8 +24,14 @@ print("matplotlib in parent:", "matplotlib" in sys.modules, "rc:", rc)
 
 def _analyse(out, switch):
     env = dict(os.environ, PYTHONPATH=str(ROOT), ROADSCAN_FIGURE_PROCESS=switch)
-    r = subprocess.run([sys.executable, "-c", CHILD.format(sample=str(SAMPLE), out=str(out))],
-                       env=env, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    r = subprocess.run(
+        [sys.executable, "-c", CHILD.format(sample=str(SAMPLE), out=str(out))],
+        env=env,
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert r.returncode == 0, r.stderr
     return r.stdout
 
@@ -33,7 +40,7 @@ def _analyse(out, switch):
 def test_analyse_draws_in_a_helper_with_identical_pngs(tmp_path):
     helped = _analyse(tmp_path / "helper", "1")
     local = _analyse(tmp_path / "local", "0")
-    assert "matplotlib in parent: False rc: 0" in helped       # the parent never drew
+    assert "matplotlib in parent: False rc: 0" in helped  # the parent never drew
     assert "matplotlib in parent: True rc: 0" in local
     for name in PNGS + ("summary.json", "mu.csv", "psd.csv"):
         assert (tmp_path / "helper" / name).read_bytes() == (tmp_path / "local" / name).read_bytes(), name
@@ -47,9 +54,9 @@ def test_results_in_order_and_a_dead_helper_falls_back():
         d.submit(math.hypot, 5, 12)
         assert d.collect() == [5.0, 13.0]
         d.submit(math.hypot, 8, 15)
-        d._proc.kill()                      # the helper process dies
+        d._proc.kill()  # the helper process dies
         d._proc.join()
-        d.submit(math.hypot, 6, 8)          # cannot be sent: drawn here, after the pending one
+        d.submit(math.hypot, 6, 8)  # cannot be sent: drawn here, after the pending one
         assert d.collect() == [17.0, 10.0]
 
 

@@ -1,4 +1,5 @@
 """Self-affine fit: Hurst recovery, dropouts, model form (h0, band rms), roll-off, extension."""
+
 import numpy as np
 import pytest
 
@@ -16,10 +17,10 @@ def test_hurst_recovered_1024(hurst):
     s, _ = psd_area(level(hm))
     fit = fit_self_affine(s)
     lo, hi = fit.fit_band_per_m
-    assert hi / lo > 10                       # a real band was found
+    assert hi / lo > 10  # a real band was found
     assert abs(fit.hurst - hurst) < 0.03
     assert 0 < fit.hurst_stderr < 0.03
-    assert fit.q_roll_per_m is None           # pure power law: no roll-off
+    assert fit.q_roll_per_m is None  # pure power law: no roll-off
 
 
 def _with_dropouts(hm, fraction, seed=0):
@@ -27,7 +28,7 @@ def _with_dropouts(hm, fraction, seed=0):
     bad = rng.random(hm.shape) < fraction / 2
     n_blobs = int(fraction / 2 * hm.heights_m.size / 25)
     for i, j in rng.integers(0, min(hm.shape) - 5, (n_blobs, 2)):
-        bad[i:i + 5, j:j + 5] = True
+        bad[i : i + 5, j : j + 5] = True
     return HeightMap(hm.heights_m, hm.dx_m, hm.dy_m, unmeasured=bad)
 
 
@@ -36,7 +37,7 @@ def test_dropouts_do_not_bias_hurst():
     ref = fit_self_affine(psd_area(level(hm))[0])
     damaged = _with_dropouts(hm, 0.05)
     assert 0.04 < 1 - damaged.measured_fraction < 0.06
-    filled, frac = fill_unmeasured(level(damaged))
+    filled, _ = fill_unmeasured(level(damaged))
     fit = fit_self_affine(psd_area(level(filled))[0], band=ref.fit_band_per_m)
     assert abs(fit.hurst - ref.hurst) < 0.03
     assert abs(fit.hurst - 0.7) < 0.03
@@ -59,7 +60,7 @@ def test_model_form_h0_band_rms_and_roll_off():
     qq = np.logspace(np.log10(fit.q0_per_m), np.log10(fit.q1_per_m), 20001)
     numeric = np.sqrt(2 * np.pi * np.trapezoid(qq * fit.model_C(qq), qq))
     assert fit.band_rms_m == pytest.approx(numeric, rel=1e-4)
-    assert fit.model_C(100.0) == pytest.approx(fit.C_at_q0_m4)           # plateau below q0
+    assert fit.model_C(100.0) == pytest.approx(fit.C_at_q0_m4)  # plateau below q0
 
 
 def test_band_excludes_roll_off_and_noise_floor():

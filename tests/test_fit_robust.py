@@ -1,5 +1,6 @@
 """Hurst exponent on surfaces made by an independent generator (not roadscan.synth), with the
 features real scans have: a roll-off, a spectral cut-off below Nyquist, a white noise floor."""
+
 import numpy as np
 import pytest
 
@@ -23,9 +24,16 @@ def gaussian_surface(hurst, seed, q_roll=None, q1=None):
     return h * (1e-4 / h.std())
 
 
-@pytest.mark.parametrize("hurst,kind,seed", [
-    (0.9, "cutoff", 9), (0.3, "cutoff", 3), (0.7, "rolloff", 7), (0.5, "noise", 5), (0.9, "noise", 2),
-])
+@pytest.mark.parametrize(
+    "hurst,kind,seed",
+    [
+        (0.9, "cutoff", 9),
+        (0.3, "cutoff", 3),
+        (0.7, "rolloff", 7),
+        (0.5, "noise", 5),
+        (0.9, "noise", 2),
+    ],
+)
 def test_hurst_within_003(hurst, kind, seed):
     kw = {}
     if kind == "cutoff":
@@ -39,6 +47,6 @@ def test_hurst_within_003(hurst, kind, seed):
     assert fit.hurst == pytest.approx(hurst, abs=0.03)
     assert 0 < fit.hurst_stderr < 0.03
     if kind == "cutoff":
-        assert fit.fit_band_per_m[1] < np.pi / DX / 4     # the empty band above q1 is not fitted
+        assert fit.fit_band_per_m[1] < np.pi / DX / 4  # the empty band above q1 is not fitted
     if kind == "rolloff":
         assert fit.q_roll_per_m == pytest.approx(20 * 2 * np.pi / (N * DX), rel=0.5)

@@ -2,6 +2,7 @@
 every speed from 1e-10 to 1e4 m/s, bounded iteration counts (counts, not time), the returned T
 is a fixed point of the engine's own map whatever the solver path, clear one-line failures, and
 the heat_scale path to the isothermal model."""
+
 import numpy as np
 import pytest
 
@@ -10,7 +11,7 @@ from friction import SelfAffinePSD, mu_flash, mu_isothermal, thesis_rubber
 from friction.flash import FlashConvergenceError
 
 RUB = thesis_rubber()
-FLASH_PSD = SelfAffinePSD(0.8, 6.67e-4, 1500.0, 6e5)        # DESIGN.md sec 6, flash set
+FLASH_PSD = SelfAffinePSD(0.8, 6.67e-4, 1500.0, 6e5)  # DESIGN.md sec 6, flash set
 ISO_PSD = SelfAffinePSD(0.85, 5e-4, 2000.0, 2e5)
 
 
@@ -27,8 +28,9 @@ def capture_map(monkeypatch):
     return box
 
 
-@pytest.mark.parametrize("lo,hi,sigma0,limit", [(-8, 4, 0.4e6, 60), (2, 4, 0.4e6, 100),
-                                                (-8, 4, 0.2e6, 60), (2, 4, 0.2e6, 100)])
+@pytest.mark.parametrize(
+    "lo,hi,sigma0,limit", [(-8, 4, 0.4e6, 60), (2, 4, 0.4e6, 100), (-8, 4, 0.2e6, 60), (2, 4, 0.2e6, 100)]
+)
 def test_iteration_counts_bounded(lo, hi, sigma0, limit):
     """Issue 13: at most 60 map evaluations for 50 speeds over 1e-8..1e4 m/s and 100 over
     1e2..1e4 (the solver before took 572 and 282 on the 0.4 MPa set)."""
@@ -44,11 +46,11 @@ def test_converges_at_the_ends_of_the_speed_range(v, psd, sigma0, hot):
     res = mu_flash(psd, RUB, [v], sigma0_Pa=sigma0)
     rise = float(np.max(res.T_q_C - 60.0))
     assert res.iterations <= 60
-    if v == 1e-10:                       # no heating at all: the isothermal result
+    if v == 1e-10:  # no heating at all: the isothermal result
         assert rise < 1e-3
         iso = mu_isothermal(psd, RUB, [v], sigma0_Pa=sigma0).mu
         assert res.mu[0] == pytest.approx(iso[0], rel=2e-3)
-    else:                                # heating, finite and below the cap
+    else:  # heating, finite and below the cap
         assert hot < rise < flash.T_RISE_MAX_K
 
 
@@ -60,7 +62,7 @@ def test_result_is_a_fixed_point_of_the_engine_map(monkeypatch):
     Tn, R = box["phi"](res.T_q_C, np.arange(v.size))
     rise = np.maximum(1.0, np.max(res.T_q_C - 60.0, axis=1))
     step = np.max(np.abs(Tn - res.T_q_C), axis=1)
-    assert np.all(step <= 2e-5 * rise)            # one more map step barely moves it
+    assert np.all(step <= 2e-5 * rise)  # one more map step barely moves it
     np.testing.assert_allclose(R, res.meta["R_m"], rtol=1e-4)
 
 
@@ -70,7 +72,7 @@ def test_solution_independent_of_solver_path():
     v = np.logspace(0, 4, 9)
     a = mu_flash(FLASH_PSD, RUB, v, sigma0_Pa=0.4e6)
     b = mu_flash(FLASH_PSD, RUB, v, sigma0_Pa=0.4e6, beta=0.2, memory=3)
-    c = mu_flash(FLASH_PSD, RUB, v, sigma0_Pa=0.4e6, memory=1)   # no Anderson: damped only
+    c = mu_flash(FLASH_PSD, RUB, v, sigma0_Pa=0.4e6, memory=1)  # no Anderson: damped only
     rise = np.max(a.T_q_C - 60.0, axis=1, keepdims=True)
     for other in (b, c):
         assert np.max(np.abs(other.T_q_C - a.T_q_C) / rise) < 1e-4
@@ -80,8 +82,9 @@ def test_solution_independent_of_solver_path():
 
 def test_undamped_two_cycle_case_converges():
     """R fixed at 1 mm: the undamped map falls into a 2-cycle (DESIGN.md sec 7)."""
-    res = mu_flash(FLASH_PSD, RUB, np.logspace(-10, 4, 50), sigma0_Pa=0.4e6,
-                   asperity_abc=(1e-3 * 3 * 1500.0, 0.0, 0.0))
+    res = mu_flash(
+        FLASH_PSD, RUB, np.logspace(-10, 4, 50), sigma0_Pa=0.4e6, asperity_abc=(1e-3 * 3 * 1500.0, 0.0, 0.0)
+    )
     assert res.iterations <= 60
     assert res.temperature_at(400.0).max() > 500
 
@@ -100,6 +103,7 @@ def test_runaway_heating_is_reported_as_such():
     from dataclasses import replace
 
     from friction import Thermal
+
     rub = replace(RUB, thermal=Thermal(conductivity_W_mK=0.1))
     psd = SelfAffinePSD(0.65, 1.15e-3, 1776.0, 1776.0 * 960)
     with pytest.raises(FlashConvergenceError, match="runs away") as e:
@@ -113,8 +117,10 @@ def test_heat_scale_reaches_the_isothermal_model():
     off = mu_flash(FLASH_PSD, RUB, v, sigma0_Pa=0.4e6, heat_scale=0.0)
     assert off.iterations == 1 and np.all(off.T_q_C == 60.0)
     np.testing.assert_allclose(off.mu, iso, rtol=1e-3)
-    rises = [np.max(mu_flash(FLASH_PSD, RUB, v, sigma0_Pa=0.4e6, heat_scale=s).T_q_C - 60.0)
-             for s in (1e-3, 0.1, 1.0)]
-    assert 0 < rises[0] < rises[1] < rises[2]                  # a continuous path
+    rises = [
+        np.max(mu_flash(FLASH_PSD, RUB, v, sigma0_Pa=0.4e6, heat_scale=s).T_q_C - 60.0)
+        for s in (1e-3, 0.1, 1.0)
+    ]
+    assert 0 < rises[0] < rises[1] < rises[2]  # a continuous path
     with pytest.raises(ValueError, match="heat_scale"):
         mu_flash(FLASH_PSD, RUB, v, heat_scale=-1.0)

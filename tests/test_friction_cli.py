@@ -1,4 +1,5 @@
 """`roadscan friction` and the rubber TOML reader."""
+
 import csv
 from pathlib import Path
 
@@ -39,13 +40,37 @@ def test_cli_psd_file_flash_and_rubber(tmp_path):
     psd = tmp_path / "psd.csv"
     psd.write_text("q_per_m,C_m4\n" + "".join(f"{a:.12g},{b:.12g}\n" for a, b in zip(q, C)))
     out = tmp_path / "flash.csv"
-    rc = main(["friction", "--psd", str(psd), "--rubber", str(RUBBERS / "thesis_prony.toml"),
-               "--sigma0", "4e5", "--flash", "--velocities", "1e-4:1e2:7", "--magnifications", "3,10",
-               "--out", str(out)])
+    rc = main(
+        [
+            "friction",
+            "--psd",
+            str(psd),
+            "--rubber",
+            str(RUBBERS / "thesis_prony.toml"),
+            "--sigma0",
+            "4e5",
+            "--flash",
+            "--velocities",
+            "1e-4:1e2:7",
+            "--magnifications",
+            "3,10",
+            "--out",
+            str(out),
+        ]
+    )
     assert rc == 0
     head, d = _read(out)
-    assert head == ["v_m_per_s", "mu", "area_fraction", "T_flash_max_C", "T_C_zeta_1", "T_C_zeta_max",
-                    "T_C_zeta_3", "T_C_zeta_10", "extrapolated_share"]
+    assert head == [
+        "v_m_per_s",
+        "mu",
+        "area_fraction",
+        "T_flash_max_C",
+        "T_C_zeta_1",
+        "T_C_zeta_max",
+        "T_C_zeta_3",
+        "T_C_zeta_10",
+        "extrapolated_share",
+    ]
     assert d.shape == (7, 9) and np.all(d[:, 3:8] >= 60.0 - 1e-9) and np.all(d[:, 8] == 0)
     d = np.delete(d, 2, axis=1)  # the columns of the former layout follow T_flash_max_C
     assert np.all(d[:, 2] >= d[:, 3:].max(axis=1) - 1e-9)  # the hottest over all length scales
@@ -53,12 +78,15 @@ def test_cli_psd_file_flash_and_rubber(tmp_path):
     assert d[-1, 3] > d[-1, 5] > d[-1, 2] > 60.0  # smaller length scales run hotter at 100 m/s
 
 
-@pytest.mark.parametrize("argv", [
-    ["--self-affine", "H=0.8,h0=1e-3,q0=1e3"],
-    ["--self-affine", "H=0.8,h0=1e-3,q0=1e3,q1=1e5", "--velocities", "1:0.1:5"],
-    ["--self-affine", "H=0.8,h0=1e-3,q0=1e3,q1=1e5", "--sigma0", "-1"],
-    ["--psd", "/nonexistent/psd.csv"],
-])
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["--self-affine", "H=0.8,h0=1e-3,q0=1e3"],
+        ["--self-affine", "H=0.8,h0=1e-3,q0=1e3,q1=1e5", "--velocities", "1:0.1:5"],
+        ["--self-affine", "H=0.8,h0=1e-3,q0=1e3,q1=1e5", "--sigma0", "-1"],
+        ["--psd", "/nonexistent/psd.csv"],
+    ],
+)
 def test_cli_bad_input_exits_2(argv, tmp_path, capsys):
     assert main(["friction", *argv, "--out", str(tmp_path / "m.csv")]) == 2
     assert "error" in capsys.readouterr().err
@@ -80,12 +108,17 @@ def test_example_rubbers_load():
 
 def test_bad_rubber_files(tmp_path):
     p = tmp_path / "r.toml"
-    for text, msg in [("model = 'sls'\n[sls]\nE1_Pa = 'x'\n", "E1_Pa"), ("model = [\n", "TOML"),
-                      ("model='master_curve'\n[master_curve]\nfile='missing.csv'\n", "no such file")]:
+    for text, msg in [
+        ("model = 'sls'\n[sls]\nE1_Pa = 'x'\n", "E1_Pa"),
+        ("model = [\n", "TOML"),
+        ("model='master_curve'\n[master_curve]\nfile='missing.csv'\n", "no such file"),
+    ]:
         p.write_text(text)
         with pytest.raises(InputError, match=msg):
             load_rubber(p)
-    (tmp_path / "mc.csv").write_text("\ufefff, E_stor, E_loss\nHz, furlongs, MPa\n1, 2, 3\n2, 3, 4\n", encoding="utf-8")
+    (tmp_path / "mc.csv").write_text(
+        "\ufefff, E_stor, E_loss\nHz, furlongs, MPa\n1, 2, 3\n2, 3, 4\n", encoding="utf-8"
+    )
     p.write_text("model='master_curve'\n[master_curve]\nfile='mc.csv'\n")
     with pytest.raises(InputError, match="unit"):
         load_rubber(p)

@@ -1,5 +1,6 @@
 """Properties of the friction engine: quadrature against closed forms, grid convergence,
 limits and trends of Persson's theory, rubber models and fits."""
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -31,7 +32,7 @@ def sls_phi_closed_form(x, E1=1e9, a1=1000.0, tau=1e-3):
     b, k = 1 + a1, x * tau
     s = np.sqrt(b * b + k * k)
     m = E1 * a1 * np.pi / 2 * k / (s * (s + b))
-    w = E1 ** 2 * (np.pi / 2 - (b * b - 1) * np.pi / (2 * b * s))
+    w = E1**2 * (np.pi / 2 - (b * b - 1) * np.pi / (2 * b * s))
     return m, w
 
 
@@ -71,7 +72,9 @@ def test_halving_tol_changes_mu_less_than_0p1_percent(zeta):
     a = mu_isothermal(psd, RUB, v, tol=1e-3).mu
     b = mu_isothermal(psd, RUB, v, tol=5e-4).mu
     assert a.size == 121 and np.max(np.abs(a / b - 1)) < 1e-3
-    assert mu_isothermal(psd, RUB, v, tol=1e-3).q_per_m.size < mu_isothermal(psd, RUB, v, tol=5e-4).q_per_m.size
+    assert (
+        mu_isothermal(psd, RUB, v, tol=1e-3).q_per_m.size < mu_isothermal(psd, RUB, v, tol=5e-4).q_per_m.size
+    )
 
 
 def test_mu_vanishes_at_low_speed_and_is_positive():
@@ -172,6 +175,7 @@ def _pyvisco():
     from pathlib import Path
 
     from pipelines.settings.rubber_file import load_rubber
+
     here = Path(__file__).resolve().parents[1] / "sample_scans" / "rubbers"
     return load_rubber(here / "pyvisco_master_table.toml")
 
@@ -226,21 +230,33 @@ def test_tabulated_psd_matches_model_and_extends():
 
 
 def test_rubber_from_dict():
-    r = rubber_from_dict({"model": "sls", "T_ref_C": 60.0, "sls": {"E1_Pa": 1e9, "a1": 1000.0, "tau_s": 1e-3}})
+    r = rubber_from_dict(
+        {"model": "sls", "T_ref_C": 60.0, "sls": {"E1_Pa": 1e9, "a1": 1000.0, "tau_s": 1e-3}}
+    )
     np.testing.assert_allclose(r.modulus([1.0, 1e6]), RUB.modulus([1.0, 1e6]))
     assert r.shift.log10_aT(60.0) == pytest.approx(RUB.shift.log10_aT(60.0))
-    p = rubber_from_dict({"model": "prony", "prony": {"E_inf_Pa": 1e6, "E_i_Pa": [1e8], "tau_i_s": [1e-4]},
-                          "shift": {"kind": "none"}, "thermal": {"rho_kg_m3": 1100.0}})
+    p = rubber_from_dict(
+        {
+            "model": "prony",
+            "prony": {"E_inf_Pa": 1e6, "E_i_Pa": [1e8], "tau_i_s": [1e-4]},
+            "shift": {"kind": "none"},
+            "thermal": {"rho_kg_m3": 1100.0},
+        }
+    )
     assert p.shift is None and p.thermal.rho_kg_m3 == 1100.0
-    for bad, msg in [({"model": "foo"}, "model"), ({"model": "sls", "sls": {"E1": 1}}, "unknown"),
-                     ({"model": "prony", "prony": {"E_inf_Pa": 1e6, "E_i_Pa": [1.0]}}, "tau_i_s"),
-                     ({"model": "sls", "sls": {}, "shift": {"kind": "arrhenius"}}, "kind")]:
+    for bad, msg in [
+        ({"model": "foo"}, "model"),
+        ({"model": "sls", "sls": {"E1": 1}}, "unknown"),
+        ({"model": "prony", "prony": {"E_inf_Pa": 1e6, "E_i_Pa": [1.0]}}, "tau_i_s"),
+        ({"model": "sls", "sls": {}, "shift": {"kind": "arrhenius"}}, "kind"),
+    ]:
         with pytest.raises(ValueError, match=msg):
             rubber_from_dict(bad)
 
 
 def test_result_plot_and_temperature_at():
     import matplotlib
+
     matplotlib.use("Agg")
     res = mu_isothermal(PSD100, RUB, np.logspace(-4, 2, 7))
     ax = res.plot()

@@ -1,5 +1,6 @@
 """roadscan friction: only an InputError is bad input (exit 2); a ValueError from inside the
 friction numerics is a bug and surfaces as exit 1, "internal error" (pipelines.cli.app policy)."""
+
 from __future__ import annotations
 
 import json
@@ -18,17 +19,32 @@ def test_a_valueerror_in_the_numerics_is_an_internal_error(monkeypatch, capsys, 
         raise ValueError("a bug in the engine")
 
     monkeypatch.setattr(friction, "mu_flash" if flash else "mu_isothermal", boom)
-    rc = main(["friction", "--self-affine", SA, "--velocities", "1e-2:1:3", *(["--flash"] if flash else []),
-               "--out", str(tmp_path / "mu.csv")])
+    rc = main(
+        [
+            "friction",
+            "--self-affine",
+            SA,
+            "--velocities",
+            "1e-2:1:3",
+            *(["--flash"] if flash else []),
+            "--out",
+            str(tmp_path / "mu.csv"),
+        ]
+    )
     err = capsys.readouterr().err
     assert rc == 1 and "internal error (ValueError: a bug in the engine)" in err and ": error:" not in err
     assert not (tmp_path / "mu.csv").exists()
 
 
-@pytest.mark.parametrize("spec, words", [("H=1.7,h0=1e-4,q0=2e3,q1=1e6", "H=1.7"),
-                                         ("H=0.8,h0=-1e-4,q0=2e3,q1=1e6", "h0=-0.0001"),
-                                         ("H=0.8,h0=1e-4,q0=2e6,q1=1e6", "q0=2e+06 must be below q1"),
-                                         ("H=0.8,h0=1e-4,q0=2e3,q1=1e6,qroll=5e3", "qroll=5000")])
+@pytest.mark.parametrize(
+    "spec, words",
+    [
+        ("H=1.7,h0=1e-4,q0=2e3,q1=1e6", "H=1.7"),
+        ("H=0.8,h0=-1e-4,q0=2e3,q1=1e6", "h0=-0.0001"),
+        ("H=0.8,h0=1e-4,q0=2e6,q1=1e6", "q0=2e+06 must be below q1"),
+        ("H=0.8,h0=1e-4,q0=2e3,q1=1e6,qroll=5e3", "qroll=5000"),
+    ],
+)
 def test_self_affine_model_conditions_are_bad_input(capsys, tmp_path, spec, words):
     rc = main(["friction", "--self-affine", spec, "--out", str(tmp_path / "mu.csv")])
     err = capsys.readouterr().err.strip()

@@ -1,6 +1,7 @@
 """One parser for the friction flags (issue 23): every command that takes them gets the same
 flags with the same defaults from :func:`pipelines.settings.friction.add_friction_options`, and
 :func:`settings_from_args` turns the same flags into the same settings for each of them."""
+
 import numpy as np
 import pytest
 
@@ -17,8 +18,22 @@ BASE = {
     "friction": ["--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e5"],
     "diagnose": ["--measured", "m.csv", "--out", "o"],
 }
-FLAGS = ["--sigma0", "300kPa", "--temperature", "25", "--nu", "0.45", "--q0", "2e3", "--q1", "1e5",
-         "--contact-gamma", "0.5", "--extrapolate", "hold"]
+FLAGS = [
+    "--sigma0",
+    "300kPa",
+    "--temperature",
+    "25",
+    "--nu",
+    "0.45",
+    "--q0",
+    "2e3",
+    "--q1",
+    "1e5",
+    "--contact-gamma",
+    "0.5",
+    "--extrapolate",
+    "hold",
+]
 
 
 def _parse(cmd, extra=()):
@@ -34,9 +49,15 @@ def test_the_analyse_module_still_exports_the_settings():
 @pytest.mark.parametrize("cmd", sorted(BASE))
 def test_every_command_parses_the_same_flags_into_the_same_settings(cmd):
     s = settings_from_args(_parse(cmd))
-    assert s.sigma0_Pa == pytest.approx(3e5)          # 300 kPa, parsed with its unit
-    assert (s.T0_C, s.nu, s.q0_per_m, s.q1_per_m, s.contact_gamma, s.extrapolate) == \
-        (25.0, 0.45, 2e3, 1e5, 0.5, "hold")
+    assert s.sigma0_Pa == pytest.approx(3e5)  # 300 kPa, parsed with its unit
+    assert (s.T0_C, s.nu, s.q0_per_m, s.q1_per_m, s.contact_gamma, s.extrapolate) == (
+        25.0,
+        0.45,
+        2e3,
+        1e5,
+        0.5,
+        "hold",
+    )
     assert s.rubber is None and s.enabled
 
 
@@ -44,8 +65,18 @@ def test_every_command_parses_the_same_flags_into_the_same_settings(cmd):
 def test_defaults_are_the_settings_defaults(cmd):
     args = build_parser().parse_args([cmd, *BASE[cmd]])
     s, d = settings_from_args(args), FrictionSettings()
-    for field in ("sigma0_Pa", "T0_C", "flash", "q0_per_m", "q1_per_m", "nu", "contact_gamma",
-                  "extrapolate", "enabled", "rubber"):
+    for field in (
+        "sigma0_Pa",
+        "T0_C",
+        "flash",
+        "q0_per_m",
+        "q1_per_m",
+        "nu",
+        "contact_gamma",
+        "extrapolate",
+        "enabled",
+        "rubber",
+    ):
         assert getattr(s, field) == getattr(d, field), field
     assert s.v_m_per_s is None
 

@@ -1,17 +1,20 @@
 """friction against the reference numbers of DESIGN.md section 7 (mu and P within 1 %,
 temperature rises within 1 %, peak speeds within 2 % on a fixed speed grid)."""
+
 import numpy as np
 import pytest
 
 from friction import SelfAffinePSD, mu_flash, mu_isothermal, thesis_rubber
 
 RUB = thesis_rubber()
-V_GRID = np.logspace(-8, 4, 241)          # fixed speed grid, 20 per decade
+V_GRID = np.logspace(-8, 4, 241)  # fixed speed grid, 20 per decade
 V_FLASH = np.logspace(-8, 2, 101)
 
-FIG24 = {10: (2.6288, 9.675, [8.04e-4, 0.0803, 2.344, 2.130, 0.0686]),
-         100: (5.5347, 2.279, [8.64e-3, 0.817, 5.385, 2.583, 0.0723]),
-         1000: (8.9174, 0.537, [0.108, 4.443, 8.678, 2.635, 0.0728])}
+FIG24 = {
+    10: (2.6288, 9.675, [8.04e-4, 0.0803, 2.344, 2.130, 0.0686]),
+    100: (5.5347, 2.279, [8.64e-3, 0.817, 5.385, 2.583, 0.0723]),
+    1000: (8.9174, 0.537, [0.108, 4.443, 8.678, 2.635, 0.0728]),
+}
 
 
 @pytest.mark.parametrize("zeta", [10, 100, 1000])
@@ -28,11 +31,13 @@ def test_fig_2_4(zeta):
 
 def test_fig_2_5_contact_area():
     psd = SelfAffinePSD(0.85, 5e-4, 2000.0, 2e5)
-    ref = {5e-5: [0.289, 0.179, 0.142, 0.118, 0.0950, 0.0823],
-           0.013: [0.289, 0.179, 0.141, 0.116, 0.0883, 0.0653],
-           0.316: [0.243, 0.1105, 0.0573, 0.0274, 9.76e-3, 4.42e-3],
-           7.85: [0.0179, 5.65e-3, 2.53e-3, 1.155e-3, 4.37e-4, 2.38e-4],
-           187: [8.42e-4, None, 2.21e-4, None, None, 9.55e-5]}
+    ref = {
+        5e-5: [0.289, 0.179, 0.142, 0.118, 0.0950, 0.0823],
+        0.013: [0.289, 0.179, 0.141, 0.116, 0.0883, 0.0653],
+        0.316: [0.243, 0.1105, 0.0573, 0.0274, 9.76e-3, 4.42e-3],
+        7.85: [0.0179, 5.65e-3, 2.53e-3, 1.155e-3, 4.37e-4, 2.38e-4],
+        187: [8.42e-4, None, 2.21e-4, None, None, 9.55e-5],
+    }
     zetas = np.array([2, 5, 10, 20, 50, 100.0])
     v = np.array(list(ref))
     res = mu_isothermal(psd, RUB, v)
@@ -43,8 +48,9 @@ def test_fig_2_5_contact_area():
                 assert P[i, j] == pytest.approx(want, rel=0.01), (v[i], zetas[j])
 
 
-@pytest.mark.parametrize("H,peak_mu,peak_v", [(0.2, 23.016, 1.069), (0.4, 15.743, 1.334),
-                                              (0.6, 9.819, 1.683), (0.8, 6.175, 2.142)])
+@pytest.mark.parametrize(
+    "H,peak_mu,peak_v", [(0.2, 23.016, 1.069), (0.4, 15.743, 1.334), (0.6, 9.819, 1.683), (0.8, 6.175, 2.142)]
+)
 def test_fig_2_7_hurst(H, peak_mu, peak_v):
     psd = SelfAffinePSD(H, 5e-4, 2000.0, 2e5)
     mu_max, v_max = mu_isothermal(psd, RUB, V_GRID).peak

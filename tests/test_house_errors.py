@@ -1,5 +1,6 @@
 """The house: structured input errors (roadscan names options, the CLI names flags), bugs not
 reported as bad input, one length formatter, one resolution and its bound, HTML templates."""
+
 import json
 import pickle
 
@@ -11,15 +12,18 @@ from roadscan.errors import InputError, OptionNote
 
 
 def test_input_error_names_options_by_keyword_and_renders_flags():
-    e = InputError("a.npy", "no spacing: pass {spacing} DX[,DY] and {override_calibration}",
-                   ("spacing", "override_calibration"))
+    e = InputError(
+        "a.npy",
+        "no spacing: pass {spacing} DX[,DY] and {override_calibration}",
+        ("spacing", "override_calibration"),
+    )
     assert (e.file, e.hint_option) == ("a.npy", ("spacing", "override_calibration"))
     assert str(e) == "a.npy: no spacing: pass 'spacing' DX[,DY] and 'override_calibration'"
     assert e.what == "no spacing: pass 'spacing' DX[,DY] and 'override_calibration'"
     from pipelines.cli.hints import flag_text
 
     assert flag_text(e) == "a.npy: no spacing: pass --spacing DX[,DY] and --override-calibration"
-    assert isinstance(e, ValueError)               # library callers catching ValueError still do
+    assert isinstance(e, ValueError)  # library callers catching ValueError still do
 
 
 def test_input_error_keeps_its_options_across_processes_and_rewording():
@@ -34,7 +38,7 @@ def test_input_error_keeps_its_options_across_processes_and_rewording():
 def test_braces_that_are_not_options_stay():
     e = InputError("x.csv", "bad value '{a}' near {spacing}", "spacing")
     assert str(e) == "x.csv: bad value '{a}' near 'spacing'"
-    plain = InputError("x.csv", "bad value '{spacing}'")        # no options: text as given
+    plain = InputError("x.csv", "bad value '{spacing}'")  # no options: text as given
     assert str(plain) == "x.csv: bad value '{spacing}'"
 
 
@@ -68,8 +72,15 @@ def _replace_synth_run(monkeypatch, run):
     monkeypatch.setattr(cli, "build_parser", patched)
 
 
-@pytest.mark.parametrize("exc", [ValueError("x must be positive"), ZeroDivisionError("division"),
-                                 OverflowError("big"), IndexError("index 3")])
+@pytest.mark.parametrize(
+    "exc",
+    [
+        ValueError("x must be positive"),
+        ZeroDivisionError("division"),
+        OverflowError("big"),
+        IndexError("index 3"),
+    ],
+)
 def test_a_programming_error_is_never_bad_input(monkeypatch, capsys, tmp_path, exc):
     def boom(args):
         raise exc
@@ -96,10 +107,22 @@ def test_bad_input_and_parsing_errors_stay_exit_2(monkeypatch, capsys, tmp_path)
     assert "cannot parse" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("x, text", [(3.2755905e-3, "3.28 mm"), (3.974e-4, "397 µm"),
-                                     (0.06, "60.0 mm"), (1.80872, "1.81 m"), (9.9996e-4, "1.00 mm"),
-                                     (9.994e-4, "999 µm"), (1.2e-8, "12.0 nm"), (-2.5e-3, "-2.50 mm"),
-                                     (0.0, "0 mm"), (None, "—"), (float("nan"), "—")])
+@pytest.mark.parametrize(
+    "x, text",
+    [
+        (3.2755905e-3, "3.28 mm"),
+        (3.974e-4, "397 µm"),
+        (0.06, "60.0 mm"),
+        (1.80872, "1.81 m"),
+        (9.9996e-4, "1.00 mm"),
+        (9.994e-4, "999 µm"),
+        (1.2e-8, "12.0 nm"),
+        (-2.5e-3, "-2.50 mm"),
+        (0.0, "0 mm"),
+        (None, "—"),
+        (float("nan"), "—"),
+    ],
+)
 def test_one_length_formatter(x, text):
     from pipelines.output.units import length as pipelines_length
     from roadscan.units import length
@@ -124,9 +147,9 @@ def test_one_resolution_and_one_bound(tmp_path):
 
     hm = HeightMap(np.zeros((8, 8)), 1e-4, 1e-4)
     assert resolution_of(hm) == (None, None)
-    hm.meta["resolution_m"] = 2e-5                            # a top-level key counts too
+    hm.meta["resolution_m"] = 2e-5  # a top-level key counts too
     assert resolution_of(hm) == (2e-5, "file metadata")
-    hm.meta["instrument"] = {"lateral_resolution_m": 3e-5}    # the instrument block first
+    hm.meta["instrument"] = {"lateral_resolution_m": 3e-5}  # the instrument block first
     assert resolution_of(hm) == (3e-5, "file metadata")
     assert resolution_of(hm, 1e-5) == (1e-5, "given")
     assert resolution_problem(RESOLUTION_MAX_M) is None and resolution_problem(1.5 * RESOLUTION_MAX_M)
@@ -135,7 +158,7 @@ def test_one_resolution_and_one_bound(tmp_path):
     from pipelines.settings.analyse import check_resolution
 
     with pytest.raises(InputError, match="--resolution"):
-        check_resolution(5.0)                                 # combine accepted up to 10 m
+        check_resolution(5.0)  # combine accepted up to 10 m
     (tmp_path / "a.npy").write_bytes(b"")
     (tmp_path / "m.csv").write_text("file,resolution_m\na.npy,5\n")
     with pytest.raises(InputError, match="resolution_m"):
@@ -152,8 +175,12 @@ def test_html_from_templates_escapes_what_it_is_given(tmp_path):
     assert "<script>" not in li and "href='a b/report.html'" in li
     png = tmp_path / "f.png"
     png.write_bytes(b"\x89PNG\r\n\x1a\nfake")
-    out = report.write_html(tmp_path / "r.html", hostile, [(hostile, [t, png, [png, png]])],
-                            intro=report.instrument_html({"name": hostile}))
+    out = report.write_html(
+        tmp_path / "r.html",
+        hostile,
+        [(hostile, [t, png, [png, png]])],
+        intro=report.instrument_html({"name": hostile}),
+    )
     html = out.read_text()
     assert "<script>" not in html and html.count("data:image/png;base64,") == 3
     assert html.count("<table>") == 1 and "Instrument" in html

@@ -1,4 +1,5 @@
 """Reading and writing height files: round trips, units, text layouts, gwy, errors."""
+
 from __future__ import annotations
 
 import os
@@ -26,6 +27,7 @@ def _same(a, b):
 
 
 # ---------------------------------------------------------------- round trips
+
 
 @pytest.mark.parametrize("ext", [".x3p", ".npz", ".tif", ".tiff"])
 def test_round_trip_exact(tmp_path, ext):
@@ -94,8 +96,9 @@ def test_tiff_resolution_tags(tmp_path):
     import tifffile
 
     h = np.random.default_rng(1).random((8, 9))
-    tifffile.imwrite(tmp_path / "cm.tif", h, resolution=(200.0, 100.0), resolutionunit="CENTIMETER",
-                     metadata=None)
+    tifffile.imwrite(
+        tmp_path / "cm.tif", h, resolution=(200.0, 100.0), resolutionunit="CENTIMETER", metadata=None
+    )
     m = read(tmp_path / "cm.tif", units="um")
     assert m.dx_m == pytest.approx(5e-5) and m.dy_m == pytest.approx(1e-4)
     np.testing.assert_allclose(m.heights_m, h * 1e-6)
@@ -118,7 +121,7 @@ def test_npz_keys_and_override(tmp_path):
     assert (m.dx_m, m.dy_m) == (1e-4, 2e-4)
     assert m.unmeasured[2, 3] and np.isnan(m.heights_m[2, 3]) and m.unmeasured.sum() == 1
     with pytest.raises(InputError, match=r"a.npz: the file carries its own spacing"):
-        read(tmp_path / "a.npz", spacing="3e-5")     # never silently overridden (issue 22)
+        read(tmp_path / "a.npz", spacing="3e-5")  # never silently overridden (issue 22)
     m2 = read(tmp_path / "a.npz", spacing="3e-5", calibration="override")
     assert (m2.dx_m, m2.dy_m) == (3e-5, 3e-5)
     assert m2.meta["calibration_override"]["spacing"] == {"file": [1e-4, 2e-4], "flag": [3e-5, 3e-5]}
@@ -139,6 +142,7 @@ def test_write_is_atomic_and_unknown_extension(tmp_path):
 
 
 # ---------------------------------------------------------------- units
+
 
 @pytest.mark.parametrize("units,scale", [("mm", 1e3), ("um", 1e6), ("nm", 1e9), ("m", 1.0)])
 def test_units_give_identical_heights(tmp_path, units, scale):
@@ -166,6 +170,7 @@ def test_parse_helpers():
 
 
 # ---------------------------------------------------------------- text layouts
+
 
 def test_ascii_matrix_comma_and_whitespace(tmp_path):
     h = np.random.default_rng(5).normal(size=(5, 6))
@@ -196,7 +201,7 @@ def test_gwyddion_ascii_export(tmp_path):
     text += "\n".join("\t".join(f"{v:.6e}" for v in r) for r in h)
     (tmp_path / "g.txt").write_text(text)
     with pytest.raises(InputError, match="states its heights in um: 'units' mm"):
-        read(tmp_path / "g.txt", units="mm")   # never silently overridden (issue 22)
+        read(tmp_path / "g.txt", units="mm")  # never silently overridden (issue 22)
     m = read(tmp_path / "g.txt", units="mm", calibration="default")  # batch: the file wins
     assert m.dx_m == pytest.approx(0.5e-3) and m.dy_m == pytest.approx(0.5e-3)
     np.testing.assert_allclose(m.heights_m, h * 1e-6)
@@ -272,6 +277,7 @@ def test_two_column_profile(tmp_path):
 
 # ---------------------------------------------------------------- gwy
 
+
 def test_gwy_written_by_gwyfile(tmp_path):
     from gwyfile.objects import GwyContainer, GwyDataField
 
@@ -317,12 +323,13 @@ def test_gwy_mask_is_unmeasured_like_surfacetopography(tmp_path):
     from SurfaceTopography import open_topography
 
     t = open_topography(str(tmp_path / "m.gwy")).topography()
-    st = np.ma.filled(t.heights().astype(float), np.nan).T        # ST indexes [x, y]
+    st = np.ma.filled(t.heights().astype(float), np.nan).T  # ST indexes [x, y]
     np.testing.assert_array_equal(np.isnan(st), bad)
     np.testing.assert_allclose(st[~bad], h[~bad], rtol=1e-12)
 
 
 # ---------------------------------------------------------------- errors
+
 
 def test_errors_name_the_file(tmp_path):
     f = tmp_path
@@ -342,8 +349,8 @@ def test_errors_name_the_file(tmp_path):
     cases["first.txt"] = ("non-numeric value 'abc'", 1e-4)
     (f / "ragged.txt").write_text("1 2 3 4\n5 6 7 8\n9 10 11\n")
     cases["ragged.txt"] = ("ragged rows: line 3", 1e-4)
-    (f / "short.csv").write_text("1,2,3,4\n5,6,7\n9,10,11,12\n")   # (an empty field is a dropout:
-    cases["short.csv"] = ("ragged rows: line 2", 1e-4)                # tests/test_text_headers.py)
+    (f / "short.csv").write_text("1,2,3,4\n5,6,7\n9,10,11,12\n")  # (an empty field is a dropout:
+    cases["short.csv"] = ("ragged rows: line 2", 1e-4)  # tests/test_text_headers.py)
     np.save(f / "nan.npy", np.full((4, 4), np.nan))
     cases["nan.npy"] = ("no measured points", 1e-4)
     (f / "nan.txt").write_text("nan nan nan nan\nNaN NaN NaN NaN\n")
@@ -377,8 +384,26 @@ def test_errors_name_the_file(tmp_path):
 
 
 def test_registry_has_required_formats():
-    for ext in (".npy", ".npz", ".tif", ".tiff", ".txt", ".csv", ".asc", ".xyz", ".x3p", ".gwy",
-                ".dat", ".plu", ".plux", ".sur", ".datx", ".vk4", ".opd", ".al3d"):
+    for ext in (
+        ".npy",
+        ".npz",
+        ".tif",
+        ".tiff",
+        ".txt",
+        ".csv",
+        ".asc",
+        ".xyz",
+        ".x3p",
+        ".gwy",
+        ".dat",
+        ".plu",
+        ".plux",
+        ".sur",
+        ".datx",
+        ".vk4",
+        ".opd",
+        ".al3d",
+    ):
         assert ext in READERS, ext
 
 
@@ -386,8 +411,9 @@ def test_geotiff_pixel_scale(tmp_path):
     import tifffile
 
     h = np.random.default_rng(9).random((5, 6))
-    tifffile.imwrite(tmp_path / "geo.tif", h, metadata=None,
-                     extratags=[(33550, "d", 3, (0.002, 0.003, 0.0), True)])
+    tifffile.imwrite(
+        tmp_path / "geo.tif", h, metadata=None, extratags=[(33550, "d", 3, (0.002, 0.003, 0.0), True)]
+    )
     m = read(tmp_path / "geo.tif")
     assert (m.dx_m, m.dy_m) == (0.002, 0.003)
     assert "ModelPixelScaleTag" in m.meta["spacing_from"]
@@ -410,7 +436,7 @@ def test_xyz_units_apply_to_coordinates_and_heights(tmp_path):
     """--units names the unit of x, y and z of a point list without unit titles."""
     _h, pts = _xyz_points()
     pts = pts.copy()
-    pts *= 1e6   # coordinates and heights written in um
+    pts *= 1e6  # coordinates and heights written in um
     np.savetxt(tmp_path / "u.xyz", pts, fmt="%.9g")
     m = read(tmp_path / "u.xyz", units="um")
     np.savetxt(tmp_path / "u.xyz", pts * 1e-6, fmt="%.9g")

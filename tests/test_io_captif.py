@@ -1,4 +1,5 @@
 """CAPTIF stationary laser profiler files (real data, read as they are)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -36,7 +37,7 @@ def test_counts_spacing_dropouts(profiles):
         d, z = _raw(DATA / name)
         assert isinstance(prof, Profile)
         assert 50_000 <= prof.n <= 52_000, (name, prof.n)
-        assert prof.n == d.size                     # every grid node has a row in these files
+        assert prof.n == d.size  # every grid node has a row in these files
         # nominal 0.0375 mm; the fitted step is 0.037489 mm (0.03 % short of nominal)
         assert prof.dx_m == pytest.approx(0.0375e-3, rel=1e-3), prof.dx_m
         assert abs(prof.dx_m * (prof.n - 1) - (d.max() - d.min()) * 1e-3) < 1e-6
@@ -75,10 +76,10 @@ def test_point_numbers_not_monotonic_but_handled(tmp_path):
     # swap two data rows and drop one: sorting restores order, the gap becomes unmeasured
     lines = src.decode().split("\r\n")
     k = next(i for i, ln in enumerate(lines) if ln.startswith("Data Point No:"))
-    body = lines[k + 1:]
+    body = lines[k + 1 :]
     body[100], body[101] = body[101], body[100]
     del body[500]
-    (tmp_path / "cut.dat").write_text("\n".join(lines[:k + 1] + body))
+    (tmp_path / "cut.dat").write_text("\n".join(lines[: k + 1] + body))
     cut = read(tmp_path / "cut.dat")
     assert cut.n == prof.n and cut.unmeasured[500] and not prof.unmeasured[500]
     ok = ~cut.unmeasured
@@ -88,7 +89,7 @@ def test_point_numbers_not_monotonic_but_handled(tmp_path):
 def test_captif_errors(tmp_path):
     good = FILES[1].read_text().splitlines()
     k = next(i for i, ln in enumerate(good) if ln.startswith("*****DATA*****"))
-    (tmp_path / "nodata.dat").write_text("\n".join(good[:k + 2]) + "\n")
+    (tmp_path / "nodata.dat").write_text("\n".join(good[: k + 2]) + "\n")
     with pytest.raises(InputError, match=r"nodata\.dat: no data rows"):
         read(tmp_path / "nodata.dat")
     bad = list(good)

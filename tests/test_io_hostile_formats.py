@@ -3,6 +3,7 @@ overrides, multi-page and palette TIFFs, hostile X3P zips, .npy 3.0, detection b
 
 Every refusal is one line naming the file; every accepted file equals the array it was written
 from (an independent writer: numpy's own formatting, tifffile, zipfile)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -12,7 +13,7 @@ from roadscan.errors import InputError
 from roadscan.io import read
 
 RNG = np.random.default_rng(22)
-H = RNG.normal(size=(6, 5)) * 1e-4          # heights [m], 17 significant digits in the text
+H = RNG.normal(size=(6, 5)) * 1e-4  # heights [m], 17 significant digits in the text
 
 
 def _comma(v):
@@ -53,21 +54,25 @@ def test_decimal_comma_xz_profile_semicolon(tmp_path):
 
 
 def test_gwyddion_header_with_decimal_comma(tmp_path):
-    text = ("# Width: 5,00 mm\n# Height: 6,00 mm\n# Value units: m\n"
-            + "\n".join("\t".join(_comma(v) for v in r) for r in H))
+    text = "# Width: 5,00 mm\n# Height: 6,00 mm\n# Value units: m\n" + "\n".join(
+        "\t".join(_comma(v) for v in r) for r in H
+    )
     m = read(_write(tmp_path, "g.txt", text))
     assert (m.dx_m, m.dy_m) == (pytest.approx(1e-3), pytest.approx(1e-3))
     np.testing.assert_array_equal(m.heights_m, H)
 
 
-@pytest.mark.parametrize("line, word", [
-    ("1.234,5;2;3;4;5", "thousands"),
-    ("1,234,567;2;3;4;5", "thousands"),
-    ("1,234.5 2 3 4 5", "thousands"),
-    ("1 234,5;2;3;4;5", "thousands"),
-    ("1,5;2.5;3;4;5", "both '.' and ','"),
-    ("1,5, 2,5, 3,5, 4,5", "ambiguous"),
-])
+@pytest.mark.parametrize(
+    "line, word",
+    [
+        ("1.234,5;2;3;4;5", "thousands"),
+        ("1,234,567;2;3;4;5", "thousands"),
+        ("1,234.5 2 3 4 5", "thousands"),
+        ("1 234,5;2;3;4;5", "thousands"),
+        ("1,5;2.5;3;4;5", "both '.' and ','"),
+        ("1,5, 2,5, 3,5, 4,5", "ambiguous"),
+    ],
+)
 def test_thousands_and_ambiguous_commas_refused(tmp_path, line, word):
     p = _write(tmp_path, "bad.csv", (line + "\n") * 6)
     with pytest.raises(InputError) as ei:
@@ -91,8 +96,10 @@ def test_spacing_on_x3p_refused_in_one_line(tmp_path, capsys):
     p, _ = _x3p(tmp_path)
     for flag in (["--spacing", "1e-4"], ["--units", "mm"]):
         capsys.readouterr()
-        assert main(["analyse", str(p), "--out", str(tmp_path / "o"), "--no-friction",
-                     "--no-figures", *flag]) == 2
+        assert (
+            main(["analyse", str(p), "--out", str(tmp_path / "o"), "--no-friction", "--no-figures", *flag])
+            == 2
+        )
         err = capsys.readouterr().err.strip()
         assert "s.x3p" in err and "--override-calibration" in err and "\n" not in err
         assert not (tmp_path / "o").exists()
@@ -105,8 +112,22 @@ def test_override_calibration_recorded_in_summary(tmp_path):
 
     p, _h = _x3p(tmp_path)
     out = tmp_path / "o"
-    assert main(["analyse", str(p), "--out", str(out), "--no-friction", "--no-figures",
-                 "--spacing", "1e-4", "--override-calibration"]) == 0
+    assert (
+        main(
+            [
+                "analyse",
+                str(p),
+                "--out",
+                str(out),
+                "--no-friction",
+                "--no-figures",
+                "--spacing",
+                "1e-4",
+                "--override-calibration",
+            ]
+        )
+        == 0
+    )
     s = json.loads(next(out.rglob("summary.json")).read_text())
     assert s["spacing_m"] == [1e-4, 1e-4]
     assert s["calibration_override"]["spacing"] == {"file": [2e-5, 2e-5], "flag": [1e-4, 1e-4]}
@@ -114,7 +135,7 @@ def test_override_calibration_recorded_in_summary(tmp_path):
 
 def test_units_override_rescales_from_the_files_unit(tmp_path):
     p, h = _x3p(tmp_path)
-    m = read(p, units="mm", calibration="override")      # the file says m, the user says mm
+    m = read(p, units="mm", calibration="override")  # the file says m, the user says mm
     np.testing.assert_allclose(m.heights_m, h * 1e-3, rtol=1e-15)
     assert m.meta["calibration_override"]["units"] == {"file": "m", "flag": "mm"}
 
@@ -141,8 +162,20 @@ def test_mixed_batch_keeps_x3p_calibration(tmp_path):
     p, _h = _x3p(tmp_path, "a.x3p")
     np.save(tmp_path / "b.npy", np.random.default_rng(5).normal(size=(40, 40)) * 1e-4)
     out = tmp_path / "camp"
-    rc = main(["batch", str(p), str(tmp_path / "b.npy"), "--out", str(out), "--no-friction",
-               "--spacing", "1e-4", "--workers", "1"])
+    rc = main(
+        [
+            "batch",
+            str(p),
+            str(tmp_path / "b.npy"),
+            "--out",
+            str(out),
+            "--no-friction",
+            "--spacing",
+            "1e-4",
+            "--workers",
+            "1",
+        ]
+    )
     assert rc == 0
     sums = {f.parent.name: json.loads(f.read_text()) for f in out.rglob("summary.json")}
     a = next(v for k, v in sums.items() if k.startswith("a"))
@@ -163,14 +196,22 @@ def tiffs(tmp_path):
     cmap = np.tile(np.arange(256, dtype=np.uint16) * 256, (3, 1))
     tifffile.imwrite(tmp_path / "stack.tif", stack, photometric="minisblack")
     tifffile.imwrite(tmp_path / "rgb.tif", rgb, photometric="rgb")
-    tifffile.imwrite(tmp_path / "planar.tif", np.moveaxis(rgb, 2, 0).copy(), photometric="rgb",
-                     planarconfig="separate")
+    tifffile.imwrite(
+        tmp_path / "planar.tif", np.moveaxis(rgb, 2, 0).copy(), photometric="rgb", planarconfig="separate"
+    )
     tifffile.imwrite(tmp_path / "pal.tif", pal, photometric="palette", colormap=cmap)
     return tmp_path, {"stack": stack, "rgb": rgb, "pal": pal}
 
 
-@pytest.mark.parametrize("name, word", [("stack", "3 images"), ("rgb", "3 samples per pixel"),
-                                        ("planar", "3 samples per pixel"), ("pal", "palette")])
+@pytest.mark.parametrize(
+    "name, word",
+    [
+        ("stack", "3 images"),
+        ("rgb", "3 samples per pixel"),
+        ("planar", "3 samples per pixel"),
+        ("pal", "palette"),
+    ],
+)
 def test_ambiguous_tiffs_refused_without_channel(tiffs, name, word):
     d, _ = tiffs
     with pytest.raises(InputError) as ei:
@@ -209,8 +250,23 @@ def test_channel_recorded_in_summary(tiffs):
 
     d, _src = tiffs
     out = d / "o"
-    assert main(["analyse", str(d / "stack.tif"), "--spacing", "1e-4", "--channel", "1",
-                 "--out", str(out), "--no-friction", "--no-figures"]) == 0
+    assert (
+        main(
+            [
+                "analyse",
+                str(d / "stack.tif"),
+                "--spacing",
+                "1e-4",
+                "--channel",
+                "1",
+                "--out",
+                str(out),
+                "--no-friction",
+                "--no-figures",
+            ]
+        )
+        == 0
+    )
     s = json.loads(next(out.rglob("summary.json")).read_text())
     assert s["channel"] == 1
     m = read(d / "stack.tif", spacing=1e-4, channel=1)
@@ -258,7 +314,7 @@ def _rezip(src, dst, edit):
         for info in zin.infolist():
             for name, data in edit(info.filename, zin.read(info)):
                 with warnings.catch_warnings():
-                    warnings.simplefilter("ignore")        # zipfile: "Duplicate name"
+                    warnings.simplefilter("ignore")  # zipfile: "Duplicate name"
                     zout.writestr(name, data)
     return dst
 
@@ -269,8 +325,7 @@ def test_x3p_duplicate_member_refused(tmp_path):
     import zipfile
 
     second = zipfile.ZipFile(other).read("main.xml").replace(b"48", b"24")
-    dup = _rezip(p, tmp_path / "dup.x3p",
-                 lambda n, d: [(n, d), (n, second)] if n == "main.xml" else [(n, d)])
+    dup = _rezip(p, tmp_path / "dup.x3p", lambda n, d: [(n, d), (n, second)] if n == "main.xml" else [(n, d)])
     with pytest.raises(InputError) as ei:
         read(dup)
     msg = str(ei.value)
@@ -284,8 +339,11 @@ def test_x3p_checksum_note_is_a_warning_in_the_outputs(tmp_path, capsys):
     from pipelines.cli.app import main
 
     p, h = _x3p(tmp_path)
-    bad = _rezip(p, tmp_path / "sum.x3p",
-                 lambda n, d: [(n, b"0" * 32 + b" *main.xml\n" if n == "md5checksum.hex" else d)])
+    bad = _rezip(
+        p,
+        tmp_path / "sum.x3p",
+        lambda n, d: [(n, b"0" * 32 + b" *main.xml\n" if n == "md5checksum.hex" else d)],
+    )
     m = read(bad)
     np.testing.assert_array_equal(m.heights_m, h)
     assert any("md5checksum.hex" in w for w in m.meta["read_warnings"])
@@ -308,7 +366,7 @@ def test_npy_format_3_read(tmp_path):
             assert np.lib.format.read_magic(f) == version
         m = read(p, spacing=1e-4)
         np.testing.assert_array_equal(m.heights_m, H)
-    np.savez(tmp_path / "z.npz", heights=H, dx=1e-4, dy=1e-4)   # members through the same header
+    np.savez(tmp_path / "z.npz", heights=H, dx=1e-4, dy=1e-4)  # members through the same header
     np.testing.assert_array_equal(read(tmp_path / "z.npz").heights_m, H)
 
 
@@ -317,7 +375,7 @@ def test_npy_unknown_format_version_refused(tmp_path):
     with open(p, "wb") as f:
         np.lib.format.write_array(f, H, version=(2, 0))
     raw = bytearray(p.read_bytes())
-    raw[6] = 9                                              # major version byte
+    raw[6] = 9  # major version byte
     p.write_bytes(bytes(raw))
     with pytest.raises(InputError, match=r"v9.npy: not a readable NumPy file"):
         read(p, spacing=1e-4)
@@ -374,24 +432,24 @@ def _nms(path, nx, ny, dx_header, z=(-2.0, 3.0), seed=0):
     head[16:32] = struct.pack("<dd", *z)
     head[1368:1392] = struct.pack("<IIdd", nx, ny, dx_header, dx_header)
     path.write_bytes(bytes(head) + raw.astype("<u2").tobytes())
-    return raw.astype(np.float64) / (2**16 - 2) * (z[1] - z[0]) + z[0]    # um, rows along y
+    return raw.astype(np.float64) / (2**16 - 2) * (z[1] - z[0]) + z[0]  # um, rows along y
 
 
 def test_nanofocus_spacing_in_nanometres(tmp_path):
     pytest.importorskip("SurfaceTopography")
-    z_um = _nms(tmp_path / "a.nms", 64, 48, 312.5)            # 312.5 nm pixels
+    z_um = _nms(tmp_path / "a.nms", 64, 48, 312.5)  # 312.5 nm pixels
     m = read(tmp_path / "a.nms")
     assert (m.dx_m, m.dy_m) == (pytest.approx(312.5e-9), pytest.approx(312.5e-9))
     np.testing.assert_allclose(m.heights_m, z_um * 1e-6, rtol=1e-12)
     assert any("nanometres" in w for w in m.meta["read_warnings"])
-    _nms(tmp_path / "b.nms", 64, 48, 0.0003125)               # a header in mm stays as read
+    _nms(tmp_path / "b.nms", 64, 48, 0.0003125)  # a header in mm stays as read
     m = read(tmp_path / "b.nms")
     assert m.dx_m == pytest.approx(312.5e-9) and "read_warnings" not in m.meta
 
 
 def test_implausible_lateral_size_refused(tmp_path):
     pytest.importorskip("SurfaceTopography")
-    _nms(tmp_path / "c.nms", 64, 48, 3e9)                     # 3 m pixels even in nm
+    _nms(tmp_path / "c.nms", 64, 48, 3e9)  # 3 m pixels even in nm
     with pytest.raises(InputError) as ei:
         read(tmp_path / "c.nms")
     msg = str(ei.value)
@@ -403,12 +461,12 @@ def test_implausible_lateral_size_refused(tmp_path):
 def test_lateral_ranges_by_kind():
     from roadscan.io.instrument_kind import check_lateral
 
-    check_lateral("f", "di", "DI", 1e-8, 1e-8, 512, 512)           # AFM: 5 um field
-    check_lateral("f", "hgt", "SRTM", 30.0, 30.0, 3601, 3601)       # any scale: not checked
+    check_lateral("f", "di", "DI", 1e-8, 1e-8, 512, 512)  # AFM: 5 um field
+    check_lateral("f", "hgt", "SRTM", 30.0, 30.0, 3601, 3601)  # any scale: not checked
     with pytest.raises(InputError, match="scanning-probe"):
-        check_lateral("f", "di", "DI", 1e-5, 1e-5, 512, 512)       # a 5 mm AFM field
+        check_lateral("f", "di", "DI", 1e-5, 1e-5, 512, 512)  # a 5 mm AFM field
     with pytest.raises(InputError, match="optical"):
-        check_lateral("f", "plu", "PLU", 1e-10, 1e-10, 512, 512)   # 0.1 nm optical pixels
+        check_lateral("f", "plu", "PLU", 1e-10, 1e-10, 512, 512)  # 0.1 nm optical pixels
 
 
 def test_gwy_channel_by_number_or_title(tmp_path):
@@ -437,8 +495,12 @@ def test_text_header_over_binary_goes_to_surfacetopography(tmp_path):
     from roadscan.io.detect import sniff_extension
 
     p = tmp_path / "afm.di"
-    p.write_bytes(b"\\*File list\r\n\\Version: 0x05120000\r\n" + b"\\x: 1\r\n" * 800
-                  + b"\\*File list end\r\n" + bytes(range(256)) * 8)
+    p.write_bytes(
+        b"\\*File list\r\n\\Version: 0x05120000\r\n"
+        + b"\\x: 1\r\n" * 800
+        + b"\\*File list end\r\n"
+        + bytes(range(256)) * 8
+    )
     assert sniff_extension(p) == "vendor"
     with pytest.raises(InputError) as ei:
         read(p)
@@ -456,13 +518,14 @@ def test_rain_fill_summary_records_channel_and_override(tiffs, tmp_path):
 
     d, _ = tiffs
     out = tmp_path / "rain"
-    assert main(["rain-fill", str(d / "stack.tif"), "--spacing", "1e-4", "--channel", "2",
-                 "--out", str(out)]) == 0
+    assert (
+        main(["rain-fill", str(d / "stack.tif"), "--spacing", "1e-4", "--channel", "2", "--out", str(out)])
+        == 0
+    )
     s = json.loads((out / "rainfill.json").read_text())
     assert s["channel"] == 2
     p, _ = _x3p(tmp_path)
     out2 = tmp_path / "rain2"
-    assert main(["rain-fill", str(p), "--spacing", "1e-4", "--override-calibration",
-                 "--out", str(out2)]) == 0
+    assert main(["rain-fill", str(p), "--spacing", "1e-4", "--override-calibration", "--out", str(out2)]) == 0
     s = json.loads((out2 / "rainfill.json").read_text())
     assert s["calibration_override"]["spacing"]["flag"] == [1e-4, 1e-4] and s["dx_m"] == 1e-4

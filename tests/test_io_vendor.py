@@ -9,6 +9,7 @@ about the mean of the defined points, and 25 samples [row, col, height in m or n
 In CI (``CI=true``) nothing here may skip: the CI installs the ``vendor`` extra and the shared
 data sit beside the checkout.
 """
+
 from __future__ import annotations
 
 import builtins
@@ -31,9 +32,6 @@ IN_CI = os.environ.get("CI", "").lower() == "true"
 FILES = ["plu-1.plu", "opd-1.opd", "sur-2.sur", "al3d-1.al3d"]
 
 
-
-
-
 @pytest.fixture(scope="module")
 def expected(formats_dir):
     return json.loads((formats_dir / "expected.json").read_text())
@@ -48,7 +46,7 @@ def maps(formats_dir):
 def test_real_file_matches_expected(name, maps, expected):
     m, e = maps[name], expected[name]
     h = m.heights_m
-    assert list(h.shape) == e["shape"]                     # [rows along y, cols along x]
+    assert list(h.shape) == e["shape"]  # [rows along y, cols along x]
     assert m.dx_m == pytest.approx(e["dx_m"], rel=1e-6)
     assert m.dy_m == pytest.approx(e["dy_m"], rel=1e-6)
     assert abs(m.unmeasured.mean() - e["undefined_fraction"]) <= 1e-3
@@ -72,11 +70,15 @@ def test_orientation_agrees_with_an_independent_array(tmp_path):
     need_vendor()
     from SurfaceTopography import Topography
 
-    a = np.random.default_rng(0).normal(size=(7, 5))          # [x, y]: nx = 7, ny = 5
+    a = np.random.default_rng(0).normal(size=(7, 5))  # [x, y]: nx = 7, ny = 5
     am = np.ma.masked_array(a, mask=np.zeros(a.shape, bool))
     am.mask[2, 3] = True
-    t = Topography(am, physical_sizes=(7 * 0.5, 5 * 0.25), unit="nm",
-                   info={"instrument": {"name": "Foo", "vendor": "Bar"}})
+    t = Topography(
+        am,
+        physical_sizes=(7 * 0.5, 5 * 0.25),
+        unit="nm",
+        info={"instrument": {"name": "Foo", "vendor": "Bar"}},
+    )
     want = np.where(am.mask, np.nan, a).T * 1e-9
     t.to_netcdf(str(tmp_path / "s.nc"))
     t.to_x3p(str(tmp_path / "s.x3p"))
@@ -107,7 +109,7 @@ def test_metadata_of_real_files(maps):
     al3d = maps["al3d-1.al3d"].meta["instrument"]
     assert al3d["vendor"] == "Alicona Imaging" and al3d["software"] == "MeasureSuite 5.3.6"
     for m in maps.values():
-        json.dumps(m.meta)                                   # JSON-safe as it is
+        json.dumps(m.meta)  # JSON-safe as it is
 
 
 def test_issue9_plu_regression(maps):
@@ -173,8 +175,9 @@ def test_extension_table_matches_installed_package():
 def _loaded(code):
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     probe = code + "\nimport sys\nprint(int('SurfaceTopography' in sys.modules))"
-    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env,
-                         cwd=ROOT, timeout=120)
+    out = subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, env=env, cwd=ROOT, timeout=120
+    )
     assert out.returncode == 0, out.stderr
     return out.stdout.strip().splitlines()[-1] == "1"
 
@@ -200,8 +203,10 @@ def test_missing_extra_gives_clear_error(tmp_path, monkeypatch):
     monkeypatch.setattr(builtins, "__import__", hide)
     with pytest.raises(InputError) as ei:
         read(tmp_path / "scan.plux")
-    assert str(ei.value) == (f"{tmp_path / 'scan.plux'}: reading .plux files needs the optional "
-                             "extra: pip install 'roadscan[vendor]' (SurfaceTopography)")
+    assert str(ei.value) == (
+        f"{tmp_path / 'scan.plux'}: reading .plux files needs the optional "
+        "extra: pip install 'roadscan[vendor]' (SurfaceTopography)"
+    )
 
 
 def _text_dat(path, rows):
@@ -225,10 +230,13 @@ def test_text_dat_through_the_plain_text_reader(tmp_path):
     assert m.meta["format"] == "asc" and m.meta["instrument"]["units"] == "µm"
 
 
-@pytest.mark.parametrize("bad, message", [
-    ("1e-320", r"1 heights are denormal"),
-    ("3e15", r"heights reach 3e\+15 m: an unmasked invalid-point marker"),
-])
+@pytest.mark.parametrize(
+    "bad, message",
+    [
+        ("1e-320", r"1 heights are denormal"),
+        ("3e15", r"heights reach 3e\+15 m: an unmasked invalid-point marker"),
+    ],
+)
 def test_values_no_instrument_writes_are_refused(tmp_path, bad, message):
     need_vendor()
     p = _text_dat(tmp_path / "v.dat", [[1, 2, 3, 4], [5, bad, 7, 8], [9, 10, 11, 12]])
@@ -247,8 +255,13 @@ def test_nan_in_text_is_undefined(tmp_path):
 
 def test_garbage_files_one_line(tmp_path):
     need_vendor()
-    cases = {"g.plu": b"garbage" * 40, "z.datx": b"\x89HDF garbage" * 10, "k.vk4": b"\x00" * 300,
-             "s.sur": b"DIGITAL SURF" + b"\xff" * 600, "o.opd": b"\x01\x00" * 200}
+    cases = {
+        "g.plu": b"garbage" * 40,
+        "z.datx": b"\x89HDF garbage" * 10,
+        "k.vk4": b"\x00" * 300,
+        "s.sur": b"DIGITAL SURF" + b"\xff" * 600,
+        "o.opd": b"\x01\x00" * 200,
+    }
     for name, data in cases.items():
         (tmp_path / name).write_bytes(data)
         with pytest.raises(InputError) as ei:
@@ -275,8 +288,9 @@ def test_park_systems_tiff_is_not_read_as_a_picture(tmp_path):
     import tifffile
 
     p = tmp_path / "park.tif"
-    tifffile.imwrite(p, np.arange(64, dtype=np.uint8).reshape(8, 8),
-                     extratags=[(50432, "I", 1, 0x0E031301, False)])
+    tifffile.imwrite(
+        p, np.arange(64, dtype=np.uint8).reshape(8, 8), extratags=[(50432, "I", 1, 0x0E031301, False)]
+    )
     with pytest.raises(InputError, match=r"park\.tif: cannot read \(Park Systems"):
         read(p, spacing=1e-6)
 
@@ -306,7 +320,7 @@ def test_line_scan_and_nonuniform_channels_are_refused():
     with pytest.raises(InputError, match=r"non-uniform"):
         _declared_grid(scattered, "f")
     ok = SimpleNamespace(name="p", dim=2, nb_grid_pts=(768, 576), is_uniform=True)
-    assert _declared_grid(ok, "f") == (576, 768)          # (ny, nx) from [x, y] counts
+    assert _declared_grid(ok, "f") == (576, 768)  # (ny, nx) from [x, y] counts
 
 
 def test_instrument_block_units_and_json():
@@ -314,16 +328,31 @@ def test_instrument_block_units_and_json():
 
     from roadscan.io.vendor import instrument_block
 
-    info = {"acquisition_time": datetime(2020, 1, 2, 3, 4, 5),
-            "instrument": {"name": "X\x00", "vendor": " V ", "parameters": {
+    info = {
+        "acquisition_time": datetime(2020, 1, 2, 3, 4, 5),
+        "instrument": {
+            "name": "X\x00",
+            "vendor": " V ",
+            "parameters": {
                 "resolution": {"value": 0.5, "unit": "µm"},
-                "tip_radius": {"value": 20, "unit": "nm"}}},
-            "raw_metadata": {"a": {"Objective": "50x", "Comment": "(None)"}}}
+                "tip_radius": {"value": 20, "unit": "nm"},
+            },
+        },
+        "raw_metadata": {"a": {"Objective": "50x", "Comment": "(None)"}},
+    }
     b = instrument_block(info, units="nm", undefined_points=3, reader="R", channel="c")
-    assert b == {"name": "X", "vendor": "V", "acquired": "2020-01-02T03:04:05",
-                 "objective": "50x", "lateral_resolution_m": pytest.approx(5e-7),
-                 "tip_radius_m": pytest.approx(2e-8), "units": "nm", "undefined_points": 3,
-                 "reader": "R", "channel": "c"}
+    assert b == {
+        "name": "X",
+        "vendor": "V",
+        "acquired": "2020-01-02T03:04:05",
+        "objective": "50x",
+        "lateral_resolution_m": pytest.approx(5e-7),
+        "tip_radius_m": pytest.approx(2e-8),
+        "units": "nm",
+        "undefined_points": 3,
+        "reader": "R",
+        "channel": "c",
+    }
     json.dumps(b)
 
 
@@ -334,7 +363,7 @@ def _plane_rms(m):
     z = m.heights_m[yy, xx]
     coef, *_ = np.linalg.lstsq(a, z, rcond=None)
     r = z - a @ coef
-    return float(np.sqrt(np.mean(r ** 2)))
+    return float(np.sqrt(np.mean(r**2)))
 
 
 @pytest.mark.parametrize("name", FILES)
@@ -369,14 +398,14 @@ def test_x3p_with_misplaced_checksum_but_damaged_data_is_refused(tmp_path):
     from SurfaceTopography import Topography
 
     Topography(np.arange(35.0).reshape(7, 5), physical_sizes=(1.0, 1.0), unit="µm").to_x3p(
-        str(tmp_path / "a.x3p"))
-    with zipfile.ZipFile(tmp_path / "a.x3p") as src, \
-            zipfile.ZipFile(tmp_path / "b.x3p", "w") as dst:
+        str(tmp_path / "a.x3p")
+    )
+    with zipfile.ZipFile(tmp_path / "a.x3p") as src, zipfile.ZipFile(tmp_path / "b.x3p", "w") as dst:
         for info in src.infolist():
             data = src.read(info)
             if info.filename == "bindata/data.bin":
                 data = data[:-8] + np.float64(1.0).tobytes()
             dst.writestr(info, data)
-    assert read(tmp_path / "a.x3p").heights_m[0, 1] == pytest.approx(5e-6)   # a[x=1, y=0]
+    assert read(tmp_path / "a.x3p").heights_m[0, 1] == pytest.approx(5e-6)  # a[x=1, y=0]
     with pytest.raises(InputError, match=r"b\.x3p: not a readable X3P file \(X3pChecksumError"):
         read(tmp_path / "b.x3p")

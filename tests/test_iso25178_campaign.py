@@ -1,4 +1,5 @@
 """The texture set in campaign tables: columns picked by --columns, MPD validity shown."""
+
 import contextlib
 import csv
 import io
@@ -15,8 +16,16 @@ CAPTIF = (_shared_dir() or Path("/nonexistent")) / "data" / "profiles" / "captif
 
 
 def test_pick_columns_patterns_keep_order_and_fixed_columns():
-    cols = list(FIXED_COLUMNS) + ["hurst", "mpd_m", "mpd_valid", "etd_m", "roughness.Sq_m",
-                                  "roughness.Sk_m", "roughness.Spk_m", "filters.form"]
+    cols = list(FIXED_COLUMNS) + [
+        "hurst",
+        "mpd_m",
+        "mpd_valid",
+        "etd_m",
+        "roughness.Sq_m",
+        "roughness.Sk_m",
+        "roughness.Spk_m",
+        "filters.form",
+    ]
     keep, unused = pick_columns(cols, ["roughness.S?k_m", "mpd_*", "nope"])
     assert keep == list(FIXED_COLUMNS) + ["mpd_m", "mpd_valid", "roughness.Spk_m"]
     assert unused == ["nope"]
@@ -33,14 +42,24 @@ def test_batch_columns_and_validity(tmp_path):
     out = tmp_path / "c"
     buf = io.StringIO()
     with contextlib.redirect_stdout(buf), contextlib.redirect_stderr(buf):
-        rc = main(["batch", *files, "--workers", "1", "--no-friction", "--columns",
-                   "mpd_m,mpd_valid,etd_m,roughness.R?k_m", "--out", str(out)])
+        rc = main(
+            [
+                "batch",
+                *files,
+                "--workers",
+                "1",
+                "--no-friction",
+                "--columns",
+                "mpd_m,mpd_valid,etd_m,roughness.R?k_m",
+                "--out",
+                str(out),
+            ]
+        )
     assert rc == 0, buf.getvalue()
     with open(out / "campaign.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
         head = list(rows[0])
-    assert head == list(FIXED_COLUMNS) + ["roughness.Rpk_m", "roughness.Rvk_m", "mpd_m",
-                                          "mpd_valid", "etd_m"]
+    assert head == list(FIXED_COLUMNS) + ["roughness.Rpk_m", "roughness.Rvk_m", "mpd_m", "mpd_valid", "etd_m"]
     s0, s1 = sorted(rows, key=lambda r: r["file"])
     assert s0["mpd_valid"] == "true" and float(s0["etd_m"]) > 0
     assert s1["mpd_valid"] == "false" and s1["etd_m"] == "" and float(s1["mpd_m"]) > 0

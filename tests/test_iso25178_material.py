@@ -1,5 +1,6 @@
 """ISO 25178-2 material-ratio family, volumes and slopes against analytic surfaces and an
 independent implementation (SurfaceTopography's rms gradient)."""
+
 import numpy as np
 import pytest
 from scipy import integrate
@@ -19,8 +20,7 @@ def _ls_line(c_of_mr, lo, hi):
     """Least-squares line of c(mr) over [lo, hi] % by quadrature: (c_eq(0), c_eq(100))."""
     mid = 0.5 * (lo + hi)
     mean = integrate.quad(c_of_mr, lo, hi)[0] / (hi - lo)
-    slope = (integrate.quad(lambda m: (m - mid) * c_of_mr(m), lo, hi)[0]
-             / (2 * (0.5 * (hi - lo)) ** 3 / 3))
+    slope = integrate.quad(lambda m: (m - mid) * c_of_mr(m), lo, hi)[0] / (2 * (0.5 * (hi - lo)) ** 3 / 3)
     return mean - slope * mid, mean + slope * (100 - mid)
 
 
@@ -39,7 +39,7 @@ def test_gaussian_core_height_over_sq():
     # Spk from the analytic curve by quadrature (an independent integration)
     a1 = integrate.quad(lambda m: sq * norm.isf(m / 100) - top, 1e-9, smr1)[0]
     assert f["Spk_m"] == pytest.approx(2 * a1 / smr1, rel=0.03)
-    assert f["Svk_m"] == pytest.approx(f["Spk_m"], rel=0.05)       # symmetric heights
+    assert f["Svk_m"] == pytest.approx(f["Spk_m"], rel=0.05)  # symmetric heights
 
 
 def test_sine_profile_rk_family():
@@ -54,11 +54,11 @@ def test_sine_profile_rk_family():
     assert r["Rk_m"] == pytest.approx(top - bottom, rel=2e-3)
     mr2 = 100 * np.arccos(bottom) / np.pi
     a2 = integrate.quad(lambda m: bottom - np.cos(np.pi * m / 100), mr2, 100)[0]
-    if r["Rmr1_pct"] < 50:                               # the window [0, 40]
+    if r["Rmr1_pct"] < 50:  # the window [0, 40]
         assert r["Rmr1_pct"] == pytest.approx(0.0, abs=0.05)
         assert r["Rmr2_pct"] == pytest.approx(mr2, abs=0.05)
         assert r["Rvk_m"] == pytest.approx(2 * a2 / (100 - mr2), rel=5e-3)
-    else:                                                # its mirror image [60, 100]
+    else:  # its mirror image [60, 100]
         assert r["Rmr2_pct"] == pytest.approx(100.0, abs=0.05)
         assert r["Rmr1_pct"] == pytest.approx(100 - mr2, abs=0.05)
         assert r["Rpk_m"] == pytest.approx(2 * a2 / (100 - mr2), rel=5e-3)
@@ -76,7 +76,7 @@ def test_plateau_surface():
     sk = 0.1e-3 * 100 / 70
     assert f["Sk_m"] == pytest.approx(sk, rel=0.03)
     assert f["Spk_m"] < 0.02 * sk
-    depth = sk - 0.1e-3                      # c_eq(100) below zero
+    depth = sk - 0.1e-3  # c_eq(100) below zero
     assert f["Smr2_pct"] == pytest.approx(70 + 30 * depth / 5e-3, abs=0.3)
     assert f["Svk_m"] == pytest.approx(5e-3 - depth, rel=0.01)
 
@@ -86,8 +86,12 @@ def test_volumes_of_uniform_heights():
     Vv(p) = (100 - p)^2 / 1e4 mm: Vmp 0.01, Vmc 0.63, Vvc 0.77, Vvv 0.04 (mm^3/mm^2)."""
     z = np.random.default_rng(6).uniform(-1e-3, 1e-3, 3_000_000)
     v = volume_parameters(material_ratio_curve(z))
-    for key, want in (("Vmp_m3_per_m2", 0.01), ("Vmc_m3_per_m2", 0.63), ("Vvc_m3_per_m2", 0.77),
-                      ("Vvv_m3_per_m2", 0.04)):
+    for key, want in (
+        ("Vmp_m3_per_m2", 0.01),
+        ("Vmc_m3_per_m2", 0.63),
+        ("Vvc_m3_per_m2", 0.77),
+        ("Vvv_m3_per_m2", 0.04),
+    ):
         assert v[key] == pytest.approx(want * 1e-3, rel=0.01), key
 
 
@@ -131,7 +135,7 @@ def test_flat_and_tiny_fields_give_zeros_or_null_with_a_note():
     from roadscan.iso25178 import texture_parameters
 
     with warnings.catch_warnings():
-        warnings.simplefilter("error")                 # no division by zero on the way
+        warnings.simplefilter("error")  # no division by zero on the way
         f, notes = texture_parameters(HeightMap(np.zeros((20, 20)), 1e-4, 1e-4))
         p, _ = texture_parameters(Profile(np.zeros(10), 1e-4))
     assert f["Sk_m"] == 0 and f["Smr2_pct"] == 100 and f["Vvv_m3_per_m2"] == 0

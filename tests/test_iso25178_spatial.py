@@ -1,5 +1,6 @@
 """ISO 25178-2 spatial (Sal, Str, Std) and feature (Spd, Spc, S5p, S5v, S10z) figures against
 analytic surfaces and an independent peak-prominence count."""
+
 import numpy as np
 import pytest
 
@@ -20,8 +21,7 @@ def test_sal_of_an_exponential_acf():
     """exp(-Sal / ell) = 0.2: Sal = ell ln 5; the shortest decay over all directions of an
     estimated ACF reads a little short (sampling scatter), within 15 %."""
     ell, dx = 8e-4, 1e-4
-    sals = [spatial_parameters(_exponential_acf_surface(1024, dx, ell, s), dx, dx)["Sal_m"]
-            for s in (1, 2)]
+    sals = [spatial_parameters(_exponential_acf_surface(1024, dx, ell, s), dx, dx)["Sal_m"] for s in (1, 2)]
     assert np.mean(sals) == pytest.approx(ell * np.log(5), rel=0.15)
 
 
@@ -55,7 +55,7 @@ def test_field_too_small_gives_str_null_with_a_note():
     r = spatial_parameters(np.sin(2 * np.pi * x / 0.08), 1e-4, 1e-4)
     assert r["Sal_m"] is not None and r["Str"] is None
     assert "too small to decide" in r["spatial_note"]
-    assert r["Std_deg"] == pytest.approx(90.0, abs=1.0)      # ridges along y
+    assert r["Std_deg"] == pytest.approx(90.0, abs=1.0)  # ridges along y
 
 
 def test_isotropic_std_is_flagged():
@@ -168,14 +168,14 @@ def test_flat_plateaus_count_once():
 
     y, x = np.mgrid[0:120, 0:160]
     z = 1e-3 * (x / 160.0) * 0.01
-    z[(x - 40) ** 2 + (y - 60) ** 2 < 15 ** 2] = 1e-3
-    z[(x - 110) ** 2 + (y - 60) ** 2 < 20 ** 2] = 1e-3
+    z[(x - 40) ** 2 + (y - 60) ** 2 < 15**2] = 1e-3
+    z[(x - 110) ** 2 + (y - 60) ** 2 < 20**2] = 1e-3
     summits, _prom = prominences(z)
     assert summits.size < 20
     assert feature_parameters(z, 1e-4, 1e-4)["Spd_per_m2"] * (120e-4 * 160e-4) == pytest.approx(2)
     w = gaussian_filter(np.random.default_rng(11).normal(size=(90, 90)), 2.0)
     edge = np.minimum(np.minimum(y[:90, :90], 89 - y[:90, :90]), np.minimum(x[:90, :90], 89 - x[:90, :90]))
-    w = w - 2.0 * np.exp(-edge / 3.0)             # low borders: no plateau reaches the edge
+    w = w - 2.0 * np.exp(-edge / 3.0)  # low borders: no plateau reaches the edge
     w = np.minimum(w, np.quantile(w, 0.7))
     T = 0.05 * (w.max() - w.min())
     r = feature_parameters(w, 1e-4, 1e-4)

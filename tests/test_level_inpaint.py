@@ -1,4 +1,5 @@
 """Levelling, spike removal and filling of unmeasured points."""
+
 import numpy as np
 import pytest
 
@@ -16,11 +17,16 @@ def _grid(ny=60, nx=80, d=1e-4):
 def test_level_removes_polynomial_ignoring_unmeasured(degree):
     x, y = _grid()
     rng = np.random.default_rng(degree)
-    form = 1e-3 + 0.05 * x * (degree >= 1) - 0.02 * y * (degree >= 1) \
-        + 3.0 * x * y * (degree >= 2) + 40.0 * x**3 * (degree >= 3)
+    form = (
+        1e-3
+        + 0.05 * x * (degree >= 1)
+        - 0.02 * y * (degree >= 1)
+        + 3.0 * x * y * (degree >= 2)
+        + 40.0 * x**3 * (degree >= 3)
+    )
     bad = rng.random(x.shape) < 0.2
     h = form.copy()
-    h[bad] = 1.0                                   # garbage under the mask must be ignored
+    h[bad] = 1.0  # garbage under the mask must be ignored
     out = level(HeightMap(h, 1e-4, 1e-4, unmeasured=bad), degree)
     assert np.array_equal(out.unmeasured, bad)
     assert np.all(np.isnan(out.heights_m[bad]))
@@ -119,23 +125,25 @@ def test_banded_fill_equals_one_global_solve(direct_max, monkeypatch):
     ny, nx = 700, 48
     y, x = np.mgrid[0:ny, 0:nx].astype(float)
     h = 1e-6 * np.sin(x / 7.0) * np.cos(y / 11.0)
-    h[20:30, 10:20] -= 1e-3                                 # the global minimum, top band
+    h[20:30, 10:20] -= 1e-3  # the global minimum, top band
     bowl = ((x - 24) ** 2 + (y - 600) ** 2) * 1e-6
     h += np.where(np.hypot(x - 24, y - 600) < 12, bowl - 1.44e-4, 0.0)
-    bad = np.hypot(x - 24, y - 600) < 4                      # the bowl's bottom is missing
-    bad[100:520, 30] = True                                  # one cluster across two bands
+    bad = np.hypot(x - 24, y - 600) < 4  # the bowl's bottom is missing
+    bad[100:520, 30] = True  # one cluster across two bands
     bad[0, 5:9] = bad[-1, 40:44] = bad[300:304, 0] = bad[350:353, -1] = True
     rng = np.random.default_rng(5)
     bad |= rng.random(h.shape) < 0.01
     hm = HeightMap(h, 1e-4, 1e-4, unmeasured=bad)
     filled, _ = fill_unmeasured(hm)
     ref = _global_biharmonic(h, bad)
-    assert filled.heights_m[bad][np.argmin(np.abs(np.hypot(x - 24, y - 600)[bad]))] < \
-        h[300:700][~bad[300:700]].min()                      # the bowl case is exercised
+    assert (
+        filled.heights_m[bad][np.argmin(np.abs(np.hypot(x - 24, y - 600)[bad]))]
+        < h[300:700][~bad[300:700]].min()
+    )  # the bowl case is exercised
     assert np.allclose(filled.heights_m, ref, rtol=0, atol=1e-12 * np.ptp(h))
     # a mask too dense for two free points in a band: the global solve is used
     dense = np.zeros((60, 40), bool)
-    dense[:, ::2] = True                                     # every point next to a dropout
+    dense[:, ::2] = True  # every point next to a dropout
     g = h[:60, :40]
     f2, _ = fill_unmeasured(HeightMap(g, 1e-4, 1e-4, unmeasured=dense))
     assert np.allclose(f2.heights_m, _global_biharmonic(g, dense), rtol=0, atol=1e-12 * np.ptp(g))
@@ -157,12 +165,12 @@ def test_direct_biharmonic_equals_scikit_image_on_random_masks():
         m[:2, rng.integers(0, nx)] = True
         m[-1, -1] = m[0, 0] = True
         y0, x0 = rng.integers(0, ny - 8), rng.integers(0, nx - 9)
-        m[y0:y0 + rng.integers(2, 8), x0:x0 + rng.integers(2, 9)] = True
+        m[y0 : y0 + rng.integers(2, 8), x0 : x0 + rng.integers(2, 9)] = True
         m[y0 + 1, :] |= rng.random(nx) < 0.5
-        sizes.append(np.bincount(_clusters(m)).max())       # the largest cluster
+        sizes.append(np.bincount(_clusters(m)).max())  # the largest cluster
         mine = biharmonic_fill_values(np.where(m, np.nan, g), m)
         assert np.allclose(mine, _global_biharmonic(g, m)[m], rtol=0, atol=1e-12 * np.ptp(g[~m]))
-    assert min(sizes) <= SMALL < max(sizes)                 # both solvers exercised
+    assert min(sizes) <= SMALL < max(sizes)  # both solvers exercised
 
 
 def test_direct_fill_falls_back_to_scikit_image_on_a_singular_block(monkeypatch):

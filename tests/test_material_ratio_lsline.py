@@ -2,6 +2,7 @@
 against material-ratio curves known in closed form and against a second implementation
 written here from the sorted heights (numpy.polyfit), on plateau, ridged and asphalt-like
 surfaces."""
+
 import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
@@ -52,7 +53,7 @@ def test_kinked_curve_line_is_the_least_squares_fit_not_the_secant():
     slope, icpt = np.polyfit(m, _curve(m), 1)
     top, bottom = icpt, icpt + 100.0 * slope
     secant_sk = (_curve(20.0) - _curve(60.0)) * 100.0 / 40.0
-    assert abs((top - bottom) / secant_sk - 1) > 0.2           # the two constructions differ
+    assert abs((top - bottom) / secant_sk - 1) > 0.2  # the two constructions differ
     smr1, smr2 = _ratio(top), _ratio(bottom)
     mr = np.linspace(0.0, 100.0, 2_000_001)
     step = mr[1] - mr[0]
@@ -84,15 +85,19 @@ def _sk_sorted(z, window=40.0):
     mr = 100.0 * (np.arange(n) + 0.5) / n
     k = int(round(window / 100.0 * n))
     i = int(np.argmin(z[:-k] - z[k:]))
-    slope, icpt = np.polyfit(mr[i:i + k], z[i:i + k], 1)
+    slope, icpt = np.polyfit(mr[i : i + k], z[i : i + k], 1)
     top, bottom = icpt, icpt + 100.0 * slope
     smr1 = 100.0 * np.count_nonzero(z > top) / n
     smr2 = 100.0 * np.count_nonzero(z > bottom) / n
     a1 = 100.0 / n * np.sum(np.clip(z - top, 0, None))
     a2 = 100.0 / n * np.sum(np.clip(bottom - z, 0, None))
-    return {"Sk_m": top - bottom, "Spk_m": 2 * a1 / smr1 if smr1 else 0.0,
-            "Svk_m": 2 * a2 / (100 - smr2) if smr2 < 100 else 0.0,
-            "Smr1_pct": smr1, "Smr2_pct": smr2}
+    return {
+        "Sk_m": top - bottom,
+        "Spk_m": 2 * a1 / smr1 if smr1 else 0.0,
+        "Svk_m": 2 * a2 / (100 - smr2) if smr2 < 100 else 0.0,
+        "Smr1_pct": smr1,
+        "Smr2_pct": smr2,
+    }
 
 
 def _field(seed, sigma, shape=(768, 768)):
@@ -117,8 +122,9 @@ def _asphalt_like():
     heights (rounded aggregate tops, deep narrow voids), 0.5 mm rms; NaN dropouts."""
     from roadscan.synth import self_affine_surface
 
-    h = self_affine_surface(512, 512, dx_m=1e-4, hurst=0.8, rms_height_m=1.0,
-                            q_roll_per_m=2 * np.pi / 3e-3, seed=5).heights_m
+    h = self_affine_surface(
+        512, 512, dx_m=1e-4, hurst=0.8, rms_height_m=1.0, q_roll_per_m=2 * np.pi / 3e-3, seed=5
+    ).heights_m
     z = -np.expm1(-0.8 * (h - h.mean()) / h.std())
     z = 0.5e-3 * (z - z.mean()) / z.std()
     z[::37, ::11] = np.nan
@@ -136,7 +142,7 @@ def test_sk_family_agrees_with_a_sorted_height_implementation(make):
         assert abs(got[key] - ref[key]) <= tol, (key, got[key], ref[key])
     for key in ("Smr1_pct", "Smr2_pct"):
         assert got[key] == pytest.approx(ref[key], abs=1.5), key
-    assert ref["Svk_m"] > 0.1 * ref["Sk_m"]                  # every surface has dales
+    assert ref["Svk_m"] > 0.1 * ref["Sk_m"]  # every surface has dales
 
 
 def test_sample_asphalt_agrees_with_the_sorted_height_implementation():
@@ -144,7 +150,7 @@ def test_sample_asphalt_agrees_with_the_sorted_height_implementation():
     from roadscan.io import read
 
     h = read("sample_scans/asphalt.x3p").heights_m
-    yy, xx = np.mgrid[0:h.shape[0], 0:h.shape[1]]
+    yy, xx = np.mgrid[0 : h.shape[0], 0 : h.shape[1]]
     ok = np.isfinite(h)
     a = np.column_stack([np.ones(ok.sum()), xx[ok], yy[ok]])
     coef = np.linalg.lstsq(a, h[ok], rcond=None)[0]

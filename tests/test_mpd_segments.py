@@ -1,5 +1,6 @@
 """MPD honesty (ISO 13473-1): mpd_valid beside mpd_m, ETD and IFI null with the reason when the
 MPD is not valid, mpd_segments.csv and the segment plot."""
+
 import contextlib
 import csv
 import io
@@ -38,7 +39,7 @@ def test_segments_agree_with_the_mpd_chain():
     rng = np.random.default_rng(2)
     dx = 0.5e-3
     z = np.convolve(rng.normal(size=1224), np.ones(24) / 24, mode="valid")[:1200] * 8e-3
-    z[130:160] = np.nan                           # 30 dropouts of 200 in segment 0: invalid
+    z[130:160] = np.nan  # 30 dropouts of 200 in segment 0: invalid
     p = Profile(z, dx)
     seg = mpd_segments(p)
     res = segment_depths(p.heights_m, dx, p.unmeasured)
@@ -53,7 +54,7 @@ def test_segments_agree_with_the_mpd_chain():
 def test_fewer_than_half_valid_is_not_valid():
     dx = 0.5e-3
     z = np.sin(np.arange(800) * dx * 2 * np.pi / 5e-3) * 1e-3
-    z[:500] = np.nan                              # 2.5 of 4 segments without data
+    z[:500] = np.nan  # 2.5 of 4 segments without data
     seg = mpd_segments(Profile(z, dx))
     assert seg.n_valid == 1 and seg.n_total == 4 and not seg.mpd_valid
     assert seg.validity_text() == "not valid per ISO 13473-1 (1 of 4 segments)"
@@ -62,9 +63,19 @@ def test_fewer_than_half_valid_is_not_valid():
 @needs_captif
 def test_captif_station_1_is_not_valid(tmp_path):
     out = tmp_path / "s1"
-    rc, text = _run(["analyse", str(CAPTIF / "20211011_aylesbury_dec_station_1.dat"), "--out",
-                     str(out), "--no-friction", "--friction-measurement", "0.5@60",
-                     "--ifi-constants", "0.045,0.925"])
+    rc, text = _run(
+        [
+            "analyse",
+            str(CAPTIF / "20211011_aylesbury_dec_station_1.dat"),
+            "--out",
+            str(out),
+            "--no-friction",
+            "--friction-measurement",
+            "0.5@60",
+            "--ifi-constants",
+            "0.045,0.925",
+        ]
+    )
     assert rc == 0, text
     s = json.loads((out / "summary.json").read_text())
     assert s["mpd_m"] is not None and s["mpd_valid"] is False
@@ -85,8 +96,9 @@ def test_captif_station_1_is_not_valid(tmp_path):
 @needs_captif
 def test_captif_station_0_writes_segments(tmp_path):
     out = tmp_path / "s0"
-    rc, text = _run(["analyse", str(CAPTIF / "20211011_aylesbury_dec_station_0.dat"), "--out",
-                     str(out), "--no-friction"])
+    rc, text = _run(
+        ["analyse", str(CAPTIF / "20211011_aylesbury_dec_station_0.dat"), "--out", str(out), "--no-friction"]
+    )
     assert rc == 0, text
     s = json.loads((out / "summary.json").read_text())
     head, rows = _rows(out / "mpd_segments.csv")
@@ -104,11 +116,20 @@ def test_area_line_set(tmp_path):
     dx = 0.5e-3
     z = np.convolve(rng.normal(size=(20 * 430)), np.ones(30) / 30, mode="same").reshape(20, 430) * 5e-3
     np.save(tmp_path / "area.npy", z)
-    rc, text = _run(["analyse", str(tmp_path / "area.npy"), "--spacing", str(dx), "--no-friction",
-                     "--out", str(tmp_path / "o")])
+    rc, text = _run(
+        [
+            "analyse",
+            str(tmp_path / "area.npy"),
+            "--spacing",
+            str(dx),
+            "--no-friction",
+            "--out",
+            str(tmp_path / "o"),
+        ]
+    )
     assert rc == 0, text
     head, rows = _rows(tmp_path / "o" / "mpd_segments.csv")
-    assert head == HEADER and len(rows) == 20 * 2           # 215 mm lines: two segments each
+    assert head == HEADER and len(rows) == 20 * 2  # 215 mm lines: two segments each
     assert [float(r[0]) for r in rows[:4]] == [0.0, 0.1, 0.0, 0.1]
     seg = mpd_segments(HeightMap(z, dx, dx))
     assert np.allclose([float(r[2]) for r in rows], seg.msd_m, rtol=1e-9)

@@ -1,5 +1,6 @@
 """Where mu comes from (issue 20): the extrapolated share per speed, the implausible-mu cause,
 the rubber label, believable defaults on the shipped samples and the CAPTIF profiles."""
+
 import csv
 import json
 from pathlib import Path
@@ -35,7 +36,7 @@ def test_extrapolated_share_matches_the_model_cut_at_the_last_measured_q():
     assert np.all(share > 0.2) and np.all(share < 1)
     ext2, _ = integration_band(table, None, 1e5)
     share2 = mp.extrapolated_share(ext2, _mu(ext2, v), q_m, lambda p: _mu(p, v))
-    assert np.all(share2 < share)                         # less extension, less share
+    assert np.all(share2 < share)  # less extension, less share
     assert np.all(mp.extrapolated_share(table, _mu(table, v), q_m, None) == 0)
     assert np.all(mp.extrapolated_share(model, _mu(model, v), None, None) == 0)
 
@@ -49,12 +50,15 @@ def test_rms_slope_of_a_power_law():
     assert mp.rms_slope(psd) == pytest.approx(expect, rel=1e-3)
 
 
-@pytest.mark.parametrize("kw, words", [
-    ({"rms_height_m": 0.5}, ["units", "--units"]),
-    ({"share_at_peak": 0.6}, ["cut-off", "--q1"]),
-    ({"slope": 2.5, "q1_per_m": 1e5}, ["band", "--q1"]),
-    ({}, ["rubber", "--rubber"]),
-])
+@pytest.mark.parametrize(
+    "kw, words",
+    [
+        ({"rms_height_m": 0.5}, ["units", "--units"]),
+        ({"share_at_peak": 0.6}, ["cut-off", "--q1"]),
+        ({"slope": 2.5, "q1_per_m": 1e5}, ["band", "--q1"]),
+        ({}, ["rubber", "--rubber"]),
+    ],
+)
 def test_implausible_cause_names_cause_and_flag(kw, words):
     line = mp.implausible_cause(6.0, **kw)
     assert "\n" not in line and all(w in line for w in words)
@@ -82,7 +86,7 @@ def test_shipped_samples_give_believable_mu(tmp_path, name):
     assert set(s["reliable_band_reasons"]) == {"lo", "hi"}
     assert f["q0_per_m"] >= lo * (1 - 1e-6) and f["q1_per_m"] <= hi * (1 + 1e-6)
     assert s["fit_band_per_m"][1] <= hi * (1 + 1e-6)
-    if name == "coarse_asphalt.x3p":                   # made with a 14 mm roll-off
+    if name == "coarse_asphalt.x3p":  # made with a 14 mm roll-off
         assert 2 * np.pi / s["q_roll_per_m"] == pytest.approx(14e-3, rel=0.15)
     html = (tmp_path / "o" / "report.html").read_text()
     assert "reliable band" in html and "thesis" in html
@@ -100,7 +104,7 @@ def test_captif_profiles_refused_or_believable(tmp_path, shared_data):
             assert not (tmp_path / f"o{k}" / "mu.csv").exists()
         else:
             assert 0.3 <= fr["mu_peak"] <= 3.0
-        assert s["reliable_band_per_m"][1] < 7.9e4        # no longer up to the noise floor
+        assert s["reliable_band_per_m"][1] < 7.9e4  # no longer up to the noise floor
 
 
 def test_extension_beyond_the_scan_is_counted_and_warned(tmp_path):
@@ -116,6 +120,6 @@ def test_extension_beyond_the_scan_is_counted_and_warned(tmp_path):
     assert d[i, -1] == pytest.approx(f["extrapolated_share_at_peak"]) and d[i, -1] > 0.3
     assert f["extrapolated_share"][i] == pytest.approx(d[i, -1])
     page = (tmp_path / "o" / "report.html").read_text()
-    assert "extrapolated share" in page and "thesis SLS" in page   # per speed, in the report
+    assert "extrapolated share" in page and "thesis SLS" in page  # per speed, in the report
     if f["mu_peak"] > 3:
         assert any("cut-off" in w and "--q1" in w for w in s["warnings"])

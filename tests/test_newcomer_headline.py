@@ -2,6 +2,7 @@
 band under half a decade or outside [0, 1]), the friction peak (peak_at_edge when the largest
 mu sits at an end of the speed grid), the default rubber named illustrative, --rubber given a
 CSV, and the wet model's scope in dry-vs-wet."""
+
 import json
 from pathlib import Path
 
@@ -30,18 +31,23 @@ def test_hurst_given_over_a_wide_band_within_0_1():
     assert hurst_text(k) == "0.800 ± 0.010"
 
 
-@pytest.mark.parametrize("H, band, why", [(2.203, (1e5, 1.26e5), "0.1 decades"),
-                                          (0.7, (1e3, 3e3), "decades"),
-                                          (1.4, (1e3, 1e5), "outside [0, 1]"),
-                                          (-0.2, (1e3, 1e5), "outside [0, 1]"),
-                                          (float("nan"), (1e3, 1e5), "no finite H")])
+@pytest.mark.parametrize(
+    "H, band, why",
+    [
+        (2.203, (1e5, 1.26e5), "0.1 decades"),
+        (0.7, (1e3, 3e3), "decades"),
+        (1.4, (1e3, 1e5), "outside [0, 1]"),
+        (-0.2, (1e3, 1e5), "outside [0, 1]"),
+        (float("nan"), (1e3, 1e5), "no finite H"),
+    ],
+)
 def test_hurst_null_with_a_note(H, band, why):
     k = hurst_keys(H, 4.485, band)
     assert k["hurst"] is None and k["hurst_stderr"] is None
     assert why in k["hurst_note"]
     if np.isfinite(H):
         assert k["hurst_fit"] == H and k["hurst_fit_stderr"] == 4.485
-    assert k["hurst_note"].endswith(hurst_text(k))   # the report says the note, not the number
+    assert k["hurst_note"].endswith(hurst_text(k))  # the report says the note, not the number
     assert f"{H:.3f}" not in hurst_text(k, short=True)
 
 
@@ -60,8 +66,9 @@ def _steep_surface(path, H=1.6, n=256, dx=5e-5, seed=0):
 
 def test_analyse_short_fit_band_gives_no_hurst(tmp_path, capsys):
     out = tmp_path / "out"
-    rc, err = run_cli(capsys, ["analyse", SAMPLE, "--out", out, "--no-friction", "--no-figures",
-                               "--fit-band", "3000,5000"])        # 0.22 decade
+    rc, err = run_cli(
+        capsys, ["analyse", SAMPLE, "--out", out, "--no-friction", "--no-figures", "--fit-band", "3000,5000"]
+    )  # 0.22 decade
     assert rc == 0, err
     s = json.loads((out / "summary.json").read_text())
     assert s["hurst"] is None and "decades" in s["hurst_note"]
@@ -76,17 +83,17 @@ def test_analyse_steep_surface_never_headlines_h_above_1(tmp_path, capsys):
     rc, err = run_cli(capsys, ["analyse", p, "--out", out, "--no-friction", "--no-figures"])
     assert rc == 0, err
     s = json.loads((out / "summary.json").read_text())
-    if s["hurst"] is not None:                     # whatever the fit, never a headline outside
+    if s["hurst"] is not None:  # whatever the fit, never a headline outside
         assert 0.0 <= s["hurst"] <= 1.0
     else:
         assert s["hurst_note"]
-    assert s["hurst_fit"] > 1.0                    # the surface is steeper than self-affine
+    assert s["hurst_fit"] > 1.0  # the surface is steeper than self-affine
 
 
 # ------------------------------------------------------------------------------ peak at edge
 def test_peak_keys_inside_and_at_both_ends():
     v = np.geomspace(1e-4, 100, 61)
-    bump = np.exp(-np.log10(v / 0.3) ** 2)
+    bump = np.exp(-(np.log10(v / 0.3) ** 2))
     k = peak_keys(v, bump)
     assert not k["peak_at_edge"] and k["peak_note"] is None
     assert k["v_peak_m_per_s"] == pytest.approx(v[np.argmax(bump)])
@@ -97,15 +104,15 @@ def test_peak_keys_inside_and_at_both_ends():
     assert falling["peak_at_edge"] and "slowest speed" in falling["peak_note"]
 
 
-@pytest.mark.parametrize("velocities, edge", [("1e-4:1:20", True), ("1e-4:1000:40", False),
-                                              ("100:1000:20", True)])
+@pytest.mark.parametrize(
+    "velocities, edge", [("1e-4:1:20", True), ("1e-4:1000:40", False), ("100:1000:20", True)]
+)
 def test_friction_peak_at_edge_in_mu_summary(tmp_path, capsys, velocities, edge):
     out = tmp_path / "mu.csv"
-    rc, err = run_cli(capsys, ["friction", "--psd", SAMPLE_PSD, "--out", out,
-                               "--velocities", velocities])
+    rc, err = run_cli(capsys, ["friction", "--psd", SAMPLE_PSD, "--out", out, "--velocities", velocities])
     assert rc == 0, err
     s = json.loads((tmp_path / "mu_summary.json").read_text())
-    mu = np.loadtxt(out, delimiter=",", skiprows=1)[:, 1]      # independent: from mu.csv
+    mu = np.loadtxt(out, delimiter=",", skiprows=1)[:, 1]  # independent: from mu.csv
     i = int(np.argmax(mu))
     assert s["peak_at_edge"] is (i in (0, mu.size - 1))
     assert s["peak_at_edge"] is edge
@@ -115,8 +122,9 @@ def test_friction_console_says_still_rising(tmp_path, capsys):
     from pipelines.cli.app import main
 
     capsys.readouterr()
-    rc = main(["friction", "--psd", str(SAMPLE_PSD), "--out", str(tmp_path / "mu.csv"),
-               "--velocities", "1e-4:1:20"])
+    rc = main(
+        ["friction", "--psd", str(SAMPLE_PSD), "--out", str(tmp_path / "mu.csv"), "--velocities", "1e-4:1:20"]
+    )
     said = capsys.readouterr().out
     assert rc == 0
     assert "still rising at 1.00 m/s" in said and "peak μ" not in said
@@ -124,8 +132,7 @@ def test_friction_console_says_still_rising(tmp_path, capsys):
 
 def test_analyse_summary_and_report_peak_at_edge(tmp_path, capsys):
     out = tmp_path / "out"
-    rc, err = run_cli(capsys, ["analyse", SAMPLE, "--out", out, "--no-figures",
-                               "--velocities", "1e-4:1:20"])
+    rc, err = run_cli(capsys, ["analyse", SAMPLE, "--out", out, "--no-figures", "--velocities", "1e-4:1:20"])
     assert rc == 0, err
     s = json.loads((out / "summary.json").read_text())
     assert s["friction"]["peak_at_edge"] is True
@@ -141,8 +148,9 @@ def test_analyse_summary_and_report_peak_at_edge(tmp_path, capsys):
 def test_rubber_csv_names_master_curve(tmp_path, capsys):
     master = tmp_path / "master.csv"
     master.write_text("f_Hz,E_stor_Pa,E_loss_Pa\n1,1e6,1e5\n10,2e6,3e5\n100,4e6,9e5\n")
-    rc, err = run_cli(capsys, ["friction", "--psd", SAMPLE_PSD, "--rubber", master,
-                               "--out", tmp_path / "mu.csv"])
+    rc, err = run_cli(
+        capsys, ["friction", "--psd", SAMPLE_PSD, "--rubber", master, "--out", tmp_path / "mu.csv"]
+    )
     assert_one_line_error(rc, err, words=[str(master), "--master-curve", "--shift-table"])
     assert "invalid TOML" not in err
 
@@ -150,8 +158,9 @@ def test_rubber_csv_names_master_curve(tmp_path, capsys):
 def test_rubber_broken_toml_still_says_toml(tmp_path, capsys):
     bad = tmp_path / "bad.toml"
     bad.write_text("[rubber\nkind = 'sls'\n")
-    rc, err = run_cli(capsys, ["friction", "--psd", SAMPLE_PSD, "--rubber", bad,
-                               "--out", tmp_path / "mu.csv"])
+    rc, err = run_cli(
+        capsys, ["friction", "--psd", SAMPLE_PSD, "--rubber", bad, "--out", tmp_path / "mu.csv"]
+    )
     assert_one_line_error(rc, err, words=[str(bad), "TOML"])
     assert "--master-curve" not in err
 
@@ -174,8 +183,18 @@ def test_dry_vs_wet_says_what_the_wet_model_covers(tmp_path, capsys):
 
 def test_compare_names_rubber_and_edge_per_surface(tmp_path, capsys):
     out = tmp_path / "cmp"
-    rc, err = run_cli(capsys, ["compare", SAMPLE, ROOT / "sample_scans" / "coarse_asphalt.x3p",
-                               "--out", out, "--velocities", "1e-4:1:20"])
+    rc, err = run_cli(
+        capsys,
+        [
+            "compare",
+            SAMPLE,
+            ROOT / "sample_scans" / "coarse_asphalt.x3p",
+            "--out",
+            out,
+            "--velocities",
+            "1e-4:1:20",
+        ],
+    )
     assert rc == 0, err
     c = json.loads((out / "comparison.json").read_text())
     entries = [e for e in c.values() if isinstance(e, dict) and e.get("mu")]

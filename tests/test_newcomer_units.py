@@ -1,6 +1,7 @@
 """Units of every column of a text input are known or refused (x,z profiles and x,y,z lists
 without a unit line): a mm profile read as metres is refused naming --units mm; --units
 converts coordinates and heights; --spacing replaces the step inferred from the x column."""
+
 import json
 import re
 
@@ -12,7 +13,7 @@ from roadscan.errors import InputError
 from roadscan.io import read
 from roadscan.io.text_units import line_rms, plausible_reading
 
-DX_MM = 0.0375      # a CAPTIF-like laser profile: 0.0375 mm steps, 150 mm, heights of a mm
+DX_MM = 0.0375  # a CAPTIF-like laser profile: 0.0375 mm steps, 150 mm, heights of a mm
 
 
 def _names_units_mm(msg):
@@ -60,8 +61,7 @@ def test_units_mm_converts_spacing_and_heights(tmp_path):
 def test_units_mm_through_analyse_gives_mm_texture(tmp_path, capsys):
     p, z = _mm_profile(tmp_path)
     out = tmp_path / "out"
-    rc, err = run_cli(capsys, ["analyse", p, "--out", out, "--units", "mm", "--no-friction",
-                               "--no-figures"])
+    rc, err = run_cli(capsys, ["analyse", p, "--out", out, "--units", "mm", "--no-friction", "--no-figures"])
     assert rc == 0, err
     s = json.loads((out / "summary.json").read_text())
     assert s["spacing_m"] == [pytest.approx(DX_MM * 1e-3, rel=1e-6)]
@@ -71,19 +71,21 @@ def test_units_mm_through_analyse_gives_mm_texture(tmp_path, capsys):
 
 def test_spacing_replaces_the_inferred_step_with_a_note(tmp_path):
     p, _z = _mm_profile(tmp_path)
-    prof = read(p, spacing=2e-5, units="mm")          # not the file's 0.0375 mm: a note, no refusal
+    prof = read(p, spacing=2e-5, units="mm")  # not the file's 0.0375 mm: a note, no refusal
     assert prof.dx_m == pytest.approx(2e-5)
     notes = [str(w) for w in prof.meta.get("read_warnings", [])]
     assert any("replaces the spacing inferred from the x column" in w for w in notes), notes
-    same = read(p, spacing=DX_MM * 1e-3, units="mm")   # the same spacing: nothing to say
+    same = read(p, spacing=DX_MM * 1e-3, units="mm")  # the same spacing: nothing to say
     assert not same.meta.get("read_warnings")
 
 
 def test_spacing_note_reaches_summary_warnings(tmp_path, capsys):
     p, _ = _mm_profile(tmp_path)
     out = tmp_path / "out"
-    rc, err = run_cli(capsys, ["analyse", p, "--out", out, "--units", "mm", "--spacing", "2e-5",
-                               "--no-friction", "--no-figures"])
+    rc, err = run_cli(
+        capsys,
+        ["analyse", p, "--out", out, "--units", "mm", "--spacing", "2e-5", "--no-friction", "--no-figures"],
+    )
     assert rc == 0, err
     s = json.loads((out / "summary.json").read_text())
     assert s["spacing_m"] == [pytest.approx(2e-5)]
@@ -122,9 +124,9 @@ def test_units_on_metre_coordinates_read_as_metres_with_a_warning(tmp_path):
     notes = [str(w) for w in prof.meta["read_warnings"]]
     assert len(notes) == 1 and "x read as metres" in notes[0] and "'x_units' m" in notes[0]
     assert prof.meta["coordinate_unit"] == "m"
-    given = read(tmp_path / "p.txt", units="mm", x_units="m")     # stated: no warning
+    given = read(tmp_path / "p.txt", units="mm", x_units="m")  # stated: no warning
     assert given.dx_m == prof.dx_m and not given.meta.get("read_warnings")
-    with open(tmp_path / "t.txt", "w") as f:                       # or a title line
+    with open(tmp_path / "t.txt", "w") as f:  # or a title line
         f.write("x (m), z (mm)\n")
         for a, b in zip(x, z):
             f.write(f"{a:.6e}, {b:.9f}\n")
@@ -138,8 +140,8 @@ def test_units_on_coordinates_in_another_unit_refused(tmp_path):
     profile at 1 mm with heights 1e-5 of its spacing, below any instrument; in um it is a
     microscope's field. Not the older metre convention: refused naming --x-units um."""
     rng = np.random.default_rng(5)
-    x = np.arange(2000) * 1.0                                  # um
-    z = rng.normal(size=x.size) * 5e-6                         # mm
+    x = np.arange(2000) * 1.0  # um
+    z = rng.normal(size=x.size) * 5e-6  # mm
     np.savetxt(tmp_path / "u.txt", np.column_stack([x, z]), fmt="%.6f %.9f")
     with pytest.raises(InputError) as e:
         read(tmp_path / "u.txt", units="mm")
@@ -150,9 +152,9 @@ def test_units_on_coordinates_in_another_unit_refused(tmp_path):
 def test_xyz_in_mm_without_titles_refused_then_read_with_units(tmp_path):
     rng = np.random.default_rng(2)
     ny, nx = 40, 50
-    h = rng.normal(size=(ny, nx)) * 0.5          # mm
+    h = rng.normal(size=(ny, nx)) * 0.5  # mm
     yy, xx = np.mgrid[0:ny, 0:nx]
-    pts = np.column_stack([xx.ravel() * 0.05, yy.ravel() * 0.05, h.ravel()])   # 0.05 mm grid
+    pts = np.column_stack([xx.ravel() * 0.05, yy.ravel() * 0.05, h.ravel()])  # 0.05 mm grid
     np.savetxt(tmp_path / "s.xyz", pts, fmt="%.6f")
     with pytest.raises(InputError) as e:
         read(tmp_path / "s.xyz")
@@ -163,11 +165,11 @@ def test_xyz_in_mm_without_titles_refused_then_read_with_units(tmp_path):
 
 
 def test_plausible_reading_bounds():
-    assert plausible_reading(5e-5, 0.1, 5e-4)            # road texture
-    assert plausible_reading(1e-7, 1e-4, 1e-8)           # microscope
-    assert not plausible_reading(0.0375, 150.0, 0.73)    # the mm file read as metres
-    assert not plausible_reading(5e-4, 1.0, 0.2)         # 20 cm rms: no texture
-    assert not plausible_reading(1e-12, 1e-9, 1e-13)     # below a nanometre spacing
+    assert plausible_reading(5e-5, 0.1, 5e-4)  # road texture
+    assert plausible_reading(1e-7, 1e-4, 1e-8)  # microscope
+    assert not plausible_reading(0.0375, 150.0, 0.73)  # the mm file read as metres
+    assert not plausible_reading(5e-4, 1.0, 0.2)  # 20 cm rms: no texture
+    assert not plausible_reading(1e-12, 1e-9, 1e-13)  # below a nanometre spacing
 
 
 def test_line_rms_removes_a_line_and_a_plane():
@@ -183,7 +185,7 @@ def test_x_units_refused_where_it_means_nothing(tmp_path):
     np.save(tmp_path / "a.npy", np.zeros((16, 16)))
     with pytest.raises(InputError, match="x_units"):
         read(tmp_path / "a.npy", spacing=1e-4, x_units="mm")
-    with open(tmp_path / "t.txt", "w") as f:                   # titles state x in mm
+    with open(tmp_path / "t.txt", "w") as f:  # titles state x in mm
         f.write("x (mm), z (mm)\n" + "".join(f"{0.05 * k:.3f}, {np.sin(k):.6f}\n" for k in range(100)))
     with pytest.raises(InputError, match="title line states the coordinates in mm"):
         read(tmp_path / "t.txt", x_units="m")
@@ -192,19 +194,34 @@ def test_x_units_refused_where_it_means_nothing(tmp_path):
 
 def test_cli_x_units_reads_metre_coordinates_with_mm_heights(tmp_path, capsys):
     rng = np.random.default_rng(4)
-    x = np.arange(4000) * 5e-5                                  # metres
-    z = np.cumsum(rng.normal(size=x.size)) * 0.01               # mm
+    x = np.arange(4000) * 5e-5  # metres
+    z = np.cumsum(rng.normal(size=x.size)) * 0.01  # mm
     np.savetxt(tmp_path / "p.csv", np.column_stack([x, z]), fmt="%.8g", delimiter=",")
     out = tmp_path / "out"
-    rc, err = run_cli(capsys, ["analyse", tmp_path / "p.csv", "--out", out, "--units", "mm",
-                               "--no-friction", "--no-figures"])
-    assert rc == 0 and "--x-units m" in err, err                 # read so, with a warning
+    rc, err = run_cli(
+        capsys,
+        ["analyse", tmp_path / "p.csv", "--out", out, "--units", "mm", "--no-friction", "--no-figures"],
+    )
+    assert rc == 0 and "--x-units m" in err, err  # read so, with a warning
     s = json.loads((out / "summary.json").read_text())
     assert s["spacing_m"] == [pytest.approx(5e-5, rel=1e-6)]
     assert any("x read as metres" in w for w in s["warnings"])
     out = tmp_path / "out2"
-    rc, err = run_cli(capsys, ["analyse", tmp_path / "p.csv", "--out", out, "--units", "mm",
-                               "--x-units", "m", "--no-friction", "--no-figures"])
+    rc, err = run_cli(
+        capsys,
+        [
+            "analyse",
+            tmp_path / "p.csv",
+            "--out",
+            out,
+            "--units",
+            "mm",
+            "--x-units",
+            "m",
+            "--no-friction",
+            "--no-figures",
+        ],
+    )
     assert rc == 0, err
     s = json.loads((out / "summary.json").read_text())
     assert s["spacing_m"] == [pytest.approx(5e-5, rel=1e-6)]

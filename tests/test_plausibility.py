@@ -5,6 +5,7 @@ output; the real and shipped scans all pass.
 The slipped files are the shipped asphalt sample's own heights multiplied by 1e3 / 1e6 (what a
 file written in mm / um holds) or read with a wrong --units; the expected flag follows from the
 factor applied, not from the code."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -23,7 +24,7 @@ SAMPLE = ROOT / "sample_scans" / "asphalt.x3p"
 @pytest.fixture(scope="module")
 def asphalt():
     m = read(SAMPLE)
-    h = m.heights_m[:256, :256]                 # 14 mm square: fast
+    h = m.heights_m[:256, :256]  # 14 mm square: fast
     return h, m.dx_m
 
 
@@ -39,20 +40,38 @@ def _refused(capsys, argv, flag, out):
 @pytest.mark.parametrize("factor, flag", [(1e3, "--units mm"), (1e6, "--units um")])
 def test_slipped_npy_refused_by_analyse(asphalt, tmp_path, capsys, factor, flag):
     h, dx = asphalt
-    np.save(tmp_path / "s.npy", h * factor)       # heights written in mm (um), read as m
+    np.save(tmp_path / "s.npy", h * factor)  # heights written in mm (um), read as m
     out = tmp_path / "o"
     err = _refused(capsys, ["analyse", tmp_path / "s.npy", "--spacing", dx, "--out", out], flag, out)
     assert "s.npy" in err
-    assert main(["analyse", str(tmp_path / "s.npy"), "--spacing", str(dx), "--out", str(out),
-                 "--no-friction", "--no-figures", *flag.split()]) == 0
+    assert (
+        main(
+            [
+                "analyse",
+                str(tmp_path / "s.npy"),
+                "--spacing",
+                str(dx),
+                "--out",
+                str(out),
+                "--no-friction",
+                "--no-figures",
+                *flag.split(),
+            ]
+        )
+        == 0
+    )
 
 
 def test_units_um_on_metres_refused(asphalt, tmp_path, capsys):
     h, dx = asphalt
     np.save(tmp_path / "m.npy", h)
     out = tmp_path / "o"
-    _refused(capsys, ["analyse", tmp_path / "m.npy", "--spacing", dx, "--units", "um",
-                      "--no-friction", "--out", out], "--units m", out)
+    _refused(
+        capsys,
+        ["analyse", tmp_path / "m.npy", "--spacing", dx, "--units", "um", "--no-friction", "--out", out],
+        "--units m",
+        out,
+    )
 
 
 @pytest.mark.parametrize("command", ["rain-fill", "compare", "dry-vs-wet"])
@@ -73,29 +92,63 @@ def test_convert_and_stitch_refuse(asphalt, tmp_path, capsys):
     _refused(capsys, ["convert", tmp_path / "s.npy", out, "--spacing", dx], "--units mm", out)
     np.save(tmp_path / "t00.npy", h[:, :160] * 1e3)
     np.save(tmp_path / "t01.npy", h[:, 96:] * 1e3)
-    _refused(capsys, ["stitch", tmp_path / "t00.npy", tmp_path / "t01.npy", "--grid", "1x2",
-                      "--overlap", "0.25", "--spacing", dx, "--out", out], "--units mm", out)
+    _refused(
+        capsys,
+        [
+            "stitch",
+            tmp_path / "t00.npy",
+            tmp_path / "t01.npy",
+            "--grid",
+            "1x2",
+            "--overlap",
+            "0.25",
+            "--spacing",
+            dx,
+            "--out",
+            out,
+        ],
+        "--units mm",
+        out,
+    )
 
 
 def test_x3p_holding_mm_needs_override(asphalt, tmp_path, capsys):
     h, dx = asphalt
-    write(tmp_path / "mm.x3p", HeightMap(h * 1e3, dx, dx))     # a writer that put mm in an X3P
+    write(tmp_path / "mm.x3p", HeightMap(h * 1e3, dx, dx))  # a writer that put mm in an X3P
     out = tmp_path / "o"
-    err = _refused(capsys, ["analyse", tmp_path / "mm.x3p", "--out", out, "--no-friction"],
-                   "--units mm --override-calibration", out)
+    err = _refused(
+        capsys,
+        ["analyse", tmp_path / "mm.x3p", "--out", out, "--no-friction"],
+        "--units mm --override-calibration",
+        out,
+    )
     assert "as the file states" in err
-    assert main(["analyse", str(tmp_path / "mm.x3p"), "--out", str(out), "--no-friction",
-                 "--no-figures", "--units", "mm", "--override-calibration"]) == 0
+    assert (
+        main(
+            [
+                "analyse",
+                str(tmp_path / "mm.x3p"),
+                "--out",
+                str(out),
+                "--no-friction",
+                "--no-figures",
+                "--units",
+                "mm",
+                "--override-calibration",
+            ]
+        )
+        == 0
+    )
 
 
 def test_rms_is_detrended_and_spike_robust():
     rng = np.random.default_rng(0)
     h = rng.normal(size=(200, 300)) * 1e-6
     yy, xx = np.indices(h.shape)
-    tilted = h + 0.05 + 1e-3 * xx - 2e-3 * yy                     # offset and a steep plane
-    tilted[5, 5] = 1e3                                             # one spike
+    tilted = h + 0.05 + 1e-3 * xx - 2e-3 * yy  # offset and a steep plane
+    tilted[5, 5] = 1e3  # one spike
     m = HeightMap(tilted, 1e-6, 1e-6)
-    assert detrended_rms(m) == pytest.approx(np.std(h), rel=0.15)   # 1 % trims: ~10 % low
+    assert detrended_rms(m) == pytest.approx(np.std(h), rel=0.15)  # 1 % trims: ~10 % low
     p = Profile(np.sin(np.arange(1000)) * 1e-3 + 0.5 * np.arange(1000), 1e-3)
     assert detrended_rms(p) == pytest.approx(1e-3 / np.sqrt(2), rel=0.15)
 
@@ -105,6 +158,7 @@ def _real_scans(shared_data):
     files += sorted((shared_data / "profiles" / "captif").glob("*.dat"))
     try:
         import SurfaceTopography  # noqa: F401
+
         files += sorted((shared_data / "formats").glob("*-*.*"))
     except ImportError:
         pass
@@ -152,10 +206,23 @@ def test_batch_sections_refuse_a_slipped_profile(tmp_path):
 
     rng = np.random.default_rng(4)
     z = np.convolve(rng.normal(size=40008), np.ones(8) / 8, mode="valid")[:40000] * 2e-3
-    np.save(tmp_path / "lane.npy", z * 1e3)                     # mm numbers read as metres
+    np.save(tmp_path / "lane.npy", z * 1e3)  # mm numbers read as metres
     out = tmp_path / "o"
-    main(["batch", str(tmp_path / "lane.npy"), "--section-length", "0.5", "--spacing", "5e-5",
-          "--no-friction", "--out", str(out), "--workers", "1"])
+    main(
+        [
+            "batch",
+            str(tmp_path / "lane.npy"),
+            "--section-length",
+            "0.5",
+            "--spacing",
+            "5e-5",
+            "--no-friction",
+            "--out",
+            str(out),
+            "--workers",
+            "1",
+        ]
+    )
     rows = list(csv.DictReader(open(out / "campaign.csv")))
     assert rows and all(r["status"] != "ok" for r in rows)
     assert any("units?" in r["error"] and "--units mm" in r["error"] for r in rows)

@@ -1,5 +1,6 @@
 """The Python door: real signatures, SI numbers, rubber objects, warnings through ``warnings``
 (never printed), short reprs, and every option the same as the command's flag."""
+
 from __future__ import annotations
 
 import contextlib
@@ -39,7 +40,7 @@ def test_every_job_has_a_real_signature(name):
         assert p.default is not inspect.Parameter.empty, (name, p.name)
         assert p.annotation is not inspect.Parameter.empty, (name, p.name)
     assert "Parameters" in (job.__doc__ or "")
-    for pname in opts:       # help() lists every option
+    for pname in opts:  # help() lists every option
         assert f"\n    {pname} :" in job.__doc__, (name, pname)
 
 
@@ -51,9 +52,15 @@ def _equivalent(name, flag_default, api_default):
     return flag_default == api_default
 
 
-@pytest.mark.parametrize("name, add_options, extra", [
-    ("analyse", None, {"out"}), ("compare", add_compare_options, set()),
-    ("dry_vs_wet", add_dry_vs_wet_options, set()), ("rain_fill", add_rain_fill_options, set())])
+@pytest.mark.parametrize(
+    "name, add_options, extra",
+    [
+        ("analyse", None, {"out"}),
+        ("compare", add_compare_options, set()),
+        ("dry_vs_wet", add_dry_vs_wet_options, set()),
+        ("rain_fill", add_rain_fill_options, set()),
+    ],
+)
 def test_options_are_the_command_flags(name, add_options, extra):
     # names are the long flags with underscores; defaults mean the same (a test, so that the
     # two doors cannot drift apart)
@@ -81,14 +88,14 @@ def test_numbers_in_si_equal_text_with_units(scan):
     b = pipelines.analyse(scan, sigma0="0.25MPa", velocities="0.01:10:5", no_figures=True)
     assert a.summary == b.summary
     c = pipelines.analyse(scan, sigma0=4e5, velocities=v, no_figures=True)
-    assert not np.allclose(a.mu, c.mu)        # the pressure reached the engine
+    assert not np.allclose(a.mu, c.mu)  # the pressure reached the engine
 
 
 def test_a_rubber_object_is_a_rubber(scan):
     v = np.logspace(-2, 1, 5)
     default = pipelines.analyse(scan, velocities=v, no_figures=True)
     given = pipelines.analyse(scan, velocities=v, rubber=friction.thesis_rubber(), no_figures=True)
-    np.testing.assert_allclose(given.mu, default.mu, rtol=1e-12)    # the thesis rubber is the default
+    np.testing.assert_allclose(given.mu, default.mu, rtol=1e-12)  # the thesis rubber is the default
     from roadscan.errors import InputError
 
     with pytest.raises(InputError, match="rubber"):
@@ -108,8 +115,11 @@ def test_wrong_kinds_are_refused_naming_the_option(scan):
 
 def test_the_library_never_prints_and_warns_as_python_does(small_scan, tmp_path):
     err, out = io.StringIO(), io.StringIO()
-    with warnings.catch_warnings(record=True) as caught, contextlib.redirect_stderr(err), \
-            contextlib.redirect_stdout(out):
+    with (
+        warnings.catch_warnings(record=True) as caught,
+        contextlib.redirect_stderr(err),
+        contextlib.redirect_stdout(out),
+    ):
         warnings.simplefilter("always")
         r = pipelines.analyse(small_scan, no_figures=True)
         d = pipelines.rain_fill(small_scan, tmp_path / "rain")
@@ -124,7 +134,7 @@ def test_the_library_never_prints_and_warns_as_python_does(small_scan, tmp_path)
         warnings.simplefilter("ignore", RoadscanWarning)
         r2 = pipelines.analyse(small_scan, no_figures=True)
     assert not [w for w in caught if issubclass(w.category, RoadscanWarning)]
-    assert r2.warnings == r.warnings          # still carried in the result
+    assert r2.warnings == r.warnings  # still carried in the result
 
 
 def test_notes_go_to_the_roadscan_logger(caplog):

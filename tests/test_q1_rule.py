@@ -2,6 +2,7 @@
 where a band ending at the noise floor is steeper than rms slope 1, friction on the real CAPTIF
 road profiles, refusal only without a trusted decade, the rule stated in summary.json, the
 report and the headline, and the sample scan's band left alone."""
+
 from __future__ import annotations
 
 import json
@@ -38,12 +39,12 @@ class PowerLaw:
 
 @pytest.mark.parametrize("H", [0.3, 0.7, 0.9])
 def test_slope_cutoff_matches_the_closed_form(H):
-    K = PowerLaw(1, H).K_for(1e2, 1e4, 1.0, H)         # rms slope 1 reached at q = 1e4
+    K = PowerLaw(1, H).K_for(1e2, 1e4, 1.0, H)  # rms slope 1 reached at q = 1e4
     psd = PowerLaw(K, H)
     assert psd.q_at_slope(1e2, 1.0) == pytest.approx(1e4, rel=1e-12)
     q = slope_cutoff(psd, 1e2, 1e6)
     assert q == pytest.approx(1e4, rel=2e-3)
-    assert slope_cutoff(psd, 1e2, 5e3) is None          # not reached inside the band
+    assert slope_cutoff(psd, 1e2, 5e3) is None  # not reached inside the band
     assert slope_cutoff(psd, 1e2, 1e8, target=2.0) == pytest.approx(psd.q_at_slope(1e2, 2.0), rel=2e-3)
 
 
@@ -59,8 +60,7 @@ def _steep_spectrum(H=0.6, q0=2e3, q1=8e3, xi=2.0):
 
 
 def _band(lo, hi):
-    return SimpleNamespace(valid=True, lo_per_m=lo, hi_per_m=hi, q_roll_per_m=None,
-                           noise_floor_end=True)
+    return SimpleNamespace(valid=True, lo_per_m=lo, hi_per_m=hi, q_roll_per_m=None, noise_floor_end=True)
 
 
 def test_steep_noise_floor_band_of_three_decades_is_cut_where_the_slope_reaches_one():
@@ -71,7 +71,7 @@ def test_steep_noise_floor_band_of_three_decades_is_cut_where_the_slope_reaches_
     spec, fit, law = _steep_spectrum()
     rb, settings = _band(2e2, 8e4), FrictionSettings()
     psd, band = friction_psd(spec, fit, rb, settings, say=False)
-    want = law.q_at_slope(2e2, 1.0)                     # closed form on the true spectrum
+    want = law.q_at_slope(2e2, 1.0)  # closed form on the true spectrum
     assert psd.q1_per_m == pytest.approx(want, rel=0.03)
     assert psd.q1_per_m < rb.hi_per_m
     assert rms_slope(psd) == pytest.approx(1.0, abs=0.02)
@@ -85,13 +85,13 @@ def test_refused_only_without_a_trusted_decade():
     from pipelines.settings.friction import FrictionSettings
 
     spec, fit, _ = _steep_spectrum()
-    rb, settings = _band(2e3, 8e3), FrictionSettings()         # 0.6 decade, rms slope 2
+    rb, settings = _band(2e3, 8e3), FrictionSettings()  # 0.6 decade, rms slope 2
     psd, band = friction_psd(spec, fit, rb, settings, say=False)
     assert psd.q1_per_m == pytest.approx(8e3)
     slope, refused = judge_fine_end(psd, rb, settings)
     assert slope == pytest.approx(2.0, rel=0.03)
     assert refused is not None and "no decade" in refused and "--q1" in refused
-    given = FrictionSettings(q1_per_m=6e3)                     # the user's end: no refusal
+    given = FrictionSettings(q1_per_m=6e3)  # the user's end: no refusal
     psd, band = friction_psd(spec, fit, rb, given, say=False)
     assert judge_fine_end(psd, rb, given)[1] is None
     assert band["q1_rule"] == "given by --q1"
@@ -123,14 +123,14 @@ def test_captif_profiles_get_friction_with_the_q1_rule_stated(tmp_path, shared_d
         s = _analyse_cli(f, out)
         headline = capsys.readouterr().out
         lo, hi = s["reliable_band_per_m"]
-        assert math.log10(hi / lo) > 1                         # a trusted band over a decade
+        assert math.log10(hi / lo) > 1  # a trusted band over a decade
         fr = s["friction"]
         assert "refused" not in fr and (out / "mu.csv").exists()
         assert fr["q0_per_m"] < fr["q1_per_m"] <= hi * (1 + 1e-9)
         if s["reliable_band_limits_per_m"]["noise_floor"] == hi and fr["q1_per_m"] < hi * 0.999:
             assert "Persson" in fr["q1_rule"]
             xi = _xi_from_psd_csv(out / "psd.csv", fr["q0_per_m"], fr["q1_per_m"])
-            assert xi == pytest.approx(1.0, rel=0.05)           # Persson's criterion, re-checked
+            assert xi == pytest.approx(1.0, rel=0.05)  # Persson's criterion, re-checked
             assert any("Persson" in w and "--q1" in w for w in s["warnings"])
         assert "q1 = " in headline and fr["q1_rule"] in headline  # the headline says which and why
         html = (out / "report.html").read_text()

@@ -1,5 +1,6 @@
 """Rain fill (roadscan.rain): against scikit-image, an independent priority-flood, analytic
 pits, and properties of the definition in DESIGN.md section 3."""
+
 import heapq
 
 import numpy as np
@@ -69,13 +70,13 @@ def test_default_connectivity_is_4_and_diagonal_gap_matters():
     # a 1-deep pit whose rim has one diagonal leak: 8-connected water escapes, 4 does not
     h = np.full((7, 7), 0.0)
     h[1:6, 1:6] = 2.0
-    h[2:5, 2:5] = 1.0      # pit floor at 1, rim at 2
-    h[3, 3] = 0.5          # lowest point
-    h[1, 1] = 0.0          # rim corner removed: the pit touches (1,1) only diagonally via (2,2)
+    h[2:5, 2:5] = 1.0  # pit floor at 1, rim at 2
+    h[3, 3] = 0.5  # lowest point
+    h[1, 1] = 0.0  # rim corner removed: the pit touches (1,1) only diagonally via (2,2)
     r4 = rain_fill(hm_of(h))
     r8 = rain_fill(hm_of(h), connectivity=8)
     assert r4.connectivity == 4
-    np.testing.assert_allclose(r4.wet.heights_m[2:5, 2:5], 2.0)   # filled to the rim
+    np.testing.assert_allclose(r4.wet.heights_m[2:5, 2:5], 2.0)  # filled to the rim
     np.testing.assert_allclose(r8.wet.heights_m[2:5, 2:5], np.maximum(h[2:5, 2:5], 1.0))
     assert r4.wetted_fraction == pytest.approx(9 / 49)
     assert r4.water_volume_m3_per_m2 == pytest.approx((8 * 1.0 + 1.5) / 49)
@@ -84,7 +85,7 @@ def test_default_connectivity_is_4_and_diagonal_gap_matters():
 def pit():
     """A square pit: rim 3, floor rising from 0 at the centre (terraced)."""
     h = np.full((9, 9), 3.0)
-    h[0, :] = h[-1, :] = h[:, 0] = h[:, -1] = 0.0   # outside the rim: drains
+    h[0, :] = h[-1, :] = h[:, 0] = h[:, -1] = 0.0  # outside the rim: drains
     yy, xx = np.mgrid[-3:4, -3:4]
     h[1:8, 1:8] = 3.0
     h[2:7, 2:7] = np.maximum(np.abs(yy[1:6, 1:6]), np.abs(xx[1:6, 1:6])) * 1.0  # 0,1,2 rings
@@ -121,23 +122,26 @@ def test_water_film_exact_inverse():
 def test_unmeasured_points_are_transparent_and_stay_nan():
     h = pit()
     hb = h.copy()
-    hb[4, 4] = np.nan                # dropout at the bottom: pit still fills to its rim
+    hb[4, 4] = np.nan  # dropout at the bottom: pit still fills to its rim
     r = rain_fill(hm_of(hb))
     assert np.isnan(r.depth_m[4, 4]) and np.isnan(r.wet.heights_m[4, 4])
     assert r.wet.unmeasured[4, 4]
     np.testing.assert_allclose(r.wet.heights_m[2:7, 2:7][~np.isnan(hb[2:7, 2:7])], 3.0)
-    assert r.wetted_fraction == pytest.approx(24 / 80)   # per measured point
+    assert r.wetted_fraction == pytest.approx(24 / 80)  # per measured point
     hr = h.copy()
-    hr[1, 4] = np.nan                # dropout in the rim: never a barrier, water drains to 2
+    hr[1, 4] = np.nan  # dropout in the rim: never a barrier, water drains to 2
     r2 = rain_fill(hm_of(hr))
     assert np.nanmax(r2.wet.heights_m[2:7, 2:7]) == pytest.approx(2.0)
     hd = h.copy()
-    hd[0, 4] = np.nan                # dropout on the border next to the rim: pit unaffected
+    hd[0, 4] = np.nan  # dropout on the border next to the rim: pit unaffected
     np.testing.assert_allclose(rain_fill(hm_of(hd)).wet.heights_m[2:7, 2:7], 3.0)
 
 
-surfaces = arrays(np.float64, st.tuples(st.integers(3, 14), st.integers(3, 14)),
-                  elements=st.floats(-1.0, 1.0, allow_nan=False, width=32))
+surfaces = arrays(
+    np.float64,
+    st.tuples(st.integers(3, 14), st.integers(3, 14)),
+    elements=st.floats(-1.0, 1.0, allow_nan=False, width=32),
+)
 
 
 @settings(max_examples=60, deadline=None)
@@ -145,9 +149,9 @@ surfaces = arrays(np.float64, st.tuples(st.integers(3, 14), st.integers(3, 14)),
 def test_properties_of_full_fill(h):
     f4 = full_fill(h, 4)
     f8 = full_fill(h, 8)
-    assert np.all(f4 >= h) and np.all(f8 >= h)                 # wet >= dry
-    assert np.all(f8 <= f4)                                    # 8-conn <= 4-conn
-    np.testing.assert_array_equal(full_fill(f4, 4), f4)        # idempotent
+    assert np.all(f4 >= h) and np.all(f8 >= h)  # wet >= dry
+    assert np.all(f8 <= f4)  # 8-conn <= 4-conn
+    np.testing.assert_array_equal(full_fill(f4, 4), f4)  # idempotent
     np.testing.assert_array_equal(full_fill(f8, 8), f8)
     np.testing.assert_array_equal(f4, priority_flood(h, 4))
 
@@ -161,14 +165,14 @@ def test_properties_of_limited_water(h, conn, frac):
     full = rain_fill(hm, conn)
     caps = np.linspace(0, 2.5, 11)
     vols = [rain_fill(hm, conn, max_depth_m=c).water_volume_m3_per_m2 for c in caps]
-    assert np.all(np.diff(vols) >= -1e-12)                     # monotone in the cap
+    assert np.all(np.diff(vols) >= -1e-12)  # monotone in the cap
     assert vols[-1] == pytest.approx(full.water_volume_m3_per_m2)  # range 2 < 2.5: all full
     w = frac * full.water_volume_m3_per_m2
     film = rain_fill(hm, conn, water_film_m=w)
     assert film.water_volume_m3_per_m2 == pytest.approx(w, rel=1e-9, abs=1e-12)
     d = film.meta["max_depth_m"]
     assert np.all(film.depth_m <= full.depth_m + 1e-12)
-    if w > 0 and frac < 1:                                     # smallest such cap
+    if w > 0 and frac < 1:  # smallest such cap
         less = rain_fill(hm, conn, max_depth_m=max(d - 1e-6, 0.0)).water_volume_m3_per_m2
         assert less < w
 
@@ -185,6 +189,7 @@ def test_bad_arguments():
 
 # --- the command ------------------------------------------------------------------------------
 
+
 def test_cli_rain_fill(tmp_path, capsys):
     import json
 
@@ -192,12 +197,27 @@ def test_cli_rain_fill(tmp_path, capsys):
     from roadscan.level import level
 
     h = 1e-3 * unit_fourier_surface(48, seed=3)
-    h[10:12, 20:23] = np.nan                          # a dropout
+    h[10:12, 20:23] = np.nan  # a dropout
     f = tmp_path / "scan.npy"
-    np.save(f, h * 1e3)                               # millimetres, no spacing in the file
+    np.save(f, h * 1e3)  # millimetres, no spacing in the file
     out = tmp_path / "rf"
-    assert main(["rain-fill", str(f), "--out", str(out), "--spacing", "1e-4", "--units", "mm",
-                 "--water-film", "2e-5"]) == 0
+    assert (
+        main(
+            [
+                "rain-fill",
+                str(f),
+                "--out",
+                str(out),
+                "--spacing",
+                "1e-4",
+                "--units",
+                "mm",
+                "--water-film",
+                "2e-5",
+            ]
+        )
+        == 0
+    )
     assert "wetted" in capsys.readouterr().out
     js = json.loads((out / "rainfill.json").read_text())
     expect = rain_fill(level(HeightMap(h, 1e-4, 1e-4)), water_film_m=2e-5)
@@ -212,9 +232,8 @@ def test_cli_rain_fill(tmp_path, capsys):
     np.testing.assert_allclose(depth, expect.depth_m, atol=1e-15)
     np.testing.assert_allclose(wet, expect.wet.heights_m, atol=1e-15)
 
-    assert main(["rain-fill", str(f), "--out", str(out), "--spacing", "1e-4",
-                 "--max-depth", "-1"]) == 2
+    assert main(["rain-fill", str(f), "--out", str(out), "--spacing", "1e-4", "--max-depth", "-1"]) == 2
     assert "--max-depth" in capsys.readouterr().err
-    with pytest.raises(SystemExit):                   # argparse: mutually exclusive
+    with pytest.raises(SystemExit):  # argparse: mutually exclusive
         main(["rain-fill", str(f), "--out", str(out), "--max-depth", "1", "--water-film", "1"])
     assert main(["rain-fill", str(tmp_path / "none.npy"), "--out", str(out), "--spacing", "1e-4"]) == 2

@@ -1,6 +1,7 @@
 """A water film larger than what the depressions hold fills every depression to its spill level,
 and the result says so (``all_full``): the cap lowest + d equalled the spill level only to an
 ulp, and an exact comparison said "not full" (report-review finding, issue 21)."""
+
 import numpy as np
 from conftest import unit_fourier_surface
 

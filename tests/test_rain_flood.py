@@ -1,6 +1,7 @@
 """The compiled priority-flood fill (roadscan._flood via roadscan.rain.full_fill(method="flood"))
 against scikit-image's reconstruction by erosion (the definition, DESIGN.md section 3), on random,
 tied, real and degenerate surfaces, with and without dropouts, and by its defining properties."""
+
 from collections import deque
 
 import numpy as np
@@ -25,8 +26,6 @@ def skimage_fill(h, connectivity):
     return reconstruction(seed, h, method="erosion", footprint=footprint(connectivity))
 
 
-
-
 def drains_everywhere(f, connectivity):
     """True when every cell of ``f`` reaches the border by a path that never goes up, i.e. ``f``
     has no depression (no regional minimum away from the border)."""
@@ -41,7 +40,7 @@ def drains_everywhere(f, connectivity):
             if i in (0, ny - 1) or j in (0, nx - 1):
                 seen[i, j] = True
                 dq.append((i, j))
-    while dq:       # climb from the border: a cell drains when a drained neighbour is <= it
+    while dq:  # climb from the border: a cell drains when a drained neighbour is <= it
         i, j = dq.popleft()
         for a, b in nb:
             k, m = i + a, j + b
@@ -59,9 +58,9 @@ def test_flood_identical_to_reconstruction(connectivity, kind):
         h = 1e-3 * unit_fourier_surface(200, seed=3) + 1e-5 * rng.standard_normal((200, 200))
     elif kind == "white_noise":
         h = rng.standard_normal((151, 173))
-    elif kind == "integer_ties":      # many flats and equal spill levels
+    elif kind == "integer_ties":  # many flats and equal spill levels
         h = rng.integers(0, 4, (120, 90)).astype(float)
-    else:                             # a strong tilt: water leaves over the low edge
+    else:  # a strong tilt: water leaves over the low edge
         h = 1e-3 * unit_fourier_surface(128, seed=1) + np.linspace(0, 5, 128)[None, :]
     f = full_fill(h, connectivity, method="flood")
     ref = skimage_fill(h, connectivity)
@@ -74,14 +73,14 @@ def test_flood_identical_to_reconstruction(connectivity, kind):
 def test_flood_with_dropouts_matches_the_reconstruction_path(connectivity):
     rng = np.random.default_rng(11)
     h = 1e-3 * unit_fourier_surface(160, seed=5) + 1e-5 * rng.standard_normal((160, 160))
-    h[rng.random(h.shape) < 0.05] = np.nan          # scattered dropouts
-    h[40:60, 70:75] = np.nan                        # a hole
-    h[0, 10:30] = np.nan                            # on the border
-    h[:, 120] = np.nan                              # a full column cuts the map in two
+    h[rng.random(h.shape) < 0.05] = np.nan  # scattered dropouts
+    h[40:60, 70:75] = np.nan  # a hole
+    h[0, 10:30] = np.nan  # on the border
+    h[:, 120] = np.nan  # a full column cuts the map in two
     a = full_fill(h, connectivity, method="flood")
     b = full_fill(h, connectivity, method="reconstruction")
     np.testing.assert_array_equal(np.isnan(a), np.isnan(h))
-    np.testing.assert_array_equal(a, b)             # NaN == NaN for assert_array_equal
+    np.testing.assert_array_equal(a, b)  # NaN == NaN for assert_array_equal
     for kw in ({}, {"max_depth_m": 2e-5}, {"water_film_m": 1e-6}):
         hm = HeightMap(h, 1e-4, 1e-4)
         ra = rain_fill(hm, connectivity, method="flood", **kw)
@@ -104,10 +103,10 @@ def test_flood_degenerate_shapes(shape):
 
 def test_flood_all_nan_border_and_huge_values():
     h = np.full((6, 6), np.nan)
-    h[2:4, 2:4] = [[1.0, 2.0], [3.0, 1e300]]      # measured island inside a ring of dropouts
+    h[2:4, 2:4] = [[1.0, 2.0], [3.0, 1e300]]  # measured island inside a ring of dropouts
     f = full_fill(h, 4, method="flood")
     np.testing.assert_array_equal(f, full_fill(h, 4, method="reconstruction"))
-    np.testing.assert_array_equal(f[2:4, 2:4], h[2:4, 2:4])   # the island drains through them
+    np.testing.assert_array_equal(f[2:4, 2:4], h[2:4, 2:4])  # the island drains through them
     spike = np.ones((9, 9))
     spike[4, 4] = 0.0
     spike[1, 1] = 1e300
@@ -147,10 +146,10 @@ def test_auto_threshold_and_fallback(monkeypatch):
     monkeypatch.setattr(rain, "_flood_kernel", spy)
     monkeypatch.setattr(rain, "_flood_warm", lambda: False)
     ref = skimage_fill(h, 4)
-    np.testing.assert_array_equal(full_fill(h), ref)          # small map: scikit-image
+    np.testing.assert_array_equal(full_fill(h), ref)  # small map: scikit-image
     assert calls == []
     monkeypatch.setattr(rain, "FLOOD_MIN_POINTS", 100)
-    np.testing.assert_array_equal(full_fill(h), ref)          # above the threshold: the flood
+    np.testing.assert_array_equal(full_fill(h), ref)  # above the threshold: the flood
     assert calls == [1]
     monkeypatch.setattr(rain, "_flood_kernel", lambda: None)  # numba missing: exact fallback
     np.testing.assert_array_equal(full_fill(h), ref)
@@ -160,10 +159,15 @@ def test_auto_threshold_and_fallback(monkeypatch):
         full_fill(h, method="fast")
 
 
-surfaces = arrays(np.float64, st.tuples(st.integers(1, 16), st.integers(1, 16)),
-                  elements=st.one_of(st.floats(-1.0, 1.0, allow_nan=False, width=32),
-                                     st.sampled_from([0.0, 0.5, 1.0]),   # ties and flats
-                                     st.just(np.nan)))
+surfaces = arrays(
+    np.float64,
+    st.tuples(st.integers(1, 16), st.integers(1, 16)),
+    elements=st.one_of(
+        st.floats(-1.0, 1.0, allow_nan=False, width=32),
+        st.sampled_from([0.0, 0.5, 1.0]),  # ties and flats
+        st.just(np.nan),
+    ),
+)
 
 
 @settings(max_examples=150, deadline=None)
@@ -175,9 +179,9 @@ def test_flood_properties(h, conn):
     np.testing.assert_array_equal(f, full_fill(h, conn, method="reconstruction"))
     ok = ~np.isnan(h)
     np.testing.assert_array_equal(np.isnan(f), ~ok)
-    assert np.all(f[ok] >= h[ok])                                         # filled >= original
+    assert np.all(f[ok] >= h[ok])  # filled >= original
     np.testing.assert_array_equal(full_fill(f, conn, method="flood"), f)  # idempotent
     if ok.all():
-        assert drains_everywhere(f, conn)                                 # no depression left
+        assert drains_everywhere(f, conn)  # no depression left
         if conn == 4:
-            assert np.all(full_fill(h, 8, method="flood") <= f)           # 8 leaks more
+            assert np.all(full_fill(h, 8, method="flood") <= f)  # 8 leaks more

@@ -1,5 +1,6 @@
 """The README's Python example runs as written (from the repository root); the example commands of
 the README and of the Markdown documentation pages write only into out/."""
+
 import os
 import re
 import shlex
@@ -22,6 +23,7 @@ def test_readme_python_example_runs(monkeypatch):
     assert ns["result"].mu.shape == (41,) and (ns["result"].mu > 0).all()
     assert (ns["hot"].T_q_C >= 60 - 1e-9).all()
     import matplotlib.pyplot as plt
+
     plt.close("all")
 
 
@@ -75,15 +77,30 @@ def written_paths(cmd):
     if words[0] == "mkdir":
         out += [w for w in words[1:] if not w.startswith("-")]
     if words[0] in ("python", "python3") and words[1].endswith(".py"):
-        out += words[2:3]          # the example scripts take the file they write
+        out += words[2:3]  # the example scripts take the file they write
     if words[0].endswith("roadscan") and len(words) > 1:
         if "--out" in words:
             out.append(words[words.index("--out") + 1])
         elif words[1] == "convert":
             out.append([w for w in words[2:] if not w.startswith("-")][1])
-        elif words[1] in ("friction", "synth", "stitch", "analyse", "batch", "rain-fill", "compare",
-                          "dry-vs-wet", "diagnose", "combine", "rubber") and "-h" not in words:
-            out.append(None)       # the default output (friction: mu.csv here)
+        elif (
+            words[1]
+            in (
+                "friction",
+                "synth",
+                "stitch",
+                "analyse",
+                "batch",
+                "rain-fill",
+                "compare",
+                "dry-vs-wet",
+                "diagnose",
+                "combine",
+                "rubber",
+            )
+            and "-h" not in words
+        ):
+            out.append(None)  # the default output (friction: mu.csv here)
     return out
 
 
@@ -99,7 +116,7 @@ def test_every_readme_example_writes_only_into_out():
     bad = []
     for cmd in cmds:
         if "pip install" in cmd or cmd.startswith("python3 -m venv"):
-            continue               # the quick start's set-up: .venv
+            continue  # the quick start's set-up: .venv
         for path in written_paths(cmd):
             if path is None or not (path == "out" or path.startswith("out/") or _placeholder(path)):
                 bad.append((cmd, path))
@@ -113,7 +130,9 @@ def test_written_paths_catches_what_leaves_out():
     assert written_paths("roadscan convert a.plu b.x3p") == ["b.x3p"]
     assert written_paths("printf 'a' > x.csv") == ["x.csv"]
     assert written_paths("python -c \"import numpy; numpy.save('f.npy', 1)\"") == ["f.npy"]
-    cmds = readme_commands("```bash\nroadscan synth \\\n  --out s.x3p   # c\n```\n| `roadscan x --out y` | z |\n")
+    cmds = readme_commands(
+        "```bash\nroadscan synth \\\n  --out s.x3p   # c\n```\n| `roadscan x --out y` | z |\n"
+    )
     assert cmds == ["roadscan synth --out s.x3p", "roadscan x --out y"]
     assert written_paths(".venv/bin/roadscan analyse a.x3p --out here") == ["here"]
     assert _placeholder("DIR") and _placeholder("RAW.csv") and not _placeholder("mu.csv")
@@ -121,14 +140,18 @@ def test_written_paths_catches_what_leaves_out():
 
 def test_readme_bare_roadscan_examples_say_activate_the_venv():
     text = (ROOT / "README.md").read_text()
-    blocks = [m for m in re.finditer(r"```bash\n(.*?)```", text, flags=re.S)
-              if re.search(r"^roadscan ", m.group(1), flags=re.M)]
-    assert blocks and ". .venv/bin/activate" in text[:blocks[0].start()]
+    blocks = [
+        m
+        for m in re.finditer(r"```bash\n(.*?)```", text, flags=re.S)
+        if re.search(r"^roadscan ", m.group(1), flags=re.M)
+    ]
+    assert blocks and ". .venv/bin/activate" in text[: blocks[0].start()]
 
 
 def _fresh_copy(dest):
-    files = subprocess.run(["git", "ls-files"], cwd=ROOT, capture_output=True, text=True,
-                           check=True).stdout.splitlines()
+    files = subprocess.run(
+        ["git", "ls-files"], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout.splitlines()
     for f in files:
         src = ROOT / f
         if src.is_file():
@@ -138,8 +161,11 @@ def _fresh_copy(dest):
 
 
 def _tree(root):
-    return {str(p.relative_to(root)): p.stat().st_mtime_ns for p in root.rglob("*")
-            if p.is_file() and not str(p.relative_to(root)).startswith("out/")}
+    return {
+        str(p.relative_to(root)): p.stat().st_mtime_ns
+        for p in root.rglob("*")
+        if p.is_file() and not str(p.relative_to(root)).startswith("out/")
+    }
 
 
 def test_readme_examples_run_in_a_fresh_copy_into_out_only(tmp_path):
@@ -149,15 +175,27 @@ def test_readme_examples_run_in_a_fresh_copy_into_out_only(tmp_path):
     repo = tmp_path / "clone"
     _fresh_copy(repo)
     before = _tree(repo)
-    keys = ("roadscan synth", "roadscan friction --psd sample_scans/asphalt_psd.csv \\",
-            "roadscan rubber master", "roadscan stitch", "make_pyvisco_measured.py")
-    cmds = [c for c in readme_commands(tables=False) if any(c.startswith(k.rstrip(" \\")) or k in c for k in keys)]
+    keys = (
+        "roadscan synth",
+        "roadscan friction --psd sample_scans/asphalt_psd.csv \\",
+        "roadscan rubber master",
+        "roadscan stitch",
+        "make_pyvisco_measured.py",
+    )
+    cmds = [
+        c for c in readme_commands(tables=False) if any(c.startswith(k.rstrip(" \\")) or k in c for k in keys)
+    ]
     cmds = [c for c in cmds if "--scheduler" not in c]
     assert len(cmds) >= 5, cmds
-    env = dict(os.environ, PATH=os.pathsep.join([str(Path(sys.executable).parent), os.environ["PATH"]]),
-               ROADSCAN_FIGURE_PROCESS="0")
+    env = dict(
+        os.environ,
+        PATH=os.pathsep.join([str(Path(sys.executable).parent), os.environ["PATH"]]),
+        ROADSCAN_FIGURE_PROCESS="0",
+    )
     for cmd in cmds:
-        r = subprocess.run(["bash", "-c", cmd], cwd=repo, env=env, capture_output=True, text=True, timeout=300)
+        r = subprocess.run(
+            ["bash", "-c", cmd], cwd=repo, env=env, capture_output=True, text=True, timeout=300
+        )
         assert r.returncode == 0, (cmd, r.stderr[-500:])
         assert "Traceback" not in r.stderr
     assert _tree(repo) == before

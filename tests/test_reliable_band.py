@@ -1,6 +1,7 @@
 """The reliable band of a spectrum (issue 20): leakage at the low end, Nyquist, lateral
 resolution and noise floor at the high end, roll-off detection; validated on synthetic surfaces
 of known C(q) "measured" by simulated instruments (non-periodic views)."""
+
 import numpy as np
 import pytest
 
@@ -40,7 +41,7 @@ def _log_ratio(spec, ks, q_roll=None):
 
 def test_leakage_factor_table():
     assert leakage_factor(2.0) == 4.0 and leakage_factor(5.0) == leakage_factor(4.0) <= 15.0
-    assert 8.0 <= leakage_factor(2 + 2 * 0.8) <= 15.0      # steep: 8-15 x 2 pi / L
+    assert 8.0 <= leakage_factor(2 + 2 * 0.8) <= 15.0  # steep: 8-15 x 2 pi / L
     assert leakage_factor(3.0) < leakage_factor(3.6) < leakage_factor(4.0)
 
 
@@ -87,7 +88,7 @@ def test_detect_roll_off_on_a_broken_line():
 
 
 def test_high_end_is_nyquist_fraction_without_noise_or_blur():
-    spec = _measure(3, oversample=1)      # no folding: the spectrum holds to Nyquist
+    spec = _measure(3, oversample=1)  # no folding: the spectrum holds to Nyquist
     rb = _band(spec)
     assert rb.hi_per_m == pytest.approx(NYQUIST_FRACTION * np.pi / DX)
     assert rb.hi_reason.startswith("Nyquist")
@@ -100,10 +101,10 @@ def test_high_end_at_lateral_resolution():
     assert rb.hi_reason.startswith("lateral resolution")
     assert rb.hi_per_m == pytest.approx(resolution_limit(res))
     assert gaussian_response(rb.hi_per_m, res) == pytest.approx(RESPONSE_MIN)
-    assert rb.hi_per_m < 2 * np.pi / res                  # before the 50 % wavelength
+    assert rb.hi_per_m < 2 * np.pi / res  # before the 50 % wavelength
     sel = (spec.q_per_m >= rb.lo_per_m) & (spec.q_per_m <= rb.hi_per_m)
     ratio = spec.C_m4[sel] / model_psd(spec.q_per_m[sel], H, K)
-    assert ratio.min() > RESPONSE_MIN**2 * 0.85           # attenuation still small
+    assert ratio.min() > RESPONSE_MIN**2 * 0.85  # attenuation still small
 
 
 @pytest.mark.parametrize("at", [0.3, 0.6])
@@ -112,14 +113,14 @@ def test_high_end_before_white_noise_dominates(at):
     noise is still under a third of the signal."""
     q_eq = at * np.pi / DX
     c_noise = K * q_eq ** (-2 * (H + 1))
-    sigma = np.sqrt(c_noise * (2 * np.pi) ** 2 / DX**2)   # C_white = sigma^2 dx dy / (2 pi)^2
+    sigma = np.sqrt(c_noise * (2 * np.pi) ** 2 / DX**2)  # C_white = sigma^2 dx dy / (2 pi)^2
     for seed in (5, 6):
         spec = _measure(seed, noise_rms_m=sigma, oversample=1)
         rb = _band(spec)
         assert rb.hi_reason.startswith("noise floor")
         share = c_noise / model_psd(rb.hi_per_m, H, K)
         assert share < 1 / 3
-        assert rb.hi_per_m > 0.25 * q_eq                  # and not absurdly early
+        assert rb.hi_per_m > 0.25 * q_eq  # and not absurdly early
 
 
 def test_profile_spectrum_band():
@@ -163,8 +164,21 @@ def test_resolution_from_the_flag_or_the_file_metadata(tmp_path):
     from pipelines.cli.app import main
 
     sample = Path(__file__).resolve().parents[1] / "sample_scans" / "coarse_asphalt.x3p"
-    assert main(["analyse", str(sample), "--out", str(tmp_path / "o"), "--no-figures",
-                 "--no-friction", "--resolution", "2e-4"]) == 0
+    assert (
+        main(
+            [
+                "analyse",
+                str(sample),
+                "--out",
+                str(tmp_path / "o"),
+                "--no-figures",
+                "--no-friction",
+                "--resolution",
+                "2e-4",
+            ]
+        )
+        == 0
+    )
     s = json.loads((tmp_path / "o" / "summary.json").read_text())
     assert s["reliable_band_reasons"]["hi"].startswith("lateral resolution")
     assert s["reliable_band_per_m"][1] == pytest.approx(resolution_limit(2e-4))

@@ -1,6 +1,7 @@
 """pyvista is an optional extra (issue 23): without it ``dry-vs-wet`` draws its 3D view with
 matplotlib and says so; when that fails too, one warning line says how to get pyvista, in
 stderr, ``comparison.json`` and the report, and every other output is still written."""
+
 import json
 import sys
 
@@ -34,7 +35,7 @@ def _bluish(png):
 
 
 def test_without_pyvista_matplotlib_draws_the_view(scan, tmp_path, monkeypatch):
-    monkeypatch.setitem(sys.modules, "pyvista", None)     # `import pyvista` raises ImportError
+    monkeypatch.setitem(sys.modules, "pyvista", None)  # `import pyvista` raises ImportError
     out = tmp_path / "mpl"
     assert _run(scan, out) == 0
     for name in OUTPUTS + ("surface_3d.png",):
@@ -75,6 +76,6 @@ def test_without_any_renderer_one_warning_everywhere(scan, tmp_path, monkeypatch
     assert sum(NEEDS_PYVISTA in line for line in err.splitlines()) == 1
     import html
 
-    page = html.unescape((out / "report.html").read_text())   # the text a reader sees
+    page = html.unescape((out / "report.html").read_text())  # the text a reader sees
     assert "3D view needs pyvista: pip install 'roadscan[3d]'" in page
     assert "not drawn" in page

@@ -5,6 +5,7 @@
 
 The checker itself is tested first on the strings the issue quotes, so that it can fail.
 """
+
 import html
 import re
 from pathlib import Path
@@ -15,8 +16,8 @@ from conftest import fourier_surface
 
 from pipelines.cli.app import main
 
-DX = 5e-5            # area scans: 50 µm
-DXP = 5e-4           # profiles: 0.5 mm, a texture laser's interval
+DX = 5e-5  # area scans: 50 µm
+DXP = 5e-4  # profiles: 0.5 mm, a texture laser's interval
 
 _NUMBER = re.compile(r"(?<![\w.:/+-])-?(\d*\.\d+)(?![\w.])")
 _PATTERNS = {
@@ -40,22 +41,45 @@ def raw_si(text):
     for m in _NUMBER.finditer(text):
         digits = m.group(1).replace(".", "").lstrip("0")
         if len(digits) > 4 or (len(digits) == 4 and abs(float(m.group(1))) < 0.01):
-            bad.append(("more than 4 significant digits", text[max(0, m.start() - 30):m.end() + 10]))
+            bad.append(("more than 4 significant digits", text[max(0, m.start() - 30) : m.end() + 10]))
     for what, rx in _PATTERNS.items():
-        bad += [(what, text[max(0, m.start() - 30):m.end() + 10]) for m in rx.finditer(text)]
+        bad += [(what, text[max(0, m.start() - 30) : m.end() + 10]) for m in rx.finditer(text)]
     return bad
 
 
-@pytest.mark.parametrize("text", [
-    "rms height [m] 0.0003974", "MPD 0.0032755905236328256", "rms height = 2.53e+03 um",
-    "rms mismatch [um] 1.849e-05", "rms mismatch 1.849e-05 um", "Sq 2530 µm", "rms mismatch 1.849e-05 m", "MPD 0.00328 m"])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "rms height [m] 0.0003974",
+        "MPD 0.0032755905236328256",
+        "rms height = 2.53e+03 um",
+        "rms mismatch [um] 1.849e-05",
+        "rms mismatch 1.849e-05 um",
+        "Sq 2530 µm",
+        "rms mismatch 1.849e-05 m",
+        "MPD 0.00328 m",
+    ],
+)
 def test_checker_flags_the_quoted_raw_si(text):
     assert raw_si(text)
 
 
-@pytest.mark.parametrize("text", [
-    "MPD 3.28 mm", "Sq 397 µm", "q range 104 1/m (λ = 60.3 mm)", "45.3 dB", "2.72 %",
-    "H = 0.863 ± 0.005", "v 0.000100 m/s", "read by: x3pio 2.0.0", "1.81 m", "μ 4.89e-06", "station_10@0.25m"])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "MPD 3.28 mm",
+        "Sq 397 µm",
+        "q range 104 1/m (λ = 60.3 mm)",
+        "45.3 dB",
+        "2.72 %",
+        "H = 0.863 ± 0.005",
+        "v 0.000100 m/s",
+        "read by: x3pio 2.0.0",
+        "1.81 m",
+        "μ 4.89e-06",
+        "station_10@0.25m",
+    ],
+)
 def test_checker_passes_reader_units(text):
     assert raw_si(text) == []
 
@@ -78,19 +102,36 @@ def runs(tmp_path_factory):
     np.save(d / "coarse.npy", fourier_surface(160, DX, 0.8, 9e-4, seed=2, q_roll=2 * np.pi / 2e-3))
     for k in (1, 2):
         x, z = _profile(3000, k)
-        np.savetxt(d / f"line{k}.txt", np.column_stack([x * 1e3, z * 1e3]), fmt="%.4f",
-                   delimiter=", ", header="distance (mm), height (mm)", comments="")
+        np.savetxt(
+            d / f"line{k}.txt",
+            np.column_stack([x * 1e3, z * 1e3]),
+            fmt="%.4f",
+            delimiter=", ",
+            header="distance (mm), height (mm)",
+            comments="",
+        )
     (d / "instruments.csv").write_text(
-        "file,spacing_m,resolution_m,label\n"
-        f"fine.npy,{DX},{2 * DX},fine\ncoarse.npy,{DX},{2 * DX},coarse\n")
+        f"file,spacing_m,resolution_m,label\nfine.npy,{DX},{2 * DX},fine\ncoarse.npy,{DX},{2 * DX},coarse\n"
+    )
     a, b = str(d / "fine.npy"), str(d / "coarse.npy")
     v = ["--velocities", "1e-4:1e2:7"]
     commands = {
         "analyse area": (["analyse", a, "--spacing", str(DX), "--no-figures"] + v, "area"),
         "analyse profile": (["analyse", str(d / "line1.txt"), "--no-figures"] + v, "profile"),
         "analyse several": (["analyse", a, b, "--spacing", str(DX), "--no-figures"] + v, "several"),
-        "batch sections": (["batch", str(d / "line1.txt"), str(d / "line2.txt"),
-                            "--section-length", "0.5", "--workers", "1", "--no-friction"], "batch"),
+        "batch sections": (
+            [
+                "batch",
+                str(d / "line1.txt"),
+                str(d / "line2.txt"),
+                "--section-length",
+                "0.5",
+                "--workers",
+                "1",
+                "--no-friction",
+            ],
+            "batch",
+        ),
         "compare": (["compare", a, b, "--spacing", str(DX)] + v, "compare"),
         "dry-vs-wet": (["dry-vs-wet", a, "--spacing", str(DX)] + v, "wet"),
         "combine": (["combine", str(d / "instruments.csv"), "--no-figures"], "combine"),
@@ -108,8 +149,15 @@ def runs(tmp_path_factory):
     return out
 
 
-NAMES = ["analyse area", "analyse profile", "analyse several", "batch sections", "compare",
-         "dry-vs-wet", "combine"]
+NAMES = [
+    "analyse area",
+    "analyse profile",
+    "analyse several",
+    "batch sections",
+    "compare",
+    "dry-vs-wet",
+    "combine",
+]
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -125,7 +173,7 @@ def test_html_report_has_no_raw_si(runs, name):
 def test_console_has_no_raw_si(runs, name):
     text = runs[name][1]
     text = "\n".join(line for line in text.splitlines() if not line.startswith("["))  # progress
-    bad = raw_si(re.sub(r"(?:/[\w.@-]+)+", "PATH", text))     # file paths are not numbers
+    bad = raw_si(re.sub(r"(?:/[\w.@-]+)+", "PATH", text))  # file paths are not numbers
     assert bad == [], f"{name}: {bad[:5]}"
 
 
@@ -134,7 +182,7 @@ def test_campaign_heights_in_mm_when_they_are_millimetres(runs):
     page = visible_text(runs["batch sections"][0].read_text(encoding="utf-8"))
     assert "Sq, rms height [mm]" in page and "Sq, rms height [µm]" not in page
     head = page.index("Sq, rms height [mm]")
-    cells = re.findall(r"(?<![\w.])\d+\.\d+(?![\w.])", page[head:head + 4000])
+    cells = re.findall(r"(?<![\w.])\d+\.\d+(?![\w.])", page[head : head + 4000])
     assert cells and max(float(c) for c in cells) < 1000
 
 
@@ -154,8 +202,14 @@ def spectrum_figures(tmp_path_factory):
     np.save(d / "a.npy", fourier_surface(128, DX, 0.8, 4e-4, seed=3))
     np.save(d / "b.npy", fourier_surface(128, DX, 0.7, 8e-4, seed=4))
     x, z = _profile(3000, 3)
-    np.savetxt(d / "line.txt", np.column_stack([x * 1e3, z * 1e3]), fmt="%.4f", delimiter=", ",
-               header="distance (mm), height (mm)", comments="")
+    np.savetxt(
+        d / "line.txt",
+        np.column_stack([x * 1e3, z * 1e3]),
+        fmt="%.4f",
+        delimiter=", ",
+        header="distance (mm), height (mm)",
+        comments="",
+    )
     (d / "two.csv").write_text(f"file,spacing_m,resolution_m,label\na.npy,{DX},,a\nb.npy,{DX},,b\n")
     a, b, v = str(d / "a.npy"), str(d / "b.npy"), ["--velocities", "1e-4:1e2:5"]
     seen = []
@@ -168,19 +222,24 @@ def spectrum_figures(tmp_path_factory):
             return save(fig, path, *args, **kwargs)
 
         mp.setattr(report, "save_figure", recording)
-        for command, argv in (("analyse", ["analyse", a, "--spacing", str(DX)] + v),
-                              ("analyse profile", ["analyse", str(d / "line.txt")] + v),
-                              ("compare", ["compare", a, b, "--spacing", str(DX)] + v),
-                              ("dry-vs-wet", ["dry-vs-wet", a, "--spacing", str(DX)] + v),
-                              ("combine", ["combine", str(d / "two.csv")])):
+        for command, argv in (
+            ("analyse", ["analyse", a, "--spacing", str(DX)] + v),
+            ("analyse profile", ["analyse", str(d / "line.txt")] + v),
+            ("compare", ["compare", a, b, "--spacing", str(DX)] + v),
+            ("dry-vs-wet", ["dry-vs-wet", a, "--spacing", str(DX)] + v),
+            ("combine", ["combine", str(d / "two.csv")]),
+        ):
             assert main(argv + ["--out", str(d / command.replace(" ", "_"))]) == 0, command
     return seen
 
 
 def test_every_spectrum_plot_has_a_wavelength_axis_in_mm(spectrum_figures):
     """A log q axis [1/m] always comes with lambda = 2 pi / q in mm on top (issue 21)."""
-    spectra = [(c, f, ax) for c, f, ax in spectrum_figures
-               if ax.get_xlabel().startswith("wave vector q") and ax.get_xscale() == "log"]
+    spectra = [
+        (c, f, ax)
+        for c, f, ax in spectrum_figures
+        if ax.get_xlabel().startswith("wave vector q") and ax.get_xscale() == "log"
+    ]
     drawn = {c for c, _, _ in spectra}
     assert drawn == {"analyse", "analyse profile", "compare", "dry-vs-wet", "combine"}, drawn
     for command, name, ax in spectra:
@@ -207,9 +266,22 @@ def test_stitch_console_has_no_raw_si(tmp_path, capsys):
     z = fourier_surface(224, DX, 0.8, 4e-4, seed=5)
     rng = np.random.default_rng(5)
     for k, c in enumerate((0, 96)):
-        np.save(tmp_path / f"t{k}.npy", z[:120, c:c + 120] + rng.normal(0, 1e-6, (120, 120)))
-    rc = main(["stitch", str(tmp_path / "t0.npy"), str(tmp_path / "t1.npy"), "--grid", "1x2",
-               "--overlap", "0.2", "--spacing", str(DX), "--out", str(tmp_path / "m.npz")])
+        np.save(tmp_path / f"t{k}.npy", z[:120, c : c + 120] + rng.normal(0, 1e-6, (120, 120)))
+    rc = main(
+        [
+            "stitch",
+            str(tmp_path / "t0.npy"),
+            str(tmp_path / "t1.npy"),
+            "--grid",
+            "1x2",
+            "--overlap",
+            "0.2",
+            "--spacing",
+            str(DX),
+            "--out",
+            str(tmp_path / "m.npz"),
+        ]
+    )
     text = capsys.readouterr().out
     assert rc == 0 and "µm" in text
     assert raw_si(re.sub(r"(?:/[\w.@-]+)+", "PATH", text)) == [], text

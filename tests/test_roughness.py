@@ -1,4 +1,5 @@
 """Roughness figures (ISO 25178-2, ISO 4287) and mean profile depth (ISO 13473-1)."""
+
 import glob
 
 import numpy as np
@@ -19,9 +20,9 @@ CAPTIF = sorted(glob.glob("/work/shared/data/profiles/captif/*.dat"))
 
 def test_area_parameters_of_a_sine_surface():
     A, lam, d = 2e-4, 4e-3, 1e-5
-    n = 1600                                        # 4 periods along x, exactly
+    n = 1600  # 4 periods along x, exactly
     y, x = np.mgrid[0:50, 0:n] * d
-    h = A * np.cos(2 * np.pi * x / lam) + 0.003 * y + 1e-3      # tilt + offset are levelled away
+    h = A * np.cos(2 * np.pi * x / lam) + 0.003 * y + 1e-3  # tilt + offset are levelled away
     p = area_parameters(HeightMap(h, d, d))
     assert p["Sq_m"] == pytest.approx(A / np.sqrt(2), rel=1e-3)
     assert p["Sa_m"] == pytest.approx(2 * A / np.pi, rel=1e-3)
@@ -39,8 +40,9 @@ def test_area_parameters_gaussian_surface_and_dropouts():
     hm = self_affine_surface(256, dx_m=50e-6, hurst=0.8, rms_height_m=5e-4, seed=1)
     p = area_parameters(hm)
     from roadscan.level import level
+
     assert p["Sq_m"] == pytest.approx(np.sqrt(np.mean(level(hm).heights_m ** 2)), rel=1e-12)
-    assert p["Sq_m"] < 5e-4                         # levelling removes the plane-like modes
+    assert p["Sq_m"] < 5e-4  # levelling removes the plane-like modes
     assert abs(p["Ssk"]) < 0.3 and 2.3 < p["Sku"] < 3.7
     bad = np.zeros(hm.shape, bool)
     bad[::7, ::5] = True
@@ -53,7 +55,7 @@ def test_area_parameters_gaussian_surface_and_dropouts():
 def test_profile_parameters_triangle_wave():
     A, n = 1e-4, 4000
     x = np.arange(n)
-    h = A * (2 * np.abs(2 * ((x / 400.0) % 1) - 1) - 1)       # triangle wave, 10 periods
+    h = A * (2 * np.abs(2 * ((x / 400.0) % 1) - 1) - 1)  # triangle wave, 10 periods
     p = profile_parameters(Profile(h, 1e-5))
     assert p["Rq_m"] == pytest.approx(A / np.sqrt(3), rel=2e-3)
     assert p["Ra_m"] == pytest.approx(A / 2, rel=2e-3)
@@ -88,13 +90,13 @@ def test_mpd_spikes_and_dropouts():
     _, h = _cosine_profile()
     ref, _ = mean_profile_depth(Profile(h, 5e-5))
     spiky = h.copy()
-    spiky[[1234, 5678]] += 0.02                    # 20 mm laser spikes
+    spiky[[1234, 5678]] += 0.02  # 20 mm laser spikes
     mpd, note = mean_profile_depth(Profile(spiky, 5e-5))
     assert mpd == pytest.approx(ref, rel=0.01)
     assert "spike points replaced" in note
     holes = h.copy()
-    holes[2000:2300] = np.nan                      # 15 % of segment 2 missing: invalid
-    holes[5000:5100] = np.nan                      # 5 % of segment 3: interpolated, valid
+    holes[2000:2300] = np.nan  # 15 % of segment 2 missing: invalid
+    holes[5000:5100] = np.nan  # 5 % of segment 3: interpolated, valid
     res = segment_depths(holes, 5e-5)
     assert res["valid"].tolist() == [[True, False, True, True, True]]
     assert res["dropout_fraction"][0, 1] == pytest.approx(0.15)
@@ -130,12 +132,12 @@ def _load_captif(path):
     d = np.loadtxt(lines[start:], delimiter="\t", usecols=(1, 2))
     x_mm, h_mm = d[:, 0], d[:, 1]
     dx_mm = (x_mm[-1] - x_mm[0]) / (x_mm.size - 1)
-    plate = h_mm > 20.0                              # plates read about +47 mm
+    plate = h_mm > 20.0  # plates read about +47 mm
     half = h_mm.size // 2
     i0 = np.flatnonzero(plate[:half]).max() + 1 if plate[:half].any() else 0
     i1 = half + np.flatnonzero(plate[half:]).min() if plate[half:].any() else h_mm.size
     buf = int(round(2.0 / dx_mm))
-    return Profile(h_mm[i0 + buf: i1 - buf] * 1e-3, dx_mm * 1e-3, name=path)
+    return Profile(h_mm[i0 + buf : i1 - buf] * 1e-3, dx_mm * 1e-3, name=path)
 
 
 @pytest.mark.skipif(not CAPTIF, reason="CAPTIF profiles not present in /work/shared/data")
@@ -144,10 +146,12 @@ def test_mpd_on_captif_profiles():
     for path in CAPTIF:
         p = _load_captif(path)
         assert 0.03e-3 < p.dx_m < 0.04e-3 and p.length_m > 1.5
-        mpd6, note6 = mean_profile_depth(p, spike_alpha=6.0)     # CAPTIF's setting for chip seals
-        mpd3, note3 = mean_profile_depth(p)                      # the standard's alpha = 3
-        print(f"{path.rsplit('/', 1)[-1]}: MPD {mpd6 * 1e3:.2f} mm ({note6}); alpha 3: "
-              f"{mpd3 * 1e3 if mpd3 else float('nan'):.2f} mm ({note3})")
+        mpd6, note6 = mean_profile_depth(p, spike_alpha=6.0)  # CAPTIF's setting for chip seals
+        mpd3, note3 = mean_profile_depth(p)  # the standard's alpha = 3
+        print(
+            f"{path.rsplit('/', 1)[-1]}: MPD {mpd6 * 1e3:.2f} mm ({note6}); alpha 3: "
+            f"{mpd3 * 1e3 if mpd3 else float('nan'):.2f} mm ({note3})"
+        )
         assert 1.0e-3 < mpd6 < 5.0e-3
         values.append(mpd6)
-    assert max(values) / min(values) < 1.3            # same surface, three stations
+    assert max(values) / min(values) < 1.3  # same surface, three stations

@@ -8,6 +8,7 @@ on sweeps sampled from the published master curve at the published temperatures 
 factors, over the raw file's 0.1-100 Hz with scatter; the real raw file is checked for
 superposition quality.
 """
+
 import csv
 import json
 from pathlib import Path
@@ -20,8 +21,8 @@ from pipelines.cli.app import main
 from pipelines.settings.rubber_file import load_rubber
 
 ROOT = Path(__file__).resolve().parents[1]
-RUBBERS = ROOT / "sample_scans" / "rubbers"   # the published master curve and shift table (copies)
-RAW = RUBBERS / "freq_user_raw.csv"            # the raw sweeps (copy of pyvisco's)
+RUBBERS = ROOT / "sample_scans" / "rubbers"  # the published master curve and shift table (copies)
+RAW = RUBBERS / "freq_user_raw.csv"  # the raw sweeps (copy of pyvisco's)
 
 
 def _table(path, skip=2):
@@ -31,7 +32,7 @@ def _table(path, skip=2):
 
 def _published():
     mc = _table(RUBBERS / "freq_user_master.csv")
-    sh = _table(RUBBERS / "freq_user_master__shift_factors.csv")[::-1]   # ascending T
+    sh = _table(RUBBERS / "freq_user_master__shift_factors.csv")[::-1]  # ascending T
     return mc, sh
 
 
@@ -48,21 +49,33 @@ def synthetic_run(tmp_path_factory):
     fr = np.logspace(-1, 2, 10)
     lines = ["\ufefff,E_stor,E_loss,T,Set", "Hz, MPa, MPa, C, -"]
     for i, (T, la) in enumerate(sh):
-        e1 = _interp_loglog(fr * 10 ** la, mc, 1) * (1 + 0.003 * rng.standard_normal(fr.size))
-        e2 = _interp_loglog(fr * 10 ** la, mc, 2) * (1 + 0.01 * rng.standard_normal(fr.size))
+        e1 = _interp_loglog(fr * 10**la, mc, 1) * (1 + 0.003 * rng.standard_normal(fr.size))
+        e2 = _interp_loglog(fr * 10**la, mc, 2) * (1 + 0.01 * rng.standard_normal(fr.size))
         Ts = T + 0.2 * rng.standard_normal(fr.size)
         lines += [f"{a:g}, {b:.8g}, {c:.8g}, {t:.4f}, {i}" for a, b, c, t in zip(fr, e1, e2, Ts)]
     d = tmp_path_factory.mktemp("tts")
     (d / "raw.csv").write_text("\n".join(lines) + "\n", encoding="utf-8")
-    assert main(["rubber", "master", str(d / "raw.csv"), "--reference-temperature", "-5",
-                 "--out", str(d / "syn.toml")]) == 0
+    assert (
+        main(
+            [
+                "rubber",
+                "master",
+                str(d / "raw.csv"),
+                "--reference-temperature",
+                "-5",
+                "--out",
+                str(d / "syn.toml"),
+            ]
+        )
+        == 0
+    )
     return d
 
 
 def test_shift_factors_within_03_decade(synthetic_run):
     _, sh = _published()
     got = _table(synthetic_run / "syn_shift.csv", skip=1)
-    np.testing.assert_allclose(got[:, 0], sh[:, 0], atol=0.3)          # sweep temperatures
+    np.testing.assert_allclose(got[:, 0], sh[:, 0], atol=0.3)  # sweep temperatures
     err = got[:, 1] - sh[:, 1]
     assert np.max(np.abs(err)) < 0.3, np.round(err, 2)
 
@@ -75,8 +88,8 @@ def _sampled_sweeps(seed):
     cols = [[], [], [], [], []]
     for i, (T, la) in enumerate(sh):
         cols[0] += list(fr)
-        cols[1] += list(_interp_loglog(fr * 10 ** la, mc, 1) * 1e6 * (1 + 0.003 * rng.standard_normal(fr.size)))
-        cols[2] += list(_interp_loglog(fr * 10 ** la, mc, 2) * 1e6 * (1 + 0.01 * rng.standard_normal(fr.size)))
+        cols[1] += list(_interp_loglog(fr * 10**la, mc, 1) * 1e6 * (1 + 0.003 * rng.standard_normal(fr.size)))
+        cols[2] += list(_interp_loglog(fr * 10**la, mc, 2) * 1e6 * (1 + 0.01 * rng.standard_normal(fr.size)))
         cols[3] += list(T + 0.2 * rng.standard_normal(fr.size))
         cols[4] += [i] * fr.size
     return [np.array(c) for c in cols], sh
@@ -92,17 +105,18 @@ def test_shift_accuracy_over_noise_seeds():
         (f, e1, e2, T, sid), sh = _sampled_sweeps(seed)
         r = build_master(f, e1, e2, T, -5.0, sid)
         err = np.abs(r.log10_aT - sh[:, 1])
-        placed = np.array([i["method"] in ("overlap", "reference") and i["sigma_decades"] < 0.3
-                           for i in r.sweep_info])
+        placed = np.array(
+            [i["method"] in ("overlap", "reference") and i["sigma_decades"] < 0.3 for i in r.sweep_info]
+        )
         assert placed.sum() >= 10
         assert err[placed].max() < 0.2 and err.max() < 0.4, (seed, np.round(err, 2))
 
 
 def test_master_curve_within_10_percent(synthetic_run):
     mc, _ = _published()
-    r = load_rubber(synthetic_run / "syn.toml")                            # loadable by --rubber
+    r = load_rubber(synthetic_run / "syn.toml")  # loadable by --rubber
     k = (mc[:, 0] >= r.f_Hz[0]) & (mc[:, 0] <= r.f_Hz[-1])
-    assert np.log10(mc[k, 0][-1] / mc[k, 0][0]) > 20                      # overlap: > 20 decades
+    assert np.log10(mc[k, 0][-1] / mc[k, 0][0]) > 20  # overlap: > 20 decades
     E = r.modulus_ref(2 * np.pi * mc[k, 0])
     e1 = E.real / (mc[k, 1] * 1e6) - 1
     assert np.max(np.abs(e1)) < 0.10
@@ -110,7 +124,7 @@ def test_master_curve_within_10_percent(synthetic_run):
     # point by point it agrees to a few % rms; against the published curve smoothed the same way
     # as ours (0.2 decade), within 10 % everywhere
     e2 = E.imag / (mc[k, 2] * 1e6) - 1
-    assert np.sqrt(np.mean(e2 ** 2)) < 0.05
+    assert np.sqrt(np.mean(e2**2)) < 0.05
     fs, s1, s2 = smooth_master(mc[:, 0], mc[:, 1] * 1e6, mc[:, 2] * 1e6)
     k = (fs >= r.f_Hz[0]) & (fs <= r.f_Hz[-1])
     E = r.modulus_ref(2 * np.pi * fs[k])
@@ -135,9 +149,24 @@ def test_outputs_wlf_prony_plot(synthetic_run):
     assert p.E_i_Pa.size == s["prony"]["terms"]
     # and the TOML drives the friction command
     out = synthetic_run / "mu.csv"
-    assert main(["friction", "--psd", str(ROOT / "sample_scans" / "asphalt_psd.csv"), "--rubber",
-                 str(synthetic_run / "syn.toml"), "--temperature", "20", "--velocities", "1e-4:1:3",
-                 "--out", str(out)]) == 0
+    assert (
+        main(
+            [
+                "friction",
+                "--psd",
+                str(ROOT / "sample_scans" / "asphalt_psd.csv"),
+                "--rubber",
+                str(synthetic_run / "syn.toml"),
+                "--temperature",
+                "20",
+                "--velocities",
+                "1e-4:1:3",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     d = _table(out, skip=1)
     assert np.all((d[:, 1] > 0.05) & (d[:, 1] < 5)) and np.all((d[:, 2] > 0) & (d[:, 2] < 1))
 
@@ -145,8 +174,12 @@ def test_outputs_wlf_prony_plot(synthetic_run):
 def test_real_raw_sweeps_superpose(tmp_path):
     """The real pyvisco raw file: the shifted storage moduli fall on one curve (1.2 % rms measured),
     aT falls monotonically with T and is 1 at T_ref."""
-    assert main(["rubber", "master", str(RAW), "--reference-temperature", "-5", "--out",
-                 str(tmp_path / "r.toml")]) == 0
+    assert (
+        main(
+            ["rubber", "master", str(RAW), "--reference-temperature", "-5", "--out", str(tmp_path / "r.toml")]
+        )
+        == 0
+    )
     sh = _table(tmp_path / "r_shift.csv", skip=1)
     assert sh.shape == (21, 2) and np.all(np.diff(sh[:, 1]) < 0)
     assert np.interp(-5.0, sh[:, 0], sh[:, 1]) == pytest.approx(0.0, abs=1e-9)
@@ -162,7 +195,7 @@ def test_published_files_are_not_one_material():
     raw = _table(RAW)
     mc, sh = _published()
     la = sh[raw[:, 4].astype(int), 1]
-    ratio = raw[:, 1] / _interp_loglog(raw[:, 0] * 10 ** la, mc, 1)
+    ratio = raw[:, 1] / _interp_loglog(raw[:, 0] * 10**la, mc, 1)
     assert ratio.max() > 10
     # No shift can mend it: E'' as a function of E' (the Cole-Cole curve) does not depend on the
     # shift factors, and the raw sweeps' E'' is 2-4x below the published curve's at the same E'.
@@ -177,8 +210,12 @@ def test_published_shifts_do_not_superpose_the_raw_sweeps(tmp_path):
     where they overlap; shifted by ours, by at most a few %."""
     raw = _table(RAW)
     _, sh = _published()
-    assert main(["rubber", "master", str(RAW), "--reference-temperature", "-5", "--out",
-                 str(tmp_path / "r.toml")]) == 0
+    assert (
+        main(
+            ["rubber", "master", str(RAW), "--reference-temperature", "-5", "--out", str(tmp_path / "r.toml")]
+        )
+        == 0
+    )
     ours = _table(tmp_path / "r_shift.csv", skip=1)[:, 1]
 
     def worst_mismatch(la):
@@ -200,21 +237,30 @@ def test_published_shifts_do_not_superpose_the_raw_sweeps(tmp_path):
 def test_pair_shift_exact_power_law():
     """Two sweeps of E' = 1e6 + 2e7 (f a)^0.4 and E'' = 5e6 (f a)^0.3 with a known relative shift."""
     f = np.logspace(-1, 2, 10)
-    E1 = lambda x: 1e6 + 2e7 * x ** 0.4  # noqa: E731
-    E2 = lambda x: 5e6 * x ** 0.3  # noqa: E731
+    E1 = lambda x: 1e6 + 2e7 * x**0.4  # noqa: E731
+    E2 = lambda x: 5e6 * x**0.3  # noqa: E731
     for s_true in (0.8, -1.7, 2.5):
-        s, d = pair_shift(f, E1(f), E2(f), f, E1(f * 10 ** s_true), E2(f * 10 ** s_true))
-        assert d["storage"] == pytest.approx(s_true, abs=1e-9) and d["loss"] == pytest.approx(s_true, abs=1e-9)
-        assert s == pytest.approx(s_true, abs=5e-3)   # the overlap refinement fits quadratics
+        s, d = pair_shift(f, E1(f), E2(f), f, E1(f * 10**s_true), E2(f * 10**s_true))
+        assert d["storage"] == pytest.approx(s_true, abs=1e-9) and d["loss"] == pytest.approx(
+            s_true, abs=1e-9
+        )
+        assert s == pytest.approx(s_true, abs=5e-3)  # the overlap refinement fits quadratics
     a, b, e, rms = fit_power_offset(f, E1(f))
     assert (a, b, e) == pytest.approx((2e7, 0.4, 1e6), rel=1e-4) and rms < 1e-3 * 1e6
 
 
-@pytest.mark.parametrize("text,argv,msg", [
-    ("f,E_stor,E_loss,T\nHz,MPa,MPa,C\n1,1,1,0\n", ["--reference-temperature", "0"], ">= 2 rows"),
-    ("f,E_stor,E_loss\nHz,MPa,MPa\n1,1,1\n2,2,2\n", ["--reference-temperature", "0"], "temperature column"),
-    ("f,E_stor,E_loss,T\nHz,MPa,MPa,F\n1,1,1,0\n2,2,2,0\n", ["--reference-temperature", "0"], "C or K"),
-])
+@pytest.mark.parametrize(
+    "text,argv,msg",
+    [
+        ("f,E_stor,E_loss,T\nHz,MPa,MPa,C\n1,1,1,0\n", ["--reference-temperature", "0"], ">= 2 rows"),
+        (
+            "f,E_stor,E_loss\nHz,MPa,MPa\n1,1,1\n2,2,2\n",
+            ["--reference-temperature", "0"],
+            "temperature column",
+        ),
+        ("f,E_stor,E_loss,T\nHz,MPa,MPa,F\n1,1,1,0\n2,2,2,0\n", ["--reference-temperature", "0"], "C or K"),
+    ],
+)
 def test_bad_raw_files(text, argv, msg, tmp_path, capsys):
     p = tmp_path / "raw.csv"
     p.write_text(text)
@@ -226,12 +272,20 @@ def test_bad_raw_files(text, argv, msg, tmp_path, capsys):
 def test_reference_outside_sweeps_and_kelvin(tmp_path, capsys):
     raw = _table(RAW)
     p = tmp_path / "k.csv"
-    p.write_text("f_Hz,E_stor_MPa,E_loss_MPa,T_K\n" + "".join(
-        f"{a:g},{b:g},{c:g},{t + 273.15:.4f}\n" for a, b, c, t, _ in raw))
-    assert main(["rubber", "master", str(p), "--reference-temperature", "150", "--out",
-                 str(tmp_path / "r.toml")]) == 2
+    p.write_text(
+        "f_Hz,E_stor_MPa,E_loss_MPa,T_K\n"
+        + "".join(f"{a:g},{b:g},{c:g},{t + 273.15:.4f}\n" for a, b, c, t, _ in raw)
+    )
+    assert (
+        main(
+            ["rubber", "master", str(p), "--reference-temperature", "150", "--out", str(tmp_path / "r.toml")]
+        )
+        == 2
+    )
     assert "outside the sweeps" in capsys.readouterr().err
-    assert main(["rubber", "master", str(p), "--reference-temperature", "-5", "--out",
-                 str(tmp_path / "r.toml")]) == 0
-    sh = _table(tmp_path / "r_shift.csv", skip=1)   # grouped by temperature (no Set column)
+    assert (
+        main(["rubber", "master", str(p), "--reference-temperature", "-5", "--out", str(tmp_path / "r.toml")])
+        == 0
+    )
+    sh = _table(tmp_path / "r_shift.csv", skip=1)  # grouped by temperature (no Set column)
     assert sh.shape[0] == 21 and sh[0, 0] == pytest.approx(-49.9, abs=0.1)

@@ -10,6 +10,7 @@ sweeps change with frequency (T >= -20 C). In the glassy sweeps (T < -20 C, E' w
 three decades) E' hardly fixes a shift; there E'' superposes better with roadscan's shifts, which
 the second test checks.
 """
+
 import csv
 from pathlib import Path
 
@@ -26,8 +27,9 @@ REF = ROOT / "data" / "pyvisco_2.1.3_raw_shift_factors.csv"
 @pytest.fixture(scope="module")
 def ours(tmp_path_factory):
     d = tmp_path_factory.mktemp("pv")
-    assert main(["rubber", "master", str(RAW), "--reference-temperature", "-5",
-                 "--out", str(d / "r.toml")]) == 0
+    assert (
+        main(["rubber", "master", str(RAW), "--reference-temperature", "-5", "--out", str(d / "r.toml")]) == 0
+    )
     with open(d / "r_shift.csv", encoding="utf-8") as fh:
         return np.array(list(csv.reader(fh))[1:], float)
 
@@ -40,14 +42,14 @@ def _raw():
 def test_shift_factors_agree_with_pyvisco_algorithm(ours):
     ref = np.loadtxt(REF, delimiter=",", comments="#", skiprows=3)
     assert ref.shape == ours.shape == (21, 2)
-    np.testing.assert_allclose(ours[:, 0], ref[:, 0], atol=0.6)    # pyvisco rounds T
-    k = int(np.argmin(np.abs(ref[:, 1])))                            # the sweep pyvisco sets to 0
+    np.testing.assert_allclose(ours[:, 0], ref[:, 0], atol=0.6)  # pyvisco rounds T
+    k = int(np.argmin(np.abs(ref[:, 1])))  # the sweep pyvisco sets to 0
     rel_ours, rel_ref = ours[:, 1] - ours[k, 1], ref[:, 1] - ref[k, 1]
     warm = ref[:, 0] >= -20
     diff = np.abs(rel_ours - rel_ref)[warm]
     # 15 sweeps spanning 22.6 decades of shift: median 0.25, worst 0.34 decade
     assert np.median(diff) < 0.3 and diff.max() < 0.4, np.round(diff, 2)
-    assert abs(rel_ours[-1] - rel_ref[-1]) / abs(rel_ref[-1]) < 0.03   # total span within 3 %
+    assert abs(rel_ours[-1] - rel_ref[-1]) / abs(rel_ref[-1]) < 0.03  # total span within 3 %
 
 
 def test_glassy_sweeps_superpose_in_loss_modulus_better_than_pyvisco(ours):
@@ -62,9 +64,9 @@ def test_glassy_sweeps_superpose_in_loss_modulus_better_than_pyvisco(ours):
         d = np.interp(x, xa, np.log(a[:, col])) - np.interp(x, xb, np.log(b[:, col]))
         return float(np.sqrt(np.mean(d * d)))
 
-    glassy = range(0, 4)                                               # -50 .. -27 C
+    glassy = range(0, 4)  # -50 .. -27 C
     ours_e2 = [mismatch(ours[:, 1], 2, s) for s in glassy]
     ref_e2 = [mismatch(ref, 2, s) for s in glassy]
     ours_e1 = [mismatch(ours[:, 1], 1, s) for s in glassy]
     assert np.mean(ours_e2) < 0.5 * np.mean(ref_e2), (ours_e2, ref_e2)
-    assert max(ours_e1) < 0.03                                         # and E' still within 3 %
+    assert max(ours_e1) < 0.03  # and E' still within 3 %

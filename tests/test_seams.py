@@ -1,6 +1,7 @@
 """Steps and seams far above the texture are warned (issue 22): a 2 mm step across a 0.2 mm-rms
 scan, a seam between two tiles over part of the scan, a plate edge in a profile; the shipped and
 shared real scans, and clean random textures, give no warning."""
+
 from __future__ import annotations
 
 import json
@@ -32,7 +33,7 @@ def test_full_step_found_where_it_is(seed):
 
 def test_seam_over_part_of_the_scan_found():
     h = fourier_surface(256, DX, 0.8, 2e-4, seed=7)
-    h[128:, 64:] += 1e-3                                  # one tile of a 2x2 grid lifted 1 mm
+    h[128:, 64:] += 1e-3  # one tile of a 2x2 grid lifted 1 mm
     lines = find_steps(HeightMap(h, DX, DX))
     assert any("along x at x = 3.20 mm" in s for s in lines)
     assert any("along y at y = 6.40 mm" in s for s in lines)
@@ -62,8 +63,21 @@ def test_step_warning_reaches_summary_and_stderr(tmp_path, capsys):
     np.save(tmp_path / "s.npy", h)
     out = tmp_path / "o"
     capsys.readouterr()
-    assert main(["analyse", str(tmp_path / "s.npy"), "--spacing", str(DX), "--out", str(out),
-                 "--no-friction", "--no-figures"]) == 0
+    assert (
+        main(
+            [
+                "analyse",
+                str(tmp_path / "s.npy"),
+                "--spacing",
+                str(DX),
+                "--out",
+                str(out),
+                "--no-friction",
+                "--no-figures",
+            ]
+        )
+        == 0
+    )
     err = capsys.readouterr().err
     s = json.loads(next(out.rglob("summary.json")).read_text())
     assert any("stitching fault" in w and "s.npy" in w for w in s["warnings"])
@@ -76,8 +90,21 @@ def test_step_warning_reaches_comparison_json(tmp_path):
     h[:, 64:] += 2e-3
     np.save(tmp_path / "b.npy", h)
     out = tmp_path / "o"
-    assert main(["compare", str(tmp_path / "a.npy"), str(tmp_path / "b.npy"), "--spacing",
-                 str(DX), "--out", str(out), "--no-friction"]) == 0
+    assert (
+        main(
+            [
+                "compare",
+                str(tmp_path / "a.npy"),
+                str(tmp_path / "b.npy"),
+                "--spacing",
+                str(DX),
+                "--out",
+                str(out),
+                "--no-friction",
+            ]
+        )
+        == 0
+    )
     c = json.loads((out / "comparison.json").read_text())
     assert set(c) == {"a", "b"} and "warnings" not in c["a"]
     assert any("stitching fault" in w and "b.npy" in w for w in c["b"]["warnings"])

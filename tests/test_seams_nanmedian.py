@@ -1,4 +1,5 @@
 """The seam finder's median profiles: its one-sort NaN median equals numpy's, bit for bit."""
+
 import warnings
 
 import numpy as np
@@ -13,7 +14,7 @@ def test_nanmedian_equals_numpy_on_random_maps_with_gaps():
         x = rng.normal(size=shape) * 10.0 ** rng.integers(-6, 3)
         x[rng.random(shape) < rng.random()] = np.nan
         if rng.random() < 0.2:
-            x[:, 0] = np.nan          # a line without any measured point
+            x[:, 0] = np.nan  # a line without any measured point
         for axis in (0, 1):
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)

@@ -1,4 +1,5 @@
 """2D and 1D PSD: normalisation (Parseval), invariances, units, DESIGN.md sec 7 numbers, 1D->2D."""
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -26,8 +27,9 @@ def rect():
 @pytest.fixture(scope="module")
 def design_surface():
     """DESIGN.md sec 7 'Surfaces': random phase, 1024^2, a = 50 um, H = 0.8, q0 = 2000 1/m."""
-    return self_affine_surface(1024, dx_m=A_M, hurst=0.8, rms_height_m=1e-3, q0_per_m=2000,
-                               seed=7, gaussian_amplitudes=False)
+    return self_affine_surface(
+        1024, dx_m=A_M, hurst=0.8, rms_height_m=1e-3, q0_per_m=2000, seed=7, gaussian_amplitudes=False
+    )
 
 
 @pytest.mark.parametrize("alpha", [0.0, 0.25, 1.0])
@@ -72,7 +74,7 @@ def test_periodic_shift_and_offset_invariance(rect, sy, sx, offset):
     moved = rect.with_heights(np.roll(rect.heights_m, (sy, sx), axis=(0, 1)) + offset)
     C = psd_2d(moved, window_alpha=0.0).C_m4
     nz = np.ones_like(C, dtype=bool)
-    nz[C.shape[0] // 2, C.shape[1] // 2] = False          # q = 0 carries the offset
+    nz[C.shape[0] // 2, C.shape[1] // 2] = False  # q = 0 carries the offset
     assert np.allclose(C[nz], ref[nz], rtol=1e-9, atol=1e-12 * ref.max())
     # with the default window, levelling removes any offset exactly
     s_ref, _ = psd_area(level(rect))
@@ -90,8 +92,8 @@ def test_mm_and_m_give_the_same_spectrum(rect):
     s_m, _ = psd_area(rect)
     in_mm = HeightMap(rect.heights_m * 1e3, rect.dx_m * 1e3, rect.dy_m * 1e3)
     s_mm, _ = psd_area(in_mm)
-    assert np.allclose(s_mm.q_per_m * 1e3, s_m.q_per_m, rtol=1e-12)   # 1/mm -> 1/m
-    assert np.allclose(s_mm.C_m4 * 1e-12, s_m.C_m4, rtol=1e-10)       # mm^4 -> m^4
+    assert np.allclose(s_mm.q_per_m * 1e3, s_m.q_per_m, rtol=1e-12)  # 1/mm -> 1/m
+    assert np.allclose(s_mm.C_m4 * 1e-12, s_m.C_m4, rtol=1e-10)  # mm^4 -> m^4
 
 
 def test_design_surface_numbers(design_surface):
@@ -110,7 +112,7 @@ def test_design_surface_numbers(design_surface):
     fit = fit_self_affine(s, band=(3 * 2000, q1 / 3))
     assert abs(fit.hurst - 0.8) < 0.007
     uncorrected = ratio * s2.meta["window_mean_square"]
-    assert np.mean(uncorrected) == pytest.approx(0.71, abs=0.02)      # 29 % low
+    assert np.mean(uncorrected) == pytest.approx(0.71, abs=0.02)  # 29 % low
 
 
 def test_profile_psd_parseval_and_units():
@@ -122,15 +124,14 @@ def test_profile_psd_parseval_and_units():
     assert 2 * np.sum(C1) * (q[1] - q[0]) == pytest.approx(np.mean(h**2), rel=1e-10)
     assert spec.kind == "profile" and "Abel" in spec.meta["conversion"]
     _, C1mm, _ = psd_profile(Profile(h * 1e3, 0.1), window_alpha=0.0, hurst=0.5)
-    assert np.allclose(C1mm * 1e-9, C1, rtol=1e-10)                    # mm^3 -> m^3
+    assert np.allclose(C1mm * 1e-9, C1, rtol=1e-10)  # mm^3 -> m^3
 
 
 def test_profiles_to_2d_random_phase_exact_conversion():
     """Rows of a random-phase surface (no window): the power-law Abel inversion of C1 gives
     the 2D ring spectrum within 3 % over the middle of the band."""
     for H in (0.4, 0.8):
-        g = self_affine_surface(512, dx_m=A_M, hurst=H, rms_height_m=1e-3, seed=1,
-                                gaussian_amplitudes=False)
+        g = self_affine_surface(512, dx_m=A_M, hurst=H, rms_height_m=1e-3, seed=1, gaussian_amplitudes=False)
         sa, _ = psd_area(g, window_alpha=0.0)
         _, _, sp = psd_profile(g, window_alpha=0.0)
         assert abs(sp.meta["conversion_hurst"] - H) < 0.03
@@ -156,7 +157,7 @@ def test_anisotropy(gauss512):
     iso = anisotropy(psd_2d(gauss512))
     assert iso["power_ratio_x_to_y"] == pytest.approx(1.0, abs=0.1)
     assert iso["anisotropy_index"] < 0.1
-    ridges = gauss512.with_heights(np.tile(gauss512.heights_m[0], (512, 1)))   # varies along x only
+    ridges = gauss512.with_heights(np.tile(gauss512.heights_m[0], (512, 1)))  # varies along x only
     a = anisotropy(psd_2d(ridges))
     assert a["power_ratio_x_to_y"] > 5 and a["anisotropy_index"] > 0.5
     assert min(a["dominant_direction_deg"], 180 - a["dominant_direction_deg"]) < 1.0
@@ -180,7 +181,7 @@ def test_half_lattice_map_central_part_and_anisotropy(shape):
     assert np.array_equal(C, full.C_m4[np.ix_(iy, ix)])
     assert np.array_equal(qx, s2.qx_per_m[ix]) and np.array_equal(qy, s2.qy_per_m[iy])
     a, b = anisotropy(lazy), anisotropy(full)
-    assert a["power_ratio_x_to_y"] > 2                       # the ridges are seen
+    assert a["power_ratio_x_to_y"] > 2  # the ridges are seen
     for k in ("power_ratio_x_to_y", "dominant_direction_deg", "anisotropy_index"):
         assert a[k] == pytest.approx(b[k], rel=1e-10, abs=1e-12)
     assert np.allclose(a["sector_power_fraction"], b["sector_power_fraction"], rtol=0, atol=1e-12)
@@ -215,8 +216,8 @@ def test_numpy_and_scipy_fft_paths_agree(monkeypatch):
     assert sp.fft_backend(10).name == "numpy.fft" and "scipy" in sp.fft_backend(1 << 23).name
     results = {}
     for limit in (1 << 22, 0):
-        monkeypatch.setattr(fb, "NUMPY_FFT_MAX_POINTS", limit)      # its home (issue 23)
-        for band in (1 << 30, 1 << 14):                       # one band; 1 row ... bands
+        monkeypatch.setattr(fb, "NUMPY_FFT_MAX_POINTS", limit)  # its home (issue 23)
+        for band in (1 << 30, 1 << 14):  # one band; 1 row ... bands
             monkeypatch.setattr(sp, "_FFT_BAND_BYTES", band)
             s, s2 = sp.psd_area(hm)
             results[limit, band] = (s.C_m4, s2.half.P)

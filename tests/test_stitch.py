@@ -3,6 +3,7 @@
 Tiles are cut from a known synthetic surface (roadscan.synth), given a random height offset,
 tilt and a little measurement noise each, and nominal positions wrong by up to 10 samples;
 the mosaic must reproduce the surface (issue 4 item 1)."""
+
 import csv
 import math
 from pathlib import Path
@@ -22,8 +23,9 @@ RMS = 1e-4
 REPO = Path(__file__).resolve().parents[1]
 
 
-def make_tiles(surface, rows=3, cols=3, n=160, step=120, pad=12, noise=1e-3, dropouts=0.0,
-               jitter=10.0, seed=0):
+def make_tiles(
+    surface, rows=3, cols=3, n=160, step=120, pad=12, noise=1e-3, dropouts=0.0, jitter=10.0, seed=0
+):
     """Cut tiles from ``surface`` (a 2D array) on a jittered grid.
 
     Returns tiles, nominal positions [m], true (row, col) of each tile's first sample, and the
@@ -36,13 +38,13 @@ def make_tiles(surface, rows=3, cols=3, n=160, step=120, pad=12, noise=1e-3, dro
         for c in range(cols):
             r0 = pad + r * step + int(rng.integers(-6, 7))
             c0 = pad + c * step + int(rng.integers(-6, 7))
-            z = surface[r0:r0 + n, c0:c0 + n].copy()
+            z = surface[r0 : r0 + n, c0 : c0 + n].copy()
             slope = 3 * RMS / (n * DX)
             z += rng.normal(0, 3 * RMS) + rng.normal(0, slope) * xx + rng.normal(0, slope) * yy
             z += noise * RMS * rng.standard_normal(z.shape)
             if dropouts:
                 z[rng.random(z.shape) < dropouts] = np.nan
-                z[20:26, 30:33] = np.nan       # a small cavity dropout in every tile
+                z[20:26, 30:33] = np.nan  # a small cavity dropout in every tile
             tiles.append(HeightMap(z, DX, DX, name=f"tile_r{r}_c{c}"))
             true.append((r0, c0))
             err = rng.uniform(-jitter, jitter, 2)
@@ -59,7 +61,7 @@ def truth_window(res, surface, true):
     start = true[0] + rel
     assert np.allclose(start, np.rint(start), atol=1e-6)
     r0, c0 = np.rint(start).astype(int)
-    return surface[r0:r0 + hm.ny, c0:c0 + hm.nx]
+    return surface[r0 : r0 + hm.ny, c0 : c0 + hm.nx]
 
 
 def coverage(res, tiles):
@@ -70,8 +72,8 @@ def coverage(res, tiles):
     ox, oy = hm.meta["origin_xy_m"]
     for t, (x, y) in zip(tiles, res.positions_m):
         r, c = int(round((y - oy) / DX)), int(round((x - ox) / DX))
-        inside[r:r + t.ny, c:c + t.nx] = True
-        measured[r:r + t.ny, c:c + t.nx] |= ~t.unmeasured
+        inside[r : r + t.ny, c : c + t.nx] = True
+        measured[r : r + t.ny, c : c + t.nx] |= ~t.unmeasured
     return inside, measured
 
 
@@ -116,15 +118,16 @@ def test_mosaic_matches_original_within_1_percent(mosaic_3x3, surface):
     tiles, _, true, res = mosaic_3x3
     hm = res.heightmap
     ref = truth_window(res, surface, true)
-    err = plane_residual(hm.heights_m - ref)        # absolute offset and tilt are a gauge
+    err = plane_residual(hm.heights_m - ref)  # absolute offset and tilt are a gauge
     inside, measured = coverage(res, tiles)
     # unmeasured exactly where no tile measured
     np.testing.assert_array_equal(hm.unmeasured, ~measured)
     # away from the outer border of the covered area
     from scipy import ndimage
+
     interior = ndimage.binary_erosion(inside, iterations=10) & measured
     e = err[interior]
-    assert np.sqrt(np.mean(e ** 2)) < 0.01 * RMS
+    assert np.sqrt(np.mean(e**2)) < 0.01 * RMS
     assert np.max(np.abs(e)) < 0.01 * RMS
     # 3x3 grid: 12 edge and 8 diagonal overlaps, each matched to about the noise level
     assert len(res.overlaps) == 20
@@ -152,14 +155,14 @@ def test_no_seam_in_spectrum(surface):
     ratio = C_mos / C_ref
     high = q > 0.1 * q.max()
     assert np.all(np.abs(ratio[high] - 1) < 0.03), ratio[high]
-    assert np.all(np.abs(ratio - 1) < 0.03)          # including the tile period 2 pi / (120 dx)
+    assert np.all(np.abs(ratio - 1) < 0.03)  # including the tile period 2 pi / (120 dx)
 
     # the same metric sees seams: tiles laid at their true places without height correction
     naive = ref.copy()
     ox, oy = res.heightmap.meta["origin_xy_m"]
     for t, (x, y) in zip(tiles, res.positions_m):
         r, c = int(round((y - oy) / DX)), int(round((x - ox) / DX))
-        naive[r:r + t.ny, c:c + t.nx] = t.heights_m
+        naive[r : r + t.ny, c : c + t.nx] = t.heights_m
     _, C_naive = ring_psd(naive[sl])
     assert np.max(np.abs(C_naive / C_ref - 1)) > 0.5
 
@@ -173,7 +176,7 @@ def test_subpixel_offsets(surface):
     frac = np.array([0.3, -0.35])
     Hs = np.fft.ifft2(np.fft.fft2(H) * np.exp(-2j * np.pi * (ky * frac[0] + kx * frac[1]))).real
     a = HeightMap(H[10:130, 10:130], DX, DX, name="a")
-    b = HeightMap(Hs[14:134, 100:220], DX, DX, name="b")      # b[u] = H[u + (14, 100) - frac]
+    b = HeightMap(Hs[14:134, 100:220], DX, DX, name="b")  # b[u] = H[u + (14, 100) - frac]
     true_rel = np.array([4.0, 90.0]) - frac
     res = stitch([a, b], [(0.0, 0.0), ((true_rel[1] + 6) * DX, (true_rel[0] - 5) * DX)])
     rel = (res.positions_m[1] - res.positions_m[0])[::-1] / DX
@@ -235,27 +238,32 @@ def test_read_manifest(tmp_path):
 
 # --- the command ------------------------------------------------------------------------------
 
+
 def best_match(m, truth, search):
     """rms of mosaic - truth (plane removed) at the integer offset (|r|, |c| <= search) that
     matches best; the offset is chosen on a central patch, the rms taken over the whole overlap."""
+
     def aligned(r, c):
-        a = m[max(0, -r):, max(0, -c):]
-        b = truth[max(0, r):, max(0, c):]
+        a = m[max(0, -r) :, max(0, -c) :]
+        b = truth[max(0, r) :, max(0, c) :]
         ny, nx = min(a.shape[0], b.shape[0]), min(a.shape[1], b.shape[1])
         return a[:ny, :nx] - b[:ny, :nx]
 
     def patch_rms(r, c):
         d = aligned(r, c)
         cy, cx = d.shape[0] // 2, d.shape[1] // 2
-        return np.nanstd(plane_residual(d[cy - 32:cy + 32, cx - 32:cx + 32]))
+        return np.nanstd(plane_residual(d[cy - 32 : cy + 32, cx - 32 : cx + 32]))
 
-    r, c = min(((r, c) for r in range(-search, search + 1) for c in range(-search, search + 1)),
-               key=lambda rc: patch_rms(*rc))
+    r, c = min(
+        ((r, c) for r in range(-search, search + 1) for c in range(-search, search + 1)),
+        key=lambda rc: patch_rms(*rc),
+    )
     return np.nanstd(plane_residual(aligned(r, c)))
 
 
 def run_cli(argv):
     from pipelines.cli.app import main
+
     return main(argv)
 
 
@@ -277,22 +285,37 @@ def test_cli_sample_manifest_reproduces_truth(tmp_path, capsys):
 
 def test_cli_grid_and_x3p(tmp_path, surface):
     from roadscan.io import read
+
     tiles, _, true = make_tiles(surface, rows=1, cols=2, n=100, step=75, jitter=0.0, noise=0.0, seed=3)
     # the grid's nominal overlap is 25 %; the real one differs by the random cut offsets (< 7 px)
     files = []
     for k, t in enumerate(tiles):
         f = tmp_path / f"t{k}.npy"
-        np.save(f, t.heights_m * 1e6)                  # micrometres, no spacing in the file
+        np.save(f, t.heights_m * 1e6)  # micrometres, no spacing in the file
         files.append(str(f))
     out = tmp_path / "m.x3p"
-    rc = run_cli(["stitch", *files, "--grid", "1x2", "--overlap", "0.25", "--out", str(out),
-                  "--spacing", str(DX), "--units", "um"])
+    rc = run_cli(
+        [
+            "stitch",
+            *files,
+            "--grid",
+            "1x2",
+            "--overlap",
+            "0.25",
+            "--out",
+            str(out),
+            "--spacing",
+            str(DX),
+            "--units",
+            "um",
+        ]
+    )
     assert rc == 0
     hm = read(out)
     assert hm.dx_m == pytest.approx(DX)
     assert 100 < hm.nx < 200 and hm.ny >= 100
     assert np.isfinite(hm.heights_m).mean() > 0.9
-    truth = surface[true[0][0]:, true[0][1]:]
+    truth = surface[true[0][0] :, true[0][1] :]
     assert best_match(hm.heights_m, truth, 8) < 0.01 * RMS
 
 
@@ -301,8 +324,22 @@ def test_cli_bad_inputs(tmp_path, capsys):
     bad.write_text("file;x;y\n")
     assert run_cli(["stitch", str(bad), "--out", str(tmp_path / "o.npy")]) == 2
     assert "file,x_m,y_m" in capsys.readouterr().err
-    assert run_cli(["stitch", str(bad), str(bad), "--grid", "3x1", "--overlap", "0.2",
-                    "--out", str(tmp_path / "o.npy")]) == 2
+    assert (
+        run_cli(
+            [
+                "stitch",
+                str(bad),
+                str(bad),
+                "--grid",
+                "3x1",
+                "--overlap",
+                "0.2",
+                "--out",
+                str(tmp_path / "o.npy"),
+            ]
+        )
+        == 2
+    )
     assert "needs 3 tiles" in capsys.readouterr().err
 
 
@@ -313,7 +350,7 @@ def test_nominal_overlap_without_common_texture_is_refused():
     from roadscan.io import read
 
     d = Path(__file__).resolve().parents[1] / "sample_scans" / "tiles"
-    a, b = read(d / "tile_r0_c0.npz"), read(d / "tile_r1_c2.npz")   # far apart in truth
+    a, b = read(d / "tile_r0_c0.npz"), read(d / "tile_r1_c2.npz")  # far apart in truth
     with pytest.raises(InputError, match="texture matches"):
         stitch([a, b], [(0.0, 0.0), (288 * a.dx_m, 0.0)])
     # the same two tiles where they really are (no overlap at all) are refused as well

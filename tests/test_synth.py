@@ -1,4 +1,5 @@
 """Synthetic self-affine surfaces: reproducibility, exact rms, exact spectrum (random phase)."""
+
 import numpy as np
 import pytest
 
@@ -20,16 +21,25 @@ def test_reproducible_from_seed():
 
 @pytest.mark.parametrize("gauss", [True, False])
 def test_rms_exact_and_zero_mean(gauss):
-    hm = self_affine_surface(128, 96, dx_m=20e-6, hurst=0.6, rms_height_m=0.37e-3, seed=1,
-                             gaussian_amplitudes=gauss)
+    hm = self_affine_surface(
+        128, 96, dx_m=20e-6, hurst=0.6, rms_height_m=0.37e-3, seed=1, gaussian_amplitudes=gauss
+    )
     assert hm.shape == (96, 128)
     assert np.sqrt(np.mean(hm.heights_m**2)) == pytest.approx(0.37e-3, rel=1e-12)
     assert abs(hm.heights_m.mean()) < 1e-15
 
 
 def test_random_phase_periodogram_equals_model_on_every_lattice_point():
-    hm = self_affine_surface(128, dx_m=50e-6, hurst=0.7, rms_height_m=1e-3, q0_per_m=3000,
-                             q_roll_per_m=6000, seed=2, gaussian_amplitudes=False)
+    hm = self_affine_surface(
+        128,
+        dx_m=50e-6,
+        hurst=0.7,
+        rms_height_m=1e-3,
+        q0_per_m=3000,
+        q_roll_per_m=6000,
+        seed=2,
+        gaussian_amplitudes=False,
+    )
     m = hm.meta["model"]
     s2 = psd_2d(hm, window_alpha=0.0)
     q = np.hypot(s2.qx_per_m[None, :], s2.qy_per_m[:, None])
@@ -49,7 +59,7 @@ def test_analysis_recovers_rms_after_tilt_and_dropouts():
     bad = rng.random(hm.shape) < 0.03
     for _ in range(60):
         i, j = rng.integers(0, 500, 2)
-        bad[i:i + 8, j:j + 8] = True
+        bad[i : i + 8, j : j + 8] = True
     damaged = HeightMap(tilted, 50e-6, 50e-6, unmeasured=bad)
     assert damaged.measured_fraction < 0.97
     sq = area_parameters(damaged)["Sq_m"]

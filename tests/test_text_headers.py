@@ -2,6 +2,7 @@
 as dropouts, decimal commas, a preamble of key: value lines; what cannot be known is refused in
 one line naming the option that decides. Expected values come from the numbers written here
 (metres = file number x unit), never from the reader."""
+
 import re
 
 import numpy as np
@@ -15,7 +16,7 @@ from roadscan.io.text_table import column_units
 
 M_PER = {"m": 1.0, "mm": 1e-3, "um": 1e-6, "nm": 1e-9, "cm": 1e-2}
 N = 300
-DX_M = 5e-5                                                  # 0.05 mm
+DX_M = 5e-5  # 0.05 mm
 
 
 def _truth():
@@ -24,8 +25,9 @@ def _truth():
     return x, z
 
 
-def _write(path, head, x_unit, z_unit, sep=",", decimal=".", missing=None, at=(7, 150),
-           preamble=(), encoding="utf-8"):
+def _write(
+    path, head, x_unit, z_unit, sep=",", decimal=".", missing=None, at=(7, 150), preamble=(), encoding="utf-8"
+):
     x, z = _truth()
     xs, zs = x / M_PER[x_unit], z / M_PER[z_unit]
     lines = list(preamble) + ([head] if head is not None else [])
@@ -42,13 +44,27 @@ def _write(path, head, x_unit, z_unit, sep=",", decimal=".", missing=None, at=(7
 
 # header form -> (x unit, z unit) it states
 FORMS = [
-    ("x_mm,z_mm", "mm", "mm"), ("x [mm],z [mm]", "mm", "mm"), ("x (mm),z (mm)", "mm", "mm"),
-    ("x/mm,z/mm", "mm", "mm"), ("x_mm,Height (µm)", "mm", "um"), ("x_mm,z_um", "mm", "um"),
-    ("x (mm),height[nm]", "mm", "nm"), ("x [m],z [mm]", "m", "mm"), ("x in mm,z in mm", "mm", "mm"),
-    ("x (mm),z (μm)", "mm", "um"), ("x (mm),z (um)", "mm", "um"), ("distance (mm),z_um", "mm", "um"),
-    ("X [MM],Z [UM]", "mm", "um"), ("x (micron),z (micron)", "um", "um"), ("x_mm,z_nm", "mm", "nm"),
-    ("x (millimetres),z (micrometres)", "mm", "um"), ("x mm,z um", "mm", "um"), ("x (cm),z (mm)", "cm", "mm"),
-    ('"x_mm","z_mm"', "mm", "mm"), ("x-mm,z-um", "mm", "um"), ("x [mm],z {um}", "mm", "um"),
+    ("x_mm,z_mm", "mm", "mm"),
+    ("x [mm],z [mm]", "mm", "mm"),
+    ("x (mm),z (mm)", "mm", "mm"),
+    ("x/mm,z/mm", "mm", "mm"),
+    ("x_mm,Height (µm)", "mm", "um"),
+    ("x_mm,z_um", "mm", "um"),
+    ("x (mm),height[nm]", "mm", "nm"),
+    ("x [m],z [mm]", "m", "mm"),
+    ("x in mm,z in mm", "mm", "mm"),
+    ("x (mm),z (μm)", "mm", "um"),
+    ("x (mm),z (um)", "mm", "um"),
+    ("distance (mm),z_um", "mm", "um"),
+    ("X [MM],Z [UM]", "mm", "um"),
+    ("x (micron),z (micron)", "um", "um"),
+    ("x_mm,z_nm", "mm", "nm"),
+    ("x (millimetres),z (micrometres)", "mm", "um"),
+    ("x mm,z um", "mm", "um"),
+    ("x (cm),z (mm)", "cm", "mm"),
+    ('"x_mm","z_mm"', "mm", "mm"),
+    ("x-mm,z-um", "mm", "um"),
+    ("x [mm],z {um}", "mm", "um"),
 ]
 
 
@@ -60,9 +76,16 @@ def test_header_forms_give_each_column_its_unit(tmp_path, head, xu, zu):
     np.testing.assert_allclose(p.heights_m, z, rtol=1e-6, atol=1e-15)
 
 
-@pytest.mark.parametrize("sep, head", [(";", "x [mm];z [um]"), ("\t", "x (mm)\tz (um)"),
-                                       (" ", "x (mm) z (um)"), (" ", "x_mm  z_um"),
-                                       (" ", "x in mm z in um")])
+@pytest.mark.parametrize(
+    "sep, head",
+    [
+        (";", "x [mm];z [um]"),
+        ("\t", "x (mm)\tz (um)"),
+        (" ", "x (mm) z (um)"),
+        (" ", "x_mm  z_um"),
+        (" ", "x in mm z in um"),
+    ],
+)
 def test_header_forms_with_other_separators(tmp_path, sep, head):
     _x, z = _truth()
     p = read(_write(tmp_path / "p.txt", head, "mm", "um", sep=sep))
@@ -70,8 +93,7 @@ def test_header_forms_with_other_separators(tmp_path, sep, head):
     np.testing.assert_allclose(p.heights_m, z, rtol=1e-6, atol=1e-15)
 
 
-MARKERS = ["", "NaN", "nan", "NA", "N/A", "n/a", "-", "null", "NULL", "#N/A", "None", "--", "***",
-           " "]
+MARKERS = ["", "NaN", "nan", "NA", "N/A", "n/a", "-", "null", "NULL", "#N/A", "None", "--", "***", " "]
 
 
 @pytest.mark.parametrize("marker", MARKERS)
@@ -79,8 +101,18 @@ MARKERS = ["", "NaN", "nan", "NA", "N/A", "n/a", "-", "null", "NULL", "#N/A", "N
 def test_missing_value_markers_are_dropouts(tmp_path, marker, sep, decimal):
     _x, z = _truth()
     head = sep.join(["x (mm)", "z (mm)"])
-    p = read(_write(tmp_path / "p.csv", head, "mm", "mm", sep=sep, decimal=decimal,
-                    missing=marker, at=(0, 7, 150, N - 1)))
+    p = read(
+        _write(
+            tmp_path / "p.csv",
+            head,
+            "mm",
+            "mm",
+            sep=sep,
+            decimal=decimal,
+            missing=marker,
+            at=(0, 7, 150, N - 1),
+        )
+    )
     assert p.n == N
     assert list(np.flatnonzero(p.unmeasured)) == [0, 7, 150, N - 1]
     keep = ~p.unmeasured
@@ -114,8 +146,16 @@ def test_a_sentinel_value_within_reach_of_the_heights_is_a_height(tmp_path):
 
 def test_declared_nodata_in_a_preamble(tmp_path):
     _x, _z = _truth()
-    p = _write(tmp_path / "p.txt", "x (mm);z (um)", "mm", "um", sep=";", decimal=",", missing="-1",
-               preamble=["Instrument: LS-40", "NoData = -1"])
+    p = _write(
+        tmp_path / "p.txt",
+        "x (mm);z (um)",
+        "mm",
+        "um",
+        sep=";",
+        decimal=",",
+        missing="-1",
+        preamble=["Instrument: LS-40", "NoData = -1"],
+    )
     prof = read(p)
     assert list(np.flatnonzero(prof.unmeasured)) == [7, 150]
     assert prof.meta["preamble"]["Instrument"] == "LS-40"
@@ -129,8 +169,9 @@ def test_preamble_states_units_and_spacing_of_a_heights_column(tmp_path):
     assert prof.dx_m == pytest.approx(DX_M)
     np.testing.assert_allclose(prof.heights_m, z, atol=1e-12)
     # the spacing's unit in the key, heights unit for the heights only, decimal commas
-    text = "Step (mm) = 0,05\nHeight unit: nm\n" + "\n".join(f"{v * 1e9:.3f}".replace(".", ",") + ";"
-                                                            for v in z)
+    text = "Step (mm) = 0,05\nHeight unit: nm\n" + "\n".join(
+        f"{v * 1e9:.3f}".replace(".", ",") + ";" for v in z
+    )
     (tmp_path / "k.csv").write_text(text)
     prof = read(tmp_path / "k.csv")
     assert prof.dx_m == pytest.approx(DX_M)
@@ -177,23 +218,22 @@ def test_pandas_index_column_and_units_row(tmp_path):
 
 def test_utf16_spreadsheet_text(tmp_path):
     _x, z = _truth()
-    p = _write(tmp_path / "u.txt", "x (mm)\tz (µm)", "mm", "um", sep="\t", decimal=",",
-               encoding="utf-16")
+    p = _write(tmp_path / "u.txt", "x (mm)\tz (µm)", "mm", "um", sep="\t", decimal=",", encoding="utf-16")
     prof = read(p)
     np.testing.assert_allclose(prof.heights_m, z, rtol=1e-6, atol=1e-15)
 
 
 # refusals: (header, preamble, what the message must name)
 REFUSED = [
-    ("x (mm),z (a.u.)", [], "'units'"),                   # a token that is no length unit
+    ("x (mm),z (a.u.)", [], "'units'"),  # a token that is no length unit
     ("x_mm,z [counts]", [], "'units'"),
-    ("x_mm,z_in", [], "'units'"),                         # inches: not converted, not guessed
-    ("x (mm),z", [], "'units'"),                          # heights' unit not stated
-    ("x,z (mm)", [], "'x_units'"),                        # coordinates' unit not stated
+    ("x_mm,z_in", [], "'units'"),  # inches: not converted, not guessed
+    ("x (mm),z", [], "'units'"),  # heights' unit not stated
+    ("x,z (mm)", [], "'x_units'"),  # coordinates' unit not stated
     ("x (px),z (mm)", [], "'x_units'"),
-    ("x (mm),z (mm)", ["Units: um"], "preamble"),         # title and preamble disagree
-    ("x (mm),z (mm)", ["Z scale: 0.001"], "scale"),       # a scale roadscan does not apply
-    ("x (mm),z (mm)", ["Spacing: 0.1 mm"], "preamble"),   # the x column steps 0.05 mm
+    ("x (mm),z (mm)", ["Units: um"], "preamble"),  # title and preamble disagree
+    ("x (mm),z (mm)", ["Z scale: 0.001"], "scale"),  # a scale roadscan does not apply
+    ("x (mm),z (mm)", ["Spacing: 0.1 mm"], "preamble"),  # the x column steps 0.05 mm
 ]
 
 
@@ -205,7 +245,7 @@ def test_what_cannot_be_known_is_refused_naming_what_decides(tmp_path, head, pre
     msg = str(e.value)
     assert "\n" not in msg and str(p) in msg and word in msg, msg
     if "'units'" in word or "x_units" in word:
-        assert head in msg, msg                           # what was found is quoted
+        assert head in msg, msg  # what was found is quoted
 
 
 def test_unknown_token_decided_by_the_flag(tmp_path):
@@ -239,11 +279,14 @@ def test_column_units_reads_the_new_forms():
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
-@given(form=st.sampled_from(["{n}_{u}", "{n} [{u}]", "{n} ({u})", "{n}/{u}", "{n} in {u}", "{n}[{u}]"]),
-       xu=st.sampled_from(["m", "mm", "um"]), zu=st.sampled_from(["mm", "um", "nm", "µm", "μm"]),
-       marker=st.sampled_from(["", "NaN", "NA", "N/A", "-", "null", "#N/A", "nan"]),
-       sep_dec=st.sampled_from([(",", "."), (";", ","), ("\t", "."), ("\t", ","), (";", ".")]),
-       seed=st.integers(0, 10_000))
+@given(
+    form=st.sampled_from(["{n}_{u}", "{n} [{u}]", "{n} ({u})", "{n}/{u}", "{n} in {u}", "{n}[{u}]"]),
+    xu=st.sampled_from(["m", "mm", "um"]),
+    zu=st.sampled_from(["mm", "um", "nm", "µm", "μm"]),
+    marker=st.sampled_from(["", "NaN", "NA", "N/A", "-", "null", "#N/A", "nan"]),
+    sep_dec=st.sampled_from([(",", "."), (";", ","), ("\t", "."), ("\t", ","), (";", ".")]),
+    seed=st.integers(0, 10_000),
+)
 def test_round_trip_in_random_forms(tmp_path, form, xu, zu, marker, sep_dec, seed):
     """A profile written in a random header form, units, marker and separator reads back in
     metres: spacing, heights and the dropouts where they were written."""

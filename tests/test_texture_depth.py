@@ -1,5 +1,6 @@
 """ETD, IFI (ASTM E1960), short-baseline segment depth and the spike threshold that passes
 (roadscan.texture_depth, issue 21)."""
+
 import numpy as np
 import pytest
 
@@ -27,13 +28,13 @@ def test_f60_by_hand():
     assert sp == pytest.approx(103.9)
     assert fr60 == pytest.approx(0.40 * np.exp(-30 / 103.9))
     assert f60 == pytest.approx(0.045 + 0.925 * 0.40 * np.exp(-30 / 103.9) + 0.01 * 1.0)
-    assert ifi_f60(0.4, 60.0, 1e-3, 0.0, 1.0)[0] == pytest.approx(0.4)   # S = 60: FR60 = FRS
+    assert ifi_f60(0.4, 60.0, 1e-3, 0.0, 1.0)[0] == pytest.approx(0.4)  # S = 60: FR60 = FRS
     assert ifi_f60(0.4, 30.0, None, 0.0, 1.0) is None
 
 
 def test_short_scan_gets_a_labelled_short_baseline_depth():
     dx = 0.1e-3
-    z = 0.5e-3 * np.sin(2 * np.pi * np.arange(542) * dx / 10e-3)      # 54.2 mm
+    z = 0.5e-3 * np.sin(2 * np.pi * np.arange(542) * dx / 10e-3)  # 54.2 mm
     prof = Profile(z, dx)
     assert roughness.mean_profile_depth(prof)[0] is None
     msd, base, note = short_segment_depth(prof)
@@ -45,15 +46,15 @@ def test_short_scan_gets_a_labelled_short_baseline_depth():
     hm = HeightMap(np.tile(z, (5, 1)), dx, dx)
     msd_a, base_a, _ = short_segment_depth(hm)
     assert base_a == base and msd_a == pytest.approx(msd, rel=1e-9)
-    assert short_segment_depth(Profile(z[:80], dx))[0] is None          # 8 mm: too short
+    assert short_segment_depth(Profile(z[:80], dx))[0] is None  # 8 mm: too short
 
 
 def test_spike_alpha_that_passes():
     rng = np.random.default_rng(2)
-    dx, n = 0.5e-3, 2000                                           # 1 m: 10 segments
+    dx, n = 0.5e-3, 2000  # 1 m: 10 segments
     z = 0.3e-3 * np.sin(2 * np.pi * np.arange(n) * dx / 20e-3)
-    spikes = rng.choice(n - 1, 120, replace=False)                 # 6 % of points in spikes
-    z[spikes] += 2.2e-3                                            # jumps of 4.4 intervals
+    spikes = rng.choice(n - 1, 120, replace=False)  # 6 % of points in spikes
+    z[spikes] += 2.2e-3  # jumps of 4.4 intervals
     prof = Profile(z, dx)
     assert roughness.mean_profile_depth(prof)[0] is None
     alpha, iso = spike_alpha_to_pass(prof)
@@ -70,13 +71,13 @@ def test_spike_alpha_that_passes():
 
 def test_spike_alpha_on_a_big_map_uses_a_row_sample():
     rng = np.random.default_rng(8)
-    dx, n, ny = 0.5e-3, 400, 600                                   # 200 mm rows, 600 of them
+    dx, n, ny = 0.5e-3, 400, 600  # 200 mm rows, 600 of them
     z = np.tile(0.3e-3 * np.sin(2 * np.pi * np.arange(n) * dx / 20e-3), (ny, 1))
     spikes = rng.random(z.shape) < 0.08
-    z[spikes] += 2.2e-3                                            # jumps of 4.4 intervals
+    z[spikes] += 2.2e-3  # jumps of 4.4 intervals
     hm = HeightMap(z, dx, dx)
     assert roughness.mean_profile_depth_area(hm)[0] is None
     alpha, iso = spike_alpha_to_pass(hm)
     assert iso and 3.0 < alpha <= 5.0
     res = roughness.segment_depths(z, dx, spike_alpha=alpha)
-    assert res["valid"].mean() >= 0.45                             # the whole map passes too
+    assert res["valid"].mean() >= 0.45  # the whole map passes too

@@ -1,5 +1,6 @@
 """Texture outputs of one scan and the reader's units (pipelines.jobs.texture.outputs,
 pipelines.output.units; issue 21)."""
+
 import argparse
 
 import numpy as np
@@ -18,18 +19,27 @@ def _args(*argv):
 
 
 def test_options_parsed_and_checked():
-    st = to.texture_settings_from_args(_args("--friction-measurement", "0.45@30",
-                                             "--ifi-constants", "0.045,0.925"))
-    assert (st.friction, st.slip_speed_kmh, st.ifi_constants, st.direction) == \
-        (0.45, 30.0, (0.045, 0.925, 0.0), "x")
-    st = to.texture_settings_from_args(_args("--direction", "y", "--friction-measurement",
-                                             "0.3@65", "--ifi-constants", "0.1,0.9,0.02"))
+    st = to.texture_settings_from_args(
+        _args("--friction-measurement", "0.45@30", "--ifi-constants", "0.045,0.925")
+    )
+    assert (st.friction, st.slip_speed_kmh, st.ifi_constants, st.direction) == (
+        0.45,
+        30.0,
+        (0.045, 0.925, 0.0),
+        "x",
+    )
+    st = to.texture_settings_from_args(
+        _args("--direction", "y", "--friction-measurement", "0.3@65", "--ifi-constants", "0.1,0.9,0.02")
+    )
     assert st.direction == "y" and st.ifi_constants == (0.1, 0.9, 0.02)
-    for bad in (("--friction-measurement", "0.45@30"), ("--ifi-constants", "1,2"),
-                ("--friction-measurement", "0.45", "--ifi-constants", "1,2"),
-                ("--friction-measurement", "0.45@-3", "--ifi-constants", "1,2"),
-                ("--friction-measurement", "0.45@30", "--ifi-constants", "1"),
-                ("--friction-measurement", "0.45@30", "--ifi-constants", "a,b")):
+    for bad in (
+        ("--friction-measurement", "0.45@30"),
+        ("--ifi-constants", "1,2"),
+        ("--friction-measurement", "0.45", "--ifi-constants", "1,2"),
+        ("--friction-measurement", "0.45@-3", "--ifi-constants", "1,2"),
+        ("--friction-measurement", "0.45@30", "--ifi-constants", "1"),
+        ("--friction-measurement", "0.45@30", "--ifi-constants", "a,b"),
+    ):
         with pytest.raises(InputError) as err:
             to.texture_settings_from_args(_args(*bad))
         assert "--" in str(err.value)
@@ -54,8 +64,7 @@ def test_keys_follow_formulas_from_mpd():
     sp = keys["ifi_speed_constant_kmh"]
     assert keys["ifi_F60"] == pytest.approx(0.05 + 0.9 * 0.5 * np.exp((20 - 60) / sp) + 0.01 * 1.234)
     assert set(keys["texture_level_dB"]) == {f"{v:g}" for v in ts.nominal_mm}
-    assert keys["texture_level_dB"]["20"] == pytest.approx(20 * np.log10(1e-3 / np.sqrt(2) / 1e-6),
-                                                           abs=0.5)
+    assert keys["texture_level_dB"]["20"] == pytest.approx(20 * np.log10(1e-3 / np.sqrt(2) / 1e-6), abs=0.5)
     assert "msd_short_m" not in keys and "texture_direction" not in keys
 
 
@@ -66,7 +75,7 @@ def test_short_area_gets_msd_short_never_mpd():
     keys, _ = to.texture_keys(an, to.TextureSettings(direction="x"))
     assert keys["etd_m"] is None and keys["ifi_speed_constant_kmh"] is None
     assert keys["msd_short_baseline_m"] == pytest.approx(0.060)
-    assert 0.4e-3 < keys["msd_short_m"] < 0.55e-3       # peaks of a 0.5 mm sine, slope removed
+    assert 0.4e-3 < keys["msd_short_m"] < 0.55e-3  # peaks of a 0.5 mm sine, slope removed
     assert "not ISO" in keys["msd_short_note"] and "mpd_m" not in keys
     assert keys["texture_direction"] == "x"
 
@@ -91,7 +100,7 @@ def test_csv_header_and_bar_chart(tmp_path):
 def test_units_format():
     assert length(0.0032755905236328256) == "3.28 mm"
     assert length(0.0003974) == "397 µm"
-    assert length(2.53e-3) == "2.53 mm"                   # not "2.53e+03 um"
+    assert length(2.53e-3) == "2.53 mm"  # not "2.53e+03 um"
     assert length(1.849e-11) == "0.0185 nm"
     assert sig3(2530.4) == "2530" and sig3(0.0123) == "0.0123" and sig3(99.96) == "100"
     assert quantity("rms_height_m", 3.974e-4) == "397 µm"
@@ -106,7 +115,7 @@ def test_many_dropouts_warned_in_summary_warnings():
     dx = 0.5e-3
     z = 1e-3 * np.sin(2 * np.pi * np.arange(4000) * dx / 20e-3)
     bad = np.zeros(z.size, bool)
-    bad[::4] = bad[1::4] = True                             # half the points missing
+    bad[::4] = bad[1::4] = True  # half the points missing
     validate.reset_warnings()
     to.texture_keys(_Analysis(Profile(z, dx, unmeasured=bad), 1e-3))
     assert any("dropouts" in w and "dB low" in w for w in validate.warnings_list())

@@ -2,6 +2,7 @@
 figures from the heights and their mean (no copy about the mean) and with the pits not counted
 (only the five deepest significant ones found) are those of feature_parameters on the heights
 less their mean; texture_parameters equals the three modules called on them."""
+
 import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
@@ -40,8 +41,11 @@ def test_texture_parameters_is_the_modules_on_the_levelled_heights():
     z = _surface(3, (240, 200))
     figs, notes = texture_parameters(HeightMap(z, 1e-4, 1e-4))
     zc = z - z.mean()
-    ref = {**areal_material_parameters(z), **spatial_parameters(zc, 1e-4, 1e-4),
-           **feature_parameters(zc, 1e-4, 1e-4)}
+    ref = {
+        **areal_material_parameters(z),
+        **spatial_parameters(zc, 1e-4, 1e-4),
+        **feature_parameters(zc, 1e-4, 1e-4),
+    }
     for k in AREAL_KEYS:
         if k in ("Sal_m", "Str", "Std_deg"):
             assert figs[k] == pytest.approx(ref[k], rel=1e-7, abs=1e-4 if k == "Std_deg" else 0)

@@ -1,4 +1,5 @@
 """ISO 13473-4 third-octave texture levels (roadscan.texture_spectrum, issue 21)."""
+
 from pathlib import Path
 
 import numpy as np
@@ -27,17 +28,19 @@ def test_band_definition():
     k = np.arange(-3, 28)
     assert np.allclose(c, 10.0 ** (k / 10) * 1e-3, rtol=1e-12)
     assert np.allclose(lo, c * 10 ** (-1 / 20)) and np.allclose(hi, c * 10 ** (1 / 20))
-    assert np.allclose(hi[:-1], lo[1:])                  # contiguous bands
-    assert np.all(np.abs(nom * 1e-3 / c - 1) < 0.02)     # nominal labels near the exact centres
+    assert np.allclose(hi[:-1], lo[1:])  # contiguous bands
+    assert np.all(np.abs(nom * 1e-3 / c - 1) < 0.02)  # nominal labels near the exact centres
 
 
 def test_sines_at_nominal_centres():
-    dx, n = 0.05e-3, 40000                               # 2 m profile
+    dx, n = 0.05e-3, 40000  # 2 m profile
     x = np.arange(n) * dx
     rng = np.random.default_rng(4)
     amps = {1.0: 0.5e-3, 2.5: 0.7e-3, 8: 1.0e-3, 31.5: 0.8e-3, 80: 1.0e-3}
-    z = sum(A * np.sin(2 * np.pi * x / (lam * 1e-3) + rng.uniform(0, 2 * np.pi))
-            for lam, A in amps.items()) + 3e-4 * x / x[-1]          # plus a tilt
+    z = (
+        sum(A * np.sin(2 * np.pi * x / (lam * 1e-3) + rng.uniform(0, 2 * np.pi)) for lam, A in amps.items())
+        + 3e-4 * x / x[-1]
+    )  # plus a tilt
     ts = texture_spectrum(Profile(z, dx))
     got = dict(zip(ts.nominal_mm, ts.level_dB))
     for lam, A in amps.items():
@@ -45,7 +48,7 @@ def test_sines_at_nominal_centres():
     floor = min(got[lam] for lam in amps)
     others = [v for k, v in got.items() if k not in amps]
     assert others and max(others) < floor - 10
-    assert 100 in got and 125 not in got                 # 2 m: lambda_hi <= L / 15.4
+    assert 100 in got and 125 not in got  # 2 m: lambda_hi <= L / 15.4
 
 
 def test_longest_resolved_band_keeps_a_centred_sine():
@@ -60,13 +63,13 @@ def test_longest_resolved_band_keeps_a_centred_sine():
 
 
 def test_resolved_band_limits():
-    dx, n = 0.2e-3, 2000                                 # 400 mm at 0.2 mm
+    dx, n = 0.2e-3, 2000  # 400 mm at 0.2 mm
     ts = texture_spectrum(Profile(np.random.default_rng(0).normal(size=n) * 1e-4, dx))
     L = n * dx
     assert np.all(ts.lo_m >= MIN_SAMPLES_PER_WAVELENGTH * dx * (1 - 1e-9))
     assert np.all((1 / ts.lo_m - 1 / ts.hi_m) * L >= MIN_BINS * (1 - 1e-9))
     _, c, lo, hi = third_octave_bands()
-    assert ts.lo_m[0] / dx < MIN_SAMPLES_PER_WAVELENGTH * 10 ** 0.1   # the next finer is not
+    assert ts.lo_m[0] / dx < MIN_SAMPLES_PER_WAVELENGTH * 10**0.1  # the next finer is not
     nxt = np.searchsorted(c, ts.centre_m[-1] * 1.01)
     assert (1 / lo[nxt] - 1 / hi[nxt]) * L < MIN_BINS
 
@@ -89,10 +92,10 @@ def test_matches_ideal_fft_bandpass_on_random_rough_profiles():
     random phase, so a band of N FFT bins scatters about 4.3 / sqrt(N) dB around the exact
     band rms (0.11 dB at N = 1500, 1 dB at N = 19): each band within 15 / sqrt(N) dB, and no
     bias, the mean difference over 16 profiles within 0.5 dB where N >= 10."""
-    dx, n = 0.05e-3, 2 ** 16
+    dx, n = 0.05e-3, 2**16
     f = np.fft.rfftfreq(n, dx)
     amp = np.zeros(f.size)
-    amp[1:] = f[1:] ** -1.4                               # red, self-affine-like spectrum
+    amp[1:] = f[1:] ** -1.4  # red, self-affine-like spectrum
     diffs = []
     for seed in range(16):
         rng = np.random.default_rng(seed)
@@ -114,7 +117,7 @@ def test_area_lines_along_driving_direction_and_mean_of_squares():
     hm = HeightMap(h, dx, dx)
     tx = texture_spectrum(hm, direction="x")
     lvl = dict(zip(tx.nominal_mm, tx.level_dB))
-    assert abs(lvl[10] - 10 * np.log10(np.mean(A ** 2) / 2 / 1e-12)) < 0.1
+    assert abs(lvl[10] - 10 * np.log10(np.mean(A**2) / 2 / 1e-12)) < 0.1
     ty = texture_spectrum(hm.with_heights(h.T.copy(), np.zeros((nx, ny), bool)), direction="y")
     assert np.allclose(ty.level_dB, tx.level_dB, atol=1e-9)
     with pytest.raises(ValueError):
@@ -128,7 +131,7 @@ def test_dropouts_filled_linearly():
     rng = np.random.default_rng(3)
     bad = np.zeros(n, bool)
     for s in rng.integers(0, n - 20, 60):
-        bad[s:s + 10] = True                              # 2 % in 0.5 mm gaps
+        bad[s : s + 10] = True  # 2 % in 0.5 mm gaps
     ts = texture_spectrum(Profile(z, dx, unmeasured=bad))
     lvl = dict(zip(ts.nominal_mm, ts.level_dB))
     assert abs(lvl[5] - _expected(0.5e-3)) < 0.5
@@ -141,8 +144,7 @@ def _welch_levels(z, dx, lo, hi):
     linear detrend per segment), density integrated over each band with the trapezoid rule."""
     from scipy.signal import welch
 
-    f, p = welch(z, fs=1 / dx, window="hann", nperseg=z.size // 2, detrend="linear",
-                 scaling="density")
+    f, p = welch(z, fs=1 / dx, window="hann", nperseg=z.size // 2, detrend="linear", scaling="density")
     out = []
     for a, b in zip(lo, hi):
         fa, fb = 1 / b, 1 / a
@@ -169,7 +171,7 @@ def test_captif_levels_match_welch(station):
     z[~good] = np.interp(idx[~good], idx[good], z[good])
     ref = _welch_levels(z, prof.dx_m, ts.lo_m[sel], ts.hi_m[sel])
     assert np.max(np.abs(ts.level_dB[sel] - ref)) < 1.5
-    assert np.all(ts.level_dB[sel] > 20)               # macrotexture: tens of dB re 1 um
+    assert np.all(ts.level_dB[sel] > 20)  # macrotexture: tens of dB re 1 um
 
 
 def test_vectorised_line_fill_equals_np_interp():
@@ -178,8 +180,8 @@ def test_vectorised_line_fill_equals_np_interp():
     rng = np.random.default_rng(0)
     z = rng.normal(size=(40, 150))
     z[rng.random(z.shape) < 0.3] = np.nan
-    z[3] = np.nan                       # no data: stays NaN (the line is skipped)
-    z[4, :50] = np.nan                  # leading and trailing gaps: held at the nearest value
+    z[3] = np.nan  # no data: stays NaN (the line is skipped)
+    z[4, :50] = np.nan  # leading and trailing gaps: held at the nearest value
     z[5, -30:] = np.nan
     f = _fill_lines(z)
     x = np.arange(z.shape[1])

@@ -2,6 +2,7 @@
 prominences of every maximum against a union-find over the points (rough and quantised
 surfaces, ties included), the autocorrelation against direct sums of products, and the MPD
 with its segment table from one pass against the separate calls."""
+
 import numpy as np
 import pytest
 
@@ -38,11 +39,11 @@ def _union_find_prominences(z):
                 if (dr or dc) and 0 <= rr < ny and 0 <= cc < nx and parent[rr * nx + cc] >= 0:
                     roots.add(find(rr * nx + cc))
         if not roots:
-            prom[i] = np.inf                      # a new maximum
+            prom[i] = np.inf  # a new maximum
             continue
         roots = sorted(roots, key=lambda k: rank[summit[k]])
         top = roots[-1]
-        for k in roots[:-1]:                      # the lower components end here
+        for k in roots[:-1]:  # the lower components end here
             prom[summit[k]] = flat[summit[k]] - flat[i]
             parent[k] = top
         parent[i] = top
@@ -57,7 +58,7 @@ def test_prominences_match_a_union_find_over_the_points(kind):
     z = rng.normal(size=(90, 110))
     if kind == "smooth":
         z = gaussian_filter(z, 2.0)
-    if kind == "quantised":                       # many equal heights: plateaus, flat saddles
+    if kind == "quantised":  # many equal heights: plateaus, flat saddles
         z = np.round(gaussian_filter(z, 1.0) * 4) / 4
     summits, prom = prominences(z)
     ref = _union_find_prominences(z)
@@ -91,8 +92,8 @@ def test_autocorrelation_matches_direct_sums():
     hy, hx = 23 // 2, 31 // 2
     norm = (z * z).sum()
     for ty, tx in ((0, 0), (1, 0), (0, 3), (hy, hx), (-hy, hx), (5, -hx), (-3, -7)):
-        a = z[max(ty, 0):23 + min(ty, 0), max(tx, 0):31 + min(tx, 0)]
-        b = z[max(-ty, 0):23 + min(-ty, 0), max(-tx, 0):31 + min(-tx, 0)]
+        a = z[max(ty, 0) : 23 + min(ty, 0), max(tx, 0) : 31 + min(tx, 0)]
+        b = z[max(-ty, 0) : 23 + min(-ty, 0), max(-tx, 0) : 31 + min(-tx, 0)]
         assert acf[hy + ty, hx + tx] == pytest.approx((a * b).sum() / norm, abs=2e-6)
 
 
@@ -108,7 +109,7 @@ def test_large_map_short_sal_uses_the_central_window():
     r = spatial_parameters(z, 1e-4, 1e-4)
     assert "central" in r["spatial_note"]
     y0 = (n - MAX_SIDE) // 2
-    w = spatial_parameters(z[y0:y0 + MAX_SIDE, y0:y0 + MAX_SIDE], 1e-4, 1e-4)
+    w = spatial_parameters(z[y0 : y0 + MAX_SIDE, y0 : y0 + MAX_SIDE], 1e-4, 1e-4)
     assert r["Sal_m"] == pytest.approx(w["Sal_m"])
     assert r["Std_deg"] == pytest.approx(w["Std_deg"])
 
@@ -123,8 +124,11 @@ def test_mpd_and_segments_equal_the_separate_calls():
     rng = np.random.default_rng(7)
     hm = HeightMap(rng.normal(scale=5e-4, size=(6, 2400)), 5e-5, 5e-5)
     short = HeightMap(rng.normal(scale=5e-4, size=(6, 300)), 5e-5, 5e-5)
-    for obj, mpd_fn in ((prof, roughness.mean_profile_depth), (hm, roughness.mean_profile_depth_area),
-                        (short, roughness.mean_profile_depth_area)):
+    for obj, mpd_fn in (
+        (prof, roughness.mean_profile_depth),
+        (hm, roughness.mean_profile_depth_area),
+        (short, roughness.mean_profile_depth_area),
+    ):
         for settings in ({}, {"spike_alpha": 6.0}):
             mpd, note, seg = mpd_and_segments(obj, **settings)
             assert (mpd, note) == mpd_fn(obj, **settings)
@@ -144,7 +148,7 @@ def test_single_threaded_blas_restores_the_thread_count_and_the_fill_is_unchange
     rng = np.random.default_rng(8)
     h = rng.normal(size=(60, 70))
     bad = rng.random(h.shape) < 0.2
-    bad[20:35, 30:50] = True                      # one large cluster (block elimination)
+    bad[20:35, 30:50] = True  # one large cluster (block elimination)
     fns = _openblas_functions()
     before = fns[0]() if fns else None
     with single_threaded_blas():

@@ -8,8 +8,8 @@ from roadscan.trim import road_section
 def test_plates_removed_and_road_kept():
     rng = np.random.default_rng(0)
     h = rng.normal(0, 1e-3, 4000)
-    h[100:300] = 0.047      # left plate
-    h[3700:3900] = 0.047    # right plate
+    h[100:300] = 0.047  # left plate
+    h[3700:3900] = 0.047  # right plate
     p = Profile(h, 1e-4)
     r = road_section(p, margin_m=1e-3)
     assert r.n == (3700 - 10) - (300 + 10)

@@ -2,6 +2,7 @@
 warned once; a peak mu at the end of the speed range is a warning; an MPD that is not valid per
 ISO 13473-1 is a warning naming the rule its segments failed and the option that relaxes it
 (and that option, given, does relax it)."""
+
 from __future__ import annotations
 
 import json
@@ -28,8 +29,8 @@ def test_no_units_hint_for_files_that_state_their_units(tmp_path, capsys, format
     assert rc == 0, err
     s = json.loads((out / "summary.json").read_text())
     implausible = [w for w in s["warnings"] if "peak mu" in w]
-    assert implausible                     # these microscope scans give a mu no road gives...
-    for w in s["warnings"]:                # ...and the cause named is never a --units slip
+    assert implausible  # these microscope scans give a mu no road gives...
+    for w in s["warnings"]:  # ...and the cause named is never a --units slip
         assert "--units" not in w and "units (" not in w, w
     assert "--units" not in err
     assert any("unit the file states" in w for w in implausible)
@@ -50,8 +51,21 @@ def test_unusual_spacing_is_warned_once(tmp_path, capsys):
     np.save(tmp_path / "m.npy", rng.normal(size=(64, 64)) * 1e-3)
     for spacing in ("0.02", "0.02,0.03"):
         out = tmp_path / f"o{spacing}"
-        rc, _, err = _run(["analyse", tmp_path / "m.npy", "--spacing", spacing, "--units", "m",
-                           "--out", out, "--no-figures", "--no-friction"], capsys)
+        rc, _, err = _run(
+            [
+                "analyse",
+                tmp_path / "m.npy",
+                "--spacing",
+                spacing,
+                "--units",
+                "m",
+                "--out",
+                out,
+                "--no-figures",
+                "--no-friction",
+            ],
+            capsys,
+        )
         assert rc == 0, err
         lines = [ln for ln in err.splitlines() if "unusual for a road scan" in ln]
         assert len(lines) == 1, err
@@ -64,8 +78,18 @@ def test_peak_at_the_end_of_the_speed_range_is_a_warning(tmp_path, capsys):
     """The sample's peak is at 10 m/s: a speed range ending at 0.1 m/s has its largest mu at
     the last speed, which is a warning (not only peak_note) naming --velocities."""
     out = tmp_path / "o"
-    rc, _, err = _run(["analyse", ROOT / "sample_scans" / "asphalt.x3p", "--out", out,
-                       "--no-figures", "--velocities", "1e-3:1e-1:9"], capsys)
+    rc, _, err = _run(
+        [
+            "analyse",
+            ROOT / "sample_scans" / "asphalt.x3p",
+            "--out",
+            out,
+            "--no-figures",
+            "--velocities",
+            "1e-3:1e-1:9",
+        ],
+        capsys,
+    )
     assert rc == 0, err
     s = json.loads((out / "summary.json").read_text())
     mu = np.loadtxt(out / "mu.csv", delimiter=",", skiprows=1)[:, 1]
@@ -75,8 +99,9 @@ def test_peak_at_the_end_of_the_speed_range_is_a_warning(tmp_path, capsys):
     assert "--velocities" in err
     # and a range holding the peak warns nothing of the kind
     out2 = tmp_path / "o2"
-    rc, _, err = _run(["analyse", ROOT / "sample_scans" / "asphalt.x3p", "--out", out2,
-                       "--no-figures"], capsys)
+    rc, _, err = _run(
+        ["analyse", ROOT / "sample_scans" / "asphalt.x3p", "--out", out2, "--no-figures"], capsys
+    )
     s2 = json.loads((out2 / "summary.json").read_text())
     assert not s2["friction"]["peak_at_edge"]
     assert not any("no peak in the speed range" in x for x in s2["warnings"])
@@ -96,13 +121,15 @@ def test_invalid_mpd_names_the_rule_and_the_option_that_relaxes_it(tmp_path, cap
     assert f"--mpd-spike-alpha {alpha:g}" in w[0]
     # the named option, given, does give an MPD valid per ISO 13473-1
     out2 = tmp_path / "o2"
-    rc, _, err = _run(["analyse", f, "--out", out2, "--no-figures", "--no-friction",
-                       "--mpd-spike-alpha", f"{alpha:g}"], capsys)
+    rc, _, err = _run(
+        ["analyse", f, "--out", out2, "--no-figures", "--no-friction", "--mpd-spike-alpha", f"{alpha:g}"],
+        capsys,
+    )
     s2 = json.loads((out2 / "summary.json").read_text())
     assert s2["mpd_valid"] is True and s2["etd_m"] is not None
     assert not any("not valid per ISO 13473-1" in x for x in s2["warnings"])
     html = (out / "report.html").read_text()
-    assert "spike rule" in html                           # the report lists it too
+    assert "spike rule" in html  # the report lists it too
 
 
 def test_dropout_rule_named_when_dropouts_decide():
@@ -114,7 +141,7 @@ def test_dropout_rule_named_when_dropouts_decide():
     dx = 0.25e-3
     x = np.arange(int(0.8 / dx)) * dx
     h = 1e-3 * np.sin(2 * np.pi * x / 0.012) + 1e-5 * rng.standard_normal(x.size)
-    lost = (x % 0.1) < 0.03                               # 30 % of every 100 mm segment
+    lost = (x % 0.1) < 0.03  # 30 % of every 100 mm segment
     h[lost] = np.nan
     seg = mpd_segments(Profile(h, dx, np.isnan(h), "p"))
     assert seg.n_valid == 0 and seg.failed_rules() == {"dropouts": seg.n_total, "spikes": 0}
@@ -125,8 +152,18 @@ def test_dropout_rule_named_when_dropouts_decide():
 
 def test_friction_command_warns_a_peak_at_the_end_of_the_speed_range(tmp_path, capsys):
     out = tmp_path / "mu.csv"
-    rc, _, err = _run(["friction", "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
-                       "--velocities", "1e-3:1e-1:9", "--out", out], capsys)
+    rc, _, err = _run(
+        [
+            "friction",
+            "--psd",
+            ROOT / "sample_scans" / "asphalt_psd.csv",
+            "--velocities",
+            "1e-3:1e-1:9",
+            "--out",
+            out,
+        ],
+        capsys,
+    )
     assert rc == 0, err
     s = json.loads((tmp_path / "mu_summary.json").read_text())
     assert s["peak_at_edge"]

@@ -1,6 +1,7 @@
 """Every warning a command prints also lands in its outputs (issue 20): summary.json
 (``warnings``), summary.csv and campaign.csv (``warnings`` column), the HTML reports, and the
 campaign's headline counts the scans with warnings."""
+
 import csv
 import html
 import json
@@ -29,8 +30,13 @@ def _scans(tmp_path):
 
 def _run(*args):
     env = {"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"}
-    return subprocess.run([sys.executable, "-m", "pipelines.cli", *map(str, args)],
-                          capture_output=True, text=True, env=env, timeout=300)
+    return subprocess.run(
+        [sys.executable, "-m", "pipelines.cli", *map(str, args)],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=300,
+    )
 
 
 def test_analyse_warnings_in_json_csv_and_reports(tmp_path):
@@ -53,7 +59,7 @@ def test_analyse_warnings_in_json_csv_and_reports(tmp_path):
         assert all(w in page for w in own)
         every += own
     assert rows["big"]["warnings"] == "" or "small" not in rows["big"]["warnings"]
-    assert set(every) == set(printed)                    # each printed warning is somewhere
+    assert set(every) == set(printed)  # each printed warning is somewhere
     index = html.unescape((out / "report.html").read_text())
     assert all(w in index for w in printed)
 
@@ -61,8 +67,7 @@ def test_analyse_warnings_in_json_csv_and_reports(tmp_path):
 def test_campaign_warnings_column_report_and_headline(tmp_path):
     small, big = _scans(tmp_path)
     out = tmp_path / "c"
-    r = _run("batch", small, big, "--spacing", DX, "--out", out, "--workers", "1",
-             "--no-friction")
+    r = _run("batch", small, big, "--spacing", DX, "--out", out, "--workers", "1", "--no-friction")
     assert r.returncode == 0, r.stderr
     with open(out / "campaign.csv", newline="") as fh:
         rows = {row["file"].rsplit("/", 1)[-1]: row for row in csv.DictReader(fh)}

@@ -1,5 +1,6 @@
 """roadscan.windows reproduces the scipy.signal functions it replaces (so roadscan need not
 import scipy.signal): Tukey window, 2nd-order Butterworth design and zero-phase filtering."""
+
 import numpy as np
 import pytest
 from scipy.signal import butter, sosfiltfilt
@@ -21,8 +22,9 @@ def test_butterworth_and_filtfilt_match_scipy(wn):
     np.testing.assert_allclose(b, sos[0, :3], rtol=1e-12)
     np.testing.assert_allclose(a, sos[0, 3:], rtol=1e-12, atol=1e-15)
     x = np.random.default_rng(3).standard_normal((4, 257)).cumsum(axis=1)
-    np.testing.assert_allclose(filtfilt2(b, a, x), sosfiltfilt(sos, x, axis=1),
-                               rtol=0, atol=1e-11 * np.abs(x).max())
+    np.testing.assert_allclose(
+        filtfilt2(b, a, x), sosfiltfilt(sos, x, axis=1), rtol=0, atol=1e-11 * np.abs(x).max()
+    )
 
 
 def test_lowpass_gain_is_half_power_at_cutoff():

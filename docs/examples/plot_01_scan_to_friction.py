@@ -7,6 +7,7 @@ asphalt-like surface, 54 x 60 mm at 55.4 µm): levelling, dropout filling, the a
 power spectrum :math:`C(q)`, its reliable band, the self-affine fit, and Persson's
 :math:`\\mu(v)` for the default rubber.
 """
+
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -41,8 +42,12 @@ ax1.loglog(result.q_per_m, result.C_m4, "o", ms=3, label="measured C(q)")
 ax1.axvspan(result.q_per_m[0], lo, color="0.9")
 ax1.axvspan(hi, result.q_per_m[-1], color="0.9")
 q = np.geomspace(*fit.fit_band_per_m, 20)
-ax1.loglog(q, fit.C_at_q0_m4 * (q / fit.q0_per_m) ** (-2 * (1 + fit.hurst)), "r-",
-           label=f"self-affine fit, H = {fit.hurst:.2f}")
+ax1.loglog(
+    q,
+    fit.C_at_q0_m4 * (q / fit.q0_per_m) ** (-2 * (1 + fit.hurst)),
+    "r-",
+    label=f"self-affine fit, H = {fit.hurst:.2f}",
+)
 ax1.set_xlabel("q [1/m]")
 ax1.set_ylabel("C(q) [m$^4$]")
 ax1.legend()

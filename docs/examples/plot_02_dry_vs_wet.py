@@ -6,6 +6,7 @@ Water fills the road's cavities up to their spill level; a sliding tyre seals th
 the filled surface. The wet surface has less short-wavelength roughness where the water
 stands, so its spectrum and :math:`\\mu(v)` drop.
 """
+
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -18,7 +19,7 @@ from roadscan.rain import rain_fill
 
 ROOT = Path(pipelines.__file__).resolve().parents[1]
 scan = level(read(ROOT / "sample_scans" / "asphalt.x3p"))
-wet = rain_fill(scan)            # 4-connected, unlimited water: every depression full
+wet = rain_fill(scan)  # 4-connected, unlimited water: every depression full
 print(f"wetted fraction {wet.wetted_fraction:.1%}, water {wet.water_volume_m3_per_m2 * 1e3:.3g} mm")
 
 # %%
@@ -30,9 +31,12 @@ dry_result = pipelines.analyse(scan)
 wet_result = pipelines.analyse(wet.wet)
 
 fig, ax = plt.subplots(figsize=(6, 5))
-im = ax.imshow(wet.depth_m * 1e3, origin="lower", cmap="Blues",
-               extent=[0, scan.heights_m.shape[1] * scan.dx_m * 1e3,
-                       0, scan.heights_m.shape[0] * scan.dy_m * 1e3])
+im = ax.imshow(
+    wet.depth_m * 1e3,
+    origin="lower",
+    cmap="Blues",
+    extent=[0, scan.heights_m.shape[1] * scan.dx_m * 1e3, 0, scan.heights_m.shape[0] * scan.dy_m * 1e3],
+)
 fig.colorbar(im, ax=ax, label="water depth [mm]")
 ax.set_xlabel("x [mm]")
 ax.set_ylabel("y [mm]")

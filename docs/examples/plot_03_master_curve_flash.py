@@ -8,6 +8,7 @@ shift-factor table. We compute :math:`\\mu(v)` on the sample asphalt's spectrum 
 with flash heating (Persson 2006): at high speed the rubber heats at every length scale,
 stiffens less, dissipates less, and :math:`\\mu` falls.
 """
+
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -20,8 +21,10 @@ from pipelines.settings.rubber_file import load_rubber
 
 ROOT = Path(pipelines.__file__).resolve().parents[1]
 rubber = load_rubber(ROOT / "sample_scans" / "rubbers" / "pyvisco_master_table.toml")
-print(type(rubber).__name__, f"T_ref = {rubber.T_ref_C} C, "
-      f"{rubber.f_Hz.min():.2g} to {rubber.f_Hz.max():.2g} Hz")
+print(
+    type(rubber).__name__,
+    f"T_ref = {rubber.T_ref_C} C, {rubber.f_Hz.min():.2g} to {rubber.f_Hz.max():.2g} Hz",
+)
 
 # %%
 # The master curve and its shift

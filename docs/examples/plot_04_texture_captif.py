@@ -7,6 +7,7 @@ A 0.6 m excerpt of a stationary laser profiler reading of the CAPTIF test track'
 ``sample_scans/captif_station_1_excerpt.dat``). Road authorities report its macrotexture as the
 mean profile depth (ISO 13473-1) and as third-octave texture levels (ISO 13473-4).
 """
+
 from pathlib import Path
 
 import matplotlib.pyplot as plt
@@ -21,8 +22,10 @@ from roadscan.texture_spectrum import texture_spectrum
 ROOT = Path(pipelines.__file__).resolve().parents[1]
 profile = read(ROOT / "sample_scans" / "captif_station_1_excerpt.dat")
 x_m = np.arange(profile.heights_m.size) * profile.dx_m
-print(f"{profile.heights_m.size} points at {profile.dx_m * 1e6:.1f} um, "
-      f"{profile.unmeasured.mean():.1%} dropouts")
+print(
+    f"{profile.heights_m.size} points at {profile.dx_m * 1e6:.1f} um, "
+    f"{profile.unmeasured.mean():.1%} dropouts"
+)
 
 # %%
 # Mean profile depth
@@ -35,8 +38,10 @@ for alpha in (3.0, 6.0):
     mpd, note = mean_profile_depth(profile, spike_alpha=alpha)
     print(f"alpha = {alpha:g}: MPD = {None if mpd is None else round(mpd * 1e3, 2)} mm; {note}")
 mpd, _ = mean_profile_depth(profile, spike_alpha=6.0)
-print(f"ETD = {estimated_texture_depth(mpd) * 1e3:.2f} mm (ISO 13473-1), "
-      f"IFI speed constant Sp = {ifi_speed_constant(mpd):.0f} km/h (ASTM E1960)")
+print(
+    f"ETD = {estimated_texture_depth(mpd) * 1e3:.2f} mm (ISO 13473-1), "
+    f"IFI speed constant Sp = {ifi_speed_constant(mpd):.0f} km/h (ASTM E1960)"
+)
 
 # %%
 # Texture levels

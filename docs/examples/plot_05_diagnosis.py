@@ -9,6 +9,7 @@ answers: where do they disagree, which unmodelled effect explains it, and how mu
 held-out gap does it close? It writes ``diagnosis.json`` and ``report.html`` into ``out`` and
 returns the ``diagnosis.json`` dict.
 """
+
 import csv
 import tempfile
 from pathlib import Path
@@ -31,8 +32,10 @@ print("written:", sorted(p.name for p in out.iterdir()), "| verdict:", d["verdic
 # estimated from the measurement itself. ``where`` splits it by speed decade with a p-value.
 print(f"baseline gap {d['baseline_gap']:.3g} (noise {d['noise']:.3g}, source: {d['noise_source']})")
 for w in d["where"]:
-    print(f"  {w['v_min_m_per_s']:.0e}..{w['v_max_m_per_s']:.0e} m/s: gap {w['gap']:.3f}"
-          f"{'  significant' if w['significant'] else ''}")
+    print(
+        f"  {w['v_min_m_per_s']:.0e}..{w['v_max_m_per_s']:.0e} m/s: gap {w['gap']:.3f}"
+        f"{'  significant' if w['significant'] else ''}"
+    )
 
 # %%
 # Step 2: which length scales carry friction?
@@ -41,9 +44,11 @@ for w in d["where"]:
 # :math:`d\ln\mu/d\ln q_1`. Above 0.3 friction depends on the spectrum's cut-off, so the
 # diagnosis treats :math:`q_1` as uncertain (the "calibration" candidates below).
 for b in d["band_map"]:
-    print(f"  {b['v_min_m_per_s']:.0e}..{b['v_max_m_per_s']:.0e} m/s: "
-          f"q {b['q_min_per_m']:.2g}..{b['q_max_per_m']:.2g} 1/m, "
-          f"dln mu/dln q1 = {b['dlnmu_dlnq1']:.2f}, carried by cut-off: {b['carried_by_cutoff']}")
+    print(
+        f"  {b['v_min_m_per_s']:.0e}..{b['v_max_m_per_s']:.0e} m/s: "
+        f"q {b['q_min_per_m']:.2g}..{b['q_max_per_m']:.2g} 1/m, "
+        f"dln mu/dln q1 = {b['dlnmu_dlnq1']:.2f}, carried by cut-off: {b['carried_by_cutoff']}"
+    )
 
 # %%
 # Step 3: the candidates, scored on held-out points
@@ -86,7 +91,9 @@ def pct(x):
 
 
 lo, hi = v_.get("shrink_interval") or (None, None)
-print(f"verdict: {v_['effect']}, shrink {pct(v_.get('shrink'))} (5-95 %: {pct(lo)} to {pct(hi)}), "
-      f"confidence {v_.get('confidence')}, at bound: {v_.get('at_bound')}")
+print(
+    f"verdict: {v_['effect']}, shrink {pct(v_.get('shrink'))} (5-95 %: {pct(lo)} to {pct(hi)}), "
+    f"confidence {v_.get('confidence')}, at bound: {v_.get('at_bound')}"
+)
 print("reason:", v_["reason"])
 print("inputs assumed rather than given:", d["inputs"].get("assumed"))

@@ -10,6 +10,7 @@ only its *reliable band* (the field of view at the low end, and below the surfac
 its plateau; Nyquist, the lateral resolution and the noise floor at the high end), and the
 parts are merged on a common grid, as ``roadscan combine`` does.
 """
+
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -19,19 +20,24 @@ from roadscan.rolloff_origin import surface_q0
 from roadscan.synth import model_psd
 from roadscan.synth_measure import measure_synthetic
 
-H, K, Q_ROLL = 0.8, 1.3e-3, 1e3          # C(q) = K q^(-2(H+1)) [m^4] above the roll-off [1/m]
-laser = measure_synthetic(256, 2e-4, H, K, q_roll_per_m=Q_ROLL, resolution_m=4e-4, seed=1,
-                          name="texture laser")
-confocal = measure_synthetic(512, 5e-6, H, K, q_roll_per_m=Q_ROLL, resolution_m=1e-5,
-                             noise_rms_m=3e-7, seed=2, name="confocal")
-sources = [source_spectrum(hm, hm.name, hm.name, resolution_m=r)
-           for hm, r in ((laser, 4e-4), (confocal, 1e-5))]
+H, K, Q_ROLL = 0.8, 1.3e-3, 1e3  # C(q) = K q^(-2(H+1)) [m^4] above the roll-off [1/m]
+laser = measure_synthetic(
+    256, 2e-4, H, K, q_roll_per_m=Q_ROLL, resolution_m=4e-4, seed=1, name="texture laser"
+)
+confocal = measure_synthetic(
+    512, 5e-6, H, K, q_roll_per_m=Q_ROLL, resolution_m=1e-5, noise_rms_m=3e-7, seed=2, name="confocal"
+)
+sources = [
+    source_spectrum(hm, hm.name, hm.name, resolution_m=r) for hm, r in ((laser, 4e-4), (confocal, 1e-5))
+]
 merged, fit, notes = combine_sources(sources)
 for s in sources:
     lo, hi = s.band.lo_per_m, s.band.hi_per_m
     print(f"{s.label}: reliable from {lo:.3g} to {hi:.3g} 1/m ({s.band.hi_reason})")
-print(f"merged: {merged.q_per_m[0]:.3g} to {merged.q_per_m[-1]:.3g} 1/m, fitted H = {fit['hurst']:.3f}"
-      f" (true {H})")
+print(
+    f"merged: {merged.q_per_m[0]:.3g} to {merged.q_per_m[-1]:.3g} 1/m, fitted H = {fit['hurst']:.3f}"
+    f" (true {H})"
+)
 # the laser's knee is the surface's roll-off (far from its field of view and its resolution):
 # the plateau below it stays in the merged curve, and q0 is reported (combine.json's q0_per_m)
 q0, how = surface_q0(verdicts=[s.roll_off for s in sources if s.roll_off is not None])

@@ -7,6 +7,7 @@ tyre on a wet road (:doc:`/wet_friction`): the water the contact seals in its po
 left under a tread block after the time it takes to cross the footprint, and the adhesion water
 removes. The same physics is in :mod:`friction.wet` for a spectrum you already have.
 """
+
 import tempfile
 from pathlib import Path
 
@@ -28,15 +29,18 @@ speeds = [1e-3, 1e-1, 1.0, 20 / 3.6, 40 / 3.6, 60 / 3.6, 80 / 3.6, 100 / 3.6]
 # The default wet model is ``"persson"``; ``wet_model="fill"`` gives the thesis's model (every
 # basin filled). The result is ``comparison.json`` as a dict.
 with tempfile.TemporaryDirectory() as out:
-    r = pipelines.dry_vs_wet(ROOT / "sample_scans" / "asphalt.x3p", Path(out) / "wet",
-                             rubber=rubber, velocities=speeds)
+    r = pipelines.dry_vs_wet(
+        ROOT / "sample_scans" / "asphalt.x3p", Path(out) / "wet", rubber=rubber, velocities=speeds
+    )
 v = np.array([float(s) for s in r["mu_dry"]])
 mu_dry, mu_wet = (np.array(list(r[k].values())) for k in ("mu_dry", "mu_wet"))
 print(f"wet model {r['wet_model']['name']}, friction model {r['wet_model']['friction_model']}")
 print(f"sealed pools: {r['sealing']['pool_count']}, {r['sealing']['sealed_fraction']:.1%} of the area")
 print(f"mu_wet / mu_dry at {v[0]:g} m/s: {mu_wet[0] / mu_dry[0]:.3f}")
-print(f"speed constant of mu_wet over 20-100 km/h: {r['speed_constant_model_kmh']} km/h; "
-      f"IFI (ASTM E1960): {r['ifi_speed_constant_kmh']} ({r.get('mpd_note') or 'from the MPD'})")
+print(
+    f"speed constant of mu_wet over 20-100 km/h: {r['speed_constant_model_kmh']} km/h; "
+    f"IFI (ASTM E1960): {r['ifi_speed_constant_kmh']} ({r.get('mpd_note') or 'from the MPD'})"
+)
 
 fig, ax = plt.subplots(figsize=(6, 4))
 ax.semilogx(v * 3.6, mu_dry, "o-", label="dry")
@@ -66,8 +70,9 @@ def engine(p, v_m_per_s, sigma0_Pa):
 fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 4))
 ax1.plot(vv[1:] * 3.6, dry.mu[1:], "k-", label="dry")
 for depth in (0.1e-3, 0.5e-3, 2e-3):
-    wf = wet_friction(dry=dry, psd=psd, engine=engine, sigma0_Pa=2e5,
-                      conditions=WetConditions(water_depth_m=depth))
+    wf = wet_friction(
+        dry=dry, psd=psd, engine=engine, sigma0_Pa=2e5, conditions=WetConditions(water_depth_m=depth)
+    )
     ax1.plot(vv[1:] * 3.6, wf.mu_wet[1:], "o-", label=f"wet, {depth * 1e3:g} mm of water")
     ax2.semilogy(vv[1:] * 3.6, np.maximum(wf.film_m[1:], 1e-9) * 1e6, "o-", label=f"{depth * 1e3:g} mm")
     print(f"{depth * 1e3:g} mm: mu_wet/mu_dry {wf.ratio[1]:.3f} at 20 km/h, {wf.ratio[-1]:.3f} at 100 km/h")

@@ -9,15 +9,16 @@ exceeds the texture; at the footprint's front the water's inertia carries part o
 this package adds only what water changes. Modules: ``water`` (viscosity, conditions and their sources),
 ``gap`` (u(p) and p_cont(u)), ``squeeze``, ``inertia``, ``sealing``, ``adhesion``, ``model``.
 """
+
 from .model import WetFriction, wet_friction
 from .sealing import sealing_wave_vector
 from .water import DEFAULT_SOURCES, WetConditions, water_viscosity_Pa_s
 
 __all__ = [
-           "DEFAULT_SOURCES",
-           "WetConditions",
-           "WetFriction",
-           "sealing_wave_vector",
-           "water_viscosity_Pa_s",
-           "wet_friction",
+    "DEFAULT_SOURCES",
+    "WetConditions",
+    "WetFriction",
+    "sealing_wave_vector",
+    "water_viscosity_Pa_s",
+    "wet_friction",
 ]

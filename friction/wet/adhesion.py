@@ -10,6 +10,7 @@ here. Wet, only the contact that water does not separate keeps it: the real cont
 contact pressure left after squeeze-out, outside the pools the rubber seals (where it touches
 water, not road).
 """
+
 from __future__ import annotations
 
 import numpy as np

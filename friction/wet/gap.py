@@ -15,6 +15,7 @@ of the load the asperity contact carries when the surfaces are u apart (the rest
 the water between them). u is measured from the mean plane of the rough surface: the volume
 of the gap per nominal area.
 """
+
 from __future__ import annotations
 
 from functools import lru_cache
@@ -35,7 +36,7 @@ def _J_table(gamma):
     """ln y nodes and J(y) on them (y from 1e-12 to 7), by the trapezoid rule in ln x."""
     lx = np.linspace(np.log(1e-12), np.log(7.0), 4001)
     x = np.exp(lx)
-    f = (gamma + 3.0 * (1.0 - gamma) * erf(x) ** 2) * np.exp(-x * x)    # dx/x = d ln x
+    f = (gamma + 3.0 * (1.0 - gamma) * erf(x) ** 2) * np.exp(-x * x)  # dx/x = d ln x
     seg = 0.5 * (f[1:] + f[:-1]) * np.diff(lx)
     J = np.concatenate([np.cumsum(seg[::-1])[::-1], [0.0]])
     return lx, J
@@ -102,16 +103,17 @@ def mean_separation(q_per_m, C_m4, G, sigma0_Pa, p_Pa, gamma=SEPARATION_GAMMA):
     G = np.atleast_2d(np.asarray(G, dtype=float))
     p = np.atleast_1d(np.asarray(p_Pa, dtype=float))
     s = np.diff(np.log(q))
-    I3 = cumulative_G(q ** 4 * C, s)                 # int_{q0}^{q} q'^3 C dq'
+    I3 = cumulative_G(q**4 * C, s)  # int_{q0}^{q} q'^3 C dq'
     with np.errstate(divide="ignore"):
         w = np.where(I3 > 0, 1.0 / np.sqrt(np.pi * np.maximum(I3, 1e-300)), 0.0)
-        a = np.where(G > 0, 1.0 / (2.0 * np.reshape(sigma0_Pa, (-1, 1)) * np.sqrt(np.maximum(G, 1e-300))),
-                     np.inf)                         # (nv, nq): y = p a
-    ws = np.zeros(q.size)                            # trapezoid weights in ln q
+        a = np.where(
+            G > 0, 1.0 / (2.0 * np.reshape(sigma0_Pa, (-1, 1)) * np.sqrt(np.maximum(G, 1e-300))), np.inf
+        )  # (nv, nq): y = p a
+    ws = np.zeros(q.size)  # trapezoid weights in ln q
     ws[:-1] += 0.5 * s
     ws[1:] += 0.5 * s
-    kern = np.sqrt(np.pi) * ws * q ** 3 * C * w      # (nq,)
-    y = p[None, :, None] * a[:, None, :]             # (nv, np, nq)
+    kern = np.sqrt(np.pi) * ws * q**3 * C * w  # (nq,)
+    y = p[None, :, None] * a[:, None, :]  # (nv, np, nq)
     return np.einsum("vpq,q->vp", J_function(y, gamma), kern)
 
 
@@ -135,6 +137,6 @@ def contact_pressure(u_m, u_table, p_table):
         p_cont [Pa], shaped like ``u_m``.
     """
     u = np.asarray(u_m, dtype=float)
-    ut, lp = u_table[::-1], np.log(p_table[::-1])      # increasing u
+    ut, lp = u_table[::-1], np.log(p_table[::-1])  # increasing u
     out = np.exp(np.interp(u, ut, lp))
     return np.where(u > ut[-1], 0.0, out)

@@ -24,14 +24,19 @@ microseconds the front zone is a fraction of a millimetre and the inertial lift 
 The nominal pressure of the friction run stands for the inflation pressure: in a tyre's
 footprint the mean contact pressure is close to it (Horne and Dreher's premise).
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-__all__ = ["HORNE_DREHER_KMH_PER_SQRT_KPA", "horne_dreher_speed", "implied_lift_coefficient",
-           "dynamic_lift_share"]
+__all__ = [
+    "HORNE_DREHER_KMH_PER_SQRT_KPA",
+    "horne_dreher_speed",
+    "implied_lift_coefficient",
+    "dynamic_lift_share",
+]
 
 #: Horne & Dreher's hydroplaning speed per square root of the inflation pressure [km/h / kPa^0.5]:
 #: 9 knots per psi^0.5 (NASA TN D-2056, 1963), i.e. 9 x 1.852 / sqrt(6.894757) = 6.348

@@ -35,6 +35,7 @@ The shares of ``mu_dry - mu_wet`` at each speed: sealing ``mu_h(C, p0) - mu_h(C_
 squeeze-out ``mu_h(C_s, p0) - (p_c/p0) mu_h(C_s, p_c)`` (or minus the drag), adhesion the
 adhesive term lost; they sum to one.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -120,15 +121,18 @@ class WetFriction:
         """The loss ``mu_dry - mu_wet`` by mechanism, in mu (the numerators of :attr:`shares`):
         ``sealing`` mu_h(C) - mu_h(C_s), ``squeeze_out`` mu_h(C_s) - mu_h,wet, ``adhesion``
         the adhesive term lost."""
-        return {"sealing": self.hysteresis_dry - self.hysteresis_sealed,
-                "squeeze_out": self.hysteresis_sealed - self.hysteresis_wet,
-                "adhesion": self.adhesion_dry - self.adhesion_wet}
+        return {
+            "sealing": self.hysteresis_dry - self.hysteresis_sealed,
+            "squeeze_out": self.hysteresis_sealed - self.hysteresis_wet,
+            "adhesion": self.adhesion_dry - self.adhesion_wet,
+        }
 
     @property
     def ratio(self):
         """mu_wet / mu_dry per speed (NaN where mu_dry is 0)."""
-        return np.divide(self.mu_wet, self.mu_dry, out=np.full(self.mu_dry.shape, np.nan),
-                         where=self.mu_dry > 0)
+        return np.divide(
+            self.mu_wet, self.mu_dry, out=np.full(self.mu_dry.shape, np.nan), where=self.mu_dry > 0
+        )
 
 
 def band_rms(q_per_m, C_m4):
@@ -138,8 +142,9 @@ def band_rms(q_per_m, C_m4):
     return float(np.sqrt(np.sum(0.5 * (g[1:] + g[:-1]) * np.diff(np.log(q)))))
 
 
-def wet_friction(*, dry, psd, engine, sigma0_Pa, conditions=None, psd_sealed=None,
-                 sealed_fraction=0.0, q_seal_per_m=None):
+def wet_friction(
+    *, dry, psd, engine, sigma0_Pa, conditions=None, psd_sealed=None, sealed_fraction=0.0, q_seal_per_m=None
+):
     """Wet friction mu_wet(v) beside the dry one (module docstring for the model).
 
     Parameters
@@ -197,9 +202,16 @@ def wet_friction(*, dry, psd, engine, sigma0_Pa, conditions=None, psd_sealed=Non
     t_c = cond.footprint_m / v
     u = np.empty(v.size)
     for i in range(v.size):
-        u[i] = squeeze_film(cond.water_depth_m, t_c[i], p0_Pa=p0, eta_Pa_s=eta,
-                            R_m=cond.squeeze_radius_m, u_table=u_tab[i], p_table=p_tab,
-                            contact_area=float(dry.P[i, -1]))[()]
+        u[i] = squeeze_film(
+            cond.water_depth_m,
+            t_c[i],
+            p0_Pa=p0,
+            eta_Pa_s=eta,
+            R_m=cond.squeeze_radius_m,
+            u_table=u_tab[i],
+            p_table=p_tab,
+            contact_area=float(dry.P[i, -1]),
+        )[()]
     u_dry = u_tab[:, -1]
     film = np.maximum(u - u_dry, 0.0)
     share = np.array([contact_pressure(u[i], u_tab[i], p_tab)[()] for i in range(v.size)]) / p0
@@ -207,9 +219,21 @@ def wet_friction(*, dry, psd, engine, sigma0_Pa, conditions=None, psd_sealed=Non
     # the water's inertia at the footprint's front (friction.wet.inertia): the front zone is
     # where the film has not yet thinned to the texture's height
     tex = TEXTURE_RMS_MULTIPLE * h_rms
-    t1 = np.array([squeeze_time(cond.water_depth_m, u_dry[i] + tex, p0_Pa=p0, eta_Pa_s=eta,
-                                R_m=cond.squeeze_radius_m, u_table=u_tab[i], p_table=p_tab,
-                                contact_area=float(dry.P[i, -1])) for i in range(v.size)])
+    t1 = np.array(
+        [
+            squeeze_time(
+                cond.water_depth_m,
+                u_dry[i] + tex,
+                p0_Pa=p0,
+                eta_Pa_s=eta,
+                R_m=cond.squeeze_radius_m,
+                u_table=u_tab[i],
+                p_table=p_tab,
+                contact_area=float(dry.P[i, -1]),
+            )
+            for i in range(v.size)
+        ]
+    )
     lift = dynamic_lift_share(v, p_Pa=p0, front_time_s=t1, footprint_m=cond.footprint_m)
     share = share * (1.0 - lift)
     lost = (film > tex) | (lift >= 1.0 - 1e-12)
@@ -217,8 +241,7 @@ def wet_friction(*, dry, psd, engine, sigma0_Pa, conditions=None, psd_sealed=Non
     h_wet, A_wet = h_seal.copy(), A_seal.copy()
     part = (share < 1.0 - 1e-12) & ~lost
     if np.any(part):
-        r = engine(psd if psd_sealed is None else psd_sealed, v[part],
-                   p0 * np.maximum(share[part], 1e-9))
+        r = engine(psd if psd_sealed is None else psd_sealed, v[part], p0 * np.maximum(share[part], 1e-9))
         h_wet[part] = share[part] * r.mu
         A_wet[part] = r.P[:, -1]
     drag = eta * v / (np.maximum(u, 1e-12) * p0)
@@ -233,8 +256,35 @@ def wet_friction(*, dry, psd, engine, sigma0_Pa, conditions=None, psd_sealed=Non
     with np.errstate(divide="ignore", invalid="ignore"):
         shares = {k: np.where(diff > 0, x / diff, np.nan) for k, x in parts.items()}
     v_lost = float(v[np.argmax(lost)]) if lost.any() else None
-    meta = {"conditions": cond, "viscosity_Pa_s": eta, "h_rms_m": h_rms, "sigma0_Pa": p0,
-            "squeeze_radius_m": cond.squeeze_radius_m, "dwell_time_s": t_c, "texture_height_m": tex,
-            "front_time_s": t1, "horne_dreher_v_m_per_s": float(horne_dreher_speed(p0))}
-    return WetFriction(v, mu_dry, mu_wet, dry.mu, h_seal, h_wet, a_dry, a_wet, u, u_dry, film,
-                       share, shares, lost, v_lost, q_seal_per_m, a_s, meta, lift_share=lift)
+    meta = {
+        "conditions": cond,
+        "viscosity_Pa_s": eta,
+        "h_rms_m": h_rms,
+        "sigma0_Pa": p0,
+        "squeeze_radius_m": cond.squeeze_radius_m,
+        "dwell_time_s": t_c,
+        "texture_height_m": tex,
+        "front_time_s": t1,
+        "horne_dreher_v_m_per_s": float(horne_dreher_speed(p0)),
+    }
+    return WetFriction(
+        v,
+        mu_dry,
+        mu_wet,
+        dry.mu,
+        h_seal,
+        h_wet,
+        a_dry,
+        a_wet,
+        u,
+        u_dry,
+        film,
+        share,
+        shares,
+        lost,
+        v_lost,
+        q_seal_per_m,
+        a_s,
+        meta,
+        lift_share=lift,
+    )

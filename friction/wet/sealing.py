@@ -10,6 +10,7 @@ spectrum: :func:`roadscan.sealing.seal_pools` fills them on a height map given t
 ``q_c = zeta_c q0`` and the contact fraction returned here, and the wet friction integrates
 the sealed map's spectrum (:func:`friction.wet.model.wet_friction`).
 """
+
 from __future__ import annotations
 
 import numpy as np

@@ -23,6 +23,7 @@ gap ``u / (1 - c)`` (conductivity its cube). Bruggeman's ``c (0 - s_e)/(0 + s_e)
 with c the engine's contact area at the finest scale scaled by the load the contact carries,
 ``c = (A/A0)(p0) p_cont / p0`` (A proportional to load in Persson's theory at small A).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -30,6 +31,7 @@ import numpy as np
 from ..contact import cumulative_G
 
 __all__ = ["flow_factor", "squeeze_film", "squeeze_time", "stefan_time"]
+
 
 def flow_factor(contact_fraction):
     """Pressure flow factor phi_p = (1 - 2c) / (1 - c)^3 of a two-phase interface with a closed
@@ -78,11 +80,10 @@ def stefan_time(h_m, h0_m, p_Pa, eta_Pa_s, R_m):
     ----------
     J. Stefan, Sitzungsber. Akad. Wiss. Wien 69, 713 (1874).
     """
-    return 3.0 * eta_Pa_s * R_m ** 2 / (4.0 * p_Pa) * (1.0 / np.square(h_m) - 1.0 / np.square(h0_m))
+    return 3.0 * eta_Pa_s * R_m**2 / (4.0 * p_Pa) * (1.0 / np.square(h_m) - 1.0 / np.square(h0_m))
 
 
-def squeeze_film(u0_m, t_c_s, *, p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area=0.0,
-                 nodes=1200):
+def squeeze_film(u0_m, t_c_s, *, p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area=0.0, nodes=1200):
     """Mean separation [m] after dwell times ``t_c_s`` for one speed's contact mechanics.
 
     Integrates ``du/dt = -(2 u^3 phi_p (p0 - p_cont(u)) / (3 eta R^2))`` from ``u0_m`` (module
@@ -180,11 +181,11 @@ def _time_table(p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area, nodes):
     u = u_dry + x
     p_c = 0.0 if rigid else contact_pressure(u, u_table, p_table)
     phi = flow_factor(contact_area * np.asarray(p_c) / p0_Pa)
-    rate = 2.0 * u ** 3 * phi * np.maximum(p0_Pa - p_c, 0.0) / (3.0 * eta_Pa_s * R_m ** 2)
+    rate = 2.0 * u**3 * phi * np.maximum(p0_Pa - p_c, 0.0) / (3.0 * eta_Pa_s * R_m**2)
     with np.errstate(divide="ignore"):
-        dtdl = np.where(rate > 0, x / rate, np.inf)         # dt / d(-ln x)
+        dtdl = np.where(rate > 0, x / rate, np.inf)  # dt / d(-ln x)
     fin = np.isfinite(dtdl)
-    n = int(np.argmin(fin)) if not fin.all() else lx.size   # nodes before the first stall
+    n = int(np.argmin(fin)) if not fin.all() else lx.size  # nodes before the first stall
     T = np.full(lx.shape, np.inf)
     T[:n] = cumulative_G(dtdl[:n], -np.diff(lx[:n])) if n > 1 else 0.0
-    return u_dry, lx[:n], T[:n]    # each interval exact for dt/d(ln x) a power of x (Stefan's)
+    return u_dry, lx[:n], T[:n]  # each interval exact for dt/d(ln x) a power of x (Stefan's)

@@ -8,6 +8,7 @@ Viscosity of liquid water (Vogel's equation, the form of Viswanath & Natarajan's
 It gives 1.0034 mPa s at 20 C, 1.774 mPa s at 0 C and 0.653 mPa s at 40 C, within 1 % of the
 IAPWS 2008 formulation (1.0016, 1.7914, 0.6527 mPa s at 0.1 MPa) from 0 to 100 C.
 """
+
 from __future__ import annotations
 
 import math
@@ -49,17 +50,27 @@ PERCOLATION_CONTACT_FRACTION = 0.42
 
 #: every default and its source, as the report shows them
 DEFAULT_SOURCES = {
-    "water_depth_m": (DEFAULT_WATER_DEPTH_M,
-                      "ASTM E274/E274M: nominal water film 0.5 mm ahead of the test tyre"),
+    "water_depth_m": (
+        DEFAULT_WATER_DEPTH_M,
+        "ASTM E274/E274M: nominal water film 0.5 mm ahead of the test tyre",
+    ),
     "water_temperature_C": (DEFAULT_WATER_TEMPERATURE_C, "20 C, the reference temperature of skid tests"),
-    "footprint_m": (DEFAULT_FOOTPRINT_M,
-                    "passenger-car footprint 0.10-0.15 m (Gent & Walter, The Pneumatic Tire, 2006)"),
+    "footprint_m": (
+        DEFAULT_FOOTPRINT_M,
+        "passenger-car footprint 0.10-0.15 m (Gent & Walter, The Pneumatic Tire, 2006)",
+    ),
     "block_size_m": (DEFAULT_BLOCK_SIZE_M, "passenger-car tread blocks 20-30 mm (Gent & Walter 2006)"),
-    "percolation_contact_fraction": (PERCOLATION_CONTACT_FRACTION,
-                                     "Dapp et al., PRL 108, 244301 (2012): non-contact area percolates "
-                                     "at A/A0 ~ 0.42"),
-    "shear_stress_Pa": (None, ("no default: the frictional shear stress of the rubber-road contact is an "
-                              "input; without it adhesion is left out of dry and wet friction")),
+    "percolation_contact_fraction": (
+        PERCOLATION_CONTACT_FRACTION,
+        "Dapp et al., PRL 108, 244301 (2012): non-contact area percolates at A/A0 ~ 0.42",
+    ),
+    "shear_stress_Pa": (
+        None,
+        (
+            "no default: the frictional shear stress of the rubber-road contact is an "
+            "input; without it adhesion is left out of dry and wet friction"
+        ),
+    ),
 }
 
 
@@ -135,8 +146,9 @@ class WetConditions:
         for name in ("footprint_m", "block_size_m"):
             if not (math.isfinite(getattr(self, name)) and getattr(self, name) > 0):
                 raise ValueError(f"{name} must be a positive length [m]")
-        if self.shear_stress_Pa is not None and not (math.isfinite(self.shear_stress_Pa)
-                                                     and self.shear_stress_Pa >= 0):
+        if self.shear_stress_Pa is not None and not (
+            math.isfinite(self.shear_stress_Pa) and self.shear_stress_Pa >= 0
+        ):
             raise ValueError("shear_stress_Pa must be a finite stress >= 0 [Pa] or None")
         if not (0 < self.percolation_contact_fraction < 1):
             raise ValueError("percolation_contact_fraction must lie in (0, 1)")

@@ -8,16 +8,16 @@ calls these steps (:mod:`pipelines.chain.steps`).
   :func:`scan_friction` (and the ``psd_band.json`` sidecar)
 - :mod:`~pipelines.chain.provenance`: where mu comes from, and why a mu is implausible
 """
+
 from __future__ import annotations
 
 from pipelines.chain.steps import (
-                                   FrictionOutcome,
-                                   friction_of,
-                                   friction_psd,
-                                   judge_fine_end,
-                                   measure,
-                                   scan_friction,
+    FrictionOutcome,
+    friction_of,
+    friction_psd,
+    judge_fine_end,
+    measure,
+    scan_friction,
 )
 
-__all__ = ["measure", "friction_psd", "friction_of", "scan_friction", "judge_fine_end",
-           "FrictionOutcome"]
+__all__ = ["measure", "friction_psd", "friction_of", "scan_friction", "judge_fine_end", "FrictionOutcome"]

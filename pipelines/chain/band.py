@@ -12,6 +12,7 @@ found on the measured spectrum; then
 - ``summary.json`` gets ``reliable_band_per_m`` [lo, hi], ``reliable_band_reasons``
   {"lo": ..., "hi": ...} and ``reliable_band_limits_per_m`` (every candidate end).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -48,7 +49,7 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
 
     spec = an.spectrum
 
-    def whole():                          # the fit over --fit-band, or the whole spectrum
+    def whole():  # the fit over --fit-band, or the whole spectrum
         if an.fit is None:
             an.fit = fit_self_affine(spec, band=fit_band)
 
@@ -66,7 +67,7 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
     inner = top & (q >= rb.lo_per_m * (1 - 1e-9))
     if np.count_nonzero(inner & (C > 0)) < 5:
         whole()
-        return rb                                    # too narrow to refit: the whole fit
+        return rb  # too narrow to refit: the whole fit
     cut = Spectrum(q[top], C[top], count=np.asarray(cnt)[top], kind=spec.kind, meta=spec.meta)
     sub = Spectrum(q[inner], C[inner], count=np.asarray(cnt)[inner], kind=spec.kind)
     try:
@@ -75,8 +76,8 @@ def reliable_fit(an, resolution_m=None, window_alpha=0.25, fit_band=None):
         band = (float(q[inner][0]), float(q[inner][-1]))
     q_roll = rb.q_roll_per_m if rb.q_roll_per_m and rb.q_roll_per_m < band[0] * 1.5 else None
     try:
-        an.fit = fit_self_affine(cut, band=band, roll_off=q_roll)   # the band's roll-off test
-    except ValueError:                                              # saw every ring
+        an.fit = fit_self_affine(cut, band=band, roll_off=q_roll)  # the band's roll-off test
+    except ValueError:  # saw every ring
         whole()
     return rb
 
@@ -131,11 +132,16 @@ def summary_keys(rb, name=""):
     if not rb.valid:
         from pipelines.checks import validate
 
-        validate.warn(f"{name}: reliable band {rb.lo_per_m:.3g}-{rb.hi_per_m:.3g} 1/m is narrower "
-                      f"than a factor 2 (the scan is small for its spacing: {rb.lo_reason.split(':')[0]} "
-                      f"vs {rb.hi_reason.split(':')[0]}): fit and friction use the whole spectrum")
-    return {"reliable_band_per_m": rb.band, "reliable_band_reasons": rb.reasons,
-            "reliable_band_limits_per_m": dict(rb.limits)}
+        validate.warn(
+            f"{name}: reliable band {rb.lo_per_m:.3g}-{rb.hi_per_m:.3g} 1/m is narrower "
+            f"than a factor 2 (the scan is small for its spacing: {rb.lo_reason.split(':')[0]} "
+            f"vs {rb.hi_reason.split(':')[0]}): fit and friction use the whole spectrum"
+        )
+    return {
+        "reliable_band_per_m": rb.band,
+        "reliable_band_reasons": rb.reasons,
+        "reliable_band_limits_per_m": dict(rb.limits),
+    }
 
 
 def friction_provenance(an, spec, psd, fr, settings, rubber, name=None):
@@ -153,20 +159,37 @@ def friction_provenance(an, spec, psd, fr, settings, rubber, name=None):
     name = an.name if name is None else name
 
     def recompute(p):
-        return friction_curve(p, rubber, fr.v_m_per_s, settings.sigma0_Pa, settings.T0_C,
-                              settings.flash, settings.nu, settings.contact_gamma,
-                              warn_high=False).mu
+        return friction_curve(
+            p,
+            rubber,
+            fr.v_m_per_s,
+            settings.sigma0_Pa,
+            settings.T0_C,
+            settings.flash,
+            settings.nu,
+            settings.contact_gamma,
+            warn_high=False,
+        ).mu
 
     share = mp.extrapolated_share(psd, fr.mu, float(spec.q_max_per_m), recompute)
     i = int(np.argmax(fr.mu))
     slope = mp.rms_slope(psd)
-    info = {"extrapolated_share": share, "extrapolated_share_at_peak": float(share[i]),
-            "rubber": mp.rubber_label(settings.rubber, settings.sigma0_Pa, fr.meta.get("T0_C")),
-            "rms_slope_band": slope, "refused": None}
-    cause = mp.implausible_cause(float(fr.mu[i]), share_at_peak=float(share[i]), slope=slope,
-                                 rms_height_m=an.roughness.get("Sq_m", an.roughness.get("Rq_m")),
-                                 default_rubber=settings.rubber is None, q1_per_m=psd.q1_per_m,
-                                 units_from_file=mp.units_from_file(an.source))
+    info = {
+        "extrapolated_share": share,
+        "extrapolated_share_at_peak": float(share[i]),
+        "rubber": mp.rubber_label(settings.rubber, settings.sigma0_Pa, fr.meta.get("T0_C")),
+        "rms_slope_band": slope,
+        "refused": None,
+    }
+    cause = mp.implausible_cause(
+        float(fr.mu[i]),
+        share_at_peak=float(share[i]),
+        slope=slope,
+        rms_height_m=an.roughness.get("Sq_m", an.roughness.get("Rq_m")),
+        default_rubber=settings.rubber is None,
+        q1_per_m=psd.q1_per_m,
+        units_from_file=mp.units_from_file(an.source),
+    )
     if cause is not None:
         validate.warn(f"{name}: {cause}")
     edge = mp.edge_warning(fr.v_m_per_s, fr.mu)
@@ -180,16 +203,23 @@ def add_provenance(summary, info, q0, q1):
     if info is None:
         return summary
     if info["refused"]:
-        summary["friction"] = {"refused": info["refused"], "rubber": info["rubber"],
-                               "q0_per_m": q0, "q1_per_m": q1,
-                               "rms_slope_band": info["rms_slope_band"]}
+        summary["friction"] = {
+            "refused": info["refused"],
+            "rubber": info["rubber"],
+            "q0_per_m": q0,
+            "q1_per_m": q1,
+            "rms_slope_band": info["rms_slope_band"],
+        }
         if info.get("q1_rule"):
             summary["friction"]["q1_rule"] = info["q1_rule"]
         return summary
     summary["friction"].update(
-        q1_rule=info.get("q1_rule"), rubber=info["rubber"], rms_slope_band=info["rms_slope_band"],
+        q1_rule=info.get("q1_rule"),
+        rubber=info["rubber"],
+        rms_slope_band=info["rms_slope_band"],
         extrapolated_share=[float(x) for x in info["extrapolated_share"]],
-        extrapolated_share_at_peak=info["extrapolated_share_at_peak"])
+        extrapolated_share_at_peak=info["extrapolated_share_at_peak"],
+    )
     return summary
 
 
@@ -209,22 +239,24 @@ def report_rows(summary):
     if fr:
         if fr.get("rubber"):
             rows["rubber (friction)"] = fr["rubber"]
-        if fr.get("q1_per_m") is not None:           # which q1, and the rule that put it there
+        if fr.get("q1_per_m") is not None:  # which q1, and the rule that put it there
             from pipelines.output.units import quantity
 
-            rows["friction band's short end q1"] = (f"{quantity('q1_per_m', fr['q1_per_m'])}: "
-                                                    f"{fr.get('q1_rule') or 'not stated'}")
+            rows["friction band's short end q1"] = (
+                f"{quantity('q1_per_m', fr['q1_per_m'])}: {fr.get('q1_rule') or 'not stated'}"
+            )
         if fr.get("refused"):
             rows["friction"] = fr["refused"]
         else:
-            if fr.get("peak_at_edge"):          # no peak inside the speed range: never "peak"
+            if fr.get("peak_at_edge"):  # no peak inside the speed range: never "peak"
                 rows["largest μ"] = f"{sig3(fr['mu_peak'])}, {fr['peak_note']}"
             else:
                 rows["peak μ"] = sig3(fr["mu_peak"])
                 rows["speed at peak [m/s]"] = sig3(fr["v_peak_m_per_s"])
             if "extrapolated_share_at_peak" in fr:
-                rows["share of μ from beyond the last measured q (at peak)"] = \
+                rows["share of μ from beyond the last measured q (at peak)"] = (
                     f"{sig3(100 * fr['extrapolated_share_at_peak'])} %"
+                )
     return rows
 
 
@@ -258,5 +290,7 @@ def share_section(summary, fr):
         i = int(np.argmin(np.abs(np.log10(v) - d)))
         if abs(np.log10(v[i]) - d) < 0.05:
             rows.append([sig3(v[i]), sig3(fr.mu[i]), f"{sig3(100 * share[i])} %"])
-    return ("μ and the share carried by wave vectors beyond the last measured one",
-            report.table_html(rows, ["v [m/s]", "μ", "extrapolated share"]))
+    return (
+        "μ and the share carried by wave vectors beyond the last measured one",
+        report.table_html(rows, ["v [m/s]", "μ", "extrapolated share"]),
+    )

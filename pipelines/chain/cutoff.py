@@ -25,14 +25,23 @@ noise floor, its rms slope there exceeds 1 and the band spans less than
 The rule is reported as ``friction.q1_rule`` beside ``friction.q1_per_m`` in ``summary.json``,
 in the report and in the command's headline.
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-__all__ = ["SLOPE_TRUSTED", "MIN_TRUSTED_DECADES", "slope_cutoff", "q1_rule", "trusted_decades",
-           "cut_warning", "RULE_GIVEN", "PERSSON"]
+__all__ = [
+    "SLOPE_TRUSTED",
+    "MIN_TRUSTED_DECADES",
+    "slope_cutoff",
+    "q1_rule",
+    "trusted_decades",
+    "cut_warning",
+    "RULE_GIVEN",
+    "PERSSON",
+]
 
 #: rms slope up to q1 above which a band ending at the noise floor is cut (Persson's criterion)
 SLOPE_TRUSTED = 1.0
@@ -123,8 +132,10 @@ def q1_rule(rb, settings, cut=None):
         return RULE_GIVEN
     if cut is not None:
         hi, slope = cut
-        return (f"where the rms slope reaches {SLOPE_TRUSTED:g} ({PERSSON}); the reliable band's "
-                f"end at the noise floor, {quantity('q_per_m', hi)}, is steeper ({slope:.3g})")
+        return (
+            f"where the rms slope reaches {SLOPE_TRUSTED:g} ({PERSSON}); the reliable band's "
+            f"end at the noise floor, {quantity('q_per_m', hi)}, is steeper ({slope:.3g})"
+        )
     if rb is None or not getattr(rb, "valid", False):
         return "the spectrum's last wave vector (no reliable band of a factor 2 was found)"
     why = getattr(rb, "hi_reason", None)
@@ -154,8 +165,10 @@ def cut_warning(q1_per_m, band_end_per_m, rms_slope_to_band_end):
     from pipelines.output.units import quantity
 
     dec = math.log10(band_end_per_m / q1_per_m)
-    return (f"friction integrated up to q1 = {quantity('q1_per_m', q1_per_m)}, where the rms "
-            f"slope reaches {SLOPE_TRUSTED:g} ({PERSSON}), not to the reliable band's end "
-            f"{quantity('q_per_m', band_end_per_m)}: the band ends at the spectrum's noise floor "
-            f"with an rms slope of {rms_slope_to_band_end:.3g} there, so its finest {dec:.1f} "
-            f"decades do not enter μ; --q1 to choose the end")
+    return (
+        f"friction integrated up to q1 = {quantity('q1_per_m', q1_per_m)}, where the rms "
+        f"slope reaches {SLOPE_TRUSTED:g} ({PERSSON}), not to the reliable band's end "
+        f"{quantity('q_per_m', band_end_per_m)}: the band ends at the spectrum's noise floor "
+        f"with an rms slope of {rms_slope_to_band_end:.3g} there, so its finest {dec:.1f} "
+        f"decades do not enter μ; --q1 to choose the end"
+    )

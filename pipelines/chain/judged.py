@@ -10,6 +10,7 @@ is the instrument's, not the road's. :func:`judged_band` is one scan's band,
 :func:`common_band` the band of several, :func:`largest_ratio` the largest ratio inside it
 (``comparison.json``'s ``largest_psd_ratio``: ``ratio``, ``q_per_m``, ``band_per_m``).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -86,8 +87,9 @@ def ratio_in_band(spec_ref, spec, band):
         return np.empty(0), np.empty(0)
     c_ref = np.asarray(spec_ref.C_m4, float)[keep]
     pos = np.asarray(spec.C_m4, float) > 0
-    c = np.exp(np.interp(np.log(q), np.log(np.asarray(spec.q_per_m)[pos]),
-                         np.log(np.asarray(spec.C_m4)[pos])))
+    c = np.exp(
+        np.interp(np.log(q), np.log(np.asarray(spec.q_per_m)[pos]), np.log(np.asarray(spec.C_m4)[pos]))
+    )
     return q, np.log10(c / c_ref)
 
 
@@ -109,5 +111,8 @@ def largest_ratio(q, log10_ratio, band):
     if len(q) == 0:
         return None
     i = int(np.argmax(np.abs(log10_ratio)))
-    return {"ratio": float(10 ** log10_ratio[i]), "q_per_m": float(q[i]),
-            "band_per_m": [float(band[0]), float(band[1])]}
+    return {
+        "ratio": float(10 ** log10_ratio[i]),
+        "q_per_m": float(q[i]),
+        "band_per_m": [float(band[0]), float(band[1])],
+    }

@@ -20,14 +20,22 @@ the band's fine end holds noise is the measurement's call, :func:`pipelines.chai
 the same whatever the rubber), rubber (the default thesis rubber is not a
 tread compound: ``--rubber``).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from pipelines.output.units import length, quantity
 
-__all__ = ["extrapolated_share", "rms_slope", "implausible_cause", "MU_PLAUSIBLE",
-           "rubber_label", "units_from_file", "edge_warning"]
+__all__ = [
+    "extrapolated_share",
+    "rms_slope",
+    "implausible_cause",
+    "MU_PLAUSIBLE",
+    "rubber_label",
+    "units_from_file",
+    "edge_warning",
+]
 
 MU_PLAUSIBLE = (0.3, 3.0)
 SHARE_CUTOFF = 0.3
@@ -92,7 +100,7 @@ def rms_slope(psd, q0=None, q1=None, n=400):
     q1 = psd.q1_per_m if q1 is None else q1
     lq = np.linspace(np.log(q0), np.log(q1), n)
     q = np.exp(lq)
-    f = 2 * np.pi * q**4 * psd.C(q)               # q^3 C dq = q^4 C d(ln q)
+    f = 2 * np.pi * q**4 * psd.C(q)  # q^3 C dq = q^4 C d(ln q)
     return float(np.sqrt(max(0.0, np.trapezoid(f, lq))))
 
 
@@ -128,8 +136,16 @@ def rubber_label(rubber, sigma0_Pa, T0_C):
     return f"{name}, T0 = {T0_C:.3g} °C, σ0 = {sigma0_Pa / 1e6:.3g} MPa"
 
 
-def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=None,
-                      default_rubber=True, q1_per_m=None, units_from_file=False):
+def implausible_cause(
+    mu_peak,
+    *,
+    share_at_peak=0.0,
+    slope=None,
+    rms_height_m=None,
+    default_rubber=True,
+    q1_per_m=None,
+    units_from_file=False,
+):
     """None when ``mu_peak`` is within :data:`MU_PLAUSIBLE`, else one line: the likely cause
     and the flag that changes it.
 
@@ -162,26 +178,33 @@ def implausible_cause(mu_peak, *, share_at_peak=0.0, slope=None, rms_height_m=No
     side = "above" if mu_peak > hi else "below"
     causes = []
     if rms_height_m is not None and not (RMS_RANGE_M[0] <= rms_height_m <= RMS_RANGE_M[1]):
-        if units_from_file:               # the file states its unit: not a --units question
-            causes.append(f"surface (rms height {length(rms_height_m)}, in the unit the file "
-                          f"states, is not a road's texture)")
+        if units_from_file:  # the file states its unit: not a --units question
+            causes.append(
+                f"surface (rms height {length(rms_height_m)}, in the unit the file "
+                f"states, is not a road's texture)"
+            )
         else:
             causes.append(f"units (rms height {rms_height_m * 1e3:.3g} mm is not a road's: --units)")
     if mu_peak > hi and share_at_peak > SHARE_CUTOFF:
-        causes.append(f"cut-off ({100 * share_at_peak:.0f} % of mu from wave vectors beyond the "
-                      f"scan: a lower --q1)")
+        causes.append(
+            f"cut-off ({100 * share_at_peak:.0f} % of mu from wave vectors beyond the scan: a lower --q1)"
+        )
     if mu_peak > hi and slope is not None and slope > SLOPE_BAND:
-        causes.append(f"band (rms slope {slope:.3g} up to q1 = {quantity('q1_per_m', q1_per_m)}: "
-                      f"steep roughness carries much of mu; a lower --q1 if the finest "
-                      f"wavelengths are not road texture)")
+        causes.append(
+            f"band (rms slope {slope:.3g} up to q1 = {quantity('q1_per_m', q1_per_m)}: "
+            f"steep roughness carries much of mu; a lower --q1 if the finest "
+            f"wavelengths are not road texture)"
+        )
     if mu_peak < lo and slope is not None and slope < 0.1:
         causes.append(f"band (rms slope {slope:.3g}: too smooth or too short a band: --q1)")
     if default_rubber:
         causes.append("rubber (the default thesis rubber is not your tread compound: --rubber)")
     if not causes:
         causes.append("the rubber model or the band (--rubber, --q0/--q1)")
-    return (f"peak mu {mu_peak:.3g} is {side} the {lo:g}-{hi:g} that tread rubber gives on roads; "
-            f"likely cause: {'; '.join(causes)}")
+    return (
+        f"peak mu {mu_peak:.3g} is {side} the {lo:g}-{hi:g} that tread rubber gives on roads; "
+        f"likely cause: {'; '.join(causes)}"
+    )
 
 
 def units_from_file(scan):

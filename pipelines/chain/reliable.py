@@ -7,6 +7,7 @@ slope 1 + 2H sets the window's leakage. The lateral resolution is the one given
 (``--resolution`` or a manifest's ``resolution_m``), else the file's metadata, else none
 (:func:`roadscan.resolution.resolution_of`, re-exported here).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -64,5 +65,6 @@ def scan_band(obj, spectrum, resolution_m=None, window_alpha=0.25):
     C = spectrum.C_m4
     if isinstance(obj, Profile) and "C1_binned_m3" in spectrum.meta:
         C = np.asarray(spectrum.meta["C1_binned_m3"], float)
-    return reliable_band(spectrum.q_per_m, C, spectrum.count, L, a, resolution_m=res,
-                         window_alpha=window_alpha)
+    return reliable_band(
+        spectrum.q_per_m, C, spectrum.count, L, a, resolution_m=res, window_alpha=window_alpha
+    )

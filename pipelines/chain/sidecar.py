@@ -2,6 +2,7 @@
 needs to integrate analyse's spectrum exactly as analyse did (the reliable band, its roll-off,
 the self-affine fit that continues C(q) above the scan), written by ``roadscan analyse`` and
 read back by ``roadscan friction``."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -33,15 +34,23 @@ def band_sidecar(rb, fit, window_alpha):
     """
     band = None
     if rb is not None and rb.valid:
-        band = {"lo_per_m": float(rb.lo_per_m), "hi_per_m": float(rb.hi_per_m),
-                "q_roll_per_m": rb.q_roll_per_m, "noise_floor_end": noise_floor_end(rb),
-                "reasons": rb.reasons}
+        band = {
+            "lo_per_m": float(rb.lo_per_m),
+            "hi_per_m": float(rb.hi_per_m),
+            "q_roll_per_m": rb.q_roll_per_m,
+            "noise_floor_end": noise_floor_end(rb),
+            "reasons": rb.reasons,
+        }
     d = fit.as_dict()
     d = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in d.items()}
-    return {"about": "the band roadscan analyse integrated psd.csv over (q0 = lo, or the roll-off "
-                     "inside the band; q1 = hi) and its self-affine fit, which continues C(q) "
-                     "above the last row; read by roadscan friction --psd",
-            "reliable_band": band, "fit": d, "window_alpha": window_alpha}
+    return {
+        "about": "the band roadscan analyse integrated psd.csv over (q0 = lo, or the roll-off "
+        "inside the band; q1 = hi) and its self-affine fit, which continues C(q) "
+        "above the last row; read by roadscan friction --psd",
+        "reliable_band": band,
+        "fit": d,
+        "window_alpha": window_alpha,
+    }
 
 
 def read_band_sidecar(psd_path):
@@ -69,7 +78,7 @@ def read_band_sidecar(psd_path):
     side = p.with_name(p.stem + BAND_SIDECAR_SUFFIX)
     if not side.is_file():
         return None
-    try:                                  # the parser's own errors only: unreadable or not JSON
+    try:  # the parser's own errors only: unreadable or not JSON
         d = json.loads(side.read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise InputError(side, f"cannot read the band of {p.name} ({type(exc).__name__}: {exc})") from None
@@ -78,13 +87,23 @@ def read_band_sidecar(psd_path):
         raise InputError(side, f"cannot read the band of {p.name} ({problem})")
     f = dict(d["fit"])
     f["fit_band_per_m"] = tuple(f["fit_band_per_m"])
-    f = {k: (float("nan") if v is None and k in ("h0_m", "band_rms_m", "hurst_stderr") else v)
-         for k, v in f.items()}
+    f = {
+        k: (float("nan") if v is None and k in ("h0_m", "band_rms_m", "hurst_stderr") else v)
+        for k, v in f.items()
+    }
     fit = SelfAffineFit(**f)
     b = d.get("reliable_band")
-    rb = None if b is None else SimpleNamespace(
-        valid=True, lo_per_m=float(b["lo_per_m"]), hi_per_m=float(b["hi_per_m"]),
-        q_roll_per_m=b.get("q_roll_per_m"), noise_floor_end=bool(b.get("noise_floor_end")))
+    rb = (
+        None
+        if b is None
+        else SimpleNamespace(
+            valid=True,
+            lo_per_m=float(b["lo_per_m"]),
+            hi_per_m=float(b["hi_per_m"]),
+            q_roll_per_m=b.get("q_roll_per_m"),
+            noise_floor_end=bool(b.get("noise_floor_end")),
+        )
+    )
     return rb, fit, side
 
 
@@ -107,8 +126,11 @@ def _sidecar_problem(d, fields):
     if bad:
         return "not a number: " + ", ".join(bad)
     b = d.get("reliable_band")
-    if b is not None and not (isinstance(b, dict) and _number(b.get("lo_per_m"))
-                              and _number(b.get("hi_per_m"))
-                              and _number(b.get("q_roll_per_m"), none=True)):
+    if b is not None and not (
+        isinstance(b, dict)
+        and _number(b.get("lo_per_m"))
+        and _number(b.get("hi_per_m"))
+        and _number(b.get("q_roll_per_m"), none=True)
+    ):
         return "'reliable_band' must hold the numbers lo_per_m and hi_per_m"
     return None

@@ -26,6 +26,7 @@ trusted (such a band spanning under a decade), naming ``--q1`` and ``--resolutio
 ``--q1`` given, the user has chosen the end). A peak mu outside 0.3-3 stays a warning with its
 likely causes (:func:`pipelines.chain.provenance.implausible_cause`), never a refusal.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -40,12 +41,28 @@ if TYPE_CHECKING:
 # SLOPE_TRUSTED: rms slope above which a band ending at the noise floor is cut (module docstring)
 from pipelines.chain.cutoff import MIN_TRUSTED_DECADES, SLOPE_TRUSTED
 
-__all__ = ["measure", "friction_psd", "friction_of", "scan_friction", "judge_fine_end",
-           "FrictionOutcome", "SLOPE_TRUSTED", "noise_floor_end"]
+__all__ = [
+    "measure",
+    "friction_psd",
+    "friction_of",
+    "scan_friction",
+    "judge_fine_end",
+    "FrictionOutcome",
+    "SLOPE_TRUSTED",
+    "noise_floor_end",
+]
 
 
-def measure(scan, window_alpha=0.25, fit_band=None, despike=False, mpd_settings=None,
-            resolution_m=None, on_levelled=None, on_spectrum2d=None):
+def measure(
+    scan,
+    window_alpha=0.25,
+    fit_band=None,
+    despike=False,
+    mpd_settings=None,
+    resolution_m=None,
+    on_levelled=None,
+    on_spectrum2d=None,
+):
     """The metrology of one scan -> (SurfaceAnalysis, ReliableBand or None), fitted once.
 
     ``window_alpha``: Tukey window; ``fit_band`` (lo, hi) [1/m]; ``resolution_m``: lateral
@@ -81,9 +98,16 @@ def measure(scan, window_alpha=0.25, fit_band=None, despike=False, mpd_settings=
     from pipelines.chain.surface import analyse_surface
     from pipelines.checks.validate import check_fit
 
-    an = analyse_surface(scan, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
-                         mpd_settings=mpd_settings, on_levelled=on_levelled,
-                         on_spectrum2d=on_spectrum2d, fit=False)
+    an = analyse_surface(
+        scan,
+        window_alpha=window_alpha,
+        fit_band=fit_band,
+        despike=despike,
+        mpd_settings=mpd_settings,
+        on_levelled=on_levelled,
+        on_spectrum2d=on_spectrum2d,
+        fit=False,
+    )
     rb = reliable_fit(an, resolution_m, window_alpha, fit_band)
     check_fit(an.fit, an.name)
     return an, rb
@@ -125,7 +149,7 @@ def friction_psd(spectrum, fit, rb, settings, name="", say=True):
     psd = surface_psd(spectrum, fit, q1_per_m=q1)
     psd, band = apply_band(psd, q0, q1)
     cut = _slope_cut(psd, rb, settings)
-    if cut is not None:                   # Persson's criterion inside the band (pipelines.chain.cutoff)
+    if cut is not None:  # Persson's criterion inside the band (pipelines.chain.cutoff)
         q1 = cut[0]
         psd, band = apply_band(surface_psd(spectrum, fit, q1_per_m=q1), q0, q1)
     if band is not None:
@@ -137,10 +161,16 @@ def friction_psd(spectrum, fit, rb, settings, name="", say=True):
     q_nyq = float(np.max(spectrum.q_per_m))
     if settings.q1_per_m is not None and settings.q1_per_m > q_nyq * (1 + 1e-9):
         dec = float(np.log10(settings.q1_per_m / q_nyq))
-        band = dict(band or {}, extended_by="self-affine fit", extended_decades=dec, note=(
-            f"q1 = {quantity('q1_per_m', settings.q1_per_m)} is above the measured band (to "
-            f"{quantity('q_per_m', q_nyq)}): C(q) extended {dec:.2f} decades by the self-affine "
-            f"fit, H = {fit.hurst:.3f}"))
+        band = dict(
+            band or {},
+            extended_by="self-affine fit",
+            extended_decades=dec,
+            note=(
+                f"q1 = {quantity('q1_per_m', settings.q1_per_m)} is above the measured band (to "
+                f"{quantity('q_per_m', q_nyq)}): C(q) extended {dec:.2f} decades by the self-affine "
+                f"fit, H = {fit.hurst:.3f}"
+            ),
+        )
         if say:
             from pipelines.checks.run_warnings import note
 
@@ -178,8 +208,18 @@ def friction_of(psd, settings, v_m_per_s=None, tol=None):
 
     rubber = with_extrapolation(settings.rubber, settings.extrapolate)
     v = settings.v_m_per_s if v_m_per_s is None else v_m_per_s
-    return friction_curve(psd, rubber, v, settings.sigma0_Pa, settings.T0_C, settings.flash,
-                          settings.nu, settings.contact_gamma, warn_high=False, tol=tol)
+    return friction_curve(
+        psd,
+        rubber,
+        v,
+        settings.sigma0_Pa,
+        settings.T0_C,
+        settings.flash,
+        settings.nu,
+        settings.contact_gamma,
+        warn_high=False,
+        tol=tol,
+    )
 
 
 def noise_floor_end(rb):
@@ -197,7 +237,7 @@ def noise_floor_end(rb):
     """
     if rb is None or not getattr(rb, "valid", False):
         return False
-    if hasattr(rb, "noise_floor_end"):        # a band read back from psd_band.json
+    if hasattr(rb, "noise_floor_end"):  # a band read back from psd_band.json
         return bool(rb.noise_floor_end)
     q_noise = (getattr(rb, "limits", None) or {}).get("noise_floor")
     return q_noise is not None and abs(q_noise - rb.hi_per_m) <= 1e-9 * rb.hi_per_m
@@ -213,7 +253,7 @@ def _slope_cut(psd, rb, settings):
     if settings.q1_per_m is not None or not noise_floor_end(rb):
         return None
     if trusted_decades(rb) < MIN_TRUSTED_DECADES:
-        return None                       # judge_fine_end refuses: no decade to trust
+        return None  # judge_fine_end refuses: no decade to trust
     slope = rms_slope(psd)
     if not slope > SLOPE_TRUSTED:
         return None
@@ -255,15 +295,17 @@ def judge_fine_end(psd, rb, settings, name=""):
     slope = rms_slope(psd)
     if settings.q1_per_m is not None or not noise_floor_end(rb) or not slope > SLOPE_TRUSTED:
         return slope, None
-    if psd.q1_per_m < rb.hi_per_m * (1 - 1e-6):       # q1 set inside the band by the rule
+    if psd.q1_per_m < rb.hi_per_m * (1 - 1e-6):  # q1 set inside the band by the rule
         return slope, None
     dec = trusted_decades(rb)
-    return slope, (f"friction refused: no decade of the spectrum can be trusted (the reliable "
-                   f"band {quantity('q_per_m', rb.lo_per_m)} to {quantity('q_per_m', rb.hi_per_m)} "
-                   f"spans {dec:.2g} decades, under {MIN_TRUSTED_DECADES:g}, and ends at the "
-                   f"spectrum's noise floor with an rms slope of {slope:.3g} up to q1 = "
-                   f"{quantity('q1_per_m', psd.q1_per_m)}, over {SLOPE_TRUSTED:g}): a lower "
-                   f"--q1 or --resolution")
+    return slope, (
+        f"friction refused: no decade of the spectrum can be trusted (the reliable "
+        f"band {quantity('q_per_m', rb.lo_per_m)} to {quantity('q_per_m', rb.hi_per_m)} "
+        f"spans {dec:.2g} decades, under {MIN_TRUSTED_DECADES:g}, and ends at the "
+        f"spectrum's noise floor with an rms slope of {slope:.3g} up to q1 = "
+        f"{quantity('q1_per_m', psd.q1_per_m)}, over {SLOPE_TRUSTED:g}): a lower "
+        f"--q1 or --resolution"
+    )
 
 
 @dataclass(frozen=True)
@@ -334,12 +376,13 @@ def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
         warn(f"{name}: {cut_warning(psd.q1_per_m, **band['slope_cut'])}")
     from pipelines.chain.cutoff import q1_rule
 
-    rule = (band or {}).get("q1_rule") or q1_rule(rb, settings)   # why q1 is where it is
+    rule = (band or {}).get("q1_rule") or q1_rule(rb, settings)  # why q1 is where it is
     if refused is not None:
         warn(f"{name}: {refused}")
         label = rubber_label(settings.rubber, settings.sigma0_Pa, settings.T0_C)
-        return FrictionOutcome(None, psd, band, {"refused": refused, "rubber": label,
-                                                 "rms_slope_band": slope, "q1_rule": rule})
+        return FrictionOutcome(
+            None, psd, band, {"refused": refused, "rubber": label, "rms_slope_band": slope, "q1_rule": rule}
+        )
     fr = friction_of(psd, settings, v_m_per_s)
     rubber = with_extrapolation(settings.rubber, settings.extrapolate)
     fr, prov = friction_provenance(an, an.spectrum, psd, fr, settings, rubber, name=name)
@@ -347,6 +390,7 @@ def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
     checks = None
     if rubber is not None and fr is not None:
         T_max = None if fr.T_q_C is None else float(np.max(fr.T_q_C))
-        checks = run_checks(rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m,
-                            fr.meta["T0_C"], T_max, result=fr)
+        checks = run_checks(
+            rubber, fr.v_m_per_s, psd.q_min_per_m, psd.q1_per_m, fr.meta["T0_C"], T_max, result=fr
+        )
     return FrictionOutcome(fr, psd, band, prov, checks)

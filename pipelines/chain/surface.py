@@ -4,6 +4,7 @@ read -> level (plane, ignoring unmeasured points) -> roughness of the levelled m
 -> fill unmeasured points -> Tukey-windowed PSD -> self-affine fit; plus the bridge from a
 measured spectrum to the friction engine's PSD (docs: Theory, "which spectrum").
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -18,8 +19,14 @@ if TYPE_CHECKING:
     from roadscan.spectrum_types import Spectrum, Spectrum2D
     from roadscan.texture_depth import MpdSegments
 
-__all__ = ["SurfaceAnalysis", "analyse_surface", "surface_psd", "default_velocities",
-           "friction_curve", "spectrum_of"]
+__all__ = [
+    "SurfaceAnalysis",
+    "analyse_surface",
+    "surface_psd",
+    "default_velocities",
+    "friction_curve",
+    "spectrum_of",
+]
 
 
 @dataclass(eq=False)
@@ -59,20 +66,20 @@ class SurfaceAnalysis:
         The MPD's per-segment table (ISO 13473-1), lines along x.
     """
 
-    source: HeightMap | Profile          # as read
-    levelled: HeightMap | Profile        # levelled, unmeasured points still unmeasured
-    fill: tuple               # (values at the unmeasured points in raster order, meta) or
-                              # (the filled HeightMap/Profile, None)
+    source: HeightMap | Profile  # as read
+    levelled: HeightMap | Profile  # levelled, unmeasured points still unmeasured
+    fill: tuple  # (values at the unmeasured points in raster order, meta) or
+    # (the filled HeightMap/Profile, None)
     filled_fraction: float
-    spectrum: Spectrum        # isotropic 2D C(q) [m^4]
-    spec2d: Spectrum2D | None = None     # for areas, None for profiles
-    psd1d: tuple | None = None           # (q_per_m, C1_m3) for profiles
+    spectrum: Spectrum  # isotropic 2D C(q) [m^4]
+    spec2d: Spectrum2D | None = None  # for areas, None for profiles
+    psd1d: tuple | None = None  # (q_per_m, C1_m3) for profiles
     fit: SelfAffineFit | None = None
     roughness: dict = field(default_factory=dict)
     mpd_m: float | None = None
     mpd_note: str = ""
     anisotropy: dict | None = None
-    mpd_segments: MpdSegments | None = None   # the MPD's segments (source's rows)
+    mpd_segments: MpdSegments | None = None  # the MPD's segments (source's rows)
 
     @property
     def filled(self):
@@ -120,8 +127,17 @@ def spectrum_of(obj, window_alpha=0.25):
     return spec, spec2d, None
 
 
-def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_band=None,
-                    mpd_settings=None, on_levelled=None, on_spectrum2d=None, fit=True):
+def analyse_surface(
+    obj,
+    window_alpha=0.25,
+    level_degree=1,
+    despike=False,
+    fit_band=None,
+    mpd_settings=None,
+    on_levelled=None,
+    on_spectrum2d=None,
+    fit=True,
+):
     """Run the metrology chain on a HeightMap or Profile (see module docstring).
 
     ``mpd_settings`` overrides :data:`roadscan.roughness.MPD_SETTINGS` (e.g. ``spike_alpha``).
@@ -168,7 +184,7 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     if on_levelled is not None:
         from pipelines.jobs.texture.prefetch import levelled_from
 
-        with levelled_from(levelled, obj, mpd_settings):     # the source of a texture prefetch
+        with levelled_from(levelled, obj, mpd_settings):  # the source of a texture prefetch
             on_levelled(levelled)
     from roadscan.texture_depth import mpd_and_segments
 
@@ -182,8 +198,10 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
     if undefined:
         from pipelines.checks.validate import warn
 
-        warn(f"{obj.name}: {', '.join(undefined)} undefined (no measured neighbours to take a slope "
-             f"from): null in the outputs")
+        warn(
+            f"{obj.name}: {', '.join(undefined)} undefined (no measured neighbours to take a slope "
+            f"from): null in the outputs"
+        )
     if isinstance(obj, Profile):
         filled, filled_fraction = inpaint.fill_unmeasured(levelled)
         fill = (filled, None)
@@ -202,8 +220,21 @@ def analyse_surface(obj, window_alpha=0.25, level_degree=1, despike=False, fit_b
             on_spectrum2d(spec2d)
     fit = fitmod.fit_self_affine(spec, band=fit_band) if fit else None
     aniso = anisotropy(spec2d) if spec2d is not None else None
-    return SurfaceAnalysis(obj, levelled, fill, float(filled_fraction), spec, spec2d, psd1d,
-                           fit, rough, mpd_m, mpd_note, aniso, mpd_segments=mpd_seg)
+    return SurfaceAnalysis(
+        obj,
+        levelled,
+        fill,
+        float(filled_fraction),
+        spec,
+        spec2d,
+        psd1d,
+        fit,
+        rough,
+        mpd_m,
+        mpd_note,
+        aniso,
+        mpd_segments=mpd_seg,
+    )
 
 
 def surface_psd(spectrum, fit=None, q1_per_m=None):
@@ -243,8 +274,8 @@ def surface_psd(spectrum, fit=None, q1_per_m=None):
     q = np.asarray(spectrum.q_per_m, dtype=float)
     C = np.asarray(spectrum.C_m4, dtype=float)
     ok = np.isfinite(C) & (C > 0) & np.isfinite(q) & (q > 0)
-    if q1_per_m is not None and np.any(ok & (q >= q1_per_m)):   # q1 inside the measured band:
-        q_end = np.min(q[ok & (q >= q1_per_m)])                  # cut at the first ring >= q1
+    if q1_per_m is not None and np.any(ok & (q >= q1_per_m)):  # q1 inside the measured band:
+        q_end = np.min(q[ok & (q >= q1_per_m)])  # cut at the first ring >= q1
         ok &= q <= q_end
     q, C = q[ok], C[ok]
     if q.size < 2:
@@ -277,8 +308,18 @@ def default_velocities(lo=1e-4, hi=1e2, per_decade=10):
     return np.logspace(np.log10(lo), np.log10(hi), n)
 
 
-def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None, flash=False,
-                   nu=0.5, contact_gamma=None, warn_high=True, tol=None):
+def friction_curve(
+    psd,
+    rubber=None,
+    v_m_per_s=None,
+    sigma0_Pa=0.2e6,
+    T0_C=None,
+    flash=False,
+    nu=0.5,
+    contact_gamma=None,
+    warn_high=True,
+    tol=None,
+):
     """mu(v) from the shared engine (Persson's theory; :func:`friction.mu_isothermal`,
     :func:`friction.mu_flash`) with the defaults nu = 0.5, S = 1, the thesis rubber at its
     T_ref, and the engine's accuracy target ``tol`` (relative, 1e-3) unless given.
@@ -332,7 +373,7 @@ def friction_curve(psd, rubber=None, v_m_per_s=None, sigma0_Pa=0.2e6, T0_C=None,
                 res = friction.mu_flash(psd, rubber, v, **kw)
             else:
                 res = friction.mu_isothermal(psd, rubber, v, **kw)
-    except FlashConvergenceError as exc:      # one line naming the speeds (as `friction` says)
+    except FlashConvergenceError as exc:  # one line naming the speeds (as `friction` says)
         raise InputError(None, f"friction: {exc}") from None
     check_mu(res.mu, warn_high=warn_high)
     return res

@@ -1,6 +1,7 @@
 """Numbers a user gives by flag (spacing, rms height, pressure, Poisson ratio, temperature) and
 the limits of every check (the table in :mod:`pipelines.checks.validate`, which re-exports every name).
 """
+
 from __future__ import annotations
 
 import math
@@ -8,8 +9,16 @@ import math
 from pipelines.checks.run_warnings import warn
 from roadscan.errors import InputError
 
-__all__ = ["finite_number", "check_spacing", "check_spacing_option", "check_rms_height",
-           "check_pressure", "check_poisson", "wlf_pole_C", "check_temperature"]
+__all__ = [
+    "finite_number",
+    "check_spacing",
+    "check_spacing_option",
+    "check_rms_height",
+    "check_pressure",
+    "check_poisson",
+    "wlf_pole_C",
+    "check_temperature",
+]
 
 KELVIN = 273.15
 SPACING_RANGE_M = (1e-9, 1.0)
@@ -90,15 +99,19 @@ def check_spacing(dx_m, dy_m=None, flag="--spacing", path=None, warn_unusual=Tru
         v = finite_number(v, flag, path, "spacing")
         lo, hi = SPACING_RANGE_M
         if not lo <= v <= hi:
-            raise InputError(path, f"{flag} {v:g} m: implausible grid spacing (expected "
-                                   f"{lo:g}..{hi:g} m; is the unit metres?)")
+            raise InputError(
+                path,
+                f"{flag} {v:g} m: implausible grid spacing (expected {lo:g}..{hi:g} m; is the unit metres?)",
+            )
         ulo, uhi = SPACING_USUAL_M
         if not ulo <= v <= uhi and v not in unusual:
             unusual.append(v)
     if unusual and warn_unusual:
         ulo, uhi = SPACING_USUAL_M
-        warn(f"{path + ': ' if path else ''}spacing {' x '.join(f'{v:g}' for v in unusual)} m "
-             f"is unusual for a road scan ({ulo:g}..{uhi:g} m)")
+        warn(
+            f"{path + ': ' if path else ''}spacing {' x '.join(f'{v:g}' for v in unusual)} m "
+            f"is unusual for a road scan ({ulo:g}..{uhi:g} m)"
+        )
 
 
 def check_spacing_option(text, flag="--spacing", warn_unusual=True):
@@ -145,8 +158,11 @@ def check_rms_height(rms_m, flag="--rms"):
     """
     v = finite_number(rms_m, flag)
     if not MIN_RMS_HEIGHT_M <= v <= MAX_ABS_HEIGHT_M:
-        raise InputError(None, f"{flag} {v:g} m: implausible rms height (expected "
-                               f"{MIN_RMS_HEIGHT_M:g}..{MAX_ABS_HEIGHT_M:g} m; is the unit metres?)")
+        raise InputError(
+            None,
+            f"{flag} {v:g} m: implausible rms height (expected "
+            f"{MIN_RMS_HEIGHT_M:g}..{MAX_ABS_HEIGHT_M:g} m; is the unit metres?)",
+        )
     return v
 
 
@@ -244,6 +260,9 @@ def check_temperature(T_C, rubber=None, flag="--temperature"):
         raise InputError(None, f"{flag} {v:g} C: implausible for rubber (above {T_MAX_C:g} C)")
     pole = wlf_pole_C(rubber) if rubber is not None else None
     if pole is not None and v <= pole + WLF_POLE_MARGIN_K:
-        raise InputError(None, f"{flag} {v:g} C: at or below the rubber's WLF pole "
-                               f"(T_d - C2 = {pole:.4g} C); the shift factor diverges there")
+        raise InputError(
+            None,
+            f"{flag} {v:g} C: at or below the rubber's WLF pole "
+            f"(T_d - C2 = {pole:.4g} C); the shift factor diverges there",
+        )
     return v

@@ -8,6 +8,7 @@ without listing it here. What no option names (the tiles of a stitch manifest, t
 a rubber TOML) is caught when the output is written: :mod:`roadscan.io.overwrite_guard`
 records the files a command reads and the atomic writers refuse to replace them.
 """
+
 from __future__ import annotations
 
 import errno
@@ -77,8 +78,11 @@ def command_outputs(args, keys=False):
     list of tuple
     """
     folder = getattr(args, "command", None) in FOLDER_COMMANDS
-    outs = [(os.fspath(v), folder, flag, key) for key, flag in OUTPUT_OPTIONS.items()
-            if isinstance((v := getattr(args, key, None)), (str, os.PathLike))]
+    outs = [
+        (os.fspath(v), folder, flag, key)
+        for key, flag in OUTPUT_OPTIONS.items()
+        if isinstance((v := getattr(args, key, None)), (str, os.PathLike))
+    ]
     for out, _, flag, _ in outs:
         if not out.strip():
             raise InputError(None, f"{flag}: empty name; name a file or folder")
@@ -105,12 +109,17 @@ def check_link(path):
         if exc.errno == errno.ELOOP:
             raise InputError(path, "is a symbolic link loop") from None
         target = os.readlink(path)
-        raise InputError(path, f"is a broken symbolic link (to {target}: "
-                               f"{exc.strerror or 'not found'})") from None
+        raise InputError(
+            path, f"is a broken symbolic link (to {target}: {exc.strerror or 'not found'})"
+        ) from None
 
 
-_KINDS = ((stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
-          (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISSOCK, "a socket"))
+_KINDS = (
+    (stat.S_ISCHR, "a character device"),
+    (stat.S_ISBLK, "a block device"),
+    (stat.S_ISFIFO, "a named pipe (FIFO)"),
+    (stat.S_ISSOCK, "a socket"),
+)
 
 
 def check_kind(path, advice="save the data to a file first"):
@@ -120,7 +129,7 @@ def check_kind(path, advice="save the data to a file first"):
     try:
         mode = os.stat(path).st_mode
     except OSError:
-        return                       # missing or unreadable: the reader says so
+        return  # missing or unreadable: the reader says so
     for test, what in _KINDS:
         if test(mode):
             raise InputError(path, f"is {what}, not a file: {advice}")
@@ -148,16 +157,17 @@ def check_command_paths(args):
                 os.stat(out)
             except OSError as exc:
                 if exc.errno == errno.ELOOP:
-                    raise InputError(None, f"{flag} {out}: is a symbolic link loop; name another "
-                                           f"output") from None
+                    raise InputError(
+                        None, f"{flag} {out}: is a symbolic link loop; name another output"
+                    ) from None
         try:
-            check_kind(out, "name a file or folder")     # /dev/full, a FIFO: never replaced
+            check_kind(out, "name a file or folder")  # /dev/full, a FIFO: never replaced
         except InputError as exc:
             raise InputError(None, f"{flag} {exc}") from None
-        for parent in Path(out).parents:    # every output, before any work
+        for parent in Path(out).parents:  # every output, before any work
             if parent.is_file():
                 raise InputError(None, f"{flag} {out}: is below the file {parent}, need a folder")
         try:
             refuse_overwrite([(out, folder)], inputs, option=key)
-        except InputError as exc:     # named as this command names it (a flag or OUT)
+        except InputError as exc:  # named as this command names it (a flag or OUT)
             raise InputError(None, exc.render(lambda _key, flag=flag: flag)) from None

@@ -25,25 +25,34 @@ The other common normalisation of C cannot be told from the table alone: Surface
 slopes are 2 pi times too large, still plausible; so whenever a spectrum file gives an
 implausible mu, :func:`normalisation_cause` is named among the likely causes.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from roadscan.errors import InputError
 
-__all__ = ["spectrum_figures", "check_psd_table", "normalisation_cause", "LAMBDA_RANGE_M",
-           "RMS_MAX_M", "SLOPE_RANGE"]
+__all__ = [
+    "spectrum_figures",
+    "check_psd_table",
+    "normalisation_cause",
+    "LAMBDA_RANGE_M",
+    "RMS_MAX_M",
+    "SLOPE_RANGE",
+]
 
 LAMBDA_RANGE_M = (1e-9, 10.0)
 RMS_MAX_M = 0.05
 SLOPE_RANGE = (1e-6, 50.0)
 #: the unit slips named, as (description, factor on q, factor on C) giving SI values
-_SLIPS = (("q in 1/mm and C in mm^4", 1e3, 1e-12),
-          ("q in 1/um and C in um^4", 1e6, 1e-24),
-          ("q in 1/mm (C in m^4)", 1e3, 1.0),
-          ("C in mm^4 (q in 1/m)", 1.0, 1e-12),
-          ("C in um^4 (q in 1/m)", 1.0, 1e-24),
-          ("q in 1/mm and C in um^4", 1e3, 1e-24))
+_SLIPS = (
+    ("q in 1/mm and C in mm^4", 1e3, 1e-12),
+    ("q in 1/um and C in um^4", 1e6, 1e-24),
+    ("q in 1/mm (C in m^4)", 1e3, 1.0),
+    ("C in mm^4 (q in 1/m)", 1.0, 1e-12),
+    ("C in um^4 (q in 1/m)", 1.0, 1e-24),
+    ("q in 1/mm and C in um^4", 1e3, 1e-24),
+)
 
 
 def spectrum_figures(q, C):
@@ -65,15 +74,17 @@ def spectrum_figures(q, C):
     """
     q, C = np.asarray(q, float), np.asarray(C, float)
     h2 = 2 * np.pi * np.trapezoid(q * C, q)
-    s2 = 2 * np.pi * np.trapezoid(q ** 3 * C, q)
+    s2 = 2 * np.pi * np.trapezoid(q**3 * C, q)
     return 2 * np.pi / q[-1], 2 * np.pi / q[0], float(np.sqrt(max(h2, 0.0))), float(np.sqrt(max(s2, 0.0)))
 
 
 def _problems(lmin, lmax, h, s):
     out = []
     if lmax > LAMBDA_RANGE_M[1]:
-        out.append(f"wavelengths up to {lmax:.3g} m, longer than a texture profiler measures "
-                   f"({LAMBDA_RANGE_M[1]:g} m)")
+        out.append(
+            f"wavelengths up to {lmax:.3g} m, longer than a texture profiler measures "
+            f"({LAMBDA_RANGE_M[1]:g} m)"
+        )
     if lmin < LAMBDA_RANGE_M[0]:
         out.append(f"wavelengths down to {lmin:.3g} m, below an atom")
     if h > RMS_MAX_M:
@@ -83,8 +94,9 @@ def _problems(lmin, lmax, h, s):
     elif h < 1e-5 * lmin:
         out.append(f"rms height {h:.3g} m, under 1e-5 of its shortest wavelength")
     if not SLOPE_RANGE[0] <= s <= SLOPE_RANGE[1]:
-        out.append(f"rms slope {s:.3g}, outside the {SLOPE_RANGE[0]:g}..{SLOPE_RANGE[1]:g} of "
-                   f"measured surfaces")
+        out.append(
+            f"rms slope {s:.3g}, outside the {SLOPE_RANGE[0]:g}..{SLOPE_RANGE[1]:g} of measured surfaces"
+        )
     return out
 
 
@@ -115,11 +127,14 @@ def check_psd_table(path, q, C):
         fix = None
         for what, fq, fc in _SLIPS:
             if not _problems(*spectrum_figures(q * fq, C * fc)):
-                fix = (f"it looks like {what} under the header q_per_m,C_m4: convert to 1/m and "
-                       f"m^4 (q x {fq:g}, C x {fc:g})")
+                fix = (
+                    f"it looks like {what} under the header q_per_m,C_m4: convert to 1/m and "
+                    f"m^4 (q x {fq:g}, C x {fc:g})"
+                )
                 break
-        fix = fix or ("check the units (q_per_m in 1/m, C_m4 in m^4, Persson's 2D C as roadscan "
-                      "analyse writes psd.csv)")
+        fix = fix or (
+            "check the units (q_per_m in 1/m, C_m4 in m^4, Persson's 2D C as roadscan analyse writes psd.csv)"
+        )
         raise InputError(path, f"units? not a spectrum a profiler measures: {'; '.join(bad)}; {fix}")
     return {"wavelength_range_m": [lmin, lmax], "rms_height_m": h, "rms_slope": s}
 
@@ -136,5 +151,7 @@ def normalisation_cause():
     -------
     str
     """
-    return ("PSD normalisation (a C in SurfaceTopography's convention, <h^2> = (1/2 pi) int q C dq, "
-            "is (2 pi)^2 = 39.5 times Persson's: divide C_m4 by 39.5)")
+    return (
+        "PSD normalisation (a C in SurfaceTopography's convention, <h^2> = (1/2 pi) int q C dq, "
+        "is (2 pi)^2 = 39.5 times Persson's: divide C_m4 by 39.5)"
+    )

@@ -12,6 +12,7 @@ How a new line is said depends on who runs the job (:func:`say_warnings`):
   command has always printed it.
 - ``"quiet"`` (a campaign's worker): recorded only; the campaign reports them.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -22,8 +23,17 @@ import warnings as _py_warnings
 
 from roadscan.errors import RoadscanWarning
 
-__all__ = ["Warnings", "collecting", "current_warnings", "reset_warnings", "warn", "warnings_list",
-           "say_warnings", "note", "LOGGER"]
+__all__ = [
+    "Warnings",
+    "collecting",
+    "current_warnings",
+    "reset_warnings",
+    "warn",
+    "warnings_list",
+    "say_warnings",
+    "note",
+    "LOGGER",
+]
 
 #: the logger of roadscan's notes (progress, what a run chose and why); the command line shows
 #: its INFO lines on stderr, a Python caller sees them once it configures logging

@@ -2,6 +2,7 @@
 table in :mod:`pipelines.checks.validate`, which re-exports every name): refuse with a one-line
 :class:`roadscan.InputError`, or warn (:func:`pipelines.checks.run_warnings.warn`).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -33,13 +34,19 @@ def check_psd_rows(q, C, path=None):
     bad = ~(np.isfinite(q) & (q > 0) & np.isfinite(C) & (C > 0))
     if bad.any():
         i = int(np.argmax(bad))
-        raise InputError(path, f"data row {i + 1}: q = {q[i]:g}, C = {C[i]:g}: need finite q > 0 "
-                               f"and C > 0 ({int(bad.sum())} such row{'s' if bad.sum() > 1 else ''})")
+        raise InputError(
+            path,
+            f"data row {i + 1}: q = {q[i]:g}, C = {C[i]:g}: need finite q > 0 "
+            f"and C > 0 ({int(bad.sum())} such row{'s' if bad.sum() > 1 else ''})",
+        )
     out = (q < Q_MIN_PER_M) | (q > Q_MAX_PER_M)
     if out.any():
         i = int(np.argmax(out))
-        raise InputError(path, f"data row {i + 1}: q = {q[i]:g} 1/m is outside {Q_MIN_PER_M:g} .. "
-                               f"{Q_MAX_PER_M:g} 1/m (wavelengths 63 km .. 0.06 nm): units?")
+        raise InputError(
+            path,
+            f"data row {i + 1}: q = {q[i]:g} 1/m is outside {Q_MIN_PER_M:g} .. "
+            f"{Q_MAX_PER_M:g} 1/m (wavelengths 63 km .. 0.06 nm): units?",
+        )
 
 
 def check_psd_shape(q, C, path=None):
@@ -67,8 +74,11 @@ def check_psd_shape(q, C, path=None):
         raise InputError(path, "the PSD has a single wave vector")
     slope = float(np.polyfit(lq, lc, 1)[0])
     if slope > MAX_PSD_SLOPE:
-        raise InputError(path, f"the PSD rises with q (log-log slope {slope:+.2f}): not the "
-                               f"spectrum of a surface, which falls as q^-2(1+H)")
+        raise InputError(
+            path,
+            f"the PSD rises with q (log-log slope {slope:+.2f}): not the "
+            f"spectrum of a surface, which falls as q^-2(1+H)",
+        )
 
 
 def check_wave_vector(q_per_m, flag):
@@ -89,9 +99,12 @@ def check_wave_vector(q_per_m, flag):
     """
     v = finite_number(q_per_m, flag)
     if not Q_MIN_PER_M <= v <= Q_MAX_PER_M:
-        raise InputError(None, f"{flag}{'' if flag.endswith('=') else ' '}{v:g} 1/m: must be a wave vector from "
-                               f"{Q_MIN_PER_M:g} 1/m (a wavelength of 63 km) to {Q_MAX_PER_M:g} 1/m "
-                               f"(a wavelength of 0.06 nm)")
+        raise InputError(
+            None,
+            f"{flag}{'' if flag.endswith('=') else ' '}{v:g} 1/m: must be a wave vector from "
+            f"{Q_MIN_PER_M:g} 1/m (a wavelength of 63 km) to {Q_MAX_PER_M:g} 1/m "
+            f"(a wavelength of 0.06 nm)",
+        )
     return v
 
 
@@ -115,8 +128,9 @@ def check_q1(q1_per_m, q_lo_per_m, flag="--q1"):
         return None
     v = finite_number(q1_per_m, flag)
     if not v > q_lo_per_m:
-        raise InputError(None, f"{flag} {v:g} 1/m: must exceed the spectrum's lowest wave vector "
-                               f"q0 = {q_lo_per_m:.4g} 1/m")
+        raise InputError(
+            None, f"{flag} {v:g} 1/m: must exceed the spectrum's lowest wave vector q0 = {q_lo_per_m:.4g} 1/m"
+        )
     return v
 
 
@@ -140,8 +154,10 @@ def check_fit(fit, name=""):
         raise InputError(name or None, "the self-affine fit failed (Hurst exponent not finite)")
     if not 0.0 <= h <= 1.0:
         undefined = " (h0 is undefined for H <= 0: null in summary.json)" if h <= 0 else ""
-        warn(f"{name + ': ' if name else ''}Hurst exponent {h:.3g} lies outside [0, 1]: the spectrum "
-             f"is not self-affine over the fitted band; H, h0 and mu(v) are not meaningful{undefined}")
+        warn(
+            f"{name + ': ' if name else ''}Hurst exponent {h:.3g} lies outside [0, 1]: the spectrum "
+            f"is not self-affine over the fitted band; H, h0 and mu(v) are not meaningful{undefined}"
+        )
 
 
 def check_mu(mu, what="mu", warn_high=True):
@@ -165,14 +181,20 @@ def check_mu(mu, what="mu", warn_high=True):
     mu = np.asarray(mu, dtype=float)
     if mu.size and not np.all(np.isfinite(mu)):
         n = int(np.count_nonzero(~np.isfinite(mu)))
-        raise InputError(None, f"{what}: {n} of {mu.size} values are not finite (check h0, the "
-                               f"PSD and the rubber model)")
+        raise InputError(
+            None, f"{what}: {n} of {mu.size} values are not finite (check h0, the PSD and the rubber model)"
+        )
     top = float(np.max(mu)) if mu.size else 0.0
     if top > MU_MAX:
-        raise InputError(None, f"{what} reaches {top:.3g}: not physical (> {MU_MAX:g}); check the "
-                               f"PSD (does it fall with q?) and the rubber model")
+        raise InputError(
+            None,
+            f"{what} reaches {top:.3g}: not physical (> {MU_MAX:g}); check the "
+            f"PSD (does it fall with q?) and the rubber model",
+        )
     if top > MU_WARN and warn_high:
-        warn(f"{what} reaches {top:.3g}, unusually high for rubber on a road: likely the band "
-             f"(its short end in the noise, or extended beyond the spectrum: --q1), the units "
-             f"(--units) or the rubber (--rubber)")
+        warn(
+            f"{what} reaches {top:.3g}, unusually high for rubber on a road: likely the band "
+            f"(its short end in the noise, or extended beyond the spectrum: --q1), the units "
+            f"(--units) or the rubber (--rubber)"
+        )
     return mu

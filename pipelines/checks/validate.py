@@ -42,6 +42,7 @@ friction mu                   non-finite values, or mu > 100 (refused: no physic
 Size limits on files are in :mod:`roadscan.io._common` (``check_declared_size``,
 ``--max-pixels``) since the readers apply them before allocating.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -81,10 +82,29 @@ from pipelines.checks.spectra import (
 from roadscan.errors import InputError
 
 __all__ = [
-    "warn", "warnings_list", "reset_warnings", "Warnings", "collecting", "current_warnings",
-    "check_spacing", "check_spacing_option", "check_heights", "check_scan", "check_pressure", "check_poisson",
-    "check_temperature", "check_rms_height", "check_wave_vector", "check_psd_rows", "check_psd_shape", "check_q1", "check_mu", "check_fit",
-    "finite_number", "KELVIN", "T_MAX_C",
+    "warn",
+    "warnings_list",
+    "reset_warnings",
+    "Warnings",
+    "collecting",
+    "current_warnings",
+    "check_spacing",
+    "check_spacing_option",
+    "check_heights",
+    "check_scan",
+    "check_pressure",
+    "check_poisson",
+    "check_temperature",
+    "check_rms_height",
+    "check_wave_vector",
+    "check_psd_rows",
+    "check_psd_shape",
+    "check_q1",
+    "check_mu",
+    "check_fit",
+    "finite_number",
+    "KELVIN",
+    "T_MAX_C",
 ]
 
 
@@ -111,22 +131,29 @@ def check_heights(heights_m, path=None, unmeasured=None, area=True):
     if np.iscomplexobj(h):
         raise InputError(path, "heights are complex numbers")
     if area and h.ndim == 2 and min(h.shape) < MIN_SIDE:
-        raise InputError(path, f"grid {h.shape[0]} x {h.shape[1]} is too small for a spectrum "
-                               f"(need at least {MIN_SIDE} points along each side)")
+        raise InputError(
+            path,
+            f"grid {h.shape[0]} x {h.shape[1]} is too small for a spectrum "
+            f"(need at least {MIN_SIDE} points along each side)",
+        )
     if not area and h.size < 2 * MIN_SIDE:
         raise InputError(path, f"profile of {h.size} points is too short (need {2 * MIN_SIDE})")
     n_ok, lo, hi = _measured_range(h, unmeasured)
     if n_ok < MIN_MEASURED or n_ok < MIN_MEASURED_FRACTION * h.size:
-        raise InputError(path, f"only {n_ok} of {h.size} points are measured (need at least "
-                               f"{max(MIN_MEASURED, int(np.ceil(MIN_MEASURED_FRACTION * h.size)))})")
+        raise InputError(
+            path,
+            f"only {n_ok} of {h.size} points are measured (need at least "
+            f"{max(MIN_MEASURED, int(np.ceil(MIN_MEASURED_FRACTION * h.size)))})",
+        )
     top = max(abs(lo), abs(hi))
     if top >= MAX_ABS_HEIGHT_M:
         raise InputError(path, f"height {top:.3g} m is implausible for a road scan (units? spike?)")
     spread = hi - lo
     if spread == 0.0 or spread <= 1e-12 * top:
-        raise InputError(path, f"all measured heights are equal ({0.5 * (lo + hi):.6g}): a flat grid "
-                               f"has no roughness")
-    if spread <= 1.0:     # no point can lie more than 1 m from the median: no spike to look for
+        raise InputError(
+            path, f"all measured heights are equal ({0.5 * (lo + hi):.6g}): a flat grid has no roughness"
+        )
+    if spread <= 1.0:  # no point can lie more than 1 m from the median: no spike to look for
         return
     ok = np.isfinite(h)
     if unmeasured is not None:
@@ -137,10 +164,14 @@ def check_heights(heights_m, path=None, unmeasured=None, area=True):
     mad = float(np.median(dev))
     far = float(np.max(dev))
     if far > 1.0 and far > SPIKE_FACTOR * 1.4826 * mad:
-        spreads = f"{far / (1.4826 * mad):.3g} robust spreads" if mad else \
-            f"{far:.3g} m (most heights are equal)"
-        raise InputError(path, f"height {med + far:.3g} m lies {spreads} from the median: an "
-                               f"implausible spike (mark it unmeasured)")
+        spreads = (
+            f"{far / (1.4826 * mad):.3g} robust spreads" if mad else f"{far:.3g} m (most heights are equal)"
+        )
+        raise InputError(
+            path,
+            f"height {med + far:.3g} m lies {spreads} from the median: an "
+            f"implausible spike (mark it unmeasured)",
+        )
 
 
 def _measured_range(h, unmeasured=None, chunk_bytes=4 << 20):

@@ -1,6 +1,7 @@
 """The ``roadscan`` command: :func:`main` (in :mod:`pipelines.cli.app`), its "did you mean"
 hints (:mod:`~pipelines.cli.hints`), its signal handling (:mod:`~pipelines.cli.signals`) and one
 module per subcommand in ``commands/``. Run it as ``roadscan`` or ``python -m pipelines.cli``."""
+
 from __future__ import annotations
 
 from typing import Any

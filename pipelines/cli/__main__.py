@@ -1,4 +1,5 @@
 """``python -m pipelines.cli``: the ``roadscan`` command."""
+
 import sys
 
 from pipelines.cli.app import main

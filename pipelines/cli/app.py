@@ -23,6 +23,7 @@ line** on stderr, never a traceback.
 - ``--max-pixels N`` (before or after the command name) caps the size a reader accepts
   (default: :func:`roadscan.io._common.default_max_pixels`, from the available memory).
 """
+
 from __future__ import annotations
 
 import os
@@ -34,13 +35,15 @@ import sys
 # on two cores). Set before numpy is first imported; a user's own setting is kept.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+
 # the console script itself, still importing (not a Dask worker re-importing it as __mp_main__)
 def _runs_as(main_name: str) -> bool:
     """Is ``sys.modules[main_name]`` the ``roadscan`` script or ``python -m pipelines.cli``?"""
     mod = sys.modules.get(main_name)
     spec = getattr(mod, "__spec__", None)
-    return (os.path.basename(getattr(mod, "__file__", None) or "") == "roadscan"
-            or getattr(spec, "name", None) in ("pipelines.cli.__main__", "pipelines.cli.app"))
+    return os.path.basename(getattr(mod, "__file__", None) or "") == "roadscan" or getattr(
+        spec, "name", None
+    ) in ("pipelines.cli.__main__", "pipelines.cli.app")
 
 
 if __name__ == "__main__" or _runs_as("__main__"):
@@ -66,10 +69,20 @@ from roadscan.errors import InputError
 # subcommand modules, in the order ``roadscan --help`` lists them
 # (``commands/`` computes from scans and spectra; ``inputs/`` prepares them)
 COMMAND_MODULES = (
-    "commands.analyse", "commands.batch", "inputs.synth", "commands.friction_cmd", "inputs.rubber",
-    "inputs.stitch", "commands.rainfill", "commands.dry_vs_wet", "commands.compare",
-    "commands.diagnose", "inputs.convert", "commands.combine",
+    "commands.analyse",
+    "commands.batch",
+    "inputs.synth",
+    "commands.friction_cmd",
+    "inputs.rubber",
+    "inputs.stitch",
+    "commands.rainfill",
+    "commands.dry_vs_wet",
+    "commands.compare",
+    "commands.diagnose",
+    "inputs.convert",
+    "commands.combine",
 )
+
 
 def _parsing_errors():
     """Errors of the standard parsers reading a file's text (a broken JSON, CSV, TOML or text
@@ -80,7 +93,7 @@ def _parsing_errors():
     found = [UnicodeError, json.JSONDecodeError, csv.Error]
     if sys.version_info >= (3, 11):
         import tomllib
-    else:                         # Python 3.10: the tomli backport (a dependency there)
+    else:  # Python 3.10: the tomli backport (a dependency there)
         import tomli as tomllib
     found.append(tomllib.TOMLDecodeError)
     return tuple(found)
@@ -89,7 +102,7 @@ def _parsing_errors():
 def one_line(text, limit=400):
     """Collapse a message to one line (newlines -> ' | ', at most ``limit`` characters)."""
     s = " | ".join(part.strip() for part in str(text).splitlines() if part.strip())
-    s = "".join(c if c.isprintable() else "?" for c in s)   # no terminal control bytes from a file
+    s = "".join(c if c.isprintable() else "?" for c in s)  # no terminal control bytes from a file
     return s if len(s) <= limit else s[: limit - 3] + "..."
 
 
@@ -130,11 +143,16 @@ def _positive_int(text):
 
 
 def _add_global_options(p, default):
-    p.add_argument("--debug", action="store_true", default=default,
-                   help="show the full traceback of any error")
-    p.add_argument("--max-pixels", type=_positive_int, default=default, metavar="N",
-                   help="largest scan (points) a reader accepts before allocating "
-                        "(default: from the available memory)")
+    p.add_argument(
+        "--debug", action="store_true", default=default, help="show the full traceback of any error"
+    )
+    p.add_argument(
+        "--max-pixels",
+        type=_positive_int,
+        default=default,
+        metavar="N",
+        help="largest scan (points) a reader accepts before allocating (default: from the available memory)",
+    )
 
 
 def _nested(p):
@@ -160,8 +178,7 @@ def build_parser():
         description="Road-surface scans to spectra, rain fill and rubber friction.",
     )
     _add_global_options(parser, None)
-    parser.add_argument("--version", action=_Version, nargs=0,
-                        help="show the installed version and exit")
+    parser.add_argument("--version", action=_Version, nargs=0, help="show the installed version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     sub.required = True
     from pipelines.cli.examples import add_examples
@@ -171,11 +188,11 @@ def build_parser():
     for mod in _load_commands():
         p = sub.add_parser(mod.NAME, help=mod.HELP, description=mod.HELP)
         mod.add_arguments(p)
-        add_examples(p, mod.NAME)                   # --help ends with example commands
+        add_examples(p, mod.NAME)  # --help ends with example commands
         for action, nested in subparsers(p).items():
             add_examples(nested, f"{mod.NAME} {action}")
         _add_global_options(p, argparse.SUPPRESS)  # after the command name too
-        for action in list(_nested(p)):            # and after a sub-action ('rubber master')
+        for action in list(_nested(p)):  # and after a sub-action ('rubber master')
             _add_global_options(action, argparse.SUPPRESS)
         p.set_defaults(_run=mod.run)
     return parser
@@ -205,12 +222,12 @@ def main(argv=None):
             args = parser.parse_args(argv)  # one-line usage errors, exit code 2
             cmd = f"roadscan {args.command}"
             rc = _main(args, cmd)
-            if received():             # a library swallowed the interruption: never exit 0
+            if received():  # a library swallowed the interruption: never exit 0
                 raise KeyboardInterrupt
             return rc
-    except KeyboardInterrupt as exc:   # Ctrl-C, SIGTERM, SIGHUP (pipelines.cli.signals)
+    except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP (pipelines.cli.signals)
         code = exit_code(exc)
-        if argv is None:               # the real command line: a second signal ends at once
+        if argv is None:  # the real command line: a second signal ends at once
             after_interrupt(code)
         what = "" if code == 130 else f" ({signal_name(exc)})"
         print(f"{cmd}: interrupted{what}", file=sys.stderr, flush=True)
@@ -229,15 +246,15 @@ def _main(args, cmd):
 
     debug = bool(getattr(args, "debug", False))
     validate.reset_warnings(prefix=cmd)
-    said_before = say_warnings("print")   # the command prints its warnings as lines on stderr
-    notes = _print_notes()                 # and its notes (the roadscan logger's INFO lines)
+    said_before = say_warnings("print")  # the command prints its warnings as lines on stderr
+    notes = _print_notes()  # and its notes (the roadscan logger's INFO lines)
     previous_limit = io_common.get_max_pixels()
     if getattr(args, "max_pixels", None):
         io_common.set_max_pixels(args.max_pixels)
     try:
         with warnings.catch_warnings(record=True) as caught, reads_tracked():
             warnings.simplefilter("always", RuntimeWarning)
-            check_command_paths(args)   # no output over an input, no looping link (exit 2)
+            check_command_paths(args)  # no output over an input, no looping link (exit 2)
             rc = int(args._run(args) or 0)
         runtime = [w for w in caught if issubclass(w.category, RuntimeWarning)]
         for w in caught:
@@ -250,25 +267,39 @@ def _main(args, cmd):
         raise
     except InputError as exc:
         return _fail(cmd, debug, one_line(flag_text(exc)))
-    except (FileNotFoundError, IsADirectoryError, NotADirectoryError, PermissionError,
-            FileExistsError) as exc:
+    except (
+        FileNotFoundError,
+        IsADirectoryError,
+        NotADirectoryError,
+        PermissionError,
+        FileExistsError,
+    ) as exc:
         name = getattr(exc, "filename", None) or ""
         return _fail(cmd, debug, one_line(f"{name}: {exc.strerror or exc}" if name else exc))
     except MemoryError as exc:
-        return _fail(cmd, debug, one_line(f"out of memory ({exc or 'allocation failed'}); use a smaller "
-                                          f"scan or lower --max-pixels"))
+        return _fail(
+            cmd,
+            debug,
+            one_line(
+                f"out of memory ({exc or 'allocation failed'}); use a smaller scan or lower --max-pixels"
+            ),
+        )
     except OSError as exc:
         name = getattr(exc, "filename", None) or _output_of(args, exc)
         return _fail(cmd, debug, one_line(f"{str(name) + ': ' if name else ''}{exc.strerror or exc}"))
     except _parsing_errors() as exc:
         return _fail(cmd, debug, one_line(f"cannot parse this input ({type(exc).__name__}: {exc})"))
-    except Exception as exc:       # last resort: a bug, still one line
-        if _interrupted(exc):          # a stop request that a library wrapped (Python wraps an
-            raise KeyboardInterrupt from exc   # exception raised while a class is made, 3.11)
+    except Exception as exc:  # last resort: a bug, still one line
+        if _interrupted(exc):  # a stop request that a library wrapped (Python wraps an
+            raise KeyboardInterrupt from exc  # exception raised while a class is made, 3.11)
         if isinstance(exc, RuntimeError) and "symlink loop" in str(exc).lower():  # pathlib, a looping link
             return _fail(cmd, debug, one_line(f"{exc}: a symbolic link loop"))
-        return _fail(cmd, debug, one_line(f"internal error ({type(exc).__name__}: {exc}); rerun with "
-                                          f"--debug for the traceback"), internal=True)
+        return _fail(
+            cmd,
+            debug,
+            one_line(f"internal error ({type(exc).__name__}: {exc}); rerun with --debug for the traceback"),
+            internal=True,
+        )
     finally:
         io_common.set_max_pixels(previous_limit)
         say_warnings(said_before)
@@ -311,7 +342,9 @@ def _interrupted(exc):
 
 
 #: errors of writing: when the exception names no file, the message names the command's output
-_WRITE_ERRNOS = {getattr(errno, n) for n in ("ENOSPC", "EDQUOT", "EFBIG", "EROFS", "EIO") if hasattr(errno, n)}
+_WRITE_ERRNOS = {
+    getattr(errno, n) for n in ("ENOSPC", "EDQUOT", "EFBIG", "EROFS", "EIO") if hasattr(errno, n)
+}
 
 
 def _output_of(args, exc):

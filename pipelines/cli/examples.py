@@ -5,6 +5,7 @@ the repository root as written (the sample scans, or the public data in ``../sha
 for the instrument and road-profile formats) and writing only into ``out/``. They are the
 argparse epilog of each parser, kept verbatim by :class:`argparse.RawDescriptionHelpFormatter`.
 """
+
 from __future__ import annotations
 
 import argparse

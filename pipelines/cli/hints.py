@@ -1,4 +1,4 @@
-""""Did you mean ...?" for a mistyped command or option (``analyze`` -> ``analyse``,
+""" "Did you mean ...?" for a mistyped command or option (``analyze`` -> ``analyse``,
 ``--output`` -> ``--out``), the version string of ``roadscan --version``, and the flag names of
 the options roadscan's errors and notes point at (:func:`flag_of`, :func:`flag_text`).
 
@@ -7,6 +7,7 @@ Suggestions come from :func:`difflib.get_close_matches` (Ratcliff/Obershelp simi
 grows; a few common spellings that are too far for the ratio (``--output``) are mapped by
 prefix: an unknown option that starts with a known one (or the reverse) is suggested too.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -143,7 +144,7 @@ def hint(parser, message, argv):
     target = _chosen(parser, argv)
     known = _options(target)
     words = [a.split("=", 1)[0] for a in argv if a.startswith("--")]
-    unknown = [w for w in words if not any(k.startswith(w) for k in known)]   # abbreviations pass
+    unknown = [w for w in words if not any(k.startswith(w) for k in known)]  # abbreviations pass
     for word in unknown:
         best = _close(word, known)
         if best:

@@ -12,6 +12,7 @@ process at once with the same code (``os._exit``): nothing is half-written at th
 killed run's hidden folders are removed by the next run on the same target), and no library
 shutting down (a Dask cluster, the figure helper) can print a traceback or turn the exit into 0.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -20,8 +21,15 @@ import signal
 import sys
 import threading
 
-__all__ = ["Terminated", "signals_as_interrupt", "received", "exit_code", "signal_name", "after_interrupt",
-           "exit_early_on_signals"]
+__all__ = [
+    "Terminated",
+    "signals_as_interrupt",
+    "received",
+    "exit_code",
+    "signal_name",
+    "after_interrupt",
+    "exit_early_on_signals",
+]
 
 #: signals turned into :class:`Terminated` (SIGINT keeps Python's KeyboardInterrupt)
 CAUGHT = tuple(getattr(signal, n) for n in ("SIGTERM", "SIGHUP") if hasattr(signal, n))
@@ -54,7 +62,7 @@ def _quiet():
 
     logging.disable(logging.CRITICAL)
     sys.unraisablehook = lambda unraisable: None
-    threading.excepthook = lambda args: None      # a helper thread stopped mid-import
+    threading.excepthook = lambda args: None  # a helper thread stopped mid-import
 
 
 def _raise(signum, frame):
@@ -156,7 +164,7 @@ def signals_as_interrupt(restore=True):
     previous = {}
     for sig in CAUGHT + (signal.SIGINT,):
         try:
-            if signal.getsignal(sig) == signal.SIG_IGN:    # nohup, a shell's background job
+            if signal.getsignal(sig) == signal.SIG_IGN:  # nohup, a shell's background job
                 continue
             previous[sig] = signal.signal(sig, _raise if sig != signal.SIGINT else _int)
         except (OSError, ValueError):
@@ -217,6 +225,7 @@ def exit_early_on_signals(prog="roadscan"):
     -------
     None
     """
+
     def _early(signum, frame):
         name = "" if signum == signal.SIGINT else f" ({signal.Signals(signum).name})"
         with contextlib.suppress(Exception):

@@ -5,6 +5,7 @@ unmeasured; ``.tif``/``.tiff``: float64 metres, spacing in tags), chosen by the 
 extension; heights, unmeasured points and spacing bit for bit (float64), or rounded to
 float32 on request. The file appears only when complete.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -84,7 +85,7 @@ def convert_file(inp, out, read_options, units=None, float32=False):
 
         check_spacing_option(read_options["spacing"])
     scan = read(inp, **read_options)
-    check_plausible(scan, inp, units)   # a units slip is not converted
+    check_plausible(scan, inp, units)  # a units slip is not converted
     ext = out.suffix.lower()
     if ext in (".tif", ".tiff") and not isinstance(scan, HeightMap):
         raise InputError(inp, "is a line profile: TIFF holds area scans; use .x3p, .npy or .npz")

@@ -9,6 +9,7 @@ value) and ``extrapolated_share``, a PNG plot beside it (same stem) and ``<stem>
 table). A ``psd.csv`` written by ``roadscan analyse`` is integrated over the band analyse used
 (``psd_band.json`` beside it), so that the same flags give analyse's mu(v).
 """
+
 from __future__ import annotations
 
 import math
@@ -22,8 +23,15 @@ __all__ = ["run_friction"]
 def _self_affine(text):
     from friction import SelfAffinePSD
 
-    keys = {"h": "hurst", "hurst": "hurst", "h0": "h0_m", "q0": "q0_per_m", "q1": "q1_per_m",
-            "qroll": "q_roll_per_m", "q_roll": "q_roll_per_m"}
+    keys = {
+        "h": "hurst",
+        "hurst": "hurst",
+        "h0": "h0_m",
+        "q0": "q0_per_m",
+        "q1": "q1_per_m",
+        "qroll": "q_roll_per_m",
+        "q_roll": "q_roll_per_m",
+    }
     kw = {}
     for part in filter(None, (s.strip() for s in text.split(","))):
         k, sep, val = part.partition("=")
@@ -42,7 +50,9 @@ def _self_affine(text):
 
     for key in ("q0_per_m", "q1_per_m", "q_roll_per_m"):
         if key in kw:
-            check_wave_vector(kw[key], f"--self-affine {key.split('_')[0] if key != 'q_roll_per_m' else 'qroll'}=")
+            check_wave_vector(
+                kw[key], f"--self-affine {key.split('_')[0] if key != 'q_roll_per_m' else 'qroll'}="
+            )
     # the model's own conditions, checked here: a ValueError from SelfAffinePSD is then a bug
     if not 0 < kw["hurst"] < 1.5:
         raise InputError(None, f"--self-affine H={kw['hurst']:g}: must lie in (0, 1.5)")
@@ -51,7 +61,9 @@ def _self_affine(text):
     if not kw["q0_per_m"] < kw["q1_per_m"]:
         raise InputError(None, f"--self-affine q0={kw['q0_per_m']:g} must be below q1={kw['q1_per_m']:g}")
     if kw.get("q_roll_per_m") is not None and not kw["q_roll_per_m"] < kw["q0_per_m"]:
-        raise InputError(None, f"--self-affine qroll={kw['q_roll_per_m']:g} must be below q0={kw['q0_per_m']:g}")
+        raise InputError(
+            None, f"--self-affine qroll={kw['q_roll_per_m']:g} must be below q0={kw['q0_per_m']:g}"
+        )
     return SelfAffinePSD(**kw)
 
 
@@ -78,17 +90,25 @@ def _psd(args, settings=None):
             from pipelines.chain.steps import judge_fine_end
             from pipelines.checks.run_warnings import note
 
-            _, refused = judge_fine_end(psd, rb, settings)     # as analyse judged the band
+            _, refused = judge_fine_end(psd, rb, settings)  # as analyse judged the band
             if refused is not None:
                 raise InputError(args.psd, refused)
             band = dict(band or {}, band_from=str(path))
-            note(f"note: {args.psd}: integrated over the band of {path.name} "
-                 f"({band['q0_per_m']:.6g} to {band['q1_per_m']:.6g} 1/m)")
+            note(
+                f"note: {args.psd}: integrated over the band of {path.name} "
+                f"({band['q0_per_m']:.6g} to {band['q1_per_m']:.6g} 1/m)"
+            )
             return psd, band
         psd, band = apply_band(table, args.q0, args.q1)
         if band is None:
-            band = dict(q0_per_m=psd.q_min_per_m, q1_per_m=psd.q1_per_m, q_table_min_per_m=psd.q_min_per_m,
-                        q_table_max_per_m=float(psd.q_per_m[-1]), extended_decades=0.0, tail_exponent=None)
+            band = dict(
+                q0_per_m=psd.q_min_per_m,
+                q1_per_m=psd.q1_per_m,
+                q_table_min_per_m=psd.q_min_per_m,
+                q_table_max_per_m=float(psd.q_per_m[-1]),
+                extended_decades=0.0,
+                tail_exponent=None,
+            )
         return psd, band
     psd = _self_affine(args.self_affine)
     if args.q0 is not None:
@@ -96,7 +116,7 @@ def _psd(args, settings=None):
     if args.q1 is not None:
         from pipelines.checks.validate import check_q1
 
-        psd = psd.with_q1(check_q1(args.q1, psd.q0_per_m))   # SelfAffinePSD needs q0 < q1
+        psd = psd.with_q1(check_q1(args.q1, psd.q0_per_m))  # SelfAffinePSD needs q0 < q1
     return psd, dict(q0_per_m=psd.q_min_per_m, q1_per_m=psd.q1_per_m, extended_decades=0.0)
 
 
@@ -127,17 +147,20 @@ def run_friction(args):
     from pipelines.settings.friction import run_checks, settings_from_args, with_extrapolation
     from roadscan.io.overwrite_guard import refuse_overwrite
 
-    out = Path(args.out)                  # mu.csv, its summary and plot never replace an input
-    refuse_overwrite([out, out.with_name(out.stem + "_summary.json"), out.with_suffix(".png")],
-                     [getattr(args, k, None) for k in ("psd", "rubber", "master_curve", "shift_table")])
-    settings = settings_from_args(args)   # checked: contact options, rubber, pressure, T0
+    out = Path(args.out)  # mu.csv, its summary and plot never replace an input
+    refuse_overwrite(
+        [out, out.with_name(out.stem + "_summary.json"), out.with_suffix(".png")],
+        [getattr(args, k, None) for k in ("psd", "rubber", "master_curve", "shift_table")],
+    )
+    settings = settings_from_args(args)  # checked: contact options, rubber, pressure, T0
     sigma0 = settings.sigma0_Pa
     v = settings.v_m_per_s if settings.v_m_per_s is not None else default_velocities()
     if not (0 < args.tol < 0.1):
         raise InputError(None, "--tol must lie in (0, 0.1)")
     psd, band = _psd(args, settings)
-    rubber = with_extrapolation(settings.rubber if settings.rubber is not None else friction.thesis_rubber(),
-                                args.extrapolate)
+    rubber = with_extrapolation(
+        settings.rubber if settings.rubber is not None else friction.thesis_rubber(), args.extrapolate
+    )
     zetas = []
     if args.magnifications:
         try:
@@ -152,11 +175,12 @@ def run_friction(args):
     if zetas and not args.flash:
         raise InputError(None, "--magnifications needs --flash")
 
-    kw = dict(sigma0_Pa=sigma0, nu=args.nu, T0_C=args.temperature, tol=args.tol,
-              contact_gamma=args.contact_gamma)
+    kw = dict(
+        sigma0_Pa=sigma0, nu=args.nu, T0_C=args.temperature, tol=args.tol, contact_gamma=args.contact_gamma
+    )
     from pipelines.chain.steps import friction_of
 
-    try:                                  # the one engine call of every command (pipelines.chain.steps)
+    try:  # the one engine call of every command (pipelines.chain.steps)
         res = friction_of(psd, settings, v, tol=args.tol)
     except RuntimeError as exc:
         raise InputError(None, f"friction: {exc}") from None
@@ -176,15 +200,21 @@ def run_friction(args):
         for z in zetas:
             header.append(f"T_C_zeta_{z:g}")
             cols.append(res.temperature_at(z))
-    header.append("extrapolated_share")                  # after the existing columns
+    header.append("extrapolated_share")  # after the existing columns
     cols.append(prov["extrapolated_share"])
-    checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, res.meta["T0_C"],
-                        None if T_max is None else float(T_max.max()), result=res)
+    checks = run_checks(
+        rubber,
+        v,
+        psd.q_min_per_m,
+        psd.q1_per_m,
+        res.meta["T0_C"],
+        None if T_max is None else float(T_max.max()),
+        result=res,
+    )
     from roadscan.io.atomic import atomic_file_set
 
-    with atomic_file_set(out) as tmp:      # mu.csv, its summary and plot: all or none
-        _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max,
-                       prov)
+    with atomic_file_set(out) as tmp:  # mu.csv, its summary and plot: all or none
+        _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max, prov)
     return res, v, psd, out
 
 
@@ -208,25 +238,32 @@ def _provenance(args, psd, band, res, rubber, settings, v, kw):
     i = int(np.argmax(res.mu))
     default = settings.rubber is None and not getattr(args, "master_curve", None)
     label = mp.rubber_label(None if default else rubber, settings.sigma0_Pa, res.meta["T0_C"])
-    cause = mp.implausible_cause(float(res.mu[i]), share_at_peak=float(share[i]),
-                                 slope=mp.rms_slope(psd), default_rubber=default,
-                                 q1_per_m=psd.q1_per_m)
-    if cause and args.psd:              # a spectrum file: its C may be in another normalisation
+    cause = mp.implausible_cause(
+        float(res.mu[i]),
+        share_at_peak=float(share[i]),
+        slope=mp.rms_slope(psd),
+        default_rubber=default,
+        q1_per_m=psd.q1_per_m,
+    )
+    if cause and args.psd:  # a spectrum file: its C may be in another normalisation
         from pipelines.checks.psd_plausibility import normalisation_cause
 
         cause = f"{cause}; {normalisation_cause()}"
     if cause:
         warn(f"{args.out}: {cause}")
-    edge = mp.edge_warning(res.v_m_per_s, res.mu)       # no peak inside the speed range
+    edge = mp.edge_warning(res.v_m_per_s, res.mu)  # no peak inside the speed range
     if edge:
         warn(f"{args.out}: {edge}")
-    return {"extrapolated_share": share, "extrapolated_share_at_peak": float(share[i]),
-            "rubber": label, "implausible": cause,
-            "extrapolated_from_per_m": q_meas}
+    return {
+        "extrapolated_share": share,
+        "extrapolated_share_at_peak": float(share[i]),
+        "rubber": label,
+        "implausible": cause,
+        "extrapolated_from_per_m": q_meas,
+    }
 
 
-def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max,
-                   prov=None):
+def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area, checks, T_max, prov=None):
     from pipelines.output.headline import peak_keys
     from pipelines.output.report import plot_mu, write_csv, write_json
 
@@ -236,7 +273,7 @@ def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area
         "model": "flash temperature" if args.flash else "isothermal",
         "sigma0_Pa": sigma0,
         "nu": args.nu,
-        "pressure_in_P_Pa": (1 - args.nu ** 2) * sigma0,
+        "pressure_in_P_Pa": (1 - args.nu**2) * sigma0,
         "pressure_note": "sigma0 is the nominal pressure; P(q), G(q) and M(q) use (1 - nu^2) sigma0",
         "contact_gamma": args.contact_gamma,
         "T0_C": res.meta["T0_C"],
@@ -250,7 +287,7 @@ def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area
         "area_fraction_range": [float(area.min()), float(area.max())],
         "rubber_checks": checks,
     }
-    if prov is not None:                  # where mu comes from
+    if prov is not None:  # where mu comes from
         summary["rubber_label"] = prov["rubber"]
         summary["extrapolated_share"] = [float(x) for x in prov["extrapolated_share"]]
         summary["extrapolated_share_at_peak"] = prov["extrapolated_share_at_peak"]
@@ -261,8 +298,18 @@ def _write_outputs(tmp, out, header, cols, res, args, sigma0, rubber, band, area
     if T_max is not None:
         summary["T_flash_max_C"] = float(T_max.max())
     write_json(tmp / (out.stem + "_summary.json"), summary)
-    title = "μ(v), " + ("flash temperature" if args.flash else "isothermal") + \
-        (f", {prov['rubber']}" if prov is not None else
-         f", σ0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} °C")
-    plot_mu([("", res.v_m_per_s, res.mu)], tmp / (out.stem + ".png"), title=title,
-            ylabel="friction coefficient μ [-]")
+    title = (
+        "μ(v), "
+        + ("flash temperature" if args.flash else "isothermal")
+        + (
+            f", {prov['rubber']}"
+            if prov is not None
+            else f", σ0 = {sigma0 / 1e6:g} MPa, T0 = {res.meta['T0_C']:g} °C"
+        )
+    )
+    plot_mu(
+        [("", res.v_m_per_s, res.mu)],
+        tmp / (out.stem + ".png"),
+        title=title,
+        ylabel="friction coefficient μ [-]",
+    )

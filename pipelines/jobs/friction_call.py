@@ -2,6 +2,7 @@
 (:func:`add_friction_command_options`), which the command parses and the function takes as
 keywords, so that the two cannot disagree. The job itself is :mod:`pipelines.jobs.friction`.
 """
+
 from __future__ import annotations
 
 import os
@@ -37,43 +38,51 @@ def add_friction_command_options(p):
 
     src = p.add_mutually_exclusive_group(required=True)
     src.add_argument("--psd", metavar="FILE", help="psd.csv with header q_per_m,C_m4 [1/m, m^4]")
-    src.add_argument("--self-affine", metavar="H=..,h0=..,q0=..,q1=..",
-                     help="self-affine model (thesis appendix A): Hurst H, h0 [m], q0, q1 [1/m], "
-                          "optional qroll [1/m]")
+    src.add_argument(
+        "--self-affine",
+        metavar="H=..,h0=..,q0=..,q1=..",
+        help="self-affine model (thesis appendix A): Hurst H, h0 [m], q0, q1 [1/m], optional qroll [1/m]",
+    )
     add_friction_options(p, master_curve=True, optional=False, q1_help=None)
-    p.add_argument("--magnifications", default="", metavar="Z1,Z2,...",
-                   help="with --flash: also report T at these magnifications zeta = q/q0")
+    p.add_argument(
+        "--magnifications",
+        default="",
+        metavar="Z1,Z2,...",
+        help="with --flash: also report T at these magnifications zeta = q/q0",
+    )
     p.add_argument("--tol", type=float, default=1e-3, help="relative accuracy target for mu (1e-3)")
 
 
 #: what this job's options mean where it narrows the shared text
 _OPTION_TEXT = {
-    "q1": ("``--q1``: upper end (cut-off) of the friction integrals [1/m]; above the spectrum's "
-           "last point C(q) continues as its fitted power law (default: the last point)."),
+    "q1": (
+        "``--q1``: upper end (cut-off) of the friction integrals [1/m]; above the spectrum's "
+        "last point C(q) continues as its fitted power law (default: the last point)."
+    ),
 }
 
 
 @document_options(overrides=_OPTION_TEXT)
 def friction(
-        out: str | os.PathLike[str],
-        *,
-        psd: str | os.PathLike[str] | None = None,
-        self_affine: str | None = None,
-        rubber: str | os.PathLike[str] | Rubber | None = None,
-        master_curve: str | os.PathLike[str] | None = None,
-        shift_table: str | os.PathLike[str] | None = None,
-        reference_temperature: float | None = None,
-        sigma0: float | str = 200000.0,
-        temperature: float | None = None,
-        flash: bool = False,
-        velocities: ArrayLike | str | None = None,
-        q0: float | None = None,
-        q1: float | None = None,
-        contact_gamma: float | None = None,
-        nu: float = 0.5,
-        extrapolate: Literal['powerlaw', 'hold'] = 'powerlaw',
-        magnifications: str = '',
-        tol: float = 0.001,
+    out: str | os.PathLike[str],
+    *,
+    psd: str | os.PathLike[str] | None = None,
+    self_affine: str | None = None,
+    rubber: str | os.PathLike[str] | Rubber | None = None,
+    master_curve: str | os.PathLike[str] | None = None,
+    shift_table: str | os.PathLike[str] | None = None,
+    reference_temperature: float | None = None,
+    sigma0: float | str = 200000.0,
+    temperature: float | None = None,
+    flash: bool = False,
+    velocities: ArrayLike | str | None = None,
+    q0: float | None = None,
+    q1: float | None = None,
+    contact_gamma: float | None = None,
+    nu: float = 0.5,
+    extrapolate: Literal["powerlaw", "hold"] = "powerlaw",
+    magnifications: str = "",
+    tol: float = 0.001,
 ) -> dict[str, Any]:
     """``roadscan friction`` as one call: mu(v) and the real contact area A/A0 = P(q1) from a
     spectrum and a rubber (Persson, J. Chem. Phys. 115, 3840 (2001); with ``flash=True`` the
@@ -120,7 +129,7 @@ def friction(
     from roadscan.errors import InputError
 
     args = options_of(friction, locals())
-    if (psd is None) == (self_affine is None):   # the command's required either-or
+    if (psd is None) == (self_affine is None):  # the command's required either-or
         raise InputError(None, "give one spectrum: --psd PSD.csv or --self-affine H,h0,q0,q1[,qroll]")
     args.out = os.fspath(out)
     with collecting():

@@ -9,6 +9,7 @@ and a scan's tilt is the instrument's, not the road's. Unmeasured points are tra
 neither hold nor block water; :mod:`roadscan.rain`, after the morphological reconstruction of
 Soille, *Morphological Image Analysis*, 2003, sec. 6.3.7).
 """
+
 from __future__ import annotations
 
 import json
@@ -25,17 +26,18 @@ __all__ = ["rain_fill", "check_water", "rain_fill_scan", "write_rain_fill"]
 
 @document_options()
 def rain_fill(
-        scan: Any, out: str | os.PathLike[str],
-        *,
-        spacing: float | str | tuple[float, float] | None = None,
-        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        override_calibration: bool = False,
-        channel: int | str | None = None,
-        connectivity: Literal[4, 8] = 4,
-        max_depth: float | None = None,
-        water_film: float | None = None,
-        no_level: bool = False,
+    scan: Any,
+    out: str | os.PathLike[str],
+    *,
+    spacing: float | str | tuple[float, float] | None = None,
+    units: Literal["m", "mm", "um", "nm"] | None = None,
+    x_units: Literal["m", "mm", "um", "nm"] | None = None,
+    override_calibration: bool = False,
+    channel: int | str | None = None,
+    connectivity: Literal[4, 8] = 4,
+    max_depth: float | None = None,
+    water_film: float | None = None,
+    no_level: bool = False,
 ) -> dict[str, Any]:
     """``roadscan rain-fill`` as one call: the scan's cavities filled with water
     (:func:`rain_fill_scan`) and the files of the module docstring written into ``out`` (all
@@ -83,11 +85,18 @@ def rain_fill(
         check_water_options(args)
         check_output_dir(out, inputs=inputs)
         obj = scan_of(scan, args)
-        filled, r = rain_fill_scan(obj, connectivity=args.connectivity, max_depth_m=args.max_depth,
-                                   water_film_m=args.water_film, level=not args.no_level, path=path)
+        filled, r = rain_fill_scan(
+            obj,
+            connectivity=args.connectivity,
+            max_depth_m=args.max_depth,
+            water_film_m=args.water_film,
+            level=not args.no_level,
+            path=path,
+        )
         with atomic_output_dir(Path(out), inputs=inputs) as tmp:
-            return write_rain_fill(tmp, filled, r, path if path is not None else obj.name,
-                                   levelled=not args.no_level)
+            return write_rain_fill(
+                tmp, filled, r, path if path is not None else obj.name, levelled=not args.no_level
+            )
 
 
 def rain_fill_scan(scan, connectivity=4, max_depth_m=None, water_film_m=None, level=True, path=None):
@@ -124,8 +133,9 @@ def rain_fill_scan(scan, connectivity=4, max_depth_m=None, water_film_m=None, le
         from roadscan import level as levelling
 
         scan = levelling.level(scan, degree=1)
-    return scan, rain_fill(scan, connectivity=connectivity, max_depth_m=max_depth_m,
-                           water_film_m=water_film_m)
+    return scan, rain_fill(
+        scan, connectivity=connectivity, max_depth_m=max_depth_m, water_film_m=water_film_m
+    )
 
 
 def write_rain_fill(out, scan, r, source, levelled=True):
@@ -176,12 +186,14 @@ def write_rain_fill(out, scan, r, source, levelled=True):
         "dx_m": scan.dx_m,
         "dy_m": scan.dy_m,
         "unmeasured_points": r.meta["unmeasured_policy"],
-        "files": {"wet.npy": "wet surface [m], NaN unmeasured (no spacing: dx_m, dy_m above)",
-                  "depth.npy": "water depth [m], 0 dry, NaN unmeasured (no spacing: dx_m, dy_m above)",
-                  "wet.npz": "wet surface with its spacing: heights [m], dx, dy [m], unmeasured",
-                  "depth.npz": "water depth with its spacing: heights [m], dx, dy [m], unmeasured"},
+        "files": {
+            "wet.npy": "wet surface [m], NaN unmeasured (no spacing: dx_m, dy_m above)",
+            "depth.npy": "water depth [m], 0 dry, NaN unmeasured (no spacing: dx_m, dy_m above)",
+            "wet.npz": "wet surface with its spacing: heights [m], dx, dy [m], unmeasured",
+            "depth.npz": "water depth with its spacing: heights [m], dx, dy [m], unmeasured",
+        },
     }
-    summary.update(read_record(scan))          # how the file was read
+    summary.update(read_record(scan))  # how the file was read
     if warnings_list():
         summary["warnings"] = warnings_list()
     atomic_write_text(out / "rainfill.json", json.dumps(summary, indent=2) + "\n")

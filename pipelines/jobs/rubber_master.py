@@ -10,6 +10,7 @@ frequency: ``f_Hz,E_storage_Pa,E_loss_Pa,T_C,sweep``), ``S_master.json`` (shift 
 shift was found, WLF fit and its rms in decades, Prony fit) and ``S_master.png`` (raw sweeps,
 the shifted master curve, aT(T) with the WLF fit).
 """
+
 from __future__ import annotations
 
 import math
@@ -67,8 +68,13 @@ def _plot(res, raw, path):
             ax.plot(res.T_sweep_C[k], res.log10_aT[k], mk, label=f"shift: {meth}")
     Tg = np.linspace(res.T_sweep_C.min(), res.T_sweep_C.max(), 200)
     w = res.wlf
-    ax.plot(Tg, w.log10_aT(Tg), "k-", lw=1,
-            label=f"WLF C1 = {sig3(w.C1)}, C2 = {sig3(w.C2_K)} K (rms {res.wlf_rms_decades:.2f} dec)")
+    ax.plot(
+        Tg,
+        w.log10_aT(Tg),
+        "k-",
+        lw=1,
+        label=f"WLF C1 = {sig3(w.C1)}, C2 = {sig3(w.C2_K)} K (rms {res.wlf_rms_decades:.2f} dec)",
+    )
     ax.set_xlabel("temperature T [°C]"), ax.set_ylabel("log10 aT")
     ax.set_title("shift factors aT(T)", fontsize=9)
     ax.grid(alpha=0.3), ax.legend(fontsize=8)
@@ -114,45 +120,65 @@ def build_rubber_master(raw, reference_temperature_C, out, prony_per_decade=1.5)
     f, E1, E2, T, sid = read_dma_sweeps_csv(raw)
     try:
         with np.errstate(all="ignore"):
-            res = build_master(f, E1, E2, T, reference_temperature_C, set_id=sid,
-                               prony_per_decade=prony_per_decade)
-    except ValueError as exc:      # the sweeps cannot be superposed: friction's own checks
+            res = build_master(
+                f, E1, E2, T, reference_temperature_C, set_id=sid, prony_per_decade=prony_per_decade
+            )
+    except ValueError as exc:  # the sweeps cannot be superposed: friction's own checks
         raise InputError(raw, str(exc)) from None
-    with atomic_file_set(out) as d:        # the TOML and its data files: all or none
+    with atomic_file_set(out) as d:  # the TOML and its data files: all or none
         stem = out.stem
         mc_name, sh_name = f"{stem}_master.csv", f"{stem}_shift.csv"
         m = res.master
         write_csv(d / mc_name, ["f_Hz", "E_storage_Pa", "E_loss_Pa"], [m.f_Hz, m.E_storage_Pa, m.E_loss_Pa])
         write_csv(d / sh_name, ["T_C", "log10_aT"], [res.T_sweep_C, res.log10_aT])
         s = res.shifted
-        write_csv(d / f"{stem}_shifted.csv", ["f_Hz", "E_storage_Pa", "E_loss_Pa", "T_C", "sweep"],
-                  [s["f_Hz"], s["E_storage_Pa"], s["E_loss_Pa"], s["T_C"], s["sweep"]])
+        write_csv(
+            d / f"{stem}_shifted.csv",
+            ["f_Hz", "E_storage_Pa", "E_loss_Pa", "T_C", "sweep"],
+            [s["f_Hz"], s["E_storage_Pa"], s["E_loss_Pa"], s["T_C"], s["sweep"]],
+        )
         w, p = res.wlf, res.prony
-        toml = (f"# Master curve at T_ref = {res.T_ref_C:g} C from the raw DMA sweeps {Path(raw).name}\n"
-                f"# by time-temperature superposition (roadscan rubber master; friction/mastercurve.py).\n"
-                f"# WLF fit to the shift table: C1 = {w.C1:.6g}, C2_K = {w.C2_K:.6g}, T_s_C = {w.T_s_C:g}\n"
-                f"# (rms {res.wlf_rms_decades:.3f} decades, max {res.wlf_max_decades:.3f}); to use it, replace\n"
-                f"# [shift] by kind = \"wlf\" with those constants. The Prony series below fits the master\n"
-                f"# curve (rms relative misfit {res.prony_rms:.3f}); to use it, set model = \"prony\".\n"
-                f"model = \"master_curve\"\nT_ref_C = {res.T_ref_C!r}\n"
-                f"source = \"roadscan rubber master {Path(raw).name} --reference-temperature {res.T_ref_C:g}\"\n\n"
-                f"[master_curve]\nfile = \"{mc_name}\"   # f_Hz, E_storage_Pa, E_loss_Pa (smoothed)\n\n"
-                f"[shift]\nkind = \"table\"\nfile = \"{sh_name}\"   # T_C, log10_aT\n\n"
-                f"[prony]\nE_inf_Pa = {p.E_inf_Pa:.10g}\nE_i_Pa = {_toml_list(p.E_i_Pa)}\n"
-                f"tau_i_s = {_toml_list(p.tau_i_s)}\n")
+        toml = (
+            f"# Master curve at T_ref = {res.T_ref_C:g} C from the raw DMA sweeps {Path(raw).name}\n"
+            f"# by time-temperature superposition (roadscan rubber master; friction/mastercurve.py).\n"
+            f"# WLF fit to the shift table: C1 = {w.C1:.6g}, C2_K = {w.C2_K:.6g}, T_s_C = {w.T_s_C:g}\n"
+            f"# (rms {res.wlf_rms_decades:.3f} decades, max {res.wlf_max_decades:.3f}); to use it, replace\n"
+            f'# [shift] by kind = "wlf" with those constants. The Prony series below fits the master\n'
+            f'# curve (rms relative misfit {res.prony_rms:.3f}); to use it, set model = "prony".\n'
+            f'model = "master_curve"\nT_ref_C = {res.T_ref_C!r}\n'
+            f'source = "roadscan rubber master {Path(raw).name} --reference-temperature {res.T_ref_C:g}"\n\n'
+            f'[master_curve]\nfile = "{mc_name}"   # f_Hz, E_storage_Pa, E_loss_Pa (smoothed)\n\n'
+            f'[shift]\nkind = "table"\nfile = "{sh_name}"   # T_C, log10_aT\n\n'
+            f"[prony]\nE_inf_Pa = {p.E_inf_Pa:.10g}\nE_i_Pa = {_toml_list(p.E_i_Pa)}\n"
+            f"tau_i_s = {_toml_list(p.tau_i_s)}\n"
+        )
         atomic_write_text(d / out.name, toml)
-        check = load_rubber(d / out.name)   # the TOML must load as --rubber does
+        check = load_rubber(d / out.name)  # the TOML must load as --rubber does
         assert isinstance(check, friction.MasterCurve)
         summary = {
-            "raw": str(raw), "T_ref_C": res.T_ref_C, "sweeps": len(res.T_sweep_C),
-            "shift_table": [{"T_C": float(t), "log10_aT": float(a), **i}
-                            for t, a, i in zip(res.T_sweep_C, res.log10_aT, res.sweep_info)],
-            "wlf_fit": {"C1": w.C1, "C2_K": w.C2_K, "T_s_C": w.T_s_C, "rms_decades": res.wlf_rms_decades,
-                        "max_abs_decades": res.wlf_max_decades},
+            "raw": str(raw),
+            "T_ref_C": res.T_ref_C,
+            "sweeps": len(res.T_sweep_C),
+            "shift_table": [
+                {"T_C": float(t), "log10_aT": float(a), **i}
+                for t, a, i in zip(res.T_sweep_C, res.log10_aT, res.sweep_info)
+            ],
+            "wlf_fit": {
+                "C1": w.C1,
+                "C2_K": w.C2_K,
+                "T_s_C": w.T_s_C,
+                "rms_decades": res.wlf_rms_decades,
+                "max_abs_decades": res.wlf_max_decades,
+            },
             "master_curve_f_Hz": [float(m.f_Hz[0]), float(m.f_Hz[-1])],
             "prony": {"terms": int(p.E_i_Pa.size), "rms_relative_misfit": res.prony_rms},
-            "files": {"toml": out.name, "master": mc_name, "shift": sh_name,
-                      "shifted": f"{stem}_shifted.csv", "plot": f"{stem}_master.png"},
+            "files": {
+                "toml": out.name,
+                "master": mc_name,
+                "shift": sh_name,
+                "shifted": f"{stem}_shifted.csv",
+                "plot": f"{stem}_master.png",
+            },
         }
         write_json(d / f"{stem}_master.json", summary)
         _plot(res, (f, E1, E2, T), d / f"{stem}_master.png")

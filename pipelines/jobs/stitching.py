@@ -6,6 +6,7 @@ nominal position [m] of its first sample; :func:`roadscan.stitch.read_manifest`)
 ``rows x cols`` grid with a nominal overlap fraction (:func:`roadscan.stitch.grid_positions`);
 :func:`roadscan.stitch.stitch` registers each overlap by cross-correlation and blends them.
 """
+
 from __future__ import annotations
 
 import csv
@@ -54,7 +55,9 @@ def _tiles_and_positions(args):
     shape = tiles[0].shape
     for t, f in zip(tiles, args.inputs):
         if t.shape != shape:
-            raise InputError(f, f"tile shape {t.shape} differs from the first tile's {shape} (--grid needs equal tiles)")
+            raise InputError(
+                f, f"tile shape {t.shape} differs from the first tile's {shape} (--grid needs equal tiles)"
+            )
     return tiles, grid_positions(rows, cols, shape, tiles[0].dx_m, tiles[0].dy_m, args.overlap)
 
 
@@ -85,10 +88,21 @@ def overlaps_csv(result):
     buf = io.StringIO()
     w = csv.writer(buf, lineterminator="\n")
     names = result.meta["tile_names"]
-    w.writerow(["tile_i", "tile_j", "n_points", "rms_mismatch_m", "shift_row_px", "shift_col_px", "registered"])
+    w.writerow(
+        ["tile_i", "tile_j", "n_points", "rms_mismatch_m", "shift_row_px", "shift_col_px", "registered"]
+    )
     for o in result.overlaps:
-        w.writerow([names[o["i"]], names[o["j"]], o["n_points"], f"{o['rms_mismatch_m']:.6g}",
-                    f"{o['shift_px'][0]:.3f}", f"{o['shift_px'][1]:.3f}", o["registered"]])
+        w.writerow(
+            [
+                names[o["i"]],
+                names[o["j"]],
+                o["n_points"],
+                f"{o['rms_mismatch_m']:.6g}",
+                f"{o['shift_px'][0]:.3f}",
+                f"{o['shift_px'][1]:.3f}",
+                o["registered"],
+            ]
+        )
     return buf.getvalue()
 
 
@@ -122,7 +136,7 @@ def stitch_files(args, out):
     if len(tiles) < 2:
         raise InputError(args.inputs[0], "need at least two tiles to stitch")
     res = stitch(tiles, positions, max_shift_px=args.max_shift, blend=args.blend)
-    with atomic_file_set(out) as d:        # the map and its overlaps table: both or neither
+    with atomic_file_set(out) as d:  # the map and its overlaps table: both or neither
         write(d / out.name, res.heightmap)
         atomic_write_text(d / (out.stem + "_overlaps.csv"), overlaps_csv(res))
     return res

@@ -11,6 +11,7 @@ Also the figures road engineers compare it with: the speed constant of an expone
 mu_wet over 20-100 km/h (as ASTM E1960 writes wet friction, F(S) = F60 exp((60 - S)/Sp)) next
 to the surface's IFI speed constant Sp = 14.2 + 89.7 MPD (MPD in mm, ISO 13473-1 on the scan).
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -67,12 +68,14 @@ def fall_split(v_m_per_s, mu_dry, mu_wet):
         return None
     at = [np.interp(np.log([lo, hi]), np.log(v), np.asarray(m, float)) for m in (mu_dry, mu_wet)]
     (d20, d100), (w20, w100) = at
-    return {"mu_wet": float(w20 - w100), "dry_curve": float(d20 - d100),
-            "water": float((d100 - w100) - (d20 - w20))}
+    return {
+        "mu_wet": float(w20 - w100),
+        "dry_curve": float(d20 - d100),
+        "water": float((d100 - w100) - (d20 - w20)),
+    }
 
 
-def wet_model_keys(name, connectivity=4, max_depth_m=None, water_film_m=None, conditions=None,
-                   settings=None):
+def wet_model_keys(name, connectivity=4, max_depth_m=None, water_film_m=None, conditions=None, settings=None):
     """``comparison.json``'s ``wet_model``: the model's name and its parameters (with the
     sources of the persson model's defaults; the fill model also says what it covers).
 
@@ -96,24 +99,46 @@ def wet_model_keys(name, connectivity=4, max_depth_m=None, water_film_m=None, co
 
     flash = bool(settings is not None and settings.flash)
     model = "flash temperature" if flash else "isothermal"
-    sigma0 = None if settings is None else settings.sigma0_Pa       # the chain's nominal pressure
+    sigma0 = None if settings is None else settings.sigma0_Pa  # the chain's nominal pressure
     if name == "fill":
-        return {"name": "fill", **WET_MODEL, "friction_model": model,
-                "parameters": {"connectivity": connectivity, "max_depth_m": max_depth_m,
-                               "water_film_m": water_film_m, "sigma0_Pa": sigma0}}
+        return {
+            "name": "fill",
+            **WET_MODEL,
+            "friction_model": model,
+            "parameters": {
+                "connectivity": connectivity,
+                "max_depth_m": max_depth_m,
+                "water_film_m": water_film_m,
+                "sigma0_Pa": sigma0,
+            },
+        }
     cond = conditions or WetConditions()
-    params = {k: getattr(cond, k) for k in ("water_depth_m", "water_temperature_C", "footprint_m",
-                                            "block_size_m", "shear_stress_Pa",
-                                            "percolation_contact_fraction")}
+    params = {
+        k: getattr(cond, k)
+        for k in (
+            "water_depth_m",
+            "water_temperature_C",
+            "footprint_m",
+            "block_size_m",
+            "shear_stress_Pa",
+            "percolation_contact_fraction",
+        )
+    }
     params["water_viscosity_Pa_s"] = cond.viscosity_Pa_s
     params["sigma0_Pa"] = sigma0
     default = WetConditions()
-    return {"name": "persson", "parameters": params,
-            "given": [k for k in params if k in DEFAULT_SOURCES and params[k] != getattr(default, k)],
-            "sources": {k: src for k, (_, src) in DEFAULT_SOURCES.items()},
-            "friction_model": model,
-            "adhesion": ("included, tau_f given" if cond.shear_stress_Pa is not None
-                         else "left out: no --shear-stress given")}
+    return {
+        "name": "persson",
+        "parameters": params,
+        "given": [k for k in params if k in DEFAULT_SOURCES and params[k] != getattr(default, k)],
+        "sources": {k: src for k, (_, src) in DEFAULT_SOURCES.items()},
+        "friction_model": model,
+        "adhesion": (
+            "included, tau_f given"
+            if cond.shear_stress_Pa is not None
+            else "left out: no --shear-stress given"
+        ),
+    }
 
 
 def _by_speed(v, x):
@@ -132,8 +157,12 @@ def _no_rougher(psd_sealed, psd_dry):
     from friction import TabulatedPSD
 
     q = psd_sealed.q_per_m
-    return TabulatedPSD(q, np.minimum(psd_sealed.C_m4, psd_dry.C(q)), q0_per_m=psd_sealed.q0_per_m,
-                        q1_per_m=min(psd_sealed.q1_per_m, psd_dry.q1_per_m))
+    return TabulatedPSD(
+        q,
+        np.minimum(psd_sealed.C_m4, psd_dry.C(q)),
+        q0_per_m=psd_sealed.q0_per_m,
+        q1_per_m=min(psd_sealed.q1_per_m, psd_dry.q1_per_m),
+    )
 
 
 def persson_wet(dry_map, an_dry, rb_dry, outcome, settings, conditions, window_alpha=0.25):
@@ -172,20 +201,33 @@ def persson_wet(dry_map, an_dry, rb_dry, outcome, settings, conditions, window_a
     # every region out of contact is a pool: the scan lies inside the footprint, whose edge and
     # not the scan's lets water out, and at the percolation threshold the non-contact clusters
     # are finite (open at the scan's border, 0.6 % of a 12 cm asphalt map was sealed, not 44 %)
-    sealed = seal_pools(dry_map, q_seal_per_m=q_c, contact_fraction=frac,
-                        water_film_m=conditions.water_depth_m, open_border=False)
+    sealed = seal_pools(
+        dry_map,
+        q_seal_per_m=q_c,
+        contact_fraction=frac,
+        water_film_m=conditions.water_depth_m,
+        open_border=False,
+    )
     psd_s = None
     if sealed.pool_count:
         an_s = analyse_surface(sealed.wet, window_alpha=window_alpha)
-        psd_s = _no_rougher(friction_psd(an_s.spectrum, an_dry.fit, rb_dry, settings, say=False)[0],
-                            outcome.psd)
+        psd_s = _no_rougher(
+            friction_psd(an_s.spectrum, an_dry.fit, rb_dry, settings, say=False)[0], outcome.psd
+        )
 
     def engine(psd, v, sigma):
         return friction_of(psd, dataclasses.replace(settings, sigma0_Pa=sigma), v)
 
-    wf = wet_friction(dry=dry, psd=outcome.psd, engine=engine, sigma0_Pa=settings.sigma0_Pa,
-                      conditions=conditions, psd_sealed=psd_s,
-                      sealed_fraction=sealed.sealed_fraction, q_seal_per_m=q_c)
+    wf = wet_friction(
+        dry=dry,
+        psd=outcome.psd,
+        engine=engine,
+        sigma0_Pa=settings.sigma0_Pa,
+        conditions=conditions,
+        psd_sealed=psd_s,
+        sealed_fraction=sealed.sealed_fraction,
+        q_seal_per_m=q_c,
+    )
     v = wf.v_m_per_s
     keys = {
         "wet_model": wet_model_keys("persson", conditions=conditions, settings=settings),
@@ -194,11 +236,15 @@ def persson_wet(dry_map, an_dry, rb_dry, outcome, settings, conditions, window_a
         "mechanisms_mu": {k: _by_speed(v, x) for k, x in wf.parts.items()},
         "separation_m": _by_speed(v, wf.separation_m),
         "texture_height_m": wf.meta["texture_height_m"],
-        "dynamic_lift_share": _by_speed(v, wf.lift_share),        # friction.wet.inertia
+        "dynamic_lift_share": _by_speed(v, wf.lift_share),  # friction.wet.inertia
         "horne_dreher_v_m_per_s": wf.meta["horne_dreher_v_m_per_s"],
         "contact_lost_v_m_per_s": wf.contact_lost_v_m_per_s,
-        "sealing": {"q_seal_per_m": q_c, "sealed_fraction": sealed.sealed_fraction,
-                    "pool_count": sealed.pool_count,
-                    "sealed_water_m3_per_m2": sealed.volume_m3_per_m2, "scan_border": "closed"},
+        "sealing": {
+            "q_seal_per_m": q_c,
+            "sealed_fraction": sealed.sealed_fraction,
+            "pool_count": sealed.pool_count,
+            "sealed_water_m3_per_m2": sealed.volume_m3_per_m2,
+            "scan_border": "closed",
+        },
     }
     return wf, keys

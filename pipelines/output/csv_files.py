@@ -3,6 +3,7 @@
 All accept a UTF-8 byte-order mark, blank lines, ``#`` comment lines and spaces after commas,
 and raise :class:`roadscan.errors.InputError` naming the file on any problem.
 """
+
 from __future__ import annotations
 
 import csv
@@ -41,8 +42,12 @@ def read_csv_rows(path, expected="a header line and data rows"):
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(path, f"cannot read ({exc})") from None
-    rows = [[c.strip() for c in r] for r in csv.reader(
-        line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#"))]
+    rows = [
+        [c.strip() for c in r]
+        for r in csv.reader(
+            line for line in text.splitlines() if line.strip() and not line.lstrip().startswith("#")
+        )
+    ]
     if not rows:
         raise InputError(path, f"empty file, expected {expected}")
     # a row with more values than the header has names: decimal commas read as separators
@@ -50,9 +55,12 @@ def read_csv_rows(path, expected="a header line and data rows"):
     width = len([c for c in rows[0] if c])
     for k, r in enumerate(rows[1:], start=2):
         if len([c for c in r if c]) > width:
-            raise InputError(path, f"data row {k} has {len([c for c in r if c])} values but the "
-                                   f"header names {width} columns (decimal commas? separate fields "
-                                   f"with ',' and write decimals with '.')")
+            raise InputError(
+                path,
+                f"data row {k} has {len([c for c in r if c])} values but the "
+                f"header names {width} columns (decimal commas? separate fields "
+                f"with ',' and write decimals with '.')",
+            )
     return rows[0], rows[1:]
 
 
@@ -91,6 +99,5 @@ def read_psd_csv(path):
     check_psd_shape(d[:, 0], d[:, 1], path)
     from pipelines.checks.psd_plausibility import check_psd_table
 
-    check_psd_table(path, d[:, 0], d[:, 1])   # wavelengths, rms height and slope a profiler gives
+    check_psd_table(path, d[:, 0], d[:, 1])  # wavelengths, rms height and slope a profiler gives
     return TabulatedPSD(d[:, 0], d[:, 1])
-

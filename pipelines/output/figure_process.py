@@ -24,6 +24,7 @@ and SIGHUP end it, SIGINT is ignored) before it unblocks them: it never runs thi
 handlers. Elsewhere (macOS, Windows, a program with threads) it is started with ``spawn``, a
 fresh interpreter that inherits none of this process's open files, locks or threads.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -83,24 +84,27 @@ class FigureProcess(InProcess):
 
     def __init__(self):
         super().__init__()
-        self._pending = []            # (future, fn, args, kwargs) submitted, not yet collected
-        self._sending = False         # a hand-over to the helper began and did not finish
+        self._pending = []  # (future, fn, args, kwargs) submitted, not yet collected
+        self._sending = False  # a hand-over to the helper began and did not finish
         self._pool = self._proc = None
         try:
             import multiprocessing
             from concurrent.futures import ProcessPoolExecutor
 
             method = _start_method()
-            self._pool = ProcessPoolExecutor(max_workers=1, initializer=_warm_up,
-                                             initargs=(os.getpid(),),
-                                             mp_context=multiprocessing.get_context(method))
+            self._pool = ProcessPoolExecutor(
+                max_workers=1,
+                initializer=_warm_up,
+                initargs=(os.getpid(),),
+                mp_context=multiprocessing.get_context(method),
+            )
             main = sys.modules.get("__main__")
             # the spawned worker would import the caller's script again (as __mp_main__): a
             # script without an ``if __name__ == "__main__"`` guard would run a second time
             sys.modules["__main__"] = types.ModuleType("__main__")
             blocked = _block() if method == "fork" else None
             try:
-                self._pool.submit(os.getpid)      # starts the worker now (it imports matplotlib)
+                self._pool.submit(os.getpid)  # starts the worker now (it imports matplotlib)
                 self._proc = next(iter(getattr(self._pool, "_processes", {}).values()), None)
             finally:
                 sys.modules["__main__"] = main
@@ -108,18 +112,18 @@ class FigureProcess(InProcess):
                     _unblock(blocked)
         except (OSError, RuntimeError, ValueError, ImportError):
             self._stop()
-        except BaseException:         # a stop signal (delivered once unblocked): no helper left
+        except BaseException:  # a stop signal (delivered once unblocked): no helper left
             self._stop()
             raise
 
     def submit(self, fn, *args, **kwargs):
         if self._pool is not None:
             try:
-                self._sending = True      # still True if a signal interrupts the hand-over
+                self._sending = True  # still True if a signal interrupts the hand-over
                 self._pending.append((self._pool.submit(fn, *args, **kwargs), fn, args, kwargs))
                 self._sending = False
                 return
-            except RuntimeError:      # BrokenProcessPool included: the helper is gone
+            except RuntimeError:  # BrokenProcessPool included: the helper is gone
                 self._stop()
         self._flush_locally()
         super().submit(fn, *args, **kwargs)
@@ -140,7 +144,7 @@ class FigureProcess(InProcess):
 
     def discard(self):
         pending, self._pending = self._pending, []
-        for future, *_ in pending:    # wait: no figure is still being written after this
+        for future, *_ in pending:  # wait: no figure is still being written after this
             future.exception()
         if self._sending and self._pool is not None:
             # a figure handed over while a signal came may be queued without its future: the
@@ -164,7 +168,7 @@ class FigureProcess(InProcess):
         if pool is None:
             return
         pool.shutdown(wait=False, cancel_futures=True)
-        if proc is not None and proc.is_alive():   # idle or importing: not waited for at exit
+        if proc is not None and proc.is_alive():  # idle or importing: not waited for at exit
             proc.kill()
 
     def close(self):
@@ -173,7 +177,7 @@ class FigureProcess(InProcess):
         super().close()
 
 
-_started: list[Any] = []       # helpers started by this process
+_started: list[Any] = []  # helpers started by this process
 
 
 def figure_drawer(figures=True):
@@ -194,8 +198,13 @@ def figure_drawer(figures=True):
     -------
     FigureProcess or InProcess
     """
-    if (figures and (os.cpu_count() or 1) >= 2 and "matplotlib.pyplot" not in sys.modules
-            and not _started and os.environ.get(ENV_SWITCH, "1") != "0"):
+    if (
+        figures
+        and (os.cpu_count() or 1) >= 2
+        and "matplotlib.pyplot" not in sys.modules
+        and not _started
+        and os.environ.get(ENV_SWITCH, "1") != "0"
+    ):
         _started.append(os.getpid())
         return FigureProcess()
     return InProcess()
@@ -210,8 +219,12 @@ def _start_method():
     import multiprocessing
     import threading
 
-    if sys.platform.startswith("linux") and threading.active_count() == 1 and \
-            "fork" in multiprocessing.get_all_start_methods() and hasattr(signal, "pthread_sigmask"):
+    if (
+        sys.platform.startswith("linux")
+        and threading.active_count() == 1
+        and "fork" in multiprocessing.get_all_start_methods()
+        and hasattr(signal, "pthread_sigmask")
+    ):
         return "fork"
     return "spawn"
 
@@ -239,10 +252,10 @@ def _die_with_parent(parent_pid):
     try:
         import ctypes
 
-        ctypes.CDLL(None).prctl(1, int(signal.SIGKILL), 0, 0, 0)   # PR_SET_PDEATHSIG = 1
+        ctypes.CDLL(None).prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG = 1
     except (OSError, AttributeError):
         pass
-    if os.getppid() != parent_pid:          # died before the request took effect
+    if os.getppid() != parent_pid:  # died before the request took effect
         os._exit(0)
 
 
@@ -257,14 +270,14 @@ def _warm_up(parent_pid=None):
     if parent_pid is not None:
         _die_with_parent(parent_pid)
 
-    signal.signal(signal.SIGINT, signal.SIG_IGN)   # Ctrl-C reaches the group: the parent stops us
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the group: the parent stops us
     for sig in _stop_signals():
         if sig != signal.SIGINT:
             signal.signal(sig, signal.SIG_DFL)
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, _stop_signals())
     warnings.simplefilter("ignore")
-    sys.stdout = sys.stderr              # a stray print never mixes into the command's output
+    sys.stdout = sys.stderr  # a stray print never mixes into the command's output
     # no 3D projection here (0.03-0.04 s of matplotlib's import, the analyse figures are 2D):
     # matplotlib registers it only when mpl_toolkits.mplot3d imports; a 3D figure handed to
     # the helper would fail there and be drawn in the parent process (see the module docstring)

@@ -21,14 +21,26 @@ only changes the roughness the rubber sees (Persson's hysteresis theory applied 
 geometry); adhesion, squeeze-out and viscous or hydrodynamic effects of the water are not
 modelled, which is why the wet/dry ratio hardly changes with speed.
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-__all__ = ["RUBBER_ILLUSTRATIVE", "MIN_FIT_DECADES", "hurst_keys", "hurst_text", "peak_keys",
-           "peak_text", "side_keys", "hurst_pair_text", "WET_MODEL", "wet_model_html", "friction_headline"]
+__all__ = [
+    "RUBBER_ILLUSTRATIVE",
+    "MIN_FIT_DECADES",
+    "hurst_keys",
+    "hurst_text",
+    "peak_keys",
+    "peak_text",
+    "side_keys",
+    "hurst_pair_text",
+    "WET_MODEL",
+    "wet_model_html",
+    "friction_headline",
+]
 
 #: the name of the built-in rubber on every mu figure, report and summary
 RUBBER_ILLUSTRATIVE = "illustrative (thesis SLS, not a tread compound)"
@@ -68,18 +80,27 @@ def hurst_keys(hurst, hurst_stderr, fit_band_per_m):
     if h is None:
         notes.append("the self-affine fit gave no finite H")
     if decades < MIN_FIT_DECADES:
-        notes.append(f"the fitted band spans {decades:.2g} decades of q, under the "
-                     f"{MIN_FIT_DECADES:g} a Hurst exponent needs")
+        notes.append(
+            f"the fitted band spans {decades:.2g} decades of q, under the "
+            f"{MIN_FIT_DECADES:g} a Hurst exponent needs"
+        )
     if h is not None and not 0.0 <= h <= 1.0:
-        notes.append(f"the fitted H = {h:.3g} lies outside [0, 1] (not a self-affine surface "
-                     f"over that band)")
+        notes.append(f"the fitted H = {h:.3g} lies outside [0, 1] (not a self-affine surface over that band)")
     note = None
     if notes:
-        fit = "" if h is None else (f" (fit: {h:.3g}" + (f" ± {se:.2g}" if se is not None else "")
-                                    + ", kept as hurst_fit)")
+        fit = (
+            ""
+            if h is None
+            else (f" (fit: {h:.3g}" + (f" ± {se:.2g}" if se is not None else "") + ", kept as hurst_fit)")
+        )
         note = "H not given: " + "; ".join(notes) + fit
-    return {"hurst": None if note else h, "hurst_stderr": None if note else se,
-            "hurst_fit": h, "hurst_fit_stderr": se, "hurst_note": note}
+    return {
+        "hurst": None if note else h,
+        "hurst_stderr": None if note else se,
+        "hurst_fit": h,
+        "hurst_fit_stderr": se,
+        "hurst_note": note,
+    }
 
 
 def hurst_text(summary, short=False):
@@ -102,7 +123,7 @@ def hurst_text(summary, short=False):
         if short:
             return "not given (fit not meaningful: see the report)"
         note = summary.get("hurst_note") or "not given"
-        return note[2:] if note.startswith("H not given") else note   # after "H = " or "H |"
+        return note[2:] if note.startswith("H not given") else note  # after "H = " or "H |"
     se = summary.get("hurst_stderr")
     return f"{h:.3f}" + (f" ± {se:.3f}" if se is not None else "")
 
@@ -132,13 +153,20 @@ def peak_keys(v_m_per_s, mu):
         from pipelines.output.units import sig3
 
         if i == m.size - 1:
-            note = (f"still rising at {sig3(v[i])} m/s (the fastest speed computed): no peak in "
-                    f"the speed range")
+            note = (
+                f"still rising at {sig3(v[i])} m/s (the fastest speed computed): no peak in the speed range"
+            )
         else:
-            note = (f"largest at the slowest speed, {sig3(v[i])} m/s: falling with speed over "
-                    f"the whole range, no peak in it")
-    return {"mu_peak": float(m[i]), "v_peak_m_per_s": float(v[i]), "peak_at_edge": bool(edge),
-            "peak_note": note}
+            note = (
+                f"largest at the slowest speed, {sig3(v[i])} m/s: falling with speed over "
+                f"the whole range, no peak in it"
+            )
+    return {
+        "mu_peak": float(m[i]),
+        "v_peak_m_per_s": float(v[i]),
+        "peak_at_edge": bool(edge),
+        "peak_note": note,
+    }
 
 
 def peak_text(mu_peak, v_peak_m_per_s, peak_at_edge=False, peak_note=None):
@@ -182,8 +210,10 @@ def hurst_pair_text(result, sides=("dry", "wet")):
     -------
     str
     """
-    return " / ".join(hurst_text({k: result.get(f"{k}_{s}") for k in
-                                  ("hurst", "hurst_stderr", "hurst_note")}) for s in sides)
+    return " / ".join(
+        hurst_text({k: result.get(f"{k}_{s}") for k in ("hurst", "hurst_stderr", "hurst_note")})
+        for s in sides
+    )
 
 
 def side_keys(keys, side):
@@ -205,18 +235,22 @@ def side_keys(keys, side):
 
 #: what the wet (rain-filled) friction of dry-vs-wet covers and leaves out
 WET_MODEL = {
-    "covers": ("the viscoelastic (hysteresis) friction of the rubber on the rain-filled geometry: "
-               "water stands in the depressions up to their spill level and the rubber slides "
-               "over the filled surface (Persson's theory on the filled spectrum)"),
+    "covers": (
+        "the viscoelastic (hysteresis) friction of the rubber on the rain-filled geometry: "
+        "water stands in the depressions up to their spill level and the rubber slides "
+        "over the filled surface (Persson's theory on the filled spectrum)"
+    ),
     "leaves_out": [
         "adhesion (none in the dry mu either)",
         "squeeze-out of the water film from the contact (time and speed dependent)",
         "viscous and hydrodynamic effects of the water (lubrication, aquaplaning)",
         "the water's effect on rubber temperature",
     ],
-    "consequence": ("the wet/dry ratio reflects only the roughness the water hides, so it "
-                    "changes little with speed; measured wet friction also falls with speed "
-                    "through the effects left out"),
+    "consequence": (
+        "the wet/dry ratio reflects only the roughness the water hides, so it "
+        "changes little with speed; measured wet friction also falls with speed "
+        "through the effects left out"
+    ),
 }
 
 
@@ -235,8 +269,12 @@ def wet_model_html():
     from pipelines.output.templates import render
 
     then = WET_MODEL["consequence"]
-    return render("wet_model_note.html.j2", covers=WET_MODEL["covers"],
-                  left_out=", ".join(WET_MODEL["leaves_out"]), then=then[0].upper() + then[1:])
+    return render(
+        "wet_model_note.html.j2",
+        covers=WET_MODEL["covers"],
+        left_out=", ".join(WET_MODEL["leaves_out"]),
+        then=then[0].upper() + then[1:],
+    )
 
 
 def friction_headline(summary):
@@ -259,8 +297,9 @@ def friction_headline(summary):
     if not fr:
         return ""
     q1 = fr.get("q1_per_m")
-    where = (f"q1 = {quantity('q1_per_m', q1)}: {fr['q1_rule']}" if q1 is not None and fr.get("q1_rule")
-             else "")
+    where = (
+        f"q1 = {quantity('q1_per_m', q1)}: {fr['q1_rule']}" if q1 is not None and fr.get("q1_rule") else ""
+    )
     if fr.get("refused"):
         return "friction refused" + (f" ({where})" if where else "")
     peak = peak_text(fr["mu_peak"], fr["v_peak_m_per_s"], fr.get("peak_at_edge"), fr.get("peak_note"))

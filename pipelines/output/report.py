@@ -31,7 +31,8 @@ else:
     os.environ["MPLBACKEND"] = "Agg"
 
 __all__ = [
-    "pyplot", "save_figure", "fixed_margins", "plot_heightmap", "plot_profile", "plot_psd", "plot_mu", "write_html",
+    "pyplot", "save_figure", "fixed_margins", "plot_heightmap", "plot_profile", "plot_psd", "plot_mu",
+    "write_html",
     "write_json", "write_csv", "table_html", "list_html", "paragraph_html", "instrument_html",
 ]
 

@@ -2,6 +2,7 @@
 converted, non-finite numbers as null) and CSV columns with a header line.
 :mod:`pipelines.output.report` re-exports both writers.
 """
+
 from __future__ import annotations
 
 import io
@@ -68,7 +69,8 @@ def write_csv(path, header, columns):
     """
     buf = io.StringIO()
     buf.write(",".join(header) + "\n")
-    np.savetxt(buf, np.column_stack([np.asarray(c, dtype=float) for c in columns]),
-               delimiter=",", fmt="%.10g")
+    np.savetxt(
+        buf, np.column_stack([np.asarray(c, dtype=float) for c in columns]), delimiter=",", fmt="%.10g"
+    )
     atomic_write_text(path, buf.getvalue())
     return Path(path)

@@ -18,14 +18,24 @@ says "3.28 mm", "397 µm", "45.3 dB": three significant digits, no exponent betw
 >>> sig3(123456), sig3(999.7), sig3(0.5)
 ('123000', '1000', '0.500')
 """
+
 from __future__ import annotations
 
 import math
 
 from roadscan.units import LENGTH_UNITS, length, sig3
 
-__all__ = ["sig3", "length", "height", "wavelength_of_q", "decibel", "speed_kmh", "quantity",
-           "label_of", "add_wavelength_axis"]
+__all__ = [
+    "sig3",
+    "length",
+    "height",
+    "wavelength_of_q",
+    "decibel",
+    "speed_kmh",
+    "quantity",
+    "label_of",
+    "add_wavelength_axis",
+]
 
 _LENGTH_UNITS = LENGTH_UNITS
 
@@ -170,6 +180,7 @@ def add_wavelength_axis(ax, label="wavelength λ = 2π/q [mm]"):
     matplotlib Axes
         The secondary axis.
     """
+
     def q_to_mm(q):
         import numpy as np
 
@@ -177,6 +188,6 @@ def add_wavelength_axis(ax, label="wavelength λ = 2π/q [mm]"):
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(q > 0, 2e3 * np.pi / np.where(q > 0, q, 1.0), np.inf)
 
-    sec = ax.secondary_xaxis("top", functions=(q_to_mm, q_to_mm))   # its own inverse
+    sec = ax.secondary_xaxis("top", functions=(q_to_mm, q_to_mm))  # its own inverse
     sec.set_xlabel(label, fontsize=9)
     return sec

@@ -4,15 +4,24 @@ one place: the flags (:func:`add_analysis_options`), their checked values
 keyword-only parameters of :func:`pipelines.analyse`, one per long flag with underscores, read
 into the same settings (:func:`pipelines.settings.keywords.options_of`).
 """
+
 from __future__ import annotations
 
 import argparse
 
 from roadscan.errors import InputError
 
-__all__ = ["add_analysis_options", "analysis_kwargs", "parse_fit_band",
-           "add_resolution_option", "check_resolution", "add_spectrum_options", "spectrum_kwargs",
-           "add_compare_options", "unique_stems"]
+__all__ = [
+    "add_analysis_options",
+    "analysis_kwargs",
+    "parse_fit_band",
+    "add_resolution_option",
+    "check_resolution",
+    "add_spectrum_options",
+    "spectrum_kwargs",
+    "add_compare_options",
+    "unique_stems",
+]
 
 
 def add_analysis_options(p):
@@ -34,11 +43,16 @@ def add_analysis_options(p):
 
     add_scan_options(p)
     add_spectrum_options(p, resolution=False)
-    p.add_argument("--mpd-spike-alpha", type=float, default=None, metavar="ALPHA",
-                   help="MPD spike criterion |dh| >= ALPHA x sampling interval (ISO 13473-1 "
-                        "default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep)")
+    p.add_argument(
+        "--mpd-spike-alpha",
+        type=float,
+        default=None,
+        metavar="ALPHA",
+        help="MPD spike criterion |dh| >= ALPHA x sampling interval (ISO 13473-1 "
+        "default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep)",
+    )
     add_resolution_option(p)
-    add_texture_options(p)    # --direction, --friction-measurement, --ifi-constants
+    add_texture_options(p)  # --direction, --friction-measurement, --ifi-constants
     add_friction_options(p)
 
 
@@ -59,8 +73,9 @@ def add_spectrum_options(p, resolution=True):
     None
     """
     p.add_argument("--window-alpha", type=float, default=0.25, help="Tukey window alpha (default 0.25)")
-    p.add_argument("--fit-band", default=None, metavar="QLO,QHI",
-                   help="self-affine fit band [1/m] (default: detected)")
+    p.add_argument(
+        "--fit-band", default=None, metavar="QLO,QHI", help="self-affine fit band [1/m] (default: detected)"
+    )
     p.add_argument("--despike", action="store_true", help="mark spikes as unmeasured before levelling")
     if resolution:
         add_resolution_option(p)
@@ -81,8 +96,12 @@ def spectrum_kwargs(args):
     """
     if not 0 <= args.window_alpha <= 1:
         raise InputError(None, f"--window-alpha {args.window_alpha}: must be within [0, 1]")
-    return {"window_alpha": args.window_alpha, "fit_band": parse_fit_band(args.fit_band),
-            "despike": bool(args.despike), "resolution_m": check_resolution(args.resolution)}
+    return {
+        "window_alpha": args.window_alpha,
+        "fit_band": parse_fit_band(args.fit_band),
+        "despike": bool(args.despike),
+        "resolution_m": check_resolution(args.resolution),
+    }
 
 
 def add_resolution_option(p):
@@ -98,10 +117,15 @@ def add_resolution_option(p):
     -------
     None
     """
-    p.add_argument("--resolution", type=float, default=None, metavar="M",
-                   help="the instrument's lateral resolution [m] (wavelength passed at 50 %% "
-                        "amplitude; default: the file's metadata): the reliable band ends where "
-                        "it still passes 80 %%")
+    p.add_argument(
+        "--resolution",
+        type=float,
+        default=None,
+        metavar="M",
+        help="the instrument's lateral resolution [m] (wavelength passed at 50 %% "
+        "amplitude; default: the file's metadata): the reliable band ends where "
+        "it still passes 80 %%",
+    )
 
 
 def check_resolution(res):
@@ -120,8 +144,11 @@ def check_resolution(res):
     from roadscan.resolution import RESOLUTION_MAX_M, resolution_problem
 
     if res is not None and resolution_problem(res):
-        raise InputError(None, f"--resolution {res!r}: must be a lateral resolution in metres "
-                               f"(0 < r <= {RESOLUTION_MAX_M:g} m, e.g. 5e-6)")
+        raise InputError(
+            None,
+            f"--resolution {res!r}: must be a lateral resolution in metres "
+            f"(0 < r <= {RESOLUTION_MAX_M:g} m, e.g. 5e-6)",
+        )
     return res
 
 
@@ -170,19 +197,24 @@ def analysis_kwargs(args):
         mpd = {"spike_alpha": args.mpd_spike_alpha}
     from pipelines.jobs.texture.outputs import texture_settings_from_args
 
-    return {"window_alpha": sk["window_alpha"], "fit_band": sk["fit_band"], "despike": sk["despike"],
-            "mpd_settings": mpd, "texture": texture_settings_from_args(args),
-            "resolution_m": sk["resolution_m"]}
+    return {
+        "window_alpha": sk["window_alpha"],
+        "fit_band": sk["fit_band"],
+        "despike": sk["despike"],
+        "mpd_settings": mpd,
+        "texture": texture_settings_from_args(args),
+        "resolution_m": sk["resolution_m"],
+    }
 
 
 class _Parser(argparse.ArgumentParser):
-    def error(self, message):             # a bad value: one line, never an exit
+    def error(self, message):  # a bad value: one line, never an exit
         raise InputError(None, message)
 
 
 def _parser(add_options=None):
     p = _Parser(prog="pipelines", add_help=False)
-    if add_options is None:              # analyse's own
+    if add_options is None:  # analyse's own
         p.add_argument("--no-figures", action="store_true")
         add_analysis_options(p)
     else:
@@ -207,7 +239,7 @@ def add_compare_options(p):
     from pipelines.settings.scan_input import add_scan_options
 
     add_scan_options(p)
-    add_spectrum_options(p)        # --window-alpha, --fit-band, --despike, --resolution
+    add_spectrum_options(p)  # --window-alpha, --fit-band, --despike, --resolution
     add_friction_options(p)
 
 

@@ -16,6 +16,7 @@ them (analyse, batch, compare, dry-vs-wet; friction and diagnose with ``--master
 :func:`settings_from_args` turns them into one :class:`FrictionSettings`. A new friction flag
 goes into both, here.
 """
+
 from __future__ import annotations
 
 import math
@@ -28,10 +29,24 @@ if TYPE_CHECKING:
 
 from roadscan.errors import InputError
 
-__all__ = ["FrictionSettings", "add_friction_options", "add_contact_options", "settings_from_args", "parse_velocities",
-           "parse_pressure", "check_contact_args", "apply_band", "coverage_note", "EXTRAPOLATE_CHOICES",
-           "PRESSURE_HELP", "MIN_BARE_PA", "with_extrapolation", "run_checks", "add_master_curve_options",
-           "rubber_from_args"]
+__all__ = [
+    "FrictionSettings",
+    "add_friction_options",
+    "add_contact_options",
+    "settings_from_args",
+    "parse_velocities",
+    "parse_pressure",
+    "check_contact_args",
+    "apply_band",
+    "coverage_note",
+    "EXTRAPOLATE_CHOICES",
+    "PRESSURE_HELP",
+    "MIN_BARE_PA",
+    "with_extrapolation",
+    "run_checks",
+    "add_master_curve_options",
+    "rubber_from_args",
+]
 
 from pipelines.settings.rubber import (
     add_master_curve_options,
@@ -42,17 +57,20 @@ from pipelines.settings.rubber import (
 )
 
 MIN_BARE_PA = 1e3  # a bare --sigma0 below this is refused (no unit: almost surely MPa meant)
-_PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9, "bar": 1e5, "n/m2": 1.0,
-                   "n/mm2": 1e6}
+_PRESSURE_UNITS = {"pa": 1.0, "kpa": 1e3, "mpa": 1e6, "gpa": 1e9, "bar": 1e5, "n/m2": 1.0, "n/mm2": 1e6}
 _PRESSURE_RE = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*([A-Za-z/0-9]*)\s*$")
 EXTRAPOLATE_CHOICES = ("powerlaw", "hold")
-PRESSURE_HELP = ("nominal contact pressure sigma0 = load / nominal area, with a unit: 0.3MPa, 300kPa, "
-                 "3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0 in P(q) "
-                 "(default 0.2MPa)")
+PRESSURE_HELP = (
+    "nominal contact pressure sigma0 = load / nominal area, with a unit: 0.3MPa, 300kPa, "
+    "3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0 in P(q) "
+    "(default 0.2MPa)"
+)
 FRICTION_GROUP = "friction (Persson's theory; defaults: see Theory in the docs)"
 RUBBER_GROUP = "rubber (one of --rubber or --master-curve; default: the thesis SLS, T_ref 60 C)"
-SCAN_Q1_HELP = ("upper end of the friction integrals [1/m]; beyond the Nyquist wave vector the "
-                "spectrum is extended by its self-affine fit")
+SCAN_Q1_HELP = (
+    "upper end of the friction integrals [1/m]; beyond the Nyquist wave vector the "
+    "spectrum is extended by its self-affine fit"
+)
 
 
 @dataclass
@@ -85,16 +103,16 @@ class FrictionSettings:
         Master-curve extrapolation.
     """
 
-    rubber: object = None          # friction rubber; None -> thesis rubber
+    rubber: object = None  # friction rubber; None -> thesis rubber
     sigma0_Pa: float = 0.2e6
-    T0_C: float | None = None             # None -> the rubber's T_ref
+    T0_C: float | None = None  # None -> the rubber's T_ref
     flash: bool = False
-    v_m_per_s: np.ndarray | None = None   # None -> 1e-4..1e2 m/s, 10 per decade
-    q1_per_m: float | None = None         # upper end; beyond Nyquist the self-affine fit extends C(q)
+    v_m_per_s: np.ndarray | None = None  # None -> 1e-4..1e2 m/s, 10 per decade
+    q1_per_m: float | None = None  # upper end; beyond Nyquist the self-affine fit extends C(q)
     enabled: bool = True
-    q0_per_m: float | None = None         # lower end of the friction integrals (None: lowest ring)
+    q0_per_m: float | None = None  # lower end of the friction integrals (None: lowest ring)
     nu: float = 0.5
-    contact_gamma: float | None = None    # Persson's S(q) = gamma + (1 - gamma) P^2 (None: S = 1)
+    contact_gamma: float | None = None  # Persson's S(q) = gamma + (1 - gamma) P^2 (None: S = 1)
     extrapolate: str = "powerlaw"  # master curve beyond its data: powerlaw | hold
 
 
@@ -128,8 +146,11 @@ def parse_pressure(text, flag="--sigma0"):
         raise InputError(None, f"{flag} {text!r}: must be a positive pressure")
     if not unit and val < MIN_BARE_PA:
         hint = f"{m.group(1)}MPa" if val <= 50 else f"{m.group(1)}kPa"
-        raise InputError(None, f"{flag} {text}: a bare number is Pa and {val:g} Pa is no contact "
-                               f"pressure; did you mean {hint}? (write the unit: 0.3MPa, 300kPa, 3e5Pa)")
+        raise InputError(
+            None,
+            f"{flag} {text}: a bare number is Pa and {val:g} Pa is no contact "
+            f"pressure; did you mean {hint}? (write the unit: 0.3MPa, 300kPa, 3e5Pa)",
+        )
     return val * _PRESSURE_UNITS.get(unit, 1.0)
 
 
@@ -149,7 +170,7 @@ def parse_velocities(text):
     """
     import numpy as np
 
-    if not isinstance(text, str):         # speeds given as numbers (the Python API)
+    if not isinstance(text, str):  # speeds given as numbers (the Python API)
         try:
             v = np.unique(np.asarray(text, dtype=float).ravel())
         except (TypeError, ValueError):
@@ -161,8 +182,9 @@ def parse_velocities(text):
         try:
             v = np.array([float(t) for t in text.split(",") if t.strip()])
         except ValueError:
-            raise InputError(None, f"--velocities {text!r}: expected LO:HI:N (e.g. 1e-8:1e4:121) or "
-                                   "a list V1,V2,... [m/s]") from None
+            raise InputError(
+                None, f"--velocities {text!r}: expected LO:HI:N (e.g. 1e-8:1e4:121) or a list V1,V2,... [m/s]"
+            ) from None
         if v.size == 0 or not np.all(np.isfinite(v) & (v > 0)):
             raise InputError(None, f"--velocities {text!r}: speeds must be positive numbers [m/s]")
         v = np.unique(v)
@@ -171,8 +193,9 @@ def parse_velocities(text):
         lo, hi, n = text.split(":")
         lo, hi, n = float(lo), float(hi), int(n)
     except ValueError:
-        raise InputError(None, f"--velocities {text!r}: expected LO:HI:N, e.g. 1e-8:1e4:121, "
-                               "or a list V1,V2,...") from None
+        raise InputError(
+            None, f"--velocities {text!r}: expected LO:HI:N, e.g. 1e-8:1e4:121, or a list V1,V2,..."
+        ) from None
     if not (0 < lo < hi < np.inf) or n < 2:
         raise InputError(None, f"--velocities {text!r}: need 0 < LO < HI and N >= 2")
     return np.logspace(np.log10(lo), np.log10(hi), n)
@@ -194,22 +217,43 @@ def add_contact_options(g, q1_help=None, nu=True):
     -------
     None
     """
-    g.add_argument("--q0", type=float, default=None, metavar="PER_M",
-                   help="lower end of the friction integrals [1/m], inside the spectrum "
-                        "(default: its lowest wave vector)")
-    g.add_argument("--q1", type=float, default=None, metavar="PER_M",
-                   help=q1_help or "upper end (cut-off) of the friction integrals [1/m]; above the "
-                                   "spectrum's last point C(q) continues as its fitted power law "
-                                   "(default: the last point)")
-    g.add_argument("--contact-gamma", type=float, default=None, metavar="G",
-                   help="Persson's S(q) = G + (1 - G) P(q)^2 in the dissipation integrand "
-                        "(mu = 1/2 int q^3 C S P M dq); 0 <= G <= 1, e.g. 0.5 (default: off, S = 1)")
+    g.add_argument(
+        "--q0",
+        type=float,
+        default=None,
+        metavar="PER_M",
+        help="lower end of the friction integrals [1/m], inside the spectrum "
+        "(default: its lowest wave vector)",
+    )
+    g.add_argument(
+        "--q1",
+        type=float,
+        default=None,
+        metavar="PER_M",
+        help=q1_help
+        or "upper end (cut-off) of the friction integrals [1/m]; above the "
+        "spectrum's last point C(q) continues as its fitted power law "
+        "(default: the last point)",
+    )
+    g.add_argument(
+        "--contact-gamma",
+        type=float,
+        default=None,
+        metavar="G",
+        help="Persson's S(q) = G + (1 - G) P(q)^2 in the dissipation integrand "
+        "(mu = 1/2 int q^3 C S P M dq); 0 <= G <= 1, e.g. 0.5 (default: off, S = 1)",
+    )
     if nu:
-        g.add_argument("--nu", type=float, default=0.5,
-                       help="Poisson ratio of the rubber, 0 <= nu <= 0.5 (default 0.5)")
-    g.add_argument("--extrapolate", choices=EXTRAPOLATE_CHOICES, default="powerlaw",
-                   help="master curve beyond its measured frequencies: powerlaw (E' held, E'' "
-                        "continues as the power law of its last decade; default) or hold (both held)")
+        g.add_argument(
+            "--nu", type=float, default=0.5, help="Poisson ratio of the rubber, 0 <= nu <= 0.5 (default 0.5)"
+        )
+    g.add_argument(
+        "--extrapolate",
+        choices=EXTRAPOLATE_CHOICES,
+        default="powerlaw",
+        help="master curve beyond its measured frequencies: powerlaw (E' held, E'' "
+        "continues as the power law of its last decade; default) or hold (both held)",
+    )
 
 
 def check_contact_args(args):
@@ -266,16 +310,19 @@ def apply_band(psd, q0, q1, log=None):
         return psd, None
     if q0 is None and q1 is None:
         return psd, None
-    problem = band_problem(psd, q0, q1)       # bad input, checked before the computation
+    problem = band_problem(psd, q0, q1)  # bad input, checked before the computation
     if problem is not None:
         raise InputError(None, f"--q0/--q1: {problem}")
     out, info = integration_band(psd, q0, q1)
     if info["extended_decades"] > 0:
         from pipelines.output.units import quantity
-        info["note"] = (f"q1 = {quantity('q1_per_m', info['q1_per_m'])} is above the spectrum's "
-                        f"last point {quantity('q_per_m', info['q_table_max_per_m'])}: C(q) extended "
-                        f"{info['extended_decades']:.2f} decades by the "
-                        f"fitted power law C ~ q^{info['tail_exponent']:.3f}")
+
+        info["note"] = (
+            f"q1 = {quantity('q1_per_m', info['q1_per_m'])} is above the spectrum's "
+            f"last point {quantity('q_per_m', info['q_table_max_per_m'])}: C(q) extended "
+            f"{info['extended_decades']:.2f} decades by the "
+            f"fitted power law C ~ q^{info['tail_exponent']:.3f}"
+        )
         (log or _say)("note: " + info["note"])
     return out, info
 
@@ -317,19 +364,32 @@ def add_friction_options(p, master_curve=False, sliding=True, optional=True, q1_
         rub, g = p.add_argument_group(RUBBER_GROUP), p
     else:
         rub = g = p.add_argument_group(FRICTION_GROUP)
-    rub.add_argument("--rubber", metavar="FILE.toml", default=None,
-                     help="rubber model, friction/RUBBER_TOML.md (default: the thesis's standard "
-                          "linear solid, T_ref = 60 C)")
+    rub.add_argument(
+        "--rubber",
+        metavar="FILE.toml",
+        default=None,
+        help="rubber model, friction/RUBBER_TOML.md (default: the thesis's standard "
+        "linear solid, T_ref = 60 C)",
+    )
     if master_curve:
         add_master_curve_options(rub)
     g.add_argument("--sigma0", default="0.2MPa", metavar="PRESSURE", help=PRESSURE_HELP)
-    g.add_argument("--temperature", type=float, default=None, metavar="C",
-                   help="background temperature T0 [C] (default: the rubber's reference temperature)")
+    g.add_argument(
+        "--temperature",
+        type=float,
+        default=None,
+        metavar="C",
+        help="background temperature T0 [C] (default: the rubber's reference temperature)",
+    )
     if sliding:
         g.add_argument("--flash", action="store_true", help="flash-temperature model (Persson 2006)")
-        g.add_argument("--velocities", default=None, metavar="LO:HI:N|V1,V2,..",
-                       help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
-                            "(e.g. another program's table; default 1e-4:1e2:61, where tyres slide)")
+        g.add_argument(
+            "--velocities",
+            default=None,
+            metavar="LO:HI:N|V1,V2,..",
+            help="N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,... "
+            "(e.g. another program's table; default 1e-4:1e2:61, where tyres slide)",
+        )
     add_contact_options(g, q1_help=q1_help)
     if optional:
         g.add_argument("--no-friction", action="store_true", help="skip mu(v)")
@@ -354,7 +414,11 @@ def settings_from_args(args):
     # a command that records whether --sigma0 was given (diagnose) defaults it to None
     sigma0 = FrictionSettings().sigma0_Pa if args.sigma0 is None else parse_pressure(args.sigma0)
     velocities = getattr(args, "velocities", None)
-    v = parse_velocities(velocities) if velocities is not None and not (isinstance(velocities, str) and not velocities) else None
+    v = (
+        parse_velocities(velocities)
+        if velocities is not None and not (isinstance(velocities, str) and not velocities)
+        else None
+    )
     from pipelines.checks.validate import check_temperature, finite_number
 
     if args.temperature is not None:
@@ -363,8 +427,16 @@ def settings_from_args(args):
         check_temperature(args.temperature, rubber if rubber is not None else friction.thesis_rubber())
     if args.q1 is not None and not finite_number(args.q1, "--q1") > 0:
         raise InputError(None, f"--q1 {args.q1:g} 1/m: must be a positive wave vector")
-    return FrictionSettings(rubber=rubber, sigma0_Pa=sigma0, T0_C=args.temperature,
-                            flash=getattr(args, "flash", False), v_m_per_s=v, q1_per_m=args.q1,
-                            enabled=not getattr(args, "no_friction", False), q0_per_m=args.q0,
-                            nu=args.nu, contact_gamma=args.contact_gamma, extrapolate=args.extrapolate)
-
+    return FrictionSettings(
+        rubber=rubber,
+        sigma0_Pa=sigma0,
+        T0_C=args.temperature,
+        flash=getattr(args, "flash", False),
+        v_m_per_s=v,
+        q1_per_m=args.q1,
+        enabled=not getattr(args, "no_friction", False),
+        q0_per_m=args.q0,
+        nu=args.nu,
+        contact_gamma=args.contact_gamma,
+        extrapolate=args.extrapolate,
+    )

@@ -12,6 +12,7 @@ made and no parser is consulted on the way.
 The command goes the other way with :func:`keywords_of`: the flags it parsed, as the keywords of
 the job it calls.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -58,11 +59,12 @@ def _check_value(job_name: str, name: str, value: Any, hint: Any) -> Any:
     if literals:
         if value in literals:
             return value
-        for lit in literals:   # "8" for Literal[4, 8]
+        for lit in literals:  # "8" for Literal[4, 8]
             if isinstance(lit, int) and isinstance(value, str) and value.strip() == str(lit):
                 return lit
-        raise InputError(None, f"{_flag(name)} {value!r}: must be one of "
-                               f"{', '.join(repr(a) for a in literals)}")
+        raise InputError(
+            None, f"{_flag(name)} {value!r}: must be one of {', '.join(repr(a) for a in literals)}"
+        )
     accepts_str = any(p is str for p in parts)
     wants_bool = any(p is bool for p in parts)
     wants_num = any(p in (float, int) for p in parts)
@@ -71,7 +73,7 @@ def _check_value(job_name: str, name: str, value: Any, hint: Any) -> Any:
             return bool(value)
         raise InputError(None, f"{_flag(name)}: {job_name}() takes True or False, not {value!r}")
     if wants_num and isinstance(value, numbers.Real) and not isinstance(value, bool):
-        value = float(value) if float in parts else math.trunc(value)   # int(), typed for Real
+        value = float(value) if float in parts else math.trunc(value)  # int(), typed for Real
         if isinstance(value, float) and not math.isfinite(value):
             raise InputError(None, f"{_flag(name)} {value!r}: must be a finite number")
         return value
@@ -84,9 +86,8 @@ def _check_value(job_name: str, name: str, value: Any, hint: Any) -> Any:
             try:
                 return float(value) if float in parts else int(value)
             except ValueError:
-                raise InputError(None, f"{_flag(name)} {value!r}: expected a number "
-                                       "(SI units)") from None
-    return value   # arrays, pairs, rubber objects: the builder that reads it checks it
+                raise InputError(None, f"{_flag(name)} {value!r}: expected a number (SI units)") from None
+    return value  # arrays, pairs, rubber objects: the builder that reads it checks it
 
 
 @functools.lru_cache(maxsize=64)

@@ -6,6 +6,7 @@ there one numpydoc entry per keyword-only parameter: its name, its annotation an
 from the signature itself (so the docs cannot drift from the code), and its text from
 :data:`OPTION_TEXT` (the command's help for the same flag, with the flag named).
 """
+
 from __future__ import annotations
 
 import textwrap
@@ -22,8 +23,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 OPTION_TEXT: dict[str, str] = {
     "no_figures": "``--no-figures``: no PNG figures (and none in report.html) when written.",
     "spacing": (
-        "``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or "
-        "5e-5,6e-5)."
+        "``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or 5e-5,6e-5)."
     ),
     "units": (
         "``--units``: units of the heights in files that carry no units, and of the x (and y) columns "
@@ -87,8 +87,7 @@ OPTION_TEXT: dict[str, str] = {
         "(default 0.2MPa)."
     ),
     "temperature": (
-        "``--temperature``: background temperature T0 [C] (default: the rubber's reference "
-        "temperature)."
+        "``--temperature``: background temperature T0 [C] (default: the rubber's reference temperature)."
     ),
     "flash": "``--flash``: flash-temperature model (Persson 2006).",
     "velocities": (
@@ -150,8 +149,7 @@ OPTION_TEXT: dict[str, str] = {
         "[C] (default: where the shift table has aT = 1)."
     ),
     "magnifications": (
-        "``--magnifications``: with --flash: also report T at these "
-        "magnifications zeta = q/q0."
+        "``--magnifications``: with --flash: also report T at these magnifications zeta = q/q0."
     ),
     "tol": "``--tol``: relative accuracy target for mu (1e-3).",
     "measured": (
@@ -196,6 +194,7 @@ def document_options(overrides: dict[str, str] | None = None) -> Callable[[F], F
     callable
         The decorator; the job itself is returned unchanged but for its ``__doc__``.
     """
+
     def decorate(job: F) -> F:
         entries = []
         for name, p in job_parameters(job).items():

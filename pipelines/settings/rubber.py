@@ -3,14 +3,20 @@
 curve, and the rubber checks of a run (frequency coverage of the master curve, the WLF fit of a
 shift table). :mod:`pipelines.settings.friction` re-exports every name here.
 """
+
 from __future__ import annotations
 
 import os
 
 from roadscan.errors import InputError
 
-__all__ = ["add_master_curve_options", "rubber_from_args", "coverage_note", "with_extrapolation",
-           "run_checks"]
+__all__ = [
+    "add_master_curve_options",
+    "rubber_from_args",
+    "coverage_note",
+    "with_extrapolation",
+    "run_checks",
+]
 
 
 def add_master_curve_options(g):
@@ -25,15 +31,28 @@ def add_master_curve_options(g):
     -------
     None
     """
-    g.add_argument("--master-curve", metavar="FILE.csv", default=None,
-                   help="master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa' or "
-                        "header E_stor_MPa; default Pa) at --reference-temperature")
-    g.add_argument("--shift-table", metavar="FILE.csv", default=None,
-                   help="with --master-curve: shift factors, columns T_C and aT (linear) or log10_aT; "
-                        "or one row of WLF constants C1,C2_K,T_s_C")
-    g.add_argument("--reference-temperature", type=float, default=None, metavar="C",
-                   help="with --master-curve: the temperature of the master curve T_ref [C] "
-                        "(default: where the shift table has aT = 1)")
+    g.add_argument(
+        "--master-curve",
+        metavar="FILE.csv",
+        default=None,
+        help="master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa' or "
+        "header E_stor_MPa; default Pa) at --reference-temperature",
+    )
+    g.add_argument(
+        "--shift-table",
+        metavar="FILE.csv",
+        default=None,
+        help="with --master-curve: shift factors, columns T_C and aT (linear) or log10_aT; "
+        "or one row of WLF constants C1,C2_K,T_s_C",
+    )
+    g.add_argument(
+        "--reference-temperature",
+        type=float,
+        default=None,
+        metavar="C",
+        help="with --master-curve: the temperature of the master curve T_ref [C] "
+        "(default: where the shift table has aT = 1)",
+    )
 
 
 def rubber_from_args(args):
@@ -56,20 +75,27 @@ def rubber_from_args(args):
         if args.rubber:
             raise InputError(None, "give either --rubber FILE.toml or --master-curve FILE.csv, not both")
         if t_ref is None and not shift:
-            raise InputError(mc, "--master-curve needs --reference-temperature C (its T_ref) "
-                                 "or a --shift-table with aT = 1 at T_ref")
+            raise InputError(
+                mc,
+                "--master-curve needs --reference-temperature C (its T_ref) "
+                "or a --shift-table with aT = 1 at T_ref",
+            )
         from pipelines.checks.validate import check_temperature
         from pipelines.settings.rubber_file import rubber_from_csv_files
 
-        check_temperature(t_ref, flag="--reference-temperature")   # absolute zero .. 1000 C
+        check_temperature(t_ref, flag="--reference-temperature")  # absolute zero .. 1000 C
         return rubber_from_csv_files(mc, shift, t_ref)
     if shift or t_ref is not None:
-        raise InputError(None, "--shift-table and --reference-temperature go with --master-curve "
-                               "(with --rubber put them in the TOML)")
+        raise InputError(
+            None,
+            "--shift-table and --reference-temperature go with --master-curve "
+            "(with --rubber put them in the TOML)",
+        )
     if args.rubber is not None and not isinstance(args.rubber, (str, os.PathLike)):
-        return _rubber_object(args.rubber)   # a rubber model of friction, given from Python
+        return _rubber_object(args.rubber)  # a rubber model of friction, given from Python
     if args.rubber:
         from pipelines.settings.rubber_file import load_rubber
+
         return load_rubber(args.rubber)
     return None
 
@@ -79,8 +105,11 @@ def _rubber_object(rubber):
     used as it is when it has the modulus the engine evaluates, ``E(omega, T)``; else a
     one-line InputError naming ``--rubber``."""
     if not callable(getattr(rubber, "modulus", None)) and not callable(getattr(rubber, "E", None)):
-        raise InputError(None, f"--rubber: {type(rubber).__name__} is neither a rubber file nor a "
-                               "rubber model of friction (friction.thesis_rubber(), a master curve)")
+        raise InputError(
+            None,
+            f"--rubber: {type(rubber).__name__} is neither a rubber file nor a "
+            "rubber model of friction (friction.thesis_rubber(), a master curve)",
+        )
     return rubber
 
 
@@ -107,9 +136,11 @@ def coverage_note(cov, flag_hint=True):
         parts.append(f"{cov['extrapolated_decades_below']:.1f} decades below")
     if cov["extrapolated_decades_above"] > 1.0:
         parts.append(f"{cov['extrapolated_decades_above']:.1f} decades above")
-    return (f"warning: the speeds need {lo:.2g}..{hi:.2g} Hz on the master curve (shifted to the "
-            f"temperature) but it covers {a:.2g}..{b:.2g} Hz: extrapolated {' and '.join(parts)} "
-            f"(--extrapolate {cov.get('extrapolate', 'powerlaw')})")
+    return (
+        f"warning: the speeds need {lo:.2g}..{hi:.2g} Hz on the master curve (shifted to the "
+        f"temperature) but it covers {a:.2g}..{b:.2g} Hz: extrapolated {' and '.join(parts)} "
+        f"(--extrapolate {cov.get('extrapolate', 'powerlaw')})"
+    )
 
 
 def with_extrapolation(rubber, mode):
@@ -167,13 +198,20 @@ def run_checks(rubber, v, q0, q1, T0_C, T_max_C=None, log=None, result=None):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", RuntimeWarning)
         flash = result is not None and result.T_q_C is not None
-        cov = frequency_coverage(rubber, v, q0, q1, T0_C, T_max_C,
-                                 T_q_C=result.T_q_C if flash else None,
-                                 q_per_m=result.q_per_m if flash else None)
+        cov = frequency_coverage(
+            rubber,
+            v,
+            q0,
+            q1,
+            T0_C,
+            T_max_C,
+            T_q_C=result.T_q_C if flash else None,
+            q_per_m=result.q_per_m if flash else None,
+        )
     msg = coverage_note(cov)
     if msg and log is not None:
         log(msg)
-    elif msg:                             # recorded for summary.json/reports too
+    elif msg:  # recorded for summary.json/reports too
         from pipelines.checks.validate import warn
 
         warn(msg.removeprefix("warning: "))

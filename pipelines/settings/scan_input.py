@@ -1,4 +1,5 @@
 """Command-line input options shared by every command that reads a scan."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -32,28 +33,37 @@ def add_scan_options(parser):
     None
     """
     parser.add_argument(
-        "--spacing", metavar="DX[,DY]", default=None,
+        "--spacing",
+        metavar="DX[,DY]",
+        default=None,
         help="grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or 5e-5,6e-5)",
     )
     parser.add_argument(
-        "--units", choices=_UNITS, default=None,
+        "--units",
+        choices=_UNITS,
+        default=None,
         help="units of the heights in files that carry no units, and of the x (and y) columns of "
-             "text files without unit titles (default m)",
+        "text files without unit titles (default m)",
     )
     parser.add_argument(
-        "--x-units", choices=_UNITS, default=None,
+        "--x-units",
+        choices=_UNITS,
+        default=None,
         help="units of the x (and y) columns of an x,z or x,y,z text file without unit titles, "
-             "when they differ from --units (e.g. x in m, heights in mm)",
+        "when they differ from --units (e.g. x in m, heights in mm)",
     )
     parser.add_argument(
-        "--override-calibration", action="store_true",
+        "--override-calibration",
+        action="store_true",
         help="let --spacing/--units replace the spacing/units a file carries (X3P, vendor, .npz "
-             "with dx/dy...; refused otherwise); recorded as calibration_override in summary.json",
+        "with dx/dy...; refused otherwise); recorded as calibration_override in summary.json",
     )
     parser.add_argument(
-        "--channel", metavar="N|NAME", default=None,
+        "--channel",
+        metavar="N|NAME",
+        default=None,
         help="page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or channel of an "
-             "instrument file with several (index from 0 or name); recorded in summary.json",
+        "instrument file with several (index from 0 or name); recorded in summary.json",
     )
 
 
@@ -79,10 +89,9 @@ def read_options(args=None, spacing=None, units=None, calibration=None, channel=
         channel = getattr(args, "channel", None) if channel is None else channel
         if calibration is None and getattr(args, "override_calibration", False):
             calibration = "override"
-    opts = {"spacing": spacing, "units": units, "calibration": calibration or "strict",
-            "channel": channel}
+    opts = {"spacing": spacing, "units": units, "calibration": calibration or "strict", "channel": channel}
     x_units = getattr(args, "x_units", None) if args is not None else None
-    if x_units is not None:               # text coordinates' own unit (roadscan.io.read x_units)
+    if x_units is not None:  # text coordinates' own unit (roadscan.io.read x_units)
         opts["x_units"] = x_units
     return opts
 
@@ -122,23 +131,25 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
         raise InputError(path, "is a directory, expected a height file")
     from pipelines.checks.overwrite import check_kind
 
-    check_kind(path)      # /dev/zero, a FIFO: refused, not read forever
+    check_kind(path)  # /dev/zero, a FIFO: refused, not read forever
     if spacing is not None:
         from pipelines.checks.validate import check_spacing_option
 
-        check_spacing_option(spacing, warn_unusual=False)   # check_scan warns, naming the file
+        check_spacing_option(spacing, warn_unusual=False)  # check_scan warns, naming the file
     try:
         obj = read(path, **opts)
     except InputError:
         raise
     except MemoryError:
-        raise InputError(path, "too large for the available memory (lower --max-pixels to refuse "
-                               "such files before reading)") from None
-    except OSError as exc:      # (roadscan.io.read turns what a broken file raises into InputError)
+        raise InputError(
+            path,
+            "too large for the available memory (lower --max-pixels to refuse such files before reading)",
+        ) from None
+    except OSError as exc:  # (roadscan.io.read turns what a broken file raises into InputError)
         raise InputError(path, f"cannot read height data ({type(exc).__name__}: {exc})") from None
     from pipelines.jobs.texture.prefetch import prepare_lattice_ahead
 
-    prepare_lattice_ahead(obj)          # the spectrum's lattice, on the core idle during the checks
+    prepare_lattice_ahead(obj)  # the spectrum's lattice, on the core idle during the checks
     from pipelines.checks.validate import check_scan, warn
     from pipelines.cli.hints import flag_text
     from roadscan.plausibility import check_plausible
@@ -146,14 +157,14 @@ def load_scan(path, args=None, spacing=None, units=None, calibration=None, chann
     try:
         obj = check_scan(obj, path)
     except InputError as exc:
-        if "units?" in str(exc):           # the absolute bound: name the flag that fixes it
+        if "units?" in str(exc):  # the absolute bound: name the flag that fixes it
             check_plausible(obj, path, units)
         raise
-    check_plausible(obj, path, units)      # a units slip refused before any figure
+    check_plausible(obj, path, units)  # a units slip refused before any figure
     from roadscan.seams import find_steps
 
     for line in [*obj.meta.get("read_warnings", ()), *find_steps(obj)]:
-        warn(f"{path}: {flag_text(line)}")              # on stderr and in summary.json
+        warn(f"{path}: {flag_text(line)}")  # on stderr and in summary.json
     return obj
 
 
@@ -173,8 +184,7 @@ def read_record(obj):
     from pipelines.cli.hints import flag_text
 
     meta = getattr(obj, "meta", None) or {}
-    return {k: flag_text(meta[k]) if isinstance(meta[k], str) else meta[k]
-            for k in READ_KEYS if k in meta}
+    return {k: flag_text(meta[k]) if isinstance(meta[k], str) else meta[k] for k in READ_KEYS if k in meta}
 
 
 def source_path(source):

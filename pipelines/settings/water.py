@@ -7,14 +7,22 @@ underscores), so that the command and the API read the same definitions.
 The water model is the morphological reconstruction of Soille, *Morphological Image
 Analysis*, 2003, sec. 6.3.7 (:mod:`roadscan.rain`).
 """
+
 from __future__ import annotations
 
 import math
 
 from roadscan.errors import InputError
 
-__all__ = ["add_water_options", "check_water", "check_water_options", "add_rain_fill_options",
-           "add_dry_vs_wet_options", "add_wet_model_options", "wet_conditions"]
+__all__ = [
+    "add_water_options",
+    "check_water",
+    "check_water_options",
+    "add_rain_fill_options",
+    "add_dry_vs_wet_options",
+    "add_wet_model_options",
+    "wet_conditions",
+]
 
 
 def add_water_options(p):
@@ -29,13 +37,28 @@ def add_water_options(p):
     -------
     None
     """
-    p.add_argument("--connectivity", type=int, choices=(4, 8), default=4,
-                   help="connectivity of the fill (default 4, as Matlab's imfill)")
+    p.add_argument(
+        "--connectivity",
+        type=int,
+        choices=(4, 8),
+        default=4,
+        help="connectivity of the fill (default 4, as Matlab's imfill)",
+    )
     g = p.add_mutually_exclusive_group()
-    g.add_argument("--max-depth", type=float, default=None, metavar="M",
-                   help="water at most this deep above each depression's lowest point [m]")
-    g.add_argument("--water-film", type=float, default=None, metavar="M",
-                   help="water available per area [m^3/m^2 = m]; fills to the smallest depth cap holding it")
+    g.add_argument(
+        "--max-depth",
+        type=float,
+        default=None,
+        metavar="M",
+        help="water at most this deep above each depression's lowest point [m]",
+    )
+    g.add_argument(
+        "--water-film",
+        type=float,
+        default=None,
+        metavar="M",
+        help="water available per area [m^3/m^2 = m]; fills to the smallest depth cap holding it",
+    )
 
 
 def check_water(max_depth_m=None, water_film_m=None):
@@ -69,7 +92,7 @@ def check_water_options(args):
     -------
     None
     """
-    if args.max_depth is not None and args.water_film is not None:   # the flags' either-or
+    if args.max_depth is not None and args.water_film is not None:  # the flags' either-or
         raise InputError(None, "give --max-depth or --water-film, not both")
     check_water(args.max_depth, args.water_film)
 
@@ -90,8 +113,11 @@ def add_rain_fill_options(p):
 
     add_scan_options(p)
     add_water_options(p)
-    p.add_argument("--no-level", action="store_true",
-                   help="fill the heights as read (default: remove the least-squares plane first)")
+    p.add_argument(
+        "--no-level",
+        action="store_true",
+        help="fill the heights as read (default: remove the least-squares plane first)",
+    )
 
 
 def add_dry_vs_wet_options(p):
@@ -114,7 +140,7 @@ def add_dry_vs_wet_options(p):
     add_scan_options(p)
     add_water_options(p)
     add_wet_model_options(p)
-    add_spectrum_options(p)        # --window-alpha, --fit-band, --despike, --resolution
+    add_spectrum_options(p)  # --window-alpha, --fit-band, --despike, --resolution
     add_friction_options(p)
 
 
@@ -132,20 +158,48 @@ def add_wet_model_options(p):
     -------
     None
     """
-    p.add_argument("--wet-model", choices=("persson", "fill"), default="persson",
-                   help="persson (default): sealing, squeeze-out, adhesion lost (Persson 2005, "
-                        "Lorenz & Persson 2010); fill: every basin filled (the thesis)")
-    p.add_argument("--water-depth", type=float, default=None, metavar="M",
-                   help="water on the road per area [m] (default 5e-4, ASTM E274's film)")
-    p.add_argument("--water-temperature", type=float, default=None, metavar="C",
-                   help="water temperature [C], sets its viscosity (default 20)")
-    p.add_argument("--footprint", type=float, default=None, metavar="M",
-                   help="tyre contact length along the sliding [m] (default 0.12)")
-    p.add_argument("--block-size", type=float, default=None, metavar="M",
-                   help="tread block size, the squeeze-out length [m] (default 0.025)")
-    p.add_argument("--shear-stress", type=float, default=None, metavar="PA",
-                   help="frictional shear stress of the adhesive term [Pa] (default: none, "
-                        "adhesion left out)")
+    p.add_argument(
+        "--wet-model",
+        choices=("persson", "fill"),
+        default="persson",
+        help="persson (default): sealing, squeeze-out, adhesion lost (Persson 2005, "
+        "Lorenz & Persson 2010); fill: every basin filled (the thesis)",
+    )
+    p.add_argument(
+        "--water-depth",
+        type=float,
+        default=None,
+        metavar="M",
+        help="water on the road per area [m] (default 5e-4, ASTM E274's film)",
+    )
+    p.add_argument(
+        "--water-temperature",
+        type=float,
+        default=None,
+        metavar="C",
+        help="water temperature [C], sets its viscosity (default 20)",
+    )
+    p.add_argument(
+        "--footprint",
+        type=float,
+        default=None,
+        metavar="M",
+        help="tyre contact length along the sliding [m] (default 0.12)",
+    )
+    p.add_argument(
+        "--block-size",
+        type=float,
+        default=None,
+        metavar="M",
+        help="tread block size, the squeeze-out length [m] (default 0.025)",
+    )
+    p.add_argument(
+        "--shear-stress",
+        type=float,
+        default=None,
+        metavar="PA",
+        help="frictional shear stress of the adhesive term [Pa] (default: none, adhesion left out)",
+    )
 
 
 def wet_conditions(args):
@@ -163,11 +217,13 @@ def wet_conditions(args):
     """
     from friction.wet.water import WetConditions
 
-    given = {"water_depth_m": ("--water-depth", args.water_depth),
-             "water_temperature_C": ("--water-temperature", args.water_temperature),
-             "footprint_m": ("--footprint", args.footprint),
-             "block_size_m": ("--block-size", args.block_size),
-             "shear_stress_Pa": ("--shear-stress", args.shear_stress)}
+    given = {
+        "water_depth_m": ("--water-depth", args.water_depth),
+        "water_temperature_C": ("--water-temperature", args.water_temperature),
+        "footprint_m": ("--footprint", args.footprint),
+        "block_size_m": ("--block-size", args.block_size),
+        "shear_stress_Pa": ("--shear-stress", args.shear_stress),
+    }
     kw = {}
     for key, (flag, val) in given.items():
         if val is None:
@@ -178,4 +234,3 @@ def wet_conditions(args):
             raise InputError(None, f"{flag} {val}: {err}") from None
         kw[key] = float(val)
     return WetConditions(**kw)
-

@@ -10,6 +10,7 @@ the file's content when the extension is unknown (:mod:`roadscan.io.detect`);
 see ``FORMATS.md`` at the repository root for the table of formats and how each is tested.
 Every problem with an input raises :class:`roadscan.errors.InputError` naming the file.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -23,15 +24,29 @@ from .atomic import atomic_path
 from .calibration import calibration_policy
 
 __all__ = [
-    "read", "write", "READERS", "WRITERS", "parse_spacing", "parse_units",
-    "register_reader", "register_writer", "atomic_path",
+    "read",
+    "write",
+    "READERS",
+    "WRITERS",
+    "parse_spacing",
+    "parse_units",
+    "register_reader",
+    "register_writer",
+    "atomic_path",
 ]
 
 
 #: exceptions that a reader's own code raises, never a file's content (the readers wrap the
 #: third-party parsers they call, whose errors on broken files can be of any type)
-_CODE_ERRORS = (TypeError, AttributeError, NameError, AssertionError, ImportError, RecursionError,
-                NotImplementedError)
+_CODE_ERRORS = (
+    TypeError,
+    AttributeError,
+    NameError,
+    AssertionError,
+    ImportError,
+    RecursionError,
+    NotImplementedError,
+)
 
 
 def read(path, spacing=None, units=None, calibration="strict", channel=None, x_units=None):
@@ -90,24 +105,30 @@ def read(path, spacing=None, units=None, calibration="strict", channel=None, x_u
         parse_units(x_units, path)
     resolve_spacing(spacing, path)
     try:
-        if reader is None:          # unknown extension: the content decides (roadscan/io/detect.py)
+        if reader is None:  # unknown extension: the content decides (roadscan/io/detect.py)
             from .detect import read_by_content
 
             with calibration_policy(calibration, x_units):
-                return read_by_content(path, READERS, spacing=spacing, units=units,
-                                       channel=None if channel is None else _channel_value(channel))
+                return read_by_content(
+                    path,
+                    READERS,
+                    spacing=spacing,
+                    units=units,
+                    channel=None if channel is None else _channel_value(channel),
+                )
         extra = {} if channel is None else {"channel": _channel_option(path, reader, channel)}
         with calibration_policy(calibration, x_units):
             obj = reader(path, spacing=spacing, units=units, **extra)
         if x_units is not None and "coordinate_unit" not in obj.meta:
-            raise InputError(path, "{x_units} applies to x,z and x,y,z text files without unit "
-                                   "titles only", "x_units")
+            raise InputError(
+                path, "{x_units} applies to x,z and x,y,z text files without unit titles only", "x_units"
+            )
         return obj
     except InputError:
         raise
     except (MemoryError, KeyboardInterrupt):
         raise
-    except _CODE_ERRORS:       # a mistake in roadscan's code, not in the file: not bad input
+    except _CODE_ERRORS:  # a mistake in roadscan's code, not in the file: not bad input
         raise
     except Exception as exc:  # noqa: BLE001 - never a traceback for a bad file
         raise InputError(path, f"cannot read {ext} file ({exc.__class__.__name__}: {exc})") from None
@@ -118,9 +139,13 @@ def _channel_option(path, reader, channel):
     import inspect
 
     if "channel" not in inspect.signature(reader).parameters:
-        raise InputError(path, f"{{channel}} {channel}: a {Path(path).suffix.lower()} file holds one "
-                               f"height channel ({{channel}} is for TIFF pages/colours and "
-                               f"instrument files)", "channel")
+        raise InputError(
+            path,
+            f"{{channel}} {channel}: a {Path(path).suffix.lower()} file holds one "
+            f"height channel ({{channel}} is for TIFF pages/colours and "
+            f"instrument files)",
+            "channel",
+        )
     return _channel_value(channel)
 
 
@@ -166,8 +191,9 @@ def write(path, heightmap, **options):
     ext = p.suffix.lower()
     writer = WRITERS.get(ext)
     if writer is None:
-        raise InputError(path, f"cannot write {ext or '(no extension)'!r}; "
-                               f"writable: {', '.join(sorted(WRITERS))}")
+        raise InputError(
+            path, f"cannot write {ext or '(no extension)'!r}; writable: {', '.join(sorted(WRITERS))}"
+        )
     if not isinstance(heightmap, (HeightMap, Profile)):
         raise TypeError(f"write() takes a HeightMap or Profile, got {type(heightmap).__name__}")
     _check_float32_range(p, heightmap, options.get("dtype"))
@@ -188,5 +214,9 @@ def _check_float32_range(path, obj, dtype):
     top = float(np.max(np.abs(h[ok]))) if ok.any() else 0.0
     big = float(np.finfo(np.float32).max)
     if top > big:
-        raise InputError(path, f"height {top:.3g} m does not fit float32 (largest {big:.3g}); "
-                               f"write float64 (without {{float32}})", "float32")
+        raise InputError(
+            path,
+            f"height {top:.3g} m does not fit float32 (largest {big:.3g}); "
+            f"write float64 (without {{float32}})",
+            "float32",
+        )

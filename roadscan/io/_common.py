@@ -212,8 +212,9 @@ def check_compression_ratio(path, declared_bytes, stored_bytes, max_ratio=200.0)
         Raises :class:`roadscan.InputError` beyond the ratio.
     """
     if declared_bytes > 64 * 1024**2 and declared_bytes > max_ratio * max(int(stored_bytes), 1):
+        ratio = declared_bytes / max(stored_bytes, 1)
         raise InputError(path, f"declares {declared_bytes / 1e6:.4g} MB of data stored in "
-                               f"{stored_bytes / 1e6:.3g} MB (ratio {declared_bytes / max(stored_bytes, 1):.0f}): "
+                               f"{stored_bytes / 1e6:.3g} MB (ratio {ratio:.0f}): "
                                f"refused as a likely zip bomb")
 
 

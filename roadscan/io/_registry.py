@@ -3,6 +3,7 @@
 ``READERS[".ext"]`` is ``reader(path, spacing=None, units=None) -> HeightMap | Profile``;
 ``WRITERS[".ext"]`` is ``writer(path, obj)`` writing to ``path`` (the caller makes it atomic).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -27,10 +28,12 @@ def register_reader(*extensions):
     callable
         The decorator.
     """
+
     def deco(func):
         for ext in extensions:
             READERS[ext.lower()] = func
         return func
+
     return deco
 
 
@@ -47,8 +50,10 @@ def register_writer(*extensions):
     callable
         The decorator.
     """
+
     def deco(func):
         for ext in extensions:
             WRITERS[ext.lower()] = func
         return func
+
     return deco

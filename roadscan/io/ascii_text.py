@@ -27,6 +27,7 @@ A ``spacing=`` or ``units=`` that contradicts what the file states (header, coor
 titles) follows :mod:`roadscan.io.calibration` (refused unless overridden). Heights without
 stated units are metres unless ``units`` says otherwise.
 """
+
 from __future__ import annotations
 
 import re
@@ -138,16 +139,19 @@ def read_text_heights(path, spacing=None, units=None):
 
     ncol = values.shape[1]
     titles = find_titles(header, ncol)
-    if titles is None and ncol >= 4:               # "Height (um)" above a matrix
+    if titles is None and ncol >= 4:  # "Height (um)" above a matrix
         titles = find_titles(header, 1)
-    pre = read_preamble(path, header[:len(header) - titles.n_lines] if titles else header,
-                        table.decimal)
+    pre = read_preamble(path, header[: len(header) - titles.n_lines] if titles else header, table.decimal)
     if pre.other:
         meta["preamble"] = pre.other
     if table.markers:
         meta["missing_markers"] = table.markers
-    if titles is not None and ncol in (3, 4) and len(titles.names) == ncol \
-            and index_column(titles.names, values[:, 0]):
+    if (
+        titles is not None
+        and ncol in (3, 4)
+        and len(titles.names) == ncol
+        and index_column(titles.names, values[:, 0])
+    ):
         meta["index_column_dropped"] = titles.names[0] or "(untitled)"
         values, ncol = values[:, 1:], ncol - 1
         titles = Titles(titles.names[1:], titles.units[1:], titles.text, titles.n_lines)
@@ -194,10 +198,14 @@ def _preamble_spacing(path, pre, sp, two_d, coord_factor=None):
                 out.append(v * coord_factor)
                 continue
             elif sp is not None:
-                return None                     # the flag decides
+                return None  # the flag decides
             else:
-                raise InputError(path, f"preamble line {line!r} gives the spacing without a unit: "
-                                       f"write its unit ('{v:g} mm') or give {{spacing}}", "spacing")
+                raise InputError(
+                    path,
+                    f"preamble line {line!r} gives the spacing without a unit: "
+                    f"write its unit ('{v:g} mm') or give {{spacing}}",
+                    "spacing",
+                )
         out.append(v * parse_units(unit, path) if unit != "cm" else v * 1e-2)
     return tuple(out)
 
@@ -206,8 +214,11 @@ def _check_step(path, pre, want, got):
     """Refuse a preamble spacing the coordinates contradict (relative difference > 1e-3)."""
     for w, g in zip(want, got):
         if abs(w - g) > 1e-3 * abs(w):
-            raise InputError(path, f"preamble line {pre.spacing[2]!r} says {w:.6g} m, the "
-                                   f"coordinates step {g:.6g} m: correct one")
+            raise InputError(
+                path,
+                f"preamble line {pre.spacing[2]!r} says {w:.6g} m, the "
+                f"coordinates step {g:.6g} m: correct one",
+            )
 
 
 def _unstated_factors(path, ncol, factor, units, meta):
@@ -274,22 +285,34 @@ def _unstated_spacing(path, sp, d_file, factors, n_nodes, z_file, units, meta, w
 
     inferred = tuple(d * f for d, f in zip(d_file, factors))
     xu = current_x_units()
-    meta["coordinate_unit"] = xu              # stated by x_units, else judged below
+    meta["coordinate_unit"] = xu  # stated by x_units, else judged below
     if sp is not None:
-        given = tuple(sp)[:len(inferred)]
+        given = tuple(sp)[: len(inferred)]
         if any(abs(g - i) > 1e-6 * i for g, i in zip(given, inferred)):
             shown = " x ".join(f"{d:.6g}" for d in d_file)
-            meta.setdefault("read_warnings", []).append(OptionNote(
-                f"{{spacing}} {' x '.join(f'{g:.6g}' for g in given)} m replaces the spacing inferred "
-                f"from the {what} column ({shown} in the file's numbers; no title line states "
-                f"their unit)", "spacing"))
+            meta.setdefault("read_warnings", []).append(
+                OptionNote(
+                    f"{{spacing}} {' x '.join(f'{g:.6g}' for g in given)} m replaces the spacing inferred "
+                    f"from the {what} column ({shown} in the file's numbers; no title line states "
+                    f"their unit)",
+                    "spacing",
+                )
+            )
             meta["spacing_from"] = OptionNote("{spacing} (replacing the coordinates' step)", "spacing")
         return given
     if xu is None:
-        unit = check_coordinate_units(path, max(d_file), n_nodes, z_file, units, what,
-                                      notes=meta.setdefault("read_warnings", []), found=titles_text)
+        unit = check_coordinate_units(
+            path,
+            max(d_file),
+            n_nodes,
+            z_file,
+            units,
+            what,
+            notes=meta.setdefault("read_warnings", []),
+            found=titles_text,
+        )
         meta["coordinate_unit"] = unit
-        if unit != (units or "m"):                 # metre coordinates beside --units heights
+        if unit != (units or "m"):  # metre coordinates beside --units heights
             scale = unit_factor(unit, path) / unit_factor(units, path)
             inferred = tuple(i * scale for i in inferred)
             for key in ("x0_m", "y0_m"):
@@ -313,8 +336,9 @@ def _profile(path, values, fac, sp, units, meta):
     h[idx] = z
     meta.update(layout="x,z profile", x0_m=x0 * fx, missing_points=int(h.size - x.size))
     if not stated:
-        (dx_m,) = _unstated_spacing(path, None if sp is None else sp[:1], (dx,), (fx,), h.size, h,
-                                    units, meta, "x", titles_text)
+        (dx_m,) = _unstated_spacing(
+            path, None if sp is None else sp[:1], (dx,), (fx,), h.size, h, units, meta, "x", titles_text
+        )
     else:
         (dx_m,) = pick_spacing(path, None if sp is None else sp[:1], (dx * fx,), meta)
     return make_profile(path, h * fz, dx_m, meta=meta)
@@ -367,8 +391,9 @@ def grid_from_points(path, x, y, z):
     if np.bincount(flat, minlength=nx * ny).max() > 1:
         raise InputError(path, "x,y points are not on a regular grid (two points share a node)")
     if flat.size < 0.5 * nx * ny:
-        raise InputError(path, f"x,y points are not on a regular grid ({flat.size} points for "
-                               f"{nx} x {ny} nodes)")
+        raise InputError(
+            path, f"x,y points are not on a regular grid ({flat.size} points for {nx} x {ny} nodes)"
+        )
     h = np.full(nx * ny, np.nan)
     h[flat] = z
     return h.reshape(ny, nx), x0, dx, y0, dy
@@ -378,11 +403,13 @@ def _xyz(path, values, fac, sp, units, meta):
     fx, fy, fz = fac
     titles_text, stated = meta.pop("_titles_text", None), meta.pop("_stated", False)
     h, x0, dx, y0, dy = grid_from_points(path, values[:, 0], values[:, 1], values[:, 2])
-    meta.update(layout="x,y,z points", x0_m=x0 * fx, y0_m=y0 * fy,
-                missing_points=int(h.size - values.shape[0]))
+    meta.update(
+        layout="x,y,z points", x0_m=x0 * fx, y0_m=y0 * fy, missing_points=int(h.size - values.shape[0])
+    )
     if not stated:
-        sp = _unstated_spacing(path, sp, (dx, dy), (fx, fy), max(h.shape), h, units, meta,
-                               "x, y", titles_text)
+        sp = _unstated_spacing(
+            path, sp, (dx, dy), (fx, fy), max(h.shape), h, units, meta, "x, y", titles_text
+        )
     else:
         sp = pick_spacing(path, sp, (dx * fx, dy * fy), meta)
     return make_heightmap(path, h * fz, sp[0], sp[1], meta=meta)

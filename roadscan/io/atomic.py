@@ -158,7 +158,8 @@ def atomic_path(path, suffix=None):
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         # the stem cut to 100 characters: a legal 255-character name keeps a legal temporary one
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem[:100]}.", suffix=suffix or path.suffix, dir=path.parent)
+        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem[:100]}.", suffix=suffix or path.suffix,
+                                   dir=path.parent)
     except OSError as exc:          # the name the user gave, not the hidden temporary one
         raise OSError(exc.errno, exc.strerror or str(exc), str(final_name(shown))) from None
     try:

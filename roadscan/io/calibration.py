@@ -18,6 +18,7 @@ variable:
 Units override: heights are rescaled from the file's unit to the flag's,
 ``h_m = h_file * f(flag)`` instead of ``h_file * f(file)`` (``f`` = metres per unit).
 """
+
 from __future__ import annotations
 
 import contextvars
@@ -25,8 +26,14 @@ from contextlib import contextmanager
 
 from ..errors import InputError, OptionNote
 
-__all__ = ["POLICIES", "calibration_policy", "current_policy", "current_x_units", "pick_spacing",
-           "pick_units"]
+__all__ = [
+    "POLICIES",
+    "calibration_policy",
+    "current_policy",
+    "current_x_units",
+    "pick_spacing",
+    "pick_units",
+]
 
 POLICIES = ("strict", "override", "default")
 _POLICY = contextvars.ContextVar("roadscan_calibration_policy", default="strict")
@@ -104,8 +111,11 @@ def _record(meta, key, what, file_value, flag_value):
     block = meta.setdefault(key, {})
     block[what] = {"file": file_value, "flag": flag_value}
     if key == "calibration_ignored":
-        meta.setdefault("read_warnings", []).append(OptionNote(
-            f"{{{what}}} {flag_value} ignored: the file carries its own {what} ({file_value})", what))
+        meta.setdefault("read_warnings", []).append(
+            OptionNote(
+                f"{{{what}}} {flag_value} ignored: the file carries its own {what} ({file_value})", what
+            )
+        )
 
 
 def _decide(path, meta, what, file_value, flag_value, conflict):
@@ -113,8 +123,12 @@ def _decide(path, meta, what, file_value, flag_value, conflict):
     under ``"strict"`` the ``conflict`` is refused in one line."""
     policy = current_policy()
     if policy == "strict":
-        raise InputError(path, f"{conflict}; drop {{{what}}}, or add {{override_calibration}} to use "
-                               f"yours (recorded in the outputs)", (what, "override_calibration"))
+        raise InputError(
+            path,
+            f"{conflict}; drop {{{what}}}, or add {{override_calibration}} to use "
+            f"yours (recorded in the outputs)",
+            (what, "override_calibration"),
+        )
     key = "calibration_override" if policy == "override" else "calibration_ignored"
     _record(meta, key, what, file_value, flag_value)
     return "flag" if policy == "override" else "file"
@@ -147,9 +161,14 @@ def pick_spacing(path, given, from_file, meta):
     given = tuple(given)[:n]
     if all(abs(g - f) <= _REL * abs(f) for g, f in zip(given, from_file)):
         return from_file
-    won = _decide(path, meta, "spacing", list(from_file), list(given),
-                  f"the file carries its own spacing {_fmt(from_file)} m: {{spacing}} "
-                  f"{_fmt(given)} would override it")
+    won = _decide(
+        path,
+        meta,
+        "spacing",
+        list(from_file),
+        list(given),
+        f"the file carries its own spacing {_fmt(from_file)} m: {{spacing}} {_fmt(given)} would override it",
+    )
     return given if won == "flag" else from_file
 
 
@@ -186,8 +205,14 @@ def pick_units(path, given, file_unit, file_factor, meta):
     f_given = unit_factor(given, path)
     if abs(f_given - file_factor) <= _REL * file_factor:
         return file_factor
-    won = _decide(path, meta, "units", str(file_unit), str(given),
-                  f"the file states its heights in {file_unit}: {{units}} {given} would override it")
+    won = _decide(
+        path,
+        meta,
+        "units",
+        str(file_unit),
+        str(given),
+        f"the file states its heights in {file_unit}: {{units}} {given} would override it",
+    )
     if won == "flag":
         meta["height_unit"] = {"unit": str(given), "m_per_unit": f_given, "from": "flag"}
         return f_given

@@ -22,6 +22,7 @@ Layout (CAPTIF Road Research Centre, captif-slp project)::
 A ``.dat`` file without the ``*****DATA*****`` marker is handed to the vendor reader
 (SurfaceTopography: Zygo MetroPro ``.dat`` and its plain-text reader).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -63,13 +64,17 @@ def read_dat(path, spacing=None, units=None, channel=None):
     from .vendor import read_vendor, vendor_available
 
     if not vendor_available():
-        raise InputError(path, "no '*****DATA*****' line: not a CAPTIF profile (other .dat "
-                               "formats need the optional extra: pip install 'roadscan[vendor]')")
+        raise InputError(
+            path,
+            "no '*****DATA*****' line: not a CAPTIF profile (other .dat "
+            "formats need the optional extra: pip install 'roadscan[vendor]')",
+        )
     try:
         return read_vendor(path, spacing=spacing, units=units, channel=channel)
     except InputError as exc:
-        raise exc.reworded(path, "not a CAPTIF profile (no '*****DATA*****' line) nor a vendor "
-                                 ".dat: ") from None
+        raise exc.reworded(
+            path, "not a CAPTIF profile (no '*****DATA*****' line) nor a vendor .dat: "
+        ) from None
 
 
 def read_captif(path, spacing=None, units=None):
@@ -107,7 +112,7 @@ def read_captif(path, spacing=None, units=None):
     want = ["Data Point No:", "Distance (mm)", "Depth (mm)"]
     if titles != want:
         raise InputError(path, f"unexpected CAPTIF columns {titles}, expected {want}")
-    rows = [ln for ln in lines[k + 2:] if ln.strip()]
+    rows = [ln for ln in lines[k + 2 :] if ln.strip()]
     if not rows:
         raise InputError(path, "no data rows after the column titles")
     try:
@@ -131,8 +136,11 @@ def read_captif(path, spacing=None, units=None):
     h_mm = np.full(idx[-1] + 1, np.nan)
     h_mm[idx] = depth_mm
     meta = {
-        "format": "CAPTIF SLP .dat", "units": "mm", "header": header,
-        "x0_m": x0 * 1e-3, "rows": int(data.shape[0]),
+        "format": "CAPTIF SLP .dat",
+        "units": "mm",
+        "header": header,
+        "x0_m": x0 * 1e-3,
+        "rows": int(data.shape[0]),
         "missing_points": int(h_mm.size - data.shape[0]),
         "dropouts": int(np.isnan(depth_mm).sum()),
         "sign": "Depth column is height, positive up (kept as is)",

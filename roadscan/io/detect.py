@@ -17,6 +17,7 @@ or without extension; exports get ``.bin`` or ``.dat``). When the extension is n
 The format found is recorded in ``meta["detected_by_content"]``. Nothing found: one line
 naming the file and the known extensions.
 """
+
 from __future__ import annotations
 
 import inspect
@@ -66,9 +67,9 @@ def sniff_extension(path):
         if names and all(n.endswith(".npy") for n in names):
             return ".npz"
         return "vendor"
-    if head[:2] in (b"\xff\xfe", b"\xfe\xff"):      # UTF-16 text (a spreadsheet's "Unicode text")
+    if head[:2] in (b"\xff\xfe", b"\xfe\xff"):  # UTF-16 text (a spreadsheet's "Unicode text")
         return ".txt"
-    if head.lstrip().startswith(b"\\*"):          # Bruker Nanoscope: "\*File list" header
+    if head.lstrip().startswith(b"\\*"):  # Bruker Nanoscope: "\*File list" header
         return "vendor"
     if b"\x00" not in head:
         with open(path, "rb") as f:
@@ -102,17 +103,20 @@ def read_by_content(path, readers, spacing=None, units=None, channel=None):
     if kind != "vendor":
         reader = readers[kind]
         if extra and "channel" not in inspect.signature(reader).parameters:
-            raise InputError(path, f"{{channel}} {channel}: a {kind} file holds one height channel", "channel")
+            raise InputError(
+                path, f"{{channel}} {channel}: a {kind} file holds one height channel", "channel"
+            )
         try:
             obj = reader(path, spacing=spacing, units=units, **extra)
         except InputError as exc:
-            if kind == ".txt" and _has_binary_tail(path):   # a text header over binary data
+            if kind == ".txt" and _has_binary_tail(path):  # a text header over binary data
                 try:
                     return _read_vendor_by_content(path, ext, readers, spacing, units, extra)
                 except InputError:
                     pass
-            raise exc.reworded(path, f"unknown file extension {ext!r}, read by its content as "
-                                     f"{kind}: ") from None
+            raise exc.reworded(
+                path, f"unknown file extension {ext!r}, read by its content as {kind}: "
+            ) from None
         obj.meta["detected_by_content"] = kind.lstrip(".")
         return obj
     return _read_vendor_by_content(path, ext, readers, spacing, units, extra)
@@ -138,13 +142,15 @@ def _read_vendor_by_content(path, ext, readers, spacing, units, extra):
         raise
     except Exception:  # noqa: BLE001 - CannotDetectFileFormat and the readers' own errors
         known = ", ".join(sorted(readers))
-        raise InputError(path, f"unknown file extension {ext!r} and its content matches no "
-                               f"format roadscan or SurfaceTopography reads; known: "
-                               f"{known}") from None
+        raise InputError(
+            path,
+            f"unknown file extension {ext!r} and its content matches no "
+            f"format roadscan or SurfaceTopography reads; known: "
+            f"{known}",
+        ) from None
     try:
         obj = read_vendor(path, spacing=spacing, units=units, formats=(fmt,), **extra)
     except InputError as exc:
-        raise exc.reworded(path, f"unknown file extension {ext!r}, read by its content as "
-                                 f"{fmt}: ") from None
+        raise exc.reworded(path, f"unknown file extension {ext!r}, read by its content as {fmt}: ") from None
     obj.meta["detected_by_content"] = fmt
     return obj

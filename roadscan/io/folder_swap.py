@@ -7,6 +7,7 @@ deleted, and :func:`recover_output_dir` puts an old set back when a run was kill
 two renames. A run holds its temporary folder with ``flock`` so that another run's clean-up
 leaves it alone.
 """
+
 from __future__ import annotations
 
 import ctypes
@@ -78,7 +79,7 @@ def recover_output_dir(target):
         os.rename(olds[0], target)
         olds = olds[1:]
     for p in olds + _leftovers(target, TMP_TAG):
-        if not _in_use(p):                    # another run writing there now: leave it
+        if not _in_use(p):  # another run writing there now: leave it
             shutil.rmtree(p, ignore_errors=True)
 
 
@@ -114,10 +115,10 @@ def _swap_in(tmp, target):
         try:
             os.rename(tmp, target)
             return
-        except OSError as exc:            # a concurrent run put its set there first
+        except OSError as exc:  # a concurrent run put its set there first
             if exc.errno not in (errno.ENOTEMPTY, errno.EEXIST):
                 raise
-    if _exchange(tmp, target):       # tmp now holds the old set
+    if _exchange(tmp, target):  # tmp now holds the old set
         shutil.rmtree(tmp, ignore_errors=True)
         return
     old = Path(tempfile.mkdtemp(prefix=f".{target.name}{OLD_TAG}", dir=target.parent))

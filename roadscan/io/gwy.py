@@ -9,6 +9,7 @@ Gwyddion's importers mark an instrument's invalid points with that mask, and Sur
 reads it the same way. A mask drawn by hand for grains or a selection is thus also taken as
 unmeasured; its covered fraction is reported in ``meta["gwy_mask_fraction"]``.
 """
+
 from __future__ import annotations
 
 import struct
@@ -88,14 +89,17 @@ def _check_object(buf, pos, stop, path, depth=0):
             pos += 4
             if t in _ARRAY_BYTES:
                 pos += n * _ARRAY_BYTES[t]
-            elif t == "C" and n:   # gwyfile reads char arrays as zero-width items
+            elif t == "C" and n:  # gwyfile reads char arrays as zero-width items
                 raise InputError(path, "Gwyddion char-array components are not supported")
             elif t in "SO":
                 if n > end - pos:
                     raise _corrupt(path, f"array of {n} items in {end - pos} bytes")
                 for _ in range(n):
-                    pos = (_cstring_end(buf, pos, end, path, "string") if t == "S"
-                           else _check_object(buf, pos, end, path, depth + 1))
+                    pos = (
+                        _cstring_end(buf, pos, end, path, "string")
+                        if t == "S"
+                        else _check_object(buf, pos, end, path, depth + 1)
+                    )
         else:
             raise _corrupt(path, f"unknown component type {t!r} at byte {pos - 1}")
         if pos > end:
@@ -149,15 +153,16 @@ def read_gwy(path, spacing=None, units=None, channel=None):
     import gwyfile
 
     p = check_file(path)
-    check_declared_size(path, (p.stat().st_size // 8,), 8)   # a .gwy holds float64 points
+    check_declared_size(path, (p.stat().st_size // 8,), 8)  # a .gwy holds float64 points
     check_gwy_structure(path)
     try:
         obj = gwyfile.load(str(path))
     except Exception as exc:  # noqa: BLE001 - gwyfile raises plain ValueError/struct errors
         raise InputError(path, f"not a readable Gwyddion file ({exc.__class__.__name__}: {exc})") from None
     channels = sorted(
-        int(k[1:-len("/data")]) for k in obj.keys()
-        if k.startswith("/") and k.endswith("/data") and k[1:-len("/data")].isdigit()
+        int(k[1 : -len("/data")])
+        for k in obj.keys()
+        if k.startswith("/") and k.endswith("/data") and k[1 : -len("/data")].isdigit()
     )
     if not channels:
         raise InputError(path, "no data channel in the Gwyddion file")
@@ -190,8 +195,11 @@ def read_gwy(path, spacing=None, units=None, channel=None):
         except Exception:  # noqa: BLE001
             raise InputError(path, f"channel {ch} has an unreadable mask") from None
         if masked.shape != z.shape:
-            raise InputError(path, f"channel {ch}'s mask is {masked.shape[1]} x "
-                             f"{masked.shape[0]}, its data {z.shape[1]} x {z.shape[0]}")
+            raise InputError(
+                path,
+                f"channel {ch}'s mask is {masked.shape[1]} x "
+                f"{masked.shape[0]}, its data {z.shape[1]} x {z.shape[0]}",
+            )
         meta["gwy_mask_fraction"] = float(np.mean(masked))
         z = np.where(masked, np.nan, z)
     sp = resolve_spacing(spacing, path)

@@ -26,6 +26,7 @@ header's grid spacing as millimetres; the files' spacing is in nanometres (0.312
 160 um field for 512 points, the field of a NanoFocus confocal objective, come out 1e6 times too
 large). When its pixel exceeds 1 mm, the spacing is divided by 1e6 and a warning says so.
 """
+
 from __future__ import annotations
 
 from ..errors import InputError
@@ -34,16 +35,36 @@ from ..units import length as _len
 __all__ = ["KINDS", "kind_of", "check_lateral", "fix_reader_units"]
 
 _SPM = ("di", "ibw", "mi", "mdt", "ezd", "jpk", "bcr", "wsxm", "ps")
-_OPTICAL = ("plu", "plux", "opd", "opdx", "datx", "metropro", "al3d", "vk", "zon", "lext", "oir",
-            "poir", "nms", "frt", "zmg", "os3d")
-_ANY_SURFACE = ("sur", "mnt", "sdf", "tmd", "qep")   # containers of any profiler's data
+_OPTICAL = (
+    "plu",
+    "plux",
+    "opd",
+    "opdx",
+    "datx",
+    "metropro",
+    "al3d",
+    "vk",
+    "zon",
+    "lext",
+    "oir",
+    "poir",
+    "nms",
+    "frt",
+    "zmg",
+    "os3d",
+)
+_ANY_SURFACE = ("sur", "mnt", "sdf", "tmd", "qep")  # containers of any profiler's data
 #: kind -> (smallest pixel, largest pixel, largest field) [m]
-KINDS = {"scanning-probe microscope": (1e-12, 1e-4, 2e-3),
-         "optical profiler or microscope": (1e-9, 1e-3, 1.0),
-         "surface metrology file": (1e-12, 1e-2, 1.0)}
-_KIND_OF = {**{f: "scanning-probe microscope" for f in _SPM},
-            **{f: "optical profiler or microscope" for f in _OPTICAL},
-            **{f: "surface metrology file" for f in _ANY_SURFACE}}
+KINDS = {
+    "scanning-probe microscope": (1e-12, 1e-4, 2e-3),
+    "optical profiler or microscope": (1e-9, 1e-3, 1.0),
+    "surface metrology file": (1e-12, 1e-2, 1.0),
+}
+_KIND_OF = {
+    **{f: "scanning-probe microscope" for f in _SPM},
+    **{f: "optical profiler or microscope" for f in _OPTICAL},
+    **{f: "surface metrology file" for f in _ANY_SURFACE},
+}
 
 
 def kind_of(fmt):
@@ -91,11 +112,14 @@ def check_lateral(path, fmt, name, dx, dy, nx, ny):
     pixel = max(dx, dy)
     small = min(dx, dy)
     if small < lo or pixel > hi or field > field_max:
-        raise InputError(path, f"a {name} file ({kind}) giving {_len(dx)} x {_len(dy)} pixels and "
-                               f"a {_len(dx * nx)} x {_len(dy * ny)} field: implausible for that "
-                               f"instrument (a unit error in the file or its reader); if you know "
-                               f"the spacing, pass {{spacing}} DX[,DY] {{override_calibration}}",
-                         ("spacing", "override_calibration"))
+        raise InputError(
+            path,
+            f"a {name} file ({kind}) giving {_len(dx)} x {_len(dy)} pixels and "
+            f"a {_len(dx * nx)} x {_len(dy * ny)} field: implausible for that "
+            f"instrument (a unit error in the file or its reader); if you know "
+            f"the spacing, pass {{spacing}} DX[,DY] {{override_calibration}}",
+            ("spacing", "override_calibration"),
+        )
 
 
 def fix_reader_units(fmt, dx, dy, meta):
@@ -118,8 +142,10 @@ def fix_reader_units(fmt, dx, dy, meta):
     """
     if str(fmt).lower() == "nms" and max(dx, dy) > 1e-3:
         fixed = (dx * 1e-6, dy * 1e-6)
-        note = (f"NanoFocus header spacing read as nanometres ({_len(fixed[0])} pixels; "
-                f"SurfaceTopography reads it as millimetres: {_len(dx)})")
+        note = (
+            f"NanoFocus header spacing read as nanometres ({_len(fixed[0])} pixels; "
+            f"SurfaceTopography reads it as millimetres: {_len(dx)})"
+        )
         meta["reader_unit_fix"] = note
         meta.setdefault("read_warnings", []).append(note)
         return fixed

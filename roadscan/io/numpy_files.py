@@ -9,6 +9,7 @@
 
 Writers store metres (float64, or float32 with ``dtype="float32"``) and NaN at unmeasured points.
 """
+
 from __future__ import annotations
 
 import os
@@ -56,13 +57,15 @@ def _read_header(fh, path, member=None):
         else:
             raise ValueError(f"unknown .npy format version {version[0]}.{version[1]}")
     except (ValueError, OSError, EOFError, SyntaxError, TypeError, UnicodeDecodeError) as exc:
-        raise InputError(path, f"not a readable NumPy file{where} ({exc.__class__.__name__}: {exc})") from None
+        raise InputError(
+            path, f"not a readable NumPy file{where} ({exc.__class__.__name__}: {exc})"
+        ) from None
     return shape, dtype
 
 
 def _check_header(path, shape, dtype, stored_bytes=None, member=None):
     """Refuse before allocating: complex, non-numeric, too large, or a zip bomb."""
-    what = "heights" if member in (None, "heights.npy") else f"'{member[:-4]}'"   # .npz: name the member
+    what = "heights" if member in (None, "heights.npy") else f"'{member[:-4]}'"  # .npz: name the member
     if dtype.names is not None or dtype.hasobject:
         raise InputError(path, f"{what} are not numbers (dtype {dtype})")
     if np.issubdtype(dtype, np.complexfloating):
@@ -75,8 +78,11 @@ def _check_header(path, shape, dtype, stored_bytes=None, member=None):
     else:
         size = os.path.getsize(path)
         if n * dtype.itemsize > size:
-            raise InputError(path, f"header declares shape {tuple(shape)} ({n * dtype.itemsize} bytes) "
-                                   f"but the file holds {size} bytes: truncated")
+            raise InputError(
+                path,
+                f"header declares shape {tuple(shape)} ({n * dtype.itemsize} bytes) "
+                f"but the file holds {size} bytes: truncated",
+            )
 
 
 @register_reader(".npy")
@@ -113,8 +119,9 @@ def read_npy(path, spacing=None, units=None):
         raise InputError(path, f"expected a 2D height array, got shape {arr.shape}")
     if sp is None:
         raise InputError(path, NO_SPACING)
-    return make_heightmap(path, _scaled_float64(arr, factor), sp[0], sp[1],
-                          meta={"format": "npy", "units": units or "m"})
+    return make_heightmap(
+        path, _scaled_float64(arr, factor), sp[0], sp[1], meta={"format": "npy", "units": units or "m"}
+    )
 
 
 def _scaled_float64(arr, factor):
@@ -132,8 +139,10 @@ def _npz_spacing(path, z, key):
     """``z[key]`` (``dx`` or ``dy``) as one float [m]; anything else is one line naming it."""
     v = z[key]
     if v.size != 1 or not (np.issubdtype(v.dtype, np.number) and not np.iscomplexobj(v)):
-        raise InputError(path, f"'{key}' must be one number (the spacing in metres), got "
-                               f"{v.size} value(s) of dtype {v.dtype}")
+        raise InputError(
+            path,
+            f"'{key}' must be one number (the spacing in metres), got {v.size} value(s) of dtype {v.dtype}",
+        )
     return float(v.reshape(()))
 
 
@@ -192,9 +201,12 @@ def _check_npz_members(path):
         with zipfile.ZipFile(path) as zf:
             names = [info.filename for info in zf.infolist()]
             dup = sorted({n for n in names if names.count(n) > 1})
-            if dup:        # numpy would take the last one silently
-                raise InputError(path, f".npz archive holds several members named {dup[0]!r} "
-                                       f"(which one is meant is undefined): refused")
+            if dup:  # numpy would take the last one silently
+                raise InputError(
+                    path,
+                    f".npz archive holds several members named {dup[0]!r} "
+                    f"(which one is meant is undefined): refused",
+                )
             for info in zf.infolist():
                 if not info.filename.endswith(".npy"):
                     continue
@@ -254,7 +266,11 @@ def write_npz(path, obj, dtype="float64"):
     -------
     None
     """
-    arrays = {"heights": obj.heights_m.astype(_float_dtype(dtype), copy=False), "dx": np.float64(obj.dx_m), "unmeasured": obj.unmeasured}
+    arrays = {
+        "heights": obj.heights_m.astype(_float_dtype(dtype), copy=False),
+        "dx": np.float64(obj.dx_m),
+        "unmeasured": obj.unmeasured,
+    }
     if isinstance(obj, HeightMap):
         arrays["dy"] = np.float64(obj.dy_m)
     elif not isinstance(obj, Profile):

@@ -6,6 +6,7 @@ folder, a parent of the current folder or a filesystem root; a folder holding on
 inputs; a non-empty folder that holds no earlier roadscan output; an earlier output folder that
 also holds a file of a kind no roadscan run writes (a user's notes or photo put beside it).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,8 +16,17 @@ from ..errors import InputError
 __all__ = ["check_output_dir", "OUTPUT_MARKERS", "OUTPUT_SUFFIXES"]
 
 #: files whose presence marks a folder as an earlier roadscan output (safe to replace)
-OUTPUT_MARKERS = ("summary.json", "report.html", "rainfill.json", "summary.csv", "mu.csv",
-                  "psd.csv", "compare.csv", "diagnosis.json", "wet.npy")
+OUTPUT_MARKERS = (
+    "summary.json",
+    "report.html",
+    "rainfill.json",
+    "summary.csv",
+    "mu.csv",
+    "psd.csv",
+    "compare.csv",
+    "diagnosis.json",
+    "wet.npy",
+)
 
 
 def check_output_dir(target, option="out", inputs=()):
@@ -51,26 +61,48 @@ def check_output_dir(target, option="out", inputs=()):
             what = "is an existing file" if parent == target else f"is below the file {parent}"
             raise InputError(None, hint_option=option, problem=f"{label} {target}: {what}, need a folder")
     resolved = target.resolve()
-    if resolved in (Path.cwd().resolve(), Path.home().resolve()) or resolved == resolved.parent \
-            or resolved in Path.cwd().resolve().parents:
-        raise InputError(None, hint_option=option, problem=f"{label} {target}: the whole folder would be replaced; name a new "
-                               f"or earlier output folder")
+    if (
+        resolved in (Path.cwd().resolve(), Path.home().resolve())
+        or resolved == resolved.parent
+        or resolved in Path.cwd().resolve().parents
+    ):
+        raise InputError(
+            None,
+            hint_option=option,
+            problem=f"{label} {target}: the whole folder would be replaced; name a new "
+            f"or earlier output folder",
+        )
     for inp in inputs:
         try:
             Path(inp).resolve().relative_to(resolved)
         except ValueError:
             continue
-        raise InputError(None, hint_option=option, problem=f"{label} {target}: contains the input {inp}; name another folder")
+        raise InputError(
+            None,
+            hint_option=option,
+            problem=f"{label} {target}: contains the input {inp}; name another folder",
+        )
     if target.is_dir():
         entries = [p.name for p in target.iterdir()]
-        if entries and not any(m in entries for m in OUTPUT_MARKERS) and not any(
-                (target / e / m).exists() for e in entries for m in OUTPUT_MARKERS):
-            raise InputError(None, hint_option=option, problem=f"{label} {target}: folder exists, is not empty and holds no "
-                                   f"earlier roadscan output; name a new folder")
+        if (
+            entries
+            and not any(m in entries for m in OUTPUT_MARKERS)
+            and not any((target / e / m).exists() for e in entries for m in OUTPUT_MARKERS)
+        ):
+            raise InputError(
+                None,
+                hint_option=option,
+                problem=f"{label} {target}: folder exists, is not empty and holds no "
+                f"earlier roadscan output; name a new folder",
+            )
         foreign = _foreign_file(target)
         if foreign is not None:
-            raise InputError(None, hint_option=option, problem=f"{label} {target}: holds {foreign}, which no roadscan run writes; "
-                                   f"replacing the folder would lose it: move it or name another folder")
+            raise InputError(
+                None,
+                hint_option=option,
+                problem=f"{label} {target}: holds {foreign}, which no roadscan run writes; "
+                f"replacing the folder would lose it: move it or name another folder",
+            )
 
 
 #: what roadscan writes into an output folder (a folder holding anything else is not replaced)

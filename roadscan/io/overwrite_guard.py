@@ -18,6 +18,7 @@ CLI's exit code 2):
 Files of the Python installation (modules, shared libraries) and of ``/proc``, ``/sys`` and
 ``/dev`` are not recorded.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -27,11 +28,18 @@ import threading
 
 from ..errors import InputError
 
-__all__ = ["refuse_overwrite", "same_path", "inside", "reads_tracked", "check_not_read",
-           "tracked_reads", "untracked"]
+__all__ = [
+    "refuse_overwrite",
+    "same_path",
+    "inside",
+    "reads_tracked",
+    "check_not_read",
+    "tracked_reads",
+    "untracked",
+]
 
 _LOCK = threading.Lock()
-_READS = None            # set of absolute paths read while tracking, or None when not tracking
+_READS = None  # set of absolute paths read while tracking, or None when not tracking
 _HOOKED = False
 _SKIP_SUFFIXES = (".py", ".pyc", ".so", ".pyd", ".pth", ".mo")
 
@@ -44,7 +52,7 @@ def _skip_roots():
 _ROOTS = _skip_roots()
 
 
-_SUSPENDED = threading.local()   # .on: this thread's reads are not recorded (untracked)
+_SUSPENDED = threading.local()  # .on: this thread's reads are not recorded (untracked)
 
 
 def _audit(event, args):
@@ -217,11 +225,19 @@ def refuse_overwrite(outputs, inputs, option="out"):
         out = str(out)
         for inp in inputs:
             if same_path(out, inp):
-                raise InputError(None, hint_option=option, problem=f"{{{option}}} {out}: is the input file {inp}; name another output "
-                                       f"(an input is never written over)")
+                raise InputError(
+                    None,
+                    hint_option=option,
+                    problem=f"{{{option}}} {out}: is the input file {inp}; name another output "
+                    f"(an input is never written over)",
+                )
             if folder and inside(inp, out):
-                raise InputError(None, hint_option=option, problem=f"{{{option}}} {out}: contains the input {inp}; name another "
-                                       f"folder (an input is never written over)")
+                raise InputError(
+                    None,
+                    hint_option=option,
+                    problem=f"{{{option}}} {out}: contains the input {inp}; name another "
+                    f"folder (an input is never written over)",
+                )
 
 
 def check_not_read(targets, option="out", exclude=None):
@@ -257,5 +273,9 @@ def check_not_read(targets, option="out", exclude=None):
             if not os.path.lexists(r):
                 continue
             if same_path(t, r) or (os.path.isdir(t) and inside(r, t)):
-                raise InputError(None, hint_option=option, problem=f"{label} {t}: would replace the input {r}, "
-                                       f"which this command read; name another output")
+                raise InputError(
+                    None,
+                    hint_option=option,
+                    problem=f"{label} {t}: would replace the input {r}, "
+                    f"which this command read; name another output",
+                )

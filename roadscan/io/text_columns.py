@@ -22,6 +22,7 @@ spread, with a warning; a sentinel value within that reach is a height, kept.
 ``Unnamed: 0``, ``point``, ``no``, ``Data Point No:``...) holding consecutive integers in any
 order (pandas writes 0, 1, 2...) is not a coordinate: dropped, noted in ``meta``.
 """
+
 from __future__ import annotations
 
 import re
@@ -33,11 +34,40 @@ from .text_titles import LENGTH_UNITS
 
 __all__ = ["SENTINELS", "SENTINEL_SPREADS", "column_factors", "mark_dropouts", "index_column"]
 
-SENTINELS = (-9999.0, 9999.0, -99999.0, 99999.0, -999999.0, 999999.0, -9999999.0, 9999999.0,
-             1.70141e38, -1e30, 1e30, 3.4028234663852886e38, -3.4028234663852886e38)
+SENTINELS = (
+    -9999.0,
+    9999.0,
+    -99999.0,
+    99999.0,
+    -999999.0,
+    999999.0,
+    -9999999.0,
+    9999999.0,
+    1.70141e38,
+    -1e30,
+    1e30,
+    3.4028234663852886e38,
+    -3.4028234663852886e38,
+)
 SENTINEL_SPREADS = 20.0
-_INDEX_NAMES = {"", "index", "unnamed 0", "point", "point no", "point number", "data point no",
-                "no", "nr", "n", "id", "i", "idx", "sample", "sample no", "row"}
+_INDEX_NAMES = {
+    "",
+    "index",
+    "unnamed 0",
+    "point",
+    "point no",
+    "point number",
+    "data point no",
+    "no",
+    "nr",
+    "n",
+    "id",
+    "i",
+    "idx",
+    "sample",
+    "sample no",
+    "row",
+}
 
 
 def _factor(unit):
@@ -66,9 +96,13 @@ def index_column(names, col):
 
 
 def _unknown(path, titles, j, token, option, what):
-    raise InputError(path, f"the title {titles.names[j]!r} (title line {titles.text!r}) names "
-                           f"{token!r}, not a length unit roadscan knows (m, cm, mm, um, nm): "
-                           f"give {{{option}}} for the {what}", option)
+    raise InputError(
+        path,
+        f"the title {titles.names[j]!r} (title line {titles.text!r}) names "
+        f"{token!r}, not a length unit roadscan knows (m, cm, mm, um, nm): "
+        f"give {{{option}}} for the {what}",
+        option,
+    )
 
 
 def column_factors(path, titles, pre, ncol, units, x_units, meta):
@@ -118,16 +152,26 @@ def column_factors(path, titles, pre, ncol, units, x_units, meta):
                 u = x_units
             else:
                 name = (titles.names[j] if titles is not None else "") or "xyz"[j]
-                raise InputError(path, f"the {shown} states no unit for the {name!r} column "
-                                       f"(only for the others): state it ('{name} (mm)') or give "
-                                       f"{{x_units}}", "x_units")
+                raise InputError(
+                    path,
+                    f"the {shown} states no unit for the {name!r} column "
+                    f"(only for the others): state it ('{name} (mm)') or give "
+                    f"{{x_units}}",
+                    "x_units",
+                )
         else:
             if side is not None and side[0] != u:
-                raise InputError(path, f"the title line says {titles.names[j]!r} is in {u}, the "
-                                       f"preamble line {side[1]!r} says {side[0]}: correct one")
+                raise InputError(
+                    path,
+                    f"the title line says {titles.names[j]!r} is in {u}, the "
+                    f"preamble line {side[1]!r} says {side[0]}: correct one",
+                )
             if x_units is not None and abs(_factor(u) - unit_factor(x_units, path)) > 1e-12 * _factor(u):
-                raise InputError(path, f"the title line states the coordinates in {u}: drop "
-                                       f"{{x_units}} {x_units}", "x_units")
+                raise InputError(
+                    path,
+                    f"the title line states the coordinates in {u}: drop {{x_units}} {x_units}",
+                    "x_units",
+                )
         words.append(u)
         factors.append(_factor(u) if u in LENGTH_UNITS else unit_factor(u, path))
     u = t_units[-1] if titles is not None else None
@@ -142,15 +186,22 @@ def column_factors(path, titles, pre, ncol, units, x_units, meta):
     elif u is None and side is None:
         if units is None:
             said = f"the {shown} states" + (" (and the preamble states)" if pre.x_units else "")
-            raise InputError(path, f"{said} no unit for the heights, only for the coordinates: "
-                                   f"state it ('z (mm)') or give {{units}}", "units")
+            raise InputError(
+                path,
+                f"{said} no unit for the heights, only for the coordinates: "
+                f"state it ('z (mm)') or give {{units}}",
+                "units",
+            )
         fz = unit_factor(units, path)
         meta["height_unit"] = {"unit": units, "m_per_unit": fz, "from": "flag"}
         u = units
     else:
         if u is not None and side is not None and side[0] != u:
-            raise InputError(path, f"the title line says the heights are in {u}, the preamble "
-                                   f"line {side[1]!r} says {side[0]}: correct one")
+            raise InputError(
+                path,
+                f"the title line says the heights are in {u}, the preamble "
+                f"line {side[1]!r} says {side[0]}: correct one",
+            )
         u = u or side[0]
         fz = pick_units(path, units, u, _factor(u), meta)
     meta["units"] = ",".join(words + [str(u)])
@@ -201,15 +252,18 @@ def mark_dropouts(path, h, nodata, meta):
         spread = float(p_hi - p_lo)
         reach = float(min(abs(v - rest.min()), abs(v - rest.max())))
         if reach <= SENTINEL_SPREADS * spread:
-            continue                                 # within reach of the heights: a height
+            continue  # within reach of the heights: a height
         n = int(np.count_nonzero(hit))
         h[hit] = np.nan
         total += n
         times = f"{reach / spread:.3g} times" if spread > 0 else "far beyond"
-        meta.setdefault("read_warnings", []).append(OptionNote(
-            f"{n} heights equal to {v:g} read as dropouts: a missing-value marker, {times} the "
-            f"spread of the other heights away from them (state it with a 'nodata: {v:g}' "
-            f"preamble line)"))
+        meta.setdefault("read_warnings", []).append(
+            OptionNote(
+                f"{n} heights equal to {v:g} read as dropouts: a missing-value marker, {times} the "
+                f"spread of the other heights away from them (state it with a 'nodata: {v:g}' "
+                f"preamble line)"
+            )
+        )
         meta["nodata_value"] = v
     if total:
         meta["dropouts_marked"] = total

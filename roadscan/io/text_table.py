@@ -13,6 +13,7 @@ is the decimal mark (``1.5,2.5``, ``1.5, 2.5``). Refused in one line: a field wi
 a semicolon-separated field, both marks used as decimals in one file, and commas that both
 separate fields and sit between digits (``1,5, 2,5``: ambiguous).
 """
+
 from __future__ import annotations
 
 import io
@@ -26,8 +27,18 @@ from ._common import check_file, default_max_pixels, get_max_pixels
 
 __all__ = ["Table", "read_table", "read_text", "column_units", "decimal_mark"]
 
-ESRI_KEYS = {"ncols", "nrows", "xllcorner", "yllcorner", "xllcenter", "yllcenter", "cellsize",
-             "dx", "dy", "nodata_value"}
+ESRI_KEYS = {
+    "ncols",
+    "nrows",
+    "xllcorner",
+    "yllcorner",
+    "xllcenter",
+    "yllcenter",
+    "cellsize",
+    "dx",
+    "dy",
+    "nodata_value",
+}
 _SPLIT = re.compile(r"[,;\s]+")
 
 
@@ -49,10 +60,10 @@ class Table:
         The missing-value markers found (upper case; ``"(empty field)"`` for empty fields).
     """
 
-    values: np.ndarray                      # (rows, columns) float64
-    header: list = field(default_factory=list)   # header lines (stripped), comments included
-    first_line: int = 1                     # 1-based line number of the first data row
-    decimal: str = "."                      # decimal mark of the data ("." or ",")
+    values: np.ndarray  # (rows, columns) float64
+    header: list = field(default_factory=list)  # header lines (stripped), comments included
+    first_line: int = 1  # 1-based line number of the first data row
+    decimal: str = "."  # decimal mark of the data ("." or ",")
     markers: list = field(default_factory=list)  # missing-value markers found (upper case)
 
 
@@ -71,12 +82,15 @@ def read_text(path):
     p = check_file(path)
     size = p.stat().st_size
     limit = get_max_pixels() or default_max_pixels()
-    if size // 2 > limit:   # a value takes at least 2 characters (digit and separator)
-        raise InputError(path, f"text file of {size / 1e6:.4g} MB may hold up to {size // 2:.3g} values, "
-                               f"above the limit of {limit:.3g} points; raise it with {{max_pixels}} N",
-                         "max_pixels")
+    if size // 2 > limit:  # a value takes at least 2 characters (digit and separator)
+        raise InputError(
+            path,
+            f"text file of {size / 1e6:.4g} MB may hold up to {size // 2:.3g} values, "
+            f"above the limit of {limit:.3g} points; raise it with {{max_pixels}} N",
+            "max_pixels",
+        )
     raw = p.read_bytes()
-    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):           # UTF-16 ("Unicode text" of spreadsheets)
+    if raw[:2] in (b"\xff\xfe", b"\xfe\xff"):  # UTF-16 ("Unicode text" of spreadsheets)
         try:
             text = raw.decode("utf-16")
         except UnicodeDecodeError:
@@ -110,8 +124,8 @@ def _is_numeric(tokens):
     return True
 
 
-_TWO_MARKS = re.compile(r"\d*[.,]\d*[.,]\d[\d.,]*")          # 1.234,5  1,234.5  1,234,567
-_SPACED_DIGITS = re.compile(r"\d[ \u00a0\u202f]+\d")    # 1 234,5 inside a ';' field
+_TWO_MARKS = re.compile(r"\d*[.,]\d*[.,]\d[\d.,]*")  # 1.234,5  1,234.5  1,234,567
+_SPACED_DIGITS = re.compile(r"\d[ \u00a0\u202f]+\d")  # 1 234,5 inside a ';' field
 _COMMA_SEP = re.compile(r",[ \t]|[ \t],|,$|^,|,,", re.MULTILINE)  # a comma separating fields
 _COMMA_IN_NUMBER = re.compile(r"\d,\d")
 _SPACE_BETWEEN = re.compile(r"[\d.][ \t]+[-+.\dnN]")
@@ -147,32 +161,44 @@ def decimal_mark(path, block):
         where = "separated by spaces"
     else:
         if _COMMA_IN_NUMBER.search(block) and re.search(r",[ \t]|[ \t],", block):
-            raise InputError(path, "ambiguous commas: they both separate fields and sit between "
-                                   "digits (decimal commas?); separate fields with ';' or tabs")
+            raise InputError(
+                path,
+                "ambiguous commas: they both separate fields and sit between "
+                "digits (decimal commas?); separate fields with ';' or tabs",
+            )
         # no decimal point at all, and fields an integer writer never makes ('-0', '0056'): the
         # commas are decimal commas that also separate fields (0,1609,-0,0056 is 0.1609;-0.0056)
         m = None if "." in block else _DECIMAL_COMMA_PARTS.search(block)
         if m:
-            raise InputError(path, f"comma-separated numbers without a decimal point, with a field "
-                                   f"{m.group(1)!r} no integer column holds: decimal commas used as "
-                                   f"field separators too? separate fields with ';' or tabs")
-        return "."   # comma-separated fields, dot decimals
+            raise InputError(
+                path,
+                f"comma-separated numbers without a decimal point, with a field "
+                f"{m.group(1)!r} no integer column holds: decimal commas used as "
+                f"field separators too? separate fields with ';' or tabs",
+            )
+        return "."  # comma-separated fields, dot decimals
     m = _TWO_MARKS.search(block)
     if m:
-        raise InputError(path, f"{m.group(0)!r} has a thousands separator (fields {where}, "
-                               f"commas are decimal marks); write numbers without grouping")
+        raise InputError(
+            path,
+            f"{m.group(0)!r} has a thousands separator (fields {where}, "
+            f"commas are decimal marks); write numbers without grouping",
+        )
     if where.endswith("semicolons"):
         m = _SPACED_DIGITS.search(block)
         if m:
-            raise InputError(path, f"{m.group(0)!r}: digits grouped by spaces in a field "
-                                   f"(thousands separator?); write numbers without grouping")
+            raise InputError(
+                path,
+                f"{m.group(0)!r}: digits grouped by spaces in a field "
+                f"(thousands separator?); write numbers without grouping",
+            )
     if re.search(r"\d\.\d", block):
-        raise InputError(path, f"both '.' and ',' are used as decimal marks (fields {where}); "
-                               f"use one")
+        raise InputError(path, f"both '.' and ',' are used as decimal marks (fields {where}); use one")
     bad = re.search(r"(?<!\d),|,(?!\d)", block)
     if bad:
-        raise InputError(path, f"a comma not between digits in fields {where} (commas are "
-                               f"decimal marks there)")
+        raise InputError(
+            path, f"a comma not between digits in fields {where} (commas are decimal marks there)"
+        )
     _check_grouped_thousands(path, block, ",")
     return ","
 
@@ -194,16 +220,38 @@ def _check_grouped_thousands(path, block, mark):
         col = [r[j] for r in rows]
         plain = [f for f in col if re.fullmatch(r"[-+]?\d{1,3}", f)]
         if plain and any(mark in f for f in col):
-            raise InputError(path, f"{next(f for f in col if mark in f)!r} beside {plain[0]!r} in one "
-                                   f"column: '{mark}' groups thousands (integers), not decimals; "
-                                   f"write numbers without grouping")
+            raise InputError(
+                path,
+                f"{next(f for f in col if mark in f)!r} beside {plain[0]!r} in one "
+                f"column: '{mark}' groups thousands (integers), not decimals; "
+                f"write numbers without grouping",
+            )
 
 
 #: missing-value markers read as dropouts (NaN), as whole fields, case ignored (FORMATS.md)
-MISSING_MARKERS = ("NA", "N/A", "n.a.", "#N/A", "#NA", "#NV", "null", "none", "nil", "missing",
-                   "-", "--", "*", "***", "1.#QNAN", "-1.#IND")
-_MARKER = re.compile(r"(?<![^,;\s])(?:#N/?A|#NV|N/A|NA|n\.a\.|null|none|nil|missing|-{1,2}|\*+|"
-                     r"[-+]?1\.#(?:QNAN|SNAN|IND)0*)(?![^,;\s])", re.IGNORECASE)
+MISSING_MARKERS = (
+    "NA",
+    "N/A",
+    "n.a.",
+    "#N/A",
+    "#NA",
+    "#NV",
+    "null",
+    "none",
+    "nil",
+    "missing",
+    "-",
+    "--",
+    "*",
+    "***",
+    "1.#QNAN",
+    "-1.#IND",
+)
+_MARKER = re.compile(
+    r"(?<![^,;\s])(?:#N/?A|#NV|N/A|NA|n\.a\.|null|none|nil|missing|-{1,2}|\*+|"
+    r"[-+]?1\.#(?:QNAN|SNAN|IND)0*)(?![^,;\s])",
+    re.IGNORECASE,
+)
 _EMPTY_FIELD = re.compile(r"(?:(?<=[,;\t])|^)[ ]*(?=[,;\t]|$)", re.MULTILINE)
 _MAYBE_MARKER = re.compile(r"[^-\d\s.,;+eEnaNA]|-(?![\d.])|(?<![nN])[aA]|[nN][aA](?![nN])")
 _MARKER_START = re.compile(r"#N/?A\b|#NV\b", re.IGNORECASE)
@@ -243,13 +291,13 @@ def _dropout_fields(block):
         markers = sorted({m.upper() for m in _MARKER.findall(block)})
         if markers:
             block = _MARKER.sub("nan", block)
-    if "#" in block:                                     # "1 2  # note": a trailing comment
+    if "#" in block:  # "1 2  # note": a trailing comment
         block = re.sub(r"[ \t]*#.*$", "", block, flags=re.MULTILINE)
     data = block.split("\n")
     if not re.search(r"[,;]", block) and all("\t\t" in d for d in data):
-        return re.sub(r"\t+", "\t", block), markers    # tabs aligning columns, not empty fields
+        return re.sub(r"\t+", "\t", block), markers  # tabs aligning columns, not empty fields
     if re.search(r"[,;\t]", block):
-        if all(d and d[-1] in ",;\t" for d in data):   # a separator closing every row
+        if all(d and d[-1] in ",;\t" for d in data):  # a separator closing every row
             block = "\n".join(d[:-1].rstrip() for d in data)
         if _EMPTY_FIELD.search(block):
             block = _EMPTY_FIELD.sub("nan", block)
@@ -261,8 +309,13 @@ def _check_header_rows(path, header, ncol0, start):
     """Refuse a header line that is a data row with a word in it (``1 2 abc 4``)."""
     for h in header:
         toks = _tokens(h)
-        if (not h.startswith("#") and toks[0].lower() not in ESRI_KEYS and len(toks) == ncol0
-                and not _key_value(h) and 2 * sum(_is_numeric([t]) for t in toks) >= len(toks)):
+        if (
+            not h.startswith("#")
+            and toks[0].lower() not in ESRI_KEYS
+            and len(toks) == ncol0
+            and not _key_value(h)
+            and 2 * sum(_is_numeric([t]) for t in toks) >= len(toks)
+        ):
             word = next(t for t in toks if not _is_numeric([t]))
             raise InputError(path, f"non-numeric value {word!r} in a data row above line {start + 1}")
 
@@ -307,20 +360,19 @@ def read_table(path, text=None):
         rows = [i for i in range(start, len(lines)) if lines[i].strip()]
     if "\t" in text:
         data = [lines[i].strip(" \r\n\f\v") for i in rows]
-        if 2 * sum("\t" in d.strip() for d in data) < len(data):   # tabs do not separate fields:
-            data = [d.strip() for d in data]                    # leading/trailing ones are blanks
+        if 2 * sum("\t" in d.strip() for d in data) < len(data):  # tabs do not separate fields:
+            data = [d.strip() for d in data]  # leading/trailing ones are blanks
     else:
         data = [lines[i].strip() for i in rows]
     block = "\n".join(data)
     decimal = decimal_mark(path, block)
     if decimal == ",":
         block = block.replace(",", ".")
-    first = block[:block.find("\n")] if "\n" in block else block
+    first = block[: block.find("\n")] if "\n" in block else block
     delim = ";" if ";" in first else ("," if "," in first else None)
     markers = []
-    try:                              # fast path: numpy's C parser on a table without markers
-        fast = np.loadtxt(io.StringIO(block), delimiter=delim, comments=None, ndmin=2,
-                          dtype=np.float64)
+    try:  # fast path: numpy's C parser on a table without markers
+        fast = np.loadtxt(io.StringIO(block), delimiter=delim, comments=None, ndmin=2, dtype=np.float64)
     except ValueError:
         fast = None
         block, markers = _dropout_fields(block)
@@ -333,8 +385,7 @@ def read_table(path, text=None):
     ncol = ncol0
     delim = ";" if ";" in first else ("," if "," in first else None)
     try:
-        fast = np.loadtxt(io.StringIO(block), delimiter=delim, comments=None, ndmin=2,
-                          dtype=np.float64)
+        fast = np.loadtxt(io.StringIO(block), delimiter=delim, comments=None, ndmin=2, dtype=np.float64)
     except ValueError:
         fast = None
     if fast is not None and fast.shape[1] == ncol:
@@ -344,8 +395,9 @@ def read_table(path, text=None):
     bad = np.flatnonzero(counts != ncol)
     if bad.size:
         k = int(bad[0])
-        raise InputError(path, f"ragged rows: line {rows[k] + 1} has {counts[k]} values, "
-                               f"line {rows[0] + 1} has {ncol}")
+        raise InputError(
+            path, f"ragged rows: line {rows[k] + 1} has {counts[k]} values, line {rows[0] + 1} has {ncol}"
+        )
     try:
         values = np.array(_SPLIT.split(" ".join(data).strip()), dtype=np.float64)
     except ValueError:

@@ -20,6 +20,7 @@ value``, ``fill value``...). A key asking for a scale (``z scale``, ``scale fact
 ``multiplier``, ``gain``) other than 1 is refused: roadscan does not apply it, and ignoring it
 would misread the heights. Other keys are kept in ``meta["preamble"]``.
 """
+
 from __future__ import annotations
 
 import re
@@ -32,34 +33,125 @@ __all__ = ["LENGTH_UNITS", "Titles", "Preamble", "unit_of_token", "find_titles",
 #: metres per unit of every spelling a title may use
 LENGTH_UNITS = {}
 for _canon, _f, _words in (
-        ("m", 1.0, ("m", "meter", "meters", "metre", "metres")),
-        ("cm", 1e-2, ("cm", "centimeter", "centimeters", "centimetre", "centimetres")),
-        ("mm", 1e-3, ("mm", "millimeter", "millimeters", "millimetre", "millimetres")),
-        ("um", 1e-6, ("um", "µm", "μm", "micron", "microns", "micrometer", "micrometers",
-                      "micrometre", "micrometres")),
-        ("nm", 1e-9, ("nm", "nanometer", "nanometers", "nanometre", "nanometres"))):
+    ("m", 1.0, ("m", "meter", "meters", "metre", "metres")),
+    ("cm", 1e-2, ("cm", "centimeter", "centimeters", "centimetre", "centimetres")),
+    ("mm", 1e-3, ("mm", "millimeter", "millimeters", "millimetre", "millimetres")),
+    (
+        "um",
+        1e-6,
+        ("um", "µm", "μm", "micron", "microns", "micrometer", "micrometers", "micrometre", "micrometres"),
+    ),
+    ("nm", 1e-9, ("nm", "nanometer", "nanometers", "nanometre", "nanometres")),
+):
     for _w in _words:
         LENGTH_UNITS[_w] = (_canon, _f)
 #: units a title may name that roadscan does not convert (refused, never taken as a name)
-OTHER_UNITS = {"in", "inch", "inches", "mil", "mils", "thou", "ft", "feet", "uin", "µin", "μin",
-               "pm", "å", "angstrom", "angstroms", "km", "dm", "px", "pixel", "pixels", "counts",
-               "v", "mv", "volt", "volts", "a.u.", "au", "arb"}
+OTHER_UNITS = {
+    "in",
+    "inch",
+    "inches",
+    "mil",
+    "mils",
+    "thou",
+    "ft",
+    "feet",
+    "uin",
+    "µin",
+    "μin",
+    "pm",
+    "å",
+    "angstrom",
+    "angstroms",
+    "km",
+    "dm",
+    "px",
+    "pixel",
+    "pixels",
+    "counts",
+    "v",
+    "mv",
+    "volt",
+    "volts",
+    "a.u.",
+    "au",
+    "arb",
+}
 
-_SPACING_KEYS = {"spacing", "dx", "x spacing", "sample spacing", "sampling interval", "sampling step",
-                 "sampling distance", "step", "x step", "step size", "increment", "x increment",
-                 "pitch", "x pitch", "point spacing", "interval", "delta x", "xspacing",
-                 "lateral spacing", "data spacing"}
+_SPACING_KEYS = {
+    "spacing",
+    "dx",
+    "x spacing",
+    "sample spacing",
+    "sampling interval",
+    "sampling step",
+    "sampling distance",
+    "step",
+    "x step",
+    "step size",
+    "increment",
+    "x increment",
+    "pitch",
+    "x pitch",
+    "point spacing",
+    "interval",
+    "delta x",
+    "xspacing",
+    "lateral spacing",
+    "data spacing",
+}
 _DY_KEYS = {"dy", "y spacing", "y step", "y increment", "y pitch", "delta y", "line spacing"}
 _UNIT_KEYS = {"unit", "units", "length unit", "length units", "xyz units", "xyz unit"}
-_X_UNIT_KEYS = {"x unit", "x units", "xy unit", "xy units", "lateral unit", "lateral units",
-                "x axis unit", "x axis units", "distance unit", "distance units", "x scale unit"}
-_Z_UNIT_KEYS = {"z unit", "z units", "height unit", "height units", "value unit", "value units",
-                "vertical unit", "vertical units", "z axis unit", "z axis units", "data unit",
-                "data units", "depth unit", "depth units"}
-_NODATA_KEYS = {"nodata", "no data", "nodata value", "no data value", "missing", "missing value",
-                "missing data", "missing data value", "invalid", "invalid value", "void", "void value",
-                "na value", "null value", "fill value", "dropout", "dropout value", "bad value",
-                "invalid data value", "no value"}
+_X_UNIT_KEYS = {
+    "x unit",
+    "x units",
+    "xy unit",
+    "xy units",
+    "lateral unit",
+    "lateral units",
+    "x axis unit",
+    "x axis units",
+    "distance unit",
+    "distance units",
+    "x scale unit",
+}
+_Z_UNIT_KEYS = {
+    "z unit",
+    "z units",
+    "height unit",
+    "height units",
+    "value unit",
+    "value units",
+    "vertical unit",
+    "vertical units",
+    "z axis unit",
+    "z axis units",
+    "data unit",
+    "data units",
+    "depth unit",
+    "depth units",
+}
+_NODATA_KEYS = {
+    "nodata",
+    "no data",
+    "nodata value",
+    "no data value",
+    "missing",
+    "missing value",
+    "missing data",
+    "missing data value",
+    "invalid",
+    "invalid value",
+    "void",
+    "void value",
+    "na value",
+    "null value",
+    "fill value",
+    "dropout",
+    "dropout value",
+    "bad value",
+    "invalid data value",
+    "no value",
+}
 _SCALE_WORDS = ("scale", "factor", "multiplier", "gain")
 _KEY_VALUE = re.compile(r"^#?\s*([A-Za-zµμ][^:=;,\t]*?)\s*(?::|=|;|\t|,(?=\s*[-+.\d]))\s*(.*)$")
 _BRACKET = re.compile(r"[(\[{<]\s*([^)\]}>]*?)\s*[)\]}>]")
@@ -119,9 +211,10 @@ def _split_names(line):
             return [n.strip().strip("\"'").strip() for n in line.split(sep)]
     toks = line.split()
     names = []
-    for i, t in enumerate(toks):            # "x (mm) z (mm)", "x in mm z in mm"
-        attach = names and (_BRACKET.fullmatch(t) or t.lower() == "in"
-                            or (i > 0 and toks[i - 1].lower() == "in"))
+    for i, t in enumerate(toks):  # "x (mm) z (mm)", "x in mm z in mm"
+        attach = names and (
+            _BRACKET.fullmatch(t) or t.lower() == "in" or (i > 0 and toks[i - 1].lower() == "in")
+        )
         if attach:
             names[-1] += " " + t
         else:
@@ -136,8 +229,9 @@ def _title_unit(name):
         token = re.sub(r"^(in|unit|units)\s*:?\s*", "", brackets[-1], flags=re.IGNORECASE)
         return _explicit(token)
     base = name.strip()
-    m = re.fullmatch(r"(.+?)\s*/\s*([^\s/]+)", base) or re.fullmatch(r"(.+?)\s+in\s+(\S+)", base,
-                                                                      re.IGNORECASE)
+    m = re.fullmatch(r"(.+?)\s*/\s*([^\s/]+)", base) or re.fullmatch(
+        r"(.+?)\s+in\s+(\S+)", base, re.IGNORECASE
+    )
     if m:
         return _explicit(m.group(2))
     m = re.fullmatch(r"(.+?)[_\-\s.]+([^\s_\-.]+\.?)", base)
@@ -204,7 +298,7 @@ def find_titles(header, ncol):
     names = _split_names(last)
     if len(names) != ncol or any(_NUMBER.match(n.replace(",", ".")) for n in names if n):
         return None
-    if any(re.search(r"\d[.,]\d", n) for n in names):   # "Spacing;0,05 mm": a key and a value
+    if any(re.search(r"\d[.,]\d", n) for n in names):  # "Spacing;0,05 mm": a key and a value
         return None
     return Titles(names, [_title_unit(n) for n in names], last.strip())
 
@@ -245,8 +339,9 @@ def _unit_value(path, value, line):
     token = (inner.group(1) if inner else value).strip()
     found = unit_of_token(token)
     if not found:
-        raise InputError(path, f"preamble line {line!r}: {token!r} is not a length unit roadscan "
-                               f"knows (m, cm, mm, um, nm)")
+        raise InputError(
+            path, f"preamble line {line!r}: {token!r} is not a length unit roadscan knows (m, cm, mm, um, nm)"
+        )
     return found[0], line
 
 
@@ -261,8 +356,11 @@ def _number_unit(path, value, decimal, line):
     if len(parts) > 1 and parts[1].strip():
         unit = _explicit(parts[1].strip().strip("[]()"))
         if not isinstance(unit, str):
-            raise InputError(path, f"preamble line {line!r}: {unit[1]!r} is not a length unit "
-                                   f"roadscan knows (m, cm, mm, um, nm)")
+            raise InputError(
+                path,
+                f"preamble line {line!r}: {unit[1]!r} is not a length unit "
+                f"roadscan knows (m, cm, mm, um, nm)",
+            )
     return float(parts[0]), unit
 
 
@@ -300,8 +398,11 @@ def read_preamble(path, lines, decimal="."):
             if unit is None and key_unit:
                 unit = _explicit(key_unit.group(1))
                 if not isinstance(unit, str):
-                    raise InputError(path, f"preamble line {line!r}: {unit[1]!r} is not a length "
-                                           f"unit roadscan knows (m, cm, mm, um, nm)")
+                    raise InputError(
+                        path,
+                        f"preamble line {line!r}: {unit[1]!r} is not a length "
+                        f"unit roadscan knows (m, cm, mm, um, nm)",
+                    )
             if key in _SPACING_KEYS:
                 pre.spacing = (v, unit, line.strip())
             else:
@@ -317,15 +418,18 @@ def read_preamble(path, lines, decimal="."):
             try:
                 pre.nodata = float(v.split()[0])
             except (ValueError, IndexError):
-                pass                                      # "missing: NaN" or words: nothing to mark
+                pass  # "missing: NaN" or words: nothing to mark
         elif any(w in key.split() for w in _SCALE_WORDS):
             try:
                 v = float((value.replace(",", ".") if decimal == "," else value).split()[0])
             except (ValueError, IndexError):
                 v = None
             if v is not None and v != 1.0:
-                raise InputError(path, f"preamble line {line.strip()!r} asks for a scale roadscan "
-                                       f"does not apply: write the heights scaled, or remove the line")
+                raise InputError(
+                    path,
+                    f"preamble line {line.strip()!r} asks for a scale roadscan "
+                    f"does not apply: write the heights scaled, or remove the line",
+                )
         else:
             pre.other[raw_key.strip()] = value
     return pre

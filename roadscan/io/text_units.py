@@ -25,6 +25,7 @@ column's unit (``x (um), z (mm)``).
 
 Reference: ISO 13473-1:2019 (texture profile sampling and MPD); ISO 25178-2:2012 (``Sq``).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -59,7 +60,7 @@ def line_rms(z):
     """
     z = np.asarray(z, float)
     step = max(1, int(np.ceil((z.size / _MAX_POINTS) ** (1 / max(z.ndim, 1)))))
-    if step > 1:                      # a regular subsample: a unit is not decided by detail
+    if step > 1:  # a regular subsample: a unit is not decided by detail
         z = z[(slice(None, None, step),) * z.ndim]
     flat = z.ravel()
     pos = np.flatnonzero(np.isfinite(flat))
@@ -73,9 +74,9 @@ def line_rms(z):
         keep[:] = True
     pos, zk = pos[keep], zv[keep]
     coords = [pos] if z.ndim == 1 else list(np.divmod(pos, z.shape[-1]))
-    a = np.column_stack([np.ones(zk.size)] + [c - c.mean() for c in coords])   # centred
+    a = np.column_stack([np.ones(zk.size)] + [c - c.mean() for c in coords])  # centred
     zk = zk - zk.mean()
-    coef = np.linalg.lstsq(a.T @ a, a.T @ zk, rcond=None)[0]   # normal equations (a 2 x 2 or
+    coef = np.linalg.lstsq(a.T @ a, a.T @ zk, rcond=None)[0]  # normal equations (a 2 x 2 or
     # 3 x 3 system; lstsq: a single measured row or column leaves it singular)
     r = zk - a @ coef
     return float(np.sqrt(np.mean(r * r)))
@@ -95,7 +96,7 @@ def plausible_reading(dx_m, length_m, rms_m):
     bool
     """
     if not (np.isfinite(rms_m) and np.isfinite(dx_m)):
-        return True                      # nothing to judge: other checks refuse it
+        return True  # nothing to judge: other checks refuse it
     if not DX_RANGE_M[0] <= dx_m <= DX_RANGE_M[1]:
         return False
     if rms_m > SQ_MAX_M or rms_m > ROUGH_MAX * length_m:
@@ -143,35 +144,53 @@ def check_coordinate_units(path, dx_file, n_nodes, z_file, units, what="x", note
     rms = line_rms(z_file)
     if plausible_reading(dx_file * f, n_nodes * dx_file * f, rms * f):
         return units or "m"
-    where = (f"read as {units or 'm'}, the file gives a {_len(n_nodes * dx_file * f)} profile with "
-             f"{_len(dx_file * f)} spacing and {_len(rms * f)} rms heights")
+    where = (
+        f"read as {units or 'm'}, the file gives a {_len(n_nodes * dx_file * f)} profile with "
+        f"{_len(dx_file * f)} spacing and {_len(rms * f)} rms heights"
+    )
     if units is None:
-        fits = [u for u, g in UNITS.items() if g != 1.0
-                and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * g)]
+        fits = [
+            u
+            for u, g in UNITS.items()
+            if g != 1.0 and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * g)
+        ]
         if fits:
             alt = fits[0] + "".join(f" (or {u})" for u in fits[1:])
-            said = (f"the title line {found!r} states no units" if found else
-                    "no title line states the units")
-            raise InputError(path, f"{what} and heights look like {alt}, not metres ({where}; "
-                                   f"{said}): give {{units}} {fits[0]}, or {{units}} m if they are "
-                                   f"metres", "units")
+            said = f"the title line {found!r} states no units" if found else "no title line states the units"
+            raise InputError(
+                path,
+                f"{what} and heights look like {alt}, not metres ({where}; "
+                f"{said}): give {{units}} {fits[0]}, or {{units}} m if they are "
+                f"metres",
+                "units",
+            )
         return "m"
     # heights in `units`: are the coordinates in another unit?
-    fits = [u for u, g in UNITS.items()
-            if abs(g - f) > 1e-9 * f and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * f)]
+    fits = [
+        u
+        for u, g in UNITS.items()
+        if abs(g - f) > 1e-9 * f and plausible_reading(dx_file * g, n_nodes * dx_file * g, rms * f)
+    ]
     if fits == ["m"] and notes is not None:
         # the one plausible reading is the older convention (unitless coordinates in metres,
         # --units for the heights only): read so, and say it
-        notes.append(OptionNote(
-            f"{what} read as metres, heights as {units}: read in {units} too ({{units}} applies to "
-            f"both) the {what} would give {where[len(f'read as {units}, the file gives '):]}, "
-            f"impossible; pass {{x_units}} m to state it", ("units", "x_units")))
+        notes.append(
+            OptionNote(
+                f"{what} read as metres, heights as {units}: read in {units} too ({{units}} applies to "
+                f"both) the {what} would give {where[len(f'read as {units}, the file gives ') :]}, "
+                f"impossible; pass {{x_units}} m to state it",
+                ("units", "x_units"),
+            )
+        )
         return "m"
     if fits:
         u = fits[0]
-        raise InputError(path, f"{what} {'look' if ',' in what else 'looks'} like {u} while "
-                               f"{{units}} {units} reads them in {units} ({where}): {{units}} applies "
-                               f"to coordinates and heights alike; give {{x_units}} {u}, or state "
-                               f"each column's unit in a title line, e.g. 'x ({u}), z ({units})'",
-                         ("units", "x_units"))
+        raise InputError(
+            path,
+            f"{what} {'look' if ',' in what else 'looks'} like {u} while "
+            f"{{units}} {units} reads them in {units} ({where}): {{units}} applies "
+            f"to coordinates and heights alike; give {{x_units}} {u}, or state "
+            f"each column's unit in a title line, e.g. 'x ({u}), z ({units})'",
+            ("units", "x_units"),
+        )
     return units

@@ -17,6 +17,7 @@ A Park Systems TIFF (private tag 50432, its magic) keeps its heights in a privat
 image is a coloured preview: it is handed to SurfaceTopography's Park Systems reader
 (:mod:`roadscan.io.vendor`), never read as a picture.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -157,7 +158,7 @@ def read_tiff(path, spacing=None, units=None, channel=None):
     except InputError:
         raise
     except Exception as exc:  # noqa: BLE001 - tifffile raises many types for broken files
-        why = notes[0] if notes else f"{exc.__class__.__name__}: {exc}"   # tifffile's own words
+        why = notes[0] if notes else f"{exc.__class__.__name__}: {exc}"  # tifffile's own words
         raise InputError(path, f"not a readable TIFF ({why})") from None
     if park:
         from .vendor import read_vendor
@@ -169,7 +170,7 @@ def read_tiff(path, spacing=None, units=None, channel=None):
     if not np.issubdtype(arr.dtype, np.number) or np.iscomplexobj(arr):
         raise InputError(path, f"heights are not real numbers (dtype {arr.dtype})")
     meta["dtype"] = str(arr.dtype)
-    if notes:                                # tifffile's complaints about a damaged file
+    if notes:  # tifffile's complaints about a damaged file
         meta.setdefault("read_warnings", []).extend(f"TIFF reader: {n}" for n in notes)
     if desc_units is not None:
         factor = pick_units(path, units, desc_units, unit_factor(desc_units, path), meta)
@@ -210,7 +211,9 @@ def write_tiff(path, hmap, dtype="float64"):
         raise ValueError(f"TIFF heights are float32 or float64, not {dtype}")
     data = hmap.heights_m.astype(dtype, copy=False)
     tifffile.imwrite(
-        path, data,
-        resolution=(1e-2 / hmap.dx_m, 1e-2 / hmap.dy_m), resolutionunit="CENTIMETER",
+        path,
+        data,
+        resolution=(1e-2 / hmap.dx_m, 1e-2 / hmap.dy_m),
+        resolutionunit="CENTIMETER",
         metadata={"dx_m": hmap.dx_m, "dy_m": hmap.dy_m, "units": "m", "writer": "roadscan"},
     )

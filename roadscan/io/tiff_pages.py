@@ -15,6 +15,7 @@ picture of a surface comes out as "heights". The rule:
 
 The choice is recorded in ``meta["channel"]`` (the value given) and ``meta["channel_note"]``.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -67,11 +68,18 @@ def select_page(path, tif, channel, meta):
     if len(pages) == 1:
         return tif.pages[pages[0]], channel
     if channel is None:
-        raise InputError(path, f"holds {len(pages)} images (pages: a stack or series), not one "
-                               f"height map: choose one with {{channel}} 0..{len(pages) - 1}", "channel")
+        raise InputError(
+            path,
+            f"holds {len(pages)} images (pages: a stack or series), not one "
+            f"height map: choose one with {{channel}} 0..{len(pages) - 1}",
+            "channel",
+        )
     if not isinstance(channel, int) or not 0 <= channel < len(pages):
-        raise InputError(path, f"{{channel}} {channel}: choose a page 0..{len(pages) - 1} of the "
-                               f"{len(pages)} in this TIFF", "channel")
+        raise InputError(
+            path,
+            f"{{channel}} {channel}: choose a page 0..{len(pages) - 1} of the {len(pages)} in this TIFF",
+            "channel",
+        )
     meta["channel"] = channel
     meta["channel_note"] = f"page {channel} of {len(pages)}"
     return tif.pages[pages[channel]], None
@@ -104,14 +112,21 @@ def select_sample(path, page, arr, channel, meta):
     if samples > 1:
         if channel is None:
             where = f"page {meta['channel']} " if chosen_page else ""
-            raise InputError(path, f"{where}is a colour or multi-sample image ({samples} samples per "
-                                   f"pixel: RGB, alpha...), not heights: choose one with {{channel}} "
-                                   f"0..{samples - 1}" + ("" if not chosen_page else
-                                   " (pages of colour images are not supported)"), "channel")
+            raise InputError(
+                path,
+                f"{where}is a colour or multi-sample image ({samples} samples per "
+                f"pixel: RGB, alpha...), not heights: choose one with {{channel}} "
+                f"0..{samples - 1}"
+                + ("" if not chosen_page else " (pages of colour images are not supported)"),
+                "channel",
+            )
         k = _SAMPLE_NAMES.get(channel.lower(), channel) if isinstance(channel, str) else channel
         if not isinstance(k, int) or not 0 <= k < samples:
-            raise InputError(path, f"{{channel}} {channel}: choose a sample 0..{samples - 1} of "
-                                   f"the {samples} per pixel", "channel")
+            raise InputError(
+                path,
+                f"{{channel}} {channel}: choose a sample 0..{samples - 1} of the {samples} per pixel",
+                "channel",
+            )
         axes = str(getattr(page, "axes", ""))
         ax = axes.index("S") if "S" in axes else arr.ndim - 1
         meta["channel"] = channel
@@ -119,15 +134,22 @@ def select_sample(path, page, arr, channel, meta):
         return np.take(arr, k, axis=ax)
     if palette:
         if channel != "index":
-            raise InputError(path, "is a palette-colour image (colours looked up in a colour map, "
-                                   "not heights); {channel} index reads its raw palette indices "
-                                   "as heights", "channel")
+            raise InputError(
+                path,
+                "is a palette-colour image (colours looked up in a colour map, "
+                "not heights); {channel} index reads its raw palette indices "
+                "as heights",
+                "channel",
+            )
         meta["channel"] = "index"
         meta["channel_note"] = "raw palette indices"
         return arr
     if channel is not None and channel != 0:
-        raise InputError(path, f"{{channel}} {channel}: this TIFF holds one height image "
-                               f"({{channel}} 0 or none)", "channel")
+        raise InputError(
+            path,
+            f"{{channel}} {channel}: this TIFF holds one height image ({{channel}} 0 or none)",
+            "channel",
+        )
     if channel == 0 and not chosen_page:
         meta["channel"] = 0
         meta["channel_note"] = "the only image"

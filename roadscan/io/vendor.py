@@ -23,6 +23,7 @@ overridden, recorded either way).
 Reference: L. Pastewka et al., SurfaceTopography, https://github.com/ContactEngineering/
 SurfaceTopography (MIT); the file formats are documented in its ``SurfaceTopography/IO``.
 """
+
 from __future__ import annotations
 
 import warnings
@@ -34,9 +35,18 @@ from ._registry import register_reader
 from .vendor_channel import MAX_ABS_M, MIN_NONZERO_M, read_channel
 from .vendor_meta import LENGTH_UNITS, instrument_block, one_line
 
-__all__ = ["read_vendor", "VENDOR_EXTENSIONS", "OWN_EXTENSIONS", "vendor_available",
-           "vendor_version", "instrument_block", "LENGTH_UNITS", "MIN_VERSION", "MAX_ABS_M",
-           "MIN_NONZERO_M"]
+__all__ = [
+    "read_vendor",
+    "VENDOR_EXTENSIONS",
+    "OWN_EXTENSIONS",
+    "vendor_available",
+    "vendor_version",
+    "instrument_block",
+    "LENGTH_UNITS",
+    "MIN_VERSION",
+    "MAX_ABS_M",
+    "MIN_NONZERO_M",
+]
 
 #: oldest SurfaceTopography whose readers are tested here (the shared real files)
 MIN_VERSION = (1, 27)
@@ -45,23 +55,60 @@ MIN_VERSION = (1, 27)
 #: id (for the documentation; at read time the installed registry decides). A test checks this
 #: table against the installed package.
 VENDOR_FORMATS = {
-    ".sdf": "sdf", ".hfm": "xyz", ".spm": "di", ".001": "di", ".002": "di", ".003": "di",
-    ".004": "di", ".005": "di", ".mat": "mat", ".mdt": "mdt", ".opd": "opd", ".opdx": "opdx",
-    ".ibw": "ibw", ".mi": "mi", ".xlsx": "mitutoyo", ".nc": "nc", ".datx": "datx", ".h5": "h5",
-    ".sur": "sur", ".tmd": "tmd", ".vk3": "vk", ".vk4": "vk", ".vk6": "vk", ".vk7": "vk",
-    ".zmg": "zmg", ".zon": "zon", ".os3d": "os3d", ".al3d": "al3d", ".ezd": "ezd", ".nid": "ezd",
-    ".bcr": "bcr", ".bcrf": "bcr", ".plu": "plu", ".apx": "plu", ".frt": "frt", ".lext": "lext",
-    ".oir": "oir", ".poir": "poir", ".cur": "wsxm", ".stp": "wsxm", ".tom": "wsxm",
-    ".top": "wsxm", ".plux": "plux", ".jpk": "jpk", ".mnt": "mnt", ".qep": "qep", ".zip": "nmm",
-    ".nms": "nms", ".hgt": "hgt",
+    ".sdf": "sdf",
+    ".hfm": "xyz",
+    ".spm": "di",
+    ".001": "di",
+    ".002": "di",
+    ".003": "di",
+    ".004": "di",
+    ".005": "di",
+    ".mat": "mat",
+    ".mdt": "mdt",
+    ".opd": "opd",
+    ".opdx": "opdx",
+    ".ibw": "ibw",
+    ".mi": "mi",
+    ".xlsx": "mitutoyo",
+    ".nc": "nc",
+    ".datx": "datx",
+    ".h5": "h5",
+    ".sur": "sur",
+    ".tmd": "tmd",
+    ".vk3": "vk",
+    ".vk4": "vk",
+    ".vk6": "vk",
+    ".vk7": "vk",
+    ".zmg": "zmg",
+    ".zon": "zon",
+    ".os3d": "os3d",
+    ".al3d": "al3d",
+    ".ezd": "ezd",
+    ".nid": "ezd",
+    ".bcr": "bcr",
+    ".bcrf": "bcr",
+    ".plu": "plu",
+    ".apx": "plu",
+    ".frt": "frt",
+    ".lext": "lext",
+    ".oir": "oir",
+    ".poir": "poir",
+    ".cur": "wsxm",
+    ".stp": "wsxm",
+    ".tom": "wsxm",
+    ".top": "wsxm",
+    ".plux": "plux",
+    ".jpk": "jpk",
+    ".mnt": "mnt",
+    ".qep": "qep",
+    ".zip": "nmm",
+    ".nms": "nms",
+    ".hgt": "hgt",
 }
 VENDOR_EXTENSIONS = tuple(VENDOR_FORMATS)
 #: extensions SurfaceTopography also reads but roadscan reads itself (``.dat``: CAPTIF first,
 #: then SurfaceTopography; ``.tif``: Park Systems TIFFs go to SurfaceTopography)
-OWN_EXTENSIONS = (".x3p", ".gwy", ".npy", ".npz", ".tif", ".tiff", ".txt", ".asc", ".csv",
-                  ".xyz", ".dat")
-
-
+OWN_EXTENSIONS = (".x3p", ".gwy", ".npy", ".npz", ".tif", ".tiff", ".txt", ".asc", ".csv", ".xyz", ".dat")
 
 
 def vendor_version():
@@ -117,14 +164,19 @@ def _import_io(path):
             warnings.simplefilter("ignore")
             import SurfaceTopography.IO as stio
     except ImportError:
-        raise InputError(path, f"reading {ext} files needs the optional extra: "
-                               "pip install 'roadscan[vendor]' (SurfaceTopography)") from None
+        raise InputError(
+            path,
+            f"reading {ext} files needs the optional extra: "
+            "pip install 'roadscan[vendor]' (SurfaceTopography)",
+        ) from None
     version = vendor_version() or getattr(__import__("SurfaceTopography"), "__version__", "0")
     if _version_tuple(version) < MIN_VERSION:
-        raise InputError(path, f"SurfaceTopography {version} is too old (need >= "
-                               f"{'.'.join(map(str, MIN_VERSION))}): pip install -U 'roadscan[vendor]'")
+        raise InputError(
+            path,
+            f"SurfaceTopography {version} is too old (need >= "
+            f"{'.'.join(map(str, MIN_VERSION))}): pip install -U 'roadscan[vendor]'",
+        )
     return stio, version
-
 
 
 def _candidates(stio, path, formats):
@@ -212,9 +264,7 @@ def read_vendor(path, spacing=None, units=None, formats=None, channel=None):
     finally:
         try:
             with warnings.catch_warnings():
-                warnings.simplefilter("ignore")   # e.g. scipy's netcdf mmap note on close
+                warnings.simplefilter("ignore")  # e.g. scipy's netcdf mmap note on close
                 reader.close()
         except Exception:  # noqa: BLE001
             pass
-
-

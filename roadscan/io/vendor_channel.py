@@ -21,6 +21,7 @@ refused; spacings must be positive and finite.
 Reference: L. Pastewka et al., SurfaceTopography, https://github.com/ContactEngineering/
 SurfaceTopography (MIT).
 """
+
 from __future__ import annotations
 
 import warnings
@@ -51,8 +52,9 @@ def _length_factor(unit, path, what):
     key = str(unit).strip()
     if key in LENGTH_UNITS:
         return LENGTH_UNITS[key]
-    raise InputError(path, f"{what} unit {unit!r} is not a length unit roadscan knows "
-                           f"({', '.join(LENGTH_UNITS)})")
+    raise InputError(
+        path, f"{what} unit {unit!r} is not a length unit roadscan knows ({', '.join(LENGTH_UNITS)})"
+    )
 
 
 def _pick_channel(reader, path, channel=None):
@@ -66,24 +68,32 @@ def _pick_channel(reader, path, channel=None):
         names = [str(c.name) for c in channels]
         if isinstance(channel, int):
             if not 0 <= channel < len(channels):
-                raise InputError(path, f"{{channel}} {channel}: the file holds {len(channels)} "
-                                       f"channels (0..{len(channels) - 1}: {', '.join(names)})",
-                                 "channel")
+                raise InputError(
+                    path,
+                    f"{{channel}} {channel}: the file holds {len(channels)} "
+                    f"channels (0..{len(channels) - 1}: {', '.join(names)})",
+                    "channel",
+                )
             ch = channels[channel]
         else:
             hits = [c for c in channels if str(c.name).lower() == str(channel).lower()]
             if not hits:
-                raise InputError(path, f"{{channel}} {channel!r}: no such channel (channels: "
-                                       f"{', '.join(names)})", "channel")
+                raise InputError(
+                    path,
+                    f"{{channel}} {channel!r}: no such channel (channels: {', '.join(names)})",
+                    "channel",
+                )
             ch = hits[0]
         if not getattr(ch, "is_height_channel", True):
-            raise InputError(path, f"{{channel}} {channel}: channel {ch.name!r} does not hold "
-                                   f"heights", "channel")
+            raise InputError(
+                path, f"{{channel}} {channel}: channel {ch.name!r} does not hold heights", "channel"
+            )
         return ch, channels
     heights = [c for c in channels if getattr(c, "is_height_channel", True)]
     if not heights:
-        kinds = ", ".join(f"{c.name} ({getattr(getattr(c, 'data_kind', None), 'value', '?')})"
-                          for c in channels)
+        kinds = ", ".join(
+            f"{c.name} ({getattr(getattr(c, 'data_kind', None), 'value', '?')})" for c in channels
+        )
         raise InputError(path, f"holds no height channel (channels: {kinds})")
     try:
         default = reader.default_channel
@@ -99,11 +109,17 @@ def _declared_grid(ch, path):
     dim, n = ch.dim, ch.nb_grid_pts
     if (dim is not None and dim != 2) or (n is not None and len(n) != 2):
         npts = f" of {n[0]} points" if n else ""
-        raise InputError(path, f"channel {ch.name!r} is a line scan{npts}: roadscan reads area "
-                               f"scans from this format (export the profile as text to read it)")
+        raise InputError(
+            path,
+            f"channel {ch.name!r} is a line scan{npts}: roadscan reads area "
+            f"scans from this format (export the profile as text to read it)",
+        )
     if ch.is_uniform is False:
-        raise InputError(path, f"channel {ch.name!r} is a non-uniform (irregularly sampled) "
-                               f"topography: roadscan needs a regular grid")
+        raise InputError(
+            path,
+            f"channel {ch.name!r} is a non-uniform (irregularly sampled) "
+            f"topography: roadscan needs a regular grid",
+        )
     if n is None:
         return None
     nx, ny = n
@@ -143,8 +159,7 @@ def read_channel(reader, path, version, sp, units, channel=None):
     kwargs = {}
     if file_unit is None:
         if units is None:
-            raise InputError(path, "the file states no length unit: pass {units} (m, mm, um, nm)",
-                             "units")
+            raise InputError(path, "the file states no length unit: pass {units} (m, mm, um, nm)", "units")
         unit_factor(units, path)
         file_unit = _ST_UNIT.get(units, units)
         kwargs["unit"] = file_unit
@@ -153,8 +168,9 @@ def read_channel(reader, path, version, sp, units, channel=None):
     f_heights = f_file if "unit" in kwargs else pick_units(path, units, file_unit, f_file, meta)
     if ch.physical_sizes is None:
         if sp is None:
-            raise InputError(path, "the file states no lateral size: pass {spacing} DX[,DY] in metres",
-                             "spacing")
+            raise InputError(
+                path, "the file states no lateral size: pass {spacing} DX[,DY] in metres", "spacing"
+            )
         if declared is None:
             raise InputError(path, "the file states neither its grid nor its lateral size")
         ny, nx = declared
@@ -171,28 +187,30 @@ def read_channel(reader, path, version, sp, units, channel=None):
     except Exception as exc:  # noqa: BLE001
         raise InputError(path, f"cannot read the heights ({one_line(exc)})") from None
     if topo.dim != 2:
-        raise InputError(path, f"channel {ch.name!r} is a line scan: roadscan reads area scans "
-                               f"from this format")
+        raise InputError(
+            path, f"channel {ch.name!r} is a line scan: roadscan reads area scans from this format"
+        )
     if not getattr(topo, "is_uniform", True):
-        raise InputError(path, f"channel {ch.name!r} is a non-uniform topography: roadscan needs "
-                               f"a regular grid")
+        raise InputError(
+            path, f"channel {ch.name!r} is a non-uniform topography: roadscan needs a regular grid"
+        )
     unit = topo.unit if topo.unit is not None else file_unit
     f = _length_factor(unit, path, "the topography's")
     nx, ny = (int(v) for v in topo.nb_grid_pts)
     data = np.ma.getdata(raw)
     if data.shape != (nx, ny):
-        raise InputError(path, f"declares {nx} x {ny} points but holds an array of shape "
-                               f"{data.shape}")
+        raise InputError(path, f"declares {nx} x {ny} points but holds an array of shape {data.shape}")
     if declared is not None and declared != (ny, nx):
-        raise InputError(path, f"the header declares {declared[1]} x {declared[0]} points, the "
-                               f"data {nx} x {ny}")
+        raise InputError(
+            path, f"the header declares {declared[1]} x {declared[0]} points, the data {nx} x {ny}"
+        )
     if not np.issubdtype(data.dtype, np.number) or np.iscomplexobj(data):
         raise InputError(path, f"heights are not real numbers (dtype {data.dtype})")
     mask = np.ma.getmaskarray(raw)
-    h_file = np.array(data, dtype=np.float64).T         # [x, y] -> rows along y
+    h_file = np.array(data, dtype=np.float64).T  # [x, y] -> rows along y
     undefined = mask.T | np.isnan(h_file)
     _check_values(path, h_file, f, undefined)
-    h = h_file * (f if f_heights == f_file else f * f_heights / f_file)   # metres
+    h = h_file * (f if f_heights == f_file else f * f_heights / f_file)  # metres
     del h_file
     h[undefined] = np.nan
     sx, sy = (float(v) * f for v in topo.physical_sizes)
@@ -206,14 +224,16 @@ def read_channel(reader, path, version, sp, units, channel=None):
         check_lateral(path, reader.format(), reader.name(), dx, dy, nx, ny)
     n_undef = int(undefined.sum())
     fmt_id = reader.format()
-    meta.update({
-        "format": fmt_id,
-        "format_name": reader.name(),
-        "reader": f"SurfaceTopography {version} ({type(reader).__name__})",
-        "units": str(unit),
-        "channel": str(ch.name),
-        "undefined_points": n_undef,
-    })
+    meta.update(
+        {
+            "format": fmt_id,
+            "format_name": reader.name(),
+            "reader": f"SurfaceTopography {version} ({type(reader).__name__})",
+            "units": str(unit),
+            "channel": str(ch.name),
+            "undefined_points": n_undef,
+        }
+    )
     if len(channels) > 1:
         meta["channels"] = [str(c.name) for c in channels]
         how = "chosen by the channel option" if channel is not None else "the first height channel"
@@ -221,9 +241,14 @@ def read_channel(reader, path, version, sp, units, channel=None):
     if caught:
         meta["reader_warnings"] = sorted({one_line(w.message, 160) for w in caught})[:5]
     info = info_dict(topo, ch)
-    meta["instrument"] = instrument_block(info, units=str(unit), undefined_points=n_undef,
-                                          reader=meta["reader"], channel=str(ch.name),
-                                          format_name=reader.name())
+    meta["instrument"] = instrument_block(
+        info,
+        units=str(unit),
+        undefined_points=n_undef,
+        reader=meta["reader"],
+        channel=str(ch.name),
+        format_name=reader.name(),
+    )
     return make_heightmap(path, h, dx, dy, unmeasured=undefined, meta=meta)
 
 
@@ -240,11 +265,16 @@ def _check_values(path, h_file, f, undefined):
     a = np.abs(vals)
     tiny = (a > 0) & ((a < np.finfo(np.float32).tiny) | (a * f < MIN_NONZERO_M))
     if tiny.any():
-        raise InputError(path, f"{int(tiny.sum())} heights are denormal (0 < |h| < "
-                               f"{np.finfo(np.float32).tiny:.3g} in the file's unit), which no "
-                               f"instrument writes: the file is misread or damaged")
+        raise InputError(
+            path,
+            f"{int(tiny.sum())} heights are denormal (0 < |h| < "
+            f"{np.finfo(np.float32).tiny:.3g} in the file's unit), which no "
+            f"instrument writes: the file is misread or damaged",
+        )
     top = float(a.max()) * f if a.size else 0.0
     if top > MAX_ABS_M:
-        raise InputError(path, f"heights reach {top:.3g} m: an unmasked invalid-point marker "
-                               f"or a wrong unit (refused above {MAX_ABS_M:g} m)")
-
+        raise InputError(
+            path,
+            f"heights reach {top:.3g} m: an unmasked invalid-point marker "
+            f"or a wrong unit (refused above {MAX_ABS_M:g} m)",
+        )

@@ -8,6 +8,7 @@ magnification, lateral resolution and tip radius [m]) and the length units of it
 Reference: L. Pastewka et al., SurfaceTopography, https://github.com/ContactEngineering/
 SurfaceTopography (MIT): its readers' ``info`` dictionaries.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -17,8 +18,19 @@ __all__ = ["LENGTH_UNITS", "instrument_block", "info_dict", "one_line"]
 #: metres per length unit as SurfaceTopography writes them (its ``length_units`` and the
 #: spellings its readers normalise to)
 LENGTH_UNITS = {
-    "km": 1e3, "m": 1.0, "dm": 1e-1, "cm": 1e-2, "mm": 1e-3, "µm": 1e-6, "μm": 1e-6, "um": 1e-6,
-    "nm": 1e-9, "Å": 1e-10, "A": 1e-10, "pm": 1e-12, "fm": 1e-15,
+    "km": 1e3,
+    "m": 1.0,
+    "dm": 1e-1,
+    "cm": 1e-2,
+    "mm": 1e-3,
+    "µm": 1e-6,
+    "μm": 1e-6,
+    "um": 1e-6,
+    "nm": 1e-9,
+    "Å": 1e-10,
+    "A": 1e-10,
+    "pm": 1e-12,
+    "fm": 1e-15,
 }
 
 
@@ -38,9 +50,8 @@ def one_line(exc, limit=240):
     """
     text = f"{type(exc).__name__}: {exc}"
     s = " ".join(part.strip() for part in text.splitlines() if part.strip())
-    s = "".join(c if c.isprintable() else "?" for c in s)   # a reader quoting binary junk: no ESC, BEL, NUL
+    s = "".join(c if c.isprintable() else "?" for c in s)  # a reader quoting binary junk: no ESC, BEL, NUL
     return s if len(s) <= limit else s[: limit - 3] + "..."
-
 
 
 def info_dict(topo, ch):
@@ -115,8 +126,7 @@ def _value_m(model):
     return v if v is not None and np.isfinite(v) else None
 
 
-def instrument_block(info, units=None, undefined_points=None, reader=None, channel=None,
-                     format_name=None):
+def instrument_block(info, units=None, undefined_points=None, reader=None, channel=None, format_name=None):
     """The JSON-safe ``meta["instrument"]`` block from a SurfaceTopography ``info`` dict.
 
     Keys (present only when known): ``name``, ``vendor``, ``serial``, ``software``,

@@ -8,6 +8,7 @@ irregular grids and point clouds are refused. ``units`` is ignored (the file is 
 Writing stores float64 heights by default (z_scale 1, so no quantisation; float32 on request): a
 write-then-read gives the same heights, spacings and unmeasured points bit for bit.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -53,15 +54,21 @@ def precheck_x3p(path):
                 from collections import Counter
 
                 dup = sorted(n for n, c in Counter(listed).items() if c > 1)
-                raise InputError(path, f"X3P archive holds several members named "
-                                       f"{', '.join(repr(d) for d in dup[:3])} (which one is meant "
-                                       f"is undefined): refused")
+                raise InputError(
+                    path,
+                    f"X3P archive holds several members named "
+                    f"{', '.join(repr(d) for d in dup[:3])} (which one is meant "
+                    f"is undefined): refused",
+                )
             xml_info = infos.get("main.xml")
             if xml_info is None:
                 raise InputError(path, "not an X3P file (no main.xml in the archive)")
             if xml_info.file_size > _MAX_XML_BYTES:
-                raise InputError(path, f"main.xml declares {xml_info.file_size / 1e6:.3g} MB: refused "
-                                       f"(an X3P header is a few kB)")
+                raise InputError(
+                    path,
+                    f"main.xml declares {xml_info.file_size / 1e6:.3g} MB: refused "
+                    f"(an X3P header is a few kB)",
+                )
             root = ET.fromstring(zf.read(xml_info))
     except zipfile.BadZipFile as exc:
         raise InputError(path, f"not a readable X3P file (BadZipFile: {exc})") from None
@@ -99,8 +106,11 @@ def _point_data_checksum_ok(path):
 
     with zipfile.ZipFile(path) as zf:
         root = ET.fromstring(zf.read("main.xml"))
-        fields = {_local(el.tag): (el.text or "").strip() for el in root.iter()
-                  if _local(el.tag) in ("PointDataLink", "MD5ChecksumPointData")}
+        fields = {
+            _local(el.tag): (el.text or "").strip()
+            for el in root.iter()
+            if _local(el.tag) in ("PointDataLink", "MD5ChecksumPointData")
+        }
         link, want = fields.get("PointDataLink"), fields.get("MD5ChecksumPointData")
         if not link or not want or link not in zf.namelist():
             return None
@@ -145,8 +155,10 @@ def read_x3p(path, spacing=None, units=None):
             if "main.xml" not in str(exc) or _point_data_checksum_ok(path) is not True:
                 raise
             f = x3pio.read(str(path), verify=False)
-            checksum_note = ("md5checksum.hex does not match main.xml (a writer's fault); the "
-                             "point data match their MD5ChecksumPointData")
+            checksum_note = (
+                "md5checksum.hex does not match main.xml (a writer's fault); the "
+                "point data match their MD5ChecksumPointData"
+            )
     except x3pio.X3pError as exc:
         raise InputError(path, f"not a readable X3P file ({exc.__class__.__name__}: {exc})") from None
     except Exception as exc:  # noqa: BLE001 - zip/xml errors of broken files
@@ -167,7 +179,7 @@ def read_x3p(path, spacing=None, units=None):
             meta["date"] = md.date.isoformat()
         if md.comment:
             meta["comment"] = md.comment
-    factor = pick_units(path, units, "m", 1.0, meta)        # X3P heights are metres
+    factor = pick_units(path, units, "m", 1.0, meta)  # X3P heights are metres
     sp = resolve_spacing(spacing, path)
     z = np.array(layer.z, dtype=np.float64)
     if factor != 1.0:
@@ -190,8 +202,12 @@ def _instrument_from_record2(md, undefined_points):
 
     inst = md.instrument
     out = {}
-    for key, value in (("name", inst.model), ("vendor", inst.manufacturer), ("serial", inst.serial),
-                       ("software", inst.version)):
+    for key, value in (
+        ("name", inst.model),
+        ("vendor", inst.manufacturer),
+        ("serial", inst.serial),
+        ("software", inst.version),
+    ):
         text = " ".join(str(value or "").split())
         if text and text.lower() not in ("not available", "n/a", "none", "unknown"):
             out[key] = text[:200]
@@ -205,18 +221,37 @@ def _instrument_from_record2(md, undefined_points):
             out[key] = " ".join(ps.identification.split())[:200]
     if md.comment:
         out["comment"] = " ".join(md.comment.split())[:400]
-    out.update({"format": "X3P (ISO 25178-72)", "units": "m", "undefined_points": undefined_points,
-                "reader": f"x3pio {getattr(x3pio, '__version__', '')}".strip()})
+    out.update(
+        {
+            "format": "X3P (ISO 25178-72)",
+            "units": "m",
+            "undefined_points": undefined_points,
+            "reader": f"x3pio {getattr(x3pio, '__version__', '')}".strip(),
+        }
+    )
     return out
 
 
 #: SurfaceTopography format ids by probing system (``meta["format"]`` of vendor files): optical
 #: instruments (confocal, interferometer, focus variation, chromatic) and stylus or scanning-probe
 #: ones; other formats (Digital Surf, SDF, HDF5, text...) come from either kind
-_NON_CONTACTING = {"plu", "plux", "opd", "al3d", "datx", "metropro", "vk", "zon", "lext", "oir",
-                   "poir", "nms", "frt", "zmg"}
-_CONTACTING = {"di", "ibw", "mi", "ezd", "jpk", "wsxm", "mdt", "bcr", "ps", "opdx", "mitutoyo",
-               "qep"}
+_NON_CONTACTING = {
+    "plu",
+    "plux",
+    "opd",
+    "al3d",
+    "datx",
+    "metropro",
+    "vk",
+    "zon",
+    "lext",
+    "oir",
+    "poir",
+    "nms",
+    "frt",
+    "zmg",
+}
+_CONTACTING = {"di", "ibw", "mi", "ezd", "jpk", "wsxm", "mdt", "bcr", "ps", "opdx", "mitutoyo", "qep"}
 
 
 #: said in the comment of a record whose date is the conversion's, not the acquisition's
@@ -268,15 +303,21 @@ def x3p_metadata(meta, comment=None):
         kind = x3pio.ProbingType.CONTACTING
     else:
         kind = x3pio.ProbingType.SOFTWARE
-        ident = (f"unknown probing system{': ' + ident if ident else ''} "
-                 f"(from {inst.get('format', fmt) or 'a file'})")
+        ident = (
+            f"unknown probing system{': ' + ident if ident else ''} "
+            f"(from {inst.get('format', fmt) or 'a file'})"
+        )
     notes = [c for c in (inst.get("comment"), comment) if c]
     if not known:
         notes.append(_DATE_UNKNOWN)
     return x3pio.Metadata(
         date=when,
-        instrument=x3pio.Instrument(manufacturer=str(inst.get("vendor", "")), model=str(inst.get("name", "")),
-                                    serial=str(inst.get("serial", "")), version=str(inst.get("software", ""))),
+        instrument=x3pio.Instrument(
+            manufacturer=str(inst.get("vendor", "")),
+            model=str(inst.get("name", "")),
+            serial=str(inst.get("serial", "")),
+            version=str(inst.get("software", "")),
+        ),
         probing_system=x3pio.ProbingSystem(kind, str(ident)),
         comment="; ".join(notes) or None,
     )

@@ -1,4 +1,5 @@
 """``roadscan analyse FILE... --out DIR``."""
+
 from __future__ import annotations
 
 import sys
@@ -18,9 +19,11 @@ HELP = "PSD, self-affine fit, roughness figures and friction mu(v) of height fil
 def add_arguments(p):
     p.add_argument("files", nargs="+", metavar="FILE", help="height files (area scans or line profiles)")
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
-    p.add_argument("--no-figures", action="store_true",
-                   help="skip the PNG figures (every CSV/JSON output is the same; report.html "
-                        "keeps its tables)")
+    p.add_argument(
+        "--no-figures",
+        action="store_true",
+        help="skip the PNG figures (every CSV/JSON output is the same; report.html keeps its tables)",
+    )
     add_analysis_options(p)
 
 
@@ -39,7 +42,7 @@ def run(args):
         many = len(scans) > 1
         with atomic_output_dir(out, inputs=args.files) as tmp:  # all outputs or none
             rows = _analyse_all(args, scans, tmp, out, many, settings, kw, drawer)
-    for _, said in scans:       # said once the outputs that carry them are in place
+    for _, said in scans:  # said once the outputs that carry them are in place
         said.print_all()
     if many:
         print(f"analysed {len(rows)} scans -> {out / 'summary.csv'}, {out / 'report.html'}")
@@ -69,7 +72,7 @@ def _load(path, args):
     """(scan, its own :class:`pipelines.checks.validate.Warnings`): what reading it warned."""
     from pipelines.checks.validate import Warnings, collecting, current_warnings
 
-    w = Warnings(current_warnings().prefix, echo=False)   # printed after the outputs exist
+    w = Warnings(current_warnings().prefix, echo=False)  # printed after the outputs exist
     with collecting(into=w):
         return load_scan(path, args), w
 
@@ -84,21 +87,29 @@ def _analyse_all(args, scans, out, final, many, settings, kw, drawer=None):
         if many:
             print(f"[{i + 1}/{len(scans)}] {path}", file=sys.stderr, flush=True)
         try:
-            with collecting(into=said):      # this scan's warnings only, reading included
-                summary = run_analysis(scan, out / sub if many else out, settings,
-                                       figures=not getattr(args, "no_figures", False), drawer=drawer, **kw)
-        except InputError as exc:              # keep the options it names (rendered as flags)
+            with collecting(into=said):  # this scan's warnings only, reading included
+                summary = run_analysis(
+                    scan,
+                    out / sub if many else out,
+                    settings,
+                    figures=not getattr(args, "no_figures", False),
+                    drawer=drawer,
+                    **kw,
+                )
+        except InputError as exc:  # keep the options it names (rendered as flags)
             raise (exc.reworded(path) if exc.file is None else exc) from None
         rows.append((sub, summary))
         own.append(list(said.lines))
         if not many:
             from pipelines.output.headline import friction_headline, hurst_text
 
-            fr = friction_headline(summary)       # mu's peak, which q1 and why
-            print(f"{path}: H = {hurst_text(summary)}, "
-                  f"rms height = {length(summary['rms_height_m'])}{', ' + fr if fr else ''} "
-                  f"-> {final / 'report.html'}")
-    if many:                                   # summary.csv and the summary report.html
+            fr = friction_headline(summary)  # mu's peak, which q1 and why
+            print(
+                f"{path}: H = {hurst_text(summary)}, "
+                f"rms height = {length(summary['rms_height_m'])}{', ' + fr if fr else ''} "
+                f"-> {final / 'report.html'}"
+            )
+    if many:  # summary.csv and the summary report.html
         from pipelines.jobs.analyse.outputs import write_many_summary
 
         write_many_summary(out, rows, own)

@@ -1,4 +1,5 @@
 """``roadscan compare SCAN_A SCAN_B [...] --out DIR``."""
+
 from __future__ import annotations
 
 from pipelines.settings.analyse import add_compare_options, unique_stems
@@ -11,11 +12,16 @@ HELP = "compare surfaces: all spectra and mu(v), where and by how much they diff
 
 
 def add_arguments(p):
-    p.add_argument("scans", nargs="+", metavar="SCAN", help="two or more height files (the first is the reference)")
-    p.add_argument("--out", required=True, metavar="DIR",
-                   help="output directory: comparison.json, report.html and the PNG figures "
-                        "(written all or none)")
-    add_compare_options(p)         # scan, spectrum and friction options (pipelines.compare's too)
+    p.add_argument(
+        "scans", nargs="+", metavar="SCAN", help="two or more height files (the first is the reference)"
+    )
+    p.add_argument(
+        "--out",
+        required=True,
+        metavar="DIR",
+        help="output directory: comparison.json, report.html and the PNG figures (written all or none)",
+    )
+    add_compare_options(p)  # scan, spectrum and friction options (pipelines.compare's too)
 
 
 def run(args):
@@ -39,8 +45,13 @@ def run(args):
 
     for n in names:
         e = r[n]
-        print(f"{n}: H = {hurst_text(e)}, rms height = {length(e['rms_height_m'])}"
-              + (f", {peak_text(e['mu_peak'], e['v_peak_m_per_s'], e.get('peak_at_edge'), e.get('peak_note'))}"
-                 if e.get("mu_peak") else ""))
+        print(
+            f"{n}: H = {hurst_text(e)}, rms height = {length(e['rms_height_m'])}"
+            + (
+                f", {peak_text(e['mu_peak'], e['v_peak_m_per_s'], e.get('peak_at_edge'), e.get('peak_note'))}"
+                if e.get("mu_peak")
+                else ""
+            )
+        )
     print(f"-> {args.out}/report.html")
     return 0

@@ -10,6 +10,7 @@ Surface level: ``roadscan diagnose --scan FILE --out DIR``.
 Writes DIR/diagnosis.json and DIR/report.html (see :mod:`pipelines.diagnosis`). The command
 parses, calls :func:`pipelines.diagnose` and prints.
 """
+
 from __future__ import annotations
 
 from pipelines.diagnosis.job import add_diagnose_options
@@ -19,7 +20,7 @@ HELP = "sim-to-real gap: where model and measurement disagree, which unmodelled 
 
 
 def add_arguments(p):
-    add_diagnose_options(p)        # every option but --out (pipelines.diagnose's too)
+    add_diagnose_options(p)  # every option but --out (pipelines.diagnose's too)
     p.add_argument("--out", required=True, metavar="DIR", help="output directory")
 
 
@@ -28,12 +29,14 @@ def run(args):
     from pipelines.settings.keywords import keywords_of
 
     data = diagnose(args.out, **keywords_of(args, diagnose))
-    if "measurements" in data and "joint" in data:       # several measurements
+    if "measurements" in data and "joint" in data:  # several measurements
         for label, m in data["measurements"].items():
             v = m["verdict"]
             eff = v["effect"] if not isinstance(v["effect"], list) else "+".join(v["effect"])
-            print(f"{label}: verdict {eff or ('inconclusive' if v['inconclusive'] else 'null')}"
-                  + (f" ({v['confidence']})" if v.get("confidence") else ""))
+            print(
+                f"{label}: verdict {eff or ('inconclusive' if v['inconclusive'] else 'null')}"
+                + (f" ({v['confidence']})" if v.get("confidence") else "")
+            )
     else:
         _report(data)
     print(f"wrote {args.out}/diagnosis.json and {args.out}/report.html")
@@ -43,5 +46,8 @@ def run(args):
 def _report(data):
     v = data["verdict"]
     eff = v["effect"] if not isinstance(v["effect"], list) else "+".join(v["effect"])
-    print(f"{data['level']} level: baseline gap {data['baseline_gap']:.4g}, noise {data['noise']:.4g}; "
-          f"verdict: {eff or 'null'}" + (f" (held-out shrink {v['shrink']:.0%})" if v.get("shrink") is not None else ""))
+    print(
+        f"{data['level']} level: baseline gap {data['baseline_gap']:.4g}, noise {data['noise']:.4g}; "
+        f"verdict: {eff or 'null'}"
+        + (f" (held-out shrink {v['shrink']:.0%})" if v.get("shrink") is not None else "")
+    )

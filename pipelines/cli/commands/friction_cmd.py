@@ -9,6 +9,7 @@ sec 5): sigma0 = 0.2 MPa, nu = 0.5, the thesis rubber at T0 = T_ref, isothermal,
 1e2 m/s at 10 per decade (61 points), the spectrum's own band. The command parses, calls
 :func:`pipelines.friction` and prints one line from the summary it returns.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -16,14 +17,17 @@ from pathlib import Path
 from pipelines.jobs.friction_call import add_friction_command_options
 
 NAME = "friction"
-HELP = ("friction coefficient mu(v) and contact area A/A0 from "
-        "a spectrum (psd.csv or self-affine model) and a rubber")
+HELP = (
+    "friction coefficient mu(v) and contact area A/A0 from "
+    "a spectrum (psd.csv or self-affine model) and a rubber"
+)
 
 
 def add_arguments(p):
-    add_friction_command_options(p)   # spectrum, rubber, contact, speeds (pipelines.friction's too)
-    p.add_argument("--out", default="mu.csv", metavar="mu.csv",
-                   help="output CSV (PNG and <stem>_summary.json beside it)")
+    add_friction_command_options(p)  # spectrum, rubber, contact, speeds (pipelines.friction's too)
+    p.add_argument(
+        "--out", default="mu.csv", metavar="mu.csv", help="output CSV (PNG and <stem>_summary.json beside it)"
+    )
 
 
 def run(args):
@@ -34,8 +38,10 @@ def run(args):
 
     s = friction(args.out, **keywords_of(args, friction))
     band = s["band"]
-    print(f"{Path(args.out)}: {len(s['extrapolated_share'])} speeds, "
-          f"{peak_text(s['mu_peak'], s['v_peak_m_per_s'], s['peak_at_edge'], s['peak_note'])}, "
-          f"q {quantity('q_per_m', band['q0_per_m'])} to {quantity('q_per_m', band['q1_per_m'])}"
-          + (f", hottest flash {s['T_flash_max_C']:.4g} °C" if args.flash else ""))
+    print(
+        f"{Path(args.out)}: {len(s['extrapolated_share'])} speeds, "
+        f"{peak_text(s['mu_peak'], s['v_peak_m_per_s'], s['peak_at_edge'], s['peak_note'])}, "
+        f"q {quantity('q_per_m', band['q0_per_m'])} to {quantity('q_per_m', band['q1_per_m'])}"
+        + (f", hottest flash {s['T_flash_max_C']:.4g} °C" if args.flash else "")
+    )
     return 0

@@ -10,6 +10,7 @@ extension. Heights, unmeasured points and spacing are written as read, bit for b
 (:func:`roadscan.io.atomic.atomic_path`); ``--spacing``, ``--units`` and ``--max-pixels`` act
 as in ``roadscan analyse``.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -19,12 +20,16 @@ from pipelines.settings.scan_input import add_scan_options
 NAME = "convert"
 HELP = "convert a height file (instrument formats, X3P, text, TIFF...) to .x3p, .npy, .npz or .tif"
 
+
 def add_arguments(p):
     p.add_argument("input", metavar="IN", help="height file in any format roadscan reads")
     p.add_argument("output", metavar="OUT", help="output file: .x3p, .npy, .npz or .tif (by extension)")
     add_scan_options(p)
-    p.add_argument("--float32", action="store_true",
-                   help="store heights as float32 (half the size; heights rounded to 7 digits)")
+    p.add_argument(
+        "--float32",
+        action="store_true",
+        help="store heights as float32 (half the size; heights rounded to 7 digits)",
+    )
 
 
 def run(args):
@@ -39,8 +44,14 @@ def run(args):
     area = getattr(scan, "dy_m", None) is not None
     spacing = f"{length(scan.dx_m)} x {length(scan.dy_m)}" if area else length(scan.dx_m)
     undefined = int(scan.unmeasured.sum())
-    note = (f"; spacing not stored in .npy: pass --spacing {scan.dx_m:.6g}"
+    note = (
+        (
+            f"; spacing not stored in .npy: pass --spacing {scan.dx_m:.6g}"
             + ("" if not area or scan.dy_m == scan.dx_m else f",{scan.dy_m:.6g}")
-            + " when reading it") if ext == ".npy" else ""
+            + " when reading it"
+        )
+        if ext == ".npy"
+        else ""
+    )
     print(f"{inp} -> {out}: {shape} points at {spacing}, {undefined} unmeasured{note}")
     return 0

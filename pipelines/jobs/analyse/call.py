@@ -1,6 +1,7 @@
 """``pipelines.analyse``: one scan analysed from Python exactly as ``roadscan analyse`` does
 (:func:`analyse`), its options keyword-only and typed, read into the same settings as the
 command's flags (:func:`pipelines.settings.keywords.options_of`)."""
+
 from __future__ import annotations
 
 import os
@@ -19,40 +20,43 @@ if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stay
 __all__ = ["analyse"]
 
 
-@document_options(overrides={"out": "Also write the command's files into this folder (as ``.write(out)``); "
-                                      "default: write nothing."})
+@document_options(
+    overrides={
+        "out": "Also write the command's files into this folder (as ``.write(out)``); default: write nothing."
+    }
+)
 def analyse(
-        source: str | os.PathLike[str] | Any,
-        *,
-        out: str | os.PathLike[str] | None = None,
-        no_figures: bool = False,
-        spacing: float | str | tuple[float, float] | None = None,
-        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        override_calibration: bool = False,
-        channel: int | str | None = None,
-        window_alpha: float = 0.25,
-        fit_band: tuple[float, float] | str | None = None,
-        despike: bool = False,
-        mpd_spike_alpha: float | None = None,
-        resolution: float | None = None,
-        direction: Literal['x', 'y'] = 'x',
-        friction_measurement: str | None = None,
-        ifi_constants: str | None = None,
-        form: Literal['plane', 'poly2', 'poly3'] = 'plane',
-        s_filter: float | None = None,
-        l_filter: float | None = None,
-        rubber: str | os.PathLike[str] | Rubber | None = None,
-        sigma0: float | str = 200000.0,
-        temperature: float | None = None,
-        flash: bool = False,
-        velocities: ArrayLike | str | None = None,
-        q0: float | None = None,
-        q1: float | None = None,
-        contact_gamma: float | None = None,
-        nu: float = 0.5,
-        extrapolate: Literal['powerlaw', 'hold'] = 'powerlaw',
-        no_friction: bool = False,
+    source: str | os.PathLike[str] | Any,
+    *,
+    out: str | os.PathLike[str] | None = None,
+    no_figures: bool = False,
+    spacing: float | str | tuple[float, float] | None = None,
+    units: Literal["m", "mm", "um", "nm"] | None = None,
+    x_units: Literal["m", "mm", "um", "nm"] | None = None,
+    override_calibration: bool = False,
+    channel: int | str | None = None,
+    window_alpha: float = 0.25,
+    fit_band: tuple[float, float] | str | None = None,
+    despike: bool = False,
+    mpd_spike_alpha: float | None = None,
+    resolution: float | None = None,
+    direction: Literal["x", "y"] = "x",
+    friction_measurement: str | None = None,
+    ifi_constants: str | None = None,
+    form: Literal["plane", "poly2", "poly3"] = "plane",
+    s_filter: float | None = None,
+    l_filter: float | None = None,
+    rubber: str | os.PathLike[str] | Rubber | None = None,
+    sigma0: float | str = 200000.0,
+    temperature: float | None = None,
+    flash: bool = False,
+    velocities: ArrayLike | str | None = None,
+    q0: float | None = None,
+    q1: float | None = None,
+    contact_gamma: float | None = None,
+    nu: float = 0.5,
+    extrapolate: Literal["powerlaw", "hold"] = "powerlaw",
+    no_friction: bool = False,
 ) -> Any:
     """Analyse one scan as ``roadscan analyse`` does -> :class:`AnalysisResult`.
 
@@ -110,9 +114,10 @@ def analyse(
             path = Path(source)
             scan = load_scan(path, args)
         else:
-            raise TypeError(f"analyse() source must be a path, HeightMap or Profile, not "
-                            f"{type(source).__name__}")
-        result = analyse_scan(scan, settings, **kw)   # a ValueError here is a bug, not bad input
+            raise TypeError(
+                f"analyse() source must be a path, HeightMap or Profile, not {type(source).__name__}"
+            )
+        result = analyse_scan(scan, settings, **kw)  # a ValueError here is a bug, not bad input
     result = replace(result, figures=not args.no_figures, source_path=path)
     if out is not None:
         result.write(out)

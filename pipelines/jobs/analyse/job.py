@@ -14,6 +14,7 @@ texture figures (:mod:`pipelines.jobs.texture.outputs`): ``texture_spectrum.csv`
 (``centre_wavelength_m,band_lo_m,band_hi_m,level_dB``), ``texture_spectrum.png`` and the
 ``summary.json`` keys ``texture_level_dB``, ``etd_m``, ``ifi_speed_constant_kmh`` (``ifi_F60``).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -24,8 +25,7 @@ from pipelines.output import report
 from pipelines.settings.friction import FrictionSettings  # its one home; re-exported here
 from roadscan.heightmap import Profile
 
-__all__ = ["FrictionSettings", "summarise", "run_analysis", "write_outputs", "nominal_band",
-           "analyse_scan"]
+__all__ = ["FrictionSettings", "summarise", "run_analysis", "write_outputs", "nominal_band", "analyse_scan"]
 
 from pipelines.jobs.analyse.outputs import (
     draw_psd2d_figure,
@@ -100,15 +100,15 @@ def summarise(analysis, fr=None, window_alpha=0.25):
         "mpd_note": analysis.mpd_note,
         "filled_fraction": analysis.filled_fraction,
         "psd_convention": f"Persson: <h^2> = 2 pi integral q C(q) dq; C in m^4; Tukey window "
-                          f"alpha {window_alpha:g} with its power loss corrected",
+        f"alpha {window_alpha:g} with its power loss corrected",
     }
     if "trim_note" in src.meta:
         out["trim_note"] = src.meta["trim_note"]
-    if isinstance(src.meta.get("instrument"), dict):   # what the reader found (JSON-safe)
+    if isinstance(src.meta.get("instrument"), dict):  # what the reader found (JSON-safe)
         out["instrument"] = src.meta["instrument"]
     from pipelines.settings.scan_input import read_record
 
-    out.update(read_record(src))                      # how the file was read
+    out.update(read_record(src))  # how the file was read
     if analysis.is_profile:
         out["psd_conversion"] = analysis.spectrum.meta.get("conversion")
     if analysis.anisotropy is not None:
@@ -124,8 +124,19 @@ def summarise(analysis, fr=None, window_alpha=0.25):
     return out
 
 
-def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, despike=False,
-                 mpd_settings=None, figures=True, drawer=None, texture=None, resolution_m=None):
+def run_analysis(
+    obj,
+    out_dir,
+    settings=None,
+    window_alpha=0.25,
+    fit_band=None,
+    despike=False,
+    mpd_settings=None,
+    figures=True,
+    drawer=None,
+    texture=None,
+    resolution_m=None,
+):
     """Analyse one scan (:func:`pipelines.analyse_scan`) and write all outputs into
     ``out_dir`` (:func:`write_outputs`). Returns the summary dict.
 
@@ -173,33 +184,55 @@ def run_analysis(obj, out_dir, settings=None, window_alpha=0.25, fit_band=None, 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     drawer = drawer if drawer is not None else InProcess()
-    drawer.discard()                      # nothing of an earlier scan is taken for this one's
+    drawer.discard()  # nothing of an earlier scan is taken for this one's
 
     from pipelines.jobs.texture.iso import figure_note
 
-    def draw_map(levelled):               # the height map is drawn while the spectrum is made
+    def draw_map(levelled):  # the height map is drawn while the spectrum is made
         if figures and not isinstance(levelled, Profile):
-            drawer.submit(report.draw_heightmap, report.heightmap_picture(levelled),
-                          out_dir / "heightmap.png",
-                          title=f"{obj.name}: levelled heights{figure_note(texture)}")
+            drawer.submit(
+                report.draw_heightmap,
+                report.heightmap_picture(levelled),
+                out_dir / "heightmap.png",
+                title=f"{obj.name}: levelled heights{figure_note(texture)}",
+            )
 
-    def draw_psd2d(spec2d):               # and the 2D spectrum while the fit is made
+    def draw_psd2d(spec2d):  # and the 2D spectrum while the fit is made
         if figures:
             drawer.submit(draw_psd2d_figure, psd2d_picture(spec2d), out_dir / "psd2d.png", obj.name)
 
     try:
-        result = analyse_scan(obj, settings, window_alpha, fit_band, despike, mpd_settings,
-                              texture, resolution_m, on_levelled=draw_map, on_spectrum2d=draw_psd2d)
+        result = analyse_scan(
+            obj,
+            settings,
+            window_alpha,
+            fit_band,
+            despike,
+            mpd_settings,
+            texture,
+            resolution_m,
+            on_levelled=draw_map,
+            on_spectrum2d=draw_psd2d,
+        )
         write_outputs(result, out_dir, figures, drawer, early=True)
     except BaseException:
-        drawer.discard()                  # a failed scan's figures are not drawn again here
+        drawer.discard()  # a failed scan's figures are not drawn again here
         raise
     return result.summary
 
 
-def analyse_scan(scan, settings=None, window_alpha=0.25, fit_band=None, despike=False,
-                 mpd_settings=None, texture=None, resolution_m=None, on_levelled=None,
-                 on_spectrum2d=None):
+def analyse_scan(
+    scan,
+    settings=None,
+    window_alpha=0.25,
+    fit_band=None,
+    despike=False,
+    mpd_settings=None,
+    texture=None,
+    resolution_m=None,
+    on_levelled=None,
+    on_spectrum2d=None,
+):
     """Analyse a read HeightMap/Profile with checked options -> :class:`AnalysisResult`.
 
     The warnings are those of the current scope (:func:`pipelines.checks.validate.collecting`).
@@ -244,17 +277,21 @@ def analyse_scan(scan, settings=None, window_alpha=0.25, fit_band=None, despike=
         if on_levelled is not None:
             on_levelled(levelled)
 
-    an, rb = measure(scan, window_alpha, fit_band, despike, mpd_settings, resolution_m,
-                     levelled_hook, on_spectrum2d)
+    an, rb = measure(
+        scan, window_alpha, fit_band, despike, mpd_settings, resolution_m, levelled_hook, on_spectrum2d
+    )
     out = scan_friction(an, rb, settings) if settings.enabled else None
     fr = None if out is None else out.result
     summary = summarise(an, fr, window_alpha=window_alpha)
     summary.update(analyse_band.summary_keys(rb, an.name))
     if fr is not None:
         summary["friction"].update(
-            q0_per_m=float(fr.q_per_m[0]), sigma0_Pa=settings.sigma0_Pa, nu=settings.nu,
+            q0_per_m=float(fr.q_per_m[0]),
+            sigma0_Pa=settings.sigma0_Pa,
+            nu=settings.nu,
             contact_gamma=settings.contact_gamma,
-            area_fraction_range=[float(fr.P[:, -1].min()), float(fr.P[:, -1].max())])
+            area_fraction_range=[float(fr.P[:, -1].min()), float(fr.P[:, -1].max())],
+        )
         if out.band is not None:
             summary["friction"]["band"] = out.band
         if out.checks is not None:
@@ -265,8 +302,17 @@ def analyse_scan(scan, settings=None, window_alpha=0.25, fit_band=None, despike=
     summary["warnings"] = warnings_list()
     from pipelines.jobs.analyse.result import AnalysisResult
 
-    return AnalysisResult(an.name, _as_json(summary), list(summary["warnings"]), an, rb, out,
-                          tex, window_alpha=window_alpha, settings=settings)
+    return AnalysisResult(
+        an.name,
+        _as_json(summary),
+        list(summary["warnings"]),
+        an,
+        rb,
+        out,
+        tex,
+        window_alpha=window_alpha,
+        settings=settings,
+    )
 
 
 def _as_json(summary):

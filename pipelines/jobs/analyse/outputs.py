@@ -7,18 +7,29 @@ the figures (``heightmap.png`` or ``profile.png``, ``psd.png``, ``psd2d.png``, `
 ``texture_spectrum.png``) and a self-contained ``report.html``. Several scans in one run: also
 ``summary.csv`` and a summary ``report.html`` beside their folders (:func:`write_many_summary`).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from pipelines.output import report
 
-__all__ = ["write_outputs", "psd2d_picture", "draw_psd2d_figure", "PSD_HEADER", "MU_HEADER",
-           "MU_EXTRA", "PSD1D_HEADER", "SUMMARY_HEADER", "summary_rows", "write_many_summary"]
+__all__ = [
+    "write_outputs",
+    "psd2d_picture",
+    "draw_psd2d_figure",
+    "PSD_HEADER",
+    "MU_HEADER",
+    "MU_EXTRA",
+    "PSD1D_HEADER",
+    "SUMMARY_HEADER",
+    "summary_rows",
+    "write_many_summary",
+]
 
 PSD_HEADER = ["q_per_m", "C_m4"]
 MU_HEADER = ["v_m_per_s", "mu"]
-MU_EXTRA = ["area_fraction", "T_flash_max_C"]   # A/A0 = P(q1); hottest flash temperature
+MU_EXTRA = ["area_fraction", "T_flash_max_C"]  # A/A0 = P(q1); hottest flash temperature
 PSD1D_HEADER = ["q_per_m", "C1_m3"]
 
 
@@ -57,16 +68,18 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
     prov = result.friction_outcome.provenance if result.friction_outcome is not None else None
     if figures and not early:
         if not an.is_profile:
-            drawer.submit(report.draw_heightmap, report.heightmap_picture(an.levelled),
-                          out_dir / "heightmap.png",
-                          title=f"{an.name}: levelled heights{figure_note(summary.get('filters'))}")
+            drawer.submit(
+                report.draw_heightmap,
+                report.heightmap_picture(an.levelled),
+                out_dir / "heightmap.png",
+                title=f"{an.name}: levelled heights{figure_note(summary.get('filters'))}",
+            )
         if an.spec2d is not None:
             drawer.submit(draw_psd2d_figure, psd2d_picture(an.spec2d), out_dir / "psd2d.png", an.name)
     texture_outputs.write_texture_csv(out_dir / "texture_spectrum.csv", tex)
-    texture_outputs.write_extras(out_dir, tex)                  # mpd_segments.csv
+    texture_outputs.write_extras(out_dir, tex)  # mpd_segments.csv
     report.write_csv(out_dir / "psd.csv", PSD_HEADER, [spec.q_per_m, spec.C_m4])
-    report.write_json(out_dir / "psd_band.json", band_sidecar(result.reliable_band, fit,
-                                                              result.window_alpha))
+    report.write_json(out_dir / "psd_band.json", band_sidecar(result.reliable_band, fit, result.window_alpha))
     figs = []
     if an.is_profile:
         q1d, c1d = an.psd1d
@@ -76,17 +89,20 @@ def write_outputs(result, out_dir, figures=True, drawer=None, early=False):
         cols = [fr.v_m_per_s, fr.mu, fr.P[:, -1]]
         if fr.T_q_C is not None:
             cols.append(np.max(fr.T_q_C, axis=1))
-        head = MU_HEADER + MU_EXTRA[:len(cols) - 2] + ["extrapolated_share"]
+        head = MU_HEADER + MU_EXTRA[: len(cols) - 2] + ["extrapolated_share"]
         report.write_csv(out_dir / "mu.csv", head, cols + [prov["extrapolated_share"]])
     if figures:
         st = result.settings
         _figures(drawer, out_dir, an, fit, fr, spec, st.q1_per_m if st.enabled else None, summary)
         if tex.level_dB.size:
-            drawer.submit(texture_outputs.draw_texture_spectrum, texture_outputs.texture_picture(tex),
-                          out_dir / "texture_spectrum.png",
-                          f"{an.name}: texture spectrum (ISO 13473-4)")
-        texture_outputs.draw_extras(drawer, out_dir, an.name, summary, tex)   # mpd_segments.png
-    page = _report_sections(an, summary, tex, fr)   # while a helper process draws the figures
+            drawer.submit(
+                texture_outputs.draw_texture_spectrum,
+                texture_outputs.texture_picture(tex),
+                out_dir / "texture_spectrum.png",
+                f"{an.name}: texture spectrum (ISO 13473-4)",
+            )
+        texture_outputs.draw_extras(drawer, out_dir, an.name, summary, tex)  # mpd_segments.png
+    page = _report_sections(an, summary, tex, fr)  # while a helper process draws the figures
     if figures:
         figs = drawer.collect()
     report.write_json(out_dir / "summary.json", summary)
@@ -104,28 +120,56 @@ def _figures(drawer, out_dir, an, fit, fr, spec, q1_per_m, summary):
     if an.is_profile:
         q1d, c1d = an.psd1d
         keep = (q1d > 0) & (c1d > 0)
-        drawer.submit(report.plot_profile, an.levelled, out_dir / "profile.png",
-                      title=f"{an.name}: levelled profile{figure_note(summary.get('filters'))}")
+        drawer.submit(
+            report.plot_profile,
+            an.levelled,
+            out_dir / "profile.png",
+            title=f"{an.name}: levelled profile{figure_note(summary.get('filters'))}",
+        )
         drawer.submit(_plot_psd1d, q1d[keep], c1d[keep], out_dir / "psd1d.png", an.name)
     lo, hi = fit.fit_band_per_m
     q_top = max(hi, q1_per_m or 0.0)
     qf = np.geomspace(lo, q_top, 60)
-    curves = [("measured (angular average)" if not an.is_profile else
-               "2D estimate from the profile's 1D PSD", spec.q_per_m, spec.C_m4)]
-    if "reliable_band_per_m" in summary:    # the part the fit and friction use
+    curves = [
+        (
+            "measured (angular average)" if not an.is_profile else "2D estimate from the profile's 1D PSD",
+            spec.q_per_m,
+            spec.C_m4,
+        )
+    ]
+    if "reliable_band_per_m" in summary:  # the part the fit and friction use
         rlo, rhi = summary["reliable_band_per_m"]
         inb = (spec.q_per_m >= rlo * (1 - 1e-9)) & (spec.q_per_m <= rhi * (1 + 1e-9))
         if inb.any():
-            curves.append((f"reliable band, λ = {wavelength_of_q(rhi)} to {wavelength_of_q(rlo)}",
-                           spec.q_per_m[inb], spec.C_m4[inb]))
-    drawer.submit(report.plot_psd,
-                  curves, out_dir / "psd.png", title=f"{an.name}: PSD, H = {hurst_text(summary, short=True)}",
-                  fits=[(f"self-affine fit, λ = {wavelength_of_q(lo)} to {wavelength_of_q(hi)}"
-                         + (f", extended to {wavelength_of_q(q_top)}" if q_top > hi else ""), qf, fit.model_C(qf))])
+            curves.append(
+                (
+                    f"reliable band, λ = {wavelength_of_q(rhi)} to {wavelength_of_q(rlo)}",
+                    spec.q_per_m[inb],
+                    spec.C_m4[inb],
+                )
+            )
+    drawer.submit(
+        report.plot_psd,
+        curves,
+        out_dir / "psd.png",
+        title=f"{an.name}: PSD, H = {hurst_text(summary, short=True)}",
+        fits=[
+            (
+                f"self-affine fit, λ = {wavelength_of_q(lo)} to {wavelength_of_q(hi)}"
+                + (f", extended to {wavelength_of_q(q_top)}" if q_top > hi else ""),
+                qf,
+                fit.model_C(qf),
+            )
+        ],
+    )
     if fr is not None:
-        rub = summary["friction"].get("rubber", "thesis rubber")   # name, T0 and sigma0
-        drawer.submit(report.plot_mu, [(f"{summary['friction']['model']}, {rub}", fr.v_m_per_s, fr.mu)],
-                      out_dir / "mu.png", title=f"{an.name}: friction μ(v)")
+        rub = summary["friction"].get("rubber", "thesis rubber")  # name, T0 and sigma0
+        drawer.submit(
+            report.plot_mu,
+            [(f"{summary['friction']['model']}, {rub}", fr.v_m_per_s, fr.mu)],
+            out_dir / "mu.png",
+            title=f"{an.name}: friction μ(v)",
+        )
 
 
 def _plot_psd1d(q, C1, path, name):
@@ -192,16 +236,21 @@ def draw_psd2d_figure(picture, path, name):
     pos = C[C > 0]
     lo = np.percentile(pos, 2) if pos.size else 1e-30
     fig, ax = plt.subplots(figsize=report.FIGSIZE)
-    p = int(np.floor(np.log10(qlim)))     # axes in 10^p 1/m: no offset text under the title
-    f = 10.0 ** p
-    im = ax.imshow(np.log10(np.maximum(C, lo)), origin="lower", cmap="magma",
-                   extent=(qxs[0] / f, qxs[-1] / f, qys[0] / f, qys[-1] / f), aspect="equal")
+    p = int(np.floor(np.log10(qlim)))  # axes in 10^p 1/m: no offset text under the title
+    f = 10.0**p
+    im = ax.imshow(
+        np.log10(np.maximum(C, lo)),
+        origin="lower",
+        cmap="magma",
+        extent=(qxs[0] / f, qxs[-1] / f, qys[0] / f, qys[-1] / f),
+        aspect="equal",
+    )
     unit = "1/m" if p == 0 else f"10{str(p).translate(str.maketrans('-0123456789', '⁻⁰¹²³⁴⁵⁶⁷⁸⁹'))} 1/m"
     ax.set_xlabel(f"wave vector qx [{unit}]")
     ax.set_ylabel(f"wave vector qy [{unit}]")
     from pipelines.output.units import sig3, wavelength_of_q
-    report.set_title(ax, f"{name}: 2D PSD, |q| < {sig3(qlim)} 1/m (λ > {wavelength_of_q(qlim)})",
-                     y=1.0)
+
+    report.set_title(ax, f"{name}: 2D PSD, |q| < {sig3(qlim)} 1/m (λ > {wavelength_of_q(qlim)})", y=1.0)
     cb = fig.colorbar(im, ax=ax)
     cb.set_label("log₁₀ C [m⁴]")
     return report.save_figure(fig, path, report.fixed_margins(ax, right=1.15, top=0.4))
@@ -214,9 +263,9 @@ def _report_sections(an, summary, tex=None, fr=None):
     from pipelines.output.headline import hurst_text
     from pipelines.output.units import length, quantity, sig3
 
-    rough = roughness_section(summary)          # ISO 25178-2 / 21920-2 set, filters
+    rough = roughness_section(summary)  # ISO 25178-2 / 21920-2 set, filters
     key = {
-        "Hurst exponent H": hurst_text(summary),     # the note when the fit is no headline
+        "Hurst exponent H": hurst_text(summary),  # the note when the fit is no headline
         "rms height (Sq of levelled measured heights)": length(summary["rms_height_m"]),
         "band rms from fit": length(summary["band_rms_m"]),
         "h0 (thesis form)": length(summary["h0_m"]),
@@ -227,18 +276,20 @@ def _report_sections(an, summary, tex=None, fr=None):
     }
     from pipelines.chain import band as analyse_band
 
-    key.update(analyse_band.report_rows(summary))   # band, rubber, mu's provenance
+    key.update(analyse_band.report_rows(summary))  # band, rubber, mu's provenance
     texture = [report.table_html(texture_outputs.depth_rows(summary), ["quantity", "value"])]
     if tex is not None and tex.level_dB.size:
         texture.append(report.paragraph_html(tex.note, note=True))
         texture.append(texture_outputs.texture_table_html(tex))
-    sections = [("Key figures", report.table_html(key, ["quantity", "value"])),
-                ("Road texture (ISO 13473-1, ISO 13473-4, ASTM E1960)", texture),
-                ("Roughness (ISO 25178-2 / 21920-2 / 4287)", rough)]
-    warned = analyse_band.warnings_section(summary)     # every warning in the report
+    sections = [
+        ("Key figures", report.table_html(key, ["quantity", "value"])),
+        ("Road texture (ISO 13473-1, ISO 13473-4, ASTM E1960)", texture),
+        ("Roughness (ISO 25178-2 / 21920-2 / 4287)", rough),
+    ]
+    warned = analyse_band.warnings_section(summary)  # every warning in the report
     if warned:
         sections.insert(1, warned)
-    shares = analyse_band.share_section(summary, fr)    # mu's provenance per speed
+    shares = analyse_band.share_section(summary, fr)  # mu's provenance per speed
     if shares:
         sections.append(shares)
     return sections, report.instrument_html(summary.get("instrument"))
@@ -254,8 +305,18 @@ def _write_report(out_dir, an, page, figs):
 
 #: the columns of a several-scan run's ``summary.csv`` (SI units; ``report.html`` shows them in
 #: the reader's units), then ``warnings``
-SUMMARY_HEADER = ["scan", "hurst", "hurst_stderr", "rms_height_m", "h0_m", "mpd_m", "filled_fraction",
-                  "mu_peak", "etd_m", "ifi_speed_constant_kmh"]
+SUMMARY_HEADER = [
+    "scan",
+    "hurst",
+    "hurst_stderr",
+    "rms_height_m",
+    "h0_m",
+    "mpd_m",
+    "filled_fraction",
+    "mu_peak",
+    "etd_m",
+    "ifi_speed_constant_kmh",
+]
 
 
 def summary_rows(rows):
@@ -271,9 +332,21 @@ def summary_rows(rows):
     -------
     list of list
     """
-    return [[s, d["hurst"], d["hurst_stderr"], d["rms_height_m"], d["h0_m"], d["mpd_m"],
-             d["filled_fraction"], d.get("friction", {}).get("mu_peak"), d.get("etd_m"),
-             d.get("ifi_speed_constant_kmh")] for s, d in rows]
+    return [
+        [
+            s,
+            d["hurst"],
+            d["hurst_stderr"],
+            d["rms_height_m"],
+            d["h0_m"],
+            d["mpd_m"],
+            d["filled_fraction"],
+            d.get("friction", {}).get("mu_peak"),
+            d.get("etd_m"),
+            d.get("ifi_speed_constant_kmh"),
+        ]
+        for s, d in rows
+    ]
 
 
 def write_many_summary(out_dir, rows, warnings):
@@ -299,10 +372,13 @@ def write_many_summary(out_dir, rows, warnings):
     from roadscan.io.atomic import atomic_write_text
 
     header, table = SUMMARY_HEADER, summary_rows(rows)
-    lines = [",".join(header)] + [",".join("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c))
-                                           for c in r) for r in table]
+    lines = [",".join(header)] + [
+        ",".join("" if c is None else (f"{c:.6g}" if isinstance(c, float) else str(c)) for c in r)
+        for r in table
+    ]
     lines = [lines[0] + ",warnings"] + [
-        f'{ln},"{" | ".join(w).replace(chr(34), chr(34) * 2)}"' for ln, w in zip(lines[1:], warnings)]
+        f'{ln},"{" | ".join(w).replace(chr(34), chr(34) * 2)}"' for ln, w in zip(lines[1:], warnings)
+    ]
     atomic_write_text(out_dir / "summary.csv", "\n".join(lines) + "\n")
     links = report.list_html([s for s, _ in rows], links=[f"{s}/report.html" for s, _ in rows])
     sections = [("Scans", _scans_html(table, header)), ("Reports", links)]
@@ -317,8 +393,20 @@ def _scans_html(table, header):
     """The summary table in the reader's units (mm, µm, %, km/h; summary.csv keeps SI)."""
     from pipelines.output.units import label_of, quantity, sig3
 
-    shown = [[r[0]] + [f"{sig3(100 * c)} %" if k == "filled_fraction" and c is not None else
-                       quantity(k, c) for k, c in zip(header[1:], r[1:])] for r in table]
-    names = {"hurst": "H", "hurst_stderr": "± H", "mpd_m": "MPD", "etd_m": "ETD", "mu_peak": "peak μ",
-             "ifi_speed_constant_kmh": "IFI Sp"}
+    shown = [
+        [r[0]]
+        + [
+            f"{sig3(100 * c)} %" if k == "filled_fraction" and c is not None else quantity(k, c)
+            for k, c in zip(header[1:], r[1:])
+        ]
+        for r in table
+    ]
+    names = {
+        "hurst": "H",
+        "hurst_stderr": "± H",
+        "mpd_m": "MPD",
+        "etd_m": "ETD",
+        "mu_peak": "peak μ",
+        "ifi_speed_constant_kmh": "IFI Sp",
+    }
     return report.table_html(shown, [names.get(h, label_of(h)) for h in header])

@@ -1,6 +1,7 @@
 """The result of analysing one scan (:func:`pipelines.analyse`): the ``summary.json`` dict, this
 run's warnings, the arrays, and :meth:`AnalysisResult.write`.
 """
+
 from __future__ import annotations
 
 import os

@@ -2,10 +2,17 @@
 ``centre_wavelength_m,band_lo_m,band_hi_m,level_dB``), the third-octave bar chart
 ``texture_spectrum.png`` and the report's band table (mm and dB re 1 µm).
 """
+
 from __future__ import annotations
 
-__all__ = ["TEXTURE_HEADER", "html_escape", "write_texture_csv", "texture_picture",
-           "draw_texture_spectrum", "texture_table_html"]
+__all__ = [
+    "TEXTURE_HEADER",
+    "html_escape",
+    "write_texture_csv",
+    "texture_picture",
+    "draw_texture_spectrum",
+    "texture_table_html",
+]
 
 TEXTURE_HEADER = ["centre_wavelength_m", "band_lo_m", "band_hi_m", "level_dB"]
 
@@ -101,8 +108,14 @@ def draw_texture_spectrum(picture, path, title):
     if ok.any():
         ax.set_ylim(base, np.nanmax(lvl[ok]) + 5)
         k = int(np.nanargmax(np.where(ok, lvl, -np.inf)))
-        ax.annotate(f"{sig3(lvl[k])} dB", (x[k], lvl[k]), textcoords="offset points",
-                    xytext=(0, 3), ha="center", fontsize=7)
+        ax.annotate(
+            f"{sig3(lvl[k])} dB",
+            (x[k], lvl[k]),
+            textcoords="offset points",
+            xytext=(0, 3),
+            ha="center",
+            fontsize=7,
+        )
     ax.grid(axis="y", alpha=0.3)
     report.set_title(ax, title, y=1.0)
     return report.save_figure(fig, path, report.fixed_margins(ax, bottom=0.95))
@@ -123,8 +136,10 @@ def texture_table_html(ts):
     from pipelines.output.report import table_html
     from pipelines.output.units import decibel, sig3
 
-    rows = [(f"{n:g}", sig3(c * 1e3), f"{sig3(lo * 1e3)} – {sig3(hi * 1e3)}", decibel(v))
-            for n, c, lo, hi, v in zip(ts.nominal_mm[::-1], ts.centre_m[::-1], ts.lo_m[::-1],
-                                       ts.hi_m[::-1], ts.level_dB[::-1])]
-    return table_html(rows, ["band [mm]", "exact centre [mm]", "band edges [mm]",
-                             "level [dB re 1 µm]"])
+    rows = [
+        (f"{n:g}", sig3(c * 1e3), f"{sig3(lo * 1e3)} – {sig3(hi * 1e3)}", decibel(v))
+        for n, c, lo, hi, v in zip(
+            ts.nominal_mm[::-1], ts.centre_m[::-1], ts.lo_m[::-1], ts.hi_m[::-1], ts.level_dB[::-1]
+        )
+    ]
+    return table_html(rows, ["band [mm]", "exact centre [mm]", "band edges [mm]", "level [dB re 1 µm]"])

@@ -12,6 +12,7 @@ MPD validity (ISO 13473-1): ``mpd_valid`` beside ``mpd_m``; when it is false, ``
 ``ifi_speed_constant_kmh`` and ``ifi_F60`` are null and ``etd_note`` says why; the segments go
 to ``mpd_segments.csv`` and ``mpd_segments.png`` (:mod:`pipelines.jobs.texture.mpd`).
 """
+
 from __future__ import annotations
 
 import math
@@ -19,9 +20,22 @@ from dataclasses import dataclass
 
 from roadscan.errors import InputError
 
-__all__ = ["TEXTURE_HEADER", "TextureSettings", "add_texture_options", "texture_settings_from_args",
-           "texture_keys", "add_to_summary", "html_escape", "write_texture_csv", "texture_picture", "draw_texture_spectrum",
-           "texture_table_html", "depth_rows", "write_extras", "draw_extras"]
+__all__ = [
+    "TEXTURE_HEADER",
+    "TextureSettings",
+    "add_texture_options",
+    "texture_settings_from_args",
+    "texture_keys",
+    "add_to_summary",
+    "html_escape",
+    "write_texture_csv",
+    "texture_picture",
+    "draw_texture_spectrum",
+    "texture_table_html",
+    "depth_rows",
+    "write_extras",
+    "draw_extras",
+]
 
 #: dropout share above which the texture levels get a warning (a linear fill carries no texture)
 DROPOUT_WARN = 0.10
@@ -49,12 +63,12 @@ class TextureSettings:
     """
 
     direction: str = "x"
-    friction: float | None = None          # FRS measured
-    slip_speed_kmh: float | None = None    # S
-    ifi_constants: tuple | None = None     # (A, B, C)
-    form: str = "plane"             # --form
-    s_filter_m: float | None = None        # --s-filter
-    l_filter_m: float | None = None        # --l-filter
+    friction: float | None = None  # FRS measured
+    slip_speed_kmh: float | None = None  # S
+    ifi_constants: tuple | None = None  # (A, B, C)
+    form: str = "plane"  # --form
+    s_filter_m: float | None = None  # --s-filter
+    l_filter_m: float | None = None  # --l-filter
 
 
 def add_texture_options(p):
@@ -72,15 +86,27 @@ def add_texture_options(p):
     """
     from pipelines.jobs.texture.iso import add_iso_options
 
-    p.add_argument("--direction", choices=("x", "y"), default="x",
-                   help="driving direction of an area scan for the ISO 13473-4 texture spectrum "
-                        "(lines along it are analysed; default x)")
-    p.add_argument("--friction-measurement", default=None, metavar="F@SPEED",
-                   help="friction F measured at slip speed SPEED km/h (e.g. 0.45@30): with "
-                        "--ifi-constants gives the IFI F60 of ASTM E1960")
-    p.add_argument("--ifi-constants", default=None, metavar="A,B[,C]",
-                   help="the friction device's IFI calibration constants (ASTM E1960; C "
-                        "multiplies MPD in mm, default 0)")
+    p.add_argument(
+        "--direction",
+        choices=("x", "y"),
+        default="x",
+        help="driving direction of an area scan for the ISO 13473-4 texture spectrum "
+        "(lines along it are analysed; default x)",
+    )
+    p.add_argument(
+        "--friction-measurement",
+        default=None,
+        metavar="F@SPEED",
+        help="friction F measured at slip speed SPEED km/h (e.g. 0.45@30): with "
+        "--ifi-constants gives the IFI F60 of ASTM E1960",
+    )
+    p.add_argument(
+        "--ifi-constants",
+        default=None,
+        metavar="A,B[,C]",
+        help="the friction device's IFI calibration constants (ASTM E1960; C "
+        "multiplies MPD in mm, default 0)",
+    )
     add_iso_options(p)
 
 
@@ -111,8 +137,9 @@ def texture_settings_from_args(args):
     from pipelines.jobs.texture.iso import iso_settings_from_args
 
     form, s_f, l_f = iso_settings_from_args(args)
-    st = TextureSettings(direction=getattr(args, "direction", None) or "x", form=form,
-                         s_filter_m=s_f, l_filter_m=l_f)
+    st = TextureSettings(
+        direction=getattr(args, "direction", None) or "x", form=form, s_filter_m=s_f, l_filter_m=l_f
+    )
     if (fm is None) != (ic is None):
         given = "--friction-measurement" if fm is not None else "--ifi-constants"
         other = "--ifi-constants" if fm is not None else "--friction-measurement"
@@ -122,8 +149,7 @@ def texture_settings_from_args(args):
         if not 0 < f <= 5:
             raise InputError(None, f"--friction-measurement {fm!r}: friction must be in (0, 5]")
         if not 0 < s <= 500:
-            raise InputError(None, f"--friction-measurement {fm!r}: slip speed must be in "
-                                   f"(0, 500] km/h")
+            raise InputError(None, f"--friction-measurement {fm!r}: slip speed must be in (0, 500] km/h")
         c = _floats(ic, "--ifi-constants", ",", 2, 3, "A,B or A,B,C")
         st.friction, st.slip_speed_kmh = f, s
         st.ifi_constants = (c[0], c[1], c[2] if len(c) > 2 else 0.0)
@@ -159,21 +185,26 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
     from roadscan.texture_spectrum import texture_spectrum
 
     settings = settings or TextureSettings()
-    ts = (texture_spectrum(_spectrum_input(analysis), direction=settings.direction)
-          if figures is None else figures.spectrum(_spectrum_input(analysis), settings.direction))
+    ts = (
+        texture_spectrum(_spectrum_input(analysis), direction=settings.direction)
+        if figures is None
+        else figures.spectrum(_spectrum_input(analysis), settings.direction)
+    )
     out = {"texture_level_dB": ts.as_dict(), "texture_spectrum_note": ts.note}
     if ts.dropout_fraction > DROPOUT_WARN:
         import math
 
         low = -10 * math.log10(max(1e-6, 1 - ts.dropout_fraction))
-        warn(f"{analysis.name}: {ts.dropout_fraction:.0%} of the points are dropouts, filled "
-             f"linearly for the texture spectrum: its levels read up to about {low:.1f} dB low")
+        warn(
+            f"{analysis.name}: {ts.dropout_fraction:.0%} of the points are dropouts, filled "
+            f"linearly for the texture spectrum: its levels read up to about {low:.1f} dB low"
+        )
     if not analysis.is_profile:
         out["texture_direction"] = settings.direction
     mpd, mpd_note = analysis.mpd_m, analysis.mpd_note
     src = analysis.source
-    seg = getattr(analysis, "mpd_segments", None)   # computed with the MPD
-    if not analysis.is_profile and settings.direction == "y":    # MPD along the driving direction
+    seg = getattr(analysis, "mpd_segments", None)  # computed with the MPD
+    if not analysis.is_profile and settings.direction == "y":  # MPD along the driving direction
         from roadscan.heightmap import HeightMap
 
         src = HeightMap(src.heights_m.T, src.dy_m, src.dx_m, src.unmeasured.T, src.name, src.meta)
@@ -185,25 +216,30 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
     from pipelines.jobs.texture.mpd import validity_keys
 
     out.update(validity_keys(seg))
-    out["_segments"] = seg                       # taken out by add_to_summary
+    out["_segments"] = seg  # taken out by add_to_summary
     usable = mpd if out["mpd_valid"] else None
     out["etd_m"] = td.estimated_texture_depth(usable)
     out["ifi_speed_constant_kmh"] = td.ifi_speed_constant(usable)
     if usable is None:
-        why = (f"the MPD is {seg.validity_text()}" if seg is not None and mpd is not None
-               else "there is no MPD")
+        why = (
+            f"the MPD is {seg.validity_text()}" if seg is not None and mpd is not None else "there is no MPD"
+        )
         out["etd_note"] = f"ETD and the IFI figures not computed: {why}"
     length = src.length_m if analysis.is_profile else src.nx * src.dx_m
     if mpd is None and length < 0.1:
-        msd, base, note = (td.short_segment_depth(src, **(mpd_settings or {})) if figures is None
-                           else figures.short_depth(src, mpd_settings))
+        msd, base, note = (
+            td.short_segment_depth(src, **(mpd_settings or {}))
+            if figures is None
+            else figures.short_depth(src, mpd_settings)
+        )
         out.update(msd_short_m=msd, msd_short_baseline_m=base, msd_short_note=note)
     elif seg is not None and seg.n_total and not out["mpd_valid"]:
         from pipelines.jobs.texture.mpd import invalid_mpd_warning
 
-        alpha, iso = (td.spike_alpha_to_pass(src, mpd_settings) if seg.failed_rules()["spikes"]
-                      else (None, False))
-        warn(invalid_mpd_warning(analysis.name, seg, alpha, iso))   # the rule and the option
+        alpha, iso = (
+            td.spike_alpha_to_pass(src, mpd_settings) if seg.failed_rules()["spikes"] else (None, False)
+        )
+        warn(invalid_mpd_warning(analysis.name, seg, alpha, iso))  # the rule and the option
         if alpha is not None:
             out["mpd_spike_alpha_to_pass"] = alpha
         if mpd is None and "no valid segment" in (mpd_note or ""):
@@ -212,8 +248,14 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
         A, B, C = settings.ifi_constants
         res = td.ifi_f60(settings.friction, settings.slip_speed_kmh, usable, A, B, C)
         out["ifi_F60"] = res[0] if res else None
-        out["ifi_inputs"] = {"friction": settings.friction, "slip_speed_kmh": settings.slip_speed_kmh,
-                             "A": A, "B": B, "C": C, "FR60": res[2] if res else None}
+        out["ifi_inputs"] = {
+            "friction": settings.friction,
+            "slip_speed_kmh": settings.slip_speed_kmh,
+            "A": A,
+            "B": B,
+            "C": C,
+            "FR60": res[2] if res else None,
+        }
         if res is None:
             why = out.get("etd_note") or out.get("mpd_note", analysis.mpd_note)
             warn(f"{analysis.name}: no IFI F60: it needs a valid MPD ({why})")
@@ -223,15 +265,19 @@ def texture_keys(analysis, settings=None, mpd_settings=None, figures=None):
 def _no_valid_note(out, mpd_note, mpd_settings, alpha, iso):
     """``mpd_note`` of an MPD without a valid segment, with the spike threshold that passes."""
     if alpha is not None:
-        what = "an MPD valid per ISO 13473-1 (at least half the segments valid)" if iso else \
-            "an MPD (fewer than half the segments valid, not valid per ISO 13473-1)"
+        what = (
+            "an MPD valid per ISO 13473-1 (at least half the segments valid)"
+            if iso
+            else "an MPD (fewer than half the segments valid, not valid per ISO 13473-1)"
+        )
         now = (mpd_settings or {}).get("spike_alpha", 3.0)
-        out["mpd_note"] = (f"{mpd_note}; --mpd-spike-alpha {alpha:g} would give {what} "
-                           f"(steep stone edges, e.g. of chip seals, read as spikes at "
-                           f"alpha = {now:g}, the ISO 13473-1 default being 3)")
+        out["mpd_note"] = (
+            f"{mpd_note}; --mpd-spike-alpha {alpha:g} would give {what} "
+            f"(steep stone edges, e.g. of chip seals, read as spikes at "
+            f"alpha = {now:g}, the ISO 13473-1 default being 3)"
+        )
     else:
-        out["mpd_note"] = (f"{mpd_note}; no --mpd-spike-alpha up to 50 helps: the "
-                           f"segments fail on dropouts")
+        out["mpd_note"] = f"{mpd_note}; no --mpd-spike-alpha up to 50 helps: the segments fail on dropouts"
 
 
 def add_to_summary(summary, analysis, settings=None, mpd_settings=None, figures=None):
@@ -266,15 +312,19 @@ def add_to_summary(summary, analysis, settings=None, mpd_settings=None, figures=
     keys, ts = texture_keys(analysis, settings, mpd_settings, figures)
     # the (frozen) TextureSpectrum carries the segments to write_extras / draw_extras
     object.__setattr__(ts, "mpd_segments", keys.pop("_segments", None))
-    rough, filters, notes = iso_summary(analysis, settings.form, settings.s_filter_m,
-                                        settings.l_filter_m, figures)
+    rough, filters, notes = iso_summary(
+        analysis, settings.form, settings.s_filter_m, settings.l_filter_m, figures
+    )
     summary = dict(summary)
     summary["roughness"] = rough
     keys["filters"] = filters
     if notes:
         keys[ROUGHNESS_NOTE_KEY] = notes
-    spectrum = {k: keys.pop(k) for k in ("texture_level_dB", "texture_spectrum_note",
-                                         "texture_direction") if k in keys}
+    spectrum = {
+        k: keys.pop(k)
+        for k in ("texture_level_dB", "texture_spectrum_note", "texture_direction")
+        if k in keys
+    }
     out = {}
     for k, v in summary.items():
         out[k] = keys.pop(k, v) if k in ("mpd_m", "mpd_note") else v

@@ -18,6 +18,7 @@ the scan is checked), else on the texture thread when the source scan is known (
 levelled-map hook, as :func:`pipelines.chain.surface.analyse_surface` does). It is handed
 over only for that very scan object and equal ISO 13473-1 settings.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -84,8 +85,7 @@ class _ReadAhead:
         self.short_wanted = _short_wanted(scan, "x", None)
         self.short = self.short_error = None
         self.done = threading.Event()
-        self.thread = threading.Thread(target=self._run, args=(scan,), name="roadscan-ahead",
-                                       daemon=True)
+        self.thread = threading.Thread(target=self._run, args=(scan,), name="roadscan-ahead", daemon=True)
 
     def _run(self, scan):
         from roadscan.spectrum import prepare_lattice
@@ -94,7 +94,7 @@ class _ReadAhead:
         try:
             try:
                 prepare_lattice(scan.ny, scan.nx, scan.dx_m, scan.dy_m)
-            except Exception:      # noqa: BLE001 - a cache warm-up: the spectrum computes its own
+            except Exception:  # noqa: BLE001 - a cache warm-up: the spectrum computes its own
                 pass
             if self.short_wanted:
                 try:
@@ -136,14 +136,13 @@ def prepare_lattice_ahead(scan):
     machine of two cores or more; returns the thread (or None)."""
     from roadscan.heightmap import HeightMap
 
-    if not isinstance(scan, HeightMap) or scan.heights_m.size < MIN_POINTS or \
-            (os.cpu_count() or 1) < 2:
+    if not isinstance(scan, HeightMap) or scan.heights_m.size < MIN_POINTS or (os.cpu_count() or 1) < 2:
         return None
     try:
         ahead = _ReadAhead(scan)
-    except TypeError:              # a scan type without weak references: nothing read ahead
+    except TypeError:  # a scan type without weak references: nothing read ahead
         return None
-    _AHEAD[:] = [a for a in _AHEAD[-(_AHEAD_KEPT - 1):] if a.scan() is not None] + [ahead]
+    _AHEAD[:] = [a for a in _AHEAD[-(_AHEAD_KEPT - 1) :] if a.scan() is not None] + [ahead]
     ahead.thread.start()
     return ahead.thread
 
@@ -184,14 +183,21 @@ class TextureFigures:
         with ``mpd_settings`` when its rows are shorter than one segment."""
         from roadscan.heightmap import HeightMap
 
-        if self._thread is not None or not isinstance(surface, HeightMap) or \
-                surface.heights_m.size < MIN_POINTS or (os.cpu_count() or 1) < 2:
+        if (
+            self._thread is not None
+            or not isinstance(surface, HeightMap)
+            or surface.heights_m.size < MIN_POINTS
+            or (os.cpu_count() or 1) < 2
+        ):
             return
         named = _SOURCE.get()
         if source is None and named is not None and named[0] is surface:
             source, mpd_settings = named[1], named[2]
-        if source is not None and _short_wanted(source, self._direction, mpd_settings) and \
-                _ahead_for(source, mpd_settings) is None:       # not read ahead already
+        if (
+            source is not None
+            and _short_wanted(source, self._direction, mpd_settings)
+            and _ahead_for(source, mpd_settings) is None
+        ):  # not read ahead already
             self._source, self._mpd_settings = source, dict(mpd_settings or {})
         self._surface = surface
         self._thread = threading.Thread(target=self._run, name="roadscan-texture", daemon=True)
@@ -227,8 +233,7 @@ class TextureFigures:
 
     def spectrum(self, surface, direction):
         """``texture_spectrum(surface, direction)`` (a TextureSpectrum)."""
-        if self._thread is not None and surface is self._surface and \
-                direction == self._direction:
+        if self._thread is not None and surface is self._surface and direction == self._direction:
             self._spectrum_done.wait()
             if self._spectrum is not None:
                 return self._spectrum
@@ -243,8 +248,12 @@ class TextureFigures:
         ahead = _ahead_for(source, mpd_settings)
         if ahead is not None:
             return ahead.take_short()
-        if self._thread is not None and self._source is not None and source is self._source \
-                and dict(mpd_settings or {}) == self._mpd_settings:
+        if (
+            self._thread is not None
+            and self._source is not None
+            and source is self._source
+            and dict(mpd_settings or {}) == self._mpd_settings
+        ):
             self._short_done.wait()
             if self._short_error is not None:
                 raise self._short_error

@@ -9,14 +9,23 @@ image grids; :func:`write_html`), ``table.html.j2`` (header and rows; :func:`tab
 ``list.html.j2`` (items, optionally links; :func:`list_html`), ``campaign_table.html.j2`` (the
 scans of a campaign). :mod:`pipelines.output.report` re-exports the writers.
 """
+
 from __future__ import annotations
 
 import base64
 from functools import lru_cache
 from pathlib import Path
 
-__all__ = ["render", "html_block", "embedded_image", "table_html", "list_html", "paragraph_html",
-           "write_html", "instrument_html"]
+__all__ = [
+    "render",
+    "html_block",
+    "embedded_image",
+    "table_html",
+    "list_html",
+    "paragraph_html",
+    "write_html",
+    "instrument_html",
+]
 
 _HERE = Path(__file__).resolve().parent
 
@@ -25,8 +34,12 @@ _HERE = Path(__file__).resolve().parent
 def _environment():
     import jinja2
 
-    return jinja2.Environment(loader=jinja2.FileSystemLoader(str(_HERE)), autoescape=True,
-                              keep_trailing_newline=False, undefined=jinja2.StrictUndefined)
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(str(_HERE)),
+        autoescape=True,
+        keep_trailing_newline=False,
+        undefined=jinja2.StrictUndefined,
+    )
 
 
 def render(name, **context):
@@ -110,8 +123,9 @@ def table_html(rows, header=None):
     """
     if isinstance(rows, dict):
         rows = [(k, v) for k, v in rows.items()]
-    return render("table.html.j2", header=[str(h) for h in header or ()],
-                  rows=[[_fmt(c) for c in row] for row in rows])
+    return render(
+        "table.html.j2", header=[str(h) for h in header or ()], rows=[[_fmt(c) for c in row] for row in rows]
+    )
 
 
 def list_html(items, links=None):
@@ -144,11 +158,21 @@ img{max-width:100%;margin:.4em 0}.grid{display:flex;flex-wrap:wrap;gap:8px}
 
 #: labels of the instrument block (``HeightMap.meta["instrument"]``) in a report's header
 _INSTRUMENT_LABELS = (
-    ("vendor", "vendor"), ("name", "instrument"), ("serial", "serial"), ("software", "software"),
-    ("acquired", "acquired"), ("objective", "objective"), ("magnification", "magnification"),
-    ("lateral_resolution_m", "lateral resolution"), ("tip_radius_m", "tip radius"),
-    ("format", "file format"), ("units", "file units"), ("undefined_points", "undefined points"),
-    ("channel", "channel"), ("reader", "read by"), ("comment", "comment"),
+    ("vendor", "vendor"),
+    ("name", "instrument"),
+    ("serial", "serial"),
+    ("software", "software"),
+    ("acquired", "acquired"),
+    ("objective", "objective"),
+    ("magnification", "magnification"),
+    ("lateral_resolution_m", "lateral resolution"),
+    ("tip_radius_m", "tip radius"),
+    ("format", "file format"),
+    ("units", "file units"),
+    ("undefined_points", "undefined points"),
+    ("channel", "channel"),
+    ("reader", "read by"),
+    ("comment", "comment"),
 )
 
 
@@ -156,7 +180,7 @@ def _instrument_value(key, value):
     from roadscan.units import length
 
     if isinstance(value, (int, float)) and not isinstance(value, bool) and key.endswith("_m"):
-        return length(value)                       # "5.00 µm", not "5e-06"
+        return length(value)  # "5.00 µm", not "5e-06"
     return f"{value:.4g}" if isinstance(value, float) else str(value)
 
 
@@ -176,8 +200,11 @@ def instrument_html(block):
     """
     if not isinstance(block, dict) or not block:
         return None
-    parts = [f"{label}: {_instrument_value(key, block[key])}" for key, label in _INSTRUMENT_LABELS
-             if block.get(key) not in (None, "")]
+    parts = [
+        f"{label}: {_instrument_value(key, block[key])}"
+        for key, label in _INSTRUMENT_LABELS
+        if block.get(key) not in (None, "")
+    ]
     if not parts:
         return None
     return str(render("instrument.html.j2", line=" · ".join(parts)))
@@ -201,8 +228,9 @@ def paragraph_html(text, lead=None, note=False):
     -------
     str
     """
-    return render("paragraph.html.j2", text=str(text), lead=None if lead is None else str(lead),
-                  note=bool(note))
+    return render(
+        "paragraph.html.j2", text=str(text), lead=None if lead is None else str(lead), note=bool(note)
+    )
 
 
 def write_html(path, title, sections, intro=None):
@@ -243,7 +271,12 @@ def write_html(path, title, sections, intro=None):
             else:
                 shown.append(("html", html_block(item)))
         page.append((str(heading), shown))
-    text = render("page.html.j2", title=str(title), css=html_block(_CSS), sections=page,
-                  intro=html_block(intro) if intro else None)
+    text = render(
+        "page.html.j2",
+        title=str(title),
+        css=html_block(_CSS),
+        sections=page,
+        intro=html_block(intro) if intro else None,
+    )
     atomic_write_text(path, text)
     return Path(path)
