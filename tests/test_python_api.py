@@ -153,3 +153,47 @@ def test_a_result_shows_a_short_repr():
     text = repr(r)
     assert len(text) < 500 and "H=" in text and "mu_max" in text
     assert r.summary["hurst"] == pytest.approx(float(text.split("H=")[1].split(",")[0]), rel=2e-3)
+
+
+def _silently(call):
+    """(result, this call's RoadscanWarning texts) with stdout and stderr captured: both empty."""
+    err, out = io.StringIO(), io.StringIO()
+    with warnings.catch_warnings(record=True) as caught, contextlib.redirect_stderr(err), \
+            contextlib.redirect_stdout(out):
+        warnings.simplefilter("always")
+        result = call()
+    assert err.getvalue() == "" and out.getvalue() == "", (err.getvalue(), out.getvalue())
+    return result, [str(w.message) for w in caught if issubclass(w.category, RoadscanWarning)]
+
+
+def test_every_job_is_silent_carries_its_warnings_and_shows_a_short_repr(small_scan, tmp_path):
+    from pipelines.diagnosis.cases import make_case
+    from pipelines.diagnosis.inputs import write_psd_csv
+    from pipelines.output.report import write_csv
+
+    np.save(tmp_path / "s.npy", small_scan.heights_m)
+    scan_file = tmp_path / "s.npy"
+    psd_file = tmp_path / "psd.csv"
+    c = make_case(11, "temperature_offset", scan=False)
+    q = np.geomspace(c.psd.q_min_per_m, c.psd.q1_per_m, 60)
+    write_psd_csv(psd_file, q, c.psd.C(q))
+    mu_file = write_csv(tmp_path / "mu.csv", ["v_m_per_s", "mu"], [c.curve.v_m_per_s, c.curve.mu])
+    v = np.logspace(-2, 1, 4)
+    calls = {
+        "compare": lambda: pipelines.compare([small_scan, small_scan], tmp_path / "c", velocities=v),
+        "dry_vs_wet": lambda: pipelines.dry_vs_wet(small_scan, tmp_path / "w", velocities=v),
+        "rain_fill": lambda: pipelines.rain_fill(small_scan, tmp_path / "r"),
+        "friction": lambda: pipelines.friction(tmp_path / "f" / "mu.csv", psd=psd_file, velocities=v),
+        "combine": lambda: pipelines.combine([scan_file], tmp_path / "m", spacing=1e-4, no_figures=True),
+        "diagnose": lambda: pipelines.diagnose(tmp_path / "d", measured=mu_file, psd=psd_file, noise=0.02,
+                                               uncertain="q1=known"),
+        "batch": lambda: pipelines.batch([scan_file], tmp_path / "b", spacing=1e-4, no_friction=True,
+                                         workers=1),
+    }
+    for name, call in calls.items():
+        result, issued = _silently(call)
+        assert isinstance(result, dict) and result.job == name
+        assert len(repr(result)) < 500, (name, repr(result))
+        assert set(result.warnings) <= set(issued), name      # each also a RoadscanWarning
+        if name in ("compare", "dry_vs_wet", "combine"):
+            assert result.warnings, f"{name}: the small scan's narrow band is a warning"

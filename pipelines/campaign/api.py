@@ -10,6 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any, Literal
 
 from pipelines.checks.run_warnings import note
+from pipelines.output.job_result import returns_job_result
 from roadscan.errors import InputError
 
 if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
@@ -20,6 +21,7 @@ if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stay
 __all__ = ["batch", "summary_line"]
 
 
+@returns_job_result("batch")
 def batch(
         inputs: Any,
         out: str | os.PathLike[str],

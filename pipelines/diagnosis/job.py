@@ -9,6 +9,7 @@ from __future__ import annotations
 import os
 from typing import Any, Literal
 
+from pipelines.output.job_result import returns_job_result
 from pipelines.settings.friction import (
     check_contact_args,
     parse_pressure,
@@ -66,6 +67,7 @@ def add_diagnose_options(p):
     p.set_defaults(sigma0=None)   # None: not given (the default 0.2MPa is then listed as assumed)
 
 
+@returns_job_result("diagnose")
 def diagnose(
         out: str | os.PathLike[str],
         *,

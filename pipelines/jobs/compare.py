@@ -14,6 +14,7 @@ import numpy as np
 from pipelines.jobs.analyse.job import summarise
 from pipelines.jobs.dry_vs_wet import mu_by_speed, speed_table
 from pipelines.output import report
+from pipelines.output.job_result import returns_job_result
 from pipelines.settings.friction import FrictionSettings
 from pipelines.settings.option_docs import document_options
 
@@ -133,6 +134,7 @@ def friction_difference(v, mu_ref, mu):
             "mu_peak_ratio": float(mu.max() / mu_ref.max())}
 
 
+@returns_job_result("compare")
 @document_options()
 def compare(
         sources: Any, out: str | os.PathLike[str],

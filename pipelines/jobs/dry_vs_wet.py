@@ -17,6 +17,7 @@ import numpy as np
 from pipelines.chain.surface import analyse_surface
 from pipelines.jobs.analyse.job import nominal_band
 from pipelines.output import report
+from pipelines.output.job_result import returns_job_result
 from pipelines.settings.friction import FrictionSettings
 from roadscan.errors import InputError
 from roadscan.heightmap import HeightMap
@@ -28,6 +29,7 @@ if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stay
 __all__ = ["dry_vs_wet", "run_dry_vs_wet", "speed_table", "mu_by_speed"]
 
 
+@returns_job_result("dry_vs_wet")
 def dry_vs_wet(
         scan: Any, out: str | os.PathLike[str],
         *,

@@ -8,6 +8,7 @@ from __future__ import annotations
 import os
 from typing import TYPE_CHECKING, Any, Literal
 
+from pipelines.output.job_result import returns_job_result
 from pipelines.settings.option_docs import document_options
 
 if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
@@ -62,6 +63,7 @@ _OPTION_TEXT = {
 }
 
 
+@returns_job_result("friction")
 @document_options(overrides=_OPTION_TEXT)
 def friction(
     out: str | os.PathLike[str],

@@ -17,6 +17,7 @@ import os
 from pathlib import Path
 from typing import Any, Literal
 
+from pipelines.output.job_result import returns_job_result
 from pipelines.settings.option_docs import document_options
 from pipelines.settings.water import check_water
 from roadscan.errors import InputError
@@ -24,6 +25,7 @@ from roadscan.errors import InputError
 __all__ = ["rain_fill", "check_water", "rain_fill_scan", "write_rain_fill"]
 
 
+@returns_job_result("rain_fill")
 @document_options()
 def rain_fill(
     scan: Any,
