@@ -47,7 +47,8 @@ import numpy as np
 
 from .units import length as _len
 
-__all__ = ["RollOffView", "RollOffVerdict", "judge_roll_offs", "surface_q0", "bend_at", "SAME_Q",
+__all__ = ["RollOffView", "RollOffVerdict", "judge_roll_offs", "surface_q0", "bend_at", "find_bend",
+           "SAME_Q",
            "ROOM", "BEND_SEEN"]
 
 #: two knees within this factor (0.15 decade) are one wave vector: a knee found in a spectrum
@@ -161,6 +162,41 @@ def bend_at(view, q):
     return a[0] - b[0], float(np.hypot(a[1], b[1]))
 
 
+def find_bend(view):
+    """The sharpest bend of ``view``'s rings [1/m], or None: the ring q where s_below - s_above
+    (:func:`bend_at`) is largest, when it exceeds :data:`BEND_SEEN` and 3 standard errors (the
+    largest of some twenty tries: 2 would pass by chance).
+
+    :func:`roadscan.rolloff.detect_roll_off` looks for rings falling under the line fitted to
+    the middle of a band; a band whose middle is the plateau itself (a coarse scan whose field
+    holds the plateau and only its top 0.3 decade of the power law) has no such rings, and its
+    knee shows only as its slope dropping from about 0 to the power law's.
+
+    Parameters
+    ----------
+    view : RollOffView
+        One instrument, with its rings.
+
+    Returns
+    -------
+    float or None
+    """
+    if view.q_per_m is None:
+        return None
+    lo, hi = view.band_per_m
+    best = None
+    for q in np.asarray(view.q_per_m, float):
+        if not (lo * ROOM <= q <= hi / SAME_Q):
+            continue
+        bend = bend_at(view, q)
+        if bend is None:
+            continue
+        drop, se = bend
+        if drop > BEND_SEEN and drop > 3 * se and (best is None or drop > best[0]):
+            best = (drop, float(q))
+    return None if best is None else best[1]
+
+
 def _sees(view, q):
     """True: ``view`` sees a bend at q (its own knee there, or its rings bend); False: its
     rings run straight across q; None: cannot tell."""
@@ -195,16 +231,20 @@ def judge_roll_offs(*, views):
 
     Returns
     -------
-    list of RollOffVerdict
-        One per view with a knee, in the order of ``views``.
+    list of RollOffVerdict or None
+        One per view, in the order of ``views``: its knee (its own, or where its rings bend:
+        :func:`find_bend`) judged, or None.
     """
     out = []
     for v in views:
-        q = v.q_roll_per_m
+        q, how = v.q_roll_per_m, "knee"
         if q is None:
+            q, how = find_bend(v), "bend of its rings' slope"
+        if q is None:
+            out.append(None)
             continue
-        where = (f"knee at {q:.3g} 1/m (wavelength {_wl(q)}), {q / v.q_fov_per_m:.3g} x 2 pi / L "
-                 f"of {v.label!r}")
+        where = (f"{how} at {q:.3g} 1/m (wavelength {_wl(q)}), {q / v.q_fov_per_m:.3g} x 2 pi "
+                 f"/ L of {v.label!r}")
         others = [w for w in views if w is not v]
         covering = [w for w in others if _covers(w, q)]
         sees = [_sees(w, q) for w in covering]
@@ -248,8 +288,8 @@ def surface_q0(*, verdicts):
 
     Parameters
     ----------
-    verdicts : sequence of RollOffVerdict
-        From :func:`judge_roll_offs`.
+    verdicts : sequence of RollOffVerdict or None
+        From :func:`judge_roll_offs` (None entries skipped).
 
     Returns
     -------
@@ -258,6 +298,7 @@ def surface_q0(*, verdicts):
     how : str
         How it was found, or why there is none.
     """
+    verdicts = [v for v in verdicts if v is not None]
     surf = [v for v in verdicts if v.origin == "surface"]
     if not surf:
         if verdicts:

@@ -102,6 +102,7 @@ def test_a_knee_alone_near_the_field_of_view_is_the_instruments():
     near = judge_roll_offs(views=[_view("laser", 4 * q_fov, L, (4 * q_fov, 100 * q_fov))])
     far = judge_roll_offs(views=[_view("laser", 20 * q_fov, L, (6 * q_fov, 100 * q_fov))])
     top = judge_roll_offs(views=[_view("laser", 90 * q_fov, L, (6 * q_fov, 100 * q_fov))])
+    assert judge_roll_offs(views=[_view("laser", None, L, (6 * q_fov, 100 * q_fov))]) == [None]
     assert [v.origin for v in near + far + top] == ["instrument", "surface", "instrument"]
     assert "field-of-view end" in near[0].reason and "top" in top[0].reason
     assert surface_q0(verdicts=near)[0] is None
@@ -110,14 +111,17 @@ def test_a_knee_alone_near_the_field_of_view_is_the_instruments():
 
 def test_a_knee_another_instrument_bends_at_is_the_surfaces():
     """The small field's knee sits at 3.5 x its 2 pi / L (alone, that would be its own); the
-    large field, whose own test found no knee, bends there: the surface's."""
+    large field, whose own knee test found nothing (its band's middle is the plateau), bends
+    there: the surface's, seen by both (the large field's bend found from its rings' slope)."""
     q_r = 4000.0
     small = _view("confocal", q_r, 5.12e-3, (q_r, 9e4), knee_of_surface=q_r)
     large = _view("laser", None, 0.0512, (500.0, 9e3), knee_of_surface=q_r)
-    (v,) = judge_roll_offs(views=[large, small])
+    bend, v = judge_roll_offs(views=[large, small])
     assert v.origin == "surface" and v.seen_by == ("confocal", "laser")
+    assert bend.origin == "surface" and bend.q_roll_per_m == pytest.approx(q_r, rel=0.13)
+    assert surface_q0(verdicts=[bend, v])[0] == pytest.approx(q_r, rel=0.1)
     # the same knee where the large field's spectrum runs straight across it: the instrument's
     straight = _view("laser", None, 0.0512, (500.0, 9e3))
-    (w,) = judge_roll_offs(views=[straight, small])
-    assert w.origin == "instrument" and w.refuted_by == ("laser",)
-    assert surface_q0(verdicts=[w])[0] is None
+    none, w = judge_roll_offs(views=[straight, small])
+    assert none is None and w.origin == "instrument" and w.refuted_by == ("laser",)
+    assert surface_q0(verdicts=[none, w])[0] is None

@@ -108,16 +108,18 @@ def _judge_roll_offs(sources):
     from pipelines.jobs.combine.sources import with_roll_off_verdict
     from roadscan.rolloff_origin import RollOffView, judge_roll_offs
 
+    # an area's rings show where they bend; a profile's 2D estimate C1 / q x f(H) holds for a
+    # power law only and scatters with 2 degrees of freedom per mode: its own knee test only
     views = [RollOffView(s.label, s.band.q_roll_per_m, s.q_fov_per_m,
                          s.band.limits.get("field_of_view") or s.band.lo_per_m,
-                         tuple(s.band.band), s.q_per_m, s.C_m4, s.count * s.dof_per_count)
+                         tuple(s.band.band), *((s.q_per_m, s.C_m4, s.count * s.dof_per_count)
+                                               if s.kind == "area" else ()))
              for s in sources]
     verdicts = judge_roll_offs(views=views)
-    mine = iter(verdicts)
-    for s, v in zip(sources, views):
-        s.roll_off = next(mine) if v.q_roll_per_m is not None else None
-        s.band, s.bends = with_roll_off_verdict(s, verdict=s.roll_off)
-    return verdicts
+    for s, v in zip(sources, verdicts):
+        s.roll_off = v
+        s.band, s.bends = with_roll_off_verdict(s, verdict=v)
+    return [v for v in verdicts if v is not None]
 
 
 def combine_sources(sources):

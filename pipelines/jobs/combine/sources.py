@@ -319,8 +319,10 @@ def with_roll_off_verdict(source, *, verdict):
     - the surface's knee, a profile: the band starts at the knee (the 2D estimate C1 / q x f(H)
       holds for a power law only, :func:`_profile_above_roll_off`);
     - the instrument's knee: the band starts at the knee when below it (its rings under it are
-      bent by the instrument); no bend is passed to the merge when another input measures
-      straight across it, else the bend is kept (rows pool no rings across it).
+      bent by the instrument), and at its field-of-view end when it started at the knee below
+      that end (the leakage a steep spectrum suffers there was waived for a plateau that is
+      not the surface's); no bend is passed to the merge when another input measures straight
+      across it, else the bend is kept (rows pool no rings across it).
 
     Parameters
     ----------
@@ -354,7 +356,14 @@ def with_roll_off_verdict(source, *, verdict):
                                  f"(the band's own low end was {band.lo_per_m:.3g} 1/m: "
                                  f"{band.lo_reason})"), (q_r,)
     refuted = bool(verdict.refuted_by)
-    if band.lo_per_m < q_r < band.hi_per_m:
+    field_end = band.limits.get("field_of_view")
+    if field_end and band.lo_per_m < field_end < band.hi_per_m and band.lo_per_m >= q_r * (1 - 1e-9):
+        # the band started at the knee below its field-of-view end ("flat below: little
+        # leakage"): the knee not the surface's, the leakage of a steep spectrum holds again
+        band = replace(band, lo_per_m=float(field_end),
+                       lo_reason=f"field of view: {field_end:.3g} 1/m, the knee at its low end "
+                                 f"being the instrument's ({verdict.reason})")
+    elif band.lo_per_m < q_r < band.hi_per_m:
         band = replace(band, lo_per_m=float(q_r),
                        lo_reason=f"{band.lo_reason}; raised to the instrument's knee "
                                  f"({verdict.reason})")
