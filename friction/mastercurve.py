@@ -37,6 +37,7 @@ Units: f in Hz, moduli in Pa, temperatures in C, shift factors as decimal logari
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -305,7 +306,6 @@ def build_master(
     J.D. Ferry, Viscoelastic Properties of Polymers, 3rd ed., Wiley (1980), chapter 11
     (time-temperature superposition).
     """
-    import warnings
 
     from .fitting import fit_prony, fit_wlf
     from .rubber import ShiftTable

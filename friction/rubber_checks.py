@@ -11,6 +11,7 @@ T spans ``[T0, T_max]``; aT falls with T, so the hottest state sets the lowest f
 
 from __future__ import annotations
 
+import warnings
 from typing import Any, Literal
 
 import numpy as np
@@ -118,7 +119,6 @@ def wlf_fit_report(shift: object, T_s_C: float | None = None) -> dict[str, Any] 
     if not isinstance(shift, ShiftTable):
         return None
     T, y = shift.T_C, shift.log10_aT_values
-    import warnings
 
     try:
         with np.errstate(all="ignore"), warnings.catch_warnings():

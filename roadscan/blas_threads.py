@@ -19,7 +19,10 @@ OpenBLAS, ``openblas_set_num_threads`` / ``openblas_get_num_threads`` (OpenBLAS 
 from __future__ import annotations
 
 import contextlib
+import ctypes
 import functools
+import glob
+import os
 from collections.abc import Iterator
 
 __all__ = ["single_threaded_blas"]
@@ -36,9 +39,6 @@ _NAMES = (
 @functools.lru_cache(maxsize=1)
 def _openblas_functions():
     """(get, set) of the OpenBLAS bundled with numpy, or None."""
-    import ctypes
-    import glob
-    import os
 
     import numpy
 

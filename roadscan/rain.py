@@ -48,6 +48,7 @@ line of dropouts is capped from the lowest measured point of each part.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -96,7 +97,6 @@ def _flood_kernel():
 
 
 def _flood_warm():
-    import sys
 
     mod = sys.modules.get("roadscan._flood")
     return mod is not None and bool(mod._flood.signatures)

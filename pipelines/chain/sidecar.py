@@ -5,6 +5,11 @@ read back by ``roadscan friction``."""
 
 from __future__ import annotations
 
+import dataclasses
+import json
+from pathlib import Path
+from types import SimpleNamespace
+
 import numpy as np
 
 from pipelines.chain.steps import noise_floor_end
@@ -66,10 +71,6 @@ def read_band_sidecar(psd_path):
     -------
     tuple or None
     """
-    import dataclasses
-    import json
-    from pathlib import Path
-    from types import SimpleNamespace
 
     from roadscan.errors import InputError
     from roadscan.fit import SelfAffineFit

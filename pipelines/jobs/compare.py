@@ -182,7 +182,6 @@ def compare(
     dict
         The ``comparison.json`` content.
     """
-    import os
 
     from pipelines.checks.validate import collecting
     from pipelines.settings.analyse import spectrum_kwargs, unique_stems

@@ -28,10 +28,13 @@ fresh interpreter that inherits none of this process's open files, locks or thre
 from __future__ import annotations
 
 import contextlib
+import multiprocessing
 import os
 import signal
 import sys
+import threading
 import types
+import warnings
 from typing import Any
 
 __all__ = ["InProcess", "FigureProcess", "figure_drawer"]
@@ -216,8 +219,6 @@ _STOP_SIGNALS = ("SIGINT", "SIGTERM", "SIGHUP")
 
 def _start_method():
     """``"fork"`` on Linux when this process runs no other Python thread, else ``"spawn"``."""
-    import multiprocessing
-    import threading
 
     if (
         sys.platform.startswith("linux")
@@ -265,7 +266,6 @@ def _warm_up(parent_pid=None):
     It ends with its parent (:func:`_die_with_parent`). The stop signals get a fresh
     interpreter's dispositions (a forked helper inherits the command's handlers, and the signals
     blocked) and are then unblocked."""
-    import warnings
 
     if parent_pid is not None:
         _die_with_parent(parent_pid)

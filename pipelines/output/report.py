@@ -8,6 +8,7 @@ from __future__ import annotations
 import os
 import re
 import sys
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -168,7 +169,6 @@ def set_title(ax, text, width=58, y=None):
     moved at draw time above top tick labels or an offset text, which matplotlib otherwise
     measures by laying out the tick labels of every axis once more (about 15 % of a figure's
     time). Only for axes with no ticks, labels or offset text on top."""
-    import textwrap
 
     nb = "\u00a0"                       # textwrap breaks only at ASCII whitespace
     text = re.sub(r"(?<=\S) ([=±]) (?=\S)", nb + r"\1" + nb, str(text))
@@ -390,7 +390,6 @@ def wavelength_axis(ax):
 def _wrapped(label, width=48):
     """A legend entry broken over lines of at most ``width`` characters (a long rubber label
     otherwise runs over the axes and the y label)."""
-    import textwrap
 
     if not label:
         return label

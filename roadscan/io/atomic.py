@@ -30,7 +30,9 @@ from __future__ import annotations
 import contextlib
 import errno
 import os
+import random
 import shutil
+import string
 import tempfile
 import time
 from pathlib import Path
@@ -263,8 +265,6 @@ class _Temporary:
         self._made = False
 
     def make(self, folder, target, option):
-        import random
-        import string
 
         letters = string.ascii_lowercase + string.digits
         for _ in range(100):

@@ -21,6 +21,7 @@ image is a coloured preview: it is handed to SurfaceTopography's Park Systems re
 from __future__ import annotations
 
 import contextlib
+import logging
 
 import numpy as np
 
@@ -96,7 +97,6 @@ def _tifffile_notes(notes):
     """Collect tifffile's log warnings ('incorrect StripByteCounts count', 'invalid offset to
     first page') into ``notes`` instead of stray stderr lines: a refusal states the problem in
     one line, a file read despite them has them in its warnings (summary.json)."""
-    import logging
 
     log = logging.getLogger("tifffile")
 

@@ -27,6 +27,7 @@ SurfaceTopography (MIT); the file formats are documented in its ``SurfaceTopogra
 from __future__ import annotations
 
 import warnings
+from importlib import metadata
 from pathlib import Path
 
 from ..errors import InputError
@@ -122,7 +123,6 @@ def vendor_version():
     -------
     str or None
     """
-    from importlib import metadata
 
     try:
         return metadata.version("SurfaceTopography")

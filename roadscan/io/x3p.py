@@ -11,6 +11,11 @@ write-then-read gives the same heights, spacings and unmeasured points bit for b
 
 from __future__ import annotations
 
+import hashlib
+import xml.etree.ElementTree as ET
+import zipfile
+from datetime import datetime, timezone
+
 import numpy as np
 
 from ..errors import InputError
@@ -43,8 +48,6 @@ def precheck_x3p(path):
     """Refuse, before x3pio allocates anything, an X3P whose main.xml declares more points than
     the size limit (:func:`roadscan.io._common.check_declared_size`) or far more data than the
     archive stores (zip bomb: :func:`roadscan.io._common.check_compression_ratio`)."""
-    import xml.etree.ElementTree as ET
-    import zipfile
 
     try:
         with zipfile.ZipFile(path) as zf:
@@ -100,9 +103,6 @@ def precheck_x3p(path):
 def _point_data_checksum_ok(path):
     """True if the point data file matches main.xml's ``MD5ChecksumPointData``, False if not,
     None if main.xml names no such checksum."""
-    import hashlib
-    import xml.etree.ElementTree as ET
-    import zipfile
 
     with zipfile.ZipFile(path) as zf:
         root = ET.fromstring(zf.read("main.xml"))
@@ -259,7 +259,6 @@ _DATE_UNKNOWN = "acquisition date unknown: the record's date is the conversion's
 
 
 def _date(text):
-    from datetime import datetime, timezone
 
     if text:
         try:

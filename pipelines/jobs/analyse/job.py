@@ -27,6 +27,8 @@ from roadscan.heightmap import Profile
 
 __all__ = ["FrictionSettings", "summarise", "run_analysis", "write_outputs", "nominal_band", "analyse_scan"]
 
+import json
+
 from pipelines.jobs.analyse.outputs import (
     draw_psd2d_figure,
     psd2d_picture,
@@ -318,7 +320,6 @@ def analyse_scan(
 def _as_json(summary):
     """The dict as ``summary.json`` holds it (numpy numbers as floats, tuples as lists,
     non-finite numbers as null), so that ``.summary`` equals the file key for key."""
-    import json
 
     from pipelines.output.report import _jsonable
 

@@ -36,6 +36,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from pipelines.output.job_result import returns_job_result
 from roadscan.errors import InputError
 
 __all__ = ["combine", "run_combine", "combine_sources", "PSD_HEADER"]
@@ -220,6 +221,7 @@ def _summary(sources, merged, fit, warnings):
     }
 
 
+@returns_job_result("combine")
 def combine(
         inputs: Any, out: str | os.PathLike[str],
         *,

@@ -25,6 +25,7 @@ import contextlib
 import contextvars
 import os
 import threading
+import weakref
 from typing import Any
 
 __all__ = ["TextureFigures", "MIN_POINTS", "levelled_from", "prepare_lattice_ahead"]
@@ -79,7 +80,6 @@ class _ReadAhead:
     short-baseline segment depth with the default ISO 13473-1 settings."""
 
     def __init__(self, scan):
-        import weakref
 
         self.scan = weakref.ref(scan)
         self.short_wanted = _short_wanted(scan, "x", None)
