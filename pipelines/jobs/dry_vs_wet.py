@@ -6,6 +6,7 @@ with water by :func:`roadscan.rain.rain_fill` in that levelled frame, and both s
 through the same spectrum and friction chain. The friction engine uses the dry surface's q0
 for both, so that only the surface changes.
 """
+
 from __future__ import annotations
 
 import os
@@ -19,6 +20,7 @@ from pipelines.jobs.analyse.job import nominal_band
 from pipelines.output import report
 from pipelines.output.job_result import returns_job_result
 from pipelines.settings.friction import FrictionSettings
+from pipelines.settings.option_docs import document_options
 from roadscan.errors import InputError
 from roadscan.heightmap import HeightMap
 from roadscan.io.atomic import atomic_save_npy
@@ -30,38 +32,40 @@ __all__ = ["dry_vs_wet", "run_dry_vs_wet", "speed_table", "mu_by_speed"]
 
 
 @returns_job_result("dry_vs_wet")
+@document_options()
 def dry_vs_wet(
-        scan: Any, out: str | os.PathLike[str],
-        *,
-        spacing: float | str | tuple[float, float] | None = None,
-        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        override_calibration: bool = False,
-        channel: int | str | None = None,
-        connectivity: Literal[4, 8] = 4,
-        max_depth: float | None = None,
-        water_film: float | None = None,
-        wet_model: Literal['persson', 'fill'] = 'persson',
-        water_depth: float | None = None,
-        water_temperature: float | None = None,
-        footprint: float | None = None,
-        block_size: float | None = None,
-        shear_stress: float | None = None,
-        window_alpha: float = 0.25,
-        fit_band: tuple[float, float] | str | None = None,
-        despike: bool = False,
-        resolution: float | None = None,
-        rubber: str | os.PathLike[str] | Any | None = None,
-        sigma0: float | str = 200000.0,
-        temperature: float | None = None,
-        flash: bool = False,
-        velocities: ArrayLike | str | None = None,
-        q0: float | None = None,
-        q1: float | None = None,
-        contact_gamma: float | None = None,
-        nu: float = 0.5,
-        extrapolate: Literal['powerlaw', 'hold'] = 'powerlaw',
-        no_friction: bool = False,
+    scan: Any,
+    out: str | os.PathLike[str],
+    *,
+    spacing: float | str | tuple[float, float] | None = None,
+    units: Literal["m", "mm", "um", "nm"] | None = None,
+    x_units: Literal["m", "mm", "um", "nm"] | None = None,
+    override_calibration: bool = False,
+    channel: int | str | None = None,
+    connectivity: Literal[4, 8] = 4,
+    max_depth: float | None = None,
+    water_film: float | None = None,
+    wet_model: Literal["persson", "fill"] = "persson",
+    water_depth: float | None = None,
+    water_temperature: float | None = None,
+    footprint: float | None = None,
+    block_size: float | None = None,
+    shear_stress: float | None = None,
+    window_alpha: float = 0.25,
+    fit_band: tuple[float, float] | str | None = None,
+    despike: bool = False,
+    resolution: float | None = None,
+    rubber: str | os.PathLike[str] | Any | None = None,
+    sigma0: float | str = 200000.0,
+    temperature: float | None = None,
+    flash: bool = False,
+    velocities: ArrayLike | str | None = None,
+    q0: float | None = None,
+    q1: float | None = None,
+    contact_gamma: float | None = None,
+    nu: float = 0.5,
+    extrapolate: Literal["powerlaw", "hold"] = "powerlaw",
+    no_friction: bool = False,
 ) -> dict[str, Any]:
     """``roadscan dry-vs-wet`` as one call: the scan rain-filled, and its spectrum and mu(v)
     dry and wet compared (:func:`run_dry_vs_wet`), written into ``out`` (all or none).
@@ -79,90 +83,7 @@ def dry_vs_wet(
         An area height file, or a scan in memory [m].
     out : str or Path
         Output folder, as ``--out``.
-    spacing : float or str or tuple[float, float] or None, default None
-        ``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or
-        5e-5,6e-5).
-    units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--units``: units of the heights in files that carry no units, and of the x (and y)
-        columns of text files without unit titles (default m).
-    x_units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--x-units``: units of the x (and y) columns of an x,z or x,y,z text file without unit
-        titles, when they differ from --units (e.g. x in m, heights in mm).
-    override_calibration : bool, default False
-        ``--override-calibration``: let --spacing/--units replace the spacing/units a file
-        carries (X3P, vendor, .npz with dx/dy..; refused otherwise); recorded as
-        calibration_override in summary.json.
-    channel : int or str or None, default None
-        ``--channel``: page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or
-        channel of an instrument file with several (index from 0 or name); recorded in
-        summary.json.
-    connectivity : Literal[4, 8], default 4
-        ``--connectivity``: connectivity of the fill (default 4, as Matlab's imfill).
-    max_depth : float or None, default None
-        ``--max-depth``: water at most this deep above each depression's lowest point [m].
-    water_film : float or None, default None
-        ``--water-film``: water available per area [m^3/m^2 = m]; fills to the smallest depth
-        cap holding it.
-    wet_model : Literal['persson', 'fill'], default 'persson'
-        ``--wet-model``: persson (sealing, squeeze-out, adhesion lost; Persson 2005, Lorenz &
-        Persson 2010) or fill (every basin filled, the thesis).
-    water_depth : float or None, default None
-        ``--water-depth``: water on the road per nominal area [m] (persson model); None means
-        0.5 mm, the nominal film of ASTM E274's skid trailer. More water never gives more grip.
-    water_temperature : float or None, default None
-        ``--water-temperature``: water temperature [C], 0-100; sets its viscosity by Vogel's
-        equation (within 1 % of IAPWS 2008); None means 20 C, the skid tests' reference.
-    footprint : float or None, default None
-        ``--footprint``: tyre contact length along the sliding [m]; the dwell time of the
-        squeeze-out is t_c = footprint / v; None means 0.12 m (Gent & Walter, The Pneumatic
-        Tire, NHTSA 2006: 0.10-0.15 m for a passenger car).
-    block_size : float or None, default None
-        ``--block-size``: tread block size [m], the length over which squeezed water escapes to
-        the grooves; None means 25 mm (Gent & Walter 2006: 20-30 mm).
-    shear_stress : float or None, default None
-        ``--shear-stress``: frictional shear stress tau_f of Persson's adhesive term
-        tau_f A/A0 [Pa]; None leaves adhesion out of both curves (the report says so).
-    window_alpha : float, default 0.25
-        ``--window-alpha``: Tukey window alpha (default 0.25).
-    fit_band : tuple[float, float] or str or None, default None
-        ``--fit-band``: self-affine fit band [1/m] (default: detected).
-    despike : bool, default False
-        ``--despike``: mark spikes as unmeasured before levelling.
-    resolution : float or None, default None
-        ``--resolution``: the instrument's lateral resolution [m] (wavelength passed at 50 %
-        amplitude; default: the file's metadata): the reliable band ends where it still passes
-        80 %.
-    rubber : str or os.PathLike[str] or Any or None, default None
-        ``--rubber``: rubber model, friction/RUBBER_TOML.md (default: the thesis's standard
-        linear solid, T_ref = 60 C).
-    sigma0 : float or str, default 200000.0
-        ``--sigma0``: nominal contact pressure sigma0 = load / nominal area, with a unit:
-        0.3MPa, 300kPa, 3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0
-        in P(q) (default 0.2MPa).
-    temperature : float or None, default None
-        ``--temperature``: background temperature T0 [C] (default: the rubber's reference
-        temperature).
-    flash : bool, default False
-        ``--flash``: flash-temperature model (Persson 2006).
-    velocities : ArrayLike or str or None, default None
-        ``--velocities``: N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,..
-        (e.g. another program's table; default 1e-4:1e2:61, where tyres slide).
-    q0 : float or None, default None
-        ``--q0``: lower end of the friction integrals [1/m], inside the spectrum (default: its
-        lowest wave vector).
-    q1 : float or None, default None
-        ``--q1``: upper end of the friction integrals [1/m]; beyond the Nyquist wave vector the
-        spectrum is extended by its self-affine fit.
-    contact_gamma : float or None, default None
-        ``--contact-gamma``: Persson's S(q) = G + (1 - G) P(q)^2 in the dissipation integrand
-        (mu = 1/2 int q^3 C S P M dq); 0 <= G <= 1, e.g. 0.5 (default: off, S = 1).
-    nu : float, default 0.5
-        ``--nu``: Poisson ratio of the rubber, 0 <= nu <= 0.5 (default 0.5).
-    extrapolate : Literal['powerlaw', 'hold'], default 'powerlaw'
-        ``--extrapolate``: master curve beyond its measured frequencies: powerlaw (E' held, E''
-        continues as the power law of its last decade; default) or hold (both held).
-    no_friction : bool, default False
-        ``--no-friction``: skip mu(v).
+    {options}
 
     Returns
     -------
@@ -196,9 +117,11 @@ def dry_vs_wet(
     with collecting():
         check_water_options(args)
         conditions = wet_conditions(args)
-        unused = [f"--{k.replace('_', '-')}" for k in ("water_depth", "water_temperature", "footprint",
-                                                        "block_size", "shear_stress")
-                  if args.wet_model == "fill" and getattr(args, k) is not None]
+        unused = [
+            f"--{k.replace('_', '-')}"
+            for k in ("water_depth", "water_temperature", "footprint", "block_size", "shear_stress")
+            if args.wet_model == "fill" and getattr(args, k) is not None
+        ]
         if unused:
             from pipelines.checks.validate import warn
 
@@ -209,12 +132,20 @@ def dry_vs_wet(
         obj = scan_of(scan, args)
         try:
             with atomic_output_dir(out, inputs=inputs) as tmp:
-                return run_dry_vs_wet(obj, tmp, settings, connectivity=args.connectivity,
-                                      max_depth_m=args.max_depth, water_film_m=args.water_film,
-                                      wet_model=args.wet_model, wet_conditions=conditions, **sk)
+                return run_dry_vs_wet(
+                    obj,
+                    tmp,
+                    settings,
+                    connectivity=args.connectivity,
+                    max_depth_m=args.max_depth,
+                    water_film_m=args.water_film,
+                    wet_model=args.wet_model,
+                    wet_conditions=conditions,
+                    **sk,
+                )
         except InputError as exc:
             if path is None or "out" in exc.hint_option or str(exc.path or "").startswith(str(out)):
-                raise                      # about the output, which it names: not the scan
+                raise  # about the output, which it names: not the scan
             raise exc.reworded(path) from None
 
 
@@ -250,9 +181,20 @@ def speed_table(v_m_per_s):
     return [i for i, x in enumerate(lv) if abs(x - round(x)) < 1e-6]
 
 
-def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=None,
-                   water_film_m=None, window_alpha=0.25, resolution_m=None, fit_band=None,
-                   despike=False, wet_model="persson", wet_conditions=None):
+def run_dry_vs_wet(
+    scan,
+    out_dir,
+    settings=None,
+    connectivity=4,
+    max_depth_m=None,
+    water_film_m=None,
+    window_alpha=0.25,
+    resolution_m=None,
+    fit_band=None,
+    despike=False,
+    wet_model="persson",
+    wet_conditions=None,
+):
     """Compute and write the dry-vs-wet comparison; returns the ``comparison.json`` dict.
 
     Both surfaces go through the one chain (:mod:`pipelines.chain.steps`) with every friction option
@@ -293,8 +235,9 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     from roadscan.rain import rain_fill
 
     if not isinstance(scan, HeightMap):
-        raise InputError(scan.name or None,
-                         "dry-vs-wet needs an area scan (a height map), not a line profile")
+        raise InputError(
+            scan.name or None, "dry-vs-wet needs an area scan (a height map), not a line profile"
+        )
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -302,14 +245,15 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     dry = level.level(scan, degree=1)
     rain = rain_fill(dry, connectivity=connectivity, max_depth_m=max_depth_m, water_film_m=water_film_m)
     wet = rain.wet
-    an_dry, rb_dry = measure(dry, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
-                             resolution_m=resolution_m)
+    an_dry, rb_dry = measure(
+        dry, window_alpha=window_alpha, fit_band=fit_band, despike=despike, resolution_m=resolution_m
+    )
     an_wet = analyse_surface(wet, window_alpha=window_alpha)
 
-    atomic_save_npy(out_dir / "wet.npy", wet.heights_m)   # NaN where unmeasured
+    atomic_save_npy(out_dir / "wet.npy", wet.heights_m)  # NaN where unmeasured
     from roadscan.io import write
 
-    write(out_dir / "wet.npz", wet)    # the same with its spacing: heights, dx, dy, unmeasured
+    write(out_dir / "wet.npz", wet)  # the same with its spacing: heights, dx, dy, unmeasured
 
     from pipelines.jobs.wet_persson import wet_model_keys
     from pipelines.output.dry_wet_report import dry_wet_figures, write_dry_wet_report
@@ -340,18 +284,32 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     psd_ratio = C_wet_on_dry / an_dry.spectrum.C_m4
     result["psd_ratio_wet_to_dry_median"] = float(np.median(psd_ratio))
 
-    figs = [report.plot_heightmap(dry, out_dir / "dry_heightmap.png", title=f"{scan.name}: dry (levelled)"),
-            report.plot_heightmap(dry, out_dir / "water_depth.png", depth_m=rain.depth_m,
-                                  title=f"{scan.name}: water depth ({connectivity}-connected fill)")]
-    figs.append(report.plot_psd([("dry", q, an_dry.spectrum.C_m4),
-                                 ("wet (rain-filled)", an_wet.spectrum.q_per_m, an_wet.spectrum.C_m4)],
-                                out_dir / "psd_dry_wet.png", title=f"{scan.name}: PSD dry and wet"))
+    figs = [
+        report.plot_heightmap(dry, out_dir / "dry_heightmap.png", title=f"{scan.name}: dry (levelled)"),
+        report.plot_heightmap(
+            dry,
+            out_dir / "water_depth.png",
+            depth_m=rain.depth_m,
+            title=f"{scan.name}: water depth ({connectivity}-connected fill)",
+        ),
+    ]
+    figs.append(
+        report.plot_psd(
+            [
+                ("dry", q, an_dry.spectrum.C_m4),
+                ("wet (rain-filled)", an_wet.spectrum.q_per_m, an_wet.spectrum.C_m4),
+            ],
+            out_dir / "psd_dry_wet.png",
+            title=f"{scan.name}: PSD dry and wet",
+        )
+    )
     from pipelines.checks import validate
     from pipelines.jobs.render3d import render_3d_view
 
-    view = render_3d_view(dry, rain.depth_m, out_dir / "surface_3d.png",
-                          title=f"{scan.name}: surface and water")
-    result["renderer_3d"] = view.renderer          # pyvista | matplotlib | None (not drawn)
+    view = render_3d_view(
+        dry, rain.depth_m, out_dir / "surface_3d.png", title=f"{scan.name}: surface and water"
+    )
+    result["renderer_3d"] = view.renderer  # pyvista | matplotlib | None (not drawn)
     if view.path is not None:
         figs.append(view.path)
     if view.note:
@@ -361,15 +319,21 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
 
     od = ow = None
     if settings.enabled:
-        od = scan_friction(an_dry, rb_dry, settings)      # analyse's mu(v) of this scan
+        od = scan_friction(an_dry, rb_dry, settings)  # analyse's mu(v) of this scan
         if od.result is not None and wet_model == "fill":
-            ow = scan_friction(an_wet, rb_dry, settings, fit=an_dry.fit,
-                               v_m_per_s=od.result.v_m_per_s, name=f"{scan.name} (wet)")
+            ow = scan_friction(
+                an_wet,
+                rb_dry,
+                settings,
+                fit=an_dry.fit,
+                v_m_per_s=od.result.v_m_per_s,
+                name=f"{scan.name} (wet)",
+            )
         refused = od if od.result is None else (ow if ow is not None and ow.result is None else None)
         if refused is not None:
             result["friction_refused"] = refused.provenance["refused"]
-    result["mpd_m"] = an_dry.mpd_m               # ISO 13473-1 on the levelled scan, as analyse
-    result["ifi_speed_constant_kmh"] = ifi_speed_constant(an_dry.mpd_m)     # ASTM E1960
+    result["mpd_m"] = an_dry.mpd_m  # ISO 13473-1 on the levelled scan, as analyse
+    result["ifi_speed_constant_kmh"] = ifi_speed_constant(an_dry.mpd_m)  # ASTM E1960
     if an_dry.mpd_m is None:
         result["mpd_note"] = an_dry.mpd_note
     result.update(film_m=None, mechanisms=None, contact_lost_v_m_per_s=None, speed_constant_model_kmh=None)
@@ -378,8 +342,9 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         from friction.wet.water import WetConditions
         from pipelines.jobs.wet_persson import persson_wet
 
-        wf, wet_keys = persson_wet(dry, an_dry, rb_dry, od, settings,
-                                   wet_conditions or WetConditions(), window_alpha=window_alpha)
+        wf, wet_keys = persson_wet(
+            dry, an_dry, rb_dry, od, settings, wet_conditions or WetConditions(), window_alpha=window_alpha
+        )
         result.update(wet_keys)
         mu_d, mu_w = wf.mu_dry, wf.mu_wet
     elif ow is not None and ow.result is not None:
@@ -387,8 +352,9 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
     else:
         mu_d = mu_w = None
     if wet_model == "fill" or wf is None:
-        result["wet_model"] = wet_model_keys(wet_model, connectivity, max_depth_m, water_film_m,
-                                             wet_conditions, settings)
+        result["wet_model"] = wet_model_keys(
+            wet_model, connectivity, max_depth_m, water_film_m, wet_conditions, settings
+        )
     if mu_d is not None:
         from pipelines.chain.provenance import rubber_label
         from pipelines.jobs.wet_persson import fall_split, speed_constant_kmh
@@ -402,9 +368,10 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         result["max_difference_mu"] = float(mu_d[i] - mu_w[i])
         result["mu_peak_dry"] = float(mu_d.max())
         result["mu_peak_wet"] = float(mu_w.max())
-        for side, mu in (("dry", mu_d), ("wet", mu_w)):     # largest mu at a grid end: no peak
-            result.update(side_keys({k: x for k, x in peak_keys(v, mu).items()
-                                     if k.startswith("peak_")}, side))
+        for side, mu in (("dry", mu_d), ("wet", mu_w)):  # largest mu at a grid end: no peak
+            result.update(
+                side_keys({k: x for k, x in peak_keys(v, mu).items() if k.startswith("peak_")}, side)
+            )
         result["speed_constant_model_kmh"] = speed_constant_kmh(v, mu_w)
         result["fall_20_100_kmh"] = fall_split(v, mu_d, mu_w)
         result["rubber"] = rubber_label(settings.rubber, settings.sigma0_Pa, od.result.meta.get("T0_C"))
@@ -414,10 +381,10 @@ def run_dry_vs_wet(scan, out_dir, settings=None, connectivity=4, max_depth_m=Non
         result["mu_dry"] = result["mu_wet"] = None
         result["max_difference_v_m_per_s"] = None
 
-    result["warnings"] = validate.warnings_list()   # every line this run printed
+    result["warnings"] = validate.warnings_list()  # every line this run printed
     from pipelines.settings.scan_input import read_record
 
-    result.update(read_record(scan))           # how the file was read: channel, overrides
+    result.update(read_record(scan))  # how the file was read: channel, overrides
     report.write_json(out_dir / "comparison.json", result)
     write_dry_wet_report(out_dir, result, figs)
     return result

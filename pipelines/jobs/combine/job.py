@@ -28,6 +28,7 @@ Outputs, all written into a temporary folder swapped in at the end
 Reference: Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014 (2022) (merging the spectra
 of several instruments within their reliable ranges).
 """
+
 from __future__ import annotations
 
 import os
@@ -37,6 +38,7 @@ from typing import Any, Literal
 import numpy as np
 
 from pipelines.output.job_result import returns_job_result
+from pipelines.settings.option_docs import document_options
 from roadscan.errors import InputError
 
 __all__ = ["combine", "run_combine", "combine_sources", "PSD_HEADER"]
@@ -56,7 +58,7 @@ def _spectra(entries, args):
         obj = load_scan(e.path, args, spacing=e.spacing, units=e.units)
         try:
             out.append(source_spectrum(obj, e.path, e.label, e.resolution_m))
-        except InputError as exc:   # the scan's spectrum cannot carry a band or fit: name it
+        except InputError as exc:  # the scan's spectrum cannot carry a band or fit: name it
             if exc.path:
                 raise
             raise exc.reworded(e.path, "cannot compute its spectrum: ") from None
@@ -94,8 +96,14 @@ def _fit(spec, band, q0=None):
         if np.isfinite(f.hurst):
             d = f.as_dict()
             d["roll_off_per_m"] = f.q_roll_per_m
-            note = None if b is None else ("self-affine fit over the whole merged band (no "
-                                           "straight stretch detected around its middle)")
+            note = (
+                None
+                if b is None
+                else (
+                    "self-affine fit over the whole merged band (no "
+                    "straight stretch detected around its middle)"
+                )
+            )
             return d, note
         last = ValueError("the fit gave no finite H")
     return None, f"no self-affine fit of the merged spectrum ({last})"
@@ -111,11 +119,17 @@ def _judge_roll_offs(sources):
 
     # an area's rings show where they bend; a profile's 2D estimate C1 / q x f(H) holds for a
     # power law only and scatters with 2 degrees of freedom per mode: its own knee test only
-    views = [RollOffView(s.label, s.band.q_roll_per_m, s.q_fov_per_m,
-                         s.band.limits.get("field_of_view") or s.band.lo_per_m,
-                         tuple(s.band.band), *((s.q_per_m, s.C_m4, s.count * s.dof_per_count)
-                                               if s.kind == "area" else ()))
-             for s in sources]
+    views = [
+        RollOffView(
+            s.label,
+            s.band.q_roll_per_m,
+            s.q_fov_per_m,
+            s.band.limits.get("field_of_view") or s.band.lo_per_m,
+            tuple(s.band.band),
+            *((s.q_per_m, s.C_m4, s.count * s.dof_per_count) if s.kind == "area" else ()),
+        )
+        for s in sources
+    ]
     verdicts = judge_roll_offs(views=views)
     for s, v in zip(sources, verdicts):
         s.roll_off = v
@@ -148,50 +162,78 @@ def combine_sources(sources):
     q0, _ = surface_q0(verdicts=verdicts)
     for s in sources:
         if not s.band.valid:
-            notes.append(f"{s.path}: left out: its reliable band [{sig3(s.band.lo_per_m)}, "
-                         f"{sig3(s.band.hi_per_m)}] 1/m is under a factor 2 wide (low end: "
-                         f"{s.band.lo_reason}; high end: {s.band.hi_reason})")
-    parts = [SpectrumPart(s.label, s.q_per_m, s.C_m4, s.count, tuple(s.band.band),
-                          s.dof_per_count, _edge_bias(s.band), s.bends)
-             for s in sources if s.band.valid]
+            notes.append(
+                f"{s.path}: left out: its reliable band [{sig3(s.band.lo_per_m)}, "
+                f"{sig3(s.band.hi_per_m)}] 1/m is under a factor 2 wide (low end: "
+                f"{s.band.lo_reason}; high end: {s.band.hi_reason})"
+            )
+    parts = [
+        SpectrumPart(
+            s.label,
+            s.q_per_m,
+            s.C_m4,
+            s.count,
+            tuple(s.band.band),
+            s.dof_per_count,
+            _edge_bias(s.band),
+            s.bends,
+        )
+        for s in sources
+        if s.band.valid
+    ]
     if not parts:
-        raise InputError(sources[0].path if len(sources) == 1 else None,
-                         "no input has a reliable band at least a factor 2 wide: nothing to merge "
-                         f"({notes[0]})")
-    # the curve starts by START_FOV x 2 pi / L of the largest field (issue 37): an area's band
+        raise InputError(
+            sources[0].path if len(sources) == 1 else None,
+            f"no input has a reliable band at least a factor 2 wide: nothing to merge ({notes[0]})",
+        )
+    # the curve starts by START_FOV x 2 pi / L of the largest field: an area's band
     # starts by k x 2 pi / L, k <= 7 for spectra up to q^-4 (roadscan.reliable_band)
     q_fov = min(s.q_fov_per_m for s in sources if s.band.valid)
     # (0.1 % under it: the value psd.csv rounds to stays by it too)
     merged = merge_spectra(parts, start_per_m=0.999 * START_FOV * q_fov)
     for g in merged.gaps:
-        notes.append(f"gap: no input measures {sig3(g['q_from_per_m'])} to {sig3(g['q_to_per_m'])} 1/m "
-                     f"(wavelengths {wavelength_of_q(g['q_to_per_m'])} to "
-                     f"{wavelength_of_q(g['q_from_per_m'])}, a factor {g['factor']:.3g}) reliably; "
-                     f"bridged by {g['bridged_by']} (n_sources = 0 in psd.csv)")
+        notes.append(
+            f"gap: no input measures {sig3(g['q_from_per_m'])} to {sig3(g['q_to_per_m'])} 1/m "
+            f"(wavelengths {wavelength_of_q(g['q_to_per_m'])} to "
+            f"{wavelength_of_q(g['q_from_per_m'])}, a factor {g['factor']:.3g}) reliably; "
+            f"bridged by {g['bridged_by']} (n_sources = 0 in psd.csv)"
+        )
     for c in merged.disagreements:
         a, b = c["labels"]
-        notes.append(f"inputs {a!r} and {b!r} disagree where both measure ({sig3(c['q_from_per_m'])} "
-                     f"to {sig3(c['q_to_per_m'])} 1/m, wavelengths "
-                     f"{wavelength_of_q(c['q_to_per_m'])} to {wavelength_of_q(c['q_from_per_m'])}): "
-                     f"C of {a!r} is {c['factor']:.3g} x that of {b!r}, beyond their scatter "
-                     f"(x{np.exp(3 * c['sigma_ln']):.3g} at 3 standard deviations): not one "
-                     f"surface, or a unit or calibration error in one; the merged rows there "
-                     f"average the two")
+        notes.append(
+            f"inputs {a!r} and {b!r} disagree where both measure ({sig3(c['q_from_per_m'])} "
+            f"to {sig3(c['q_to_per_m'])} 1/m, wavelengths "
+            f"{wavelength_of_q(c['q_to_per_m'])} to {wavelength_of_q(c['q_from_per_m'])}): "
+            f"C of {a!r} is {c['factor']:.3g} x that of {b!r}, beyond their scatter "
+            f"(x{np.exp(3 * c['sigma_ln']):.3g} at 3 standard deviations): not one "
+            f"surface, or a unit or calibration error in one; the merged rows there "
+            f"average the two"
+        )
     if merged.widened_rows_per_m:
-        at = ", ".join(f"{sig3(v)} 1/m (wavelength {wavelength_of_q(v)})"
-                       for v in merged.widened_rows_per_m)
-        notes.append(f"{len(merged.widened_rows_per_m)} row(s) at {at}: their 5-95 % band "
-                     f"excluded what the neighbouring rows say and was widened to it")
+        at = ", ".join(f"{sig3(v)} 1/m (wavelength {wavelength_of_q(v)})" for v in merged.widened_rows_per_m)
+        notes.append(
+            f"{len(merged.widened_rows_per_m)} row(s) at {at}: their 5-95 % band "
+            f"excluded what the neighbouring rows say and was widened to it"
+        )
     for s in sources:
         if s.resolution_m is None:
-            notes.append(f"{s.path}: no lateral resolution given nor in the file: its band ends "
-                         f"at Nyquist or its noise floor (give resolution_m in the manifest)")
-    spec = Spectrum(merged.q_per_m, merged.C_m4, count=np.rint(merged.count).astype(np.int64),
-                    kind="model", meta={"source": "roadscan combine"})
+            notes.append(
+                f"{s.path}: no lateral resolution given nor in the file: its band ends "
+                f"at Nyquist or its noise floor (give resolution_m in the manifest)"
+            )
+    spec = Spectrum(
+        merged.q_per_m,
+        merged.C_m4,
+        count=np.rint(merged.count).astype(np.int64),
+        kind="model",
+        meta={"source": "roadscan combine"},
+    )
     for v in verdicts:
         if v.origin == "instrument":
-            notes.append(f"input {v.label!r}: its roll-off is taken for the instrument's, not "
-                         f"the surface's (not q0): {v.reason}")
+            notes.append(
+                f"input {v.label!r}: its roll-off is taken for the instrument's, not "
+                f"the surface's (not q0): {v.reason}"
+            )
     fit, why = _fit(spec, merged.band_per_m, q0)
     if why:
         notes.append(why)
@@ -214,24 +256,38 @@ def _summary(sources, merged, fit, warnings):
         "fit": fit,
         "q0_per_m": q0,
         "q0_how": q0_how,
-        "method": ("C per ring of a common grid of 20 rings per decade: mean over the lattice "
-                   "points of every input measuring it reliably; C_lo/C_hi the 5-95 % band from "
-                   "chi-square counts and the inputs' scatter (roadscan.spectrum_merge)"),
+        "method": (
+            "C per ring of a common grid of 20 rings per decade: mean over the lattice "
+            "points of every input measuring it reliably; C_lo/C_hi the 5-95 % band from "
+            "chi-square counts and the inputs' scatter (roadscan.spectrum_merge)"
+        ),
         "warnings": warnings,
     }
 
 
+#: what this job's options mean where it narrows the shared text
+_OPTION_TEXT = {
+    "resolution": (
+        "``--resolution``: lateral resolution [m] (wavelength passed at 50 % amplitude) of inputs "
+        "given on the command line whose file does not carry one."
+    ),
+    "no_figures": ("``--no-figures``: skip combine.png."),
+}
+
+
 @returns_job_result("combine")
+@document_options(overrides=_OPTION_TEXT)
 def combine(
-        inputs: Any, out: str | os.PathLike[str],
-        *,
-        resolution: float | None = None,
-        no_figures: bool = False,
-        spacing: float | str | tuple[float, float] | None = None,
-        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        override_calibration: bool = False,
-        channel: int | str | None = None,
+    inputs: Any,
+    out: str | os.PathLike[str],
+    *,
+    resolution: float | None = None,
+    no_figures: bool = False,
+    spacing: float | str | tuple[float, float] | None = None,
+    units: Literal["m", "mm", "um", "nm"] | None = None,
+    x_units: Literal["m", "mm", "um", "nm"] | None = None,
+    override_calibration: bool = False,
+    channel: int | str | None = None,
 ) -> dict[str, Any]:
     """``roadscan combine`` as one call: several measurements of one surface merged into one
     C(q) over all their scales (see the module docstring; Sanner et al. 2022), written into
@@ -249,28 +305,7 @@ def combine(
         Height files, or a manifest CSV (header ``file[,spacing_m,units,resolution_m,label]``).
     out : str or Path
         Output folder, as ``--out``.
-    resolution : float or None, default None
-        ``--resolution``: lateral resolution [m] (wavelength passed at 50 % amplitude) of inputs
-        given on the command line whose file does not carry one.
-    no_figures : bool, default False
-        ``--no-figures``: skip combine.png.
-    spacing : float or str or tuple[float, float] or None, default None
-        ``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or
-        5e-5,6e-5).
-    units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--units``: units of the heights in files that carry no units, and of the x (and y)
-        columns of text files without unit titles (default m).
-    x_units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--x-units``: units of the x (and y) columns of an x,z or x,y,z text file without unit
-        titles, when they differ from --units (e.g. x in m, heights in mm).
-    override_calibration : bool, default False
-        ``--override-calibration``: let --spacing/--units replace the spacing/units a file
-        carries (X3P, vendor, .npz with dx/dy..; refused otherwise); recorded as
-        calibration_override in summary.json.
-    channel : int or str or None, default None
-        ``--channel``: page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or
-        channel of an instrument file with several (index from 0 or name); recorded in
-        summary.json.
+    {options}
 
     Returns
     -------
@@ -326,7 +361,7 @@ def run_combine(args):
     from pipelines.settings.analyse import check_resolution
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
-    check_resolution(args.resolution)      # the bound every command shares
+    check_resolution(args.resolution)  # the bound every command shares
     entries = collect_inputs(args.inputs, args.spacing, args.units, args.resolution)
     inputs = [str(e.path) for e in entries] + [str(p) for p in args.inputs]
     check_output_dir(args.out, inputs=inputs)
@@ -337,8 +372,11 @@ def run_combine(args):
     summary = _summary(sources, merged, fit, validate.warnings_list())
     with atomic_output_dir(args.out, inputs=inputs) as tmp:
         tmp = Path(tmp)
-        report.write_csv(tmp / "psd.csv", PSD_HEADER, [merged.q_per_m, merged.C_m4, merged.C_lo_m4,
-                                                      merged.C_hi_m4, merged.n_sources])
+        report.write_csv(
+            tmp / "psd.csv",
+            PSD_HEADER,
+            [merged.q_per_m, merged.C_m4, merged.C_lo_m4, merged.C_hi_m4, merged.n_sources],
+        )
         report.write_json(tmp / "combine.json", summary)
         fig = None if args.no_figures else draw_combine(sources, merged, fit, tmp / "combine.png")
         write_combine_report(tmp / "report.html", summary, fig)
