@@ -23,13 +23,17 @@ score). Posterior probabilities as in :func:`pipelines.diagnosis.fit.evidence.po
 the other half shared by the single effects tried). The rule is the few-point one (:mod:`.few`):
 
 - an effect is named when its posterior is at least ``P_NAME`` (0.9); the held-out error is the
-  check: it must also be the held-out verdict (:func:`.many.decide`: it shrinks the held-out gap
-  by ``MIN_SHRINK``, physical). A held-out name below ``P_NAME`` is withdrawn: inconclusive
-  between the most probable explanations (together ``P_NAME``, at most three), or no effect when
-  the baseline is among them.
-- held-out rivals (:func:`.many.rivals`: explanations the held-out points cannot tell apart)
-  do not make the verdict inconclusive when the evidence over every point names one of them at
-  ``P_NAME`` (without uncertain inputs; with them the calibration's own rivals stand).
+  check: the name of the held-out verdict (:func:`.many.decide`) stands at posterior ``P_NAME``;
+  otherwise the evidence's most probable explanation is named when it reaches ``P_NAME``, is
+  physical, shrinks the held-out gap by ``MIN_SHRINK`` and the held-out points find it no worse
+  than their best (within a tenth of the noise); otherwise the held-out name is withdrawn:
+  inconclusive between the most probable explanations (together ``P_NAME``, at most three), or
+  no effect when the baseline is among them. The same holds when the held-out verdict named
+  nothing (held-out rivals the evidence separates), except with ``--uncertain`` ranges, where the
+  calibration's verdicts and :func:`.search_few.second_opinion` stand.
+- with only q1's default range uncertain (no ``--uncertain``), the nominal fits are compared
+  (an effect fitted with q1 calibrated is that effect plus fine roughness, :mod:`.same_physics`).
+  Candidates of one label (e.g. an effect fitted twice) add their posteriors.
 - a named pair gives way to its better single effect unless its evidence is larger by
   ``LOG_STRONG`` = ln 20 (Kass & Raftery's "strong", 2 ln B > 6): the few-point regime names no
   pair.
@@ -147,22 +151,36 @@ def _record(verdict, p0, ranked, base_name, named):
                    "doi:10.1080/01621459.1995.10476572"),
         named_by_heldout=named, threshold=P_NAME,
         models=[dict(name=base_name, posterior=p0)]
-        + [dict(name=_label(c), log_evidence=z, k=c.k, posterior=p) for c, z, p in ranked[:6]])
+        + [dict(name=c.name, log_evidence=z, k=c.k, posterior=p) for c, z, p in ranked[:8]])
 
 
-def check_named(verdict, best, pool, n, noise, z_base, g_ref=None, base_name="nominal", rescue=False):
+def _merged(ranked):
+    """Posterior per explanation: an effect fitted at the nominal inputs and with the calibration
+    of a default q1 range is one explanation (their posteriors add). Returns [(label, p, the
+    candidate of higher evidence)], most probable first."""
+    out = {}
+    for c, z, p in ranked:
+        lab = _label(c)
+        q, top, zt = out.get(lab, (0.0, c, z))
+        out[lab] = (q + p, top if zt >= z else c, max(zt, z))
+    return sorted(((lab, q, c) for lab, (q, c, _) in out.items()), key=lambda t: -t[1])
+
+
+def check_named(verdict, best, pool, n, noise, z_base, g_ref=None, base_name="nominal", rescue=False,
+                intervals=None):
     """The held-out verdict under the evidence over every point (see the module docstring).
 
     Parameters
     ----------
     verdict : dict
         The verdict of :func:`.many.decide`; changed in place when the evidence withdraws the
-        name or decides a held-out tie. Its ``all_points`` entry (moved into
+        name or names another explanation. Its ``all_points`` entry (moved into
         ``verdict.evidence`` by the caller) lists the posteriors.
     best : Candidate or None
         The named candidate.
     pool : list of Candidate
-        The explanations of the same kind (with the calibration when ``best`` has it).
+        The explanations compared (effects at the nominal inputs, and each with the calibration
+        of the uncertain inputs when they are compared too).
     n : int
         Measured points.
     noise : float
@@ -170,12 +188,14 @@ def check_named(verdict, best, pool, n, noise, z_base, g_ref=None, base_name="no
     z_base : float
         The baseline's log evidence over every point (:func:`all_points_evidence`).
     g_ref : float, optional
-        The baseline held-out gap (the reason's reference when a pair gives way to its single or
-        the evidence decides a held-out tie; None: neither is done).
+        The baseline held-out gap (the reference of a verdict the evidence names; None: the
+        evidence only withdraws names).
     base_name : str, optional
         The baseline's name ("nominal" or "calibration").
     rescue : bool, optional
-        Let the evidence decide a tie of held-out rivals (without uncertain inputs).
+        Let the evidence name an explanation when the held-out verdict named none.
+    intervals : callable, optional
+        ``intervals(c)``: the calibrated inputs of a candidate with their intervals.
 
     Returns
     -------
@@ -184,38 +204,41 @@ def check_named(verdict, best, pool, n, noise, z_base, g_ref=None, base_name="no
     """
     from pipelines.diagnosis.verdict.many import MIN_SHRINK, _name
 
-    inc = verdict.get("inconclusive") or []
-    if best is None and rescue and g_ref is not None and inc and "calibration" not in inc:
-        p0, ranked = evidence_posteriors(pool, z_base, n, noise)
-        _record(verdict, p0, ranked, base_name, None)
-        if ranked and ranked[0][2] >= P_NAME and _label(ranked[0][0]) in inc and \
-                ranked[0][0].shrink >= MIN_SHRINK:
-            top, p = ranked[0][0], ranked[0][2]
-            verdict["inconclusive"] = []
-            _name(verdict, top, g_ref)
-            tied = ", ".join(x for x in inc if x != top.name)
-            verdict["reason"] += (f"; the held-out points tie it with {tied}, the evidence over every "
-                                  f"point decides (posterior {p:.3f})")
-            return top
-        return None
-    if best is None or not best.effect_names:
+    if best is not None and not best.effect_names:
         return best
-    best = _parsimony(verdict, best, pool, n, noise, g_ref)
-    pair = best if len(best.effect_names) > 1 else None
+    if best is not None:
+        best = _parsimony(verdict, best, pool, n, noise, g_ref)
+    pair = best if best is not None and len(best.effect_names) > 1 else None
     p0, ranked = evidence_posteriors(pool, z_base, n, noise, extra=pair)
-    name0 = _label(best)
-    _record(verdict, p0, ranked, base_name, name0)
-    p_best = next((p for c, _, p in ranked if c is best), 0.0)
-    if p_best >= P_NAME:
+    _record(verdict, p0, ranked, base_name, None if best is None else best.name)
+    merged = _merged(ranked)
+    name0 = None if best is None else _label(best)
+    p_best = next((q for lab, q, _ in merged if lab == name0), 0.0)
+    if best is not None and p_best >= P_NAME:
         return best
+    # the evidence's own choice, checked by the held-out points: it shrinks the held-out gap by
+    # MIN_SHRINK and the held-out points find it no worse than the best of them (within 0.1 noise)
+    held = [c.gap_heldout for c in pool if np.isfinite(c.gap_heldout)]
+    if merged and g_ref is not None and (best is not None or rescue) and merged[0][1] >= P_NAME and held:
+        lab, p, c = merged[0]
+        if c.shrink >= MIN_SHRINK and c.gap_heldout <= min(held) + 0.1 * noise:
+            verdict.update(inconclusive=[], implausible=[], implausible_why=[])
+            cal = "calibration" in c.effects[0].name
+            _name(verdict, c, g_ref, calibrated=intervals(c) if cal and intervals is not None else None)
+            verdict["reason"] += (f"; the most probable explanation over every point (posterior {p:.3f}"
+                                  + (f"; the held-out score preferred {name0}, posterior {p_best:.2f}"
+                                     if name0 else "") + ")")
+            return c
+    if best is None:
+        return None
     acc, names = 0.0, []
-    for name, p in sorted([(base_name, p0)] + [(_label(c), p) for c, _, p in ranked], key=lambda t: -t[1]):
+    for lab, q in sorted([(base_name, p0)] + [(lab, q) for lab, q, _ in merged], key=lambda t: -t[1]):
         if len(names) >= 3 or acc >= P_NAME:
             break
-        names.append(name)
-        acc += p
-    listed = ", ".join(f"{x['name']} {x['posterior']:.2f}" for x in sorted(
-        verdict["all_points"]["models"], key=lambda m: -m["posterior"])[:3])
+        names.append(lab)
+        acc += q
+    listed = ", ".join(f"{lab} {q:.2f}" for lab, q in sorted(
+        [(base_name, p0)] + [(lab, q) for lab, q, _ in merged], key=lambda t: -t[1])[:3])
     verdict.update(effect=None, confidence=None, shrink=None, shrink_interval=None, calibrated={},
                    at_bound=[], inconclusive=[])
     if base_name in names or len(names) < 2:

@@ -195,22 +195,25 @@ def _one_explanation(verdict, best, equiv, train):
     return None
 
 
-def _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho):
-    """The held-out verdict under the evidence over every point (:mod:`.evidence_check`): the
-    explanations of the named one's kind (each with the calibration when it carries it) against
-    their baseline (the calibration, else the nominal model)."""
+def _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho, default_only,
+                   intervals):
+    """The held-out verdict under the evidence over every point (:mod:`.evidence_check`); with
+    ``--uncertain`` ranges the calibration and the effects fitted with it, else the nominal fits."""
     from pipelines.diagnosis.fit.evidence import loglik, noise_scale
     from pipelines.diagnosis.verdict.evidence_check import all_points_evidence, check_named
 
-    with_cal = best is not None and best.effects[0].name == "calibration"
-    if best is None and cal is not None:
-        return best
-    if with_cal:
-        pool, z0, base = calpairs, all_points_evidence(cal, n, noise), "calibration"
-    else:
-        pool, base = list(singles) + list(pair_list), "nominal"
-        z0 = loglik(n * g_all * g_all, n, noise_scale(noise))
-    return check_named(verdict, best, pool, n, noise, z0, g_ref=g_ho, base_name=base, rescue=cal is None)
+    z_nom = loglik(n * g_all * g_all, n, noise_scale(noise))
+    if cal is not None and not default_only:
+        if best is None or best.effects[0].name != "calibration":
+            return best
+        z_cal = all_points_evidence(cal, n, noise)
+        return check_named(verdict, best, calpairs, n, noise, z_cal, g_ref=g_ho, base_name="calibration",
+                           intervals=intervals)
+    # q1's default range alone: the inputs as given are believed first (:func:`.many.decide`); an
+    # effect fitted with q1 calibrated is that effect plus fine roughness (:mod:`.same_physics`), a
+    # pair, so the nominal fits are compared
+    pool = list(singles) + list(pair_list)
+    return check_named(verdict, best, pool, n, noise, z_nom, g_ref=g_ho, rescue=True, intervals=intervals)
 
 
 def _as_explanation(ctx, real_mu, c, s):
@@ -411,7 +414,8 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     equiv = (lambda c, rows=None: equivalence(ctx, real_mu, c, ranges, free, noise, rows=rows)) if free else None
     verdict, best = decide(singles, pair_list, cal, calpairs, st, intervals=icals)
     if significant and verdict.get("effect") != "calibration":
-        best = _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho)
+        best = _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho,
+                              st["default_only"], icals)
     best = _one_explanation(verdict, best, equiv, ho.train)
     expl = None
     if best is not None and cal_e is not None and any(ranges[k].source == "given" for k in free) \
