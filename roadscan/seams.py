@@ -60,6 +60,8 @@ def _jumps(profiles, sigma):
     Adjacent differences above the limit are outliers; a run of them with the same sign is one
     step (a step inside a block of a profile splits over two differences), sized by their sum.
     """
+    if not sigma > 0:  # no measured local texture (or NaN): no step can be judged against it
+        return None
     d = np.nan_to_num(np.diff(profiles, axis=1), nan=0.0)
     spread = _mad_sigma(d.ravel())
     limit = max(STEP_SIGMAS * sigma, OUTLIER_FACTOR * spread)

@@ -341,7 +341,10 @@ def test_real_master_curve_runs_without_numpy_warnings(capsys, tmp_path, flash):
             *(["--flash"] if flash else []),
         ],
     )
-    assert rc == 0 and "warning" not in err, err
+    # no numpy warning, nothing about the rubber; on this compound mu still rises at the default
+    # speeds' end (100 m/s), which is a warning of its own since the peak lies beyond them
+    said = [ln for ln in err.splitlines() if "warning" in ln]
+    assert rc == 0 and all("still rising" in ln for ln in said), err
 
 
 def test_undefined_slopes_are_null_with_a_warning(monkeypatch, capsys, tmp_path):

@@ -13,6 +13,7 @@ from fault_tools import assert_one_line_error, run_cli
 from pipelines.output.headline import (
     RUBBER_ILLUSTRATIVE,
     WET_MODEL,
+    WET_MODEL_PERSSON,
     hurst_keys,
     hurst_text,
     peak_keys,
@@ -171,14 +172,24 @@ def test_dry_vs_wet_says_what_the_wet_model_covers(tmp_path, capsys):
     rc, err = run_cli(capsys, ["dry-vs-wet", SAMPLE, "--out", out])
     assert rc == 0, err
     c = json.loads((out / "comparison.json").read_text())
-    assert c["wet_model"]["covers"] == WET_MODEL["covers"]
+    # the default (persson) model says what it covers and leaves out, as the fill model does
+    assert c["wet_model"]["name"] == "persson"
+    assert c["wet_model"]["covers"] == WET_MODEL_PERSSON["covers"]
     left = " ".join(c["wet_model"]["leaves_out"])
-    for word in ("adhesion", "squeeze-out", "viscous"):
+    for word in ("viscous film", "resolution", "temperature"):
         assert word in left
     assert "peak_at_edge_dry" in c and "peak_at_edge_wet" in c
     page = (out / "report.html").read_text()
     assert "What the wet model covers" in page and "squeeze-out" in page
     assert RUBBER_ILLUSTRATIVE in c["rubber"]
+    out = tmp_path / "fill"
+    rc, err = run_cli(capsys, ["dry-vs-wet", SAMPLE, "--wet-model", "fill", "--out", out])
+    assert rc == 0, err
+    c = json.loads((out / "comparison.json").read_text())
+    assert c["wet_model"]["covers"] == WET_MODEL["covers"]
+    left = " ".join(c["wet_model"]["leaves_out"])
+    for word in ("adhesion", "squeeze-out", "viscous"):
+        assert word in left
 
 
 def test_compare_names_rubber_and_edge_per_surface(tmp_path, capsys):

@@ -108,3 +108,17 @@ def test_step_warning_reaches_comparison_json(tmp_path):
     c = json.loads((out / "comparison.json").read_text())
     assert set(c) == {"a", "b"} and "warnings" not in c["a"]
     assert any("stitching fault" in w and "b.npy" in w for w in c["b"]["warnings"])
+
+
+def test_a_map_with_almost_nothing_measured_has_no_step_to_judge():
+    # 18 measured points of 480: the local texture's rms is 0, no step can be sized against it
+    # (a division by zero before: the fuzz suite's nan_most case)
+    from roadscan.heightmap import HeightMap
+    from roadscan.seams import find_steps
+
+    from fuzz_files import _rough
+
+    rng = np.random.default_rng(2)
+    z = _rough(rng, (16, 30)) * 1e-4
+    z[rng.random(z.shape) < 0.97] = np.nan
+    assert find_steps(HeightMap(z, 5e-5, 5e-5)) == []

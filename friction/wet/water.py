@@ -57,7 +57,7 @@ DEFAULT_SOURCES = {
     "water_temperature_C": (DEFAULT_WATER_TEMPERATURE_C, "20 C, the reference temperature of skid tests"),
     "footprint_m": (
         DEFAULT_FOOTPRINT_M,
-        "passenger-car footprint 0.10-0.15 m (Gent & Walter, The Pneumatic Tire, 2006)",
+        "passenger-car footprint 100-150 mm long (Gent & Walter, The Pneumatic Tire, 2006)",
     ),
     "block_size_m": (DEFAULT_BLOCK_SIZE_M, "passenger-car tread blocks 20-30 mm (Gent & Walter 2006)"),
     "percolation_contact_fraction": (

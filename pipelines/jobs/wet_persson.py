@@ -95,7 +95,7 @@ def wet_model_keys(name, connectivity=4, max_depth_m=None, water_film_m=None, co
     dict
     """
     from friction.wet.water import DEFAULT_SOURCES, WetConditions
-    from pipelines.output.headline import WET_MODEL
+    from pipelines.output.headline import WET_MODEL, WET_MODEL_PERSSON
 
     flash = bool(settings is not None and settings.flash)
     model = "flash temperature" if flash else "isothermal"
@@ -129,6 +129,7 @@ def wet_model_keys(name, connectivity=4, max_depth_m=None, water_film_m=None, co
     default = WetConditions()
     return {
         "name": "persson",
+        **WET_MODEL_PERSSON,
         "parameters": params,
         "given": [k for k in params if k in DEFAULT_SOURCES and params[k] != getattr(default, k)],
         "sources": {k: src for k, (_, src) in DEFAULT_SOURCES.items()},

@@ -38,6 +38,7 @@ __all__ = [
     "side_keys",
     "hurst_pair_text",
     "WET_MODEL",
+    "WET_MODEL_PERSSON",
     "wet_model_html",
     "friction_headline",
 ]
@@ -250,6 +251,30 @@ WET_MODEL = {
         "the wet/dry ratio reflects only the roughness the water hides, so it "
         "changes little with speed; measured wet friction also falls with speed "
         "through the effects left out"
+    ),
+}
+
+
+#: what the persson wet model of dry-vs-wet (the default) covers and leaves out
+WET_MODEL_PERSSON = {
+    "covers": (
+        "the hysteresis friction of the rubber on the surface whose pools the contact seals at "
+        "the magnification where it percolates (Persson et al., Phys. Rev. B 71, 035428 (2005)), "
+        "the squeeze-out of the water film under a tread block during the dwell time (averaged "
+        "Reynolds flow with Persson's contact pressure), the water's inertia at the footprint's "
+        "front (Horne & Dreher 1963), adhesion lost where water separates the surfaces (with "
+        "--shear-stress), and the viscous drag of the film where contact is lost"
+    ),
+    "leaves_out": [
+        "the viscous film on the asperity tops (thin-film lubrication of the microtexture)",
+        "roughness below the scan's resolution",
+        "the tread's grooves as water storage",
+        "the water's effect on rubber temperature",
+    ],
+    "consequence": (
+        "on textured roads the squeezed film drains within the dwell time, so most of the fall "
+        "of mu_wet with speed is the dry curve's own; measured wet friction falls faster "
+        "through the microtexture's film, which the scan does not resolve"
     ),
 }
 
