@@ -215,7 +215,8 @@ def run_compound(label, csv, rubber, setting, root):
         confidence=v.get("confidence"),
         seconds=dt,
         implausible=bool(v.get("implausible")) and named(called),
-        next_ok=(not low) or v.get("next_measurement") is not None,
+        # diagnosis.json carries next_measurement at the top level (the verdict's copy is dropped)
+        next_ok=(not low) or (diag.get("next_measurement") or v.get("next_measurement")) is not None,
     )
 
 
