@@ -87,10 +87,12 @@ def friction(
     tol: float = 0.001,
 ) -> dict[str, Any]:
     """``roadscan friction`` as one call: mu(v) and the real contact area A/A0 = P(q1) from a
-    spectrum and a rubber (Persson, J. Chem. Phys. 115, 3840 (2001); with ``flash=True`` the
-    flash temperature of Persson, J. Phys.: Condens. Matter 18, 7789 (2006)), written as
-    ``out`` (mu.csv), ``<stem>_summary.json`` and ``<stem>.png`` beside it, all or none
-    (:func:`pipelines.jobs.friction.run_friction`).
+    spectrum and a rubber, written as ``out`` (mu.csv) with ``<stem>_summary.json`` and
+    ``<stem>.png`` beside it, all or none (:func:`pipelines.jobs.friction.run_friction`).
+
+    Persson's theory: B.N.J. Persson, J. Chem. Phys. 115, 3840 (2001),
+    doi:10.1063/1.1388626; with ``flash=True`` the flash temperature of Persson, J. Phys.:
+    Condens. Matter 18, 7789 (2006), doi:10.1088/0953-8984/18/32/025.
 
     ``options`` are the command's long flags with dashes as underscores, taking what the flag
     takes: exactly one of ``psd="psd.csv"`` or ``self_affine="H=0.8,h0=1e-4,q0=1e3,q1=1e6"``,
