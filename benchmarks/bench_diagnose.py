@@ -10,6 +10,7 @@ baseline engine call in the same process.
 
 Usage: python benchmarks/bench_diagnose.py [N_EFFECT=48] [N_NULL=20] [SEED0=1000]
 """
+
 from __future__ import annotations
 
 import sys
@@ -28,8 +29,10 @@ from pipelines.diagnosis.verdict.search import diagnose_friction
 def main(n_effect=48, n_null=20, seed0=1000):
     t0 = time.perf_counter()
     cases, rejected = draw_cases(n_effect, n_null, seed0=seed0, log=print)
-    print(f"drew {len(cases)} cases ({rejected} rejected as not "
-          f"identifiable) in {time.perf_counter() - t0:.0f} s")
+    print(
+        f"drew {len(cases)} cases ({rejected} rejected as not "
+        f"identifiable) in {time.perf_counter() - t0:.0f} s"
+    )
     hits, shrinks, fps, nulls, times, engine = 0, [], 0, 0, [], []
     per_effect = {}
     for c in cases:
@@ -42,30 +45,37 @@ def main(n_effect=48, n_null=20, seed0=1000):
         got = d.verdict["effect"]
         if c.effect is None:
             nulls += 1
-            fps += got not in (None, "calibration")   # calibration names no effect (issue 19)
-            print(f"seed {c.seed:5d} null  -> {got}  gap {d.baseline_gap:.4f} "
-                  f"noise {d.noise:.4f} ({d.seconds:.1f} s)")
+            fps += got not in (None, "calibration")  # calibration names no effect (issue 19)
+            print(
+                f"seed {c.seed:5d} null  -> {got}  gap {d.baseline_gap:.4f} "
+                f"noise {d.noise:.4f} ({d.seconds:.1f} s)"
+            )
             continue
         # fine roughness answered by calibrating q1 (uncertain by default where mu is carried by
         # the cut-off) is right (issue 19)
-        ok = got == c.effect or (c.effect == "fine_roughness" and got == "calibration"
-                                 and "q1_per_m" in d.verdict["calibrated"])
+        ok = got == c.effect or (
+            c.effect == "fine_roughness" and got == "calibration" and "q1_per_m" in d.verdict["calibrated"]
+        )
         hits += ok
         per_effect.setdefault(c.effect, []).append(ok)
         if d.verdict["shrink"] is not None:
             shrinks.append(d.verdict["shrink"])
         else:
             shrinks.append(0.0)
-        print(f"seed {c.seed:5d} {c.effect:20s} -> {got!s:40s} shrink "
-              f"{d.verdict['shrink'] if d.verdict['shrink'] is None else round(d.verdict['shrink'], 3)}"
-              f"  ({d.seconds:.1f} s)")
+        print(
+            f"seed {c.seed:5d} {c.effect:20s} -> {got!s:40s} shrink "
+            f"{d.verdict['shrink'] if d.verdict['shrink'] is None else round(d.verdict['shrink'], 3)}"
+            f"  ({d.seconds:.1f} s)"
+        )
     n_eff = len(cases) - nulls
     print("\nper effect:", {k: f"{sum(v)}/{len(v)}" for k, v in per_effect.items()})
     print(f"top-1 accuracy      : {hits}/{n_eff} = {hits / max(n_eff, 1):.1%}  (goal >= 90 %)")
     print(f"median held-out shrink: {np.median(shrinks):.1%}  (goal >= 70 %)")
     print(f"false positives     : {fps}/{nulls} = {fps / max(nulls, 1):.1%}  (goal <= 10 %)")
-    print(f"diagnosis time      : median {np.median(times):.1f} s, max {np.max(times):.1f} s (goal < 60 s); "
-          f"ratio to one baseline engine call: {np.median(times) / np.median(engine):.0f}x")
+    print(
+        f"diagnosis time      : median {np.median(times):.1f} s, max {np.max(times):.1f} s (goal < 60 s); "
+        f"ratio to one baseline engine call: {np.median(times) / np.median(engine):.0f}x"
+    )
 
     import tempfile
 

@@ -84,6 +84,7 @@ Usage::
         [--keep DIR] [--json FILE] [--level both|surface|friction|offsets|all] [--offsets 20]
         [--offset-nulls 10] [--few]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -139,23 +140,51 @@ from bench_diagnose_blind_surface import (
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--cases", type=int, default=40, help="friction-level effect cases per seed set (default 40)")
-    ap.add_argument("--nulls", type=int, default=10, help="friction-level null cases per seed set (default 10)")
+    ap.add_argument(
+        "--cases", type=int, default=40, help="friction-level effect cases per seed set (default 40)"
+    )
+    ap.add_argument(
+        "--nulls", type=int, default=10, help="friction-level null cases per seed set (default 10)"
+    )
     ap.add_argument("--seed", type=int, default=None, help="one seed set (same as --seeds N)")
-    ap.add_argument("--seeds", default="1000,2000,3000", help="comma-separated seed sets (default 1000,2000,3000)")
+    ap.add_argument(
+        "--seeds", default="1000,2000,3000", help="comma-separated seed sets (default 1000,2000,3000)"
+    )
     ap.add_argument("--jobs", type=int, default=2, help="diagnoses run in parallel")
     ap.add_argument("--keep", default=None, help="keep case files here")
     ap.add_argument("--json", default=None, help="write per-case results (both levels) here")
-    ap.add_argument("--surface", type=int, default=5, help="surface-level cases per kind and seed set (default 5; 0: none)")
-    ap.add_argument("--level", choices=("both", "surface", "friction", "offsets", "all"), default="both",
-                    help="both: surface and friction (no offsets); offsets: worlds with unknown input offsets "
-                         "run with --uncertain (issue 19); all: the three")
-    ap.add_argument("--offsets", type=int, default=20, help="offset worlds with an effect per seed set (default 20)")
-    ap.add_argument("--offset-nulls", type=int, default=10, help="offset worlds without an effect per seed set (default 10)")
-    ap.add_argument("--few", action="store_true",
-                    help="offset worlds with 5 to 10 measured speeds instead of 20 to 40 (issue 27)")
-    ap.add_argument("--quick", action="store_true",
-                    help="one seed set, 2 surface cases per kind, 8 friction cases and 3 nulls (about 5 min on 2 cores)")
+    ap.add_argument(
+        "--surface",
+        type=int,
+        default=5,
+        help="surface-level cases per kind and seed set (default 5; 0: none)",
+    )
+    ap.add_argument(
+        "--level",
+        choices=("both", "surface", "friction", "offsets", "all"),
+        default="both",
+        help="both: surface and friction (no offsets); offsets: worlds with unknown input offsets "
+        "run with --uncertain (issue 19); all: the three",
+    )
+    ap.add_argument(
+        "--offsets", type=int, default=20, help="offset worlds with an effect per seed set (default 20)"
+    )
+    ap.add_argument(
+        "--offset-nulls",
+        type=int,
+        default=10,
+        help="offset worlds without an effect per seed set (default 10)",
+    )
+    ap.add_argument(
+        "--few",
+        action="store_true",
+        help="offset worlds with 5 to 10 measured speeds instead of 20 to 40 (issue 27)",
+    )
+    ap.add_argument(
+        "--quick",
+        action="store_true",
+        help="one seed set, 2 surface cases per kind, 8 friction cases and 3 nulls (about 5 min on 2 cores)",
+    )
     a = ap.parse_args(argv)
     seeds = [a.seed] if a.seed is not None else [int(x) for x in a.seeds.split(",") if x.strip()]
     if a.quick:
@@ -175,7 +204,9 @@ def main(argv=None):
             report(rows, t_gen)
             fric += rows
         if a.level in ("offsets", "all") and (a.offsets or a.offset_nulls):
-            rows = run_offset_level(s, a.offsets, a.offset_nulls, a.jobs, keep and keep + "_offsets", few=a.few)
+            rows = run_offset_level(
+                s, a.offsets, a.offset_nulls, a.jobs, keep and keep + "_offsets", few=a.few
+            )
             print(f"\n#### seed set {s}")
             print(offset_report(rows, few=a.few), flush=True)
             offs += rows
@@ -184,7 +215,9 @@ def main(argv=None):
         print("\n== all seed sets ==" + offset_report(offs, few=a.few))
     print(f"\ntotal wall time {time.perf_counter() - t_all:.0f} s ({a.jobs} jobs)")
     if a.json:
-        Path(a.json).write_text(json.dumps(dict(surface=surf, friction=fric, offsets=offs), indent=1, default=str))
+        Path(a.json).write_text(
+            json.dumps(dict(surface=surf, friction=fric, offsets=offs), indent=1, default=str)
+        )
     return 0
 
 

@@ -15,6 +15,7 @@ null worlds get a named effect ("calibration", "inconclusive" and no effect are 
 effects); >= half of all effect worlds named right. A world's effect signal is measured against
 the offset truth without the effect (rms log10), and counted "strong" above 3 x the noise.
 """
+
 from __future__ import annotations
 
 import collections
@@ -41,8 +42,13 @@ from bench_diagnose_blind_run import _label, named, run_diagnose, verdict_names
 
 import friction as F
 
-OFFSET_EFFECTS = ("flash_temperature", "relaxation_spectrum", "temperature_offset", "adhesion",
-                  "contact_correction")
+OFFSET_EFFECTS = (
+    "flash_temperature",
+    "relaxation_spectrum",
+    "temperature_offset",
+    "adhesion",
+    "contact_correction",
+)
 Q1_FACTORS = (0.3, 3.0)
 SIGMA0_FACTORS = (0.7, 1.4)
 LEVELS = (0.6, 1.6)
@@ -62,9 +68,11 @@ def offset_surface(surf, q1_factor, level):
 
 def uncertain_spec(surf):
     q1 = surf.q_nyq_per_m
-    return (f"q1={Q1_FACTORS[0] * q1:.8g}:{Q1_FACTORS[1] * q1:.8g},"
-            f"sigma0={SIGMA0_FACTORS[0] * SIGMA0_PA:.8g}Pa:{SIGMA0_FACTORS[1] * SIGMA0_PA:.8g}Pa,"
-            f"psd_scale={LEVELS[0]}:{LEVELS[1]}")
+    return (
+        f"q1={Q1_FACTORS[0] * q1:.8g}:{Q1_FACTORS[1] * q1:.8g},"
+        f"sigma0={SIGMA0_FACTORS[0] * SIGMA0_PA:.8g}Pa:{SIGMA0_FACTORS[1] * SIGMA0_PA:.8g}Pa,"
+        f"psd_scale={LEVELS[0]}:{LEVELS[1]}"
+    )
 
 
 def few_speeds(seed):
@@ -93,11 +101,24 @@ def make_offset_case(seed, effect, workdir, few=False):
     noise = rng.uniform(0.02, 0.05)
     mu_meas = mu_clean * np.exp(noise * rng.standard_normal(v.size))
     write_mu_csv(d / "mu.csv", v, mu_meas)
-    case = Case(seed, effect, dict(p, offsets=dict(q1_factor=fq, sigma0_factor=fs, level=fc)), surf, v,
-                mu_model, mu_clean, mu_meas, noise, d)
+    case = Case(
+        seed,
+        effect,
+        dict(p, offsets=dict(q1_factor=fq, sigma0_factor=fs, level=fc)),
+        surf,
+        v,
+        mu_model,
+        mu_clean,
+        mu_meas,
+        noise,
+        d,
+    )
     case.signal_gap = _rms(np.log10(mu_clean / mu_offsets))
-    case.info = dict(offset_gap=_rms(np.log10(mu_offsets / mu_model)), uncertain=uncertain_spec(surf),
-                     truth=(effect, p, true_surf, s0))
+    case.info = dict(
+        offset_gap=_rms(np.log10(mu_offsets / mu_model)),
+        uncertain=uncertain_spec(surf),
+        truth=(effect, p, true_surf, s0),
+    )
     return case
 
 
@@ -106,12 +127,21 @@ def run_offset_case(case):
     names = verdict_names(diag) if "error" not in diag else ["<error>"]
     label = _label(diag, names)
     ver = diag.get("verdict") or {}
-    return dict(seed=case.seed, effect=case.effect or "null", called=label, named=named(label),
-                right=(names == [case.effect]) if case.effect else not named(label),
-                strong=case.effect is None or case.signal_gap > K_SIGNAL * case.noise_rel / np.log(10),
-                signal_gap=case.signal_gap, offset_gap=case.info["offset_gap"], seconds=dt,
-                offsets=case.params["offsets"], confidence=ver.get("confidence"),
-                calibrated=ver.get("calibrated"), error=diag.get("error"))
+    return dict(
+        seed=case.seed,
+        effect=case.effect or "null",
+        called=label,
+        named=named(label),
+        right=(names == [case.effect]) if case.effect else not named(label),
+        strong=case.effect is None or case.signal_gap > K_SIGNAL * case.noise_rel / np.log(10),
+        signal_gap=case.signal_gap,
+        offset_gap=case.info["offset_gap"],
+        seconds=dt,
+        offsets=case.params["offsets"],
+        confidence=ver.get("confidence"),
+        calibrated=ver.get("calibrated"),
+        error=diag.get("error"),
+    )
 
 
 def offset_specs(seed, n_cases, n_nulls):
@@ -127,7 +157,9 @@ def run_offset_level(seed, n_cases, n_nulls, jobs, keep=None, few=False):
     specs = offset_specs(seed, n_cases, n_nulls)
     t0 = time.perf_counter()
     cases = [make_offset_case(s, e, root / f"offset_{s}_{e or 'null'}", few=few) for s, e in specs]
-    print(f"generated {len(cases)} offset worlds in {time.perf_counter() - t0:.1f} s under {root}", flush=True)
+    print(
+        f"generated {len(cases)} offset worlds in {time.perf_counter() - t0:.1f} s under {root}", flush=True
+    )
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as ex:
         rows = list(ex.map(run_offset_case, cases))
     if not keep:
@@ -142,18 +174,24 @@ def offset_report(rows, few=False):
     """The issue's three figures (named precision, null false positives, effect recall)."""
     eff = [r for r in rows if r["effect"] != "null"]
     nul = [r for r in rows if r["effect"] == "null"]
-    out = ["\n== worlds with unknown offsets of q1, sigma0 and the spectrum's level (--uncertain)"
-           + (", 5 to 10 measured speeds ==" if few else " ==")]
+    out = [
+        "\n== worlds with unknown offsets of q1, sigma0 and the spectrum's level (--uncertain)"
+        + (", 5 to 10 measured speeds ==" if few else " ==")
+    ]
     for name, sel in (("all", eff), ("strong (signal > 3 x noise)", [r for r in eff if r["strong"]])):
         nm = [r for r in sel if r["named"]]
         ok = sum(r["right"] for r in nm)
-        out.append(f"  {name:28s} named {len(nm)}/{len(sel)}, of them right {ok}/{len(nm)} = "
-                   f"{100 * ok / max(1, len(nm)):.0f} % (goal >= 90 %); named right {ok}/{len(sel)} = "
-                   f"{100 * ok / max(1, len(sel)):.0f} % (goal >= {30 if few else 50} %)")
+        out.append(
+            f"  {name:28s} named {len(nm)}/{len(sel)}, of them right {ok}/{len(nm)} = "
+            f"{100 * ok / max(1, len(nm)):.0f} % (goal >= 90 %); named right {ok}/{len(sel)} = "
+            f"{100 * ok / max(1, len(sel)):.0f} % (goal >= {30 if few else 50} %)"
+        )
     fp = [r for r in nul if r["named"]]
-    out.append(f"  null worlds with a named effect {len(fp)}/{len(nul)} = {100 * len(fp) / max(1, len(nul)):.0f} % "
-               f"(goal <= 10 %); answered: " + ", ".join(f"{k} {n}" for k, n in
-                                                         collections.Counter(r["called"] for r in nul).most_common()))
+    out.append(
+        f"  null worlds with a named effect {len(fp)}/{len(nul)} = {100 * len(fp) / max(1, len(nul)):.0f} % "
+        f"(goal <= 10 %); answered: "
+        + ", ".join(f"{k} {n}" for k, n in collections.Counter(r["called"] for r in nul).most_common())
+    )
     conf = collections.defaultdict(collections.Counter)
     for r in rows:
         conf[r["effect"]][r["called"]] += 1
@@ -161,8 +199,11 @@ def offset_report(rows, few=False):
         out.append(f"  {e:20s} -> " + ", ".join(f"{k}: {n}" for k, n in c.most_common()))
     for r in rows:
         if (r["named"] and not r["right"]) or r.get("error"):
-            out.append(f"  wrong: seed {r['seed']} {r['effect']} -> {r['called']} ({r['confidence']}); signal "
-                       f"{r['signal_gap']:.3f}, offsets {r['offsets']}" + (f"; ERROR {r['error']}" if r.get("error") else ""))
+            out.append(
+                f"  wrong: seed {r['seed']} {r['effect']} -> {r['called']} ({r['confidence']}); signal "
+                f"{r['signal_gap']:.3f}, offsets {r['offsets']}"
+                + (f"; ERROR {r['error']}" if r.get("error") else "")
+            )
     t = [r["seconds"] for r in rows]
     out.append(f"  run time per diagnosis: median {np.median(t):.1f} s, max {np.max(t):.1f} s")
     return "\n".join(out)

@@ -1,6 +1,7 @@
 """Surface-level cases of the blind diagnosis benchmark (issue 11; see ``bench_diagnose_blind.py``):
 scans made from ``roadscan.synth.self_affine_surface`` with one hidden surface effect each, run
 through the command line."""
+
 from __future__ import annotations
 
 import json
@@ -36,20 +37,27 @@ def make_surface_heights(kind, seed, n=256):
     if kind == "rolloff":
         qr = 2 * np.pi / L * rng.uniform(3, 6)
         truth["q_roll_per_m"] = qr
-        return self_affine_surface(n, dx_m=dx, hurst=H, rms_height_m=rms, q_roll_per_m=qr,
-                                   seed=int(rng.integers(2**31))).heights_m, dx, truth
-    big = self_affine_surface(2 * n, dx_m=dx, hurst=H, rms_height_m=rms, seed=int(rng.integers(2**31))).heights_m
+        return (
+            self_affine_surface(
+                n, dx_m=dx, hurst=H, rms_height_m=rms, q_roll_per_m=qr, seed=int(rng.integers(2**31))
+            ).heights_m,
+            dx,
+            truth,
+        )
+    big = self_affine_surface(
+        2 * n, dx_m=dx, hurst=H, rms_height_m=rms, seed=int(rng.integers(2**31))
+    ).heights_m
     h = big[:n, :n].copy()
     if kind == "anisotropy":
         r = rng.uniform(2, 4)
         truth["stretch"] = r
-        h = zoom(big[:n, :int(n / r) + 2], (1, r), order=3)[:, :n]
+        h = zoom(big[:n, : int(n / r) + 2], (1, r), order=3)[:, :n]
     elif kind == "height_skew":
         sk = rng.uniform(0.8, 1.8) * rng.choice([-1, 1])
         truth["skewness"] = sk
         flat = h.ravel()
         u = (stats.rankdata(flat) - 0.5) / flat.size
-        k = 4 / sk ** 2
+        k = 4 / sk**2
         g = stats.gamma.ppf(u if sk > 0 else 1 - u, k)
         h = ((g - k) / np.sqrt(k) * np.sign(sk) * flat.std()).reshape(h.shape)
     elif kind == "seams":
@@ -59,7 +67,7 @@ def make_surface_heights(kind, seed, n=256):
             e = np.linspace(0, n, nt + 1).astype(int)
             for j in range(nt):
                 for i in range(nt):
-                    h[e[j]:e[j + 1], e[i]:e[i + 1]] += off[j, i]
+                    h[e[j] : e[j + 1], e[i] : e[i + 1]] += off[j, i]
             truth["tiles"] = nt
         else:
             k = int(rng.integers(2, 5))
@@ -98,15 +106,18 @@ def _surface_variant(kind, rng, n, dx, H, rms, truth):
     if kind == "rolloff":
         # roll-off on a map twice as large, cropped (not periodic)
         qr = 2 * np.pi / (n * dx) * rng.uniform(3, 6)
-        big = self_affine_surface(2 * n, dx_m=dx, hurst=H, rms_height_m=rms, q_roll_per_m=qr,
-                                  seed=int(rng.integers(2**31))).heights_m
+        big = self_affine_surface(
+            2 * n, dx_m=dx, hurst=H, rms_height_m=rms, q_roll_per_m=qr, seed=int(rng.integers(2**31))
+        ).heights_m
         return big[:n, :n].copy(), dict(truth, q_roll_per_m=qr, cropped=True)
-    big = self_affine_surface(3 * n, dx_m=dx, hurst=H, rms_height_m=rms, seed=int(rng.integers(2**31))).heights_m
+    big = self_affine_surface(
+        3 * n, dx_m=dx, hurst=H, rms_height_m=rms, seed=int(rng.integers(2**31))
+    ).heights_m
     if kind == "anisotropy":
         # stretched by 2-4 along x, then turned by 15-75 degrees (cubic), centre cut out
         r, ang = rng.uniform(2, 4), rng.uniform(15, 75) * rng.choice([-1, 1])
-        st = zoom(big[:, :int(3 * n / r) + 2], (1, r), order=3)[:, :3 * n]
-        h = rotate(st, ang, reshape=False, order=3)[n:2 * n, n:2 * n]
+        st = zoom(big[:, : int(3 * n / r) + 2], (1, r), order=3)[:, : 3 * n]
+        h = rotate(st, ang, reshape=False, order=3)[n : 2 * n, n : 2 * n]
         return h.copy(), dict(truth, stretch=r, angle_deg=ang)
     h = big[:n, :n].copy()
     if kind == "height_skew":
@@ -123,9 +134,11 @@ def _surface_variant(kind, rng, n, dx, H, rms, truth):
     amp = rng.uniform(0.2, 0.5) * h.std()
     for j in range(nt):
         for i in range(nt):
-            yy, xx = np.mgrid[e[j]:e[j + 1], e[i]:e[i + 1]]
+            yy, xx = np.mgrid[e[j] : e[j + 1], e[i] : e[i + 1]]
             sy, sx = rng.normal(0, amp, 2) / (n / nt)
-            h[e[j]:e[j + 1], e[i]:e[i + 1]] += rng.normal(0, amp) + sx * (xx - xx.mean()) + sy * (yy - yy.mean())
+            h[e[j] : e[j + 1], e[i] : e[i + 1]] += (
+                rng.normal(0, amp) + sx * (xx - xx.mean()) + sy * (yy - yy.mean())
+            )
     return h, dict(truth, tiles=nt, tilt=True)
 
 
@@ -134,8 +147,18 @@ def run_surface_case(kind, seed, root):
     d = Path(root) / f"surface_{seed}_{kind or 'null'}"
     d.mkdir(parents=True, exist_ok=True)
     np.save(d / "scan.npy", h)
-    cmd = [sys.executable, "-m", "pipelines.cli", "diagnose", "--scan", str(d / "scan.npy"),
-           "--spacing", f"{dx:.10g}", "--out", str(d / "out")]
+    cmd = [
+        sys.executable,
+        "-m",
+        "pipelines.cli",
+        "diagnose",
+        "--scan",
+        str(d / "scan.npy"),
+        "--spacing",
+        f"{dx:.10g}",
+        "--out",
+        str(d / "out"),
+    ]
     t = time.perf_counter()
     pr = subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT)
     dt = time.perf_counter() - t
@@ -144,11 +167,17 @@ def run_surface_case(kind, seed, root):
     diag = json.loads((d / "out" / "diagnosis.json").read_text())
     names = verdict_names(diag)
     label = _label(diag, names)
-    return dict(kind=kind or "null", seed=seed, called=label,
-                right=(names == [kind]) if kind else label == "null",
-                shrink=(diag.get("verdict") or {}).get("shrink"), seconds=dt, truth=truth,
-                inconclusive=(diag.get("verdict") or {}).get("inconclusive"),
-                families={k: round(v["gap_baseline"], 2) for k, v in (diag.get("families") or {}).items()})
+    return dict(
+        kind=kind or "null",
+        seed=seed,
+        called=label,
+        right=(names == [kind]) if kind else label == "null",
+        shrink=(diag.get("verdict") or {}).get("shrink"),
+        seconds=dt,
+        truth=truth,
+        inconclusive=(diag.get("verdict") or {}).get("inconclusive"),
+        families={k: round(v["gap_baseline"], 2) for k, v in (diag.get("families") or {}).items()},
+    )
 
 
 def surface_report(rows):
@@ -156,20 +185,26 @@ def surface_report(rows):
     for k in SURFACE_KINDS:
         sel = [r for r in rows if r["kind"] == (k or "null")]
         if sel:
-            print(f"  {k or 'null':12s} {sum(r.get('right', False) for r in sel)}/{len(sel)}  called: "
-                  + ", ".join(r.get("called", "ERROR") for r in sel))
+            print(
+                f"  {k or 'null':12s} {sum(r.get('right', False) for r in sel)}/{len(sel)}  called: "
+                + ", ".join(r.get("called", "ERROR") for r in sel)
+            )
     eff = [r for r in rows if r["kind"] != "null"]
     nul = [r for r in rows if r["kind"] == "null"]
     ok = sum(r.get("right", False) for r in eff)
     sh = [r["shrink"] for r in eff if r.get("right") and r.get("shrink") is not None]
-    print(f"  effect cases named right: {ok}/{len(eff)} = {100 * ok / max(1, len(eff)):.0f} %; "
-          f"false positives on nulls: {sum(not r.get('right', False) for r in nul)}/{len(nul)}; "
-          f"median shrink (right verdicts) {np.median(sh) if sh else float('nan'):.2f}; "
-          f"median time {np.median([r['seconds'] for r in rows]):.1f} s")
+    print(
+        f"  effect cases named right: {ok}/{len(eff)} = {100 * ok / max(1, len(eff)):.0f} %; "
+        f"false positives on nulls: {sum(not r.get('right', False) for r in nul)}/{len(nul)}; "
+        f"median shrink (right verdicts) {np.median(sh) if sh else float('nan'):.2f}; "
+        f"median time {np.median([r['seconds'] for r in rows]):.1f} s"
+    )
     for r in rows:
         if not r.get("right"):
-            print(f"  miss: {r['kind']} seed {r['seed']} -> {r.get('called')} {r.get('error', '')} "
-                  f"truth {r['truth']} families {r.get('families')}")
+            print(
+                f"  miss: {r['kind']} seed {r['seed']} -> {r.get('called')} {r.get('error', '')} "
+                f"truth {r['truth']} families {r.get('families')}"
+            )
 
 
 def run_surface_level(seed, per_kind, jobs, keep=None):

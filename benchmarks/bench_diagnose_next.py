@@ -16,6 +16,7 @@ Usage::
 
     .venv/bin/python benchmarks/bench_diagnose_next.py [--seed 1000] [--cases 10] [--nulls 5] [--jobs 2]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -65,15 +66,23 @@ def _rerun(case, v_new, tag, rng):
     d = case.dir / tag
     d.mkdir(parents=True, exist_ok=True)
     write_mu_csv(d / "mu.csv", v[o], mu[o])
-    diag, _ = run_diagnose(replace(case, dir=d), extra=["--uncertain", case.info["uncertain"]], validate=False)
+    diag, _ = run_diagnose(
+        replace(case, dir=d), extra=["--uncertain", case.info["uncertain"]], validate=False
+    )
     return diag
 
 
 def run_case(case):
     diag, dt = run_diagnose(case, extra=["--uncertain", case.info["uncertain"]], validate=False)
     nxt = diag.get("next_measurement") if "error" not in diag else None
-    row = dict(seed=case.seed, effect=case.effect or "null", n=case.v.size, seconds=dt,
-               verdict=(diag.get("verdict") or {}).get("effect"), next=nxt)
+    row = dict(
+        seed=case.seed,
+        effect=case.effect or "null",
+        n=case.v.size,
+        seconds=dt,
+        verdict=(diag.get("verdict") or {}).get("effect"),
+        next=nxt,
+    )
     if not nxt:
         return row
     a, b = nxt["between"]
@@ -84,10 +93,14 @@ def run_case(case):
     v_rand = 10 ** rng.uniform(max(lo, -7), min(hi, np.log10(30.0)), v_prop.size)
     d1 = _rerun(case, v_prop, "proposed", np.random.default_rng(case.seed + 11))
     d2 = _rerun(case, v_rand, "random", np.random.default_rng(case.seed + 11))
-    row.update(between=[a, b], separated_before=_separated(diag, a, b),
-               separated_proposed=_separated(d1, a, b) if "error" not in d1 else None,
-               separated_random=_separated(d2, a, b) if "error" not in d2 else None,
-               expected_sigma=nxt["separation_sigma"], new_points=int(v_prop.size))
+    row.update(
+        between=[a, b],
+        separated_before=_separated(diag, a, b),
+        separated_proposed=_separated(d1, a, b) if "error" not in d1 else None,
+        separated_random=_separated(d2, a, b) if "error" not in d2 else None,
+        expected_sigma=nxt["separation_sigma"],
+        new_points=int(v_prop.size),
+    )
     return row
 
 
@@ -100,28 +113,37 @@ def main(argv=None):
     a = ap.parse_args(argv)
     root = Path(tempfile.mkdtemp(prefix="diag_next_"))
     t0 = time.perf_counter()
-    cases = [make_offset_case(s, e, root / f"{s}_{e or 'null'}", few=True)
-             for s, e in offset_specs(a.seed, a.cases, a.nulls)]
+    cases = [
+        make_offset_case(s, e, root / f"{s}_{e or 'null'}", few=True)
+        for s, e in offset_specs(a.seed, a.cases, a.nulls)
+    ]
     with ThreadPoolExecutor(max_workers=max(1, a.jobs)) as ex:
         rows = list(ex.map(run_case, cases))
     shutil.rmtree(root, ignore_errors=True)
     with_next = [r for r in rows if r.get("between")]
     for r in with_next:
-        print(f"  seed {r['seed']} {r['effect']:20s} n={r['n']:2d} "
-              f"{r['between'][0]} vs {r['between'][1]}: expected "
-              + ", ".join(f"{x:.2g}" for x in r["expected_sigma"]) + f" sigma, {r['new_points']} new points; separated before "
-              f"{r['separated_before']}, proposed {r['separated_proposed']}, random {r['separated_random']}")
+        print(
+            f"  seed {r['seed']} {r['effect']:20s} n={r['n']:2d} "
+            f"{r['between'][0]} vs {r['between'][1]}: expected "
+            + ", ".join(f"{x:.2g}" for x in r["expected_sigma"])
+            + f" sigma, {r['new_points']} new points; separated before "
+            f"{r['separated_before']}, proposed {r['separated_proposed']}, random {r['separated_random']}"
+        )
     sp = sum(bool(r["separated_proposed"]) for r in with_next)
     sr = sum(bool(r["separated_random"]) for r in with_next)
-    print(f"\n{len(with_next)} of {len(rows)} worlds carry next_measurement; measuring at the proposed speeds "
-          f"separates the top two (odds >= {ODDS:g}) in "
-          f"{sp}/{len(with_next)}, the same number of random speeds "
-          f"in {sr}/{len(with_next)}")
+    print(
+        f"\n{len(with_next)} of {len(rows)} worlds carry next_measurement; measuring at the proposed speeds "
+        f"separates the top two (odds >= {ODDS:g}) in "
+        f"{sp}/{len(with_next)}, the same number of random speeds "
+        f"in {sr}/{len(with_next)}"
+    )
     open_ = [r for r in with_next if not r["separated_before"]]
-    print(f"of them {len(open_)} not yet separated before the "
-          "new points: separated after measuring as proposed "
-          f"{sum(bool(r['separated_proposed']) for r in open_)}/{len(open_)}, at random speeds "
-          f"{sum(bool(r['separated_random']) for r in open_)}/{len(open_)}")
+    print(
+        f"of them {len(open_)} not yet separated before the "
+        "new points: separated after measuring as proposed "
+        f"{sum(bool(r['separated_proposed']) for r in open_)}/{len(open_)}, at random speeds "
+        f"{sum(bool(r['separated_random']) for r in open_)}/{len(open_)}"
+    )
     print(f"total wall time {time.perf_counter() - t0:.0f} s ({a.jobs} jobs)")
     return 0
 

@@ -32,6 +32,7 @@ Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017
 (windows, leakage, reliability); Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014
 (2022) (reliability cut-off of instruments); ISO 25178-3 (lateral period limit, 50 %).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -43,9 +44,17 @@ from .order_stats import median
 from .rolloff import detect_roll_off
 from .units import length as _len
 
-__all__ = ["ReliableBand", "reliable_band", "leakage_factor", "resolution_limit",
-           "gaussian_response", "noise_limit", "NYQUIST_FRACTION", "RESPONSE_MIN",
-           "ROLL_K_MIN"]
+__all__ = [
+    "ReliableBand",
+    "reliable_band",
+    "leakage_factor",
+    "resolution_limit",
+    "gaussian_response",
+    "noise_limit",
+    "NYQUIST_FRACTION",
+    "RESPONSE_MIN",
+    "ROLL_K_MIN",
+]
 
 NYQUIST_FRACTION = 0.6
 RESPONSE_MIN = 0.8
@@ -54,9 +63,11 @@ WHITE_SHARE = 10.0
 #: window alpha -> ((slope beta of the windowed spectrum, k such that C is within ~10 % from
 #: k x 2 pi / L), ...): measured on non-periodic crops (128^2 of 1024^2 periodic surfaces, 192
 #: crops per row; the Hann window's broader main lobe leaks far less into k >= 5)
-_LEAKAGE_TABLES = {0.25: ((2.6, 4.0), (3.0, 6.0), (3.6, 12.0), (4.0, 14.0)),
-                   0.5: ((2.6, 4.0), (3.6, 6.0), (4.0, 7.0)),
-                   1.0: ((2.6, 4.0), (3.6, 5.0), (4.0, 6.0))}
+_LEAKAGE_TABLES = {
+    0.25: ((2.6, 4.0), (3.0, 6.0), (3.6, 12.0), (4.0, 14.0)),
+    0.5: ((2.6, 4.0), (3.6, 6.0), (4.0, 7.0)),
+    1.0: ((2.6, 4.0), (3.6, 5.0), (4.0, 6.0)),
+}
 _K_MIN, _K_MAX = 4.0, 15.0
 #: below a roll-off the modes longer than the view are as weak as the plateau: C is measured
 #: from this many 2 pi / L on (the steep part above a low knee, and a surface's plateau)
@@ -91,9 +102,9 @@ class ReliableBand:
     lo_reason: str
     hi_reason: str
     limits: dict = field(default_factory=dict)
-    slope: float = float("nan")        # fitted log-log slope of the spectrum analysed
+    slope: float = float("nan")  # fitted log-log slope of the spectrum analysed
     q_roll_per_m: float | None = None
-    noise_floor: float | None = None          # white level of the spectrum analysed (its units)
+    noise_floor: float | None = None  # white level of the spectrum analysed (its units)
 
     @property
     def band(self):
@@ -109,8 +120,12 @@ class ReliableBand:
         return bool(self.hi_per_m >= 2.0 * self.lo_per_m)
 
     def as_dict(self):
-        return {"reliable_band_per_m": self.band, "reliable_band_reasons": self.reasons,
-                "limits_per_m": dict(self.limits), "q_roll_per_m": self.q_roll_per_m}
+        return {
+            "reliable_band_per_m": self.band,
+            "reliable_band_reasons": self.reasons,
+            "limits_per_m": dict(self.limits),
+            "q_roll_per_m": self.q_roll_per_m,
+        }
 
 
 def leakage_factor(beta, window_alpha=0.25):
@@ -219,13 +234,18 @@ def noise_limit(q, C, slope, intercept, q_from):
         i = q.size - 1
         while i > 0 and high[i - 1]:
             i -= 1
-        if q.size - i >= 2:                             # two rings at least
-            cands.append((i, f"C (noise or aliasing) exceeds the self-affine line by over "
-                             f"{100 * (NOISE_EXCESS - 1):.0f} % from {_wl(q[i])} wavelength up"))
+        if q.size - i >= 2:  # two rings at least
+            cands.append(
+                (
+                    i,
+                    f"C (noise or aliasing) exceeds the self-affine line by over "
+                    f"{100 * (NOISE_EXCESS - 1):.0f} % from {_wl(q[i])} wavelength up",
+                )
+            )
     top = x >= x[-1] - 0.2
     if top.sum() >= 3:
         s = local_slopes(q, C, 0.3)
-        st = s[top][~np.isnan(s[top])]          # np.nanmedian, np.median: roadscan.order_stats
+        st = s[top][~np.isnan(s[top])]  # np.nanmedian, np.median: roadscan.order_stats
         if (median(st, overwrite=True) if st.size else np.nanmedian(s[top])) > -1.0:
             level = median(C[top])
             # the first ring from the bottom (noise may fill most decades) from which most rings
@@ -237,8 +257,13 @@ def noise_limit(q, C, slope, intercept, q_from):
             start = low & (share_above >= 0.5)
             if start.any():
                 i = int(np.argmax(start))
-                cands.append((i, f"white noise floor C = {level:.3g} reached within a factor "
-                                 f"{WHITE_SHARE:g} from {_wl(q[i])} wavelength up"))
+                cands.append(
+                    (
+                        i,
+                        f"white noise floor C = {level:.3g} reached within a factor "
+                        f"{WHITE_SHARE:g} from {_wl(q[i])} wavelength up",
+                    )
+                )
     if not cands:
         return None, level, ""
     i, why = min(cands, key=lambda c: c[0])
@@ -252,8 +277,7 @@ def _wl(q):
     return _len(2 * np.pi / q)
 
 
-def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min_count=1,
-                  window_alpha=0.25):
+def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min_count=1, window_alpha=0.25):
     """The reliable band of a spectrum (see module docstring).
 
     Parameters
@@ -285,15 +309,29 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
         raise InputError(None, "spectrum has fewer than 5 usable points: no reliable band")
     q_fov = 2 * np.pi / length_m
     q_nyq = np.pi / spacing_m
-    limits = {"field_of_view": None, "roll_off": None, "nyquist": NYQUIST_FRACTION * q_nyq,
-              "resolution": None, "noise_floor": None}
-    hi_cands = [(limits["nyquist"], f"Nyquist: {NYQUIST_FRACTION:g} x pi / a (a = {_len(spacing_m)}; "
-                                    f"aliasing adds over 5 % to C above)")]
+    limits = {
+        "field_of_view": None,
+        "roll_off": None,
+        "nyquist": NYQUIST_FRACTION * q_nyq,
+        "resolution": None,
+        "noise_floor": None,
+    }
+    hi_cands = [
+        (
+            limits["nyquist"],
+            f"Nyquist: {NYQUIST_FRACTION:g} x pi / a (a = {_len(spacing_m)}; "
+            f"aliasing adds over 5 % to C above)",
+        )
+    ]
     if resolution_m is not None and resolution_m > 0:
         limits["resolution"] = float(resolution_limit(resolution_m))
-        hi_cands.append((limits["resolution"],
-                         f"lateral resolution: {_len(resolution_m)} (amplitude response "
-                         f"{RESPONSE_MIN:g} at {_wl(limits['resolution'])} wavelength)"))
+        hi_cands.append(
+            (
+                limits["resolution"],
+                f"lateral resolution: {_len(resolution_m)} (amplitude response "
+                f"{RESPONSE_MIN:g} at {_wl(limits['resolution'])} wavelength)",
+            )
+        )
     # the self-affine line over the middle of the spectrum, refitted once inside the band
     x, y = np.log10(q), np.log10(C)
     w = np.sqrt(n)
@@ -312,20 +350,37 @@ def reliable_band(q_per_m, C, count, length_m, spacing_m, resolution_m=None, min
     beta = -slope
     k = leakage_factor(beta, window_alpha)
     limits["field_of_view"] = k * q_fov
-    lo, lo_reason = k * q_fov, (f"field of view: {k:.3g} x 2 pi / L (L = {_len(length_m)}; "
-                                f"window leakage biases C below for a spectrum falling as "
-                                f"q^-{beta:.2f})")
+    lo, lo_reason = (
+        k * q_fov,
+        (
+            f"field of view: {k:.3g} x 2 pi / L (L = {_len(length_m)}; "
+            f"window leakage biases C below for a spectrum falling as "
+            f"q^-{beta:.2f})"
+        ),
+    )
     q_roll = detect_roll_off(q, C, n if count is not None else None, slope, icpt, q_fov, hi_b)
     if q_roll is not None:
         limits["roll_off"] = q_roll
         q_lo_roll = max(q_roll, ROLL_K_MIN * q_fov)
         if q_lo_roll < lo:
-            lo, lo_reason = q_lo_roll, (f"roll-off at {_wl(q_roll)} wavelength (flat below: "
-                                        f"little leakage; at least {ROLL_K_MIN:g} x 2 pi / L)")
+            lo, lo_reason = (
+                q_lo_roll,
+                (
+                    f"roll-off at {_wl(q_roll)} wavelength (flat below: "
+                    f"little leakage; at least {ROLL_K_MIN:g} x 2 pi / L)"
+                ),
+            )
     hi, hi_reason = min(hi_cands, key=lambda c: c[0])
-    return ReliableBand(float(lo), float(hi), lo_reason, hi_reason,
-                        {k_: (None if v is None else float(v)) for k_, v in limits.items()},
-                        slope=float(slope), q_roll_per_m=q_roll, noise_floor=level)
+    return ReliableBand(
+        float(lo),
+        float(hi),
+        lo_reason,
+        hi_reason,
+        {k_: (None if v is None else float(v)) for k_, v in limits.items()},
+        slope=float(slope),
+        q_roll_per_m=q_roll,
+        noise_floor=level,
+    )
 
 
 def _middle_band(q, C, n):
@@ -334,7 +389,7 @@ def _middle_band(q, C, n):
     from .spectrum_types import Spectrum
 
     spec = Spectrum(q, C, count=np.rint(n).astype(np.int64))
-    for min_count in (8, 1):              # as the fit: rings of under 8 points scatter widely
+    for min_count in (8, 1):  # as the fit: rings of under 8 points scatter widely
         try:
             lo, hi = detect_band(spec, min_count=min_count)
         except ValueError:
@@ -349,8 +404,10 @@ def _middle_band(q, C, n):
             if np.log10(hi / lo) >= MIN_STRETCH_DECADES or above.sum() < 5:
                 break
             try:
-                lo2, hi2 = detect_band(Spectrum(q[above], C[above], count=np.rint(
-                    n[above]).astype(np.int64)), min_count=min_count)
+                lo2, hi2 = detect_band(
+                    Spectrum(q[above], C[above], count=np.rint(n[above]).astype(np.int64)),
+                    min_count=min_count,
+                )
             except ValueError:
                 break
             if np.log10(hi2 / lo2) >= MIN_STRETCH_DECADES:

@@ -26,6 +26,7 @@ already on the line, so their median deficit was small).
 Reference: Persson, Tribol. Lett. 63, 42 (2016) (roll-off of road spectra); Jacobs, Junge,
 Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017), sec. 4.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -40,8 +41,7 @@ MIN_CHI2_DROP = 25.0
 _VAR_LOG10_EXP = np.pi**2 / 6 / np.log(10) ** 2
 
 
-def detect_roll_off(q_per_m, C_m4, count, slope, intercept, q_fov_per_m, q_hi_per_m,
-                    min_deficit=0.3):
+def detect_roll_off(q_per_m, C_m4, count, slope, intercept, q_fov_per_m, q_hi_per_m, min_deficit=0.3):
     """The roll-off wave vector [1/m] of a spectrum, or None.
 
     Parameters
@@ -72,7 +72,7 @@ def detect_roll_off(q_per_m, C_m4, count, slope, intercept, q_fov_per_m, q_hi_pe
     if q.size < 5 or not slope < 0:
         return None
     x, y = np.log10(q), np.log10(C)
-    d = y - (intercept + slope * x)                  # > 0 above the line, < 0 below
+    d = y - (intercept + slope * x)  # > 0 above the line, < 0 below
     var = _VAR_LOG10_EXP / np.maximum(n / 2.0, 1.0)
     w = 1.0 / var
     chi0 = np.sum(w * d * d)
@@ -81,19 +81,19 @@ def detect_roll_off(q_per_m, C_m4, count, slope, intercept, q_fov_per_m, q_hi_pe
         below = np.arange(j)
         if below.size < 2:
             continue
-        dx = x[below] - x[j]                          # < 0
+        dx = x[below] - x[j]  # < 0
         wb = w[below]
-        b = np.sum(wb * d[below] * dx) / np.sum(wb * dx * dx)   # s_low - slope
-        b = float(np.clip(b, -slope / 2.0, 0.5 - slope))       # s_low in (s/2, 0.5]
+        b = np.sum(wb * d[below] * dx) / np.sum(wb * dx * dx)  # s_low - slope
+        b = float(np.clip(b, -slope / 2.0, 0.5 - slope))  # s_low in (s/2, 0.5]
         r_below = d[below] - b * dx
         chi = np.sum(wb * r_below**2) + np.sum(w[j:] * d[j:] ** 2)
-        deficit = -np.sum(wb * b * dx) / np.sum(wb)    # mean depth of the model under the line
+        deficit = -np.sum(wb * b * dx) / np.sum(wb)  # mean depth of the model under the line
         if best is None or chi < best[0]:
             best = (chi, j, b, deficit)
     if best is None:
         return None
     chi, j, b, deficit = best
-    if not b > -slope / 2.0 * (1 + 1e-6):             # clipped: not flatter than s / 2
+    if not b > -slope / 2.0 * (1 + 1e-6):  # clipped: not flatter than s / 2
         return None
     if deficit < min_deficit or chi > 0.5 * chi0:
         return None

@@ -39,6 +39,7 @@ road spectra, q0 in the friction integral); Jacobs, Junge, Pastewka, Surf. Topog
 Prop. 5, 013001 (2017), doi:10.1088/2051-672X/aa51f8, sec. 3-4 (windows, reliability of
 each instrument's scales).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -47,9 +48,17 @@ import numpy as np
 
 from .units import length as _len
 
-__all__ = ["RollOffView", "RollOffVerdict", "judge_roll_offs", "surface_q0", "bend_at", "find_bend",
-           "SAME_Q",
-           "ROOM", "BEND_SEEN"]
+__all__ = [
+    "RollOffView",
+    "RollOffVerdict",
+    "judge_roll_offs",
+    "surface_q0",
+    "bend_at",
+    "find_bend",
+    "SAME_Q",
+    "ROOM",
+    "BEND_SEEN",
+]
 
 #: two knees within this factor (0.15 decade) are one wave vector: a knee found in a spectrum
 #: of 20 rings per decade scatters by about 10 % over seeds at 8 x 2 pi / L and more nearer
@@ -121,15 +130,19 @@ class RollOffVerdict:
     refuted_by: tuple = ()
 
     def as_dict(self):
-        return {"label": self.label, "q_roll_per_m": self.q_roll_per_m, "origin": self.origin,
-                "reason": self.reason, "seen_by": list(self.seen_by),
-                "refuted_by": list(self.refuted_by)}
+        return {
+            "label": self.label,
+            "q_roll_per_m": self.q_roll_per_m,
+            "origin": self.origin,
+            "reason": self.reason,
+            "seen_by": list(self.seen_by),
+            "refuted_by": list(self.refuted_by),
+        }
 
 
 def _covers(view, q):
     """Does ``view``'s band reach from q / ROOM to q x SAME_Q (3 rings above q at least)?"""
-    return (view.band_per_m[0] <= q / ROOM * (1 + 1e-9)
-            and view.band_per_m[1] >= q * SAME_Q * (1 - 1e-9))
+    return view.band_per_m[0] <= q / ROOM * (1 + 1e-9) and view.band_per_m[1] >= q * SAME_Q * (1 - 1e-9)
 
 
 def _slope(x, y, w):
@@ -243,8 +256,9 @@ def judge_roll_offs(*, views):
         if q is None:
             out.append(None)
             continue
-        where = (f"{how} at {q:.3g} 1/m (wavelength {_wl(q)}), {q / v.q_fov_per_m:.3g} x 2 pi "
-                 f"/ L of {v.label!r}")
+        where = (
+            f"{how} at {q:.3g} 1/m (wavelength {_wl(q)}), {q / v.q_fov_per_m:.3g} x 2 pi / L of {v.label!r}"
+        )
         others = [w for w in views if w is not v]
         covering = [w for w in others if _covers(w, q)]
         sees = [_sees(w, q) for w in covering]
@@ -252,34 +266,66 @@ def judge_roll_offs(*, views):
         covering = [w for w, x in zip(covering, sees) if x is not None]
         seen = tuple([v.label] + confirm)
         if confirm:
-            out.append(RollOffVerdict(v.label, q, "surface",
-                                      f"{where}: seen at the same wave vector by "
-                                      f"{', '.join(map(repr, confirm))}, whose rings bend "
-                                      f"there too", seen))
+            out.append(
+                RollOffVerdict(
+                    v.label,
+                    q,
+                    "surface",
+                    f"{where}: seen at the same wave vector by "
+                    f"{', '.join(map(repr, confirm))}, whose rings bend "
+                    f"there too",
+                    seen,
+                )
+            )
         elif covering:
             names = ", ".join(repr(w.label) for w in covering)
-            out.append(RollOffVerdict(v.label, q, "instrument",
-                                      f"{where}: {names} measures straight across it (its "
-                                      f"rings' slope drops by under {BEND_SEEN:g} there): "
-                                      f"{v.label!r}'s own", seen,
-                                      tuple(w.label for w in covering)))
+            out.append(
+                RollOffVerdict(
+                    v.label,
+                    q,
+                    "instrument",
+                    f"{where}: {names} measures straight across it (its "
+                    f"rings' slope drops by under {BEND_SEEN:g} there): "
+                    f"{v.label!r}'s own",
+                    seen,
+                    tuple(w.label for w in covering),
+                )
+            )
         elif q < v.q_field_per_m * (1 - 1e-9):
-            out.append(RollOffVerdict(
-                v.label, q, "instrument",
-                f"{where}: below its field-of-view end {v.q_field_per_m / v.q_fov_per_m:.3g} x "
-                f"2 pi / L, where the window's leakage and the levelling bend a spectrum, and no "
-                f"other input measures there to confirm it", seen))
+            out.append(
+                RollOffVerdict(
+                    v.label,
+                    q,
+                    "instrument",
+                    f"{where}: below its field-of-view end {v.q_field_per_m / v.q_fov_per_m:.3g} x "
+                    f"2 pi / L, where the window's leakage and the levelling bend a spectrum, and no "
+                    f"other input measures there to confirm it",
+                    seen,
+                )
+            )
         elif q * SAME_Q > v.band_per_m[1] * (1 + 1e-9):
-            out.append(RollOffVerdict(
-                v.label, q, "instrument",
-                f"{where}: within a factor {SAME_Q:.2g} of its band's top "
-                f"({v.band_per_m[1]:.3g} 1/m: resolution, noise or Nyquist bend it there)", seen))
+            out.append(
+                RollOffVerdict(
+                    v.label,
+                    q,
+                    "instrument",
+                    f"{where}: within a factor {SAME_Q:.2g} of its band's top "
+                    f"({v.band_per_m[1]:.3g} 1/m: resolution, noise or Nyquist bend it there)",
+                    seen,
+                )
+            )
         else:
-            out.append(RollOffVerdict(
-                v.label, q, "surface",
-                f"{where}: inside its band, above its field-of-view end "
-                f"({v.q_field_per_m / v.q_fov_per_m:.3g} x 2 pi / L) and well below its top; "
-                f"no other input measures across it", seen))
+            out.append(
+                RollOffVerdict(
+                    v.label,
+                    q,
+                    "surface",
+                    f"{where}: inside its band, above its field-of-view end "
+                    f"({v.q_field_per_m / v.q_fov_per_m:.3g} x 2 pi / L) and well below its top; "
+                    f"no other input measures across it",
+                    seen,
+                )
+            )
     return out
 
 
@@ -302,16 +348,23 @@ def surface_q0(*, verdicts):
     surf = [v for v in verdicts if v.origin == "surface"]
     if not surf:
         if verdicts:
-            return None, ("no roll-off of the surface: every knee found is an instrument's "
-                          "(" + "; ".join(v.reason for v in verdicts) + "); q0 lies at or below "
-                          "the lowest wave vector measured")
-        return None, ("no roll-off found in any input's reliable band: q0 lies at or below the "
-                      "lowest wave vector measured")
+            return None, (
+                "no roll-off of the surface: every knee found is an instrument's "
+                "(" + "; ".join(v.reason for v in verdicts) + "); q0 lies at or below "
+                "the lowest wave vector measured"
+            )
+        return None, (
+            "no roll-off found in any input's reliable band: q0 lies at or below the "
+            "lowest wave vector measured"
+        )
     # the lowest roll-off (a second bend above it is no q0): its knees within SAME_Q
     low = min(v.q_roll_per_m for v in surf)
     surf = [v for v in surf if _same(v.q_roll_per_m, low) or v.q_roll_per_m < low * SAME_Q]
     q0 = float(np.exp(np.mean([np.log(v.q_roll_per_m) for v in surf])))
     names = ", ".join(f"{v.label!r} at {v.q_roll_per_m:.3g} 1/m" for v in surf)
-    return q0, (f"the surface's roll-off (Persson's q0, wavelength {_wl(q0)}): the knee of the "
-                f"broken line (flat below, self-affine above) found by {names}"
-                + (" (geometric mean)" if len(surf) > 1 else "") + f"; {surf[0].reason}")
+    return q0, (
+        f"the surface's roll-off (Persson's q0, wavelength {_wl(q0)}): the knee of the "
+        f"broken line (flat below, self-affine above) found by {names}"
+        + (" (geometric mean)" if len(surf) > 1 else "")
+        + f"; {surf[0].reason}"
+    )

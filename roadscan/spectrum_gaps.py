@@ -12,6 +12,7 @@ are preferred: the plateau under a roll-off says nothing of the slope above it.
 Reference: Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014 (2022), doi:10.1088/2051-672X/
 ac860a (merging the spectra of several instruments); Persson, Tribol. Lett. 63, 42 (2016).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -64,8 +65,10 @@ def bridge(gap, q, lnC, d_lo, d_hi, covered, seg=None, reach=0.5):
     if f_lo is not None and f_hi is not None and f_lo[1] - f_hi[1] > BRIDGE_BEND:
         lnC[inside] = np.minimum(f_lo[0] + f_lo[1] * X[inside], f_hi[0] + f_hi[1] * X[inside])
         resid = max(f_lo[2], f_hi[2])
-        how = (f"the lower of the power laws fitted on either side within {reach:g} decade "
-               f"(C ~ q^{f_lo[1]:.2f} below, q^{f_hi[1]:.2f} above: a bend)")
+        how = (
+            f"the lower of the power laws fitted on either side within {reach:g} decade "
+            f"(C ~ q^{f_lo[1]:.2f} below, q^{f_hi[1]:.2f} above: a bend)"
+        )
     else:
         c0, c1, resid = _line(X[near], lnC[near], w[near])
         lnC[inside] = c0 + c1 * X[inside]
@@ -88,8 +91,15 @@ def find_gaps(covered, q):
         while not covered[j]:
             j += 1
         a, b = float(q[i - 1]), float(q[j])
-        out.append({"q_from_per_m": a, "q_to_per_m": b, "factor": b / a, "rows": int(j - i),
-                    "_bridged": (float(q[i]), float(q[j - 1]))})
+        out.append(
+            {
+                "q_from_per_m": a,
+                "q_to_per_m": b,
+                "factor": b / a,
+                "rows": int(j - i),
+                "_bridged": (float(q[i]), float(q[j - 1])),
+            }
+        )
         i = j
     return out
 
@@ -99,7 +109,7 @@ def gap_edges(gaps, lows, highs):
     highest band top below its bridged bins to the lowest band start above them (rows pool
     several rings, so their q lies inside the bands)."""
     for g in gaps:
-        first, last = g.pop("_bridged")        # bridged bins lie outside every band
+        first, last = g.pop("_bridged")  # bridged bins lie outside every band
         below = [h for h in highs if h < first]
         above = [lo for lo in lows if lo > last]
         if below and above:

@@ -45,6 +45,7 @@ Reference: Jacobs, Junge, Pastewka, Surf. Topogr.: Metrol. Prop. 5, 013001 (2017
 (periodogram statistics, windows); Sanner et al., Surf. Topogr.: Metrol. Prop. 10, 035014
 (2022) (merging the spectra of several instruments, reliability cut-offs).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -54,8 +55,16 @@ import numpy as np
 from .spectrum_agreement import Z95, disagreements, widen_outliers  # Z95, disagreements re-exported
 from .spectrum_gaps import bridge, find_gaps, gap_edges
 
-__all__ = ["SpectrumPart", "MergedSpectrum", "merge_spectra", "aligned_range", "disagreements",
-           "chi2_quantile", "RINGS_PER_DECADE", "Z95"]
+__all__ = [
+    "SpectrumPart",
+    "MergedSpectrum",
+    "merge_spectra",
+    "aligned_range",
+    "disagreements",
+    "chi2_quantile",
+    "RINGS_PER_DECADE",
+    "Z95",
+]
 
 RINGS_PER_DECADE = 20
 #: rings this close (decades) to either end of their source's band carry the bias the reliable
@@ -131,9 +140,9 @@ class MergedSpectrum:
     C_m4: np.ndarray
     C_lo_m4: np.ndarray
     C_hi_m4: np.ndarray
-    n_sources: np.ndarray           # sources measuring each row reliably (0: bridged)
-    count: np.ndarray               # lattice points / modes behind each row (0: bridged)
-    band_per_m: tuple               # [first, last] row measured reliably
+    n_sources: np.ndarray  # sources measuring each row reliably (0: bridged)
+    count: np.ndarray  # lattice points / modes behind each row (0: bridged)
+    band_per_m: tuple  # [first, last] row measured reliably
     gaps: list = field(default_factory=list)
     #: pairs of sources whose overlap disagrees beyond their scatter (:func:`disagreements`)
     disagreements: list = field(default_factory=list)
@@ -205,10 +214,16 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE, *, start_per_m=None):
     ValueError
         When no source has a reliable ring.
     """
-    rows = []                       # (bin, q, C, n, dof, source index, edge ring)
+    rows = []  # (bin, q, C, n, dof, source index, edge ring)
     lows, highs = [], []
-    bends = sorted({float(x) for p in parts for x in p.bends_per_m
-                    if x and p.band_per_m[0] / 10**BEND_AHEAD <= x < p.band_per_m[1]})
+    bends = sorted(
+        {
+            float(x)
+            for p in parts
+            for x in p.bends_per_m
+            if x and p.band_per_m[0] / 10**BEND_AHEAD <= x < p.band_per_m[1]
+        }
+    )
     for s, p in enumerate(parts):
         q, C = np.asarray(p.q_per_m, float), np.asarray(p.C_m4, float)
         n = np.asarray(p.count, float)
@@ -221,9 +236,19 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE, *, start_per_m=None):
             b_lo, b_hi = p.edge_bias
             edge = np.where(qk < lo * 10**EDGE_DECADES, np.log(1 + b_lo) ** 2, 0.0)
             edge = np.maximum(edge, np.where(qk > hi / 10**EDGE_DECADES, np.log(1 + b_hi) ** 2, 0.0))
-            rows.append(np.column_stack([_bins(qk, per_decade), qk, C[keep], n[keep],
-                                         n[keep] * p.dof_per_count, np.full(keep.sum(), s),
-                                         edge]))
+            rows.append(
+                np.column_stack(
+                    [
+                        _bins(qk, per_decade),
+                        qk,
+                        C[keep],
+                        n[keep],
+                        n[keep] * p.dof_per_count,
+                        np.full(keep.sum(), s),
+                        edge,
+                    ]
+                )
+            )
     if not rows:
         raise ValueError("no input has a reliable part of its spectrum: nothing to merge")
     r = np.vstack(rows)
@@ -231,11 +256,11 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE, *, start_per_m=None):
     j0 = b.min()
     n, dof = r[:, 3], r[:, 4]
     # segments between bends: a bend's grid bin starts a new segment (rows never straddle one)
-    bend_bins = np.unique(_bins(np.asarray(bends, float), per_decade)) - j0 if bends else \
-        np.zeros(0, np.int64)
+    bend_bins = (
+        np.unique(_bins(np.asarray(bends, float), per_decade)) - j0 if bends else np.zeros(0, np.int64)
+    )
     seg_of_bin = np.searchsorted(bend_bins, np.arange(b.max() - j0 + 1), side="right")
-    row_of_bin, first_bin = _group_bins(np.bincount(b - j0, dof), MIN_ROW_DOF, MAX_ROW_BINS,
-                                        seg_of_bin)
+    row_of_bin, first_bin = _group_bins(np.bincount(b - j0, dof), MIN_ROW_DOF, MAX_ROW_BINS, seg_of_bin)
     idx = row_of_bin[b - j0]
     N = np.bincount(idx, n, first_bin.size)
     q = _place_rows(r[:, 1], n, idx, first_bin, N > 0, bend_bins, per_decade)
@@ -255,8 +280,7 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE, *, start_per_m=None):
     lever = np.log(q[idx] / r[:, 1])
     Cr = r[:, 2] * np.exp(slopes[idx] * lever)
     C = np.bincount(idx, n * Cr, nb) / Nc
-    clash = disagreements(idx, r[:, 5].astype(np.int64), n, dof, Cr, r[:, 6], q,
-                          [p.label for p in parts])
+    clash = disagreements(idx, r[:, 5].astype(np.int64), n, dof, Cr, r[:, 6], q, [p.label for p in parts])
     # a slope error ds shifts ln C of a row by ds times its rings' mean distance in ln q
     moved = np.bincount(idx, n * Cr * lever, nb) / np.maximum(np.bincount(idx, n * Cr, nb), 1e-300)
     k = np.bincount(idx, dof, nb)
@@ -280,7 +304,8 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE, *, start_per_m=None):
         in_band |= (hi_edge > lo) & (lo_edge < hi)
     row = covered | ~in_band
     q, C, N, covered, d_lo, d_hi, nsrc, seg = (
-        a[row] for a in (np.where(covered, q, centre), C, N, covered, d_lo, d_hi, nsrc, seg_row))
+        a[row] for a in (np.where(covered, q, centre), C, N, covered, d_lo, d_hi, nsrc, seg_row)
+    )
     gaps = find_gaps(covered, q)
     lnC = np.log(np.where(covered, C, 1.0))
     widened = widen_outliers(q, lnC, d_lo, d_hi, covered, seg)
@@ -288,9 +313,18 @@ def merge_spectra(parts, per_decade=RINGS_PER_DECADE, *, start_per_m=None):
         bridge(g, q, lnC, d_lo, d_hi, covered, seg)
     gap_edges(gaps, lows, highs)
     Cm = np.exp(lnC)
-    return MergedSpectrum(q, Cm, Cm * np.exp(-d_lo), Cm * np.exp(d_hi), nsrc.astype(np.int64),
-                          np.where(covered, N, 0.0),
-                          (float(q[covered][0]), float(q[covered][-1])), gaps, clash, widened)
+    return MergedSpectrum(
+        q,
+        Cm,
+        Cm * np.exp(-d_lo),
+        Cm * np.exp(d_hi),
+        nsrc.astype(np.int64),
+        np.where(covered, N, 0.0),
+        (float(q[covered][0]), float(q[covered][-1])),
+        gaps,
+        clash,
+        widened,
+    )
 
 
 def _place_rows(q_ring, n, idx, first_bin, covered, bend_bins, per_decade):
@@ -316,7 +350,7 @@ def _place_rows(q_ring, n, idx, first_bin, covered, bend_bins, per_decade):
     np.maximum.at(ln_top, stretch[idx], np.log10(q_ring))
     ln_bot = np.full(stretch.max() + 1, np.inf)
     np.minimum.at(ln_bot, stretch[idx], np.log10(q_ring))
-    with np.errstate(invalid="ignore"):         # a stretch index without rings: -inf - inf
+    with np.errstate(invalid="ignore"):  # a stretch index without rings: -inf - inf
         long_enough = (ln_top - ln_bot)[stretch] >= MIN_STRETCH_DECADES
     return np.where(starts & ~near_bend & long_enough, q_first, q)
 
@@ -332,8 +366,7 @@ def _group_bins(dof, min_dof, max_bins, segment=None):
     acc, width, prev = 0.0, 0, False
     for j, d in enumerate(dof):
         cov = d > 0
-        if (not (cov and prev) or acc >= min_dof or width >= max_bins
-                or (j and seg[j] != seg[j - 1])):
+        if not (cov and prev) or acc >= min_dof or width >= max_bins or (j and seg[j] != seg[j - 1]):
             first.append(j)
             acc, width = 0.0, 0
         row[j] = len(first) - 1

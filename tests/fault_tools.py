@@ -1,6 +1,7 @@
 """Shared pieces of the fault suite (tests/test_faults_*.py, issue 22): small inputs, a runner
 of ``pipelines.cli.app.main`` that captures the exit code and stderr, and the checks every fault
 case ends with (no traceback, one line, nothing left behind, inputs unchanged)."""
+
 from __future__ import annotations
 
 import builtins
@@ -46,8 +47,11 @@ def hidden_leftovers(folder):
     sidecar (``.roadscan-batch.json``) is an output, not a leftover."""
     from pipelines.campaign.folder import SIDECAR
 
-    return [str(p) for p in Path(folder).rglob(".*")
-            if p.name != SIDECAR and ("roadscan-" in p.name or p.is_file())]
+    return [
+        str(p)
+        for p in Path(folder).rglob(".*")
+        if p.name != SIDECAR and ("roadscan-" in p.name or p.is_file())
+    ]
 
 
 def run_cli(capsys, argv):

@@ -20,6 +20,7 @@ Environment: ``ROADSCAN_FUZZ_SCALE`` (examples x scale; 1 = CI, derandomised),
 ``ROADSCAN_FUZZ_FIGURES=1`` (draw every figure; by default the figures of most cases are
 stubbed, a few tests draw them), ``ROADSCAN_FUZZ_REPORT=FILE`` (write the counts as JSON).
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -85,9 +86,16 @@ def fuzz_settings(n, **kw):
     phases = [Phase.explicit, Phase.reuse, Phase.generate, Phase.target]
     if not COLLECT:
         phases.append(Phase.shrink)
-    return settings(max_examples=scaled(n), deadline=None, derandomize=SCALE == 1, database=None,
-                    phases=phases, print_blob=False,
-                    suppress_health_check=list(HealthCheck), **kw)
+    return settings(
+        max_examples=scaled(n),
+        deadline=None,
+        derandomize=SCALE == 1,
+        database=None,
+        phases=phases,
+        print_blob=False,
+        suppress_health_check=list(HealthCheck),
+        **kw,
+    )
 
 
 # ------------------------------------------------------------------------------ environment
@@ -252,9 +260,11 @@ def nonfinite_in_file(path):
         return [f"unreadable ({exc})"]
     found = []
     if path.suffix == ".json":
+
         def const(c):
             found.append(c)
             return None
+
         try:
             json.loads(text, parse_constant=const)
         except ValueError as exc:
@@ -299,8 +309,11 @@ def judge(rc, out, err, before, after, root, nonfinite_json=(), batch=False):
     changed = sorted(k for k, v in after.items() if before.get(k) != v)
     from pipelines.campaign.folder import SIDECAR  # batch's resume record: hidden by design
 
-    hidden = [k for k in changed if any(part.startswith(".") and part != SIDECAR
-                                        for part in Path(k.rstrip("/")).parts)]
+    hidden = [
+        k
+        for k in changed
+        if any(part.startswith(".") and part != SIDECAR for part in Path(k.rstrip("/")).parts)
+    ]
     if hidden:
         problems.append(f"hidden temporary files left: {hidden[:3]}")
     if rc == 0:
@@ -327,7 +340,9 @@ def judge(rc, out, err, before, after, root, nonfinite_json=(), batch=False):
         campaign = batch and any(k.endswith("campaign.csv") for k in changed)
         gone = [k for k in before if k not in after]
         if not campaign or gone:
-            problems.append(f"leftovers after a failed run: {changed[:4]}{' removed ' + str(gone[:3]) if gone else ''}")
+            problems.append(
+                f"leftovers after a failed run: {changed[:4]}{' removed ' + str(gone[:3]) if gone else ''}"
+            )
     return problems
 
 
@@ -385,8 +400,16 @@ def run_cli(group, argv, workdir, timeout=60.0, figures=None, watch=(), desc=Non
             rc = f"exception {type(exc).__name__}"
             err.write(traceback.format_exc())
     after = [snapshot(r) for r in roots]
-    problems = judge(rc, out.getvalue(), err.getvalue(), before[0], after[0], workdir,
-                     json_bad, batch=argv and argv[0] == "batch")
+    problems = judge(
+        rc,
+        out.getvalue(),
+        err.getvalue(),
+        before[0],
+        after[0],
+        workdir,
+        json_bad,
+        batch=argv and argv[0] == "batch",
+    )
     for r, b, a in zip(roots[1:], before[1:], after[1:]):
         if a != b:
             problems.append(f"the inputs folder {r.name} changed")
@@ -405,8 +428,15 @@ def run_subprocess(group, argv, workdir, timeout=120.0, desc=None):
         resource.setrlimit(resource.RLIMIT_DATA, (used + (6 << 30), resource.RLIM_INFINITY))
 
     try:
-        p = subprocess.run([sys.executable, "-m", "pipelines.cli", *argv], cwd=workdir, env=env,
-                           capture_output=True, text=True, timeout=timeout, preexec_fn=limit)
+        p = subprocess.run(
+            [sys.executable, "-m", "pipelines.cli", *argv],
+            cwd=workdir,
+            env=env,
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+            preexec_fn=limit,
+        )
         rc, out, err = p.returncode, p.stdout, p.stderr
     except subprocess.TimeoutExpired as exc:
         rc, out, err = f"timeout (over {timeout:g} s)", "", str(exc.stderr or "")
@@ -430,14 +460,20 @@ def counts_line():
     for s in STATS.values():
         tot.update(s)
     per = ", ".join(f"{g} {s['cases']}" for g, s in sorted(STATS.items()))
-    return (f"fuzz: {tot['cases']} cases ({tot['exit0']} exit 0, {tot['exit2']} exit 2, "
-            f"{tot['numpy_warning']} with a numpy warning line), {tot['failures']} failed; {per}")
+    return (
+        f"fuzz: {tot['cases']} cases ({tot['exit0']} exit 0, {tot['exit2']} exit 2, "
+        f"{tot['numpy_warning']} with a numpy warning line), {tot['failures']} failed; {per}"
+    )
 
 
 def write_report(path=REPORT):
     if not path:
         return
-    data = {"stats": {g: dict(s) for g, s in STATS.items()}, "failures": FAILURES,
-            "refusals": {g: dict(c.most_common()) for g, c in MESSAGES.items()},
-            "scale": SCALE, "time": time.time()}
+    data = {
+        "stats": {g: dict(s) for g, s in STATS.items()},
+        "failures": FAILURES,
+        "refusals": {g: dict(c.most_common()) for g, c in MESSAGES.items()},
+        "scale": SCALE,
+        "time": time.time(),
+    }
     Path(path).write_text(json.dumps(data, indent=1, default=str))

@@ -1,5 +1,6 @@
 """``roadscan batch`` on a LocalCluster (issue 12): 20 small scans plus broken ones, identical
 results to ``analyse``, resume, atomic folders, manifest, sections of a long profile."""
+
 import csv
 import json
 import os
@@ -37,15 +38,25 @@ def campaign(tmp_path_factory):
     (src / "zz_garbage.npy").write_bytes(b"this is not a numpy file\n")
     np.save(src / "zz_3d.npy", np.zeros((4, 4, 4)))
     out = d / "out"
-    args = ["batch", str(src / "*.npy"), str(src / "missing.npy"), str(d / "nomatch_*.x3p"),
-            "--spacing", str(DX), "--out", str(out), "--workers", "2"]
+    args = [
+        "batch",
+        str(src / "*.npy"),
+        str(src / "missing.npy"),
+        str(d / "nomatch_*.x3p"),
+        "--spacing",
+        str(DX),
+        "--out",
+        str(out),
+        "--workers",
+        "2",
+    ]
     rc = main(args)
     return {"dir": d, "src": src, "out": out, "rc": rc, "args": args}
 
 
 def test_campaign_rows_status_and_outputs(campaign):
     out = campaign["out"]
-    assert campaign["rc"] == 2                      # some inputs failed
+    assert campaign["rc"] == 2  # some inputs failed
     head, rows = _read_campaign(out / "campaign.csv")
     assert head[:5] == ["file", "label", "chainage_m", "status", "error"]
     names = [Path(r["file"]).name for r in rows]
@@ -57,17 +68,17 @@ def test_campaign_rows_status_and_outputs(campaign):
         stem = Path(r["file"]).stem
         files = {p.name for p in (out / stem).iterdir()}
         assert {"summary.json", "psd.csv", "mu.csv", "report.html", SIDECAR} <= files
-        assert not any(f.endswith(".png") for f in files)      # no --figures
+        assert not any(f.endswith(".png") for f in files)  # no --figures
         s = json.loads((out / stem / "summary.json").read_text())
         flat = flatten_summary(s)
         # every scalar of summary.json is a column, under its (flattened) key, same value; the
         # anisotropy sectors in campaign_anisotropy.csv (issue 21), same row order
         side_head, side_rows = _read_campaign(out / "campaign_anisotropy.csv")
         side = side_rows[names.index(Path(r["file"]).name)]
-        assert r["warnings"] == " | ".join(s.get("warnings", []))      # one column (issue 20)
+        assert r["warnings"] == " | ".join(s.get("warnings", []))  # one column (issue 20)
         for k, v in flat.items():
             if k.startswith(("warnings.", "friction.extrapolated_share.")):
-                assert k not in head, k                 # lists kept out of the table (issue 20)
+                assert k not in head, k  # lists kept out of the table (issue 20)
                 continue
             if k.startswith("anisotropy.sector_"):
                 assert k not in head and k in side_head, k
@@ -78,7 +89,7 @@ def test_campaign_rows_status_and_outputs(campaign):
                 assert float(r[k]) == v, k
             elif v is None:
                 assert r[k] == ""
-            elif isinstance(v, bool):                   # mpd_valid, peak_at_edge
+            elif isinstance(v, bool):  # mpd_valid, peak_at_edge
                 assert r[k] == ("true" if v else "false"), k
             else:
                 assert r[k] == str(v)
@@ -94,7 +105,7 @@ def test_campaign_rows_status_and_outputs(campaign):
     assert "zz_garbage.npy" in errors["zz_garbage.npy"]["error"]
     assert "3D" in errors["zz_3d.npy"]["error"] or "shape" in errors["zz_3d.npy"]["error"]
     assert not (out / "zz_garbage").exists() and not (out / "zz_3d").exists()
-    assert not [p for p in out.iterdir() if "tmp-" in p.name]   # no temporary folder left
+    assert not [p for p in out.iterdir() if "tmp-" in p.name]  # no temporary folder left
 
 
 def test_campaign_report_links_every_scan(campaign):
@@ -103,7 +114,7 @@ def test_campaign_report_links_every_scan(campaign):
         assert f"href='scan{i:02d}/'" in text
     assert "Distributions" in text and "data:image/png;base64" in text
     assert "missing.npy" in text and "no such file" in text
-    assert "Along chainage" not in text                # no chainage given
+    assert "Along chainage" not in text  # no chainage given
 
 
 @pytest.mark.parametrize("i", [0, 13])
@@ -116,8 +127,11 @@ def test_identical_to_analyse(campaign, tmp_path, i):
 
 def test_resume_skips_unchanged_and_redoes_changed(campaign, tmp_path):
     src, out = campaign["src"], campaign["out"]
-    before = {p.name: (p / "summary.json").stat().st_mtime_ns for p in out.iterdir()
-              if p.is_dir() and not p.name.startswith(".")}
+    before = {
+        p.name: (p / "summary.json").stat().st_mtime_ns
+        for p in out.iterdir()
+        if p.is_dir() and not p.name.startswith(".")
+    }
     # one input changes, one output folder is lost, one input is touched but unchanged
     np.save(src / "scan03.npy", fourier_surface(64, DX, 0.5, 4e-4, seed=99))
     import shutil
@@ -128,10 +142,13 @@ def test_resume_skips_unchanged_and_redoes_changed(campaign, tmp_path):
     rc = main(campaign["args"] + ["--resume"])
     assert rc == 2
     _head, rows = _read_campaign(out / "campaign.csv")
-    after = {p.name: (p / "summary.json").stat().st_mtime_ns for p in out.iterdir()
-             if p.is_dir() and not p.name.startswith(".")}
+    after = {
+        p.name: (p / "summary.json").stat().st_mtime_ns
+        for p in out.iterdir()
+        if p.is_dir() and not p.name.startswith(".")
+    }
     redone = {k for k in after if after[k] != before.get(k)}
-    assert redone == {"scan03", "scan05"}              # touched scan07: same hash, skipped
+    assert redone == {"scan03", "scan05"}  # touched scan07: same hash, skipped
     byname = {Path(r["file"]).stem: r for r in rows}
     old = {Path(r["file"]).stem: r for r in rows0}
     assert byname["scan03"]["rms_height_m"] != old["scan03"]["rms_height_m"]
@@ -143,8 +160,11 @@ def test_resume_skips_unchanged_and_redoes_changed(campaign, tmp_path):
         assert byname[k]["hurst"] == old[k]["hurst"] and byname[k]["status"] == "ok"
     # options changed: nothing is skipped
     rc = main(campaign["args"] + ["--resume", "--no-friction"])
-    again = {p.name: (p / "summary.json").stat().st_mtime_ns for p in out.iterdir()
-             if p.is_dir() and not p.name.startswith(".")}
+    again = {
+        p.name: (p / "summary.json").stat().st_mtime_ns
+        for p in out.iterdir()
+        if p.is_dir() and not p.name.startswith(".")
+    }
     assert all(again[k] != after[k] for k in after)
     assert not (out / "scan00" / "mu.csv").exists()
 
@@ -172,10 +192,23 @@ def test_manifest_labels_chainage_and_bad_rows(tmp_path):
         np.save(d / "cores" / f"c{i}.npy", fourier_surface(64, DX, 0.8, 2e-4, seed=40 + i))
     (d / "manifest.csv").write_text(
         "file,chainage_m,label\ncores/c2.npy,250,lane 1 wheel path\ncores/c0.npy,0,start\n"
-        "cores/c1.npy,ten,oops\ncores/c0.npy,500,again\n")
+        "cores/c1.npy,ten,oops\ncores/c0.npy,500,again\n"
+    )
     out = tmp_path / "out"
-    rc = main(["batch", str(d / "manifest.csv"), "--spacing", str(DX), "--out", str(out),
-               "--workers", "1", "--no-friction", "--figures"])
+    rc = main(
+        [
+            "batch",
+            str(d / "manifest.csv"),
+            "--spacing",
+            str(DX),
+            "--out",
+            str(out),
+            "--workers",
+            "1",
+            "--no-friction",
+            "--figures",
+        ]
+    )
     assert rc == 2
     _head, rows = _read_campaign(out / "campaign.csv")
     # --figures: the PNGs analyse makes for an area scan (no mu.png without friction)
@@ -205,14 +238,35 @@ def test_quiet_when_not_a_terminal(tmp_path):
     f = tmp_path / "a.npy"
     np.save(f, fourier_surface(64, DX, 0.8, 2e-4, seed=1))
     env = dict(os.environ, PYTHONPATH=str(ROOT))
-    r = subprocess.run([sys.executable, "-m", "pipelines.cli", "batch", str(f), str(tmp_path / "nope.npy"),
-                        "--spacing", str(DX), "--out", str(tmp_path / "o"), "--workers", "1",
-                        "--no-friction"], capture_output=True, text=True, env=env, timeout=120)
+    r = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pipelines.cli",
+            "batch",
+            str(f),
+            str(tmp_path / "nope.npy"),
+            "--spacing",
+            str(DX),
+            "--out",
+            str(tmp_path / "o"),
+            "--workers",
+            "1",
+            "--no-friction",
+        ],
+        capture_output=True,
+        text=True,
+        env=env,
+        timeout=120,
+    )
     assert r.returncode == 2
-    line, = r.stdout.splitlines()                       # the one summary line (issue 22)
-    assert re.fullmatch(rf"roadscan batch: 1 done, 0 skipped, 1 failed, [01] with warnings -> "
-                        rf"{re.escape(str(tmp_path / 'o' / 'campaign.csv'))}, "
-                        rf"{re.escape(str(tmp_path / 'o' / 'report.html'))}", line), line
+    (line,) = r.stdout.splitlines()  # the one summary line (issue 22)
+    assert re.fullmatch(
+        rf"roadscan batch: 1 done, 0 skipped, 1 failed, [01] with warnings -> "
+        rf"{re.escape(str(tmp_path / 'o' / 'campaign.csv'))}, "
+        rf"{re.escape(str(tmp_path / 'o' / 'report.html'))}",
+        line,
+    ), line
     assert r.stderr.strip().splitlines() == [f"roadscan batch: error: {tmp_path / 'nope.npy'}: no such file"]
 
 
@@ -226,8 +280,19 @@ def test_ctrl_c_keeps_finished_scans_and_resume_completes(tmp_path):
     for i in range(n):
         np.save(src / f"k{i:02d}.npy", fourier_surface(128, DX, 0.8, 2e-4, seed=200 + i))
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "pipelines.cli", "batch", str(src / "*.npy"), "--spacing", str(DX),
-           "--out", str(out), "--workers", "1"]
+    cmd = [
+        sys.executable,
+        "-m",
+        "pipelines.cli",
+        "batch",
+        str(src / "*.npy"),
+        "--spacing",
+        str(DX),
+        "--out",
+        str(out),
+        "--workers",
+        "1",
+    ]
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     p = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     t0 = time.time()
@@ -243,7 +308,7 @@ def test_ctrl_c_keeps_finished_scans_and_resume_completes(tmp_path):
     assert "interrupted" in err and "Traceback" not in err
     finished = [d for d in out.iterdir() if d.is_dir() and not d.name.startswith(".")]
     assert 2 <= len(finished) < n
-    for d in finished:       # every folder present is complete
+    for d in finished:  # every folder present is complete
         assert {"summary.json", "psd.csv", "mu.csv", SIDECAR} <= {f.name for f in d.iterdir()}
         json.loads((d / "summary.json").read_text())
     _head, rows = _read_campaign(out / "campaign.csv")
@@ -270,9 +335,26 @@ def test_progress_bar_on_a_terminal_without_tqdm(tmp_path):
     (block / "__init__.py").write_text("raise ImportError('tqdm hidden by the test')\n")
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(block.parent), str(ROOT)]))
     master, slave = pty.openpty()
-    r = subprocess.Popen([sys.executable, "-m", "pipelines.cli", "batch", str(f), str(f),
-                          "--spacing", str(DX), "--out", str(tmp_path / "o"), "--workers", "1",
-                          "--no-friction"], stdout=subprocess.PIPE, stderr=slave, env=env)
+    r = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "pipelines.cli",
+            "batch",
+            str(f),
+            str(f),
+            "--spacing",
+            str(DX),
+            "--out",
+            str(tmp_path / "o"),
+            "--workers",
+            "1",
+            "--no-friction",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=slave,
+        env=env,
+    )
     os.close(slave)
     chunks = []
     while True:
@@ -301,7 +383,7 @@ def test_local_workers_keep_glibc_dynamic_mmap_threshold(monkeypatch):
     with _client(workers=1) as client:
         seen = list(client.run(os.environ.get, _TRIM_ENV).values())
     assert seen == [None]
-    assert _TRIM_ENV not in os.environ       # nor leaked into this process by the nanny
+    assert _TRIM_ENV not in os.environ  # nor leaked into this process by the nanny
 
 
 def test_event_loop_errors_are_not_printed_during_a_campaign(capfd):

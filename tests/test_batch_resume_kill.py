@@ -4,6 +4,7 @@ done; the command alone or its whole process group), then ``--resume``: exit 0, 
 done, results identical to an uninterrupted run, nothing hidden left. Plus what a kill can
 leave, built by hand: temporary and set-aside scan folders, the table's temporary file, a
 folder a live writer still holds."""
+
 from __future__ import annotations
 
 import csv
@@ -39,8 +40,17 @@ def scans(tmp_path_factory):
 
 
 def _cmd(src, out, *extra):
-    return roadscan_cmd() + ["batch", *(str(src / f"k{i}.npy") for i in range(N)), "--spacing",
-                             str(DX), "--workers", "2", "--out", str(out), *extra]
+    return roadscan_cmd() + [
+        "batch",
+        *(str(src / f"k{i}.npy") for i in range(N)),
+        "--spacing",
+        str(DX),
+        "--workers",
+        "2",
+        "--out",
+        str(out),
+        *extra,
+    ]
 
 
 def _rows(out):
@@ -87,16 +97,26 @@ MOMENTS = {
 }
 
 
-@pytest.mark.parametrize("moment, group", [("right-after-start", False),
-                                           ("cluster-starting", False),
-                                           ("workers-writing", False),
-                                           ("workers-writing", True),
-                                           ("first-scan-done", True)])
+@pytest.mark.parametrize(
+    "moment, group",
+    [
+        ("right-after-start", False),
+        ("cluster-starting", False),
+        ("workers-writing", False),
+        ("workers-writing", True),
+        ("first-scan-done", True),
+    ],
+)
 def test_sigkill_then_resume_finishes_identically(scans, tmp_path, moment, group):
     src, ref = scans
     out = tmp_path / "out"
-    p = subprocess.Popen(_cmd(src, out), env=cli_env(), stdout=subprocess.DEVNULL,
-                         stderr=subprocess.DEVNULL, start_new_session=True)
+    p = subprocess.Popen(
+        _cmd(src, out),
+        env=cli_env(),
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
     reached = _wait(p, lambda: MOMENTS[moment](out))
     if group:
         os.killpg(p.pid, signal.SIGKILL)
@@ -106,10 +126,9 @@ def test_sigkill_then_resume_finishes_identically(scans, tmp_path, moment, group
     if p.returncode == 0 or not reached:
         pytest.skip(f"the campaign finished before {moment}")
     assert p.returncode == -signal.SIGKILL
-    _group_gone(p.pid)      # its Dask workers die with it (a live one is left to finish)
+    _group_gone(p.pid)  # its Dask workers die with it (a live one is left to finish)
     left = [x.name for x in campaign_leftovers(out)] if out.exists() else []
-    r = subprocess.run(_cmd(src, out, "--resume"), env=cli_env(), capture_output=True,
-                       text=True, timeout=300)
+    r = subprocess.run(_cmd(src, out, "--resume"), env=cli_env(), capture_output=True, text=True, timeout=300)
     assert r.returncode == 0, (left, r.stderr)
     assert "Traceback" not in r.stderr
     assert hidden_leftovers(out) == [], left
@@ -129,17 +148,17 @@ def _scan_folder(path, text):
 def test_leftovers_are_cleaned_and_an_old_set_put_back(tmp_path):
     out = tmp_path / "out"
     out.mkdir()
-    half = out / ".k0.roadscan-tmp-ab12cd34"          # a scan killed mid-write
+    half = out / ".k0.roadscan-tmp-ab12cd34"  # a scan killed mid-write
     half.mkdir()
-    (half / "summary.json").write_text("{\"half")
-    _scan_folder(out / ".k1.roadscan-old-ef56gh78", "old k1")   # set aside, new one not in yet
+    (half / "summary.json").write_text('{"half')
+    _scan_folder(out / ".k1.roadscan-old-ef56gh78", "old k1")  # set aside, new one not in yet
     (out / ".campaign.abcd_123.csv").write_text("file,label")  # the table's temporary file
     (out / ".report.zz99yy88.html").write_text("<html>")
-    (out / ".campaign_distributions.png").write_bytes(b"\x89PNG")   # the report's figure
+    (out / ".campaign_distributions.png").write_bytes(b"\x89PNG")  # the report's figure
     (out / "..campaign_chainage.k2j4h5g6.png").write_bytes(b"\x89PNG")
-    assert earlier_campaign(out)                      # only a killed campaign's leftovers
+    assert earlier_campaign(out)  # only a killed campaign's leftovers
     removed = recover_campaign(out)
-    assert sorted(os.listdir(out)) == ["k1"]          # the old complete set is back
+    assert sorted(os.listdir(out)) == ["k1"]  # the old complete set is back
     assert (out / "k1" / "summary.json").read_text() == "old k1"
     assert len(removed) == 6 and campaign_leftovers(out) == []
 
@@ -149,11 +168,11 @@ def test_a_held_temporary_folder_and_user_files_are_left_alone(tmp_path):
     out.mkdir()
     held = out / ".k2.roadscan-tmp-live0001"
     held.mkdir()
-    (out / ".notes.txt").write_text("mine")           # a user's hidden file: not ours
+    (out / ".notes.txt").write_text("mine")  # a user's hidden file: not ours
     fd = os.open(held, os.O_RDONLY)
     try:
-        fcntl.flock(fd, fcntl.LOCK_EX)                 # a live writer holds it
-        assert not earlier_campaign(out)               # .notes.txt: not only leftovers
+        fcntl.flock(fd, fcntl.LOCK_EX)  # a live writer holds it
+        assert not earlier_campaign(out)  # .notes.txt: not only leftovers
         recover_campaign(out)
         assert held.is_dir() and (out / ".notes.txt").read_text() == "mine"
     finally:

@@ -1,4 +1,5 @@
 """``roadscan batch --scheduler``: a real ``dask scheduler`` and two ``dask worker`` processes."""
+
 import csv
 import json
 import os
@@ -22,19 +23,49 @@ def cluster(tmp_path):
         pytest.skip("dask CLI not installed beside the interpreter")
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     sfile = tmp_path / "scheduler.json"
-    procs = [subprocess.Popen([str(DASK), "scheduler", "--scheduler-file", str(sfile), "--port", "0",
-                               "--no-dashboard", "--host", "127.0.0.1"], env=env,
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    procs = [
+        subprocess.Popen(
+            [
+                str(DASK),
+                "scheduler",
+                "--scheduler-file",
+                str(sfile),
+                "--port",
+                "0",
+                "--no-dashboard",
+                "--host",
+                "127.0.0.1",
+            ],
+            env=env,
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+    ]
     try:
         for _ in range(300):
             if sfile.exists() and sfile.stat().st_size:
                 break
             time.sleep(0.1)
         for _ in range(2):
-            procs.append(subprocess.Popen(
-                [str(DASK), "worker", "--scheduler-file", str(sfile), "--nthreads", "1",
-                 "--no-nanny", "--no-dashboard", "--resources", "scan=1"],
-                env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+            procs.append(
+                subprocess.Popen(
+                    [
+                        str(DASK),
+                        "worker",
+                        "--scheduler-file",
+                        str(sfile),
+                        "--nthreads",
+                        "1",
+                        "--no-nanny",
+                        "--no-dashboard",
+                        "--resources",
+                        "scan=1",
+                    ],
+                    env=env,
+                    stdout=subprocess.DEVNULL,
+                    stderr=subprocess.DEVNULL,
+                )
+            )
         from distributed import Client
 
         with Client(scheduler_file=str(sfile), timeout="30s") as c:
@@ -59,8 +90,19 @@ def test_batch_on_an_existing_cluster(cluster, tmp_path):
         np.save(src / f"s{i}.npy", fourier_surface(64, 1e-4, 0.8, 2e-4, seed=60 + i))
     (src / "broken.npy").write_text("nope")
     out = tmp_path / "out"
-    rc = main(["batch", str(src / "*.npy"), "--spacing", "1e-4", "--no-friction", "--out", str(out),
-               "--scheduler", cluster])
+    rc = main(
+        [
+            "batch",
+            str(src / "*.npy"),
+            "--spacing",
+            "1e-4",
+            "--no-friction",
+            "--out",
+            str(out),
+            "--scheduler",
+            cluster,
+        ]
+    )
     assert rc == 2
     with open(out / "campaign.csv", newline="") as fh:
         rows = list(csv.DictReader(fh))
@@ -69,7 +111,7 @@ def test_batch_on_an_existing_cluster(cluster, tmp_path):
     for r in rows[1:]:
         stem = Path(r["file"]).stem
         s = json.loads((out / stem / "summary.json").read_text())
-        assert (float(r["hurst"]) if r["hurst"] else None) == s["hurst"]   # empty when null
+        assert (float(r["hurst"]) if r["hurst"] else None) == s["hurst"]  # empty when null
         hosts.add(stem)
     assert len(hosts) == 6
     # identical to analyse in this process
@@ -82,8 +124,18 @@ def test_batch_on_an_existing_cluster(cluster, tmp_path):
 def test_unreachable_scheduler_is_one_line(tmp_path, capsys):
     f = tmp_path / "a.npy"
     np.save(f, np.zeros((8, 8)))
-    rc = main(["batch", str(f), "--spacing", "1e-4", "--out", str(tmp_path / "o"),
-               "--scheduler", "tcp://127.0.0.1:9"])
+    rc = main(
+        [
+            "batch",
+            str(f),
+            "--spacing",
+            "1e-4",
+            "--out",
+            str(tmp_path / "o"),
+            "--scheduler",
+            "tcp://127.0.0.1:9",
+        ]
+    )
     assert rc == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--scheduler tcp://127.0.0.1:9" in err[0]

@@ -1,4 +1,5 @@
 """``roadscan batch --section-length``: a long line profile cut along chainage, read in chunks."""
+
 import csv
 import json
 import tracemalloc
@@ -12,7 +13,7 @@ from pipelines.cli.app import main
 from roadscan.heightmap import Profile
 from roadscan.roughness import mean_profile_depth
 
-DX = 5e-4          # 0.5 mm, a road texture laser's interval
+DX = 5e-4  # 0.5 mm, a road texture laser's interval
 
 
 def _profile(n, seed=0):
@@ -37,7 +38,7 @@ def _rows(path):
 
 
 def test_sections_match_mpd_of_each_slice(tmp_path):
-    n = 8000                                     # 4 m at 0.5 mm
+    n = 8000  # 4 m at 0.5 mm
     x, z = _profile(n)
     np.save(tmp_path / "line.npy", z)
     _write_xz_mm(tmp_path / "line.txt", x, z, dropouts=range(3000, 3010))
@@ -47,7 +48,7 @@ def test_sections_match_mpd_of_each_slice(tmp_path):
     got_txt = list(iter_sections(tmp_path / "line.txt", L))
     assert [s for s, _ in got_npy] == [0.0, 1.0, 2.0, 3.0] == [s for s, _ in got_txt]
     for k, ((_, a), (_, b)) in enumerate(zip(got_npy, got_txt)):
-        ref = z[k * per:(k + 1) * per]
+        ref = z[k * per : (k + 1) * per]
         np.testing.assert_array_equal(a.heights_m, ref)
         assert a.dx_m == DX and b.dx_m == pytest.approx(DX, rel=1e-6)
         assert b.n == per
@@ -62,13 +63,24 @@ def test_sections_match_mpd_of_each_slice(tmp_path):
 
 
 def test_batch_section_rows(tmp_path):
-    n = 12000                                    # 6 m
+    n = 12000  # 6 m
     x, z = _profile(n, seed=3)
     _write_xz_mm(tmp_path / "lane.txt", x, z)
     (tmp_path / "m.csv").write_text("file,chainage_m,label\nlane.txt,1000,lane 1\n")
     out = tmp_path / "out"
-    rc = main(["batch", str(tmp_path / "m.csv"), "--section-length", "2", "--no-friction",
-               "--out", str(out), "--workers", "1"])
+    rc = main(
+        [
+            "batch",
+            str(tmp_path / "m.csv"),
+            "--section-length",
+            "2",
+            "--no-friction",
+            "--out",
+            str(out),
+            "--workers",
+            "1",
+        ]
+    )
     assert rc == 0
     rows = _rows(out / "campaign.csv")
     assert [float(r["chainage_m"]) for r in rows] == [1000.0, 1002.0, 1004.0]
@@ -76,9 +88,9 @@ def test_batch_section_rows(tmp_path):
     assert all(r["status"] == "ok" and r["label"] == "lane 1" for r in rows)
     per = int(round(2 / DX))
     for k, r in enumerate(rows):
-        ref = Profile(z[k * per:(k + 1) * per], DX)
+        ref = Profile(z[k * per : (k + 1) * per], DX)
         m_ref, _ = mean_profile_depth(ref)
-        assert float(r["mpd_m"]) == pytest.approx(m_ref, rel=1e-4)   # text printed to 1 nm
+        assert float(r["mpd_m"]) == pytest.approx(m_ref, rel=1e-4)  # text printed to 1 nm
         # rms of the section: Rq of its levelled heights (first-degree line removed)
         xs = np.arange(per)
         resid = ref.heights_m - np.polyval(np.polyfit(xs, ref.heights_m, 1), xs)
@@ -87,8 +99,11 @@ def test_batch_section_rows(tmp_path):
         # (issue 20) the fit may find H < 0, which the row's warnings then say
         # (or a band under half a decade): then hurst is empty, its note in summary.json
         s = json.loads((out / "lane" / f"section_{k:05d}" / "summary.json").read_text())
-        assert (r["hurst"] == "" and s["hurst"] is None and s["hurst_note"]) or \
-            0 < float(r["hurst"]) < 1.5 or "not self-affine" in r["warnings"]
+        assert (
+            (r["hurst"] == "" and s["hurst"] is None and s["hurst_note"])
+            or 0 < float(r["hurst"]) < 1.5
+            or "not self-affine" in r["warnings"]
+        )
         assert (out / "lane" / f"section_{k:05d}" / "psd.csv").exists()
     side = _rows(out / "lane" / "sections.csv")
     assert [s["mpd_m"] for s in side] == [r["mpd_m"] for r in rows]
@@ -104,7 +119,7 @@ def test_captif_and_area_inputs(tmp_path, shared_data):
     secs = list(iter_sections(cap[0], 0.2))
     assert len(secs) >= 1
     total = sum(p.n for _, p in secs)
-    assert abs(total - whole.n) <= len(secs) + 2       # the boundary gaps at most
+    assert abs(total - whole.n) <= len(secs) + 2  # the boundary gaps at most
     assert secs[0][1].dx_m == pytest.approx(whole.dx_m, rel=1e-3)
     np.save(tmp_path / "area.npy", np.zeros((16, 16)))
     with pytest.raises(Exception, match="line profile"):

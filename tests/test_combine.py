@@ -1,4 +1,5 @@
 """``roadscan combine`` (issue 20): several measurements of one surface merged into one C(q)."""
+
 import pytest
 
 from pipelines.jobs.combine.inputs import collect_inputs, is_manifest
@@ -10,8 +11,9 @@ def test_manifest_relative_paths_and_labels(tmp_path):
     d.mkdir()
     (d / "a.npy").write_bytes(b"x")
     (d / "b.npy").write_bytes(b"x")
-    (d / "list.csv").write_text("file,spacing_m,resolution_m,label\n"
-                                "a.npy,1e-5,2e-5,laser\nb.npy,1e-6;2e-6,,\n")
+    (d / "list.csv").write_text(
+        "file,spacing_m,resolution_m,label\na.npy,1e-5,2e-5,laser\nb.npy,1e-6;2e-6,,\n"
+    )
     assert is_manifest(d / "list.csv")
     got = collect_inputs([d / "list.csv"], resolution_m=3e-6)
     assert [e.path for e in got] == [d / "a.npy", d / "b.npy"]
@@ -20,15 +22,18 @@ def test_manifest_relative_paths_and_labels(tmp_path):
     assert got[0].resolution_m == 2e-5 and got[1].resolution_m == 3e-6
 
 
-@pytest.mark.parametrize("text, word", [
-    ("file,colour\na.npy,red\n", "colour"),
-    ("file,spacing_m\na.npy,-1\n", "spacing_m"),
-    ("file,resolution_m\na.npy,abc\n", "resolution_m"),
-    ("file,units\na.npy,inch\n", "units"),
-    ("file\nmissing.npy\n", "missing.npy"),
-    ("file\n", "no file"),
-    ("file,label\na.npy\n", "cells"),
-])
+@pytest.mark.parametrize(
+    "text, word",
+    [
+        ("file,colour\na.npy,red\n", "colour"),
+        ("file,spacing_m\na.npy,-1\n", "spacing_m"),
+        ("file,resolution_m\na.npy,abc\n", "resolution_m"),
+        ("file,units\na.npy,inch\n", "units"),
+        ("file\nmissing.npy\n", "missing.npy"),
+        ("file\n", "no file"),
+        ("file,label\na.npy\n", "cells"),
+    ],
+)
 def test_bad_manifests_are_one_line_naming_the_file(tmp_path, text, word):
     (tmp_path / "a.npy").write_bytes(b"x")
     m = tmp_path / "list.csv"
@@ -50,7 +55,7 @@ from roadscan.reliable_band import gaussian_response  # noqa: E402
 from roadscan.synth import model_psd  # noqa: E402
 from roadscan.synth_measure import measure_synthetic  # noqa: E402
 
-HURST, K = 0.8, 1e-3          # C = K q^-3.6 [m^4]: about 0.3 mm rms over a 13 mm view
+HURST, K = 0.8, 1e-3  # C = K q^-3.6 [m^4]: about 0.3 mm rms over a 13 mm view
 #: (points per side, spacing a [m], lateral resolution r [m], white noise rms [m]): a texture
 #: laser whose noise floor ends its band, a confocal microscope, an AFM-like instrument
 INSTRUMENTS = ((256, 50e-6, 100e-6, 1e-5), (256, 3e-6, 6e-6, 2e-8), (256, 0.15e-6, 0.45e-6, 1e-10))
@@ -102,12 +107,12 @@ def test_three_instruments_give_the_true_spectrum(three_instruments):
     held = (lo[sel] <= truth[sel]) & (truth[sel] <= hi[sel])
     ok = (np.abs(ratio - 1) < 0.25) | ((np.abs(ratio - 1) < 0.5) & held)
     assert ok.all(), list(zip(q[sel][~ok], ratio[~ok]))
-    assert held.mean() > 0.8                       # a 90 % band holds the truth most of the time
+    assert held.mean() > 0.8  # a 90 % band holds the truth most of the time
     assert np.all(lo <= C) and np.all(C <= hi) and np.all(np.diff(q) > 0)
     assert all(hi_ / lo_ <= 6 for lo_, hi_ in summary["gaps"]) and np.max(q[1:] / q[:-1]) < 6
     assert [[g["q_from_per_m"], g["q_to_per_m"]] for g in summary["gap_details"]] == summary["gaps"]
     bands = [d["reliable_band_per_m"] for d in summary["inputs"]]
-    for lo_, hi_ in summary["gaps"]:           # from one band's top to the next band's start
+    for lo_, hi_ in summary["gaps"]:  # from one band's top to the next band's start
         assert lo_ in [b[1] for b in bands] and hi_ in [b[0] for b in bands]
         assert not any(b[0] < np.sqrt(lo_ * hi_) < b[1] for b in bands)
     # bridged rows are the gaps' rows, and only they carry no source
@@ -127,8 +132,8 @@ def test_each_band_ends_before_resolution_or_noise_dominates(three_instruments):
         assert d["spacing_m"] == [pytest.approx(a)] * 2 and d["size_m"] == [pytest.approx(n * a)] * 2
         assert d["resolution_m"] == pytest.approx(r) and d["resolution_source"] == "given"
         signal = model_psd(hi, HURST, K) * gaussian_response(hi, r) ** 2
-        assert gaussian_response(hi, r) >= 0.5                 # resolution not yet dominant
-        assert _noise_C(a, noise) < 0.5 * signal               # nor the noise
+        assert gaussian_response(hi, r) >= 0.5  # resolution not yet dominant
+        assert _noise_C(a, noise) < 0.5 * signal  # nor the noise
         assert lo >= 4 * 2 * np.pi / (n * a) and set(d["reliable_band_reasons"]) == {"lo", "hi"}
     laser = summary["inputs"][0]
     assert laser["reliable_band_reasons"]["hi"].startswith("noise floor")
@@ -162,8 +167,9 @@ def test_area_and_profile_mixed_with_figure_and_report(tmp_path):
     np.save(tmp_path / "area.npy", area.heights_m)
     fine = measure_synthetic(1024, 2e-6, HURST, K, seed=2, pad=1)
     write(tmp_path / "line.x3p", Profile(fine.heights_m[0].copy(), 2e-6, name="line"))
-    (tmp_path / "list.csv").write_text(f"file,spacing_m,resolution_m,label\narea.npy,{40e-6!r},"
-                                       f"{80e-6!r},area\nline.x3p,,,line\n")
+    (tmp_path / "list.csv").write_text(
+        f"file,spacing_m,resolution_m,label\narea.npy,{40e-6!r},{80e-6!r},area\nline.x3p,,,line\n"
+    )
     out = tmp_path / "out"
     assert main(["combine", str(tmp_path / "list.csv"), "--out", str(out)]) == 0
     summary = json.loads((out / "combine.json").read_text())
@@ -200,10 +206,11 @@ def test_bad_inputs_one_line_exit_2(tmp_path, capsys):
     (tmp_path / "junk.csv").write_text(f"file,spacing_m\na.npy,{1e-5!r}\njunk.npy,1e-5\n")
     out = tmp_path / "out"
     for argv, name in (
-            (["combine", str(tmp_path / "bad.csv"), "--out", str(out)], "not_there.npy"),
-            (["combine", str(tmp_path / "junk.csv"), "--out", str(out)], "junk.npy"),
-            (["combine", str(tmp_path / "a.npy"), "--out", str(out)], "a.npy"),     # no spacing
-            (["combine", str(tmp_path / "nope.csv"), "--out", str(out)], "nope.csv")):
+        (["combine", str(tmp_path / "bad.csv"), "--out", str(out)], "not_there.npy"),
+        (["combine", str(tmp_path / "junk.csv"), "--out", str(out)], "junk.npy"),
+        (["combine", str(tmp_path / "a.npy"), "--out", str(out)], "a.npy"),  # no spacing
+        (["combine", str(tmp_path / "nope.csv"), "--out", str(out)], "nope.csv"),
+    ):
         rc, err = _run(argv, capsys)
         assert rc == 2 and len(err) == 1 and name in err[0] and "Traceback" not in err[0], err
         assert not out.exists()
@@ -232,10 +239,10 @@ def _part(label, lo, hi, scale=1.0, count=1000.0, per_decade=20):
 def test_merge_power_law_gap_and_weights():
     from roadscan.spectrum_merge import chi2_quantile, merge_spectra
 
-    assert chi2_quantile(0.05, 10) == pytest.approx(3.9403, abs=1e-3)     # tables
+    assert chi2_quantile(0.05, 10) == pytest.approx(3.9403, abs=1e-3)  # tables
     assert chi2_quantile(0.95, 2) == pytest.approx(5.9915, abs=1e-3)
     m = merge_spectra([_part("a", 1e3, 1e4), _part("b", 3e4, 1e5)])
-    assert np.allclose(m.C_m4, m.q_per_m**-3.0, rtol=1e-9)          # bridge and rows exact
+    assert np.allclose(m.C_m4, m.q_per_m**-3.0, rtol=1e-9)  # bridge and rows exact
     assert len(m.gaps) == 1 and m.gaps[0]["q_from_per_m"] == 1e4 and m.gaps[0]["q_to_per_m"] == 3e4
     assert m.gaps[0]["factor"] == pytest.approx(3.0) and np.all(m.n_sources[m.count == 0] == 0)
     step = 10 ** (1 / 20)
@@ -251,7 +258,7 @@ def test_merge_power_law_gap_and_weights():
     i2 = (alone.q_per_m > 2e3) & (alone.q_per_m < 5e3)
     assert np.all((m2.C_hi_m4 / m2.C_lo_m4)[inner] > (alone.C_hi_m4 / alone.C_lo_m4)[i2])
     with pytest.raises(ValueError):
-        merge_spectra([_part("none", 1e3, 1e4, count=0.0)])          # no lattice point
+        merge_spectra([_part("none", 1e3, 1e4, count=0.0)])  # no lattice point
 
 
 def test_empty_bins_inside_a_band_are_no_gap():
@@ -261,8 +268,7 @@ def test_empty_bins_inside_a_band_are_no_gap():
 
     p = _part("sparse", 1e3, 1e4)
     keep = np.arange(p.q_per_m.size) % 3 == 0
-    m = merge_spectra([SpectrumPart("sparse", p.q_per_m[keep], p.C_m4[keep], p.count[keep],
-                                    p.band_per_m)])
+    m = merge_spectra([SpectrumPart("sparse", p.q_per_m[keep], p.C_m4[keep], p.count[keep], p.band_per_m)])
     assert m.gaps == [] and np.all(m.n_sources == 1)
     assert np.allclose(m.C_m4, m.q_per_m**-3.0, rtol=1e-9)
 
@@ -293,14 +299,14 @@ def test_leaky_start_is_trimmed_and_a_roll_off_is_not():
     from pipelines.jobs.combine.sources import _trim_leaky_start
     from roadscan.reliable_band import ReliableBand
 
-    q = 10 ** ((np.arange(60, 100) + 0.5) / 20)          # 1e3 .. 1e5, 20 per decade
+    q = 10 ** ((np.arange(60, 100) + 0.5) / 20)  # 1e3 .. 1e5, 20 per decade
     dof = np.full(q.size, 2000.0)
     band = ReliableBand(1e3, 1e5, "field of view: test", "Nyquist: test")
-    leaky = q**-3.0 * np.where(q < 10 ** 3.1, 1.6, 1.0)
+    leaky = q**-3.0 * np.where(q < 10**3.1, 1.6, 1.0)
     trimmed = _trim_leaky_start(band, q, leaky, dof)
-    assert 0.999 * 10 ** 3.1 <= trimmed.lo_per_m <= 10 ** 3.2 and "raised" in trimmed.lo_reason
-    rolled = q**-3.0 * np.where(q < 10 ** 3.1, 0.5, 1.0)
+    assert 0.999 * 10**3.1 <= trimmed.lo_per_m <= 10**3.2 and "raised" in trimmed.lo_reason
+    rolled = q**-3.0 * np.where(q < 10**3.1, 0.5, 1.0)
     assert _trim_leaky_start(band, q, rolled, dof) == band
     assert _trim_leaky_start(band, q, q**-3.0, dof) == band
-    few = _trim_leaky_start(band, q, leaky, np.full(q.size, 4.0))   # not significant
+    few = _trim_leaky_start(band, q, leaky, np.full(q.size, 4.0))  # not significant
     assert few == replace(band)

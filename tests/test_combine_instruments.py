@@ -2,6 +2,7 @@
 instruments (issue 20's acceptance check, on small grids): different spacing, field of view,
 lateral resolution (Gaussian blur) and noise floor; area files plus a manifest giving
 ``spacing_m`` and ``resolution_m``."""
+
 import csv
 import json
 
@@ -13,18 +14,17 @@ from roadscan.reliable_band import gaussian_response
 from roadscan.synth import model_psd
 from roadscan.synth_measure import measure_synthetic
 
-H, K = 0.8, 2e-5               # C = K q^-3.6 [m^4], q in 1/m: rms 0.2 mm over the laser's view
+H, K = 0.8, 2e-5  # C = K q^-3.6 [m^4], q in 1/m: rms 0.2 mm over the laser's view
 N = 256
 #: (name, spacing [m], lateral resolution [m], wave vector where the noise's C equals the
 #: blurred surface's, as a fraction of Nyquist)
-INSTRUMENTS = [("laser", 50e-6, 150e-6, 0.6), ("confocal", 2e-6, 5e-6, 0.5),
-               ("afm", 0.1e-6, 0.3e-6, 0.7)]
+INSTRUMENTS = [("laser", 50e-6, 150e-6, 0.6), ("confocal", 2e-6, 5e-6, 0.5), ("afm", 0.1e-6, 0.3e-6, 0.7)]
 
 
 def _noise_sigma(dx, res, at):
     q = at * np.pi / dx
     c_signal = model_psd(q, H, K) * gaussian_response(q, res) ** 2
-    return float(np.sqrt(c_signal * (2 * np.pi) ** 2 / dx**2)), c_signal   # C_white = s^2 a^2/(2 pi)^2
+    return float(np.sqrt(c_signal * (2 * np.pi) ** 2 / dx**2)), c_signal  # C_white = s^2 a^2/(2 pi)^2
 
 
 def _gap(g):
@@ -97,10 +97,10 @@ def test_each_band_ends_before_resolution_or_noise_dominates(combined):
     for s, (_, dx, res, at) in zip(info["inputs"], INSTRUMENTS):
         lo, hi = s["reliable_band_per_m"]
         assert s["resolution_m"] == pytest.approx(res)
-        assert hi < 2 * np.pi / res                       # before the resolution
+        assert hi < 2 * np.pi / res  # before the resolution
         _, c_noise = _noise_sigma(dx, res, at)
         c_signal = model_psd(hi, H, K) * gaussian_response(hi, res) ** 2
-        assert c_noise < c_signal                         # before the noise dominates
+        assert c_noise < c_signal  # before the noise dominates
         assert lo >= 2 * 2 * np.pi / (N * dx)
         assert set(s["reliable_band_reasons"]) == {"lo", "hi"}
     fit = info["fit"]

@@ -6,6 +6,7 @@ field and without one; q0 is reported where the surface has one and nowhere else
 :mod:`roadscan.rolloff_origin` on exact spectra: a knee near the field of view alone is the
 instrument's, one another instrument bends at is the surface's, one another measures straight
 across is the instrument's."""
+
 import csv
 import json
 
@@ -22,8 +23,11 @@ H, K = 0.8, 2e-5
 #: (label, points per side, spacing [m], resolution [m], where the white noise's C equals the
 #: blurred surface's, as a fraction of Nyquist): a 51 mm road laser, a 1.3 mm confocal, a
 #: 26 um AFM whose band reaches past 2 pi / 1 um
-INSTRUMENTS = [("road laser", 256, 200e-6, 400e-6, 0.9), ("confocal", 256, 5e-6, 10e-6, 0.8),
-               ("afm", 256, 0.1e-6, 0.3e-6, 0.7)]
+INSTRUMENTS = [
+    ("road laser", 256, 200e-6, 400e-6, 0.9),
+    ("confocal", 256, 5e-6, 10e-6, 0.8),
+    ("afm", 256, 0.1e-6, 0.3e-6, 0.7),
+]
 L_MAX = 256 * 200e-6
 Q_A, Q_B = 8 * 2 * np.pi / L_MAX, 2 * np.pi / 1e-6
 
@@ -33,9 +37,10 @@ def _combine(d, q_roll, seed):
     for i, (label, n, dx, res, at) in enumerate(INSTRUMENTS):
         q = at * np.pi / dx
         c = model_psd(q, H, K, q_roll_per_m=q_roll) * gaussian_response(q, res) ** 2
-        sigma = float(np.sqrt(c * (2 * np.pi) ** 2 / dx**2))    # C_white = s^2 a^2 / (2 pi)^2
-        hm = measure_synthetic(n, dx, H, K, q_roll_per_m=q_roll, resolution_m=res,
-                               noise_rms_m=sigma, seed=seed * 10 + i)
+        sigma = float(np.sqrt(c * (2 * np.pi) ** 2 / dx**2))  # C_white = s^2 a^2 / (2 pi)^2
+        hm = measure_synthetic(
+            n, dx, H, K, q_roll_per_m=q_roll, resolution_m=res, noise_rms_m=sigma, seed=seed * 10 + i
+        )
         np.save(d / f"i{i}.npy", hm.heights_m)
         rows.append(f"i{i}.npy,{dx!r},{res!r},{label}")
     (d / "m.csv").write_text("\n".join(rows) + "\n")
@@ -63,7 +68,7 @@ def test_a_surface_with_a_roll_off_keeps_its_plateau_and_q0(tmp_path, seed):
     _window_check(t, q_roll)
     laser = info["inputs"][0]
     assert laser["roll_off"]["origin"] == "surface"
-    assert laser["reliable_band_per_m"][0] < 0.8 * q_roll          # the plateau is in
+    assert laser["reliable_band_per_m"][0] < 0.8 * q_roll  # the plateau is in
     assert info["q0_per_m"] == pytest.approx(q_roll, rel=0.15)
     assert "road laser" in info["q0_how"]
     assert info["fit"]["roll_off_per_m"] == pytest.approx(info["q0_per_m"])
@@ -71,8 +76,10 @@ def test_a_surface_with_a_roll_off_keeps_its_plateau_and_q0(tmp_path, seed):
     # the 10 % bias a band's end tolerates
     plateau = t[t[:, 0] < 0.9 * q_roll]
     assert plateau.size
-    assert np.all((plateau[:, 2] / 1.1 <= model_psd(plateau[:, 0], H, K, q_roll_per_m=q_roll))
-                  & (model_psd(plateau[:, 0], H, K, q_roll_per_m=q_roll) <= 1.1 * plateau[:, 3]))
+    assert np.all(
+        (plateau[:, 2] / 1.1 <= model_psd(plateau[:, 0], H, K, q_roll_per_m=q_roll))
+        & (model_psd(plateau[:, 0], H, K, q_roll_per_m=q_roll) <= 1.1 * plateau[:, 3])
+    )
 
 
 @pytest.mark.parametrize("seed", [1, 2])
@@ -92,8 +99,7 @@ def _rings(lo, hi, per_decade=20):
 def _view(label, q_roll, L, band, knee_of_surface=None):
     q = _rings(*band)
     C = np.maximum(q, knee_of_surface or 0.0) ** -3.6
-    return RollOffView(label, q_roll, 2 * np.pi / L, 6 * 2 * np.pi / L, band, q, C,
-                       np.full(q.size, 1e3))
+    return RollOffView(label, q_roll, 2 * np.pi / L, 6 * 2 * np.pi / L, band, q, C, np.full(q.size, 1e3))
 
 
 def test_a_knee_alone_near_the_field_of_view_is_the_instruments():

@@ -2,6 +2,7 @@
 coarse road laser, a mid-range instrument and a microscope (every merged row within 25 % of the
 true C(q)); two different surfaces warned; the merge's bends, neighbour check and disagreement
 test on exact power laws."""
+
 import csv
 import json
 
@@ -14,11 +15,14 @@ from roadscan.spectrum_merge import SpectrumPart, disagreements, merge_spectra
 from roadscan.synth import model_psd
 from roadscan.synth_measure import measure_synthetic
 
-H, K = 0.8, 2e-5               # C = K q^-3.6 [m^4] above the roll-off, flat below
+H, K = 0.8, 2e-5  # C = K q^-3.6 [m^4] above the roll-off, flat below
 #: (label, points per side, spacing [m], lateral resolution [m], where the white noise's C
 #: equals the blurred surface's, as a fraction of Nyquist)
-INSTRUMENTS = [("road laser", 256, 200e-6, 400e-6, 0.9), ("confocal", 256, 20e-6, 40e-6, 0.8),
-               ("microscope", 256, 1e-6, 2e-6, 0.8)]
+INSTRUMENTS = [
+    ("road laser", 256, 200e-6, 400e-6, 0.9),
+    ("confocal", 256, 20e-6, 40e-6, 0.8),
+    ("microscope", 256, 1e-6, 2e-6, 0.8),
+]
 
 
 def _noise_sigma(dx, res, at, q_roll):
@@ -32,8 +36,16 @@ def _noise_sigma(dx, res, at, q_roll):
 def _combine(d, q_roll, seed, scale=(1.0, 1.0, 1.0), instruments=INSTRUMENTS):
     rows = ["file,spacing_m,resolution_m,label"]
     for i, (label, n, dx, res, at) in enumerate(instruments):
-        hm = measure_synthetic(n, dx, H, K * scale[i], q_roll_per_m=q_roll, resolution_m=res,
-                               noise_rms_m=_noise_sigma(dx, res, at, q_roll), seed=seed + i)
+        hm = measure_synthetic(
+            n,
+            dx,
+            H,
+            K * scale[i],
+            q_roll_per_m=q_roll,
+            resolution_m=res,
+            noise_rms_m=_noise_sigma(dx, res, at, q_roll),
+            seed=seed + i,
+        )
         np.save(d / f"i{i}.npy", hm.heights_m)
         rows.append(f"i{i}.npy,{dx!r},{res!r},{label}")
     (d / "manifest.csv").write_text("\n".join(rows) + "\n")
@@ -49,14 +61,25 @@ def _combine(d, q_roll, seed, scale=(1.0, 1.0, 1.0), instruments=INSTRUMENTS):
 NARROW = [("road laser", 128, 200e-6, 400e-6, 0.3)] + INSTRUMENTS[1:]
 #: instruments a factor 5 apart: the laser's band ends above its roll-off and a gap follows,
 #: bridged from the rows above the roll-off (from the plateau too, it was 0.47 x the truth)
-APART = [("road laser", 256, 100e-6, 200e-6, 0.6), ("confocal", 256, 4e-6, 10e-6, 0.5),
-         ("afm", 256, 0.2e-6, 0.6e-6, 0.7)]
+APART = [
+    ("road laser", 256, 100e-6, 200e-6, 0.6),
+    ("confocal", 256, 4e-6, 10e-6, 0.5),
+    ("afm", 256, 0.2e-6, 0.6e-6, 0.7),
+]
 
 
-@pytest.mark.parametrize("q_roll, seed, instruments", [
-    (600.0, 10, INSTRUMENTS), (600.0, 40, INSTRUMENTS), (2000.0, 30, INSTRUMENTS),
-    (2000.0, 60, INSTRUMENTS), (2000.0, 20, NARROW), (5000.0, 11, APART)],
-    ids=["600-a", "600-b", "2000-a", "2000-b", "2000-narrow-laser", "5000-gap-above-roll-off"])
+@pytest.mark.parametrize(
+    "q_roll, seed, instruments",
+    [
+        (600.0, 10, INSTRUMENTS),
+        (600.0, 40, INSTRUMENTS),
+        (2000.0, 30, INSTRUMENTS),
+        (2000.0, 60, INSTRUMENTS),
+        (2000.0, 20, NARROW),
+        (5000.0, 11, APART),
+    ],
+    ids=["600-a", "600-b", "2000-a", "2000-b", "2000-narrow-laser", "5000-gap-above-roll-off"],
+)
 def test_every_row_within_25_percent_of_a_rolled_off_truth(tmp_path, q_roll, seed, instruments):
     """Roll-off at 5 x (600 1/m) and 16 x (2000 1/m) the laser's 2 pi / L: inside its band or
     at its start. Before rows kept off the bend, the lowest row was 30 % to x3 above the truth
@@ -67,14 +90,14 @@ def test_every_row_within_25_percent_of_a_rolled_off_truth(tmp_path, q_roll, see
     err = C / truth - 1
     assert np.all(np.abs(err) <= 0.25), np.c_[q, C / truth][np.abs(err) > 0.25]
     held = (lo <= truth) & (truth <= hi)
-    assert held.mean() > 0.75                  # a 5-95 % band: most rows hold the truth
-    assert np.all((lo / 1.1 <= truth) & (truth <= 1.1 * hi))   # and none misses it by far
+    assert held.mean() > 0.75  # a 5-95 % band: most rows hold the truth
+    assert np.all((lo / 1.1 <= truth) & (truth <= 1.1 * hi))  # and none misses it by far
     laser = info["inputs"][0]
     if instruments is APART:
-        assert info["gaps"] and info["gaps"][0][0] > q_roll       # the gap lies above it
+        assert info["gaps"] and info["gaps"][0][0] > q_roll  # the gap lies above it
     if instruments is not NARROW:
-        assert laser["q_roll_per_m"] == pytest.approx(q_roll, rel=0.3)   # the roll-off is seen
-        assert q[0] <= 3 * q_roll                          # and the merged curve comes near it
+        assert laser["q_roll_per_m"] == pytest.approx(q_roll, rel=0.3)  # the roll-off is seen
+        assert q[0] <= 3 * q_roll  # and the merged curve comes near it
     assert info["disagreements"] == [] and not any("disagree" in w for w in info["warnings"])
     assert info["fit"]["hurst"] == pytest.approx(H, abs=0.1)
 
@@ -110,7 +133,7 @@ def test_rows_keep_off_a_bend():
     """An exact plateau-then-q^-3.6 spectrum with few points per ring (rows pool up to 8 bins):
     with the bend given, every row is exact; without it, rows straddling it are off."""
     q = _rings(1e3, 1e5)
-    count = 0.5 * q**2 / 1e6                     # lattice points grow as q^2: 0.5 .. 5000
+    count = 0.5 * q**2 / 1e6  # lattice points grow as q^2: 0.5 .. 5000
     C = _broken(q, 3e3)
     plain = merge_spectra([SpectrumPart("a", q, C, count, (1e3, 1e5))])
     bent = merge_spectra([SpectrumPart("a", q, C, count, (1e3, 1e5), bends_per_m=(3e3,))])
@@ -123,7 +146,7 @@ def test_rows_keep_off_a_bend():
 def test_a_row_contradicting_its_neighbours_gets_a_band_reaching_them():
     q = _rings(1e3, 1e5)
     C = q**-3.0
-    C[30] *= 3.0                                 # one ring 3 x off, many points: a narrow band
+    C[30] *= 3.0  # one ring 3 x off, many points: a narrow band
     m = merge_spectra([SpectrumPart("a", q, C, np.full(q.size, 5000.0), (1e3, 1e5))])
     i = int(np.argmin(np.abs(np.log(m.q_per_m / q[30]))))
     assert m.widened_rows_per_m == [pytest.approx(m.q_per_m[i])]
@@ -153,15 +176,23 @@ def test_a_gap_over_an_undetected_roll_off_is_bridged_by_the_lower_power_law():
     (one line through both sides was 0.3-0.7 x the truth there)."""
     q_r = 5e3
     q1, q2 = _rings(1e3, 3e3), _rings(2e4, 2e5)
-    m = merge_spectra([SpectrumPart("coarse", q1, _broken(q1, q_r), np.full(q1.size, 1e4), (1e3, 3e3)),
-                       SpectrumPart("fine", q2, _broken(q2, q_r), np.full(q2.size, 1e4), (2e4, 2e5))])
+    m = merge_spectra(
+        [
+            SpectrumPart("coarse", q1, _broken(q1, q_r), np.full(q1.size, 1e4), (1e3, 3e3)),
+            SpectrumPart("fine", q2, _broken(q2, q_r), np.full(q2.size, 1e4), (2e4, 2e5)),
+        ]
+    )
     bridged = m.n_sources == 0
     assert bridged.sum() >= 5 and len(m.gaps) == 1
     assert np.allclose(m.C_m4, _broken(m.q_per_m, q_r), rtol=1e-6)
     assert "lower of the power laws" in m.gaps[0]["bridged_by"]
     # the same gap on a straight power law: one line, exact
-    straight = merge_spectra([SpectrumPart("a", q1, q1**-3.6, np.full(q1.size, 1e4), (1e3, 3e3)),
-                              SpectrumPart("b", q2, q2**-3.6, np.full(q2.size, 1e4), (2e4, 2e5))])
+    straight = merge_spectra(
+        [
+            SpectrumPart("a", q1, q1**-3.6, np.full(q1.size, 1e4), (1e3, 3e3)),
+            SpectrumPart("b", q2, q2**-3.6, np.full(q2.size, 1e4), (2e4, 2e5)),
+        ]
+    )
     assert np.allclose(straight.C_m4, straight.q_per_m**-3.6, rtol=1e-6)
     assert straight.gaps[0]["bridged_by"].startswith("a power law")
 
@@ -174,15 +205,31 @@ def test_a_road_laser_profile_enters_above_its_roll_off(tmp_path):
     from roadscan.io import write
 
     q_roll, seed = 1000.0, 3
-    field = measure_synthetic(2048, 200e-6, H, K, q_roll_per_m=q_roll, resolution_m=400e-6,
-                              noise_rms_m=_noise_sigma(200e-6, 400e-6, 0.7, q_roll), seed=seed,
-                              pad=1)
+    field = measure_synthetic(
+        2048,
+        200e-6,
+        H,
+        K,
+        q_roll_per_m=q_roll,
+        resolution_m=400e-6,
+        noise_rms_m=_noise_sigma(200e-6, 400e-6, 0.7, q_roll),
+        seed=seed,
+        pad=1,
+    )
     write(tmp_path / "laser.x3p", Profile(field.heights_m[0].copy(), 200e-6, name="laser"))
     del field
     rows = ["file,spacing_m,resolution_m,label", f"laser.x3p,,{400e-6!r},road laser"]
     for i, (label, n, dx, res, at) in enumerate(INSTRUMENTS[1:]):
-        hm = measure_synthetic(n, dx, H, K, q_roll_per_m=q_roll, resolution_m=res,
-                               noise_rms_m=_noise_sigma(dx, res, at, q_roll), seed=seed + 1 + i)
+        hm = measure_synthetic(
+            n,
+            dx,
+            H,
+            K,
+            q_roll_per_m=q_roll,
+            resolution_m=res,
+            noise_rms_m=_noise_sigma(dx, res, at, q_roll),
+            seed=seed + 1 + i,
+        )
         np.save(tmp_path / f"i{i}.npy", hm.heights_m)
         rows.append(f"i{i}.npy,{dx!r},{res!r},{label}")
     (tmp_path / "manifest.csv").write_text("\n".join(rows) + "\n")

@@ -1,4 +1,5 @@
 """Tests of the sim-to-real gap diagnosis (pipelines/diagnose, issue 5)."""
+
 from __future__ import annotations
 
 import json
@@ -44,7 +45,7 @@ def test_noise_estimate_is_unbiased_within_20_percent():
         n = int(rng.integers(20, 41))
         v = np.logspace(-5, 1.3, n)
         lv = np.log10(v)
-        truth = 10 ** (np.log10(0.05 + 1.5 * np.exp(-(lv + 1) ** 2 / 3)) + 0.05 * lv)
+        truth = 10 ** (np.log10(0.05 + 1.5 * np.exp(-((lv + 1) ** 2) / 3)) + 0.05 * lv)
         sig = rng.uniform(0.02, 0.05)
         mu = truth * (1 + sig * rng.standard_normal(n))
         ratios.append(gapmod.estimate_noise(v, mu) / (np.log10(np.e) * sig))
@@ -97,7 +98,9 @@ def test_lognormal_prony_keeps_limits_and_narrow_width_is_the_sls():
     sls = friction.thesis_rubber()
     w = np.logspace(-3, 12, 50)
     p = lognormal_prony(sls, 1.2)
-    assert p.modulus_ref(np.array([1e-12])).real[0] == pytest.approx(sls.modulus_ref(np.array([1e-12])).real[0], rel=1e-6)
+    assert p.modulus_ref(np.array([1e-12])).real[0] == pytest.approx(
+        sls.modulus_ref(np.array([1e-12])).real[0], rel=1e-6
+    )
     assert p.modulus_ref(np.array([1e20])).real[0] == pytest.approx(1e9, rel=1e-6)
     assert np.all(p.modulus_ref(w).imag > 0)
     narrow = lognormal_prony(sls, 1e-4)
@@ -109,8 +112,10 @@ def test_lognormal_prony_keeps_limits_and_narrow_width_is_the_sls():
 # ----------------------------------------------------------------------------- input
 def test_measured_csv_per_row_columns_take_precedence(tmp_path):
     path = tmp_path / "mu.csv"
-    path.write_text("v_m_per_s,mu,T0_C,sigma0_Pa,condition\n"
-                    "1e-3,0.5,,,dry\n1e-2,0.6,40,,wet\n1e-1,0.7,,3e5,dry\n1,0.8,,,\n10,0.9,20,1e5,wet\n")
+    path.write_text(
+        "v_m_per_s,mu,T0_C,sigma0_Pa,condition\n"
+        "1e-3,0.5,,,dry\n1e-2,0.6,40,,wet\n1e-1,0.7,,3e5,dry\n1,0.8,,,\n10,0.9,20,1e5,wet\n"
+    )
     c = read_measured(path, sigma0_Pa=2e5, T0_C=50.0)
     np.testing.assert_allclose(c.T0_C, [50, 40, 50, 50, 20])
     np.testing.assert_allclose(c.sigma0_Pa, [2e5, 2e5, 3e5, 2e5, 1e5])
@@ -131,12 +136,15 @@ def test_per_row_temperature_reaches_the_engine(tmp_path):
     np.testing.assert_allclose(mu[1::2], at40[1::2], rtol=1e-6)
 
 
-@pytest.mark.parametrize("text, msg", [
-    ("v,mu\n1,2\n", "missing column 'v_m_per_s'"),
-    ("v_m_per_s,mu\n1,2\n2,x\n", "not a number"),
-    ("v_m_per_s,mu\n" + "".join(f"{i + 1},-1\n" for i in range(6)), "mu must be positive"),
-    ("v_m_per_s,mu\n1,1\n2,1\n", "only 2 data rows"),
-])
+@pytest.mark.parametrize(
+    "text, msg",
+    [
+        ("v,mu\n1,2\n", "missing column 'v_m_per_s'"),
+        ("v_m_per_s,mu\n1,2\n2,x\n", "not a number"),
+        ("v_m_per_s,mu\n" + "".join(f"{i + 1},-1\n" for i in range(6)), "mu must be positive"),
+        ("v_m_per_s,mu\n1,1\n2,1\n", "only 2 data rows"),
+    ],
+)
 def test_bad_measured_input_is_one_line_error(tmp_path, text, msg):
     path = tmp_path / "bad.csv"
     path.write_text(text)
@@ -157,14 +165,25 @@ def test_cli_bad_input_exit_2(tmp_path, capsys):
 # ----------------------------------------------------------------------------- registry
 def test_registry_has_the_issue_effects_and_skips_water_without_scan():
     names = {e.name for e in all_effects("friction")}
-    assert {"flash_temperature", "relaxation_spectrum", "temperature_offset", "fine_roughness", "water",
-            "adhesion", "load", "contact_correction"} <= names
-    assert {"rolloff", "noise_floor", "height_skew", "anisotropy", "seams"} <= {e.name for e in all_effects("surface")}
+    assert {
+        "flash_temperature",
+        "relaxation_spectrum",
+        "temperature_offset",
+        "fine_roughness",
+        "water",
+        "adhesion",
+        "load",
+        "contact_correction",
+    } <= names
+    assert {"rolloff", "noise_floor", "height_skew", "anisotropy", "seams"} <= {
+        e.name for e in all_effects("surface")
+    }
     v = np.logspace(-4, 0, 12)
     ctx = build_context(read_measured_like(v), PSD)
     mu = simulate(ctx.base, ctx) * 1.0
-    d = diagnose_friction(ctx, mu, noise=0.01, effects=[e for e in all_effects("friction")
-                                                       if e.name in ("water", "load")])
+    d = diagnose_friction(
+        ctx, mu, noise=0.01, effects=[e for e in all_effects("friction") if e.name in ("water", "load")]
+    )
     assert [s["name"] for s in d.skipped] == ["water"] and "scan" in d.skipped[0]["reason"]
 
 
@@ -172,16 +191,28 @@ def read_measured_like(v, mu=None):
     from pipelines.diagnosis.measured import MeasuredCurve
 
     n = v.size
-    return MeasuredCurve(v, np.ones(n) if mu is None else mu, np.full(n, np.nan), np.full(n, 2e5),
-                         np.zeros(n, bool), False, "t")
+    return MeasuredCurve(
+        v,
+        np.ones(n) if mu is None else mu,
+        np.full(n, np.nan),
+        np.full(n, 2e5),
+        np.zeros(n, bool),
+        False,
+        "t",
+    )
 
 
 def test_a_new_plug_in_is_found_and_used_without_touching_others():
     """A multiplicative scale effect registered at run time is fitted and named."""
-    e = register(Effect(name="zz_scale", level="friction",
-                        params=(Param("factor", 0.2, 5.0, 1.0, "log"),),
-                        modify=lambda s, p, c: s.with_(additive=s.additive),
-                        apply_fn=lambda ctx, p: simulate(ctx.base, ctx) * p["factor"]))
+    e = register(
+        Effect(
+            name="zz_scale",
+            level="friction",
+            params=(Param("factor", 0.2, 5.0, 1.0, "log"),),
+            modify=lambda s, p, c: s.with_(additive=s.additive),
+            apply_fn=lambda ctx, p: simulate(ctx.base, ctx) * p["factor"],
+        )
+    )
     try:
         assert "zz_scale" in {x.name for x in all_effects("friction")}
         v = np.logspace(-5, 0.5, 24)
@@ -189,8 +220,9 @@ def test_a_new_plug_in_is_found_and_used_without_touching_others():
         rng = np.random.default_rng(0)
         mu = simulate(ctx.base, ctx) * 1.8 * (1 + 0.02 * rng.standard_normal(v.size))
         # q1 declared known: a level change is what a q1 calibration would explain too
-        d = diagnose_friction(ctx, mu, effects=[e, *[x for x in all_effects("friction") if x.name == "load"]],
-                              default_q1=False)
+        d = diagnose_friction(
+            ctx, mu, effects=[e, *[x for x in all_effects("friction") if x.name == "load"]], default_q1=False
+        )
         assert d.verdict["effect"] == "zz_scale"
         assert d.best.params[0]["factor"] == pytest.approx(1.8, rel=0.03)
         assert d.verdict["shrink"] > 0.9
@@ -208,8 +240,22 @@ def test_cli_friction_level_contract(tmp_path):
     mu = _curve_file(tmp_path, c.curve.v_m_per_s, c.curve.mu)
     other = _curve_file(tmp_path, c.curve.v_m_per_s[::2], c.truth_mu[::2], "other.csv")
     out = tmp_path / "out"
-    assert cli(["diagnose", "--measured", str(mu), "--psd", str(psd), "--validate", str(other),
-                "--out", str(out)]) == 0
+    assert (
+        cli(
+            [
+                "diagnose",
+                "--measured",
+                str(mu),
+                "--psd",
+                str(psd),
+                "--validate",
+                str(other),
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
     d = json.loads((out / "diagnosis.json").read_text())
     for k in ("level", "baseline_gap", "noise", "where", "effects", "verdict"):
         assert k in d
@@ -229,8 +275,9 @@ def test_cli_friction_level_contract(tmp_path):
 def test_cli_surface_level_finds_a_rolloff(tmp_path):
     from roadscan.synth import self_affine_surface
 
-    hm = self_affine_surface(256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4,
-                             q_roll_per_m=8 * 2 * np.pi / (256 * 5e-5), seed=2)
+    hm = self_affine_surface(
+        256, 256, dx_m=5e-5, hurst=0.8, rms_height_m=3e-4, q_roll_per_m=8 * 2 * np.pi / (256 * 5e-5), seed=2
+    )
     path = tmp_path / "scan.npy"
     np.save(path, hm.heights_m)
     out = tmp_path / "s"
@@ -262,11 +309,14 @@ def test_proof_small_blind_cases_meet_the_goals():
         got = d.verdict["effect"]
         if c.effect is None:
             n_null += 1
-            fp += got not in (None, "calibration")      # calibration is no named effect (issue 19)
+            fp += got not in (None, "calibration")  # calibration is no named effect (issue 19)
         else:
             # fine roughness answered by calibrating q1 (uncertain by default) is right (issue 19)
-            hits += got == c.effect or (c.effect == "fine_roughness" and got == "calibration"
-                                        and "q1_per_m" in d.verdict["calibrated"])
+            hits += got == c.effect or (
+                c.effect == "fine_roughness"
+                and got == "calibration"
+                and "q1_per_m" in d.verdict["calibrated"]
+            )
             shrink.append(d.verdict["shrink"] or 0.0)
     n_eff = len(cases) - n_null
     assert n_eff == 8 and n_null == 4
@@ -281,7 +331,7 @@ def test_l_moment_ratios_match_analytic_values():
 
     rng = np.random.default_rng(3)
     t3, t4 = l_moment_ratios(rng.standard_normal(200_000))
-    assert abs(t3) < 0.005 and t4 == pytest.approx(0.1226, abs=0.005)   # Hosking 1990, table 1
+    assert abs(t3) < 0.005 and t4 == pytest.approx(0.1226, abs=0.005)  # Hosking 1990, table 1
     t3, t4 = l_moment_ratios(rng.exponential(size=200_000))
     assert t3 == pytest.approx(1 / 3, abs=0.005) and t4 == pytest.approx(1 / 6, abs=0.005)
     # location and scale do not change the ratios; a sign flip flips tau3 only
@@ -338,11 +388,18 @@ def test_every_surface_effect_has_a_reachable_no_effect_limit():
     class Ctx:  # the attributes effects read
         ring_q = np.geomspace(1e3, 1e5, 40)
         twin_rings = -12 - 3.6 * np.log10(ring_q / 1e3)
-        twin_mean: ClassVar[dict] = dict(height=np.array([0.0, 0.12, 0.0]), anisotropy=np.array([0.0, 0.0]), seams=np.array([0.9]),
-                         rain=np.array([-0.1, -0.1, -0.1, 0.2]), spectrum=np.zeros(7))
-        skew_table: ClassVar[dict] = dict(s=np.array([-1.0, 0.0, 1.0]),
-                          height=np.array([[-0.1, 0.13, 0.03], [0.0, 0.12, 0.0], [0.1, 0.13, -0.03]]),
-                          rain=np.array([[0.1] * 4, [0.0] * 4, [-0.1] * 4]))
+        twin_mean: ClassVar[dict] = dict(
+            height=np.array([0.0, 0.12, 0.0]),
+            anisotropy=np.array([0.0, 0.0]),
+            seams=np.array([0.9]),
+            rain=np.array([-0.1, -0.1, -0.1, 0.2]),
+            spectrum=np.zeros(7),
+        )
+        skew_table: ClassVar[dict] = dict(
+            s=np.array([-1.0, 0.0, 1.0]),
+            height=np.array([[-0.1, 0.13, 0.03], [0.0, 0.12, 0.0], [0.1, 0.13, -0.03]]),
+            rain=np.array([[0.1] * 4, [0.0] * 4, [-0.1] * 4]),
+        )
 
         class fit:
             hurst = 0.8
@@ -449,9 +506,9 @@ def test_few_points_are_compared_by_evidence_and_fits_never_beat_by_no_effect():
     for c in d.candidates:
         assert c.r_held.size == v.size
         assert c.gap_heldout >= c.gap_train * (1 - 1e-12), c.name
-        assert c.gap_train <= d.baseline_gap * (1 + 1e-9), c.name   # never worse than no effect
+        assert c.gap_train <= d.baseline_gap * (1 + 1e-9), c.name  # never worse than no effect
     best = d.best
-    fitted = dict(zip([e.name for e in best.effects], best.params))   # may be calibrated with q1
+    fitted = dict(zip([e.name for e in best.effects], best.params))  # may be calibrated with q1
     assert fitted["temperature_offset"]["dT_C"] == pytest.approx(-12.0, abs=1.0)
 
 

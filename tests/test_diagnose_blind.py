@@ -5,6 +5,7 @@ friction engine's public API; ``pipelines/diagnose`` is not imported). The diagn
 subprocess and only ``diagnosis.json`` is read. All diagnoses of this file run once, two at a
 time, in a module fixture.
 """
+
 from __future__ import annotations
 
 import importlib.util
@@ -21,16 +22,22 @@ import pytest
 import friction as F
 
 ROOT = Path(__file__).resolve().parents[1]
-_spec = importlib.util.spec_from_file_location("bench_diagnose_blind",
-                                               ROOT / "benchmarks" / "bench_diagnose_blind.py")
+_spec = importlib.util.spec_from_file_location(
+    "bench_diagnose_blind", ROOT / "benchmarks" / "bench_diagnose_blind.py"
+)
 B = importlib.util.module_from_spec(_spec)
 sys.modules.setdefault("bench_diagnose_blind", B)
 _spec.loader.exec_module(B)
 
 # seeded effect cases (psd.csv surfaces, default speed draw); chosen as the first seeds whose case
 # passes the benchmark's own identifiability filter, never by the diagnosis' answer
-ACCURACY_CASES = [(31, "temperature_offset"), (12, "adhesion"), (13, "fine_roughness"),
-                  (14, "contact_correction"), (15, "relaxation_spectrum")]
+ACCURACY_CASES = [
+    (31, "temperature_offset"),
+    (12, "adhesion"),
+    (13, "fine_roughness"),
+    (14, "contact_correction"),
+    (15, "relaxation_spectrum"),
+]
 NULL_SEEDS = [21, 22, 23]
 # a temperature offset (dT = -21.4 C, speeds 3.8e-3..26 m/s, psd.csv) on which the diagnosis
 # crashed with a traceback (exit 1: its flash fit's mu_flash did not converge) when written
@@ -38,8 +45,9 @@ CRASH_CASE = (1011, "temperature_offset")
 
 
 def _cli(args):
-    return subprocess.run([sys.executable, "-m", "pipelines.cli", "diagnose", *args],
-                          capture_output=True, text=True, cwd=ROOT)
+    return subprocess.run(
+        [sys.executable, "-m", "pipelines.cli", "diagnose", *args], capture_output=True, text=True, cwd=ROOT
+    )
 
 
 def _diag(args, out):
@@ -66,18 +74,19 @@ def runs(tmp_path_factory):
     for seed, eff in ACCURACY_CASES:
         c = _first_identifiable(seed, eff, tmp)
         cases[eff] = c
-        jobs[eff] = (lambda c=c: B.run_diagnose(c)[0])
+        jobs[eff] = lambda c=c: B.run_diagnose(c)[0]
     c = B.make_case(*CRASH_CASE, tmp / "crash", kind="psd")
     cases["crash"] = c
-    jobs["crash"] = (lambda c=c: B.run_diagnose(c, validate=False)[0])
+    jobs["crash"] = lambda c=c: B.run_diagnose(c, validate=False)[0]
     for s in NULL_SEEDS:
         c = B.make_case(s, None, tmp / f"null_{s}", kind="psd" if s % 2 else "scan", small=True)
         cases[f"null{s}"] = c
-        jobs[f"null{s}"] = (lambda c=c: B.run_diagnose(c)[0])
+        jobs[f"null{s}"] = lambda c=c: B.run_diagnose(c)[0]
     # --noise given: a large value must silence the strongest effect case
     c = cases["adhesion"]
-    jobs["noise_big"] = lambda c=c: B.run_diagnose(c, extra=["--noise", "5.0"], validate=False,
-                                                    out_name="out_noise")[0]
+    jobs["noise_big"] = lambda c=c: B.run_diagnose(
+        c, extra=["--noise", "5.0"], validate=False, out_name="out_noise"
+    )[0]
     # column precedence: truth at T0 = 75 C and sigma0 = 2 MPa, noise 2 %
     rng = np.random.default_rng(7)
     d = tmp / "precedence"
@@ -93,12 +102,17 @@ def runs(tmp_path_factory):
     B.write_mu_csv(d / "S_col.csv", v, mu_S, sigma0_Pa=2e6)
     B.write_mu_csv(d / "S_nocol.csv", v, mu_S)
     psd = ["--psd", str(d / "psd.csv")]
-    for name, extra in {"T_col": ["--temperature", "60"], "T_nocol": ["--temperature", "60"],
-                        "T_flag": ["--temperature", "75"], "S_col": ["--sigma0", "2e5"],
-                        "S_nocol": ["--sigma0", "2e5"]}.items():
+    for name, extra in {
+        "T_col": ["--temperature", "60"],
+        "T_nocol": ["--temperature", "60"],
+        "T_flag": ["--temperature", "75"],
+        "S_col": ["--sigma0", "2e5"],
+        "S_nocol": ["--sigma0", "2e5"],
+    }.items():
         csv = d / (name.replace("_flag", "_nocol") + ".csv")
-        jobs[name] = (lambda csv=csv, extra=extra, name=name:
-                      _diag(["--measured", str(csv), *psd, *extra], d / f"out_{name}"))
+        jobs[name] = lambda csv=csv, extra=extra, name=name: _diag(
+            ["--measured", str(csv), *psd, *extra], d / f"out_{name}"
+        )
     with ThreadPoolExecutor(max_workers=2) as ex:
         futs = {k: ex.submit(f) for k, f in jobs.items()}
         res = {k: f.result() for k, f in futs.items()}
@@ -143,15 +157,15 @@ def test_contract_keys_and_types(runs):
     for k in ("effect", "shrink", "gap_validate"):
         assert k in ver
     eff = ver["effect"]
-    assert isinstance(eff, str) or (isinstance(eff, list) and len(eff) == 2
-                                    and all(isinstance(n, str) for n in eff))
+    assert isinstance(eff, str) or (
+        isinstance(eff, list) and len(eff) == 2 and all(isinstance(n, str) for n in eff)
+    )
     name = eff if isinstance(eff, str) else "+".join(eff)
     names = [e["name"] for e in diag["effects"]]
     assert name in names or "+".join(reversed(eff)) in names
     assert _is_num(ver["shrink"]) and _is_num(ver["gap_validate"])
     # shrink = 1 - gap_after / gap_before on held-out points: consistent with its entry
-    entry = diag["effects"][names.index(name) if name in names else
-                            names.index("+".join(reversed(eff)))]
+    entry = diag["effects"][names.index(name) if name in names else names.index("+".join(reversed(eff)))]
     assert abs(entry["shrink"] - ver["shrink"]) < 1e-6
     assert entry["gap_heldout"] <= min(heldout) * 1.5 + 1e-9
     assert (c.dir / "out" / "report.html").is_file()
@@ -217,20 +231,27 @@ def test_csv_columns_take_precedence(runs):
     assert runs["S_col"]["verdict"]["effect"] is None
 
 
-@pytest.mark.parametrize("content,extra", [
-    ("speed,mu\n1e-3,0.1\n1e-2,0.2\n", []),                        # wrong header
-    ("v_m_per_s,mu\n1e-3,0.1\n-1e-2,0.2\n1e-1,0.3\n", []),         # negative speed
-    ("v_m_per_s,mu\n1e-3,abc\n1e-2,0.2\n", []),                     # not a number
-    ("v_m_per_s,mu\n1e-3,0.1\n1e-2,0.2\n1e-1,0.3\n", ["--missing-psd"]),  # psd file missing
-])
+@pytest.mark.parametrize(
+    "content,extra",
+    [
+        ("speed,mu\n1e-3,0.1\n1e-2,0.2\n", []),  # wrong header
+        ("v_m_per_s,mu\n1e-3,0.1\n-1e-2,0.2\n1e-1,0.3\n", []),  # negative speed
+        ("v_m_per_s,mu\n1e-3,abc\n1e-2,0.2\n", []),  # not a number
+        ("v_m_per_s,mu\n1e-3,0.1\n1e-2,0.2\n1e-1,0.3\n", ["--missing-psd"]),  # psd file missing
+    ],
+)
 def test_bad_input_exit_2_one_line(tmp_path, content, extra):
     q = np.logspace(3, 5, 30)
-    np.savetxt(tmp_path / "psd.csv", np.column_stack([q, 1e-20 * (q / 1e3) ** -3.6]),
-               delimiter=",", header="q_per_m,C_m4", comments="")
+    np.savetxt(
+        tmp_path / "psd.csv",
+        np.column_stack([q, 1e-20 * (q / 1e3) ** -3.6]),
+        delimiter=",",
+        header="q_per_m,C_m4",
+        comments="",
+    )
     (tmp_path / "mu.csv").write_text(content)
     psd = tmp_path / ("nope.csv" if extra == ["--missing-psd"] else "psd.csv")
-    pr = _cli(["--measured", str(tmp_path / "mu.csv"), "--psd", str(psd), "--out",
-               str(tmp_path / "out")])
+    pr = _cli(["--measured", str(tmp_path / "mu.csv"), "--psd", str(psd), "--out", str(tmp_path / "out")])
     assert pr.returncode == 2, (pr.returncode, pr.stderr)
     lines = [ln for ln in pr.stderr.splitlines() if ln.strip()]
     assert len(lines) == 1, pr.stderr

@@ -1,6 +1,7 @@
 """Issue 36: same physics, one name (fine roughness is q1 continued, a load is another sigma0);
 next_measurement only between explanations a measurement can separate; inputs stated on the
 command line are given; the few-point and held-out regimes agree at their switch."""
+
 from __future__ import annotations
 
 import json
@@ -24,15 +25,16 @@ PSD = friction.SelfAffinePSD(0.8, 5e-4, 2000.0, 5e4)
 
 def _ctx(v, psd=PSD):
     n = v.size
-    return build_context(MeasuredCurve(v, np.ones(n), np.full(n, np.nan), np.full(n, 2e5), np.zeros(n, bool),
-                                       False, "t"), psd)
+    return build_context(
+        MeasuredCurve(v, np.ones(n), np.full(n, np.nan), np.full(n, 2e5), np.zeros(n, bool), False, "t"), psd
+    )
 
 
 def test_one_effect_moving_only_its_own_input_is_one_explanation():
     assert same_physics(["fine_roughness"], ["q1"]) and same_physics(["load"], ["sigma0"])
     assert same_physics(["fine_roughness"], [])
-    assert not same_physics(["fine_roughness"], ["q1", "psd_scale"])       # another input moved too
-    assert not same_physics(["flash_temperature"], ["q1"])                 # different physics
+    assert not same_physics(["fine_roughness"], ["q1", "psd_scale"])  # another input moved too
+    assert not same_physics(["flash_temperature"], ["q1"])  # different physics
     assert not same_physics(["load", "fine_roughness"], ["q1"])
     assert not distinct("fine_roughness", "calibration") and not distinct("nominal", "load")
     assert distinct("flash_temperature", "calibration") and distinct("fine_roughness", "adhesion")
@@ -81,7 +83,9 @@ def _cli_run(tmp_path, name, n, extra):
     v = np.logspace(-5, 0, n)
     ctx = _ctx(v)
     rng = np.random.default_rng(7)
-    mu = simulate(ctx.base.with_(psd=PSD.with_q1(4 * PSD.q1_per_m)), ctx) * np.exp(0.02 * rng.standard_normal(n))
+    mu = simulate(ctx.base.with_(psd=PSD.with_q1(4 * PSD.q1_per_m)), ctx) * np.exp(
+        0.02 * rng.standard_normal(n)
+    )
     m = tmp_path / f"{name}.csv"
     write_csv(m, ["v_m_per_s", "mu"], [v, mu])
     q = np.logspace(np.log10(2000.0), np.log10(PSD.q1_per_m), 60)
@@ -120,8 +124,9 @@ RIVALS = ("temperature_offset", "contact_correction", "load")
 def _scan():
     from roadscan.synth import self_affine_surface
 
-    hm = self_affine_surface(128, 128, dx_m=6e-5, hurst=0.8, rms_height_m=3e-4,
-                             q_roll_per_m=4 * 2 * np.pi / (128 * 6e-5), seed=36)
+    hm = self_affine_surface(
+        128, 128, dx_m=6e-5, hurst=0.8, rms_height_m=3e-4, q_roll_per_m=4 * 2 * np.pi / (128 * 6e-5), seed=36
+    )
     from pipelines.diagnosis.inputs import surface_from_scan
 
     return surface_from_scan(hm)
@@ -138,8 +143,9 @@ def test_the_two_regimes_agree_at_their_switch(kind):
     calls = []
     for n in (19, 20):
         v = np.logspace(-5, 0, n)
-        curve = MeasuredCurve(v, np.ones(n), np.full(n, np.nan), np.full(n, 2e5), np.zeros(n, bool), False,
-                              "t")
+        curve = MeasuredCurve(
+            v, np.ones(n), np.full(n, np.nan), np.full(n, 2e5), np.zeros(n, bool), False, "t"
+        )
         if surf is None:
             ctx = build_context(curve, PSD)
         else:

@@ -1,5 +1,6 @@
 """diagnose --scan records how the scan was read (issue 22: a flag that overrides a file's own
 calibration, or the channel chosen, is recorded in every command's outputs)."""
+
 import json
 from pathlib import Path
 
@@ -10,9 +11,20 @@ ROOT = Path(__file__).resolve().parents[1]
 
 def test_diagnosis_json_records_the_calibration_override(tmp_path):
     out = tmp_path / "dg"
-    rc = main(["diagnose", "--measured", str(ROOT / "sample_scans" / "measured_mu_example.csv"),
-               "--scan", str(ROOT / "sample_scans" / "asphalt.x3p"), "--spacing", "6e-5",
-               "--override-calibration", "--out", str(out)])
+    rc = main(
+        [
+            "diagnose",
+            "--measured",
+            str(ROOT / "sample_scans" / "measured_mu_example.csv"),
+            "--scan",
+            str(ROOT / "sample_scans" / "asphalt.x3p"),
+            "--spacing",
+            "6e-5",
+            "--override-calibration",
+            "--out",
+            str(out),
+        ]
+    )
     assert rc == 0
     read = json.loads((out / "diagnosis.json").read_text())["inputs"]["scan_read"]
     spacing = read["calibration_override"]["spacing"]

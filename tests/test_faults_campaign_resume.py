@@ -8,6 +8,7 @@ A campaign stopped before any scan finished leaves a ``campaign.csv`` listing ev
 interrupted and no scan folder: ``--resume`` read that table's header to recognise its own
 campaign, the overwrite guard recorded the read, and the new table was refused as "replacing
 an input" (exit 2)."""
+
 from __future__ import annotations
 
 import csv
@@ -30,15 +31,26 @@ def scans(tmp_path_factory):
     for i in range(N):
         np.save(d / f"c{i}.npy", fourier_surface(128, DX, 0.7 + 0.05 * i, 2e-4, seed=500 + i))
     ref = d / "ref"
-    r = subprocess.run(_argv(d, ref, cmd=roadscan_cmd()), env=cli_env(), capture_output=True,
-                       text=True, timeout=300)
+    r = subprocess.run(
+        _argv(d, ref, cmd=roadscan_cmd()), env=cli_env(), capture_output=True, text=True, timeout=300
+    )
     assert r.returncode == 0, r.stderr
     return d, ref
 
 
 def _argv(d, out, *extra, cmd=()):
-    return [*cmd, "batch", *(str(d / f"c{i}.npy") for i in range(N)), "--spacing", str(DX),
-            "--workers", "1", "--out", str(out), *extra]
+    return [
+        *cmd,
+        "batch",
+        *(str(d / f"c{i}.npy") for i in range(N)),
+        "--spacing",
+        str(DX),
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+        *extra,
+    ]
 
 
 def _rows(out):
@@ -58,8 +70,9 @@ def test_resume_after_a_stop_before_any_scan_finished(scans, tmp_path, capsys, m
     real = runner.run_campaign
 
     def stopped(jobs, **kw):
-        raise runner.Interrupted([[error_record(j, f"{j['file']}: interrupted before it finished")]
-                                  for j in jobs])
+        raise runner.Interrupted(
+            [[error_record(j, f"{j['file']}: interrupted before it finished")] for j in jobs]
+        )
 
     monkeypatch.setattr(runner, "run_campaign", stopped)
     rc, err = run_cli(capsys, _argv(d, out))
@@ -76,19 +89,32 @@ def test_resume_after_a_stop_before_any_scan_finished(scans, tmp_path, capsys, m
 #: (signal, seconds after start, to the whole process group): SIGHUP to the group once the
 #: cluster is up killed multiprocessing's resource tracker, whose successor printed KeyError
 #: tracebacks while the cluster closed (6 of 6 runs at 2.0-3.0 s)
-CASES = [(signal.SIGINT, 0.8, True), (signal.SIGTERM, 1.5, False), (signal.SIGHUP, 2.5, False),
-         (signal.SIGHUP, 2.5, True), (signal.SIGINT, 3.0, True), (signal.SIGINT, 4.0, False)]
+CASES = [
+    (signal.SIGINT, 0.8, True),
+    (signal.SIGTERM, 1.5, False),
+    (signal.SIGHUP, 2.5, False),
+    (signal.SIGHUP, 2.5, True),
+    (signal.SIGINT, 3.0, True),
+    (signal.SIGINT, 4.0, False),
+]
 
 
-@pytest.mark.parametrize("sig, delay, group", CASES,
-                         ids=[f"{s.name}-{d}s{'-group' if g else ''}" for s, d, g in CASES])
+@pytest.mark.parametrize(
+    "sig, delay, group", CASES, ids=[f"{s.name}-{d}s{'-group' if g else ''}" for s, d, g in CASES]
+)
 def test_a_signal_at_any_moment_then_resume_gives_the_same_table(scans, tmp_path, sig, delay, group):
     if sig == getattr(signal, "SIGHUP", None) and signal.getsignal(sig) == signal.SIG_IGN:
         pytest.skip("SIGHUP is ignored here (run under nohup): the command keeps it ignored")
     d, ref = scans
     out = tmp_path / "camp"
-    p = subprocess.Popen(_argv(d, out, cmd=roadscan_cmd()), env=cli_env(), stdout=subprocess.PIPE,
-                         stderr=subprocess.PIPE, text=True, start_new_session=group)
+    p = subprocess.Popen(
+        _argv(d, out, cmd=roadscan_cmd()),
+        env=cli_env(),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=group,
+    )
     time.sleep(delay)
     if p.poll() is None:
         if group:
@@ -97,12 +123,17 @@ def test_a_signal_at_any_moment_then_resume_gives_the_same_table(scans, tmp_path
             p.send_signal(sig)
     _, err = p.communicate(timeout=180)
     assert "Traceback" not in err, err
-    if p.returncode != 0:               # stopped (else it finished first: resume skips all)
+    if p.returncode != 0:  # stopped (else it finished first: resume skips all)
         assert p.returncode == 128 + sig, (p.returncode, err)
         assert err.strip().count("\n") == 0 and "interrupted" in err, err
     assert hidden_leftovers(d) == []
-    r = subprocess.run(_argv(d, out, "--resume", cmd=roadscan_cmd()), env=cli_env(),
-                       capture_output=True, text=True, timeout=300)
+    r = subprocess.run(
+        _argv(d, out, "--resume", cmd=roadscan_cmd()),
+        env=cli_env(),
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
     assert r.returncode == 0 and "Traceback" not in r.stderr, r.stderr
     assert _rows(out) == _rows(ref)
     assert hidden_leftovers(d) == []

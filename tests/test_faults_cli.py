@@ -1,5 +1,6 @@
 """Fault suite, new-user family (issue 22): ``--version``, "did you mean" for a mistyped
 command or option, one summary line of ``batch`` on success and on ``--resume``."""
+
 from __future__ import annotations
 
 import re
@@ -20,15 +21,18 @@ def test_version_from_package_metadata():
     assert r.returncode == 0 and r.stdout.strip() == f"roadscan {metadata.version('roadscan')}"
 
 
-@pytest.mark.parametrize("argv, suggestion", [
-    (["analyze", "x.npy"], "'analyse'"),
-    (["rainfill", "x.npy"], "'rain-fill'"),
-    (["analyse", "x.npy", "--output", "o"], "--out"),
-    (["analyse", "x.npy", "--out", "o", "--spacng", "1e-4"], "--spacing"),
-    (["friction", "--psd", "p.csv", "--velocitys", "1,2"], "--velocities"),
-    (["rubber", "mastr"], "'master'"),
-    (["stitch", "a.csv", "--blend", "feathr", "--out", "o.x3p"], "'feather'"),
-])
+@pytest.mark.parametrize(
+    "argv, suggestion",
+    [
+        (["analyze", "x.npy"], "'analyse'"),
+        (["rainfill", "x.npy"], "'rain-fill'"),
+        (["analyse", "x.npy", "--output", "o"], "--out"),
+        (["analyse", "x.npy", "--out", "o", "--spacng", "1e-4"], "--spacing"),
+        (["friction", "--psd", "p.csv", "--velocitys", "1,2"], "--velocities"),
+        (["rubber", "mastr"], "'master'"),
+        (["stitch", "a.csv", "--blend", "feathr", "--out", "o.x3p"], "'feather'"),
+    ],
+)
 def test_did_you_mean(capsys, argv, suggestion):
     from pipelines.cli.app import main
 
@@ -52,7 +56,18 @@ def test_batch_summary_line_on_success_and_resume(tmp_path, capsys):
 
     a, b = small_scan(tmp_path / "a.npy", seed=1), small_scan(tmp_path / "b.npy", seed=2)
     out = tmp_path / "camp"
-    argv = ["batch", str(a), str(b), "--spacing", str(DX), "--no-friction", "--workers", "1", "--out", str(out)]
+    argv = [
+        "batch",
+        str(a),
+        str(b),
+        "--spacing",
+        str(DX),
+        "--no-friction",
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+    ]
     capsys.readouterr()
     assert main(argv) == 0
     lines = capsys.readouterr().out.splitlines()

@@ -2,6 +2,7 @@
 symbolic-link loops and links as outputs, folders and unreadable files as inputs. Every case:
 exit code 2 (or 0 where the run is legitimate), one line on stderr naming the file, no
 traceback, no hidden temporary left, the input's bytes unchanged."""
+
 from __future__ import annotations
 
 import builtins
@@ -65,11 +66,20 @@ def test_read_only_output_folder(tmp_path, scan, capsys, monkeypatch, code):
     ro.mkdir()
     before = digest(scan)
     _deny(monkeypatch, code, ro)
-    for argv in (["analyse", scan, "--out", ro / "a", *FAST],
-                 ["convert", scan, ro / "c.x3p", "--spacing", DX],
-                 ["synth", "--nx", 32, "--out", ro / "s.npy"],
-                 ["friction", "--self-affine", "H=0.8,h0=2e-4,q0=300,q1=3e4", "--velocities", "1e-2,1",
-                  "--out", ro / "mu.csv"]):
+    for argv in (
+        ["analyse", scan, "--out", ro / "a", *FAST],
+        ["convert", scan, ro / "c.x3p", "--spacing", DX],
+        ["synth", "--nx", 32, "--out", ro / "s.npy"],
+        [
+            "friction",
+            "--self-affine",
+            "H=0.8,h0=2e-4,q0=300,q1=3e4",
+            "--velocities",
+            "1e-2,1",
+            "--out",
+            ro / "mu.csv",
+        ],
+    ):
         rc, err = run_cli(capsys, argv)
         assert_one_line_error(rc, err, words=[str(ro)])
     assert list(ro.iterdir()) == [] and digest(scan) == before
@@ -78,12 +88,25 @@ def test_read_only_output_folder(tmp_path, scan, capsys, monkeypatch, code):
 def test_output_that_is_a_file(tmp_path, scan, capsys):
     taken = tmp_path / "taken"
     taken.write_text("mine\n")
-    for argv in (["analyse", scan, "--out", taken, *FAST],
-                 ["analyse", scan, "--out", taken / "below", *FAST],
-                 ["rain-fill", scan, "--spacing", DX, "--out", taken],
-                 ["batch", scan, "--spacing", DX, "--out", taken],
-                 ["stitch", scan, scan, "--grid", "1x2", "--overlap", "0.2", "--spacing", DX,
-                  "--out", taken / "m.x3p"]):
+    for argv in (
+        ["analyse", scan, "--out", taken, *FAST],
+        ["analyse", scan, "--out", taken / "below", *FAST],
+        ["rain-fill", scan, "--spacing", DX, "--out", taken],
+        ["batch", scan, "--spacing", DX, "--out", taken],
+        [
+            "stitch",
+            scan,
+            scan,
+            "--grid",
+            "1x2",
+            "--overlap",
+            "0.2",
+            "--spacing",
+            DX,
+            "--out",
+            taken / "m.x3p",
+        ],
+    ):
         rc, err = run_cli(capsys, argv)
         assert_one_line_error(rc, err, words=["taken"])
     assert taken.read_text() == "mine\n"
@@ -99,12 +122,14 @@ def test_full_disk_names_the_file(tmp_path, scan, capsys, monkeypatch):
         raise OSError(errno.ENOSPC, "No space left on device")
 
     monkeypatch.setattr(np, "save", full)
-    for argv, name in ((["convert", scan, tmp_path / "c.npy", "--spacing", DX], "c.npy"),
-                       (["rain-fill", scan, "--spacing", DX, "--out", tmp_path / "rf"], "wet.npy"),
-                       (["synth", "--nx", 32, "--out", tmp_path / "s.npy"], "s.npy")):
+    for argv, name in (
+        (["convert", scan, tmp_path / "c.npy", "--spacing", DX], "c.npy"),
+        (["rain-fill", scan, "--spacing", DX, "--out", tmp_path / "rf"], "wet.npy"),
+        (["synth", "--nx", 32, "--out", tmp_path / "s.npy"], "s.npy"),
+    ):
         rc, err = run_cli(capsys, argv)
         assert_one_line_error(rc, err, words=["No space left on device", name])
-        assert ".roadscan-tmp" not in err          # the final name, not the hidden one
+        assert ".roadscan-tmp" not in err  # the final name, not the hidden one
     monkeypatch.setattr(np, "save", real_save)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scan.npy"]
     assert digest(scan) == before
@@ -127,13 +152,15 @@ def test_symlink_loop_and_dangling_link_inputs(tmp_path, capsys):
     os.symlink(tmp_path / "nowhere.npy", gone)
     psd_loop = tmp_path / "p.csv"
     os.symlink(psd_loop, psd_loop)
-    for argv, word in ((["analyse", a, "--out", tmp_path / "o", *FAST], "loop"),
-                       (["convert", a, tmp_path / "c.x3p"], "loop"),
-                       (["rain-fill", a, "--out", tmp_path / "o"], "loop"),
-                       (["compare", a, gone, "--out", tmp_path / "o"], "a.npy"),
-                       (["analyse", gone, "--out", tmp_path / "o", *FAST], "broken"),
-                       (["friction", "--psd", psd_loop, "--out", tmp_path / "mu.csv"], "loop"),
-                       (["batch", a, "--out", tmp_path / "o"], "loop")):
+    for argv, word in (
+        (["analyse", a, "--out", tmp_path / "o", *FAST], "loop"),
+        (["convert", a, tmp_path / "c.x3p"], "loop"),
+        (["rain-fill", a, "--out", tmp_path / "o"], "loop"),
+        (["compare", a, gone, "--out", tmp_path / "o"], "a.npy"),
+        (["analyse", gone, "--out", tmp_path / "o", *FAST], "broken"),
+        (["friction", "--psd", psd_loop, "--out", tmp_path / "mu.csv"], "loop"),
+        (["batch", a, "--out", tmp_path / "o"], "loop"),
+    ):
         rc, err = run_cli(capsys, argv)
         assert_one_line_error(rc, err, words=[word])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a.npy", "b.npy", "gone.npy", "p.csv"]
@@ -142,7 +169,10 @@ def test_symlink_loop_and_dangling_link_inputs(tmp_path, capsys):
 def test_symlink_loop_as_output(tmp_path, scan, capsys):
     loop = tmp_path / "loop"
     os.symlink(loop, loop)
-    for argv in (["analyse", scan, "--out", loop, *FAST], ["convert", scan, tmp_path / "loop", "--spacing", DX]):
+    for argv in (
+        ["analyse", scan, "--out", loop, *FAST],
+        ["convert", scan, tmp_path / "loop", "--spacing", DX],
+    ):
         rc, err = run_cli(capsys, argv)
         assert_one_line_error(rc, err, words=["loop"])
     assert os.path.islink(loop)
@@ -155,7 +185,7 @@ def test_output_through_a_symlink_writes_where_it_points(tmp_path, scan, capsys)
     real.mkdir()
     link = tmp_path / "link"
     os.symlink(real, link)
-    for _ in range(2):                         # a new set, then a replaced one
+    for _ in range(2):  # a new set, then a replaced one
         rc, err = run_cli(capsys, ["analyse", scan, "--out", link, *FAST])
         assert rc == 0, err
         assert os.path.islink(link) and os.readlink(link) == str(real)
@@ -176,9 +206,13 @@ def test_output_through_a_symlink_writes_where_it_points(tmp_path, scan, capsys)
 def test_folder_given_as_input(tmp_path, capsys):
     d = tmp_path / "folder.npy"
     d.mkdir()
-    for argv in (["analyse", d, "--out", tmp_path / "o", *FAST], ["convert", d, tmp_path / "c.x3p"],
-                 ["rain-fill", d, "--out", tmp_path / "o"], ["friction", "--psd", d, "--out", tmp_path / "m.csv"],
-                 ["rubber", "master", d, "--reference-temperature", 20, "--out", tmp_path / "r.toml"]):
+    for argv in (
+        ["analyse", d, "--out", tmp_path / "o", *FAST],
+        ["convert", d, tmp_path / "c.x3p"],
+        ["rain-fill", d, "--out", tmp_path / "o"],
+        ["friction", "--psd", d, "--out", tmp_path / "m.csv"],
+        ["rubber", "master", d, "--reference-temperature", 20, "--out", tmp_path / "r.toml"],
+    ):
         rc, err = run_cli(capsys, argv)
         assert_one_line_error(rc, err, words=["folder.npy"])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["folder.npy"]
@@ -195,7 +229,10 @@ def test_unreadable_input(tmp_path, scan, capsys, monkeypatch):
         return real_open(file, *a, **k)
 
     monkeypatch.setattr(builtins, "open", no_read)
-    for argv in (["analyse", scan, "--out", tmp_path / "o", *FAST], ["convert", scan, tmp_path / "c.x3p", "--spacing", DX]):
+    for argv in (
+        ["analyse", scan, "--out", tmp_path / "o", *FAST],
+        ["convert", scan, tmp_path / "c.x3p", "--spacing", DX],
+    ):
         rc, err = run_cli(capsys, argv)
         assert_one_line_error(rc, err, words=["scan.npy"])
     monkeypatch.setattr(builtins, "open", real_open)
@@ -218,9 +255,12 @@ def test_devices_and_pipes_are_not_read(tmp_path, capsys):
     fifo = tmp_path / "pipe.npy"
     os.mkfifo(fifo)
     for src in ("/dev/zero", fifo):
-        for argv in (["analyse", src, "--out", tmp_path / "o", *FAST], ["convert", src, tmp_path / "c.x3p"],
-                     ["friction", "--psd", src, "--out", tmp_path / "mu.csv"],
-                     ["rubber", "master", src, "--reference-temperature", 20, "--out", tmp_path / "r.toml"]):
+        for argv in (
+            ["analyse", src, "--out", tmp_path / "o", *FAST],
+            ["convert", src, tmp_path / "c.x3p"],
+            ["friction", "--psd", src, "--out", tmp_path / "mu.csv"],
+            ["rubber", "master", src, "--reference-temperature", 20, "--out", tmp_path / "r.toml"],
+        ):
             rc, err = run_cli(capsys, argv)
             assert_one_line_error(rc, err, words=[str(src), "not a file"])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.npy"]

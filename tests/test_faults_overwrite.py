@@ -3,6 +3,7 @@ inputs, for every command and every kind of input (scan, manifest and its entrie
 and the data files it names, master curve, shift table, PSD, measured curve, raw DMA sweeps),
 directly, through a link, or inside an output folder. Every case: exit code 2, one line, no
 traceback, every file of the folder byte for byte as before, nothing hidden left."""
+
 from __future__ import annotations
 
 import os
@@ -31,19 +32,24 @@ def ws(tmp_path):
     shutil.copy(SAMPLES / "measured_mu_example.csv", tmp_path / "measured.csv")
     (tmp_path / "rubber.toml").write_text(
         'model = "master_curve"\nT_ref_C = -5.0\n[master_curve]\nfile = "freq_user_master.csv"\n'
-        '[shift]\nkind = "table"\nfile = "freq_user_master__shift_factors.csv"\n')
+        '[shift]\nkind = "table"\nfile = "freq_user_master__shift_factors.csv"\n'
+    )
     tiles = tmp_path / "tiles"
     tiles.mkdir()
     for f in ("tile_r0_c0.npz", "tile_r0_c1.npz"):
         shutil.copy(SAMPLES / "tiles" / f, tiles / f)
-    rows = [r for r in (SAMPLES / "tiles_manifest.csv").read_text().splitlines()
-            if r.startswith("file") or "r0_c0" in r or "r0_c1" in r]
+    rows = [
+        r
+        for r in (SAMPLES / "tiles_manifest.csv").read_text().splitlines()
+        if r.startswith("file") or "r0_c0" in r or "r0_c1" in r
+    ]
     (tiles / "tiles.csv").write_text("\n".join(r.replace("tiles/", "") for r in rows) + "\n")
     done = tmp_path / "done"
-    rc = __import__("pipelines.cli", fromlist=["main"]).main(["analyse", str(tmp_path / "a.npy"), "--out", str(done),
-                                                              *map(str, FAST)])
+    rc = __import__("pipelines.cli", fromlist=["main"]).main(
+        ["analyse", str(tmp_path / "a.npy"), "--out", str(done), *map(str, FAST)]
+    )
     assert rc == 0
-    shutil.copy(tmp_path / "b.npy", done / "b.npy")          # a scan kept inside an output folder
+    shutil.copy(tmp_path / "b.npy", done / "b.npy")  # a scan kept inside an output folder
     os.symlink(tmp_path / "a.npy", tmp_path / "link_to_a.npy")
     return tmp_path
 
@@ -71,23 +77,57 @@ def _cases(w):
         ["friction", *SA, "--rubber", w / "rubber.toml", "--out", w / "rubber.toml"],
         ["friction", *SA, "--rubber", w / "rubber.toml", "--out", w / "freq_user_master.csv"],
         ["friction", *SA, "--rubber", w / "rubber.toml", "--out", w / "freq_user_master__shift_factors.csv"],
-        ["friction", *SA, "--master-curve", w / "freq_user_master.csv", "--reference-temperature", -5,
-         "--shift-table", w / "freq_user_master__shift_factors.csv", "--out", w / "freq_user_master.csv"],
+        [
+            "friction",
+            *SA,
+            "--master-curve",
+            w / "freq_user_master.csv",
+            "--reference-temperature",
+            -5,
+            "--shift-table",
+            w / "freq_user_master__shift_factors.csv",
+            "--out",
+            w / "freq_user_master.csv",
+        ],
         ["friction", "--psd", w / "psd_summary.json", "--out", w / "psd.csv"],
         # rubber master: the TOML or one of its data files over the raw sweeps
-        ["rubber", "master", w / "freq_user_raw.csv", "--reference-temperature", 20, "--out", w / "freq_user.toml"],
-        ["rubber", "master", w / "freq_user_raw.csv", "--reference-temperature", 20,
-         "--out", w / "freq_user_raw.csv"],
+        [
+            "rubber",
+            "master",
+            w / "freq_user_raw.csv",
+            "--reference-temperature",
+            20,
+            "--out",
+            w / "freq_user.toml",
+        ],
+        [
+            "rubber",
+            "master",
+            w / "freq_user_raw.csv",
+            "--reference-temperature",
+            20,
+            "--out",
+            w / "freq_user_raw.csv",
+        ],
         # stitch: the map over a tile or the manifest; its overlaps table over the manifest
         ["stitch", t / "tiles.csv", "--out", t / "tile_r0_c0.npz"],
-        ["stitch", t / "tile_r0_c0.npz", t / "tile_r0_c1.npz", "--grid", "1x2", "--overlap", 0.25,
-         "--out", t / "tile_r0_c1.npz"],
+        [
+            "stitch",
+            t / "tile_r0_c0.npz",
+            t / "tile_r0_c1.npz",
+            "--grid",
+            "1x2",
+            "--overlap",
+            0.25,
+            "--out",
+            t / "tile_r0_c1.npz",
+        ],
         ["stitch", t / "tiles.csv", "--out", t / "tiles.x3p"],
     ]
 
 
 def test_no_command_writes_over_an_input(ws, capsys):
-    (ws / "psd_summary.json").write_text((ws / "psd.csv").read_text())     # a PSD named like a summary
+    (ws / "psd_summary.json").write_text((ws / "psd.csv").read_text())  # a PSD named like a summary
     (ws / "freq_user_raw_master.csv").write_text("f,E_stor,E_loss,T\n")  # would be written by case 2
     shutil.copy(ws / "freq_user_raw.csv", ws / "freq_user_shifted.csv")
     (ws / "tiles" / "tiles_overlaps.csv").write_text((ws / "tiles" / "tiles.csv").read_text())
@@ -95,8 +135,15 @@ def test_no_command_writes_over_an_input(ws, capsys):
     cases = _cases(ws)
     # rubber master FREQ_USER_RAW.csv --out freq_user.toml writes freq_user_shifted.csv: make the
     # raw file that one
-    cases[19] = ["rubber", "master", ws / "freq_user_shifted.csv", "--reference-temperature", 20,
-                 "--out", ws / "freq_user.toml"]
+    cases[19] = [
+        "rubber",
+        "master",
+        ws / "freq_user_shifted.csv",
+        "--reference-temperature",
+        20,
+        "--out",
+        ws / "freq_user.toml",
+    ]
     # stitch --out tiles.x3p writes tiles_overlaps.csv: make the manifest that one
     cases[-1] = ["stitch", ws / "tiles" / "tiles_overlaps.csv", "--out", ws / "tiles" / "tiles.x3p"]
     for argv in cases:
@@ -114,20 +161,38 @@ def test_a_rubber_toml_data_file_is_an_input_too(ws, capsys):
     shutil.copy(ws / "freq_user_master.csv", sub / "m.csv")
     shutil.copy(ws / "freq_user_master__shift_factors.csv", sub / "s.csv")
     toml = ws / "r2.toml"
-    toml.write_text('model = "master_curve"\nT_ref_C = -5.0\n[master_curve]\nfile = "done/m.csv"\n'
-                    '[shift]\nkind = "table"\nfile = "done/s.csv"\n')
+    toml.write_text(
+        'model = "master_curve"\nT_ref_C = -5.0\n[master_curve]\nfile = "done/m.csv"\n'
+        '[shift]\nkind = "table"\nfile = "done/s.csv"\n'
+    )
     before = snapshot(ws)
-    rc, err = run_cli(capsys, ["analyse", ws / "a.npy", "--spacing", DX, "--no-figures", "--rubber", toml,
-                               "--velocities", "1e-2,1", "--out", sub])
+    rc, err = run_cli(
+        capsys,
+        [
+            "analyse",
+            ws / "a.npy",
+            "--spacing",
+            DX,
+            "--no-figures",
+            "--rubber",
+            toml,
+            "--velocities",
+            "1e-2,1",
+            "--out",
+            sub,
+        ],
+    )
     assert_one_line_error(rc, err, words=["which this command read", "done"])
     assert snapshot(ws) == before and hidden_leftovers(ws) == []
 
 
 def test_legitimate_runs_still_write(ws, capsys):
     """The checks refuse only real clashes: a new output beside the inputs is written."""
-    for argv in (["friction", "--psd", ws / "psd.csv", "--velocities", "1e-2,1", "--out", ws / "mu.csv"],
-                 ["convert", ws / "a.npy", ws / "a.x3p", "--spacing", DX],
-                 ["analyse", ws / "a.npy", "--out", ws / "done", *FAST]):       # an earlier output replaced
+    for argv in (
+        ["friction", "--psd", ws / "psd.csv", "--velocities", "1e-2,1", "--out", ws / "mu.csv"],
+        ["convert", ws / "a.npy", ws / "a.x3p", "--spacing", DX],
+        ["analyse", ws / "a.npy", "--out", ws / "done", *FAST],
+    ):  # an earlier output replaced
         rc, err = run_cli(capsys, argv)
         assert rc == 0, (argv, err)
     assert (ws / "mu.csv").is_file() and (ws / "a.x3p").is_file()
@@ -152,5 +217,5 @@ def test_refuse_overwrite_helper():
                 refuse_overwrite([out], [d / "x"])
         with pytest.raises(InputError, match="contains the input"):
             refuse_overwrite([(d, True)], [d / "x"])
-        refuse_overwrite([d / "y", (d / "sub", True)], [d / "x", d / "missing"])   # no clash: no error
-        refuse_overwrite([d], [d / "x"])                 # a file output named like the folder: no clash
+        refuse_overwrite([d / "y", (d / "sub", True)], [d / "x", d / "missing"])  # no clash: no error
+        refuse_overwrite([d], [d / "x"])  # a file output named like the folder: no clash

@@ -1,6 +1,7 @@
 """Fault suite, adversarial-user findings of the issue-22 QA pass (plausible-but-wrong inputs
 that went through, or went wrong, after the issue-22 work). Each case: exit 2, one line naming
 the file and the problem, no traceback, inputs unchanged, nothing hidden left."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -16,8 +17,21 @@ def test_decimal_commas_that_also_separate_fields_are_refused(tmp_path, capsys):
     f = tmp_path / "dc_comma.csv"
     f.write_text("\n".join(",".join(f"{v:.4f}".replace(".", ",") for v in row) for row in z) + "\n")
     before = digest(f)
-    rc, err = run_cli(capsys, ["analyse", f, "--spacing", "1e-4", "--units", "um", "--no-figures",
-                               "--no-friction", "--out", tmp_path / "o"])
+    rc, err = run_cli(
+        capsys,
+        [
+            "analyse",
+            f,
+            "--spacing",
+            "1e-4",
+            "--units",
+            "um",
+            "--no-figures",
+            "--no-friction",
+            "--out",
+            tmp_path / "o",
+        ],
+    )
     assert_one_line_error(rc, err, words=[str(f), "decimal comma"])
     assert digest(f) == before and not (tmp_path / "o").exists() and hidden_leftovers(tmp_path) == []
 
@@ -43,15 +57,24 @@ def test_small_csv_with_decimal_commas_and_comma_separators_is_refused(tmp_path,
 
     text = (ROOT / "sample_scans" / "asphalt_psd.csv").read_text()
     f = tmp_path / "psd.csv"
-    f.write_text("\n".join(line if k == 0 else line.replace(",", ";").replace(".", ",").replace(";", ",")
-                           for k, line in enumerate(text.splitlines())) + "\n")
+    f.write_text(
+        "\n".join(
+            line if k == 0 else line.replace(",", ";").replace(".", ",").replace(";", ",")
+            for k, line in enumerate(text.splitlines())
+        )
+        + "\n"
+    )
     before = digest(f)
-    rc, err = run_cli(capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / "mu.csv"])
+    rc, err = run_cli(
+        capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / "mu.csv"]
+    )
     assert_one_line_error(rc, err, words=[str(f), "decimal commas", "header names 2"])
     assert digest(f) == before and not (tmp_path / "mu.csv").exists() and hidden_leftovers(tmp_path) == []
     # a trailing comma (an empty last field) is not a stray value: still read
     f.write_text("\n".join(line + "," for line in text.splitlines()) + "\n")
-    rc, err = run_cli(capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / "mu.csv"])
+    rc, err = run_cli(
+        capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / "mu.csv"]
+    )
     assert rc == 0, err
 
 
@@ -63,8 +86,18 @@ def test_full_disk_in_a_file_set_names_the_file_not_a_folder_of_its_name(tmp_pat
 
     out = tmp_path / "mu.csv"
     with disk_full_for(monkeypatch, ".csv"):
-        rc, err = run_cli(capsys, ["friction", "--psd", ROOT / "sample_scans" / "asphalt_psd.csv",
-                                   "--velocities", "1e-2,1", "--out", out])
+        rc, err = run_cli(
+            capsys,
+            [
+                "friction",
+                "--psd",
+                ROOT / "sample_scans" / "asphalt_psd.csv",
+                "--velocities",
+                "1e-2,1",
+                "--out",
+                out,
+            ],
+        )
     assert_one_line_error(rc, err, words=["No space left on device", f"{out}:"])
     assert f"{out}/" not in err
     assert list(tmp_path.iterdir()) == []
@@ -78,8 +111,21 @@ def test_integers_grouped_by_one_thousands_separator_are_refused(tmp_path, capsy
     for name, sep, group in (("tab.txt", "\t", ","), ("semi.csv", ";", "."), ("space.txt", " ", ",")):
         f = tmp_path / name
         f.write_text("\n".join(sep.join(f"{v:,.0f}".replace(",", group) for v in row) for row in z) + "\n")
-        rc, err = run_cli(capsys, ["analyse", f, "--spacing", "1e-4", "--units", "nm", "--no-figures",
-                                   "--no-friction", "--out", tmp_path / "o"])
+        rc, err = run_cli(
+            capsys,
+            [
+                "analyse",
+                f,
+                "--spacing",
+                "1e-4",
+                "--units",
+                "nm",
+                "--no-figures",
+                "--no-friction",
+                "--out",
+                tmp_path / "o",
+            ],
+        )
         assert_one_line_error(rc, err, words=[str(f), "thousands"])
     assert not (tmp_path / "o").exists() and hidden_leftovers(tmp_path) == []
 
@@ -89,13 +135,16 @@ def test_three_decimal_exports_still_read(tmp_path):
     integer coordinates sit in their own columns beside 3-decimal heights above 1 mm."""
     from roadscan.io import read
 
-    z = fourier_surface(32, 1e-4, 0.8, 2e-4, seed=3) * 1e3 + 45.0        # mm, all above 1
+    z = fourier_surface(32, 1e-4, 0.8, 2e-4, seed=3) * 1e3 + 45.0  # mm, all above 1
     f = tmp_path / "dc.csv"
     f.write_text("\n".join(";".join(f"{v:.3f}".replace(".", ",") for v in row) for row in z) + "\n")
-    assert np.allclose(read(f, spacing=1e-4, units="mm").heights_m, z * 1e-3, rtol=0, atol=6e-7)   # 3 decimals of mm
+    assert np.allclose(
+        read(f, spacing=1e-4, units="mm").heights_m, z * 1e-3, rtol=0, atol=6e-7
+    )  # 3 decimals of mm
     f = tmp_path / "xyz.txt"
-    f.write_text("\n".join(f"{i};{j};{z[j, i]:.3f}".replace(".", ",")
-                           for j in range(32) for i in range(32)) + "\n")
+    f.write_text(
+        "\n".join(f"{i};{j};{z[j, i]:.3f}".replace(".", ",") for j in range(32) for i in range(32)) + "\n"
+    )
     s = read(f, units="mm")
     assert s.heights_m.shape == (32, 32)
 
@@ -112,26 +161,34 @@ def test_channel_choice_recorded_by_compare_dry_vs_wet_and_combine(tmp_path, cap
     tifffile.imwrite(tmp_path / "p.tif", np.stack([z, 3 * z]).astype(np.float32))
     tifffile.imwrite(tmp_path / "q.tif", np.stack([z, 3 * z]).astype(np.float32))
     base = ["--spacing", "1e-4", "--channel", "1"]
-    for argv, js in ((["compare", tmp_path / "p.tif", tmp_path / "q.tif", *base, "--no-friction"], "comparison.json"),
-                     (["dry-vs-wet", tmp_path / "p.tif", *base, "--no-friction"], "comparison.json"),
-                     (["combine", tmp_path / "p.tif", *base, "--no-figures"], "combine.json")):
+    for argv, js in (
+        (["compare", tmp_path / "p.tif", tmp_path / "q.tif", *base, "--no-friction"], "comparison.json"),
+        (["dry-vs-wet", tmp_path / "p.tif", *base, "--no-friction"], "comparison.json"),
+        (["combine", tmp_path / "p.tif", *base, "--no-figures"], "combine.json"),
+    ):
         out = tmp_path / argv[0]
         rc, err = run_cli(capsys, [*argv, "--out", out])
         assert rc == 0, err
         data = json.loads((out / js).read_text())
-        entries = {"compare": lambda d: list(d.values()), "dry-vs-wet": lambda d: [d],
-                   "combine": lambda d: d["inputs"]}[argv[0]](data)
+        entries = {
+            "compare": lambda d: list(d.values()),
+            "dry-vs-wet": lambda d: [d],
+            "combine": lambda d: d["inputs"],
+        }[argv[0]](data)
         assert entries and all(e["channel"] == 1 for e in entries), (argv[0], entries)
     a = json.loads((tmp_path / "compare" / "comparison.json").read_text())["p"]
-    assert a["rms_height_m"] > 2 * float(np.std(z))         # page 1 read, not page 0
+    assert a["rms_height_m"] > 2 * float(np.std(z))  # page 1 read, not page 0
 
 
 def test_npz_spacing_member_that_is_not_one_number_is_named(tmp_path, capsys):
     """An .npz whose dx is text said 'heights are not numbers'; dx = [1e-4, 1e-4] was dropped
     silently (then --spacing was asked for, or used instead). Each now names the member."""
     z = fourier_surface(32, 1e-4, 0.8, 2e-4, seed=1)
-    for name, dx, word in (("s.npz", "abc", "'dx' are not numbers"), ("two.npz", [1e-4, 1e-4], "'dx' must be one number"),
-                           ("c.npz", 1e-4 + 0j, "'dx' are complex")):
+    for name, dx, word in (
+        ("s.npz", "abc", "'dx' are not numbers"),
+        ("two.npz", [1e-4, 1e-4], "'dx' must be one number"),
+        ("c.npz", 1e-4 + 0j, "'dx' are complex"),
+    ):
         np.savez(tmp_path / name, heights=z, dx=dx, dy=1e-4)
         rc, err = run_cli(capsys, ["convert", tmp_path / name, tmp_path / "o.npy", "--spacing", "1e-4"])
         assert_one_line_error(rc, err, words=[str(tmp_path / name), word])
@@ -170,13 +227,17 @@ def test_dry_vs_wet_output_error_names_the_output_not_the_scan(tmp_path, capsys,
     def ro(*a, **k):
         raise OSError(errno.EROFS, "Read-only file system")
 
-    monkeypatch.setattr(os, "mkdir", ro)       # the hidden output folder cannot be made
-    rc, err = run_cli(capsys, ["dry-vs-wet", scan, "--spacing", "1e-4", "--no-friction", "--out", tmp_path / "o"])
+    monkeypatch.setattr(os, "mkdir", ro)  # the hidden output folder cannot be made
+    rc, err = run_cli(
+        capsys, ["dry-vs-wet", scan, "--spacing", "1e-4", "--no-friction", "--out", tmp_path / "o"]
+    )
     monkeypatch.undo()
     assert_one_line_error(rc, err, words=["--out", "Read-only"])
     assert str(scan) not in err
     np.save(tmp_path / "p.npy", fourier_surface(64, 1e-4, 0.8, 2e-4, seed=1)[0])
-    rc, err = run_cli(capsys, ["dry-vs-wet", tmp_path / "p.npy", "--spacing", "1e-4", "--out", tmp_path / "o"])
+    rc, err = run_cli(
+        capsys, ["dry-vs-wet", tmp_path / "p.npy", "--spacing", "1e-4", "--out", tmp_path / "o"]
+    )
     assert_one_line_error(rc, err, words=[str(tmp_path / "p.npy"), "area scan"])
 
 
@@ -188,15 +249,20 @@ def test_psd_csv_in_other_units_is_refused_as_units(tmp_path, capsys):
     from conftest import ROOT
 
     d = np.loadtxt(ROOT / "sample_scans" / "asphalt_psd.csv", delimiter=",", skiprows=1)
-    for name, q, C in (("C_mm4.csv", d[:, 0], d[:, 1] * 1e12), ("q_per_mm.csv", d[:, 0] * 1e-3, d[:, 1]),
-                       ("si.csv", d[:, 0], d[:, 1])):
+    for name, q, C in (
+        ("C_mm4.csv", d[:, 0], d[:, 1] * 1e12),
+        ("q_per_mm.csv", d[:, 0] * 1e-3, d[:, 1]),
+        ("si.csv", d[:, 0], d[:, 1]),
+    ):
         f = tmp_path / name
         f.write_text("q_per_m,C_m4\n" + "\n".join(f"{a:.9g},{b:.9g}" for a, b in zip(q, C)) + "\n")
-        rc, err = run_cli(capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / f"mu_{name}"])
+        rc, err = run_cli(
+            capsys, ["friction", "--psd", f, "--velocities", "1e-2,1", "--out", tmp_path / f"mu_{name}"]
+        )
         if name == "si.csv":
             assert rc == 0, err
             h = np.sqrt(2 * np.pi * np.trapezoid(q * C, q))
-            assert 1e-5 * 2 * np.pi / q.max() < h < np.pi / q.min()     # the bounds hold for SI
+            assert 1e-5 * 2 * np.pi / q.max() < h < np.pi / q.min()  # the bounds hold for SI
         else:
             assert_one_line_error(rc, err, words=[str(f), "units?"])
             assert not (tmp_path / f"mu_{name}").exists()
@@ -215,7 +281,9 @@ def test_rubber_toml_with_a_byte_order_mark_reads(tmp_path, capsys):
     mus = []
     for toml in (src, tmp_path / "bom.toml"):
         out = tmp_path / f"mu_{toml.stem}.csv"
-        rc, err = run_cli(capsys, ["friction", "--psd", psd, "--rubber", toml, "--velocities", "1e-2,1", "--out", out])
+        rc, err = run_cli(
+            capsys, ["friction", "--psd", psd, "--rubber", toml, "--velocities", "1e-2,1", "--out", out]
+        )
         assert rc == 0, err
         mus.append(np.loadtxt(out, delimiter=",", skiprows=1)[:, 1])
     assert np.array_equal(mus[0], mus[1])
@@ -232,8 +300,9 @@ def test_damaged_tiff_gives_one_line_not_the_tiff_libraries_log(tmp_path, capsys
 
     f = tmp_path / "garbage.tif"
     f.write_bytes(b"II*\x00" + os.urandom(2000))
-    rc, err = run_cli(capsys, ["analyse", f, "--spacing", "1e-4", "--no-figures", "--no-friction",
-                               "--out", tmp_path / "o"])
+    rc, err = run_cli(
+        capsys, ["analyse", f, "--spacing", "1e-4", "--no-figures", "--no-friction", "--out", tmp_path / "o"]
+    )
     assert_one_line_error(rc, err, words=[str(f), "not a readable TIFF", "offset"])
     g = tmp_path / "good.tif"
     tifffile.imwrite(g, fourier_surface(64, 1e-4, 0.8, 2e-4, seed=1).astype(np.float32))
@@ -270,11 +339,25 @@ def test_rubber_toml_modulus_in_the_wrong_units_is_refused(tmp_path, capsys):
     for value in ("1000", "1e15"):
         f = tmp_path / f"sls_{value}.toml"
         f.write_text(text.replace("E1_Pa = 1e9", f"E1_Pa = {value}"))
-        rc, err = run_cli(capsys, ["friction", "--psd", psd, "--rubber", f, "--velocities", "1e-2,1",
-                                   "--out", tmp_path / "mu.csv"])
+        rc, err = run_cli(
+            capsys,
+            ["friction", "--psd", psd, "--rubber", f, "--velocities", "1e-2,1", "--out", tmp_path / "mu.csv"],
+        )
         assert_one_line_error(rc, err, words=[str(f), "units?"])
         assert not (tmp_path / "mu.csv").exists()
     for toml in sorted(rubbers.glob("*.toml")):
-        rc, err = run_cli(capsys, ["friction", "--psd", psd, "--rubber", toml, "--velocities", "1e-2,1",
-                                   "--out", tmp_path / "ok.csv"])
+        rc, err = run_cli(
+            capsys,
+            [
+                "friction",
+                "--psd",
+                psd,
+                "--rubber",
+                toml,
+                "--velocities",
+                "1e-2,1",
+                "--out",
+                tmp_path / "ok.csv",
+            ],
+        )
         assert rc == 0, (toml, err)

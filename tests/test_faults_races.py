@@ -1,6 +1,7 @@
 """Fault suite, race family (issue 22): two runs writing the same output at once. Both finish
 (exit 0), the output is one complete set (either run's, never a mix), nothing hidden is left,
 the inputs are unchanged."""
+
 from __future__ import annotations
 
 import subprocess
@@ -20,16 +21,31 @@ def scans(tmp_path_factory):
 
 
 def _both(cmds):
-    ps = [subprocess.Popen(roadscan_cmd() + c, env=cli_env(), stdout=subprocess.PIPE,
-                           stderr=subprocess.PIPE, text=True) for c in cmds]
+    ps = [
+        subprocess.Popen(
+            roadscan_cmd() + c, env=cli_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True
+        )
+        for c in cmds
+    ]
     return [(p.wait(timeout=180), p.communicate()[1]) for p in ps]
 
 
 def test_two_analyse_runs_into_one_folder(scans):
     out = scans / "same"
     before = [digest(scans / "s1.npy"), digest(scans / "s2.npy")]
-    cmds = [["analyse", str(scans / f"s{k}.npy"), "--spacing", str(DX), "--no-figures", "--no-friction",
-             "--out", str(out)] for k in (1, 2)]
+    cmds = [
+        [
+            "analyse",
+            str(scans / f"s{k}.npy"),
+            "--spacing",
+            str(DX),
+            "--no-figures",
+            "--no-friction",
+            "--out",
+            str(out),
+        ]
+        for k in (1, 2)
+    ]
     for rc, err in _both(cmds):
         assert rc == 0 and "Traceback" not in err, err
     import json
@@ -38,7 +54,7 @@ def test_two_analyse_runs_into_one_folder(scans):
 
     name = json.loads((out / "summary.json").read_text())["name"]
     ref = scans / "ref"
-    assert main(cmds[int(name[-1]) - 1][:-1] + [str(ref)]) == 0      # that run alone
+    assert main(cmds[int(name[-1]) - 1][:-1] + [str(ref)]) == 0  # that run alone
     # one run's complete set, never a mix: every file as that run writes it alone
     assert sorted(p.name for p in out.iterdir()) == sorted(p.name for p in ref.iterdir())
     assert (out / "psd.csv").read_bytes() == (ref / "psd.csv").read_bytes()
@@ -56,8 +72,18 @@ def test_two_writers_of_one_file(scans):
     got = read(target).heights_m
     assert any(np.array_equal(got, np.load(scans / f"s{k}.npy")) for k in (1, 2))
     mu = scans / "mu.csv"
-    cmds = [["friction", "--self-affine", f"H=0.{k},h0=2e-4,q0=300,q1=3e4", "--velocities", "1e-2,1",
-             "--out", str(mu)] for k in (7, 8)]
+    cmds = [
+        [
+            "friction",
+            "--self-affine",
+            f"H=0.{k},h0=2e-4,q0=300,q1=3e4",
+            "--velocities",
+            "1e-2,1",
+            "--out",
+            str(mu),
+        ]
+        for k in (7, 8)
+    ]
     for rc, err in _both(cmds):
         assert rc == 0 and "Traceback" not in err, err
     import json
@@ -66,7 +92,7 @@ def test_two_writers_of_one_file(scans):
     rows = mu.read_text().splitlines()
     assert rows[0].startswith("v_m_per_s,mu") and len(rows) == 3
     mus = [float(r.split(",")[1]) for r in rows[1:]]
-    assert max(mus) == pytest.approx(summary["mu_peak"], rel=1e-5)     # the CSV and summary of one run
+    assert max(mus) == pytest.approx(summary["mu_peak"], rel=1e-5)  # the CSV and summary of one run
     assert hidden_leftovers(scans) == []
 
 

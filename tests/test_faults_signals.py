@@ -3,6 +3,7 @@
 being filled). Every case: exit code 128 + signal, one line on stderr, no traceback, no hidden
 temporary folder left, the input unchanged, the output folder absent or the complete earlier
 set."""
+
 from __future__ import annotations
 
 import signal
@@ -20,13 +21,21 @@ SIGNALS = [signal.SIGINT, signal.SIGTERM, signal.SIGHUP]
 @pytest.fixture(scope="module")
 def work(tmp_path_factory):
     d = tmp_path_factory.mktemp("signals")
-    np.save(d / "scan.npy", fourier_surface(512, DX, 0.8, 2e-4, seed=3))   # runs ~1 s
+    np.save(d / "scan.npy", fourier_surface(512, DX, 0.8, 2e-4, seed=3))  # runs ~1 s
     return d
 
 
 def _start(work, out):
-    cmd = roadscan_cmd() + ["analyse", str(work / "scan.npy"), "--spacing", str(DX), "--out", str(out),
-                            "--velocities", "1e-3:1e1:9"]
+    cmd = roadscan_cmd() + [
+        "analyse",
+        str(work / "scan.npy"),
+        "--spacing",
+        str(DX),
+        "--out",
+        str(out),
+        "--velocities",
+        "1e-3:1e1:9",
+    ]
     return subprocess.Popen(cmd, env=cli_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 
 
@@ -42,7 +51,7 @@ def _wait_for_tmp(work, p, timeout=60):
 def _check(work, p, sig, out, earlier):
     _, err = p.communicate(timeout=120)
     if p.returncode == 0:
-        return False                        # finished before the signal: nothing to check
+        return False  # finished before the signal: nothing to check
     assert p.returncode == 128 + sig, (sig, p.returncode, err)
     assert "Traceback" not in err and err.count("\n") == 1 and "interrupted" in err, err
     assert hidden_leftovers(work) == []
@@ -56,16 +65,18 @@ def _check(work, p, sig, out, earlier):
 @pytest.mark.parametrize("sig", SIGNALS, ids=[s.name for s in SIGNALS])
 def test_signal_while_starting_and_while_writing(work, sig):
     if sig == getattr(signal, "SIGHUP", None) and signal.getsignal(sig) == signal.SIG_IGN:
-        pytest.skip("SIGHUP is ignored here (run under nohup): the command keeps it ignored, "
-                    "as test_ignored_sighup_stays_ignored checks")
+        pytest.skip(
+            "SIGHUP is ignored here (run under nohup): the command keeps it ignored, "
+            "as test_ignored_sighup_stays_ignored checks"
+        )
     before = digest(work / "scan.npy")
     out = work / f"out_{sig.name}"
     checked = 0
-    p = _start(work, out)                   # 1. while importing / reading
+    p = _start(work, out)  # 1. while importing / reading
     time.sleep(0.4)
     p.send_signal(sig)
     checked += _check(work, p, sig, out, None)
-    p = _start(work, out)                   # 2. while the hidden output folder is filled
+    p = _start(work, out)  # 2. while the hidden output folder is filled
     if _wait_for_tmp(work, p):
         p.send_signal(sig)
     checked += _check(work, p, sig, out, None)
@@ -76,9 +87,22 @@ def test_signal_while_starting_and_while_writing(work, sig):
 def test_sigterm_keeps_the_earlier_set(work):
     """An earlier complete output stays as it was when a new run over it is stopped."""
     out = work / "out_keep"
-    subprocess.run(roadscan_cmd() + ["analyse", str(work / "scan.npy"), "--spacing", str(DX), "--out", str(out),
-                                     "--no-figures", "--no-friction"], env=cli_env(), check=True,
-                   capture_output=True)
+    subprocess.run(
+        roadscan_cmd()
+        + [
+            "analyse",
+            str(work / "scan.npy"),
+            "--spacing",
+            str(DX),
+            "--out",
+            str(out),
+            "--no-figures",
+            "--no-friction",
+        ],
+        env=cli_env(),
+        check=True,
+        capture_output=True,
+    )
     earlier = snapshot(out)
     p = _start(work, out)
     if _wait_for_tmp(work, p):
@@ -92,10 +116,24 @@ def test_ignored_sighup_stays_ignored(work):
     import os
 
     out = work / "out_nohup"
-    cmd = roadscan_cmd() + ["analyse", str(work / "scan.npy"), "--spacing", str(DX), "--out", str(out),
-                            "--no-figures", "--no-friction"]
-    p = subprocess.Popen(cmd, env=cli_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN))
+    cmd = roadscan_cmd() + [
+        "analyse",
+        str(work / "scan.npy"),
+        "--spacing",
+        str(DX),
+        "--out",
+        str(out),
+        "--no-figures",
+        "--no-friction",
+    ]
+    p = subprocess.Popen(
+        cmd,
+        env=cli_env(),
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN),
+    )
     time.sleep(0.5)
     if p.poll() is None:
         os.kill(p.pid, signal.SIGHUP)
@@ -113,7 +151,12 @@ def test_interrupt_in_process_is_one_line_and_130(tmp_path, capsys, monkeypatch)
     from pipelines.jobs.analyse import job as analyse_mod
 
     scan = small_scan(tmp_path / "s.npy")
-    for exc, code in ((KeyboardInterrupt(), 130), (Terminated(signal.SIGTERM), 143), (Terminated(signal.SIGHUP), 129)):
+    for exc, code in (
+        (KeyboardInterrupt(), 130),
+        (Terminated(signal.SIGTERM), 143),
+        (Terminated(signal.SIGHUP), 129),
+    ):
+
         def boom(*a, _exc=exc, **k):
             raise _exc
 
@@ -123,8 +166,11 @@ def test_interrupt_in_process_is_one_line_and_130(tmp_path, capsys, monkeypatch)
         assert sorted(p.name for p in tmp_path.iterdir()) == ["s.npy"]
 
 
-@pytest.mark.parametrize("sig, delay, group", [(signal.SIGTERM, 1.2, False), (signal.SIGINT, 2.5, True)],
-                         ids=["SIGTERM-starting-cluster", "SIGINT-to-the-group-while-workers-start"])
+@pytest.mark.parametrize(
+    "sig, delay, group",
+    [(signal.SIGTERM, 1.2, False), (signal.SIGINT, 2.5, True)],
+    ids=["SIGTERM-starting-cluster", "SIGINT-to-the-group-while-workers-start"],
+)
 def test_campaign_interrupted_while_the_cluster_starts_or_runs(work, sig, delay, group):
     """Ctrl-C or SIGTERM at any moment of a campaign (Dask cluster starting, scans running,
     cluster stopping), to the command alone or, as a terminal's Ctrl-C does, to its whole
@@ -133,10 +179,20 @@ def test_campaign_interrupted_while_the_cluster_starts_or_runs(work, sig, delay,
     import os
 
     out = work / f"camp_{sig.name}"
-    cmd = roadscan_cmd() + ["batch", str(work / "scan.npy"), str(work / "scan.npy"), "--spacing", str(DX),
-                            "--workers", "1", "--out", str(out)]
-    p = subprocess.Popen(cmd, env=cli_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                         start_new_session=group)
+    cmd = roadscan_cmd() + [
+        "batch",
+        str(work / "scan.npy"),
+        str(work / "scan.npy"),
+        "--spacing",
+        str(DX),
+        "--workers",
+        "1",
+        "--out",
+        str(out),
+    ]
+    p = subprocess.Popen(
+        cmd, env=cli_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=group
+    )
     time.sleep(delay)
     if group:
         os.killpg(p.pid, sig)

@@ -158,8 +158,11 @@ def test_a_result_shows_a_short_repr():
 def _silently(call):
     """(result, this call's RoadscanWarning texts) with stdout and stderr captured: both empty."""
     err, out = io.StringIO(), io.StringIO()
-    with warnings.catch_warnings(record=True) as caught, contextlib.redirect_stderr(err), \
-            contextlib.redirect_stdout(out):
+    with (
+        warnings.catch_warnings(record=True) as caught,
+        contextlib.redirect_stderr(err),
+        contextlib.redirect_stdout(out),
+    ):
         warnings.simplefilter("always")
         result = call()
     assert err.getvalue() == "" and out.getvalue() == "", (err.getvalue(), out.getvalue())
@@ -185,15 +188,17 @@ def test_every_job_is_silent_carries_its_warnings_and_shows_a_short_repr(small_s
         "rain_fill": lambda: pipelines.rain_fill(small_scan, tmp_path / "r"),
         "friction": lambda: pipelines.friction(tmp_path / "f" / "mu.csv", psd=psd_file, velocities=v),
         "combine": lambda: pipelines.combine([scan_file], tmp_path / "m", spacing=1e-4, no_figures=True),
-        "diagnose": lambda: pipelines.diagnose(tmp_path / "d", measured=mu_file, psd=psd_file, noise=0.02,
-                                               uncertain="q1=known"),
-        "batch": lambda: pipelines.batch([scan_file], tmp_path / "b", spacing=1e-4, no_friction=True,
-                                         workers=1),
+        "diagnose": lambda: pipelines.diagnose(
+            tmp_path / "d", measured=mu_file, psd=psd_file, noise=0.02, uncertain="q1=known"
+        ),
+        "batch": lambda: pipelines.batch(
+            [scan_file], tmp_path / "b", spacing=1e-4, no_friction=True, workers=1
+        ),
     }
     for name, call in calls.items():
         result, issued = _silently(call)
         assert isinstance(result, dict) and result.job == name
         assert len(repr(result)) < 500, (name, repr(result))
-        assert set(result.warnings) <= set(issued), name      # each also a RoadscanWarning
+        assert set(result.warnings) <= set(issued), name  # each also a RoadscanWarning
         if name in ("compare", "dry_vs_wet", "combine"):
             assert result.warnings, f"{name}: the small scan's narrow band is a warning"

@@ -113,10 +113,10 @@ def test_step_warning_reaches_comparison_json(tmp_path):
 def test_a_map_with_almost_nothing_measured_has_no_step_to_judge():
     # 18 measured points of 480: the local texture's rms is 0, no step can be sized against it
     # (a division by zero before: the fuzz suite's nan_most case)
+    from fuzz_files import _rough
+
     from roadscan.heightmap import HeightMap
     from roadscan.seams import find_steps
-
-    from fuzz_files import _rough
 
     rng = np.random.default_rng(2)
     z = _rough(rng, (16, 30)) * 1e-4

@@ -3,6 +3,7 @@
 ``campaign.parquet`` with pyarrow), ``report.html``; ``resume=True`` skips inputs whose outputs
 exist and whose input and options are unchanged.
 """
+
 from __future__ import annotations
 
 import os
@@ -23,43 +24,42 @@ __all__ = ["batch", "summary_line"]
 
 @returns_job_result("batch")
 def batch(
-        inputs: Any,
-        out: str | os.PathLike[str],
-        *,
-        spacing: float | str | tuple[float, float] | None = None,
-        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        override_calibration: bool = False,
-        channel: int | str | None = None,
-        window_alpha: float = 0.25,
-        fit_band: tuple[float, float] | str | None = None,
-        despike: bool = False,
-        mpd_spike_alpha: float | None = None,
-        resolution: float | None = None,
-        direction: Literal['x', 'y'] = 'x',
-        friction_measurement: str | None = None,
-        ifi_constants: str | None = None,
-        form: Literal['plane', 'poly2', 'poly3'] = 'plane',
-        s_filter: float | None = None,
-        l_filter: float | None = None,
-        rubber: str | os.PathLike[str] | Rubber | None = None,
-        sigma0: float | str = 200000.0,
-        temperature: float | None = None,
-        flash: bool = False,
-        velocities: ArrayLike | str | None = None,
-        q0: float | None = None,
-        q1: float | None = None,
-        contact_gamma: float | None = None,
-        nu: float = 0.5,
-        extrapolate: Literal['powerlaw', 'hold'] = 'powerlaw',
-        no_friction: bool = False,
-
-        figures: bool = False,
-        workers: int | None = None,
-        scheduler: str | None = None,
-        resume: bool = False,
-        section_length: float | None = None,
-        columns: str | None = None,
+    inputs: Any,
+    out: str | os.PathLike[str],
+    *,
+    spacing: float | str | tuple[float, float] | None = None,
+    units: Literal["m", "mm", "um", "nm"] | None = None,
+    x_units: Literal["m", "mm", "um", "nm"] | None = None,
+    override_calibration: bool = False,
+    channel: int | str | None = None,
+    window_alpha: float = 0.25,
+    fit_band: tuple[float, float] | str | None = None,
+    despike: bool = False,
+    mpd_spike_alpha: float | None = None,
+    resolution: float | None = None,
+    direction: Literal["x", "y"] = "x",
+    friction_measurement: str | None = None,
+    ifi_constants: str | None = None,
+    form: Literal["plane", "poly2", "poly3"] = "plane",
+    s_filter: float | None = None,
+    l_filter: float | None = None,
+    rubber: str | os.PathLike[str] | Rubber | None = None,
+    sigma0: float | str = 200000.0,
+    temperature: float | None = None,
+    flash: bool = False,
+    velocities: ArrayLike | str | None = None,
+    q0: float | None = None,
+    q1: float | None = None,
+    contact_gamma: float | None = None,
+    nu: float = 0.5,
+    extrapolate: Literal["powerlaw", "hold"] = "powerlaw",
+    no_friction: bool = False,
+    figures: bool = False,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    resume: bool = False,
+    section_length: float | None = None,
+    columns: str | None = None,
 ) -> dict[str, Any]:
     """``roadscan batch`` as one call: every input analysed as :func:`pipelines.analyse` would
     analyse it, on a local Dask cluster (one single-threaded worker process per core) or an
@@ -201,18 +201,22 @@ def batch(
     if args.workers is not None and args.workers < 1:
         raise InputError(None, f"--workers {args.workers}: need at least 1")
     if args.workers is not None and args.scheduler:
-        raise InputError(None, "--workers and --scheduler exclude each other "
-                               "(the cluster has its own workers)")
+        raise InputError(
+            None, "--workers and --scheduler exclude each other (the cluster has its own workers)"
+        )
     if args.section_length is not None and not args.section_length > 0:
         raise InputError(None, f"--section-length {args.section_length}: must be positive (metres)")
     out = Path(args.out)
     if out.exists() and not out.is_dir():
         raise InputError(out, "--out exists and is not a folder")
-    if out.is_dir() and any(out.iterdir()) and not _earlier_campaign(out):   # a user's folder
-        raise InputError(None, f"--out {out}: folder exists, is not empty and holds no earlier "
-                               f"batch campaign (its campaign.csv, report.html or scan folders would "
-                               f"replace files there); name a new folder")
-    if out.is_dir():          # what a killed campaign left (hidden folders, temporary files)
+    if out.is_dir() and any(out.iterdir()) and not _earlier_campaign(out):  # a user's folder
+        raise InputError(
+            None,
+            f"--out {out}: folder exists, is not empty and holds no earlier "
+            f"batch campaign (its campaign.csv, report.html or scan folders would "
+            f"replace files there); name a new folder",
+        )
+    if out.is_dir():  # what a killed campaign left (hidden folders, temporary files)
         from pipelines.campaign.folder import recover_campaign
 
         recover_campaign(out)
@@ -220,14 +224,25 @@ def batch(
     fingerprint = _fingerprint(args, kw, settings)
     jobs = []
     for j in expand_inputs(args.inputs):
-        job = {"file": j.file, "path": os.path.abspath(j.file), "label": j.label,
-               "chainage_m": j.chainage_m, "error": j.error, "subdir": j.subdir,
-               "out": str(out.resolve()), "spacing": args.spacing, "units": args.units,
-               # shared flags fill in what a file lacks, never replace what it carries
-               "calibration": "override" if getattr(args, "override_calibration", False) else "default",
-               "channel": getattr(args, "channel", None),
-               "settings": settings, "analysis": kw, "figures": args.figures,
-               "section_length_m": args.section_length, "fingerprint": fingerprint}
+        job = {
+            "file": j.file,
+            "path": os.path.abspath(j.file),
+            "label": j.label,
+            "chainage_m": j.chainage_m,
+            "error": j.error,
+            "subdir": j.subdir,
+            "out": str(out.resolve()),
+            "spacing": args.spacing,
+            "units": args.units,
+            # shared flags fill in what a file lacks, never replace what it carries
+            "calibration": "override" if getattr(args, "override_calibration", False) else "default",
+            "channel": getattr(args, "channel", None),
+            "settings": settings,
+            "analysis": kw,
+            "figures": args.figures,
+            "section_length_m": args.section_length,
+            "fingerprint": fingerprint,
+        }
         if args.resume and not j.error:
             recs = resumed_records(job)
             if recs is not None:
@@ -241,8 +256,9 @@ def batch(
 
     interrupted = False
     try:
-        results = run_campaign(jobs, workers=args.workers, scheduler=args.scheduler,
-                               progress=_progress_wanted())
+        results = run_campaign(
+            jobs, workers=args.workers, scheduler=args.scheduler, progress=_progress_wanted()
+        )
     except Interrupted as exc:
         results, interrupted = exc.records, True
         _clean_after_stop(out, jobs)
@@ -253,9 +269,15 @@ def batch(
     if interrupted:
         raise KeyboardInterrupt
     failed = sum(any(r["status"] != "ok" for r in recs) for recs in results)
-    return {"records": records, "done": len(jobs) - skipped - failed, "skipped": skipped,
-            "failed": failed, "campaign_csv": str(out / "campaign.csv"),
-            "report": str(out / "report.html"), "summary": summary_line(jobs, results, out)}
+    return {
+        "records": records,
+        "done": len(jobs) - skipped - failed,
+        "skipped": skipped,
+        "failed": failed,
+        "campaign_csv": str(out / "campaign.csv"),
+        "report": str(out / "report.html"),
+        "summary": summary_line(jobs, results, out),
+    }
 
 
 def _progress_wanted():
@@ -279,8 +301,17 @@ def _rubber_identity(path):
         return str(path)
 
 
-_NOT_OPTIONS = {"inputs", "out", "workers", "scheduler", "resume", "command", "_run", "debug",
-                "columns"}    # --columns shapes campaign.csv only, not a scan's outputs
+_NOT_OPTIONS = {
+    "inputs",
+    "out",
+    "workers",
+    "scheduler",
+    "resume",
+    "command",
+    "_run",
+    "debug",
+    "columns",
+}  # --columns shapes campaign.csv only, not a scan's outputs
 
 
 def _fingerprint(args, kw, settings):
@@ -306,11 +337,14 @@ def summary_line(jobs, results, out):
     skipped = sum("records" in j for j in jobs)
     failed = sum(any(r["status"] != "ok" for r in recs) for recs in results)
     done = len(jobs) - skipped - failed
-    warned = sum(any(r["status"] == "ok" and r["values"].get("warnings") for r in recs)
-                 for recs in results)          # scans with warnings
-    return (f"roadscan batch: {done} done, {skipped} skipped, {failed} failed, "
-            f"{warned} with warnings -> "
-            f"{out / 'campaign.csv'}, {out / 'report.html'}")
+    warned = sum(
+        any(r["status"] == "ok" and r["values"].get("warnings") for r in recs) for recs in results
+    )  # scans with warnings
+    return (
+        f"roadscan batch: {done} done, {skipped} skipped, {failed} failed, "
+        f"{warned} with warnings -> "
+        f"{out / 'campaign.csv'}, {out / 'report.html'}"
+    )
 
 
 def _clean_after_stop(out, jobs, wait_s=5.0):
@@ -348,5 +382,6 @@ def _refuse_overwrite(out, jobs, given):
 
     outputs = [out / n for n in ("campaign.csv", "campaign.parquet", "report.html")]
     outputs += [(out / j["subdir"], True) for j in jobs if j.get("subdir")]
-    refuse_overwrite(outputs, [j["path"] for j in jobs if not j.get("error")] +
-                     [g for g in given if os.path.isfile(g)])   # a manifest too
+    refuse_overwrite(
+        outputs, [j["path"] for j in jobs if not j.get("error")] + [g for g in given if os.path.isfile(g)]
+    )  # a manifest too

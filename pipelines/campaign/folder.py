@@ -10,6 +10,7 @@ The sidecar ``DIR/<name>/.roadscan-batch.json`` records the input (absolute path
 and SHA-256), a fingerprint of the analysis options and the campaign record(s) of the scan, so
 ``--resume`` can skip the scan without reading its outputs.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -18,9 +19,19 @@ import os
 import re
 from pathlib import Path
 
-__all__ = ["atomic_folder", "SIDECAR", "file_identity", "same_input", "read_sidecar",
-           "write_sidecar", "options_fingerprint", "campaign_leftovers", "recover_campaign",
-           "earlier_campaign", "CAMPAIGN_FILES"]
+__all__ = [
+    "atomic_folder",
+    "SIDECAR",
+    "file_identity",
+    "same_input",
+    "read_sidecar",
+    "write_sidecar",
+    "options_fingerprint",
+    "campaign_leftovers",
+    "recover_campaign",
+    "earlier_campaign",
+    "CAMPAIGN_FILES",
+]
 
 SIDECAR = ".roadscan-batch.json"
 #: the campaign-level outputs in DIR (each written atomically: a kill while one is written
@@ -28,8 +39,10 @@ SIDECAR = ".roadscan-batch.json"
 CAMPAIGN_FILES = ("campaign.csv", "campaign_anisotropy.csv", "campaign.parquet", "report.html")
 #: hidden files a killed campaign leaves in DIR: the temporary files of CAMPAIGN_FILES and the
 #: report's figures (``.campaign_distributions.png``, embedded then deleted) and theirs
-_TEMP_FILE = re.compile(r"^\.{1,2}(campaign[a-z_]*|report)(\.[a-z0-9_]{8})?\."
-                        r"(csv|parquet|html|png)$")
+_TEMP_FILE = re.compile(
+    r"^\.{1,2}(campaign[a-z_]*|report)(\.[a-z0-9_]{8})?\."
+    r"(csv|parquet|html|png)$"
+)
 
 
 def atomic_folder(target):
@@ -284,7 +297,7 @@ def read_sidecar(folder):
     from roadscan.io.overwrite_guard import untracked
 
     try:
-        with untracked():      # our own earlier output, not an input (a rerun replaces it)
+        with untracked():  # our own earlier output, not an input (a rerun replaces it)
             return json.loads((Path(folder) / SIDECAR).read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None

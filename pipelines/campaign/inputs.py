@@ -9,6 +9,7 @@ A missing file, a pattern matching nothing or a manifest row with a bad chainage
 that carries its error (a row of ``campaign.csv`` with status ``error``), never the end of the
 campaign. An unreadable manifest is refused as a whole (InputError naming it).
 """
+
 from __future__ import annotations
 
 import glob
@@ -46,7 +47,7 @@ class Job:
     label: str = ""
     chainage_m: float | None = None
     error: str | None = None
-    subdir: str | None = None   # output folder name under DIR, set by :func:`assign_subdirs`
+    subdir: str | None = None  # output folder name under DIR, set by :func:`assign_subdirs`
 
 
 def _header_cells(path):
@@ -154,7 +155,7 @@ def assign_subdirs(jobs):
         stem = Path(job.file).stem or "scan"
         n = seen.get(stem, 0) + 1
         name = stem if n == 1 else f"{stem}_{n}"
-        while name in taken:             # "a_2" given as a file stem and as a repeat of "a"
+        while name in taken:  # "a_2" given as a file stem and as a repeat of "a"
             n += 1
             name = f"{stem}_{n}"
         seen[stem] = n

@@ -12,6 +12,7 @@ column per element with its index (``fit_band_per_m.0``, ``fit_band_per_m.1``,
 ``shape.0``...). Nothing else is dropped: every scalar of ``summary.json`` has a column
 (the anisotropy sectors in ``campaign_anisotropy.csv``, see :mod:`.table`).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -120,9 +121,16 @@ def ok_record(job, summary, subdir, mu_at=None, extra=None, chainage_m=None):
     flat = flatten_summary(summary)
     values.update({k: v for k, v in flat.items() if not k.startswith(_LIST_COLUMNS_DROPPED)})
     values["warnings"] = " | ".join(summary.get("warnings") or [])
-    return {"file": job["file"], "label": job.get("label") or "",
-            "chainage_m": job.get("chainage_m") if chainage_m is None else chainage_m,
-            "status": "ok", "error": "", "dir": subdir, "values": values, "mu_at": mu_at or {}}
+    return {
+        "file": job["file"],
+        "label": job.get("label") or "",
+        "chainage_m": job.get("chainage_m") if chainage_m is None else chainage_m,
+        "status": "ok",
+        "error": "",
+        "dir": subdir,
+        "values": values,
+        "mu_at": mu_at or {},
+    }
 
 
 def error_record(job, message, subdir=None, extra=None, chainage_m=None):
@@ -146,6 +154,13 @@ def error_record(job, message, subdir=None, extra=None, chainage_m=None):
     dict
     """
     msg = " ".join(str(message).split()) or "failed"
-    return {"file": job["file"], "label": job.get("label") or "",
-            "chainage_m": job.get("chainage_m") if chainage_m is None else chainage_m,
-            "status": "error", "error": msg, "dir": subdir, "values": dict(extra or {}), "mu_at": {}}
+    return {
+        "file": job["file"],
+        "label": job.get("label") or "",
+        "chainage_m": job.get("chainage_m") if chainage_m is None else chainage_m,
+        "status": "error",
+        "error": msg,
+        "dir": subdir,
+        "values": dict(extra or {}),
+        "mu_at": {},
+    }

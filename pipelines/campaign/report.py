@@ -7,6 +7,7 @@ Outliers: modified z-score of Iglewicz and Hoaglin (1993), ``|0.6745 (x - median
 3.5`` over the campaign's successful rows, per quantity (needs at least 5 values and a
 non-zero MAD). They are drawn red in every plot and flagged in the table.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -33,13 +34,14 @@ def QUANTITIES(speeds):
     -------
     list of tuple
     """
-    q = [("hurst", "Hurst exponent H [-]", 1.0, lambda r: r["values"].get("hurst")),
-         ("rms_height_m", "Sq, rms height [µm]", 1e6, lambda r: r["values"].get("rms_height_m")),
-         ("mpd_m", "MPD (ISO 13473-1) [mm]", 1e3, lambda r: r["values"].get("mpd_m"))]
-    for band in ("80", "5"):       # what noise studies plot along chainage (ISO 13473-4)
+    q = [
+        ("hurst", "Hurst exponent H [-]", 1.0, lambda r: r["values"].get("hurst")),
+        ("rms_height_m", "Sq, rms height [µm]", 1e6, lambda r: r["values"].get("rms_height_m")),
+        ("mpd_m", "MPD (ISO 13473-1) [mm]", 1e3, lambda r: r["values"].get("mpd_m")),
+    ]
+    for band in ("80", "5"):  # what noise studies plot along chainage (ISO 13473-4)
         key = f"texture_level_dB.{band}"
-        q.append((key, f"texture level {band} mm [dB re 1 µm]", 1.0,
-                  lambda r, key=key: r["values"].get(key)))
+        q.append((key, f"texture level {band} mm [dB re 1 µm]", 1.0, lambda r, key=key: r["values"].get(key)))
     for s in speeds:
         q.append((f"mu@{s}", f"μ at {s} m/s [-]", 1.0, lambda r, s=s: r["mu_at"].get(s)))
     return q
@@ -78,8 +80,9 @@ def outlier_mask(x):
 def _values(records, quantities):
     vals = {}
     for key, _, scale, get in quantities:
-        v = np.array([np.nan if (r["status"] != "ok" or get(r) is None) else float(get(r)) * scale
-                      for r in records])
+        v = np.array(
+            [np.nan if (r["status"] != "ok" or get(r) is None) else float(get(r)) * scale for r in records]
+        )
         vals[key] = v
     return vals
 
@@ -101,10 +104,10 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
     from matplotlib.ticker import MaxNLocator
 
     shown = [q for q in quantities if np.isfinite(vals[q[0]]).any()]
-    quantities = shown or quantities[:1]           # no panel of "no values"
+    quantities = shown or quantities[:1]  # no panel of "no values"
     n = len(quantities)
     ncol = 3
-    nrow = int(np.ceil((n + (chain is not None)) / ncol))   # along chainage: a spare for the legend
+    nrow = int(np.ceil((n + (chain is not None)) / ncol))  # along chainage: a spare for the legend
     fig, axes = plt.subplots(nrow, ncol, figsize=(11, 3.2 * nrow), squeeze=False)
     for ax, (key, label, _, _) in zip(axes.flat, quantities):
         v = vals[key]
@@ -112,25 +115,33 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
         bad = outlier_mask(v)
         if chain is None:
             if ok.any():
-                ax.hist(v[ok & ~bad], **_hist_bins(v[ok & ~bad], ok.sum()), color="C0",
-                        alpha=0.8, label="scans")
+                ax.hist(
+                    v[ok & ~bad], **_hist_bins(v[ok & ~bad], ok.sum()), color="C0", alpha=0.8, label="scans"
+                )
                 if bad.any():
                     ax.plot(v[bad], np.zeros(bad.sum()), "v", color="red", ms=8, label="outliers")
                 ax.legend(fontsize=7)
             ax.set_xlabel(label)
             ax.set_ylabel("count")
-            ax.yaxis.set_major_locator(MaxNLocator(integer=True))     # whole scans
+            ax.yaxis.set_major_locator(MaxNLocator(integer=True))  # whole scans
         else:
             has = ok & np.isfinite(chain)
             keys = np.asarray(groups)
             uniq = list(dict.fromkeys(keys[has]))
-            single = len(uniq) == int(has.sum())       # one row per file: one line along the road
+            single = len(uniq) == int(has.sum())  # one row per file: one line along the road
             for gi, g in enumerate([None] if single else uniq):
                 sel = has if g is None else has & (keys == g)
                 order = np.argsort(chain[sel])
                 lab = "scans" if g is None else (Path(g).stem if len(uniq) <= 8 else None)
-                ax.plot(chain[sel][order], v[sel][order], "o-", ms=3, lw=0.8,
-                        color=f"C{gi % 10}" if len(uniq) <= 10 else "C0", label=lab)
+                ax.plot(
+                    chain[sel][order],
+                    v[sel][order],
+                    "o-",
+                    ms=3,
+                    lw=0.8,
+                    color=f"C{gi % 10}" if len(uniq) <= 10 else "C0",
+                    label=lab,
+                )
             if (bad & has).any():
                 ax.plot(chain[bad & has], v[bad & has], "o", color="red", ms=6, label="outliers")
             ax.set_xlabel("chainage [m]")
@@ -140,13 +151,14 @@ def _plot_grid(path, quantities, vals, chain=None, groups=None):
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
-    if chain is not None:                           # one legend in the spare panel, over no data
+    if chain is not None:  # one legend in the spare panel, over no data
         legend = {}
         for ax in list(axes.flat)[:n]:
             legend.update(zip(*reversed(ax.get_legend_handles_labels())))
         if legend:
-            axes.flat[n].legend(list(legend.values()), list(legend.keys()), loc="center",
-                                fontsize=8, frameon=False)
+            axes.flat[n].legend(
+                list(legend.values()), list(legend.keys()), loc="center", fontsize=8, frameon=False
+            )
     return report.save_figure(fig, path)
 
 
@@ -156,8 +168,7 @@ def _reader_units(quantities, vals):
     out = []
     for key, label, scale, get in quantities:
         v = vals[key]
-        if scale == 1e6 and "[µm]" in label and np.isfinite(v).any() \
-                and np.nanmedian(np.abs(v)) >= 1e3:
+        if scale == 1e6 and "[µm]" in label and np.isfinite(v).any() and np.nanmedian(np.abs(v)) >= 1e3:
             label, scale, vals[key] = label.replace("[µm]", "[mm]"), 1e3, v / 1e3
         out.append((key, label, scale, get))
     return out, vals
@@ -168,18 +179,38 @@ def _table(records, quantities, vals, masks):
     scan's folder and report."""
     from pipelines.output.templates import render
 
-    head = ["#", "file", "label", "chainage [m]", "status"] + [q[1] for q in quantities] + ["outlier in", "outputs"]
+    head = (
+        ["#", "file", "label", "chainage [m]", "status"]
+        + [q[1] for q in quantities]
+        + ["outlier in", "outputs"]
+    )
     rows = []
     for i, r in enumerate(records):
-        rows.append({
-            "n": i + 1, "file": Path(r["file"]).name, "label": r["label"] or "",
-            "chainage": "—" if r["chainage_m"] is None else f"{r['chainage_m']:.6g}",
-            "error": None if r["status"] == "ok" else str(r["error"]),
-            "cells": [(sig3(vals[q[0]][i]) + (" not valid (ISO 13473-1)" if q[0] == "mpd_m" and
-                       r["values"].get("mpd_valid") is False and r["values"].get("mpd_m") is not None
-                       else ""), bool(masks[q[0]][i])) for q in quantities],
-            "flags": [q[0] for q in quantities if masks[q[0]][i]],
-            "dir": r.get("dir") or None})
+        rows.append(
+            {
+                "n": i + 1,
+                "file": Path(r["file"]).name,
+                "label": r["label"] or "",
+                "chainage": "—" if r["chainage_m"] is None else f"{r['chainage_m']:.6g}",
+                "error": None if r["status"] == "ok" else str(r["error"]),
+                "cells": [
+                    (
+                        sig3(vals[q[0]][i])
+                        + (
+                            " not valid (ISO 13473-1)"
+                            if q[0] == "mpd_m"
+                            and r["values"].get("mpd_valid") is False
+                            and r["values"].get("mpd_m") is not None
+                            else ""
+                        ),
+                        bool(masks[q[0]][i]),
+                    )
+                    for q in quantities
+                ],
+                "flags": [q[0] for q in quantities if masks[q[0]][i]],
+                "dir": r.get("dir") or None,
+            }
+        )
     return render("campaign_table.html.j2", header=head, rows=rows)
 
 
@@ -215,19 +246,34 @@ def write_campaign_report(out_dir, records, speeds, title="roadscan batch: campa
         pngs = [_plot_grid(spare[0], quantities, vals)]
         sections = [("Distributions", [pngs[0]])]
         if np.isfinite(chain).any():
-            pngs.append(_plot_grid(spare[1], quantities, vals, chain,
-                                   [r["file"] for r in records]))
+            pngs.append(_plot_grid(spare[1], quantities, vals, chain, [r["file"] for r in records]))
             sections.append(("Along chainage", [pngs[1]]))
         sections.append(("Scans", _table(records, quantities, vals, masks)))
         warned = [r for r in records if r["status"] == "ok" and r["values"].get("warnings")]
-        if warned:                            # every warning of every scan
-            sections.append(("Warnings", report.table_html(
-                [[r.get("dir") or r["file"], w] for r in warned
-                 for w in r["values"]["warnings"].split(" | ")], ["scan", "warning"])))
+        if warned:  # every warning of every scan
+            sections.append(
+                (
+                    "Warnings",
+                    report.table_html(
+                        [
+                            [r.get("dir") or r["file"], w]
+                            for r in warned
+                            for w in r["values"]["warnings"].split(" | ")
+                        ],
+                        ["scan", "warning"],
+                    ),
+                )
+            )
         from pipelines.output.templates import render
 
-        intro = render("campaign_intro.html.j2", rows=len(records), ok=n_ok, warned=len(warned),
-                       failed=len(records) - n_ok, z=Z_OUTLIER)
+        intro = render(
+            "campaign_intro.html.j2",
+            rows=len(records),
+            ok=n_ok,
+            warned=len(warned),
+            failed=len(records) - n_ok,
+            z=Z_OUTLIER,
+        )
         report.write_html(out_dir / "report.html", title, sections, intro=intro)
     finally:
         for p in spare:

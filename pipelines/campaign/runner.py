@@ -8,6 +8,7 @@ One scan per worker at a time: the local cluster has one thread per worker proce
 existing cluster start the workers with ``--nthreads 1``, or give them the resource ``scan=1``
 (``dask worker ... --resources scan=1``): when every worker has it, each task asks for one.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -81,7 +82,7 @@ def resumed_records(job):
     if not (folder / "summary.json").exists() and not (folder / "sections.csv").exists():
         return None
     base = job.get("chainage_m")
-    for r in recs:    # manifest label/chainage may have been edited since: take today's
+    for r in recs:  # manifest label/chainage may have been edited since: take today's
         r["file"], r["label"] = job["file"], job.get("label") or ""
         start = r.get("values", {}).get("section_start_m")
         r["chainage_m"] = base if start is None else (base or 0.0) + start
@@ -146,14 +147,30 @@ def _client(workers=None, scheduler=None):
     box = []
     trim = dask.config.set({_TRIM_KEY: None}) if _TRIM_ENV not in os.environ else contextlib.nullcontext()
     try:
-        with trim, dask.config.set({_WORKER_LOG_KEY: "critical", "distributed.worker.preload":
-                                    ["pipelines.campaign.worker_signals"]}), _sigint_blocked():
-            box.append(LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                    dashboard_address=None, silence_logs=logging.ERROR))
+        with (
+            trim,
+            dask.config.set(
+                {
+                    _WORKER_LOG_KEY: "critical",
+                    "distributed.worker.preload": ["pipelines.campaign.worker_signals"],
+                }
+            ),
+            _sigint_blocked(),
+        ):
+            box.append(
+                LocalCluster(
+                    n_workers=n,
+                    threads_per_worker=1,
+                    processes=True,
+                    dashboard_address=None,
+                    silence_logs=logging.ERROR,
+                )
+            )
     except Exception as exc:  # noqa: BLE001 - e.g. a script without the __main__ guard
-        raise InputError(None, f"--workers {n}: cannot start a local Dask cluster "
-                               f"({type(exc).__name__}: {exc})") from None
-    except KeyboardInterrupt:     # Ctrl-C held while the workers started: arrives here
+        raise InputError(
+            None, f"--workers {n}: cannot start a local Dask cluster ({type(exc).__name__}: {exc})"
+        ) from None
+    except KeyboardInterrupt:  # Ctrl-C held while the workers started: arrives here
         for cluster in box:
             with contextlib.suppress(Exception):
                 cluster.close()
@@ -309,15 +326,20 @@ def run_campaign(jobs, workers=None, scheduler=None, progress=None):
             bar.close()
         return results
     try:
-        if not scheduler:     # no idle processes: at most one worker per input to run
+        if not scheduler:  # no idle processes: at most one worker per input to run
             workers = min(workers or default_workers(), len(todo))
         with _quiet_event_loop(), _client(workers, scheduler) as client:
             res = _scan_resources(client)
             futures = {}
             for i in todo:
                 job = {k: v for k, v in jobs[i].items() if k != "records"}
-                fut = client.submit(run_job, job, pure=False, resources=res,
-                                    key=f"roadscan-batch-{i}-{os.getpid()}-{id(jobs)}")
+                fut = client.submit(
+                    run_job,
+                    job,
+                    pure=False,
+                    resources=res,
+                    key=f"roadscan-batch-{i}-{os.getpid()}-{id(jobs)}",
+                )
                 futures[fut] = i
             try:
                 for fut in as_completed(futures):
@@ -325,8 +347,11 @@ def run_campaign(jobs, workers=None, scheduler=None, progress=None):
                     try:
                         results[i] = fut.result()
                     except Exception as exc:  # noqa: BLE001 - a worker died on this input
-                        results[i] = [error_record(jobs[i], f"{jobs[i]['file']}: worker failed: "
-                                                            f"{type(exc).__name__}: {exc}")]
+                        results[i] = [
+                            error_record(
+                                jobs[i], f"{jobs[i]['file']}: worker failed: {type(exc).__name__}: {exc}"
+                            )
+                        ]
                     fut.release()
                     if bar is not None:
                         bar.update(1)
@@ -336,10 +361,15 @@ def run_campaign(jobs, workers=None, scheduler=None, progress=None):
                 raise
     except KeyboardInterrupt:
         # a scan whose folder a worker completed before its result arrived still counts
-        done = [r if r is not None else
-                (_finished_on_worker(job) or
-                 [error_record(job, f"{job['file']}: interrupted before it finished")])
-                for r, job in zip(results, jobs)]
+        done = [
+            r
+            if r is not None
+            else (
+                _finished_on_worker(job)
+                or [error_record(job, f"{job['file']}: interrupted before it finished")]
+            )
+            for r, job in zip(results, jobs)
+        ]
         raise Interrupted(done) from None
     finally:
         if bar is not None:

@@ -20,6 +20,7 @@ Within a section the x values are placed on a regular grid by
 :func:`roadscan.io._common.regular_axis` (missing nodes become unmeasured points), exactly as the
 whole-file readers do; ``--spacing`` overrides the step.
 """
+
 from __future__ import annotations
 
 import io
@@ -33,8 +34,8 @@ from roadscan.heightmap import Profile
 
 __all__ = ["iter_sections", "MIN_SECTION_M", "CHUNK_ROWS"]
 
-MIN_SECTION_M = 0.1        # one ISO 13473-1 segment
-CHUNK_ROWS = 1 << 16       # text rows parsed at a time
+MIN_SECTION_M = 0.1  # one ISO 13473-1 segment
+CHUNK_ROWS = 1 << 16  # text rows parsed at a time
 _TEXT = {".txt", ".csv", ".xyz", ".asc", ".dat"}
 
 
@@ -109,6 +110,7 @@ def _text_points(path, units):
                     yield None, arr[:, 0] * factors[0]
         finally:
             fh.close()
+
     return gen()
 
 
@@ -131,6 +133,7 @@ def _captif_points(path):
                 yield arr[:, 0] * 1e-3, arr[:, 1] * 1e-3
         finally:
             fh.close()
+
     return gen()
 
 
@@ -154,11 +157,11 @@ def _grid_section(x, z, dx_override, path, name, start_m):
 
 def _cut_points(chunks, L, dx_override, path, stem):
     """Sections from (x, z) chunks with x increasing (x None: regular samples dx_override)."""
-    bx, bz = [], []          # buffered points of the current section
+    bx, bz = [], []  # buffered points of the current section
     x_first, k, count = None, 0, 0
     last_x = -np.inf
     for x, z in chunks:
-        if x is None:                         # regular samples: synthesize x
+        if x is None:  # regular samples: synthesize x
             x = (count + np.arange(z.size)) * dx_override
             xfree = True
         else:
@@ -166,8 +169,9 @@ def _cut_points(chunks, L, dx_override, path, stem):
             if not np.all(np.isfinite(x)):
                 raise InputError(path, "x column contains NaN")
             if x[0] <= last_x or np.any(np.diff(x) <= 0):
-                raise InputError(path, "x values are not increasing (a long profile is read in "
-                                       "order; sort the file)")
+                raise InputError(
+                    path, "x values are not increasing (a long profile is read in order; sort the file)"
+                )
         count += z.size
         last_x = x[-1]
         if x_first is None:
@@ -181,8 +185,10 @@ def _cut_points(chunks, L, dx_override, path, stem):
             bx.append(x[:j]), bz.append(z[:j])
             sx, sz = np.concatenate(bx), np.concatenate(bz)
             if sx.size >= 4:
-                yield k * L, _grid_section(None if xfree else sx, sz, dx_override, path,
-                                           f"{stem}@{k * L:g}m", k * L)
+                yield (
+                    k * L,
+                    _grid_section(None if xfree else sx, sz, dx_override, path, f"{stem}@{k * L:g}m", k * L),
+                )
             x, z = x[j:], z[j:]
             bx, bz = [], []
             k += 1
@@ -190,21 +196,22 @@ def _cut_points(chunks, L, dx_override, path, stem):
         sx, sz = np.concatenate(bx), np.concatenate(bz)
         length = (sx[-1] - sx[0]) + (dx_override or (np.median(np.diff(sx)) if sx.size > 1 else 0))
         if sx.size >= 4 and (length >= MIN_SECTION_M * (1 - 1e-9) or k == 0):
-            yield k * L, _grid_section(None if xfree else sx, sz, dx_override, path,
-                                       f"{stem}@{k * L:g}m", k * L)
+            yield (
+                k * L,
+                _grid_section(None if xfree else sx, sz, dx_override, path, f"{stem}@{k * L:g}m", k * L),
+            )
 
 
 def _array_sections(h, dx, L, stem, unmeasured=None):
     n = max(1, int(round(L / dx)))
     total = h.shape[0]
     for k, i in enumerate(range(0, total, n)):
-        seg = np.array(h[i:i + n], dtype=np.float64)          # a copy: one section in memory
-        bad = None if unmeasured is None else np.array(unmeasured[i:i + n], dtype=bool)
+        seg = np.array(h[i : i + n], dtype=np.float64)  # a copy: one section in memory
+        bad = None if unmeasured is None else np.array(unmeasured[i : i + n], dtype=bool)
         if k > 0 and seg.size * dx < MIN_SECTION_M * (1 - 1e-9):
             break
         if seg.size >= 4:
-            yield k * L, Profile(seg, dx, bad, name=f"{stem}@{k * L:g}m",
-                                 meta={"section_start_m": k * L})
+            yield k * L, Profile(seg, dx, bad, name=f"{stem}@{k * L:g}m", meta={"section_start_m": k * L})
 
 
 def iter_sections(path, section_m, spacing=None, units=None):
@@ -252,8 +259,10 @@ def iter_sections(path, section_m, spacing=None, units=None):
             raise InputError(path, NO_SPACING)
         factor = unit_factor(units, path)
         if factor != 1.0:
-            yield from ((s, p.with_heights(p.heights_m * factor)) for s, p in
-                        _array_sections(arr, dx_override, section_m, stem))
+            yield from (
+                (s, p.with_heights(p.heights_m * factor))
+                for s, p in _array_sections(arr, dx_override, section_m, stem)
+            )
         else:
             yield from _array_sections(arr, dx_override, section_m, stem)
         return

@@ -20,6 +20,7 @@ batch --columns`` picks the columns (names or shell-style patterns, comma separa
 ``mpd_m,mpd_valid,etd_m,roughness.S*``): the fixed columns always come first, then the chosen
 ones in their usual order.
 """
+
 from __future__ import annotations
 
 import csv
@@ -27,8 +28,16 @@ import io
 
 from roadscan.io.atomic import atomic_path, atomic_write_text
 
-__all__ = ["FIXED_COLUMNS", "SIDE_PREFIXES", "ANISOTROPY_FILE", "columns_of", "write_campaign_csv",
-           "write_campaign_parquet", "pick_columns", "parse_columns"]
+__all__ = [
+    "FIXED_COLUMNS",
+    "SIDE_PREFIXES",
+    "ANISOTROPY_FILE",
+    "columns_of",
+    "write_campaign_csv",
+    "write_campaign_parquet",
+    "pick_columns",
+    "parse_columns",
+]
 
 FIXED_COLUMNS = ("file", "label", "chainage_m", "status", "error")
 #: columns that go to ``campaign_anisotropy.csv`` instead of ``campaign.csv``
@@ -75,8 +84,13 @@ def _cell(x):
 
 
 def _row(r, cols):
-    fixed = {"file": r["file"], "label": r["label"], "chainage_m": r["chainage_m"],
-             "status": r["status"], "error": r["error"]}
+    fixed = {
+        "file": r["file"],
+        "label": r["label"],
+        "chainage_m": r["chainage_m"],
+        "status": r["status"],
+        "error": r["error"],
+    }
     return [_cell(fixed[c] if c in fixed else r["values"].get(c)) for c in cols]
 
 
@@ -112,9 +126,12 @@ def parse_columns(text):
 
     pats = [t.strip() for t in str(text).split(",") if t.strip()]
     if not pats:
-        raise InputError(None, f"{{columns}} {text!r}: expected column names or patterns, "
-                               f"comma separated (e.g. mpd_m,mpd_valid,roughness.S*)",
-                         hint_option="columns")
+        raise InputError(
+            None,
+            f"{{columns}} {text!r}: expected column names or patterns, "
+            f"comma separated (e.g. mpd_m,mpd_valid,roughness.S*)",
+            hint_option="columns",
+        )
     return pats
 
 
@@ -167,8 +184,7 @@ def write_campaign_csv(path, records, columns=None):
         if unused:
             import sys
 
-            print(f"note: --columns {', '.join(unused)}: no such column in this campaign",
-                  file=sys.stderr)
+            print(f"note: --columns {', '.join(unused)}: no such column in this campaign", file=sys.stderr)
     _write_table(path, records, cols)
     side = columns_of(records, side=True)
     if any(_side(c) for c in side):
@@ -198,7 +214,7 @@ def write_campaign_parquet(path, records):
         import pyarrow.parquet as pq
     except ImportError:
         return False
-    cols = columns_of(records)       # parquet keeps the anisotropy sectors as well
+    cols = columns_of(records)  # parquet keeps the anisotropy sectors as well
     cols += [c for c in columns_of(records, side=True) if _side(c)]
     data = {c: [] for c in cols}
     for r in records:
@@ -207,7 +223,7 @@ def write_campaign_parquet(path, records):
             data[c].append(v)
     try:
         table = pa.table({c: pa.array(v, from_pandas=True) for c, v in data.items()})
-    except (pa.ArrowInvalid, pa.ArrowTypeError):     # mixed types in a column: text
+    except (pa.ArrowInvalid, pa.ArrowTypeError):  # mixed types in a column: text
         table = pa.table({c: pa.array([None if x is None else str(x) for x in v]) for c, v in data.items()})
     with atomic_path(path) as tmp:
         pq.write_table(table, tmp)

@@ -6,6 +6,7 @@ itself into an atomic folder ``DIR/<subdir>/`` and returns a list of small recor
 (:mod:`.records`): big arrays never travel through the scheduler. It never raises for a bad
 input: the failure is a record with status ``error`` and a one-line message.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -51,7 +52,7 @@ def _own_warnings():
     from pipelines.checks import validate
     from pipelines.checks.run_warnings import say_warnings
 
-    say_warnings("quiet")    # a worker's warnings reach the user through the campaign's records
+    say_warnings("quiet")  # a worker's warnings reach the user through the campaign's records
     return validate.collecting(prefix="roadscan batch")
 
 
@@ -60,11 +61,16 @@ def _analyse_one(job, tmp):
     from pipelines.settings.scan_input import load_scan
 
     with _own_warnings():
-        scan = load_scan(job.get("path") or job["file"], spacing=job.get("spacing"),
-                         units=job.get("units"), calibration=job.get("calibration"),
-                         channel=job.get("channel"))
-        summary = run_analysis(scan, tmp, job["settings"], figures=job.get("figures", False),
-                               **job["analysis"])
+        scan = load_scan(
+            job.get("path") or job["file"],
+            spacing=job.get("spacing"),
+            units=job.get("units"),
+            calibration=job.get("calibration"),
+            channel=job.get("channel"),
+        )
+        summary = run_analysis(
+            scan, tmp, job["settings"], figures=job.get("figures", False), **job["analysis"]
+        )
     return [ok_record(job, summary, job["subdir"], _mu_at(tmp))]
 
 
@@ -75,23 +81,26 @@ def _analyse_sections(job, tmp):
     L = job["section_length_m"]
     base = job.get("chainage_m") or 0.0
     recs = []
-    for k, (start, prof) in enumerate(iter_sections(job.get("path") or job["file"], L, job.get("spacing"),
-                                                    job.get("units"))):
+    for k, (start, prof) in enumerate(
+        iter_sections(job.get("path") or job["file"], L, job.get("spacing"), job.get("units"))
+    ):
         sub = f"section_{k:05d}"
         extra = {"section": k, "section_start_m": start, "section_length_m": prof.length_m}
         chain = base + start
-        if k == 0:      # a units slip refuses the file before any section
+        if k == 0:  # a units slip refuses the file before any section
             from roadscan.plausibility import check_plausible
 
             check_plausible(prof, job["file"], job.get("units"))
         try:
             with _own_warnings():
-                summary = run_analysis(prof, tmp / sub, job["settings"],
-                                       figures=job.get("figures", False), **job["analysis"])
+                summary = run_analysis(
+                    prof, tmp / sub, job["settings"], figures=job.get("figures", False), **job["analysis"]
+                )
             recs.append(ok_record(job, summary, f"{job['subdir']}/{sub}", _mu_at(tmp / sub), extra, chain))
         except (ValueError, ArithmeticError) as exc:
-            recs.append(error_record(job, f"{job['file']}: section {k} at {start:g} m: {exc}",
-                                     None, extra, chain))
+            recs.append(
+                error_record(job, f"{job['file']}: section {k} at {start:g} m: {exc}", None, extra, chain)
+            )
         del prof
     if not recs:
         raise InputError(job["file"], "no section: the profile is too short")
@@ -100,16 +109,34 @@ def _analyse_sections(job, tmp):
 
 
 def _write_sections_csv(path, recs):
-    cols = ["chainage_m", *SECTION_COLUMNS, "status", "error", "mpd_m", "mpd_valid", "hurst",
-            "rms_height_m",
-            "mpd_note", "etd_m", "texture_level_dB.80", "texture_level_dB.5"]
+    cols = [
+        "chainage_m",
+        *SECTION_COLUMNS,
+        "status",
+        "error",
+        "mpd_m",
+        "mpd_valid",
+        "hurst",
+        "rms_height_m",
+        "mpd_note",
+        "etd_m",
+        "texture_level_dB.80",
+        "texture_level_dB.5",
+    ]
     with open(path, "w", newline="", encoding="utf-8") as fh:
         w = csv.writer(fh)
         w.writerow(cols)
         for r in recs:
             v = r["values"]
-            w.writerow([_cell(r["chainage_m"]), *(_cell(v.get(c)) for c in SECTION_COLUMNS),
-                        r["status"], r["error"], *(_cell(v.get(c)) for c in cols[6:])])
+            w.writerow(
+                [
+                    _cell(r["chainage_m"]),
+                    *(_cell(v.get(c)) for c in SECTION_COLUMNS),
+                    r["status"],
+                    r["error"],
+                    *(_cell(v.get(c)) for c in cols[6:]),
+                ]
+            )
 
 
 def _cell(x):
@@ -147,7 +174,7 @@ def run_job(job):
         return _run_job(job, target)
 
 
-BIG_INPUT_BYTES = 32 << 20    # inputs above this get a full garbage collection after them
+BIG_INPUT_BYTES = 32 << 20  # inputs above this get a full garbage collection after them
 
 
 def _run_job(job, target):
@@ -155,8 +182,9 @@ def _run_job(job, target):
     try:
         path = Path(job.get("path") or job["file"])
         if not path.is_file():
-            raise InputError(path, "is a directory, expected a height file" if path.is_dir()
-                             else "no such file")
+            raise InputError(
+                path, "is a directory, expected a height file" if path.is_dir() else "no such file"
+            )
         ident = file_identity(path)
         big = ident["size"] > BIG_INPUT_BYTES or bool(job.get("section_length_m"))
         with atomic_folder(target) as tmp:
@@ -166,8 +194,8 @@ def _run_job(job, target):
                 recs = _analyse_one(job, tmp)
             write_sidecar(tmp, ident, job.get("fingerprint"), recs)
         return recs
-    except Exception as exc:   # noqa: BLE001 - any failure of one input is a row, not the end
-        big = True             # a traceback's frames may hold the scan in a reference cycle
+    except Exception as exc:  # noqa: BLE001 - any failure of one input is a row, not the end
+        big = True  # a traceback's frames may hold the scan in a reference cycle
         return [error_record(job, _message(job["file"], exc))]
     finally:
         # One scan at a time: numpy arrays go with their last reference. A full collection

@@ -7,6 +7,7 @@ the cluster, which stops them. Loaded through ``distributed.worker.preload`` by
 :func:`pipelines.campaign.runner._client` (local clusters only; an existing cluster's workers
 are left as their owner started them).
 """
+
 from __future__ import annotations
 
 import contextlib

@@ -11,6 +11,7 @@ from the realistic ranges of :data:`RANGES` (the generator's own, not the search
 noiseless mu by more than ``2 x`` the noise (rms log10) and no other effect, best fitted to the
 noiseless curve, comes within the noise of it.
 """
+
 from __future__ import annotations
 
 import math
@@ -44,9 +45,12 @@ RANGES = {
     "fine_roughness": lambda r: dict(q1_factor=_logu(r, 2.0, 30.0)),
     "water": lambda r: dict(fill_fraction=_logu(r, 0.1, 1.0)),
     # adhesion is drawn in the generator's own shapes (see _adhesion_truth), not the effect's
-    "adhesion": lambda r: dict(amplitude=_logu(r, 0.02, 0.3), v_c_m_per_s=_logu(r, 1e-6, 1e-2),
-                               exponent=_u(r, 0.7, 2.0), bell_decades=(None if r.random() < 0.5
-                                                                        else _u(r, 0.5, 1.5))),
+    "adhesion": lambda r: dict(
+        amplitude=_logu(r, 0.02, 0.3),
+        v_c_m_per_s=_logu(r, 1e-6, 1e-2),
+        exponent=_u(r, 0.7, 2.0),
+        bell_decades=(None if r.random() < 0.5 else _u(r, 0.5, 1.5)),
+    ),
     "load": lambda r: dict(sigma0_scale=(_logu(r, 0.3, 0.6) if r.random() < 0.5 else _logu(r, 1.7, 3.5))),
     "contact_correction": lambda r: dict(contact_gamma=_u(r, 0.2, 0.9)),
 }
@@ -105,9 +109,16 @@ def _surface(rng, want_scan):
     dx = _logu(rng, 4e-5, 1e-4)
     n = 256
     L = n * dx
-    hm = self_affine_surface(n, n, dx_m=dx, hurst=hurst, rms_height_m=_logu(rng, 1.5e-4, 5e-4),
-                             q_roll_per_m=_u(rng, 3, 6) * 2 * np.pi / L, seed=int(rng.integers(2 ** 31)),
-                             name="case_scan")
+    hm = self_affine_surface(
+        n,
+        n,
+        dx_m=dx,
+        hurst=hurst,
+        rms_height_m=_logu(rng, 1.5e-4, 5e-4),
+        q_roll_per_m=_u(rng, 3, 6) * 2 * np.pi / L,
+        seed=int(rng.integers(2**31)),
+        name="case_scan",
+    )
     psd, filled, spec, fit = surface_from_scan(hm)
     return psd, filled, spec, fit
 
@@ -202,7 +213,7 @@ def identifiable(case, move=2.0, effects=None):
     ctx = case.context()
     allrows = np.ones(case.curve.n, bool)
     others = {}
-    for e in (effects or all_effects("friction")):
+    for e in effects or all_effects("friction"):
         if e.name == case.effect or e.missing(ctx):
             continue
         if e.prepare is not None and e.prepare(ctx):
@@ -210,7 +221,9 @@ def identifiable(case, move=2.0, effects=None):
         c = fit_candidate(ctx, case.truth_mu, (e,), allrows)
         others[e.name] = c.gap_all
         if c.gap_all < sig:
-            info.update(others=others, why=f"{e.name} explains it within the noise ({c.gap_all:.4f} < {sig:.4f})")
+            info.update(
+                others=others, why=f"{e.name} explains it within the noise ({c.gap_all:.4f} < {sig:.4f})"
+            )
             return False, info
     info["others"] = others
     return True, info

@@ -8,6 +8,7 @@ cross-validation (modified, gamma = 1.4), divided by the residual degrees of fre
 (Wahba 1990, *Spline models for observational data*, ch. 4). Significance: under "model right, noise only"
 ``n gap^2 / noise^2`` is chi-square with n degrees of freedom.
 """
+
 from __future__ import annotations
 
 from itertools import pairwise
@@ -15,8 +16,15 @@ from itertools import pairwise
 import numpy as np
 from scipy import interpolate, stats
 
-__all__ = ["log_ratio", "gap", "estimate_noise", "chi2_pvalue", "is_significant",
-           "gap_by_band", "decade_bands"]
+__all__ = [
+    "log_ratio",
+    "gap",
+    "estimate_noise",
+    "chi2_pvalue",
+    "is_significant",
+    "gap_by_band",
+    "decade_bands",
+]
 
 
 def log_ratio(real, sim):
@@ -47,7 +55,7 @@ def gap(real, sim):
     float
     """
     r = log_ratio(real, sim)
-    return float(np.sqrt(np.mean(r ** 2))) if r.size else float("nan")
+    return float(np.sqrt(np.mean(r**2))) if r.size else float("nan")
 
 
 def estimate_noise(v_m_per_s, mu, floor=1e-4):
@@ -89,7 +97,7 @@ def estimate_noise(v_m_per_s, mu, floor=1e-4):
     res = ym - S @ ym
     dof = max(ux.size - float(np.trace(S)), 1.0)
     # the residual of a mean of m repeated points has variance sigma^2/m: weight by counts
-    rss = float(np.sum(counts * res ** 2)) + float(np.sum(pure ** 2))
+    rss = float(np.sum(counts * res**2)) + float(np.sum(pure**2))
     dof_total = dof + float(np.sum(counts - 1))
     return float(max(np.sqrt(rss / dof_total), floor))
 
@@ -108,7 +116,7 @@ def _gcv_lambda(x, y, gamma=1.4):
     n = x.size
     best = (np.inf, None)
     span = (x[-1] - x[0]) or 1.0
-    for lam in np.logspace(-9, 3, 49) * span ** 3:
+    for lam in np.logspace(-9, 3, 49) * span**3:
         S = _smoother_matrix(x, lam)
         res = y - S @ y
         tr = float(np.trace(S))
@@ -188,7 +196,7 @@ def decade_bands(v_m_per_s, width_decades=1.0, min_points=3):
     for a, b in pairwise(edges):
         m = (lv >= a) & (lv < b) if b < edges[-1] else (lv >= a) & (lv <= b)
         if m.any():
-            bands.append([10 ** a, 10 ** b, m])
+            bands.append([10**a, 10**b, m])
     # a band of one or two points says nothing on its own: merge it into its neighbour
     i = 0
     while len(bands) > 1 and i < len(bands):
@@ -226,8 +234,15 @@ def gap_by_band(v_m_per_s, real, sim, noise, width_decades=1.0):
     out = []
     for a, b, m in decade_bands(v_m_per_s, width_decades):
         g = float(np.sqrt(np.mean(r[m] ** 2)))
-        out.append(dict(v_min_m_per_s=a, v_max_m_per_s=b, n=int(m.sum()), gap=g,
-                        mean_log_ratio=float(np.mean(r[m])),
-                        p_value=chi2_pvalue(g, noise, int(m.sum())),
-                        significant=is_significant(g, noise, int(m.sum()))))
+        out.append(
+            dict(
+                v_min_m_per_s=a,
+                v_max_m_per_s=b,
+                n=int(m.sum()),
+                gap=g,
+                mean_log_ratio=float(np.mean(r[m])),
+                p_value=chi2_pvalue(g, noise, int(m.sum())),
+                significant=is_significant(g, noise, int(m.sum())),
+            )
+        )
     return out

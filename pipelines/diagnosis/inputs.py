@@ -5,6 +5,7 @@ assembled into a :class:`model.FrictionContext`.
 as written by ``roadscan analyse``); rows with C <= 0 are dropped. The engine integrates it from
 its lowest to its highest q (docs: Theory).
 """
+
 from __future__ import annotations
 
 from pipelines.diagnosis.model import FrictionContext, SimSpec
@@ -115,5 +116,6 @@ def build_context(curve, psd, rubber=None, scan=None, spectrum=None, fit=None, e
     inputs = {"psd", "rubber"} | set(extra_inputs)
     if isinstance(scan, HeightMap):
         inputs.add("scan")
-    return FrictionContext.from_measured(curve, SimSpec(psd=psd, rubber=rubber), scan=scan,
-                                         spectrum=spectrum, fit=fit, inputs=inputs)
+    return FrictionContext.from_measured(
+        curve, SimSpec(psd=psd, rubber=rubber), scan=scan, spectrum=spectrum, fit=fit, inputs=inputs
+    )

@@ -4,6 +4,7 @@
 of its inputs, the engine settings it records, the atomic output folder.
 :mod:`pipelines.cli.commands.diagnose` only parses, calls :func:`diagnose` and prints.
 """
+
 from __future__ import annotations
 
 import os
@@ -46,54 +47,77 @@ def add_diagnose_options(p):
     from pipelines.settings.friction import add_friction_options
     from pipelines.settings.scan_input import add_scan_options
 
-    p.add_argument("--measured", metavar="MU.csv", default=None,
-                   help="measured mu(v): CSV v_m_per_s,mu[,T0_C,sigma0_Pa,condition] (friction level); "
-                        "without it the scan itself is diagnosed (surface level)")
+    p.add_argument(
+        "--measured",
+        metavar="MU.csv",
+        default=None,
+        help="measured mu(v): CSV v_m_per_s,mu[,T0_C,sigma0_Pa,condition] (friction level); "
+        "without it the scan itself is diagnosed (surface level)",
+    )
     p.add_argument("--scan", metavar="FILE", default=None, help="height file (area scan or line profile)")
-    p.add_argument("--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)")
+    p.add_argument(
+        "--psd", metavar="FILE", default=None, help="spectrum CSV q_per_m,C_m4 (instead of --scan)"
+    )
     add_friction_options(p, master_curve=True, sliding=False, optional=False, q1_help=None)
-    p.add_argument("--noise", type=float, default=None, metavar="RMS",
-                   help="measurement noise as rms of log10 (default: estimated from the data)")
-    p.add_argument("--validate", metavar="OTHER.csv", default=None,
-                   help="a separate measurement predicted by the corrected model without refitting")
-    p.add_argument("--uncertain", default=None, metavar="KEY=LO:HI,...",
-                   help="inputs known only within a range, calibrated on the training points: q1=LO:HI [1/m] "
-                        "(q1=known: q1 fixed), sigma0=LO:HI (units as --sigma0), psd_scale=LO:HI (factor on C(q)), "
-                        "temperature=LO:HI [C]; any subset")
-    p.add_argument("--measurements", metavar="M.csv", default=None,
-                   help="several measurements at once: CSV measured,rubber,label[,temperature_C,sigma0_Pa] "
-                        "(paths relative to M.csv); q1, psd_scale and sigma0 shared")
+    p.add_argument(
+        "--noise",
+        type=float,
+        default=None,
+        metavar="RMS",
+        help="measurement noise as rms of log10 (default: estimated from the data)",
+    )
+    p.add_argument(
+        "--validate",
+        metavar="OTHER.csv",
+        default=None,
+        help="a separate measurement predicted by the corrected model without refitting",
+    )
+    p.add_argument(
+        "--uncertain",
+        default=None,
+        metavar="KEY=LO:HI,...",
+        help="inputs known only within a range, calibrated on the training points: q1=LO:HI [1/m] "
+        "(q1=known: q1 fixed), sigma0=LO:HI (units as --sigma0), psd_scale=LO:HI (factor on C(q)), "
+        "temperature=LO:HI [C]; any subset",
+    )
+    p.add_argument(
+        "--measurements",
+        metavar="M.csv",
+        default=None,
+        help="several measurements at once: CSV measured,rubber,label[,temperature_C,sigma0_Pa] "
+        "(paths relative to M.csv); q1, psd_scale and sigma0 shared",
+    )
     add_scan_options(p)
-    p.set_defaults(sigma0=None)   # None: not given (the default 0.2MPa is then listed as assumed)
+    p.set_defaults(sigma0=None)  # None: not given (the default 0.2MPa is then listed as assumed)
 
 
 @returns_job_result("diagnose")
 def diagnose(
-        out: str | os.PathLike[str],
-        *,
-        measured: str | os.PathLike[str] | None = None,
-        scan: str | os.PathLike[str] | None = None,
-        psd: str | os.PathLike[str] | None = None,
-        rubber: str | os.PathLike[str] | Any | None = None,
-        master_curve: str | os.PathLike[str] | None = None,
-        shift_table: str | os.PathLike[str] | None = None,
-        reference_temperature: float | None = None,
-        sigma0: float | str | None = None,
-        temperature: float | None = None,
-        q0: float | None = None,
-        q1: float | None = None,
-        contact_gamma: float | None = None,
-        nu: float = 0.5,
-        extrapolate: Literal['powerlaw', 'hold'] = 'powerlaw',
-        noise: float | None = None,
-        validate: str | os.PathLike[str] | None = None,
-        uncertain: str | None = None,
-        measurements: str | os.PathLike[str] | None = None,
-        spacing: float | str | tuple[float, float] | None = None,
-        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        override_calibration: bool = False,
-        channel: int | str | None = None,
+    out: str | os.PathLike[str],
+    *,
+    measured: str | os.PathLike[str] | None = None,
+    scan: str | os.PathLike[str] | None = None,
+    psd: str | os.PathLike[str] | None = None,
+    rubber: str | os.PathLike[str] | Any | None = None,
+    master_curve: str | os.PathLike[str] | None = None,
+    shift_table: str | os.PathLike[str] | None = None,
+    reference_temperature: float | None = None,
+    sigma0: float | str | None = None,
+    temperature: float | None = None,
+    q0: float | None = None,
+    q1: float | None = None,
+    contact_gamma: float | None = None,
+    nu: float = 0.5,
+    extrapolate: Literal["powerlaw", "hold"] = "powerlaw",
+    noise: float | None = None,
+    validate: str | os.PathLike[str] | None = None,
+    uncertain: str | None = None,
+    measurements: str | os.PathLike[str] | None = None,
+    spacing: float | str | tuple[float, float] | None = None,
+    units: Literal["m", "mm", "um", "nm"] | None = None,
+    x_units: Literal["m", "mm", "um", "nm"] | None = None,
+    override_calibration: bool = False,
+    channel: int | str | None = None,
 ) -> dict[str, Any]:
     """``roadscan diagnose`` as one call: the sim-to-real gap (where model and measurement
     disagree, which unmodelled effect explains it, how much adding it closes the gap), written
@@ -246,9 +270,14 @@ def run_diagnosis(args, say=_say):
         return run_measurements(args, uncertain, _settings, say)
     if args.measured is None:
         if args.scan is None:
-            raise InputError(None, "give --measured MU.csv with --scan/--psd (friction level) or --scan alone (surface level)")
+            raise InputError(
+                None,
+                "give --measured MU.csv with --scan/--psd (friction level) or --scan alone (surface level)",
+            )
         if args.psd or args.validate or uncertain:
-            raise InputError(None, "--psd, --validate and --uncertain need --measured or --measurements (friction level)")
+            raise InputError(
+                None, "--psd, --validate and --uncertain need --measured or --measurements (friction level)"
+            )
         from pipelines.diagnosis.surface.level import run_surface
         from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
@@ -268,8 +297,9 @@ def run_diagnosis(args, say=_say):
     from pipelines.diagnosis.run import run_friction
 
     curve = read_measured(args.measured, sigma0_Pa=args.sigma0, T0_C=args.temperature)
-    other = (read_measured(args.validate, sigma0_Pa=args.sigma0, T0_C=args.temperature)
-             if args.validate else None)
+    other = (
+        read_measured(args.validate, sigma0_Pa=args.sigma0, T0_C=args.temperature) if args.validate else None
+    )
     rubber = rubber_from_args(args)
     _check_conditions(args, rubber, curve, other)
     from pipelines.diagnosis.run_command import load_surface
@@ -288,8 +318,17 @@ def run_diagnosis(args, say=_say):
     from pipelines.diagnosis.run_command import provenance_hints
 
     with atomic_output_dir(args.out, inputs=inputs) as tmp:
-        data = run_friction(curve, ctx, tmp, noise=args.noise, other=other, log=say, extra=extra,
-                            uncertain=uncertain, inputs=provenance_hints(args, uncertain))
+        data = run_friction(
+            curve,
+            ctx,
+            tmp,
+            noise=args.noise,
+            other=other,
+            log=say,
+            extra=extra,
+            uncertain=uncertain,
+            inputs=provenance_hints(args, uncertain),
+        )
     return data
 
 
@@ -306,11 +345,17 @@ def _settings(args, curve, other, psd, band, rubber):
     checks = run_checks(rubber, v, psd.q_min_per_m, psd.q1_per_m, lo, hi if hi > lo else None, log=_say)
     if band is None:
         band = dict(q0_per_m=psd.q_min_per_m, q1_per_m=psd.q1_per_m, extended_decades=0.0)
-    return {"engine_settings": {
-        "nu": args.nu, "contact_gamma": args.contact_gamma, "extrapolate": args.extrapolate,
-        "pressure_note": "sigma0 is the nominal pressure; P(q), G(q) and M(q) use (1 - nu^2) sigma0",
-        "band": band, "rubber": {"T_ref_C": rubber.T_ref_C, "kind": type(rubber).__name__},
-        "rubber_checks": checks}}
+    return {
+        "engine_settings": {
+            "nu": args.nu,
+            "contact_gamma": args.contact_gamma,
+            "extrapolate": args.extrapolate,
+            "pressure_note": "sigma0 is the nominal pressure; P(q), G(q) and M(q) use (1 - nu^2) sigma0",
+            "band": band,
+            "rubber": {"T_ref_C": rubber.T_ref_C, "kind": type(rubber).__name__},
+            "rubber_checks": checks,
+        }
+    }
 
 
 def _check_surface(obj, path):
@@ -320,9 +365,13 @@ def _check_surface(obj, path):
     h = np.asarray(obj.heights_m, float)
     shape = " x ".join(str(n) for n in h.shape)
     if h.ndim == 2 and min(h.shape) < 48:
-        raise InputError(path, f"a {shape} grid is too small for the surface level (needs at least 48 x 48 points)")
+        raise InputError(
+            path, f"a {shape} grid is too small for the surface level (needs at least 48 x 48 points)"
+        )
     if h.ndim == 1 and h.size < 128:
-        raise InputError(path, f"a profile of {h.size} points is too short for the surface level (needs at least 128)")
+        raise InputError(
+            path, f"a profile of {h.size} points is too short for the surface level (needs at least 128)"
+        )
     good = h[np.isfinite(h)]
     if good.size == 0 or float(np.ptp(good)) <= 1e-12 * max(1.0, float(np.max(np.abs(good)))):
         raise InputError(path, "the scan is flat (all heights equal): no texture to diagnose")

@@ -16,6 +16,7 @@ exclude the truth where the shared inputs trade off against one another, and a r
 outside it would blame an effect); an ``--uncertain`` temperature range applies to every row.
 ``joint.effects``: every effect named in some row, with the rows naming it and whether it holds in every row.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -83,8 +84,11 @@ def read_measurements(path, sigma0_Pa=0.2e6, T0_C=None):
     col = {h: i for i, h in enumerate(header)}
     for need in ("measured", "rubber", "label"):
         if need not in col:
-            raise InputError(path, f"missing column {need!r} (header is {','.join(header)!r}; "
-                                   "needs measured,rubber,label[,temperature_C,sigma0_Pa])")
+            raise InputError(
+                path,
+                f"missing column {need!r} (header is {','.join(header)!r}; "
+                "needs measured,rubber,label[,temperature_C,sigma0_Pa])",
+            )
     if not body:
         raise InputError(path, "no measurement rows")
     rows, seen = [], set()
@@ -189,20 +193,33 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
     for i in np.argsort(costs):
         if len(starts) < 3 and all(np.max(np.abs(grid[i] - s0)) > 0.2 for s0 in starts):
             starts.append(grid[i])
-    best_u, best_c = multistart_lsq(resid, starts, u_best=best_u, c_best=best_c, diff_step=0.02, max_nfev=20 * k,
-                                    x_scale=0.1, xtol=1e-4, ftol=1e-6)
+    best_u, best_c = multistart_lsq(
+        resid,
+        starts,
+        u_best=best_u,
+        c_best=best_c,
+        diff_step=0.02,
+        max_nfev=20 * k,
+        x_scale=0.1,
+        xtol=1e-4,
+        ftol=1e-6,
+    )
     r = resid(best_u)
     J = -jacobian(resid, best_u, f0=r)
     cov = gauss_newton_cov(J, r, noise)
     out = {}
     if log:
-        log(f"joint calibration over {len(ctxs)} measurements: " + ", ".join(
-            f"{p.name} = {p.from_unit(best_u[j]):.4g}" for j, p in enumerate(e0.params)))
+        log(
+            f"joint calibration over {len(ctxs)} measurements: "
+            + ", ".join(f"{p.name} = {p.from_unit(best_u[j]):.4g}" for j, p in enumerate(e0.params))
+        )
     for j, p in enumerate(e0.params):
         sd = max(float(np.sqrt(max(cov[j, j], 0.0))), 0.025)
-        out[p.name] = dict(value=p.from_unit(best_u[j]), interval=[p.from_unit(best_u[j] - 1.96 * sd),
-                                                                   p.from_unit(best_u[j] + 1.96 * sd)],
-                           range=[p.lo, p.hi])
+        out[p.name] = dict(
+            value=p.from_unit(best_u[j]),
+            interval=[p.from_unit(best_u[j] - 1.96 * sd), p.from_unit(best_u[j] + 1.96 * sd)],
+            range=[p.lo, p.hi],
+        )
     return out, effs
 
 
@@ -243,7 +260,11 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
                 break
     from pipelines.diagnosis.gap import estimate_noise
 
-    nz = noise if noise is not None else float(np.median([estimate_noise(r.curve.v_m_per_s, r.curve.mu) for r in rows]))
+    nz = (
+        noise
+        if noise is not None
+        else float(np.median([estimate_noise(r.curve.v_m_per_s, r.curve.mu) for r in rows]))
+    )
     joint_cal = {}
     if free_ranges(ctxs[0], shared):
         trains = [holdout(r.curve.n).train for r in rows]
@@ -255,7 +276,7 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
     if "temperature" in uncertain:
         per_row["temperature"] = uncertain["temperature"]
     if "q1" not in per_row:
-        per_row["q1"] = Uncertain("q1", np.nan, np.nan, "known")   # q1 neither uncertain nor carried
+        per_row["q1"] = Uncertain("q1", np.nan, np.nan, "known")  # q1 neither uncertain nor carried
     results = []
     for row, c in zip(rows, ctxs):
         say(f"== {row.label}")
@@ -264,16 +285,22 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
     named = {}
     for row, d, *_ in results:
         e = d.verdict["effect"]
-        for name in ([e] if isinstance(e, str) else (e or [])):
+        for name in [e] if isinstance(e, str) else (e or []):
             if name != "calibration":
                 named.setdefault(name, []).append(row.label)
     joint = dict(
         shared_inputs=[k for k in KEYS if k in shared],
         calibrated=joint_cal,
         uncertain={k: dict(range=[float(u.lo), float(u.hi)], source=u.source) for k, u in shared.items()},
-        effects=[dict(name=n, rows=labels, all_rows=len(labels) == len(rows)) for n, labels in sorted(named.items())],
+        effects=[
+            dict(name=n, rows=labels, all_rows=len(labels) == len(rows))
+            for n, labels in sorted(named.items())
+        ],
         noise=nz,
-        method=("shared inputs fitted on the training points of "
-                "every row together (Gauss-Newton 95 % intervals); "
-                "each row then diagnosed with them uncertain within the same ranges"))
+        method=(
+            "shared inputs fitted on the training points of "
+            "every row together (Gauss-Newton 95 % intervals); "
+            "each row then diagnosed with them uncertain within the same ranges"
+        ),
+    )
     return joint, results

@@ -5,6 +5,7 @@ optional ``T0_C`` (background temperature [C]), ``sigma0_Pa`` (nominal pressure 
 ``condition`` (``dry`` or ``wet``). A per-row value takes precedence over the command-line
 flag for its row; an empty cell falls back to the flag.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -51,8 +52,15 @@ class MeasuredCurve:
 
     def subset(self, idx):
         idx = np.asarray(idx)
-        return MeasuredCurve(self.v_m_per_s[idx], self.mu[idx], self.T0_C[idx],
-                             self.sigma0_Pa[idx], self.wet[idx], self.has_condition, self.name)
+        return MeasuredCurve(
+            self.v_m_per_s[idx],
+            self.mu[idx],
+            self.T0_C[idx],
+            self.sigma0_Pa[idx],
+            self.wet[idx],
+            self.has_condition,
+            self.name,
+        )
 
 
 def _float(cell, path, lineno, col):
@@ -122,8 +130,18 @@ def read_measured(path, sigma0_Pa=0.2e6, T0_C=None, min_points=5, min_speeds=4):
         raise InputError(path, "sigma0_Pa must be positive")
     n_speeds = np.unique(np.round(np.log10(v), 9)).size
     if n_speeds < min_speeds:
-        raise InputError(path, f"{v.size} rows at only {n_speeds} distinct speed(s): a diagnosis needs "
-                               f"mu at {min_speeds} or more distinct speeds")
+        raise InputError(
+            path,
+            f"{v.size} rows at only {n_speeds} distinct speed(s): a diagnosis needs "
+            f"mu at {min_speeds} or more distinct speeds",
+        )
     o = np.argsort(v, kind="stable")
-    return MeasuredCurve(v[o].astype(float), mu[o].astype(float), T[o].astype(float),
-                         s[o].astype(float), wet[o].astype(bool), has_cond, path.stem)
+    return MeasuredCurve(
+        v[o].astype(float),
+        mu[o].astype(float),
+        T[o].astype(float),
+        s[o].astype(float),
+        wet[o].astype(bool),
+        has_cond,
+        path.stem,
+    )

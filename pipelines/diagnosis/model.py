@@ -8,6 +8,7 @@ the spectrum of the wet rows). An effect plug-in returns a modified copy
 conditions): rows are grouped by (T0, sigma0, wet) and each group is one vectorised engine call
 at exactly its measured speeds.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
@@ -114,9 +115,18 @@ class FrictionContext:
 
     def subset(self, idx):
         idx = np.asarray(idx)
-        return FrictionContext(self.v_m_per_s[idx], self.T0_C[idx], self.sigma0_Pa[idx],
-                               self.wet[idx], self.base, self.scan, self.spectrum, self.fit,
-                               self.inputs, self.cache)
+        return FrictionContext(
+            self.v_m_per_s[idx],
+            self.T0_C[idx],
+            self.sigma0_Pa[idx],
+            self.wet[idx],
+            self.base,
+            self.scan,
+            self.spectrum,
+            self.fit,
+            self.inputs,
+            self.cache,
+        )
 
     @classmethod
     def from_measured(cls, curve, base, **kw):
@@ -158,11 +168,27 @@ def simulate(spec, ctx, full=False):
         psd = spec.wet_psd if wet else spec.psd
         v = ctx.v_m_per_s[rows]
         if spec.flash is not None:
-            res = fr.mu_flash(psd, spec.rubber, v, sigma0_Pa=s0, nu=spec.nu, T0_C=T0,
-                              contact_gamma=spec.contact_gamma, **spec.flash)
+            res = fr.mu_flash(
+                psd,
+                spec.rubber,
+                v,
+                sigma0_Pa=s0,
+                nu=spec.nu,
+                T0_C=T0,
+                contact_gamma=spec.contact_gamma,
+                **spec.flash,
+            )
         else:
-            res = fr.mu_isothermal(psd, spec.rubber, v, sigma0_Pa=s0, nu=spec.nu, T0_C=T0, tol=spec.tol,
-                                   contact_gamma=spec.contact_gamma)
+            res = fr.mu_isothermal(
+                psd,
+                spec.rubber,
+                v,
+                sigma0_Pa=s0,
+                nu=spec.nu,
+                T0_C=T0,
+                tol=spec.tol,
+                contact_gamma=spec.contact_gamma,
+            )
         m = np.asarray(res.mu, float)
         for f in spec.additive:
             m = m + f(v)

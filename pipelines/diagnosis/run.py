@@ -1,5 +1,6 @@
 """The friction-level diagnosis from inputs to files: compose measured curve, context, search,
 band map, validation and the report."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -42,13 +43,19 @@ def validate(ctx, d, other_curve):
     -------
     dict
     """
-    vctx = FrictionContext.from_measured(other_curve, ctx.base, scan=ctx.scan, spectrum=ctx.spectrum,
-                                         fit=ctx.fit, inputs=ctx.inputs)
+    vctx = FrictionContext.from_measured(
+        other_curve, ctx.base, scan=ctx.scan, spectrum=ctx.spectrum, fit=ctx.fit, inputs=ctx.inputs
+    )
     vctx.cache = ctx.cache
     base = simulate(ctx.base, vctx)
     pred = predict(vctx, d.best.effects, d.best.params) if d.best is not None else base
-    return dict(gap_before=gapmod.gap(other_curve.mu, base), gap_after=gapmod.gap(other_curve.mu, pred),
-                v=other_curve.v_m_per_s, mu=other_curve.mu, pred=pred)
+    return dict(
+        gap_before=gapmod.gap(other_curve.mu, base),
+        gap_after=gapmod.gap(other_curve.mu, pred),
+        v=other_curve.v_m_per_s,
+        mu=other_curve.mu,
+        pred=pred,
+    )
 
 
 def diagnose_curve(curve, ctx, noise=None, log=None, uncertain=None):
@@ -76,16 +83,30 @@ def diagnose_curve(curve, ctx, noise=None, log=None, uncertain=None):
     T0 = ctx.T0_C[np.isfinite(ctx.T0_C)]
     from pipelines.diagnosis.fit.calibration import apply_known
 
-    bm, bm_curves = band_map(apply_known(ctx, uncertain or {}), bands, sigma0_Pa=float(np.median(ctx.sigma0_Pa)),
-                             T0_C=float(np.median(T0)) if T0.size else None)
+    bm, bm_curves = band_map(
+        apply_known(ctx, uncertain or {}),
+        bands,
+        sigma0_Pa=float(np.median(ctx.sigma0_Pa)),
+        T0_C=float(np.median(T0)) if T0.size else None,
+    )
     carried = any(b["carried_by_cutoff"] for b in bm)
     d = diagnose_friction(ctx, curve.mu, noise=noise, log=log, uncertain=uncertain, carried=carried)
     where = gapmod.gap_by_band(curve.v_m_per_s, curve.mu, d.baseline_mu, d.noise)
     return d, where, bm, bm_curves
 
 
-def run_friction(curve, ctx, out_dir, noise=None, other=None, log=None, report=True, extra=None,
-                 uncertain=None, inputs=None):
+def run_friction(
+    curve,
+    ctx,
+    out_dir,
+    noise=None,
+    other=None,
+    log=None,
+    report=True,
+    extra=None,
+    uncertain=None,
+    inputs=None,
+):
     """Diagnose ``curve`` (MeasuredCurve) on ``ctx``; write DIR/diagnosis.json and report.html.
 
     ``extra``: a dict of run settings added to the JSON (the command's band, nu, rubber checks).

@@ -1,6 +1,7 @@
 """The command-line side of the friction-level diagnosis that :mod:`pipelines.cli.commands.diagnose`
 delegates: the provenance hints of a run (which inputs the user gave, which files) and the
 several-measurement run (``--measurements M.csv``, :mod:`.joint`)."""
+
 from __future__ import annotations
 
 from roadscan.errors import InputError
@@ -25,10 +26,16 @@ def provenance_hints(args, uncertain, measured=True):
     -------
     dict
     """
-    files = [("measured", getattr(args, "measured", None) if measured else None), ("psd", args.psd),
-             ("scan", args.scan), ("rubber", args.rubber), ("master_curve", getattr(args, "master_curve", None)),
-             ("shift_table", getattr(args, "shift_table", None)), ("validate", getattr(args, "validate", None)),
-             ("measurements", getattr(args, "measurements", None))]
+    files = [
+        ("measured", getattr(args, "measured", None) if measured else None),
+        ("psd", args.psd),
+        ("scan", args.scan),
+        ("rubber", args.rubber),
+        ("master_curve", getattr(args, "master_curve", None)),
+        ("shift_table", getattr(args, "shift_table", None)),
+        ("validate", getattr(args, "validate", None)),
+        ("measurements", getattr(args, "measurements", None)),
+    ]
     given = []
     if getattr(args, "sigma0_given", True):
         given.append("sigma0_Pa")
@@ -42,7 +49,7 @@ def provenance_hints(args, uncertain, measured=True):
         given.append("psd_scale")
     hints = dict(files=[(r, p) for r, p in files if p], given=given)
     if getattr(args, "scan_read", None):
-        hints["scan_read"] = args.scan_read      # how --scan was read (channel, calibration)
+        hints["scan_read"] = args.scan_read  # how --scan was read (channel, calibration)
     return hints
 
 
@@ -73,8 +80,8 @@ def load_surface(args, say):
         obj = load_scan(args.scan, args)
         args.scan_read = read_record(obj)
         try:
-            psd, scan, spec, fit = scan_surface(obj, args.q0, args.q1)   # the one chain
-        except InputError as exc:     # too little spectrum to analyse: the scan's fault
+            psd, scan, spec, fit = scan_surface(obj, args.q0, args.q1)  # the one chain
+        except InputError as exc:  # too little spectrum to analyse: the scan's fault
             raise InputError(args.scan, f"cannot analyse the scan ({exc.problem})") from None
     psd, band = apply_band(psd, args.q0, args.q1, log=say)
     return psd, band, scan, spec, fit

@@ -1,5 +1,6 @@
 """What a public job returns: the dict of its main JSON file, with this call's warnings and a
 one-line repr (a notebook cell shows the key figures, not the whole file)."""
+
 from __future__ import annotations
 
 import functools

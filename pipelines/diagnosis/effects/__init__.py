@@ -24,6 +24,7 @@ they are physical (flash heating beyond a factor 3 of the model's own, an adhesi
 above the measured mu, a temperature outside the shift table, ...). A verdict never names an
 implausible fit (:mod:`pipelines.diagnosis.verdict.many`).
 """
+
 from __future__ import annotations
 
 import importlib

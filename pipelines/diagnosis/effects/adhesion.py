@@ -10,6 +10,7 @@ a rise of width w [decades] below the peak speed v_c [m/s] (w large: a plateau a
 and a fall with exponent n above it; A [-] is the peak amplitude. Physical: A below the largest
 measured mu (an additive term cannot exceed the total it is part of).
 """
+
 import numpy as np
 
 from pipelines.diagnosis.effects import Effect, Param, register
@@ -19,7 +20,7 @@ def adhesion_mu(v, amplitude, v_c_m_per_s, exponent, rise_decades):
     """mu_adh(v) of the module docstring (vectorised over v [m/s])."""
     x = np.asarray(v, float) / v_c_m_per_s
     below = np.minimum(np.log10(x), 0.0) / rise_decades
-    return amplitude * np.exp(-0.5 * below * below) / (1.0 + x ** exponent)
+    return amplitude * np.exp(-0.5 * below * below) / (1.0 + x**exponent)
 
 
 def _modify(spec, p, ctx):
@@ -36,13 +37,20 @@ def _plausible(ctx, p, real_mu):
     return []
 
 
-EFFECT = register(Effect(
-    name="adhesion", level="friction",
-    params=(Param("amplitude", 1e-6, 3.0, 0.05, "log"),
+EFFECT = register(
+    Effect(
+        name="adhesion",
+        level="friction",
+        params=(
+            Param("amplitude", 1e-6, 3.0, 0.05, "log"),
             Param("v_c_m_per_s", 1e-8, 30.0, 1e-3, "log"),
             Param("exponent", 0.3, 6.0, 1.0, "log"),
-            Param("rise_decades", 0.2, 20.0, 20.0, "log")),
-    modify=_modify, plausible=_plausible, physical=lambda ctx, mu: {"amplitude": (1e-6, float(np.max(mu)))},
-    null=lambda ctx: {"amplitude": 1e-6, "v_c_m_per_s": 1e-3, "exponent": 1.0, "rise_decades": 20.0},
-    description="additive bell in log v: rise of width w below v_c, fall (v/v_c)^-n above",
-))
+            Param("rise_decades", 0.2, 20.0, 20.0, "log"),
+        ),
+        modify=_modify,
+        plausible=_plausible,
+        physical=lambda ctx, mu: {"amplitude": (1e-6, float(np.max(mu)))},
+        null=lambda ctx: {"amplitude": 1e-6, "v_c_m_per_s": 1e-3, "exponent": 1.0, "rise_decades": 20.0},
+        description="additive bell in log v: rise of width w below v_c, fall (v/v_c)^-n above",
+    )
+)

@@ -5,6 +5,7 @@ The spectrum's upper cut-off q1 is multiplied by ``q1_factor`` >= 1, continuing 
 engine's power-law extension (``psd.with_q1``). Physical: q1 at most ``Q1_MAX`` (1e7 1/m, a
 wavelength of 0.63 um; finer roughness is below the scale of rubber's filler particles).
 """
+
 from pipelines.diagnosis.effects import Effect, Param, register
 
 Q1_MAX = 1e7
@@ -21,9 +22,14 @@ def _modify(spec, p, ctx):
     return spec.with_(psd=psd, wet_psd=wet)
 
 
-EFFECT = register(Effect(
-    name="fine_roughness", level="friction",
-    params=(Param("q1_factor", 1.0, 100.0, 3.0, "log"),),
-    modify=_modify, null=lambda ctx: {"q1_factor": 1.0}, plausible=_plausible,
-    description="upper wave vector q1 multiplied by a factor (power-law continuation)",
-))
+EFFECT = register(
+    Effect(
+        name="fine_roughness",
+        level="friction",
+        params=(Param("q1_factor", 1.0, 100.0, 3.0, "log"),),
+        modify=_modify,
+        null=lambda ctx: {"q1_factor": 1.0},
+        plausible=_plausible,
+        description="upper wave vector q1 multiplied by a factor (power-law continuation)",
+    )
+)

@@ -11,6 +11,7 @@ thousand times smaller: the isothermal model within 1e-3), so the fit can always
 the baseline. Physical: heat_scale within a factor 3 of 1 (``plausible``). The effect is expensive (about
 0.02-0.3 s per curve), so the search spends few evaluations on it.
 """
+
 from pipelines.diagnosis.effects import Effect, Param, register
 
 #: heating within this factor of the model's own is physical (rubber's heat capacity and
@@ -20,10 +21,15 @@ HEAT_FACTOR = 3.0
 
 def _plausible(ctx, p, real_mu):
     h = p["heat_scale"]
-    if h <= 1.01e-3:   # the no-effect limit
+    if h <= 1.01e-3:  # the no-effect limit
         return []
     if not (1 / HEAT_FACTOR <= h <= HEAT_FACTOR):
-        return [("heat_scale", f"heat_scale {h:.3g} is not within a factor {HEAT_FACTOR:g} of the model's heating")]
+        return [
+            (
+                "heat_scale",
+                f"heat_scale {h:.3g} is not within a factor {HEAT_FACTOR:g} of the model's heating",
+            )
+        ]
     return []
 
 
@@ -34,10 +40,16 @@ def _modify(spec, p, ctx):
     return spec.with_(flash=flash)
 
 
-EFFECT = register(Effect(
-    name="flash_temperature", level="friction",
-    params=(Param("zeta_m", 1.5, 8.0, 3.0, "log"), Param("heat_scale", 1e-3, 10.0, 1.0, "log")),
-    modify=_modify, cost=10.0, null=lambda ctx: {"zeta_m": 3.0, "heat_scale": 1e-3}, plausible=_plausible,
-    physical=lambda ctx, mu: {"heat_scale": (1 / HEAT_FACTOR, HEAT_FACTOR)},
-    description="self-consistent flash temperature (Persson 2006), zeta_m and heat-source scale free",
-))
+EFFECT = register(
+    Effect(
+        name="flash_temperature",
+        level="friction",
+        params=(Param("zeta_m", 1.5, 8.0, 3.0, "log"), Param("heat_scale", 1e-3, 10.0, 1.0, "log")),
+        modify=_modify,
+        cost=10.0,
+        null=lambda ctx: {"zeta_m": 3.0, "heat_scale": 1e-3},
+        plausible=_plausible,
+        physical=lambda ctx, mu: {"heat_scale": (1 / HEAT_FACTOR, HEAT_FACTOR)},
+        description="self-consistent flash temperature (Persson 2006), zeta_m and heat-source scale free",
+    )
+)

@@ -11,6 +11,7 @@ time is exactly a temperature offset (WLF), a separate effect, and a spread whos
 moved is the pair relaxation_spectrum+temperature_offset. (Keeping the two apart keeps the
 effects identifiable: with a free centre this effect would contain every temperature offset.)
 """
+
 import numpy as np
 
 from pipelines.diagnosis.effects import Effect, Param, register
@@ -25,7 +26,7 @@ def lognormal_prony(rubber, width_decades, n_terms=N_TERMS):
 
     base = rubber.as_prony() if hasattr(rubber, "as_prony") else rubber
     z = np.linspace(-SPAN_SIGMAS, SPAN_SIGMAS, n_terms)
-    w = np.exp(-0.5 * z ** 2)
+    w = np.exp(-0.5 * z**2)
     w /= w.sum()
     E = np.concatenate([Ei * w for Ei in base.E_i_Pa])
     tau = np.concatenate([ti * 10.0 ** (width_decades * z) for ti in base.tau_i_s])
@@ -39,10 +40,14 @@ def _prepare(ctx):
     return None
 
 
-EFFECT = register(Effect(
-    name="relaxation_spectrum", level="friction",
-    params=(Param("width_decades", 0.01, 4.0, 1.0, "log"),),
-    modify=lambda spec, p, ctx: spec.with_(rubber=lognormal_prony(spec.rubber, p["width_decades"])),
-    prepare=_prepare, null=lambda ctx: {"width_decades": 0.01},
-    description="log-normal spread of relaxation times around the rubber's own",
-))
+EFFECT = register(
+    Effect(
+        name="relaxation_spectrum",
+        level="friction",
+        params=(Param("width_decades", 0.01, 4.0, 1.0, "log"),),
+        modify=lambda spec, p, ctx: spec.with_(rubber=lognormal_prony(spec.rubber, p["width_decades"])),
+        prepare=_prepare,
+        null=lambda ctx: {"width_decades": 0.01},
+        description="log-normal spread of relaxation times around the rubber's own",
+    )
+)

@@ -4,6 +4,7 @@ power law lacks. Applied to the twin's ring spectrum as the ratio of the rolled-
 law, log10 C -> log10 C - 2 (H + 1) log10(q_r / q) for q < q_r (H the twin's Hurst exponent),
 so that what levelling and the window do to the lowest rings of the twin stays in the
 prediction. Parameter: q_r relative to the lowest wave vector of a block; 1 is no effect."""
+
 import numpy as np
 
 from pipelines.diagnosis.effects import Effect, Param, register
@@ -16,8 +17,13 @@ def _apply(ctx, p, pred):
     return dict(pred, spec_rings=pred["spec_rings"] + drop)
 
 
-EFFECT = register(Effect(
-    name="rolloff", level="surface", params=(Param("q_roll_rel", 1.0, 100.0, 3.0, "log"),),
-    apply_fn=_apply, null=lambda ctx: {"q_roll_rel": 1.0},
-    description="flat spectrum below q_r = q_roll_rel x lowest q of a block",
-))
+EFFECT = register(
+    Effect(
+        name="rolloff",
+        level="surface",
+        params=(Param("q_roll_rel", 1.0, 100.0, 3.0, "log"),),
+        apply_fn=_apply,
+        null=lambda ctx: {"q_roll_rel": 1.0},
+        description="flat spectrum below q_r = q_roll_rel x lowest q of a block",
+    )
+)

@@ -4,6 +4,7 @@ Every row's T0 is shifted by ``dT_C`` [K]; through the WLF shift (docs: Theory,
 E(w, T) = E_ref(w aT(T)/aT(T_ref))) this moves mu(v) along the speed axis. Physical: T0 + dT inside the
 rubber's shift table (when it has one; outside it the master curve is extrapolated).
 """
+
 import numpy as np
 
 from pipelines.diagnosis.effects import Effect, Param, register, temperature_extrapolated
@@ -28,10 +29,16 @@ def _plausible(ctx, p, real_mu):
     why = temperature_extrapolated(ctx, T0 + p["dT_C"])
     return [("dT_C", why)] if why else []
 
-EFFECT = register(Effect(
-    name="temperature_offset", level="friction",
-    params=(Param("dT_C", -30.0, 30.0, 0.0, "lin"),),
-    modify=lambda spec, p, ctx: spec.with_(T0_shift_C=spec.T0_shift_C + p["dT_C"]),
-    null=lambda ctx: {"dT_C": 0.0}, plausible=_plausible, physical=_physical,
-    description="background temperature offset dT [K] (WLF shift along the speed axis)",
-))
+
+EFFECT = register(
+    Effect(
+        name="temperature_offset",
+        level="friction",
+        params=(Param("dT_C", -30.0, 30.0, 0.0, "lin"),),
+        modify=lambda spec, p, ctx: spec.with_(T0_shift_C=spec.T0_shift_C + p["dT_C"]),
+        null=lambda ctx: {"dT_C": 0.0},
+        plausible=_plausible,
+        physical=_physical,
+        description="background temperature offset dT [K] (WLF shift along the speed axis)",
+    )
+)

@@ -6,6 +6,7 @@ capacity of the depressions (``roadscan.rain.rain_fill``, 4-connectivity). Needs
 Wet spectra are precomputed at a few fill fractions; between them log C is interpolated
 linearly in log(fraction), down to the dry spectrum at ``DRY_FRACTION`` (no effect).
 """
+
 import numpy as np
 
 from pipelines.diagnosis.effects import Effect, Param, register
@@ -56,11 +57,15 @@ def wet_psd(ctx, psd, fraction):
     return TabulatedPSD(q, C, q0_per_m=psd.q0_per_m, q1_per_m=psd.q1_per_m)
 
 
-EFFECT = register(Effect(
-    name="water", level="friction",
-    params=(Param("fill_fraction", DRY_FRACTION, 1.0, 0.3, "log"),),
-    null=lambda ctx: {"fill_fraction": DRY_FRACTION},
-    modify=lambda spec, p, ctx: spec.with_(wet_psd=wet_psd(ctx, spec.psd, p["fill_fraction"])),
-    requires=frozenset({"scan"}), prepare=_prepare,
-    description="cavities filled with a water film (fraction of the depressions' capacity)",
-))
+EFFECT = register(
+    Effect(
+        name="water",
+        level="friction",
+        params=(Param("fill_fraction", DRY_FRACTION, 1.0, 0.3, "log"),),
+        null=lambda ctx: {"fill_fraction": DRY_FRACTION},
+        modify=lambda spec, p, ctx: spec.with_(wet_psd=wet_psd(ctx, spec.psd, p["fill_fraction"])),
+        requires=frozenset({"scan"}),
+        prepare=_prepare,
+        description="cavities filled with a water film (fraction of the depressions' capacity)",
+    )
+)

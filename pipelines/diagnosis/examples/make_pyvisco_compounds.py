@@ -16,6 +16,7 @@ paths relative to it). Run from the repository root:
 
 (default DIR: the shipped ``compounds/`` beside this script).
 """
+
 import os
 import sys
 from pathlib import Path
@@ -29,10 +30,12 @@ OUT = Path(__file__).resolve().parent / "compounds"
 HIDDEN_Q1_FACTOR = 2.5
 HIDDEN_SIGMA0_PA = 0.25e6
 #: label, rubber TOML, T0 [C], hidden adhesion amplitude
-COMPOUNDS = (("pyvisco_wlf", "pyvisco_master_wlf.toml", 20.0, 0.0),
-             ("pyvisco_table", "pyvisco_master_table.toml", 30.0, 0.0),
-             ("sls", "thesis_sls.toml", 60.0, 0.0),
-             ("sls_adhesive", "thesis_prony.toml", 50.0, 0.12))
+COMPOUNDS = (
+    ("pyvisco_wlf", "pyvisco_master_wlf.toml", 20.0, 0.0),
+    ("pyvisco_table", "pyvisco_master_table.toml", 30.0, 0.0),
+    ("sls", "thesis_sls.toml", 60.0, 0.0),
+    ("sls_adhesive", "thesis_prony.toml", 50.0, 0.12),
+)
 
 
 def main(out=None):

@@ -10,6 +10,7 @@ multiplicative noise, seed 11. Run from the repository root:
 
 (default OUT: the shipped ``pyvisco_measured_mu.csv`` beside this script).
 """
+
 import sys
 from pathlib import Path
 

@@ -22,6 +22,7 @@ Matter 18, 7789: mu then depends on where the spectrum is cut, which a scan cann
 Redundant effects are skipped: ``fine_roughness`` when q1 is calibrated (a larger q1 is that
 effect), ``load`` with sigma0, ``temperature_offset`` with the temperature.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -31,8 +32,15 @@ import numpy as np
 from pipelines.diagnosis.effects import Effect, Param
 from roadscan.errors import InputError
 
-__all__ = ["Uncertain", "parse_uncertain", "calibration_effect", "default_q1", "REDUNDANT",
-           "scale_psd", "intervals"]
+__all__ = [
+    "Uncertain",
+    "parse_uncertain",
+    "calibration_effect",
+    "default_q1",
+    "REDUNDANT",
+    "scale_psd",
+    "intervals",
+]
 
 KEYS = ("q1", "sigma0", "psd_scale", "temperature")
 #: the registered effect each uncertain input makes redundant
@@ -100,7 +108,9 @@ def parse_uncertain(text):
         if not item:
             continue
         if "=" not in item:
-            raise InputError(None, f"--uncertain {text!r}: {item!r} is not KEY=LO:HI (keys: {', '.join(KEYS)})")
+            raise InputError(
+                None, f"--uncertain {text!r}: {item!r} is not KEY=LO:HI (keys: {', '.join(KEYS)})"
+            )
         key, rng = (s.strip() for s in item.split("=", 1))
         if key not in KEYS:
             raise InputError(None, f"--uncertain {text!r}: unknown input {key!r} (keys: {', '.join(KEYS)})")
@@ -113,7 +123,10 @@ def parse_uncertain(text):
             raise InputError(None, f"--uncertain {text!r}: {key} range {rng!r} is not LO:HI")
         a, b = (s.strip() for s in rng.split(":"))
         if key == "sigma0":
-            lo, hi = parse_pressure(a, flag="--uncertain sigma0"), parse_pressure(b, flag="--uncertain sigma0")
+            lo, hi = (
+                parse_pressure(a, flag="--uncertain sigma0"),
+                parse_pressure(b, flag="--uncertain sigma0"),
+            )
         else:
             lo, hi = _number(a, key, text), _number(b, key, text)
         if lo > hi:
@@ -158,8 +171,12 @@ def scale_psd(psd, s):
 def nominal(ctx):
     """The nominal inputs of a context: dict key -> value (SI; temperature in C)."""
     T = ctx.T0_C[np.isfinite(ctx.T0_C)]
-    return dict(q1=float(ctx.base.psd.q1_per_m), sigma0=float(np.median(ctx.sigma0_Pa)), psd_scale=1.0,
-                temperature=float(np.median(T)) if T.size else float(ctx.base.rubber.T_ref_C))
+    return dict(
+        q1=float(ctx.base.psd.q1_per_m),
+        sigma0=float(np.median(ctx.sigma0_Pa)),
+        psd_scale=1.0,
+        temperature=float(np.median(T)) if T.size else float(ctx.base.rubber.T_ref_C),
+    )
 
 
 def cutoff_sensitivity(ctx, n_max=8, step=1.25):
@@ -203,7 +220,7 @@ def default_q1(ctx, ranges, carried=None):
         carried = sens > CUTOFF_FLAG
     if carried:
         q1 = float(ctx.base.psd.q1_per_m)
-        f = 10.0 ** DEFAULT_Q1_DECADES
+        f = 10.0**DEFAULT_Q1_DECADES
         ranges = dict(ranges, q1=Uncertain("q1", q1 / f, q1 * f, "default"))
     return ranges, sens
 
@@ -273,9 +290,15 @@ def calibration_effect(ctx, ranges):
             spec = spec.with_(T0_shift_C=spec.T0_shift_C + p["temperature_C"] - nom["temperature"])
         return spec
 
-    return Effect(name="calibration", level="friction", params=tuple(params), modify=modify,
-                  null=lambda c: dict(null), plausible=_plausible_temperature,
-                  description="uncertain inputs calibrated within their ranges")
+    return Effect(
+        name="calibration",
+        level="friction",
+        params=tuple(params),
+        modify=modify,
+        null=lambda c: dict(null),
+        plausible=_plausible_temperature,
+        description="uncertain inputs calibrated within their ranges",
+    )
 
 
 def _plausible_temperature(ctx, p, real_mu):

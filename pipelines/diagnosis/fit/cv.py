@@ -11,6 +11,7 @@ held-out points (the same resamples for every candidate, so intervals are paired
 Tibshirani 1993, *An introduction to the bootstrap*, ch. 13). Score: held-out rms times
 (1 + k / n_train) OCCAM^k (a penalty for free parameters).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -42,7 +43,7 @@ def heldout_mask(n, every=HELDOUT_EVERY):
     ndarray of bool
     """
     m = np.zeros(n, bool)
-    m[1:n - 1:every] = True
+    m[1 : n - 1 : every] = True
     return m
 
 
@@ -64,10 +65,10 @@ class Holdout:
     """
 
     cv: bool
-    train: np.ndarray      # rows of the reported fit
-    held: np.ndarray       # rows whose residuals score a candidate
-    n_train: int           # training rows of one fit
-    boot: np.ndarray       # (N_BOOT, n_held) resample indices into the held-out residuals
+    train: np.ndarray  # rows of the reported fit
+    held: np.ndarray  # rows whose residuals score a candidate
+    n_train: int  # training rows of one fit
+    boot: np.ndarray  # (N_BOOT, n_held) resample indices into the held-out residuals
 
     @property
     def description(self):
@@ -155,8 +156,8 @@ def evaluate(c, ctx, real_mu, ho, r0_held):
     c.implausible = [b[0] for b in bad]
     c.implausible_why = [b[1] for b in bad]
     c.r_held = (y - np.log10(c.pred))[ho.held]
-    c.score = c.gap_heldout * (1.0 + c.k / ho.n_train) * OCCAM ** c.k
-    g_ho = float(np.sqrt(np.mean(r0_held ** 2)))
+    c.score = c.gap_heldout * (1.0 + c.k / ho.n_train) * OCCAM**c.k
+    g_ho = float(np.sqrt(np.mean(r0_held**2)))
     c.shrink = 1.0 - c.gap_heldout / g_ho if g_ho > 0 else float("nan")
     c.shrink_interval = boot_shrink(c.r_held, r0_held, ho.boot)
     return c

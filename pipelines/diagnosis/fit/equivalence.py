@@ -8,6 +8,7 @@ Student-t as in :mod:`.evidence`, lower by at most ``EQUIV_NATS``), the two expl
 from these data: fine roughness beyond q1 and a larger q1, a load and a wrong sigma0, a
 temperature offset and a shift of the master curve are the same curve.
 """
+
 from __future__ import annotations
 
 from dataclasses import replace
@@ -96,7 +97,9 @@ def equivalence(ctx, real_mu, cand, ranges, free, noise, rows=None):
     starts = []
     for e, p in zip(cand.effects, cand.params):
         if e.name == "calibration":
-            starts.append([{pp.name: float(np.clip(p.get(pp.name, pp.init), pp.lo, pp.hi)) for pp in cal_x.params}])
+            starts.append(
+                [{pp.name: float(np.clip(p.get(pp.name, pp.init), pp.lo, pp.hi)) for pp in cal_x.params}]
+            )
     fit = fit_candidate(ctx, real_mu, (cal_x,), rows, extra_starts=starts, cache={})
     s = noise_scale(noise)
     n = int(rows.sum())
@@ -115,5 +118,10 @@ def equivalence(ctx, real_mu, cand, ranges, free, noise, rows=None):
             beyond = x < lo * (1 - 1e-3) or x > hi * (1 + 1e-3)
         if beyond:
             outside.append(k)
-    return dict(equivalent=bool(dll <= EQUIV_NATS), dloglik=float(dll), inputs=outside,
-                calibrated={inv[k]: float(x) for k, x in fit.params[0].items()}, fit=fit)
+    return dict(
+        equivalent=bool(dll <= EQUIV_NATS),
+        dloglik=float(dll),
+        inputs=outside,
+        calibrated={inv[k]: float(x) for k, x in fit.params[0].items()},
+        fit=fit,
+    )

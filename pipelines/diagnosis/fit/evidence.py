@@ -27,6 +27,7 @@ Prior odds: "no effect beyond the uncertain inputs" has prior 1/2, the other hal
 equally by the effects tried (a multiple-comparison correction: the more effects are tried, the
 stronger the evidence one of them needs). Posterior probability of M: prior x Z_M normalised.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -39,11 +40,15 @@ __all__ = ["NU", "NOISE_FLOOR", "METHOD", "REFERENCE", "loglik", "log_occam", "m
 NU = 4.0
 NOISE_FLOOR = 0.004
 PRIOR_NULL = 0.5
-METHOD = ("Bayesian model comparison: evidence of each explanation by Laplace approximation at its best "
-          "fit (uniform priors on the uncertain inputs' ranges and each effect's range; Student-t "
-          "likelihood with the noise estimate worth 4 degrees of freedom)")
-REFERENCE = ("MacKay 1992, Neural Computation 4, 415; Kass & Raftery 1995, J. Am. Stat. Assoc. 90, 773, "
-             "doi:10.1080/01621459.1995.10476572")
+METHOD = (
+    "Bayesian model comparison: evidence of each explanation by Laplace approximation at its best "
+    "fit (uniform priors on the uncertain inputs' ranges and each effect's range; Student-t "
+    "likelihood with the noise estimate worth 4 degrees of freedom)"
+)
+REFERENCE = (
+    "MacKay 1992, Neural Computation 4, 415; Kass & Raftery 1995, J. Am. Stat. Assoc. 90, 773, "
+    "doi:10.1080/01621459.1995.10476572"
+)
 
 
 def noise_scale(noise):
@@ -80,6 +85,7 @@ def _log10_model(ctx, effects):
             return np.log10(predict(ctx, effects, unpack(effects, u)))
         except (ValueError, ArithmeticError, RuntimeError):
             return np.full(ctx.n, np.nan)
+
     return f
 
 
@@ -170,7 +176,9 @@ def model_evidence(ctx, real_mu, cand, noise, nu=NU):
     s_eff2 = (nu * s * s + rss) / (nu + n)
     H = J.T @ J / s_eff2
     occam, cov = log_occam(H, u)
-    return dict(name=cand.name, k=cand.k, rss=rss, loglik=ll, occam=occam, log_z=ll + occam, cov=cov, H=H, J=J)
+    return dict(
+        name=cand.name, k=cand.k, rss=rss, loglik=ll, occam=occam, log_z=ll + occam, cov=cov, H=H, J=J
+    )
 
 
 def posteriors(ev0, evs):

@@ -20,6 +20,7 @@ Refusal: a model with more free parameters than half its training rows is not fi
 (:func:`too_many_parameters`; Burnham & Anderson 2002, *Model selection and multimodel
 inference*, sec 2.4: below n / k of about 2 a least-squares fit interpolates the noise).
 """
+
 from __future__ import annotations
 
 import time
@@ -83,8 +84,8 @@ class Candidate:
     """
 
     effects: tuple
-    params: list           # one dict per effect
-    pred: np.ndarray       # predicted mu at every row
+    params: list  # one dict per effect
+    pred: np.ndarray  # predicted mu at every row
     gap_train: float
     gap_heldout: float
     gap_all: float
@@ -92,7 +93,7 @@ class Candidate:
     score: float = float("nan")
     nfev: int = 0
     seconds: float = 0.0
-    r_held: np.ndarray | None = None          # held-out residuals log10(real/pred) (CV: every point)
+    r_held: np.ndarray | None = None  # held-out residuals log10(real/pred) (CV: every point)
     shrink_interval: tuple = (float("nan"), float("nan"))
     at_bound: list = field(default_factory=list)
     implausible: list = field(default_factory=list)
@@ -116,12 +117,21 @@ class Candidate:
         flat = {}
         for e, p in zip(self.effects, self.params):
             flat.update(p if len(self.effects) == 1 else {f"{e.name}.{k}": v for k, v in p.items()})
-        return dict(name=self.name, params=flat, gap_train=self.gap_train,
-                    gap_heldout=self.gap_heldout, shrink=self.shrink, gap_all=self.gap_all,
-                    score=self.score, n_params=self.k, evaluations=self.nfev,
-                    shrink_interval=[None if not np.isfinite(x) else float(x) for x in self.shrink_interval],
-                    at_bound=list(self.at_bound), implausible=list(self.implausible),
-                    seconds=round(self.seconds, 3))
+        return dict(
+            name=self.name,
+            params=flat,
+            gap_train=self.gap_train,
+            gap_heldout=self.gap_heldout,
+            shrink=self.shrink,
+            gap_all=self.gap_all,
+            score=self.score,
+            n_params=self.k,
+            evaluations=self.nfev,
+            shrink_interval=[None if not np.isfinite(x) else float(x) for x in self.shrink_interval],
+            at_bound=list(self.at_bound),
+            implausible=list(self.implausible),
+            seconds=round(self.seconds, 3),
+        )
 
 
 def unpack(effects, u):
@@ -220,7 +230,9 @@ def at_bound(ctx, effects, params, tol=1e-3):
         null = e.null_params(ctx) or {}
         for pp in e.params:
             u = pp.to_unit(p[pp.name])
-            if (u <= tol or u >= 1 - tol) and not (pp.name in null and abs(u - pp.to_unit(null[pp.name])) <= tol):
+            if (u <= tol or u >= 1 - tol) and not (
+                pp.name in null and abs(u - pp.to_unit(null[pp.name])) <= tol
+            ):
                 out.append(pp.name if len(effects) == 1 else f"{e.name}.{pp.name}")
     return out
 
@@ -240,8 +252,9 @@ def _cold_points(ctx, effects, k, cost):
     return np.vstack([init, grid])
 
 
-def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=None, extra_starts=(),
-                  max_starts=None):
+def fit_candidate(
+    ctx, real_mu, effects, train, start=None, budget=None, cache=None, extra_starts=(), max_starts=None
+):
     """Fit the parameters of ``effects`` (a tuple) on the ``train`` rows; see module docstring.
 
     ``start``: list of parameter dicts to start from (skips the cold starts).
@@ -311,7 +324,9 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
         starts = [np.clip(pack(effects, start), 0, 1)]
     else:
         # warm starts (fits on the same training rows) replace the cold grid
-        grid = _cold_points(ctx, effects, k, cost)[:1] if extra_starts else _cold_points(ctx, effects, k, cost)
+        grid = (
+            _cold_points(ctx, effects, k, cost)[:1] if extra_starts else _cold_points(ctx, effects, k, cost)
+        )
         for s in extra_starts:
             grid = np.vstack([np.clip(pack(effects, s), 0, 1), grid])
         costs = [float(np.sum(resid(g) ** 2)) for g in grid]
@@ -326,12 +341,31 @@ def fit_candidate(ctx, real_mu, effects, train, start=None, budget=None, cache=N
                 starts.append(grid[i])
     max_nfev = budget or (8 if cost > 1 else 30 + 10 * k)
     c_null = float(np.sum(resid(null) ** 2)) if null is not None else np.inf
-    u, _ = multistart_lsq(resid, starts, u_best=null, c_best=c_null, jac=jac, method="trf",
-                          max_nfev=max_nfev, x_scale=0.1, xtol=1e-4, ftol=1e-6)
+    u, _ = multistart_lsq(
+        resid,
+        starts,
+        u_best=null,
+        c_best=c_null,
+        jac=jac,
+        method="trf",
+        max_nfev=max_nfev,
+        x_scale=0.1,
+        xtol=1e-4,
+        ftol=1e-6,
+    )
     params = unpack(effects, u)
     pred = 10.0 ** model(u)
     held = ~train
     r = y - np.log10(pred)
     rms = lambda m: float(np.sqrt(np.mean(r[m] ** 2))) if m.any() else float("nan")  # noqa: E731
-    return Candidate(effects, params, pred, rms(train), rms(held), rms(np.ones_like(train)),
-                     nfev=len(cache) - n0, seconds=time.perf_counter() - t0, n_train=int(train.sum()))
+    return Candidate(
+        effects,
+        params,
+        pred,
+        rms(train),
+        rms(held),
+        rms(np.ones_like(train)),
+        nfev=len(cache) - n0,
+        seconds=time.perf_counter() - t0,
+        n_train=int(train.sum()),
+    )

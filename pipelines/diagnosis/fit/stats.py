@@ -10,6 +10,7 @@ Gauss-Newton covariance (Bates & Watts 1988, *Nonlinear regression analysis and 
 applications*, sec 2.3): cov = s^2 (J^T J)^+ with J = d r / d u at the fit and
 s^2 = max(RSS / (n - k), floor^2) (the residual variance never below the measurement noise).
 """
+
 from __future__ import annotations
 
 import numpy as np

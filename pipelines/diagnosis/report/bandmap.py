@@ -15,6 +15,7 @@ vector). A value near 0 means the measured band holds the friction; a large valu
 spectrum's cut-off: it depends on where the spectrum is cut, not only on the measured texture
 (``carried_by_cutoff``; the report says so).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -94,7 +95,7 @@ def band_map(spec, bands, sigma0_Pa=0.2e6, T0_C=None, share=0.8):
     cut = friction.mu_isothermal(spec.psd.with_q1(q1 / CUT_STEP), spec.rubber, v_c, **kw)
     sens = np.log(np.asarray(res.mu) / np.asarray(cut.mu)) / np.log(CUT_STEP)
     f = integrand(res, spec.psd, spec.rubber, sigma0_Pa, T, nu=spec.nu)
-    if spec.contact_gamma is not None:   # Persson's S(q) multiplies the integrand as in the engine
+    if spec.contact_gamma is not None:  # Persson's S(q) multiplies the integrand as in the engine
         from friction.contact import contact_S
 
         f = f * contact_S(res.P, spec.contact_gamma)
@@ -108,9 +109,20 @@ def band_map(spec, bands, sigma0_Pa=0.2e6, T0_C=None, share=0.8):
         hi_q = float(np.exp(np.interp((1 + share) / 2 * tot, cum, lq)))
         ipk = int(np.argmax(fi))
         pk = float(res.q_per_m[ipk])
-        out.append(dict(v_min_m_per_s=a, v_max_m_per_s=b, q_min_per_m=lo_q, q_max_per_m=hi_q,
-                        q_peak_per_m=pk, length_min_m=2 * np.pi / hi_q, length_max_m=2 * np.pi / lo_q,
-                        omega_min_rad_s=lo_q * a, omega_max_rad_s=hi_q * b,
-                        mu_at_centre=float(res.mu[i]), dlnmu_dlnq1=float(sens[i]),
-                        carried_by_cutoff=bool(sens[i] > CUTOFF_FLAG or ipk >= fi.size - 2)))
+        out.append(
+            dict(
+                v_min_m_per_s=a,
+                v_max_m_per_s=b,
+                q_min_per_m=lo_q,
+                q_max_per_m=hi_q,
+                q_peak_per_m=pk,
+                length_min_m=2 * np.pi / hi_q,
+                length_max_m=2 * np.pi / lo_q,
+                omega_min_rad_s=lo_q * a,
+                omega_max_rad_s=hi_q * b,
+                mu_at_centre=float(res.mu[i]),
+                dlnmu_dlnq1=float(sens[i]),
+                carried_by_cutoff=bool(sens[i] > CUTOFF_FLAG or ipk >= fi.size - 2),
+            )
+        )
     return out, (res.q_per_m, f, v_c)

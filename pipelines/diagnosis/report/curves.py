@@ -7,6 +7,7 @@ envelope of the model with each uncertain input at either end of its range (the 
 and with all of them at their low and at their high ends (mu is monotonic in q1, sigma0 and the
 spectrum's level; in temperature it is not, hence the single-input ends too).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -36,8 +37,18 @@ def dense_context(ctx, n=N_DENSE):
     T = ctx.T0_C[np.isfinite(ctx.T0_C)]
     T0 = float(np.median(T)) if T.size else np.nan
     wet = bool(np.all(ctx.wet)) and ctx.n > 0
-    return FrictionContext(v, np.full(n, T0), np.full(n, float(np.median(ctx.sigma0_Pa))), np.full(n, wet),
-                           ctx.base, ctx.scan, ctx.spectrum, ctx.fit, ctx.inputs, ctx.cache)
+    return FrictionContext(
+        v,
+        np.full(n, T0),
+        np.full(n, float(np.median(ctx.sigma0_Pa))),
+        np.full(n, wet),
+        ctx.base,
+        ctx.scan,
+        ctx.spectrum,
+        ctx.fit,
+        ctx.inputs,
+        ctx.cache,
+    )
 
 
 def _safe(fn):
@@ -84,8 +95,11 @@ def report_curves(ctx, d, n=N_DENSE):
                 ends.append(dict(nominal, **{p.name: x}))
         ends.append({p.name: p.lo for p in cal.params})
         ends.append({p.name: p.hi for p in cal.params})
-        curves = [c for c in (_safe(lambda e=e: simulate(cal.modify(ctx.base, e, dc), dc)) for e in ends)
-                  if c is not None]
+        curves = [
+            c
+            for c in (_safe(lambda e=e: simulate(cal.modify(ctx.base, e, dc), dc)) for e in ends)
+            if c is not None
+        ]
         if curves and names:
             allc = np.vstack(curves + [base])
             lo, hi = allc.min(axis=0), allc.max(axis=0)

@@ -8,6 +8,7 @@ temperature T0 [C], median over rows; the rubber's T_ref when none was given), `
 the keys above whose value was a default, not given), ``uncertain`` (per fitted input: its range
 [SI] and whether it was given or a default) and ``notes``.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -95,14 +96,24 @@ def inputs_json(ctx, d, given=None):
     for k, u in (d.uncertain or {}).items():
         unc[k] = dict(range=[float(u.lo), float(u.hi)], source=u.source)
         if u.source == "default" and k == "q1":
-            notes.append(f"mu is carried by the spectrum's cut-off and q1 was not declared known: q1 is uncertain "
-                         f"over a decade either side ({u.lo:.3g}..{u.hi:.3g} 1/m) by default")
+            notes.append(
+                f"mu is carried by the spectrum's cut-off and q1 was not declared known: q1 is uncertain "
+                f"over a decade either side ({u.lo:.3g}..{u.hi:.3g} 1/m) by default"
+            )
     if "temperature_C" in assumed:
         notes.append(f"T0 assumed: the rubber's reference temperature {nom['temperature']:.3g} C")
     if "sigma0_Pa" in assumed:
         notes.append(f"sigma0 assumed: the default {nom['sigma0']:.3g} Pa")
-    return dict(sigma0_Pa=nom["sigma0"], q0_per_m=float(psd.q_min_per_m), q1_per_m=float(psd.q1_per_m),
-                temperature_C=nom["temperature"], psd_scale=1.0,
-                files=file_entries(given.get("files", ())), assumed=assumed, uncertain=unc,
-                cutoff_sensitivity=d.cutoff_sensitivity, notes=notes,
-                **({"scan_read": given["scan_read"]} if given.get("scan_read") else {}))
+    return dict(
+        sigma0_Pa=nom["sigma0"],
+        q0_per_m=float(psd.q_min_per_m),
+        q1_per_m=float(psd.q1_per_m),
+        temperature_C=nom["temperature"],
+        psd_scale=1.0,
+        files=file_entries(given.get("files", ())),
+        assumed=assumed,
+        uncertain=unc,
+        cutoff_sensitivity=d.cutoff_sensitivity,
+        notes=notes,
+        **({"scan_read": given["scan_read"]} if given.get("scan_read") else {}),
+    )

@@ -49,6 +49,7 @@ five descriptor families:
 The ring-level log10 spectrum is kept too (``spec_rings``): surface effects act on it before
 it is averaged into bands (:class:`Geometry.band_matrix`).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -82,10 +83,10 @@ class Geometry:
     """
 
     is_profile: bool
-    shape: tuple          # block shape (ny, nx) or (n,)
+    shape: tuple  # block shape (ny, nx) or (n,)
     dx_m: float
     dy_m: float
-    starts: list          # slices of each block
+    starts: list  # slices of each block
     rain: bool = True
 
     @cached_property
@@ -128,8 +129,14 @@ class Geometry:
         sel = (np.minimum(np.abs(KX), np.abs(KY)) > AXIS_EXCLUDE) & (kr >= ANISO_MIN_K) & (kr <= kmax)
         edges = np.geomspace(ANISO_MIN_K, kmax + 1e-9, 13)
         ring = np.clip(np.searchsorted(edges, kr[sel], side="right") - 1, 0, edges.size - 2)
-        return dict(shape=(ny, nx), sel=sel, ring=ring, n_rings=edges.size - 1,
-                    ux=QX[sel] / Q[sel], uy=QY[sel] / Q[sel])
+        return dict(
+            shape=(ny, nx),
+            sel=sel,
+            ring=ring,
+            n_rings=edges.size - 1,
+            ux=QX[sel] / Q[sel],
+            uy=QY[sel] / Q[sel],
+        )
 
     @property
     def symmetric(self):
@@ -225,7 +232,9 @@ def geometry(obj, n_blocks=None, rain=True):
     by, bx = int(ny * frac), int(nx * frac)
     if min(by, bx) < 24:
         raise ValueError(f"height map of {ny} x {nx} points is too small to split into {nb} x {nb} tiles")
-    starts = [(slice(j * by, (j + 1) * by), slice(i * bx, (i + 1) * bx)) for j in range(nb) for i in range(nb)]
+    starts = [
+        (slice(j * by, (j + 1) * by), slice(i * bx, (i + 1) * bx)) for j in range(nb) for i in range(nb)
+    ]
     return Geometry(False, (by, bx), obj.dx_m, obj.dy_m, starts, rain=rain)
 
 
@@ -268,12 +277,12 @@ def _psd_map(h, geo):
     if geo.is_profile:
         n = h.size
         L = n * geo.dx_m
-        F = np.fft.rfft((h - h.mean()) * w)[1:n // 2 + 1]
-        return np.abs(F) ** 2 * geo.dx_m ** 2 / (2 * np.pi * L * w2)
+        F = np.fft.rfft((h - h.mean()) * w)[1 : n // 2 + 1]
+        return np.abs(F) ** 2 * geo.dx_m**2 / (2 * np.pi * L * w2)
     ny, nx = h.shape
     area = nx * geo.dx_m * ny * geo.dy_m
     F = np.fft.fftshift(np.fft.fft2(h * w))
-    return (F.real ** 2 + F.imag ** 2) * (geo.dx_m * geo.dy_m) ** 2 / ((2 * np.pi) ** 2 * area * w2)
+    return (F.real**2 + F.imag**2) * (geo.dx_m * geo.dy_m) ** 2 / ((2 * np.pi) ** 2 * area * w2)
 
 
 def _ring_log(P, geo, exclude_axis=True):
@@ -303,7 +312,7 @@ def anisotropy_components(h, geo):
     L = _laplacian(h)
     w, _ = _window(L.shape, 0.5)
     F = np.fft.fftshift(np.fft.fft2((L - L.mean()) * w))
-    C = (F.real ** 2 + F.imag ** 2)[lat["sel"]]
+    C = (F.real**2 + F.imag**2)[lat["sel"]]
     r = lat["ring"]
     cnt = np.bincount(r, minlength=lat["n_rings"])
     mean_c = np.bincount(r, C, minlength=lat["n_rings"]) / np.maximum(cnt, 1)
@@ -327,7 +336,7 @@ def line_score(a):
     S = K.shape[1] // SEAM_SEGMENTS
     if S < 4:
         return None
-    seg = K[:, :SEAM_SEGMENTS * S].reshape(K.shape[0], SEAM_SEGMENTS, S)
+    seg = K[:, : SEAM_SEGMENTS * S].reshape(K.shape[0], SEAM_SEGMENTS, S)
     m = seg.mean(axis=-1)
     sd = seg.std(axis=-1, ddof=1)
     t2 = np.where(sd > 0, (m / np.where(sd > 0, sd, 1.0)) ** 2 * S, 0.0)
@@ -350,11 +359,11 @@ def curvature_l_skewness(h, lag=CURV_LAG):
     if h.ndim == 1:
         if h.size <= 2 * k + 4:
             return 0.0
-        c = h[2 * k:] + h[:-2 * k] - 2.0 * h[k:-k]
+        c = h[2 * k :] + h[: -2 * k] - 2.0 * h[k:-k]
     else:
         if min(h.shape) <= 2 * k + 4:
             return 0.0
-        c = h[k:-k, 2 * k:] + h[k:-k, :-2 * k] + h[2 * k:, k:-k] + h[:-2 * k, k:-k] - 4.0 * h[k:-k, k:-k]
+        c = h[k:-k, 2 * k :] + h[k:-k, : -2 * k] + h[2 * k :, k:-k] + h[: -2 * k, k:-k] - 4.0 * h[k:-k, k:-k]
     return l_moment_ratios(c)[0]
 
 
@@ -420,9 +429,13 @@ def block_descriptors(h, geo, rain=True, raw=None):
     rings = _ring_log(P, geo)
     hv = (h if raw is None else raw).ravel()
     bands = geo.band_matrix @ rings
-    out = dict(spec_rings=rings, bands=bands, spectrum=spectrum_shape(bands),
-               height=np.array(l_moment_ratios(hv) + (curvature_l_skewness(h),)),
-               moments=np.array([float(stats.skew(hv)), float(stats.kurtosis(hv))]))
+    out = dict(
+        spec_rings=rings,
+        bands=bands,
+        spectrum=spectrum_shape(bands),
+        height=np.array(l_moment_ratios(hv) + (curvature_l_skewness(h),)),
+        moments=np.array([float(stats.skew(hv)), float(stats.kurtosis(hv))]),
+    )
     if not geo.is_profile:
         out["anisotropy"] = anisotropy_components(h, geo)
         out["seams"] = np.array([seam_score(h)])

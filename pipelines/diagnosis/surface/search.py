@@ -21,6 +21,7 @@ best single when the single leaves a significant family and the pair's score is 
 shrink higher by ``PAIR_MIN_GAIN``. "Inconclusive" (no effect named, the competitors listed) when another
 single explains the gap as well within the fold-to-fold scatter.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -52,8 +53,9 @@ def _predict(ctx, effs, params):
 def _z(ctx, pred, blocks):
     """dict family -> z vector for the mean over ``blocks`` (indices)."""
     n = len(blocks)
-    return {f: (ctx.meas[f][blocks].mean(axis=0) - pred[f]) / (ctx.sigma[f] / np.sqrt(n))
-            for f in ctx.families}
+    return {
+        f: (ctx.meas[f][blocks].mean(axis=0) - pred[f]) / (ctx.sigma[f] / np.sqrt(n)) for f in ctx.families
+    }
 
 
 def _train_resid(ctx, pred, blocks):
@@ -80,7 +82,9 @@ def _starts(ctx, effs, blocks, extra=None):
     k = null.size
     per = {1: 9, 2: 5}.get(k, 3)
     grid = np.array(np.meshgrid(*([np.linspace(0.02, 0.98, per)] * k), indexing="ij")).reshape(k, -1).T
-    costs = [float(np.sum(_train_resid(ctx, _predict(ctx, effs, _unpack(effs, g)), blocks) ** 2)) for g in grid]
+    costs = [
+        float(np.sum(_train_resid(ctx, _predict(ctx, effs, _unpack(effs, g)), blocks) ** 2)) for g in grid
+    ]
     order = np.argsort(costs)[:3]
     out = [null] + ([extra] if extra is not None else []) + [grid[i] for i in order]
     return out
@@ -94,8 +98,13 @@ def _evaluate(ctx, effs, starts_all=None):
     folds = []
     for k in range(B):
         tr = np.delete(allb, k)
-        u = _fit(ctx, effs, tr, [_pack(effs, [e.null_params(ctx) or {p.name: p.init for p in e.params} for e in effs]), u_all]
-                 + _starts(ctx, effs, tr)[1:2])
+        u = _fit(
+            ctx,
+            effs,
+            tr,
+            [_pack(effs, [e.null_params(ctx) or {p.name: p.init for p in e.params} for e in effs]), u_all]
+            + _starts(ctx, effs, tr)[1:2],
+        )
         folds.append(_z(ctx, _predict(ctx, effs, _unpack(effs, u)), [k]))
         folds[-1]["_train"] = _train_resid(ctx, _predict(ctx, effs, _unpack(effs, u)), tr)
     return u_all, folds
@@ -176,7 +185,8 @@ def surface_search(ctx, rng_seed=0):
                 u = pp.to_unit(p[pp.name])
                 null = (e.null_params(ctx) or {}).get(pp.name)
                 if (u <= AT_BOUND_TOL or u >= 1 - AT_BOUND_TOL) and not (
-                        null is not None and abs(u - pp.to_unit(null)) <= AT_BOUND_TOL):
+                    null is not None and abs(u - pp.to_unit(null)) <= AT_BOUND_TOL
+                ):
                     at_bound.append(key)
         gtr = float(np.sqrt(np.mean([np.sum(f["_train"] ** 2) for f in folds]) / len(fams)))
         bs = []
@@ -185,13 +195,26 @@ def surface_search(ctx, rng_seed=0):
             bs.append(_shrink(a, b))
         bs = np.array(bs, float)
         bs = bs[np.isfinite(bs)]
-        return dict(name="+".join(e.name for e in effs), params=flat, n_params=k,
-                    gap_train=gtr, gap_heldout=G, shrink=_shrink(g2_0, g2), shrink_raw=1 - G / G0 if G0 > 0 else None,
-                    shrink_interval=[float(np.percentile(bs, 5)), float(np.percentile(bs, 95))] if bs.size else [None, None],
-                    score=G * (1 + k / n_train) * OCCAM ** k,
-                    family_gaps={f: float(np.sqrt(g)) for f, g in zip(fams, g2)},
-                    at_bound=at_bound, _effs=effs, _u=u_all, _g2=g2, _fold=S.sum(axis=1) / np.sum(nent),
-                    _params=params)
+        return dict(
+            name="+".join(e.name for e in effs),
+            params=flat,
+            n_params=k,
+            gap_train=gtr,
+            gap_heldout=G,
+            shrink=_shrink(g2_0, g2),
+            shrink_raw=1 - G / G0 if G0 > 0 else None,
+            shrink_interval=[float(np.percentile(bs, 5)), float(np.percentile(bs, 95))]
+            if bs.size
+            else [None, None],
+            score=G * (1 + k / n_train) * OCCAM**k,
+            family_gaps={f: float(np.sqrt(g)) for f, g in zip(fams, g2)},
+            at_bound=at_bound,
+            _effs=effs,
+            _u=u_all,
+            _g2=g2,
+            _fold=S.sum(axis=1) / np.sum(nent),
+            _params=params,
+        )
 
     singles = sorted((candidate((e,)) for e in usable), key=lambda c: c["score"])
     cands = list(singles)
@@ -199,16 +222,26 @@ def surface_search(ctx, rng_seed=0):
         # every pair (not only the best single's): when two families are off, the best single
         # alone may be no better than the others, and a greedy pair would start from noise
         for i, a in enumerate(singles):
-            for b in singles[i + 1:]:
+            for b in singles[i + 1 :]:
                 cands.append(candidate(a["_effs"] + b["_effs"], np.concatenate([a["_u"], b["_u"]])))
     cands.sort(key=lambda c: c["score"])
 
-    verdict = dict(effect=None, shrink=None, shrink_interval=None, gap_validate=None, reason="",
-                   inconclusive=[], at_bound=[], confidence=None)
+    verdict = dict(
+        effect=None,
+        shrink=None,
+        shrink_interval=None,
+        gap_validate=None,
+        reason="",
+        inconclusive=[],
+        at_bound=[],
+        confidence=None,
+    )
     best = None
     if not any(fam_sig):
-        verdict["reason"] = ("no descriptor family's held-out gap is beyond its noise "
-                             f"(largest {max(np.sqrt(g2_0)):.2f} noise units)")
+        verdict["reason"] = (
+            "no descriptor family's held-out gap is beyond its noise "
+            f"(largest {max(np.sqrt(g2_0)):.2f} noise units)"
+        )
     elif not singles:
         verdict["reason"] = "no usable effect"
     else:
@@ -224,15 +257,20 @@ def surface_search(ctx, rng_seed=0):
             if left and bp["score"] < gain * s1["score"] and bp["shrink"] > s1["shrink"] + PAIR_MIN_GAIN:
                 best = bp
         if not (best["shrink"] >= MIN_SHRINK):
-            verdict["reason"] = (f"no effect shrinks the systematic held-out gap by {MIN_SHRINK:.0%} "
-                                 f"(best {best['name']}: {best['shrink']:.0%})")
+            verdict["reason"] = (
+                f"no effect shrinks the systematic held-out gap by {MIN_SHRINK:.0%} "
+                f"(best {best['name']}: {best['shrink']:.0%})"
+            )
             best = None
         else:
             rivals = _rivals(best, singles, B)
             if rivals:
                 verdict["inconclusive"] = [best["name"]] + [r["name"] for r in rivals]
-                verdict["reason"] = ("inconclusive: " + ", ".join(verdict["inconclusive"]) +
-                                     " explain the gap equally well within the block-to-block scatter")
+                verdict["reason"] = (
+                    "inconclusive: "
+                    + ", ".join(verdict["inconclusive"])
+                    + " explain the gap equally well within the block-to-block scatter"
+                )
                 best = None
             else:
                 names = [e.name for e in best["_effs"]]
@@ -242,19 +280,41 @@ def surface_search(ctx, rng_seed=0):
                     conf = "medium"
                 if best["at_bound"] and (lo is not None and lo < MIN_SHRINK):
                     conf = "low"
-                verdict.update(effect=names[0] if len(names) == 1 else names, shrink=best["shrink"],
-                               shrink_interval=best["shrink_interval"], at_bound=best["at_bound"],
-                               confidence=conf,
-                               reason=(f"{best['name']} shrinks the systematic held-out gap by "
-                                       f"{best['shrink']:.0%} (total {G0:.2f} -> {best['gap_heldout']:.2f} noise units)"))
-    families = {f: dict(gap_baseline=float(np.sqrt(g2_0[i])), p_value=fam_p[i], significant=fam_sig[i],
-                        n_entries=int(nent[i]),
-                        gap_after=None if best is None else best["family_gaps"][f],
-                        shrink=(None if best is None else
-                                (1 - best["family_gaps"][f] / np.sqrt(g2_0[i]) if g2_0[i] > 0 else None)))
-                for i, f in enumerate(fams)}
-    return dict(baseline_gap=G0, families=families, candidates=cands, skipped=skipped, verdict=verdict,
-                best=best, significant=any(fam_sig))
+                verdict.update(
+                    effect=names[0] if len(names) == 1 else names,
+                    shrink=best["shrink"],
+                    shrink_interval=best["shrink_interval"],
+                    at_bound=best["at_bound"],
+                    confidence=conf,
+                    reason=(
+                        f"{best['name']} shrinks the systematic held-out gap by "
+                        f"{best['shrink']:.0%} (total {G0:.2f} -> {best['gap_heldout']:.2f} noise units)"
+                    ),
+                )
+    families = {
+        f: dict(
+            gap_baseline=float(np.sqrt(g2_0[i])),
+            p_value=fam_p[i],
+            significant=fam_sig[i],
+            n_entries=int(nent[i]),
+            gap_after=None if best is None else best["family_gaps"][f],
+            shrink=(
+                None
+                if best is None
+                else (1 - best["family_gaps"][f] / np.sqrt(g2_0[i]) if g2_0[i] > 0 else None)
+            ),
+        )
+        for i, f in enumerate(fams)
+    }
+    return dict(
+        baseline_gap=G0,
+        families=families,
+        candidates=cands,
+        skipped=skipped,
+        verdict=verdict,
+        best=best,
+        significant=any(fam_sig),
+    )
 
 
 def _left_significant(c, nent, B):

@@ -8,6 +8,7 @@ is levelled like the scan (mean plane). A profile's twin is a 1D Gaussian profil
 spectrum C1(q) = C(q) q sqrt(pi) Gamma(H + 1/2) / Gamma(1 + H) (the inverse of the power-law
 Abel conversion of :func:`roadscan.spectrum.psd_profile`), made the same way.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -60,8 +61,16 @@ def twin_heights(levelled, fit, seed):
     from roadscan.synth import self_affine_surface
 
     ny, nx = levelled.shape
-    tw = self_affine_surface(2 * nx, 2 * ny, dx_m=levelled.dx_m, dy_m=levelled.dy_m, hurst=min(H, 1.2),
-                             rms_height_m=1e-4, seed=int(rng.integers(2 ** 31)), name="twin")
+    tw = self_affine_surface(
+        2 * nx,
+        2 * ny,
+        dx_m=levelled.dx_m,
+        dy_m=levelled.dy_m,
+        hurst=min(H, 1.2),
+        rms_height_m=1e-4,
+        seed=int(rng.integers(2**31)),
+        name="twin",
+    )
     scale = np.sqrt(_K(fit) / tw.meta["model"]["prefactor_m4"])
     h = tw.heights_m[:ny, :nx] * scale
     Y, X = np.meshgrid(np.linspace(-1, 1, ny), np.linspace(-1, 1, nx), indexing="ij")
@@ -93,7 +102,7 @@ def skewed(h, skewness):
     if abs(skewness) < 1e-6:
         z = stats.norm.ppf(r)
     else:
-        k = 4.0 / skewness ** 2
+        k = 4.0 / skewness**2
         g = stats.gamma.ppf(r if skewness > 0 else 1 - r, k)
         z = (g - k) / np.sqrt(k) * (1 if skewness > 0 else -1)
     z = (z - z.mean()) / z.std()
@@ -108,7 +117,7 @@ def _law_quantiles(n, skewness):
     if abs(skewness) < 1e-6:
         z = stats.norm.ppf(r)
     else:
-        k = 4.0 / skewness ** 2
+        k = 4.0 / skewness**2
         z = (stats.gamma.ppf(r if skewness > 0 else 1 - r, k) - k) / np.sqrt(k) * (1 if skewness > 0 else -1)
         if skewness < 0:
             z = np.sort(z)

@@ -17,6 +17,7 @@ chi-square with its number of parameters, p < 1e-3) and closes ``MIN_SHRINK_WHOL
 the gap on the held-out rings, or any part of it when p < ``STRONG_P_WHOLE`` (a roll-off within a
 few 2 pi / L bends only the lowest rings, so most held-out rings have nothing to explain).
 """
+
 from __future__ import annotations
 
 import math
@@ -24,15 +25,29 @@ from types import SimpleNamespace
 
 import numpy as np
 
-__all__ = ["whole_spectrum_check", "whole_height_stats", "whole_height_check", "SPECTRAL", "MIN_SHRINK_WHOLE",
-           "STRONG_P_WHOLE",
-           "HEIGHT_STATS", "HEIGHT_HELD", "whole_seam_stats", "whole_seams_check"]
+__all__ = [
+    "whole_spectrum_check",
+    "whole_height_stats",
+    "whole_height_check",
+    "SPECTRAL",
+    "MIN_SHRINK_WHOLE",
+    "STRONG_P_WHOLE",
+    "HEIGHT_STATS",
+    "HEIGHT_HELD",
+    "whole_seam_stats",
+    "whole_seams_check",
+]
 
 SPECTRAL = ("rolloff", "noise_floor")
 # whole-scan height-law statistics: L-skewness of the heights and of the curvature at lags of
 # 1, 2, 4 and 8 points; the lags 1 and 4 are held out (fit on the others, predict them)
-HEIGHT_STATS = ("l_skewness_tau3", "curvature_l_skewness_lag1", "curvature_l_skewness_lag2",
-                "curvature_l_skewness_lag4", "curvature_l_skewness_lag8")
+HEIGHT_STATS = (
+    "l_skewness_tau3",
+    "curvature_l_skewness_lag1",
+    "curvature_l_skewness_lag2",
+    "curvature_l_skewness_lag4",
+    "curvature_l_skewness_lag8",
+)
 HEIGHT_HELD = (False, True, False, True, False)
 MIN_SHRINK_WHOLE = 0.4
 #: a spectral effect whose training likelihood ratio reaches this p-value needs only a positive
@@ -74,22 +89,26 @@ def whole_spectrum_check(an, twins=None):
         e = np.concatenate([[q[0] ** 2 / e[0]], e, [q[-1] ** 2 / e[-1]]])
         count = np.maximum(np.histogram(n1, e)[0], 1)
     else:
-        count = np.maximum(np.asarray(spec.count, float)[ok], 1) if spec.count is not None else np.full(q.size, 4.0)
+        count = (
+            np.maximum(np.asarray(spec.count, float)[ok], 1)
+            if spec.count is not None
+            else np.full(q.size, 4.0)
+        )
     sig = LOG10E * np.sqrt(2.0 / count)
     ref = np.log10(C_pl)
     if twins is not None and np.shape(twins)[0] >= 3:
         tw = np.asarray(twins, float)[:, ok]
         ref = tw.mean(axis=0)
         sig = np.sqrt(np.maximum(tw.var(axis=0, ddof=1), (0.5 * sig) ** 2) * (1.0 + 1.0 / tw.shape[0]))
-    noise = float(np.sqrt(np.mean(sig ** 2)))
+    noise = float(np.sqrt(np.mean(sig**2)))
     y = np.log10(C)
     ctx = SimpleNamespace(ring_q=q, twin_rings=ref, fit=fit)
     held = np.zeros(q.size, bool)
-    held[1:q.size - 1:3] = True
+    held[1 : q.size - 1 : 3] = True
     train = ~held
     r0 = (y - ref) / sig
     g_all = float(np.sqrt(np.mean((y - ref) ** 2)))
-    z_rms = float(np.sqrt(np.mean(r0 ** 2)))
+    z_rms = float(np.sqrt(np.mean(r0**2)))
     c0_train = float(np.sum(r0[train] ** 2))
     g0 = float(np.sqrt(np.mean(r0[held] ** 2)))
     out = []
@@ -103,7 +122,11 @@ def whole_spectrum_check(an, twins=None):
 
         null = np.array([pp.to_unit(e.null_params(ctx)[pp.name]) for pp in e.params])
         k = null.size
-        grid = np.array(np.meshgrid(*([np.linspace(0.02, 0.98, 9 if k == 1 else 5)] * k), indexing="ij")).reshape(k, -1).T
+        grid = (
+            np.array(np.meshgrid(*([np.linspace(0.02, 0.98, 9 if k == 1 else 5)] * k), indexing="ij"))
+            .reshape(k, -1)
+            .T
+        )
         starts = [null, grid[int(np.argmin([np.sum(resid(g)[train] ** 2) for g in grid]))]]
         u_best, c_best = multistart_lsq(lambda u: resid(u)[train], starts, diff_step=1e-3, max_nfev=200)
         r = resid(u_best)
@@ -112,15 +135,28 @@ def whole_spectrum_check(an, twins=None):
         # its k parameters, against chi-square(k) (a localised bend, e.g. a roll-off in the
         # lowest rings, is diluted in the chi-square of all rings)
         drop = max(c0_train - c_best, 0.0)
-        out.append(dict(name=name, params={pp.name: pp.from_unit(u_best[j]) for j, pp in enumerate(e.params)},
-                        gap_heldout_noise_units=gh, shrink=1 - gh / g0 if g0 > 0 else float("nan"),
-                        chi2_drop=drop, p_value=float(stats.chi2.sf(drop, k))))
+        out.append(
+            dict(
+                name=name,
+                params={pp.name: pp.from_unit(u_best[j]) for j, pp in enumerate(e.params)},
+                gap_heldout_noise_units=gh,
+                shrink=1 - gh / g0 if g0 > 0 else float("nan"),
+                chi2_drop=drop,
+                p_value=float(stats.chi2.sf(drop, k)),
+            )
+        )
     out.sort(key=lambda c: c["gap_heldout_noise_units"])
     significant = bool(min(c["p_value"] for c in out) < 1e-3)
-    return dict(gap=g_all, noise=noise, gap_noise_units=z_rms, significant=significant,
-                reference="twins" if twins is not None and np.shape(twins)[0] >= 3 else "power law",
-                baseline_heldout_noise_units=g0,
-                heldout="every third ring of the whole scan's spectrum", candidates=out)
+    return dict(
+        gap=g_all,
+        noise=noise,
+        gap_noise_units=z_rms,
+        significant=significant,
+        reference="twins" if twins is not None and np.shape(twins)[0] >= 3 else "power law",
+        baseline_heldout_noise_units=g0,
+        heldout="every third ring of the whole scan's spectrum",
+        candidates=out,
+    )
 
 
 def whole_height_stats(h):
@@ -183,8 +219,9 @@ def whole_height_check(measured, twins, skew_s, skew_tab):
         pred = ref + np.array([np.interp(sk, skew_s, skew_tab[:, j]) for j in range(m.size)])
         return (m - pred) / sig
 
-    sol = optimize.minimize_scalar(lambda sk: float(np.sum(z(sk)[~held] ** 2)), bounds=(skew_s[0], skew_s[-1]),
-                                   method="bounded")
+    sol = optimize.minimize_scalar(
+        lambda sk: float(np.sum(z(sk)[~held] ** 2)), bounds=(skew_s[0], skew_s[-1]), method="bounded"
+    )
     grid = np.linspace(skew_s[0], skew_s[-1], 25)
     best = min([sol.x] + list(grid), key=lambda sk: float(np.sum(z(sk)[~held] ** 2)))
     c0 = float(np.sum(z0[~held] ** 2))
@@ -192,12 +229,21 @@ def whole_height_check(measured, twins, skew_s, skew_tab):
     drop = max(c0 - c1, 0.0)
     g0 = float(np.sqrt(np.mean(z0[held] ** 2)))
     g1 = float(np.sqrt(np.mean(z(best)[held] ** 2)))
-    return dict(statistics=list(HEIGHT_STATS), measured=m.tolist(), twin_mean=ref.tolist(), twin_noise=sig.tolist(),
-                z=z0.tolist(), held_out=[n for n, h in zip(HEIGHT_STATS, HEIGHT_HELD) if h],
-                skewness=float(best), chi2_drop=drop, p_value=float(stats.chi2.sf(drop, 1)),
-                gap_heldout_before=g0, gap_heldout_after=g1,
-                shrink=1.0 - g1 / g0 if g0 > 0 else float("nan"),
-                significant=bool(stats.chi2.sf(drop, 1) < 1e-3))
+    return dict(
+        statistics=list(HEIGHT_STATS),
+        measured=m.tolist(),
+        twin_mean=ref.tolist(),
+        twin_noise=sig.tolist(),
+        z=z0.tolist(),
+        held_out=[n for n, h in zip(HEIGHT_STATS, HEIGHT_HELD) if h],
+        skewness=float(best),
+        chi2_drop=drop,
+        p_value=float(stats.chi2.sf(drop, 1)),
+        gap_heldout_before=g0,
+        gap_heldout_after=g1,
+        shrink=1.0 - g1 / g0 if g0 > 0 else float("nan"),
+        significant=bool(stats.chi2.sf(drop, 1) < 1e-3),
+    )
 
 
 def whole_seam_stats(h):
@@ -218,7 +264,7 @@ def whole_seam_stats(h):
 
     h = np.asarray(h, float)
     ny, nx = h.shape
-    parts = (h[:, :nx // 2], h[:, nx // 2:], h[:ny // 2, :].T, h[ny // 2:, :].T)
+    parts = (h[:, : nx // 2], h[:, nx // 2 :], h[: ny // 2, :].T, h[ny // 2 :, :].T)
     return np.array([line_score(p) or 0.0 for p in parts])
 
 
@@ -253,13 +299,21 @@ def whole_seams_check(measured, twins):
     m = np.asarray(measured, float)
     z0 = (m - ref) / sig
     d = m - ref
-    pred = np.array([d[1], d[0], d[3], d[2]])       # the other half's excess, no clipping below 0
+    pred = np.array([d[1], d[0], d[3], d[2]])  # the other half's excess, no clipping below 0
     z1 = (d - np.maximum(pred, 0.0)) / sig
-    g0 = float(np.sqrt(np.mean(z0 ** 2)))
-    g1 = float(np.sqrt(np.mean(z1 ** 2)))
-    p = float(stats.chi2.sf(float(np.sum(z0 ** 2)), m.size))
-    return dict(statistics=["rows_left_half", "rows_right_half", "columns_top_half", "columns_bottom_half"],
-                measured=m.tolist(), twin_mean=ref.tolist(), twin_noise=sig.tolist(), z=z0.tolist(),
-                excess_log10=[float(max(0.5 * (d[0] + d[1]), 0.0)), float(max(0.5 * (d[2] + d[3]), 0.0))],
-                gap_heldout_before=g0, gap_heldout_after=g1, shrink=1.0 - g1 / g0 if g0 > 0 else float("nan"),
-                p_value=p, significant=bool(p < 1e-3 and g0 > 1.5))
+    g0 = float(np.sqrt(np.mean(z0**2)))
+    g1 = float(np.sqrt(np.mean(z1**2)))
+    p = float(stats.chi2.sf(float(np.sum(z0**2)), m.size))
+    return dict(
+        statistics=["rows_left_half", "rows_right_half", "columns_top_half", "columns_bottom_half"],
+        measured=m.tolist(),
+        twin_mean=ref.tolist(),
+        twin_noise=sig.tolist(),
+        z=z0.tolist(),
+        excess_log10=[float(max(0.5 * (d[0] + d[1]), 0.0)), float(max(0.5 * (d[2] + d[3]), 0.0))],
+        gap_heldout_before=g0,
+        gap_heldout_after=g1,
+        shrink=1.0 - g1 / g0 if g0 > 0 else float("nan"),
+        p_value=p,
+        significant=bool(p < 1e-3 and g0 > 1.5),
+    )

@@ -44,6 +44,7 @@ the latter's large-n limit) and in the held-out check that only the many-point r
 ``tests/test_diagnose_same_physics.py`` checks that 19 and 20 speeds of one world give the same
 verdict for every friction-level effect kind.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -129,8 +130,15 @@ def _parsimony(verdict, best, pool, n, noise, g_ref):
 
     if len(best.effect_names) < 2 or g_ref is None:
         return best
-    subs = [c for c in pool if c is not best and len(c.effect_names) == 1
-            and c.effect_names[0] in best.effect_names and not c.implausible and c.shrink >= MIN_SHRINK]
+    subs = [
+        c
+        for c in pool
+        if c is not best
+        and len(c.effect_names) == 1
+        and c.effect_names[0] in best.effect_names
+        and not c.implausible
+        and c.shrink >= MIN_SHRINK
+    ]
     if not subs:
         return best
     one = max(subs, key=lambda c: all_points_evidence(c, n, noise))
@@ -138,20 +146,28 @@ def _parsimony(verdict, best, pool, n, noise, g_ref):
     if not dz <= LOG_STRONG:
         return best
     _name(verdict, one, g_ref)
-    verdict["reason"] += (f"; the pair {best.name} fits every point better by a Bayes factor of only "
-                          f"e^{dz:.1f} (a strong one is 20): the single effect is named")
+    verdict["reason"] += (
+        f"; the pair {best.name} fits every point better by a Bayes factor of only "
+        f"e^{dz:.1f} (a strong one is 20): the single effect is named"
+    )
     return one
 
 
 def _record(verdict, p0, ranked, base_name, named):
     verdict["all_points"] = dict(
-        method=("posterior probabilities from Schwarz's evidence: ln L (Student-t, the few-point "
-                "likelihood) of the training fit over every point - k/2 ln n; prior 1/2 on the baseline"),
-        reference=("Schwarz 1978, doi:10.1214/aos/1176344136; Kass & Raftery 1995, "
-                   "doi:10.1080/01621459.1995.10476572"),
-        named_by_heldout=named, threshold=P_NAME,
+        method=(
+            "posterior probabilities from Schwarz's evidence: ln L (Student-t, the few-point "
+            "likelihood) of the training fit over every point - k/2 ln n; prior 1/2 on the baseline"
+        ),
+        reference=(
+            "Schwarz 1978, doi:10.1214/aos/1176344136; Kass & Raftery 1995, "
+            "doi:10.1080/01621459.1995.10476572"
+        ),
+        named_by_heldout=named,
+        threshold=P_NAME,
         models=[dict(name=base_name, posterior=p0)]
-        + [dict(name=c.name, log_evidence=z, k=c.k, posterior=p) for c, z, p in ranked[:8]])
+        + [dict(name=c.name, log_evidence=z, k=c.k, posterior=p) for c, z, p in ranked[:8]],
+    )
 
 
 def _merged(ranked):
@@ -166,8 +182,9 @@ def _merged(ranked):
     return sorted(((lab, q, c) for lab, (q, c, _) in out.items()), key=lambda t: -t[1])
 
 
-def check_named(verdict, best, pool, n, noise, z_base, g_ref=None, base_name="nominal", rescue=False,
-                intervals=None):
+def check_named(
+    verdict, best, pool, n, noise, z_base, g_ref=None, base_name="nominal", rescue=False, intervals=None
+):
     """The held-out verdict under the evidence over every point (see the module docstring).
 
     Parameters
@@ -225,9 +242,11 @@ def check_named(verdict, best, pool, n, noise, z_base, g_ref=None, base_name="no
             verdict.update(inconclusive=[], implausible=[], implausible_why=[])
             cal = "calibration" in c.effects[0].name
             _name(verdict, c, g_ref, calibrated=intervals(c) if cal and intervals is not None else None)
-            verdict["reason"] += (f"; the most probable explanation over every point (posterior {p:.3f}"
-                                  + (f"; the held-out score preferred {name0}, posterior {p_best:.2f}"
-                                     if name0 else "") + ")")
+            verdict["reason"] += (
+                f"; the most probable explanation over every point (posterior {p:.3f}"
+                + (f"; the held-out score preferred {name0}, posterior {p_best:.2f}" if name0 else "")
+                + ")"
+            )
             return c
     if best is None:
         return None
@@ -237,15 +256,28 @@ def check_named(verdict, best, pool, n, noise, z_base, g_ref=None, base_name="no
             break
         names.append(lab)
         acc += q
-    listed = ", ".join(f"{lab} {q:.2f}" for lab, q in sorted(
-        [(base_name, p0)] + [(lab, q) for lab, q, _ in merged], key=lambda t: -t[1])[:3])
-    verdict.update(effect=None, confidence=None, shrink=None, shrink_interval=None, calibrated={},
-                   at_bound=[], inconclusive=[])
+    listed = ", ".join(
+        f"{lab} {q:.2f}"
+        for lab, q in sorted([(base_name, p0)] + [(lab, q) for lab, q, _ in merged], key=lambda t: -t[1])[:3]
+    )
+    verdict.update(
+        effect=None,
+        confidence=None,
+        shrink=None,
+        shrink_interval=None,
+        calibrated={},
+        at_bound=[],
+        inconclusive=[],
+    )
     if base_name in names or len(names) < 2:
-        verdict["reason"] = (f"no effect named: {name0} wins the held-out points but its posterior over "
-                             f"every point is {p_best:.2f} < {P_NAME:g} ({listed})")
+        verdict["reason"] = (
+            f"no effect named: {name0} wins the held-out points but its posterior over "
+            f"every point is {p_best:.2f} < {P_NAME:g} ({listed})"
+        )
         return None
     verdict["inconclusive"] = names
-    verdict["reason"] = (f"inconclusive: {name0} wins the held-out points, but over every point "
-                         f"{listed}: none reaches posterior {P_NAME:g}")
+    verdict["reason"] = (
+        f"inconclusive: {name0} wins the held-out points, but over every point "
+        f"{listed}: none reaches posterior {P_NAME:g}"
+    )
     return None

@@ -1,5 +1,6 @@
 """The explanations behind a verdict: the evidence it rests on and the two most probable ones
 (the pair :mod:`.next_measurement` tells apart)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -32,15 +33,27 @@ def heldout_evidence(ho, g_ho, ranked, best, top=6):
     -------
     dict
     """
-    rows = [dict(name=c.name, k=c.k, gap_heldout=_f(c.gap_heldout), shrink=_f(c.shrink),
-                 shrink_interval=[_f(x) for x in c.shrink_interval], score=_f(c.score),
-                 shrink_beyond_calibration=_f(getattr(c, "beyond", None)))
-             for c in ranked[:top]]
-    return dict(method="held-out error: " + ho.description + "; shrink of the held-out gap with a paired "
-                       "5-95 % bootstrap interval; score = held-out rms x (1 + k / n_train) x 1.08^k",
-                reference="Hastie, Tibshirani & Friedman 2009, The elements of statistical learning, 2nd ed., "
-                          "sec 7.10; Efron & Tibshirani 1993, An introduction to the bootstrap",
-                baseline_gap_heldout=_f(g_ho), named=None if best is None else best.name, candidates=rows)
+    rows = [
+        dict(
+            name=c.name,
+            k=c.k,
+            gap_heldout=_f(c.gap_heldout),
+            shrink=_f(c.shrink),
+            shrink_interval=[_f(x) for x in c.shrink_interval],
+            score=_f(c.score),
+            shrink_beyond_calibration=_f(getattr(c, "beyond", None)),
+        )
+        for c in ranked[:top]
+    ]
+    return dict(
+        method="held-out error: " + ho.description + "; shrink of the held-out gap with a paired "
+        "5-95 % bootstrap interval; score = held-out rms x (1 + k / n_train) x 1.08^k",
+        reference="Hastie, Tibshirani & Friedman 2009, The elements of statistical learning, 2nd ed., "
+        "sec 7.10; Efron & Tibshirani 1993, An introduction to the bootstrap",
+        baseline_gap_heldout=_f(g_ho),
+        named=None if best is None else best.name,
+        candidates=rows,
+    )
 
 
 def _by_name(name, singles, pairs, cal, calpairs):
@@ -87,7 +100,9 @@ def top_two(ctx, real_mu, noise, verdict, best, expl, singles, pairs, cal, calpa
 
     if expl is not None:
         return (expl[0], expl[1]) if len(expl) > 1 else None
-    pool = sorted(list(singles) + list(pairs) + ([cal] if cal else []) + list(calpairs), key=lambda c: c.score)
+    pool = sorted(
+        list(singles) + list(pairs) + ([cal] if cal else []) + list(calpairs), key=lambda c: c.score
+    )
     inc = verdict.get("inconclusive") or []
     cands = [_by_name(n, singles, pairs, cal, calpairs) for n in inc[:2]]
     if len(cands) < 2 or any(c is None for c in cands):
@@ -146,5 +161,7 @@ def pick_pair(ctx, expl, s, n_alt=3):
         return None
     a = expl[0]
     alts = [b for b in expl[1:] if a["candidate"] is None or not _at_null(ctx, b["candidate"])]
-    alts = [b for b in alts if not (_at_null(ctx, a["candidate"]) and b["name"] in ("calibration", "nominal"))]
+    alts = [
+        b for b in alts if not (_at_null(ctx, a["candidate"]) and b["name"] in ("calibration", "nominal"))
+    ]
     return (a, alts[:n_alt]) if alts else None

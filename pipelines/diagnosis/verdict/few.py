@@ -19,6 +19,7 @@ Verdict, once the baseline gap is significant against the noise (as :mod:`.verdi
 - otherwise inconclusive between the most probable explanations (together ``P_NAME``, at most
   three), or no effect when the nominal model is among them.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -40,14 +41,38 @@ def _conf(p, c):
 
 
 def _evidence_json(s, nu, ev_nom, ev0, evs, p0, ps, null_name):
-    models = [dict(name=null_name, k=ev0["k"], log_evidence=ev0["log_z"], log_likelihood=ev0["loglik"],
-                   log_occam=ev0["occam"], rms=float(np.sqrt(ev0["rss"] / max(ev0.get("n", 1), 1))), posterior=p0)]
+    models = [
+        dict(
+            name=null_name,
+            k=ev0["k"],
+            log_evidence=ev0["log_z"],
+            log_likelihood=ev0["loglik"],
+            log_occam=ev0["occam"],
+            rms=float(np.sqrt(ev0["rss"] / max(ev0.get("n", 1), 1))),
+            posterior=p0,
+        )
+    ]
     for e, p in zip(evs, ps):
-        models.append(dict(name=e["label"], k=e["k"], log_evidence=e["log_z"], log_likelihood=e["loglik"],
-                           log_occam=e["occam"], rms=float(np.sqrt(e["rss"] / max(e.get("n", 1), 1))), posterior=p))
+        models.append(
+            dict(
+                name=e["label"],
+                k=e["k"],
+                log_evidence=e["log_z"],
+                log_likelihood=e["loglik"],
+                log_occam=e["occam"],
+                rms=float(np.sqrt(e["rss"] / max(e.get("n", 1), 1))),
+                posterior=p,
+            )
+        )
     models.sort(key=lambda m: -m["posterior"])
-    out = dict(method=METHOD, reference=REFERENCE, noise_scale=s, noise_dof=nu, prior_no_effect=PRIOR_NULL,
-               models=models)
+    out = dict(
+        method=METHOD,
+        reference=REFERENCE,
+        noise_scale=s,
+        noise_dof=nu,
+        prior_no_effect=PRIOR_NULL,
+        models=models,
+    )
     if ev_nom is not None and ev_nom is not ev0:
         out["log_bayes_factor_calibration_vs_nominal"] = ev0["log_z"] - ev_nom["log_z"]
     if len(models) > 1 and models[1]["posterior"] > 0:
@@ -93,7 +118,11 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
     ev_nom = model_evidence(ctx, real_mu, None, s, nu)
     ev_nom["n"] = n
     null_name = "calibration" if cal is not None else "nominal"
-    ev0 = (getattr(cal, "evidence", None) or model_evidence(ctx, real_mu, cal, s, nu)) if cal is not None else ev_nom
+    ev0 = (
+        (getattr(cal, "evidence", None) or model_evidence(ctx, real_mu, cal, s, nu))
+        if cal is not None
+        else ev_nom
+    )
     ev0["n"] = n
     evs = []
     for c in cands:
@@ -108,8 +137,10 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
     expl += [dict(name=e["label"], candidate=c, H=e.get("H"), posterior=p) for e, c, p in zip(evs, cands, ps)]
     expl.sort(key=lambda x: -x["posterior"])
     if not st["significant"]:
-        v["reason"] = (f"baseline gap {st['g_all']:.4f} is within the noise {st['noise']:.4f} "
-                       f"(chi-square p = {st['p']:.3g})")
+        v["reason"] = (
+            f"baseline gap {st['g_all']:.4f} is within the noise {st['noise']:.4f} "
+            f"(chi-square p = {st['p']:.3g})"
+        )
         return v, None, expl
     top = expl[0]
     prefix = ""
@@ -120,16 +151,22 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
         else:
             eq = equiv(c) if equiv is not None else None
             if eq is not None:
-                v["evidence"]["equivalence"] = dict(equivalent=eq["equivalent"], dloglik=eq["dloglik"],
-                                                    inputs=eq["inputs"], calibrated=eq["calibrated"])
+                v["evidence"]["equivalence"] = dict(
+                    equivalent=eq["equivalent"],
+                    dloglik=eq["dloglik"],
+                    inputs=eq["inputs"],
+                    calibrated=eq["calibrated"],
+                )
             one = eq is not None and eq["equivalent"] and same_physics(c.effect_names, eq["inputs"])
             if eq is not None and eq["equivalent"] and not one:
                 beyond = ", ".join(eq["inputs"]) or "the uncertain inputs"
-                v["_equivalent_fit"] = eq["fit"]     # the pair a next measurement tells apart
+                v["_equivalent_fit"] = eq["fit"]  # the pair a next measurement tells apart
                 v["inconclusive"] = [top["name"], "calibration"]
-                v["reason"] = (f"inconclusive: {top['name']} (posterior {top['posterior']:.2f}) does what "
-                               f"{beyond} continued beyond {'its range' if len(eq['inputs']) == 1 else 'their ranges'} "
-                               f"does, within the noise (log-likelihood {eq['dloglik']:+.2f}): the same explanation")
+                v["reason"] = (
+                    f"inconclusive: {top['name']} (posterior {top['posterior']:.2f}) does what "
+                    f"{beyond} continued beyond {'its range' if len(eq['inputs']) == 1 else 'their ranges'} "
+                    f"does, within the noise (log-likelihood {eq['dloglik']:+.2f}): the same explanation"
+                )
                 return v, None, expl
             names = c.effect_names
             v["effect"] = names[0] if len(names) == 1 else list(names)
@@ -138,12 +175,16 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
             v["at_bound"] = list(c.at_bound)
             v["confidence"] = _conf(top["posterior"], c)
             v["calibrated"] = intervals(c) if cal is not None else {}
-            v["reason"] = (f"{top['name']} has posterior probability {top['posterior']:.3f} "
-                           f"(next: {expl[1]['name']} {expl[1]['posterior']:.3f}); gap over all points "
-                           f"{st['g_all']:.4f} -> {c.gap_all:.4f}")
+            v["reason"] = (
+                f"{top['name']} has posterior probability {top['posterior']:.3f} "
+                f"(next: {expl[1]['name']} {expl[1]['posterior']:.3f}); gap over all points "
+                f"{st['g_all']:.4f} -> {c.gap_all:.4f}"
+            )
             if one:
-                v["reason"] += (f"; {', '.join(eq['inputs']) or 'the uncertain inputs'} continued beyond the "
-                                f"range does the same: the same physics, named as the effect")
+                v["reason"] += (
+                    f"; {', '.join(eq['inputs']) or 'the uncertain inputs'} continued beyond the "
+                    f"range does the same: the same physics, named as the effect"
+                )
             return v, c, expl
     g_cal = 1.0 - cal.gap_all / st["g_all"] if cal is not None and st["g_all"] > 0 else float("nan")
     # no effect positively supported: every Bayes factor against the baseline below 3 (Kass &
@@ -158,17 +199,26 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
             v["at_bound"] = list(cal.at_bound)
             v["confidence"] = "low" if cal.at_bound or p0 < 0.5 else "medium" if p0 < P_NAME else "high"
             v["calibrated"] = intervals(cal)
-            v["reason"] = prefix + (f"the inputs within their ranges explain the gap (posterior {p0:.3f}; gap over all "
-                                    f"points {st['g_all']:.4f} -> {cal.gap_all:.4f}); no effect fitted with them is "
-                                    f"more probable (best {expl[1]['name']}: {expl[1]['posterior']:.3f})"
-                                    if len(expl) > 1 else "")
+            v["reason"] = prefix + (
+                f"the inputs within their ranges explain the gap (posterior {p0:.3f}; gap over all "
+                f"points {st['g_all']:.4f} -> {cal.gap_all:.4f}); no effect fitted with them is "
+                f"more probable (best {expl[1]['name']}: {expl[1]['posterior']:.3f})"
+                if len(expl) > 1
+                else ""
+            )
             return v, cal, expl
-        v["reason"] = prefix + (f"no explanation found: the calibration is the most probable (posterior {p0:.3f}) "
-                                f"but shrinks the gap only {g_cal:.0%}")
+        v["reason"] = prefix + (
+            f"no explanation found: the calibration is the most probable (posterior {p0:.3f}) "
+            f"but shrinks the gap only {g_cal:.0%}"
+        )
         return v, None, expl
     if cal is None and plain:
-        v["reason"] = prefix + (f"no effect is more probable than the nominal model (posterior {p0:.3f}; best "
-                                f"{expl[1]['name']} {expl[1]['posterior']:.3f})" if len(expl) > 1 else "no usable effect")
+        v["reason"] = prefix + (
+            f"no effect is more probable than the nominal model (posterior {p0:.3f}; best "
+            f"{expl[1]['name']} {expl[1]['posterior']:.3f})"
+            if len(expl) > 1
+            else "no usable effect"
+        )
         return v, None, expl
     acc, names = 0.0, []
     for x in expl:
@@ -177,11 +227,16 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
         names.append(x["name"])
         acc += x["posterior"]
     if "nominal" in names or len(names) < 2:
-        v["reason"] = prefix + ("no effect named: the evidence does not decide (" + ", ".join(
-            f"{x['name']} {x['posterior']:.2f}" for x in expl[:3]) + ")")
+        v["reason"] = prefix + (
+            "no effect named: the evidence does not decide ("
+            + ", ".join(f"{x['name']} {x['posterior']:.2f}" for x in expl[:3])
+            + ")"
+        )
         return v, None, expl
     v["inconclusive"] = names
-    v["reason"] = prefix + ("inconclusive: " + ", ".join(f"{x['name']} (posterior {x['posterior']:.2f})"
-                                                         for x in expl[:len(names)]) +
-                            f": none reaches posterior {P_NAME:g} on these points")
+    v["reason"] = prefix + (
+        "inconclusive: "
+        + ", ".join(f"{x['name']} (posterior {x['posterior']:.2f})" for x in expl[: len(names)])
+        + f": none reaches posterior {P_NAME:g} on these points"
+    )
     return v, None, expl

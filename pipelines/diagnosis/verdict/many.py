@@ -26,6 +26,7 @@ Never named: a fit with a parameter outside its physical range (``implausible``,
 a parameter sits on a bound of its range; medium when a temperature is extrapolated beyond the
 shift table.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -71,7 +72,7 @@ def rivals(best, pool, noise, names=None, margin=0.1, tie=0.0):
             continue
         if c.r_held is None or best.r_held is None or c.r_held.size != best.r_held.size:
             continue
-        d = c.r_held ** 2 - best.r_held ** 2
+        d = c.r_held**2 - best.r_held**2
         se = float(np.std(d, ddof=1) / np.sqrt(d.size)) if d.size > 1 else 0.0
         same = float(np.mean(d)) <= 0.25 * se or c.gap_heldout <= best.gap_heldout + tie * noise
         if same and c.gap_heldout <= best.gap_heldout + margin * noise:
@@ -80,9 +81,21 @@ def rivals(best, pool, noise, names=None, margin=0.1, tie=0.0):
 
 
 def _empty():
-    return dict(effect=None, shrink=None, shrink_interval=None, gap_validate=None, reason="",
-                inconclusive=[], at_bound=[], confidence=None, implausible=[], implausible_why=[],
-                calibrated={}, extrapolated=[], equivalent_input=None)
+    return dict(
+        effect=None,
+        shrink=None,
+        shrink_interval=None,
+        gap_validate=None,
+        reason="",
+        inconclusive=[],
+        at_bound=[],
+        confidence=None,
+        implausible=[],
+        implausible_why=[],
+        calibrated={},
+        extrapolated=[],
+        equivalent_input=None,
+    )
 
 
 def _tried(cands):
@@ -95,9 +108,11 @@ def _null_reason(cands, s1):
     if not cands:
         return "no usable effect"
     top = max(cands, key=lambda c: c.shrink if np.isfinite(c.shrink) else -np.inf)
-    return (f"no effect shrinks the held-out gap by {MIN_SHRINK:.0%} after the penalty for free parameters; "
-            f"tried {_tried(cands)}; best held-out shrink {top.name} {top.shrink:.0%} with {top.k} parameters"
-            + ("" if s1 is None or s1 is top else f", best score {s1.name} ({s1.shrink:.0%})"))
+    return (
+        f"no effect shrinks the held-out gap by {MIN_SHRINK:.0%} after the penalty for free parameters; "
+        f"tried {_tried(cands)}; best held-out shrink {top.name} {top.shrink:.0%} with {top.k} parameters"
+        + ("" if s1 is None or s1 is top else f", best score {s1.name} ({s1.shrink:.0%})")
+    )
 
 
 def _confidence(c, lo):
@@ -118,7 +133,9 @@ def _name(v, best, g_ref, ref="baseline", interval=None, calibrated=None):
     v["at_bound"] = list(best.at_bound)
     v["confidence"] = _confidence(best, lo)
     v["calibrated"] = calibrated or {}
-    v["reason"] = (f"{'+'.join(names)} shrinks the {ref} held-out gap from {g_ref:.4f} to {best.gap_heldout:.4f}")
+    v["reason"] = (
+        f"{'+'.join(names)} shrinks the {ref} held-out gap from {g_ref:.4f} to {best.gap_heldout:.4f}"
+    )
 
 
 def _nominal_tiebreak(group, singles, noise, best, riv):
@@ -133,8 +150,10 @@ def _nominal_tiebreak(group, singles, noise, best, riv):
     if not fits[top].shrink >= MIN_SHRINK or fits[top].implausible:
         return best, riv
     # clearly better: every other nominal fit is a quarter of the noise worse, or no fit at all
-    if any(f is not fits[top] and f.shrink >= MIN_SHRINK and f.gap_heldout < fits[top].gap_heldout + 0.25 * noise
-           for f in fits):
+    if any(
+        f is not fits[top] and f.shrink >= MIN_SHRINK and f.gap_heldout < fits[top].gap_heldout + 0.25 * noise
+        for f in fits
+    ):
         return best, riv
     return group[top], []
 
@@ -145,8 +164,11 @@ def _plausible_nominal(best, singles, cal, noise, boot):
     held-out gap by MIN_SHRINK (its paired interval above 0); else ``best`` (the calibrated inputs
     may trade off against an effect's parameters, e.g. q1 against the flash heating)."""
     for c in singles:
-        if c.effect_names == best.effect_names and not c.implausible and \
-                c.gap_heldout <= best.gap_heldout + 0.1 * noise:
+        if (
+            c.effect_names == best.effect_names
+            and not c.implausible
+            and c.gap_heldout <= best.gap_heldout + 0.1 * noise
+        ):
             c.beyond = 1.0 - c.gap_heldout / cal.gap_heldout if cal.gap_heldout > 0 else float("nan")
             c.beyond_interval = boot_shrink(c.r_held, cal.r_held, boot)
             if c.beyond >= MIN_SHRINK and c.beyond_interval[0] > 0:
@@ -190,7 +212,9 @@ def decide(singles, pairs, cal, calpairs, st, intervals=None):
     every = list(singles) + list(pairs) + ([cal] if cal else []) + list(calpairs)
     g_all, noise = st["g_all"], st["noise"]
     if not st["significant"]:
-        v["reason"] = f"baseline gap {g_all:.4f} is within the noise {noise:.4f} (chi-square p = {st['p']:.3g})"
+        v["reason"] = (
+            f"baseline gap {g_all:.4f} is within the noise {noise:.4f} (chi-square p = {st['p']:.3g})"
+        )
         return v, None
     if cal is None:
         return _plain(v, singles, pairs, st, every)
@@ -201,8 +225,11 @@ def decide(singles, pairs, cal, calpairs, st, intervals=None):
         v0, b0 = _plain(_empty(), singles, pairs, st, every)
         if b0 is not None:
             # fine roughness is q1 continued (:mod:`.same_physics`): q1's calibration is no rival to it
-            if b0.effect_names != ["fine_roughness"] and cal.shrink >= MIN_SHRINK and \
-                    cal.gap_heldout <= b0.gap_heldout + 0.1 * noise:
+            if (
+                b0.effect_names != ["fine_roughness"]
+                and cal.shrink >= MIN_SHRINK
+                and cal.gap_heldout <= b0.gap_heldout + 0.1 * noise
+            ):
                 v0["confidence"] = "low"
                 v0["reason"] += "; calibrating q1 within its default range explains it as well"
             return v0, b0
@@ -227,8 +254,11 @@ def _plain(v, singles, pairs, st, every):
     riv = rivals(best, singles, noise)
     if riv:
         v["inconclusive"] = [best.name] + [r.name for r in riv]
-        v["reason"] = ("inconclusive: " + ", ".join(v["inconclusive"]) +
-                       " explain the held-out points equally well within the noise")
+        v["reason"] = (
+            "inconclusive: "
+            + ", ".join(v["inconclusive"])
+            + " explain the held-out points equally well within the noise"
+        )
         return v, None
     if best.implausible:
         v["reason"] = _refuse(v, best) + "no effect named"
@@ -256,26 +286,41 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
             best, riv = _nominal_tiebreak([best] + riv, singles, noise, best, riv)
         if riv:
             v["inconclusive"] = [best.effect_names[0]] + [r.effect_names[0] for r in riv]
-            v["reason"] = ("inconclusive: " + ", ".join(v["inconclusive"]) + " each explain what the calibrated "
-                           "inputs leave, equally well within the noise")
+            v["reason"] = (
+                "inconclusive: " + ", ".join(v["inconclusive"]) + " each explain what the calibrated "
+                "inputs leave, equally well within the noise"
+            )
             return v, None
         if best.implausible:
             best = _plausible_nominal(best, singles, cal, noise, st["boot"])
         if not best.implausible:
-            _name(v, best, cal.gap_heldout, ref="calibrated model's", interval=best.beyond_interval,
-                  calibrated=intervals(best))
-            v["reason"] += (f" ({best.beyond:.0%} beyond the calibration of "
-                            f"{', '.join(p.name for p in cal.effects[0].params)})")
+            _name(
+                v,
+                best,
+                cal.gap_heldout,
+                ref="calibrated model's",
+                interval=best.beyond_interval,
+                calibrated=intervals(best),
+            )
+            v["reason"] += (
+                f" ({best.beyond:.0%} beyond the calibration of "
+                f"{', '.join(p.name for p in cal.effects[0].params)})"
+            )
             return v, best
         prefix = _refuse(v, best)
     if cal.shrink >= MIN_SHRINK and not cal.implausible:
         # an effect that is one of the calibrated inputs (fine_roughness for q1, ...) is no rival
         same = {"q1_per_m": "fine_roughness", "sigma0_Pa": "load", "temperature_C": "temperature_offset"}
-        riv = rivals(cal, singles, noise, names={same[p.name] for p in cal.effects[0].params if p.name in same})
+        riv = rivals(
+            cal, singles, noise, names={same[p.name] for p in cal.effects[0].params if p.name in same}
+        )
         if riv:
             v["inconclusive"] = [r.name for r in riv] + ["calibration"]
-            v["reason"] = prefix + ("inconclusive: " + ", ".join(v["inconclusive"]) +
-                                    " explain the held-out points equally well within the noise")
+            v["reason"] = prefix + (
+                "inconclusive: "
+                + ", ".join(v["inconclusive"])
+                + " explain the held-out points equally well within the noise"
+            )
             return v, None
         v["effect"] = "calibration"
         v["shrink"] = cal.shrink
@@ -288,8 +333,12 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
         v["reason"] = prefix + (
             f"the inputs within their ranges explain the gap: the calibration shrinks the held-out gap from "
             f"{g_ho:.4f} to {cal.gap_heldout:.4f}; no effect fitted with it ({tried}) adds a significant "
-            f"held-out shrink" + ("" if top is None else f" (best {top.effect_names[0]}: {top.beyond:.0%})"))
+            f"held-out shrink" + ("" if top is None else f" (best {top.effect_names[0]}: {top.beyond:.0%})")
+        )
         return v, cal
-    v["reason"] = prefix + _null_reason(every, singles[0] if singles else None) + (
-        f"; the calibration of the uncertain inputs shrinks it {cal.shrink:.0%}")
+    v["reason"] = (
+        prefix
+        + _null_reason(every, singles[0] if singles else None)
+        + (f"; the calibration of the uncertain inputs shrinks it {cal.shrink:.0%}")
+    )
     return v, None

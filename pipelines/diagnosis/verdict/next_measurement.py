@@ -14,6 +14,7 @@ on the unit cube: the parameters' uncertainty after the data; Laplace approximat
 away at the same temperature (the optimal design of a discrimination experiment; Box & Hill 1967,
 Technometrics 9, 57).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -32,20 +33,32 @@ def _grid(ctx):
     from pipelines.diagnosis.model import FrictionContext
 
     v0, v1 = float(ctx.v_m_per_s.min()), float(ctx.v_m_per_s.max())
-    v = np.geomspace(max(v0 / 10 ** 0.5, 1e-7), min(v1 * 10 ** 0.5, 30.0), N_SPEEDS)
+    v = np.geomspace(max(v0 / 10**0.5, 1e-7), min(v1 * 10**0.5, 30.0), N_SPEEDS)
     T = ctx.T0_C[np.isfinite(ctx.T0_C)]
     T_meas = float(np.median(T)) if T.size else float(ctx.base.rubber.T_ref_C)
     table = getattr(getattr(ctx.base.rubber, "shift", None), "T_C", None)
     temps = [T_meas]
     has_table = table is not None and np.size(table) > 1
     if has_table:
-        temps = sorted(set(np.round(np.linspace(float(np.min(table)), float(np.max(table)), N_TEMPS), 1)) | {T_meas})
+        temps = sorted(
+            set(np.round(np.linspace(float(np.min(table)), float(np.max(table)), N_TEMPS), 1)) | {T_meas}
+        )
     vv = np.tile(v, len(temps))
     TT = np.repeat(np.asarray(temps, float), v.size)
     n = vv.size
     wet = bool(np.all(ctx.wet)) and ctx.n > 0
-    g = FrictionContext(vv, TT, np.full(n, float(np.median(ctx.sigma0_Pa))), np.full(n, wet), ctx.base,
-                        ctx.scan, ctx.spectrum, ctx.fit, ctx.inputs, ctx.cache)
+    g = FrictionContext(
+        vv,
+        TT,
+        np.full(n, float(np.median(ctx.sigma0_Pa))),
+        np.full(n, wet),
+        ctx.base,
+        ctx.scan,
+        ctx.spectrum,
+        ctx.fit,
+        ctx.inputs,
+        ctx.cache,
+    )
     return g, v, temps, has_table
 
 
@@ -114,7 +127,7 @@ def next_measurement(ctx, a, b, noise):
     except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
         return None
     best = None
-    for cand in (b if isinstance(b, (list, tuple)) else [b]):
+    for cand in b if isinstance(b, (list, tuple)) else [b]:
         try:
             mb, vb = _predict(g, cand)
         except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
@@ -135,20 +148,32 @@ def next_measurement(ctx, a, b, noise):
     speeds = [float(v[i]) for i in idx]
     sep = [float(z[it, i]) for i in idx]
     comb = float(np.sqrt(np.sum(np.square(sep))))
-    reps = int(min(MAX_REPEATS, max(1, np.ceil(9.0 / max(comb ** 2, 1e-12)))))
+    reps = int(min(MAX_REPEATS, max(1, np.ceil(9.0 / max(comb**2, 1e-12)))))
     T = float(temps[it]) if has_table else None
     where = " and ".join(f"{x:.3g}" for x in speeds) + " m/s" + (f" at {T:.3g} C" if T is not None else "")
     times = "" if reps == 1 else f" ({reps} times each)"
-    sentence = (f"measure at {where}{times}: {a['name']} and {b['name']} differ there by "
-                + " and ".join(f"{x:.2g}" for x in sep) + " noise sigmas")
+    sentence = (
+        f"measure at {where}{times}: {a['name']} and {b['name']} differ there by "
+        + " and ".join(f"{x:.2g}" for x in sep)
+        + " noise sigmas"
+    )
     if comb * np.sqrt(MAX_REPEATS) < 3.0:
-        return None      # no speed or temperature of the grid separates them: no measurement to propose
+        return None  # no speed or temperature of the grid separates them: no measurement to propose
     if max(sep) < 1.0:
-        sentence = (f"no speed from {v[0]:.3g} to {v[-1]:.3g} m/s separates {a['name']} and {b['name']} by a "
-                    f"noise sigma (at most {max(sep):.2g} at {where}): measure another condition or repeat "
-                    "points to lower the noise")
-    return dict(between=[a["name"], b["name"]], speeds_m_per_s=speeds, temperature_C=T,
-                separation_sigma=sep, separation_sigma_combined=comb, repeats=reps, sentence=sentence,
-                method="largest expected separation of the two most probable explanations in noise sigmas "
-                       "(model uncertainty included), over speeds and the shift table's temperatures; repeats "
-                       "for a combined separation of 3 sigmas (at most 10)")
+        sentence = (
+            f"no speed from {v[0]:.3g} to {v[-1]:.3g} m/s separates {a['name']} and {b['name']} by a "
+            f"noise sigma (at most {max(sep):.2g} at {where}): measure another condition or repeat "
+            "points to lower the noise"
+        )
+    return dict(
+        between=[a["name"], b["name"]],
+        speeds_m_per_s=speeds,
+        temperature_C=T,
+        separation_sigma=sep,
+        separation_sigma_combined=comb,
+        repeats=reps,
+        sentence=sentence,
+        method="largest expected separation of the two most probable explanations in noise sigmas "
+        "(model uncertainty included), over speeds and the shift table's temperatures; repeats "
+        "for a combined separation of 3 sigmas (at most 10)",
+    )

@@ -10,6 +10,7 @@ cannot tell apart: the verdict keeps the effect, its confidence from the evidenc
 which input value it means ("fine_roughness: the rubber feels roughness to q1 = 1.07e6 1/m,
 beyond the scan's 2.3e5"). Inconclusive stays for different physics fitting equally well.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -81,19 +82,34 @@ def equivalent_input(ctx, cand):
     if name == "fine_roughness":
         q1, q1_0 = float(spec.psd.q1_per_m), float(ctx.base.psd.q1_per_m)
         where = "beyond" if q1 > q1_0 else "within"
-        return dict(effect=name, input="q1_per_m", value=q1, nominal=q1_0,
-                    sentence=f"{name}: the rubber feels roughness to q1 = {q1:.3g} 1/m, {where} the "
-                             f"spectrum's last wave vector {q1_0:.3g} 1/m")
+        return dict(
+            effect=name,
+            input="q1_per_m",
+            value=q1,
+            nominal=q1_0,
+            sentence=f"{name}: the rubber feels roughness to q1 = {q1:.3g} 1/m, {where} the "
+            f"spectrum's last wave vector {q1_0:.3g} 1/m",
+        )
     if name == "load":
         s = float(nom["sigma0"] * spec.sigma0_scale)
-        return dict(effect=name, input="sigma0_Pa", value=s, nominal=float(nom["sigma0"]),
-                    sentence=f"{name}: the contact behaves as at a nominal pressure sigma0 = "
-                             f"{s / 1e6:.3g} MPa, not {nom['sigma0'] / 1e6:.3g} MPa")
+        return dict(
+            effect=name,
+            input="sigma0_Pa",
+            value=s,
+            nominal=float(nom["sigma0"]),
+            sentence=f"{name}: the contact behaves as at a nominal pressure sigma0 = "
+            f"{s / 1e6:.3g} MPa, not {nom['sigma0'] / 1e6:.3g} MPa",
+        )
     T = float(nom["temperature"] + spec.T0_shift_C)
     if not np.isfinite(T):
         return None
-    return dict(effect=name, input="temperature_C", value=T, nominal=float(nom["temperature"]),
-                sentence=f"{name}: the rubber behaves as at T0 = {T:.3g} C, not {nom['temperature']:.3g} C")
+    return dict(
+        effect=name,
+        input="temperature_C",
+        value=T,
+        nominal=float(nom["temperature"]),
+        sentence=f"{name}: the rubber behaves as at T0 = {T:.3g} C, not {nom['temperature']:.3g} C",
+    )
 
 
 def distinct(a, b):

@@ -12,13 +12,21 @@ uniform prior's precision (Allen 1974, Technometrics 16, 125; Cook & Weisberg 19
 and influence in regression*, sec 2.2): a refit per left-out point costs a fit each and, on five
 points, says no more.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from pipelines.diagnosis.fit.cv import boot_shrink
 
-__all__ = ["few_candidates", "second_opinion", "noise_prior", "NOISE_RANGE", "PRIOR_NOISE_DOF", "GIVEN_NOISE_DOF"]
+__all__ = [
+    "few_candidates",
+    "second_opinion",
+    "noise_prior",
+    "NOISE_RANGE",
+    "PRIOR_NOISE_DOF",
+    "GIVEN_NOISE_DOF",
+]
 
 #: the range of noise scales a friction test's repeatability takes (rms log10; 1.2 % to 7 %)
 NOISE_RANGE = (0.005, 0.03)
@@ -66,8 +74,8 @@ def _press(c, ev, y, s, r0_held, boot, n_eff):
         h = np.einsum("ij,jk,ik->i", J, np.linalg.pinv(A), J)
         r = r / (1.0 - np.clip(h, 0.0, 0.99))
     c.r_held = r
-    c.gap_heldout = float(np.sqrt(np.mean(r ** 2)))
-    g0 = float(np.sqrt(np.mean(r0_held ** 2)))
+    c.gap_heldout = float(np.sqrt(np.mean(r**2)))
+    g0 = float(np.sqrt(np.mean(r0_held**2)))
     c.shrink = 1.0 - c.gap_heldout / g0 if g0 > 0 else float("nan")
     c.shrink_interval = boot_shrink(r, r0_held, boot)
     c.score = c.gap_heldout * (1.0 + c.k / max(n_eff, 1))
@@ -122,8 +130,11 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
 
     def finish(c, t1, s, nu):
         c.at_bound = at_bound(ctx, c.effects, c.params)
-        bad = [(nm if len(c.effects) == 1 else f"{e.name}.{nm}", why)
-               for e, p in zip(c.effects, c.params) for nm, why in e.implausible(ctx, p, real_mu)]
+        bad = [
+            (nm if len(c.effects) == 1 else f"{e.name}.{nm}", why)
+            for e, p in zip(c.effects, c.params)
+            for nm, why in e.implausible(ctx, p, real_mu)
+        ]
         c.implausible = [b[0] for b in bad]
         c.implausible_why = [b[1] for b in bad]
         c.evidence = model_evidence(ctx, real_mu, c, s, nu)
@@ -139,7 +150,7 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
     if cal_e is not None:
         cal = finish(fit_candidate(ctx, real_mu, (cal_e,), every, cache={}), t1, s, nu)
     cands = []
-    significant = gapmod.is_significant(float(np.sqrt(np.mean(r0 ** 2))), s, n)
+    significant = gapmod.is_significant(float(np.sqrt(np.mean(r0**2))), s, n)
     if not significant:
         return cal, cands, s, nu, significant
     for e in usable:
@@ -169,9 +180,13 @@ def _physical(ctx, real_mu, c, every, finish, s, nu):
     if any(e is None for e in effs):
         return c
     t1 = time.perf_counter()
-    start = [{p.name: float(np.clip(q[p.name], p.lo, p.hi)) for p in e.params} for e, q in zip(effs, c.params)]
+    start = [
+        {p.name: float(np.clip(q[p.name], p.lo, p.hi)) for p in e.params} for e, q in zip(effs, c.params)
+    ]
     budget = 8 if max(e.cost for e in effs) > 1 else None
-    r = finish(fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=[start], budget=budget), t1, s, nu)
+    r = finish(
+        fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=[start], budget=budget), t1, s, nu
+    )
     return r if not r.implausible else c
 
 
@@ -215,10 +230,18 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
     n = np.asarray(real_mu).size
     every = np.ones(n, bool)
     ho = Holdout(True, every, every, n, np.random.default_rng(0).integers(0, n, size=(1000, n)))
-    cal, cands, s, nu, significant = few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, {},
-                                                    lambda *_: None)
-    st = dict(g_all=float(np.sqrt(np.mean(np.log10(real_mu / cal.pred) ** 2))), noise=s, n=n,
-              significant=significant, p=0.0, s=s, nu=nu)
+    cal, cands, s, nu, significant = few_candidates(
+        ctx, real_mu, usable, cal_e, ho, noise, noise_given, {}, lambda *_: None
+    )
+    st = dict(
+        g_all=float(np.sqrt(np.mean(np.log10(real_mu / cal.pred) ** 2))),
+        noise=s,
+        n=n,
+        significant=significant,
+        p=0.0,
+        s=s,
+        nu=nu,
+    )
     v2, _, expl = decide_few(ctx, real_mu, cal, cands, st)
     verdict["bayes"] = v2["evidence"]
     name = "+".join(best.effect_names)
@@ -228,9 +251,18 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
             verdict["confidence"] = "medium"
         return best
     other = top["name"] if top["name"] != name else expl[1]["name"]
-    verdict.update(effect=None, confidence=None, shrink=None, shrink_interval=None, calibrated={}, at_bound=[],
-                   inconclusive=[name, other],
-                   reason=(f"inconclusive: {name} shrinks the held-out gap, but the evidence of every point does "
-                           f"not single it out ({top['name']} posterior {top['posterior']:.2f}, "
-                           f"{expl[1]['name']} {expl[1]['posterior']:.2f})"))
+    verdict.update(
+        effect=None,
+        confidence=None,
+        shrink=None,
+        shrink_interval=None,
+        calibrated={},
+        at_bound=[],
+        inconclusive=[name, other],
+        reason=(
+            f"inconclusive: {name} shrinks the held-out gap, but the evidence of every point does "
+            f"not single it out ({top['name']} posterior {top['posterior']:.2f}, "
+            f"{expl[1]['name']} {expl[1]['posterior']:.2f})"
+        ),
+    )
     return None

@@ -7,6 +7,7 @@ instrument passes at 50 % amplitude) and ``label``; relative paths are relative 
 manifest's folder. An empty cell means "not given" (the file's own metadata or the
 command-line option then applies). Every problem is one line naming the manifest and the row.
 """
+
 from __future__ import annotations
 
 import math
@@ -44,10 +45,10 @@ class CombineInput:
 
     path: Path
     label: str
-    spacing: str | None = None          # as ``--spacing`` takes it: "DX" or "DX,DY" [m]
+    spacing: str | None = None  # as ``--spacing`` takes it: "DX" or "DX,DY" [m]
     units: str | None = None
     resolution_m: float | None = None
-    origin: str | None = None           # the manifest and row it came from, for messages
+    origin: str | None = None  # the manifest and row it came from, for messages
 
 
 def _header(path):
@@ -113,8 +114,9 @@ def _read_manifest(path, default_resolution):
     head = [h.lower() for h in head]
     unknown = [h for h in head if h not in MANIFEST_COLUMNS]
     if unknown:
-        raise InputError(path, f"unknown manifest column {unknown[0]!r} (allowed: "
-                               f"{','.join(MANIFEST_COLUMNS)})")
+        raise InputError(
+            path, f"unknown manifest column {unknown[0]!r} (allowed: {','.join(MANIFEST_COLUMNS)})"
+        )
     if len(set(head)) != len(head):
         raise InputError(path, "a manifest column appears twice")
     if not rows:
@@ -124,8 +126,10 @@ def _read_manifest(path, default_resolution):
     for k, row in enumerate(rows, start=2):
         where = f"{path} row {k}"
         if len(row) != len(head):
-            raise InputError(where, f"{len(row)} cells for {len(head)} columns (a spacing DX;DY "
-                                    f"takes a semicolon, not a comma)")
+            raise InputError(
+                where,
+                f"{len(row)} cells for {len(head)} columns (a spacing DX;DY takes a semicolon, not a comma)",
+            )
         cell = {h: row[i] for h, i in col.items()}
         if not cell["file"]:
             raise InputError(where, "empty file cell")
@@ -180,8 +184,11 @@ def collect_inputs(items, spacing=None, units=None, resolution_m=None):
                     raise InputError(e.path, f"no such file (listed in {e.origin})")
                 if is_manifest(e.path):
                     raise InputError(e.origin, f"{e.path} is a manifest: list height files")
-                found.append(CombineInput(e.path, e.label, e.spacing or spacing, e.units or units,
-                                          e.resolution_m, e.origin))
+                found.append(
+                    CombineInput(
+                        e.path, e.label, e.spacing or spacing, e.units or units, e.resolution_m, e.origin
+                    )
+                )
         else:
             found.append(CombineInput(p, p.stem, spacing, units, resolution_m, None))
     seen = {}
@@ -209,8 +216,13 @@ def add_combine_options(p):
     """
     from pipelines.settings.scan_input import add_scan_options
 
-    p.add_argument("--resolution", type=float, default=None, metavar="M",
-                   help="lateral resolution [m] (wavelength passed at 50 %% amplitude) of inputs "
-                        "given on the command line whose file does not carry one")
+    p.add_argument(
+        "--resolution",
+        type=float,
+        default=None,
+        metavar="M",
+        help="lateral resolution [m] (wavelength passed at 50 %% amplitude) of inputs "
+        "given on the command line whose file does not carry one",
+    )
     p.add_argument("--no-figures", action="store_true", help="skip combine.png")
     add_scan_options(p)
