@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pipelines.checks.run_warnings import note
 from pipelines.output.job_result import returns_job_result
+from pipelines.settings.option_docs import document_options
 from roadscan.errors import InputError
 
 if TYPE_CHECKING:  # numpy's typing only for checkers: the command's --help stays light
@@ -23,6 +24,7 @@ __all__ = ["batch", "summary_line"]
 
 
 @returns_job_result("batch")
+@document_options()
 def batch(
     inputs: Any,
     out: str | os.PathLike[str],
@@ -73,85 +75,7 @@ def batch(
     out : str or os.PathLike
         The campaign folder: ``out/<stem>/`` per input, ``out/campaign.csv``,
         ``out/report.html``.
-    spacing : float or str or tuple[float, float] or None, default None
-        ``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or
-        5e-5,6e-5).
-    units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--units``: units of the heights in files that carry no units, and of the x (and y)
-        columns of text files without unit titles (default m).
-    x_units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--x-units``: units of the x (and y) columns of an x,z or x,y,z text file without unit
-        titles, when they differ from --units (e.g. x in m, heights in mm).
-    override_calibration : bool, default False
-        ``--override-calibration``: let --spacing/--units replace the spacing/units a file
-        carries (X3P, vendor, .npz with dx/dy..; refused otherwise); recorded as
-        calibration_override in summary.json.
-    channel : int or str or None, default None
-        ``--channel``: page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or
-        channel of an instrument file with several (index from 0 or name); recorded in
-        summary.json.
-    window_alpha : float, default 0.25
-        ``--window-alpha``: Tukey window alpha (default 0.25).
-    fit_band : tuple[float, float] or str or None, default None
-        ``--fit-band``: self-affine fit band [1/m] (default: detected).
-    despike : bool, default False
-        ``--despike``: mark spikes as unmeasured before levelling.
-    mpd_spike_alpha : float or None, default None
-        ``--mpd-spike-alpha``: MPD spike criterion |dh| >= ALPHA x sampling interval (ISO
-        13473-1 default 3; CAPTIF uses 6 on chip seals, whose stone edges are steep).
-    resolution : float or None, default None
-        ``--resolution``: the instrument's lateral resolution [m] (wavelength passed at 50 %
-        amplitude; default: the file's metadata): the reliable band ends where it still passes
-        80 %.
-    direction : Literal['x', 'y'], default 'x'
-        ``--direction``: driving direction of an area scan for the ISO 13473-4 texture spectrum
-        (lines along it are analysed; default x).
-    friction_measurement : str or None, default None
-        ``--friction-measurement``: friction F measured at slip speed SPEED km/h (e.g. 0.45@30):
-        with --ifi-constants gives the IFI F60 of ASTM E1960.
-    ifi_constants : str or None, default None
-        ``--ifi-constants``: the friction device's IFI calibration constants (ASTM E1960; C
-        multiplies MPD in mm, default 0).
-    form : Literal['plane', 'poly2', 'poly3'], default 'plane'
-        ``--form``: form removed before the roughness figures: least-squares plane (default), or
-        polynomial of degree 2 or 3 (ISO 25178-2 F-operator).
-    s_filter : float or None, default None
-        ``--s-filter``: S-filter nesting index [m]: Gaussian low-pass removing scales below it
-        (ISO 16610-61 / -21, 50 % transmission at M) before the roughness figures.
-    l_filter : float or None, default None
-        ``--l-filter``: L-filter nesting index [m]: Gaussian high-pass removing scales above it
-        (waviness), e.g. 0.008; the spectrum and friction stay unfiltered.
-    rubber : str or os.PathLike[str] or Any or None, default None
-        ``--rubber``: rubber model, friction/RUBBER_TOML.md (default: the thesis's standard
-        linear solid, T_ref = 60 C).
-    sigma0 : float or str, default 200000.0
-        ``--sigma0``: nominal contact pressure sigma0 = load / nominal area, with a unit:
-        0.3MPa, 300kPa, 3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0
-        in P(q) (default 0.2MPa).
-    temperature : float or None, default None
-        ``--temperature``: background temperature T0 [C] (default: the rubber's reference
-        temperature).
-    flash : bool, default False
-        ``--flash``: flash-temperature model (Persson 2006).
-    velocities : ArrayLike or str or None, default None
-        ``--velocities``: N log-spaced sliding speeds [m/s] from LO to HI, or a list V1,V2,..
-        (e.g. another program's table; default 1e-4:1e2:61, where tyres slide).
-    q0 : float or None, default None
-        ``--q0``: lower end of the friction integrals [1/m], inside the spectrum (default: its
-        lowest wave vector).
-    q1 : float or None, default None
-        ``--q1``: upper end of the friction integrals [1/m]; beyond the Nyquist wave vector the
-        spectrum is extended by its self-affine fit.
-    contact_gamma : float or None, default None
-        ``--contact-gamma``: Persson's S(q) = G + (1 - G) P(q)^2 in the dissipation integrand
-        (mu = 1/2 int q^3 C S P M dq); 0 <= G <= 1, e.g. 0.5 (default: off, S = 1).
-    nu : float, default 0.5
-        ``--nu``: Poisson ratio of the rubber, 0 <= nu <= 0.5 (default 0.5).
-    extrapolate : Literal['powerlaw', 'hold'], default 'powerlaw'
-        ``--extrapolate``: master curve beyond its measured frequencies: powerlaw (E' held, E''
-        continues as the power law of its last decade; default) or hold (both held).
-    no_friction : bool, default False
-        ``--no-friction``: skip mu(v).
+    {options}
 
     figures : bool, default False
         ``--figures``: also write each scan's PNG figures.

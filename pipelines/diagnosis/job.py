@@ -18,6 +18,7 @@ from pipelines.settings.friction import (
     run_checks,
     with_extrapolation,
 )
+from pipelines.settings.option_docs import document_options
 from pipelines.settings.scan_input import load_scan
 from roadscan.errors import InputError
 
@@ -91,7 +92,18 @@ def add_diagnose_options(p):
     p.set_defaults(sigma0=None)  # None: not given (the default 0.2MPa is then listed as assumed)
 
 
+#: what this job's options mean where it narrows the shared text
+_OPTION_TEXT = {
+    "psd": ("``--psd``: spectrum CSV q_per_m,C_m4 (instead of --scan)."),
+    "q1": (
+        "``--q1``: upper end (cut-off) of the friction integrals [1/m]; above the spectrum's last "
+        "point C(q) continues as its fitted power law (default: the last point)."
+    ),
+}
+
+
 @returns_job_result("diagnose")
+@document_options(overrides=_OPTION_TEXT)
 def diagnose(
     out: str | os.PathLike[str],
     *,
@@ -136,76 +148,7 @@ def diagnose(
     ----------
     out : str or Path
         Output folder, as ``--out``.
-    measured : str or os.PathLike[str] or None, default None
-        ``--measured``: measured mu(v): CSV v_m_per_s,mu[,T0_C,sigma0_Pa,condition] (friction
-        level); without it the scan itself is diagnosed (surface level).
-    scan : str or os.PathLike[str] or None, default None
-        ``--scan``: height file (area scan or line profile).
-    psd : str or os.PathLike[str] or None, default None
-        ``--psd``: spectrum CSV q_per_m,C_m4 (instead of --scan).
-    rubber : str or os.PathLike[str] or Any or None, default None
-        ``--rubber``: rubber model, friction/RUBBER_TOML.md (default: the thesis's standard
-        linear solid, T_ref = 60 C).
-    master_curve : str or os.PathLike[str] or None, default None
-        ``--master-curve``: master curve CSV: f [Hz], E_stor, E_loss (units line 'Hz, MPa, MPa'
-        or header E_stor_MPa; default Pa) at --reference-temperature.
-    shift_table : str or os.PathLike[str] or None, default None
-        ``--shift-table``: with --master-curve: shift factors, columns T_C and aT (linear) or
-        log10_aT; or one row of WLF constants C1,C2_K,T_s_C.
-    reference_temperature : float or None, default None
-        ``--reference-temperature``: with --master-curve: the temperature of the master curve
-        T_ref [C] (default: where the shift table has aT = 1).
-    sigma0 : float or str, default None
-        ``--sigma0``: nominal contact pressure sigma0 = load / nominal area, with a unit:
-        0.3MPa, 300kPa, 3e5Pa; a bare number is Pa (>= 1 kPa). The engine uses (1 - nu^2) sigma0
-        in P(q) (default 0.2MPa).
-    temperature : float or None, default None
-        ``--temperature``: background temperature T0 [C] (default: the rubber's reference
-        temperature).
-    q0 : float or None, default None
-        ``--q0``: lower end of the friction integrals [1/m], inside the spectrum (default: its
-        lowest wave vector).
-    q1 : float or None, default None
-        ``--q1``: upper end (cut-off) of the friction integrals [1/m]; above the spectrum's last
-        point C(q) continues as its fitted power law (default: the last point).
-    contact_gamma : float or None, default None
-        ``--contact-gamma``: Persson's S(q) = G + (1 - G) P(q)^2 in the dissipation integrand
-        (mu = 1/2 int q^3 C S P M dq); 0 <= G <= 1, e.g. 0.5 (default: off, S = 1).
-    nu : float, default 0.5
-        ``--nu``: Poisson ratio of the rubber, 0 <= nu <= 0.5 (default 0.5).
-    extrapolate : Literal['powerlaw', 'hold'], default 'powerlaw'
-        ``--extrapolate``: master curve beyond its measured frequencies: powerlaw (E' held, E''
-        continues as the power law of its last decade; default) or hold (both held).
-    noise : float or None, default None
-        ``--noise``: measurement noise as rms of log10 (default: estimated from the data).
-    validate : str or os.PathLike[str] or None, default None
-        ``--validate``: a separate measurement predicted by the corrected model without
-        refitting.
-    uncertain : str or None, default None
-        ``--uncertain``: inputs known only within a range, calibrated on the training points:
-        q1=LO:HI [1/m] (q1=known: q1 fixed), sigma0=LO:HI (units as --sigma0), psd_scale=LO:HI
-        (factor on C(q)), temperature=LO:HI [C]; any subset.
-    measurements : str or os.PathLike[str] or None, default None
-        ``--measurements``: several measurements at once: CSV
-        measured,rubber,label[,temperature_C,sigma0_Pa] (paths relative to M.csv); q1, psd_scale
-        and sigma0 shared.
-    spacing : float or str or tuple[float, float] or None, default None
-        ``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or
-        5e-5,6e-5).
-    units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--units``: units of the heights in files that carry no units, and of the x (and y)
-        columns of text files without unit titles (default m).
-    x_units : Literal['m', 'mm', 'um', 'nm'] or None, default None
-        ``--x-units``: units of the x (and y) columns of an x,z or x,y,z text file without unit
-        titles, when they differ from --units (e.g. x in m, heights in mm).
-    override_calibration : bool, default False
-        ``--override-calibration``: let --spacing/--units replace the spacing/units a file
-        carries (X3P, vendor, .npz with dx/dy..; refused otherwise); recorded as
-        calibration_override in summary.json.
-    channel : int or str or None, default None
-        ``--channel``: page of a multi-page TIFF, colour channel of an RGB/stack TIFF, or
-        channel of an instrument file with several (index from 0 or name); recorded in
-        summary.json.
+    {options}
 
     Returns
     -------

@@ -21,6 +21,25 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 #: option name -> what it is, its unit and what its default means (the flag named first)
 OPTION_TEXT: dict[str, str] = {
+    # roadscan batch's own
+    "figures": "``--figures``: also write each scan's PNG figures.",
+    "workers": (
+        "``--workers``: a local Dask cluster of this many worker processes, one thread each "
+        "(default: one per core)."
+    ),
+    "scheduler": (
+        "``--scheduler``: address ``tcp://HOST:PORT`` of an existing dask.distributed cluster "
+        "(files must be readable, and ``out`` writable, under the same paths on every worker)."
+    ),
+    "resume": ("``--resume``: skip inputs whose outputs exist and whose input and options are unchanged."),
+    "section_length": (
+        "``--section-length``: cut long line profiles into sections of this length [m] along "
+        "chainage, one row each (MPD per ISO 13473-1, PSD, H, rms per section)."
+    ),
+    "columns": (
+        "``--columns``: the columns of campaign.csv after ``file,label,chainage_m,status,error``, "
+        "names or patterns, comma separated (e.g. ``mpd_m,mpd_valid,roughness.S*``; default all)."
+    ),
     "no_figures": "``--no-figures``: no PNG figures (and none in report.html) when written.",
     "spacing": (
         "``--spacing``: grid spacing in metres for formats that do not carry it (e.g. 5.54e-5 or 5e-5,6e-5)."
