@@ -190,11 +190,12 @@ def friction_provenance(an, spec, psd, fr, settings, rubber, name=None):
         q1_per_m=psd.q1_per_m,
         units_from_file=mp.units_from_file(an.source),
     )
+    who = f"{name}: " if name else ""  # a scan in memory has no name: no empty prefix
     if cause is not None:
-        validate.warn(f"{name}: {cause}")
+        validate.warn(f"{who}{cause}")
     edge = mp.edge_warning(fr.v_m_per_s, fr.mu)
     if edge is not None:
-        validate.warn(f"{name}: {edge}")
+        validate.warn(f"{who}{edge}")
     return fr, info
 
 

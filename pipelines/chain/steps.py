@@ -373,12 +373,12 @@ def scan_friction(an, rb, settings, fit=None, v_m_per_s=None, name=None):
     if band and band.get("slope_cut"):
         from pipelines.chain.cutoff import cut_warning
 
-        warn(f"{name}: {cut_warning(psd.q1_per_m, **band['slope_cut'])}")
+        warn(f"{name + ': ' if name else ''}{cut_warning(psd.q1_per_m, **band['slope_cut'])}")
     from pipelines.chain.cutoff import q1_rule
 
     rule = (band or {}).get("q1_rule") or q1_rule(rb, settings)  # why q1 is where it is
     if refused is not None:
-        warn(f"{name}: {refused}")
+        warn(f"{name + ': ' if name else ''}{refused}")
         label = rubber_label(settings.rubber, settings.sigma0_Pa, settings.T0_C)
         return FrictionOutcome(
             None, psd, band, {"refused": refused, "rubber": label, "rms_slope_band": slope, "q1_rule": rule}
