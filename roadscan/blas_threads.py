@@ -19,9 +19,7 @@ OpenBLAS, ``openblas_set_num_threads`` / ``openblas_get_num_threads`` (OpenBLAS 
 from __future__ import annotations
 
 import contextlib
-import ctypes
 import functools
-import glob
 import os
 from collections.abc import Iterator
 
@@ -39,6 +37,8 @@ _NAMES = (
 @functools.lru_cache(maxsize=1)
 def _openblas_functions():
     """(get, set) of the OpenBLAS bundled with numpy, or None."""
+    import ctypes  # loaded only when the BLAS is searched for
+    import glob
 
     import numpy
 

@@ -13,7 +13,6 @@ Every problem with an input raises :class:`roadscan.errors.InputError` naming th
 
 from __future__ import annotations
 
-import inspect
 from pathlib import Path
 
 from ..errors import InputError
@@ -137,6 +136,8 @@ def read(path, spacing=None, units=None, calibration="strict", channel=None, x_u
 
 def _channel_option(path, reader, channel):
     """``channel`` as an int when it is a number; refused for readers without channels."""
+
+    import inspect  # only when a reader is asked for a channel: keeps `import roadscan.io` light
 
     if "channel" not in inspect.signature(reader).parameters:
         raise InputError(

@@ -27,7 +27,6 @@ SurfaceTopography (MIT); the file formats are documented in its ``SurfaceTopogra
 from __future__ import annotations
 
 import warnings
-from importlib import metadata
 from pathlib import Path
 
 from ..errors import InputError
@@ -123,6 +122,7 @@ def vendor_version():
     -------
     str or None
     """
+    from importlib import metadata  # 30 ms of every read: only when a report asks for it
 
     try:
         return metadata.version("SurfaceTopography")
