@@ -102,9 +102,9 @@ def rubber_from_args(args):
 
 def _rubber_object(rubber):
     """A rubber model given as an object (``friction.thesis_rubber()``, a master curve...):
-    used as it is when it has the modulus the engine evaluates, ``E(omega, T)``; else a
+    used as it is when it has the method the engine evaluates, ``modulus(omega, T)``; else a
     one-line InputError naming ``--rubber``."""
-    if not callable(getattr(rubber, "modulus", None)) and not callable(getattr(rubber, "E", None)):
+    if not callable(getattr(rubber, "modulus", None)):
         raise InputError(
             None,
             f"--rubber: {type(rubber).__name__} is neither a rubber file nor a "
