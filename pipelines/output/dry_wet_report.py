@@ -119,7 +119,12 @@ def dry_wet_figures(out_dir, name, r, v, mu_dry, mu_wet, wf=None):
                 ("film left after the dwell time (≥ 1 nm shown)", v, film, "o-"),
                 ("mean separation u after the dwell time", v, wf.separation_m * 1e3),
                 ("separation of the dry contact", v, wf.separation_dry_m * 1e3, "--"),
-                ("texture height 3 h_rms: contact lost above", v, np.full(v.shape, tex * 1e3), ":"),
+                (
+                    "texture height 3 h_rms: contact lost once the film left rises above it",
+                    v,
+                    np.full(v.shape, tex * 1e3),
+                    ":",
+                ),
             ],
             out_dir / "film_left.png",
             title=f"{name}: water film under a tread block",
