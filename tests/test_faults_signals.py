@@ -204,3 +204,28 @@ def test_campaign_interrupted_while_the_cluster_starts_or_runs(work, sig, delay,
     assert p.returncode == 128 + sig, (p.returncode, err)
     assert "Traceback" not in err and err.strip().count("\n") == 0 and "interrupted" in err, err
     assert hidden_leftovers(work) == []
+
+
+@pytest.mark.parametrize("own", [True, False], ids=["command", "library"])
+def test_a_signal_after_the_work_finished_keeps_the_exit_code(own):
+    """Once the command's outputs are in place (``work_finished``), a SIGINT has nothing left
+    to stop: the command ends with its own code. A program that did not hand its process to
+    the command (a notebook calling ``main(argv)``) keeps Python's KeyboardInterrupt."""
+    import sys
+
+    code = (
+        "import os, signal, sys, time\n"
+        "from pipelines.cli.signals import own_the_process, work_finished\n"
+        f"{'own_the_process()' if own else 'pass'}\n"
+        "work_finished()\n"
+        "os.kill(os.getpid(), signal.SIGINT)\n"
+        "time.sleep(0.2)\n"
+        "sys.exit(3)\n"
+    )
+    r = subprocess.run(
+        [sys.executable, "-c", code], env=cli_env(), capture_output=True, text=True, timeout=60
+    )
+    if own:
+        assert r.returncode == 3 and r.stderr == "", (r.returncode, r.stderr)
+    else:
+        assert r.returncode != 3 and "KeyboardInterrupt" in r.stderr, (r.returncode, r.stderr)

@@ -211,11 +211,21 @@ def _numpy_warning_line(caught):
 
 def main(argv=None):
     """Run one command; SIGTERM/SIGHUP/SIGINT at any moment: one line, exit 128 + signal."""
-    from pipelines.cli.signals import after_interrupt, exit_code, received, signal_name, signals_as_interrupt
+    from pipelines.cli.signals import (
+        after_interrupt,
+        exit_code,
+        own_the_process,
+        received,
+        signal_name,
+        signals_as_interrupt,
+        work_finished,
+    )
 
     global _ARGV
     _ARGV = list(sys.argv[1:] if argv is None else argv)
     cmd = "roadscan"
+    if argv is None:  # the real command line: this process is the command's own
+        own_the_process()
     try:
         with signals_as_interrupt(restore=argv is not None):
             parser = build_parser()
@@ -224,8 +234,7 @@ def main(argv=None):
             rc = _main(args, cmd)
             if received():  # a library swallowed the interruption: never exit 0
                 raise KeyboardInterrupt
-            if argv is None:  # the real command line, its work done and its outputs in place
-                _late_signals_end_with(rc)
+            work_finished()  # the real command line, its work done and its outputs in place
             return rc
     except KeyboardInterrupt as exc:  # Ctrl-C, SIGTERM, SIGHUP (pipelines.cli.signals)
         code = exit_code(exc)
@@ -236,27 +245,6 @@ def main(argv=None):
         return code
     finally:
         _ARGV = None
-
-
-def _late_signals_end_with(rc):
-    """After the command's work (every output written and in place), a stop signal that arrives
-    while the interpreter shuts down (Dask's, the figure helper's and atexit's clean-up) ends the
-    process at once with the command's own exit code, instead of an interruption traceback or a
-    death by the signal after the work succeeded."""
-    import signal
-
-    def end(signum, frame):
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError):
-                pass
-        os._exit(rc)
-
-    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
-        sig = getattr(signal, name, None)
-        if sig is not None and signal.getsignal(sig) != signal.SIG_IGN:
-            signal.signal(sig, end)
 
 
 def _main(args, cmd):

@@ -29,6 +29,8 @@ __all__ = [
     "signal_name",
     "after_interrupt",
     "exit_early_on_signals",
+    "own_the_process",
+    "work_finished",
 ]
 
 #: signals turned into :class:`Terminated` (SIGINT keeps Python's KeyboardInterrupt)
@@ -239,3 +241,50 @@ def exit_early_on_signals(prog="roadscan"):
         with contextlib.suppress(OSError, ValueError):
             if signal.getsignal(sig) != signal.SIG_IGN:
                 signal.signal(sig, _early)
+
+
+#: whether this process is the ``roadscan`` command itself (set by its ``main`` when it reads
+#: the real command line); a program calling ``main(argv)`` keeps its own signal handling
+_OWN = {"process": False}
+
+
+def own_the_process():
+    """Mark this process as the command line's own: :func:`work_finished` may then change how
+    it answers stop signals until it exits. Also, at exit (an :mod:`atexit` hook registered
+    first, so run after every library's own), stop signals are ignored: Python's shutdown puts
+    the default action back for every signal that had a Python handler, and a signal in that
+    last window would kill the process with -signal instead of its own exit code.
+
+    Returns
+    -------
+    None
+    """
+    import atexit
+
+    if not _OWN["process"]:
+        _OWN["process"] = True
+        atexit.register(_ignore_stop_signals)
+
+
+def _ignore_stop_signals():
+    if threading.current_thread() is not threading.main_thread():
+        return
+    for sig in CAUGHT + (signal.SIGINT,):
+        with contextlib.suppress(OSError, ValueError):
+            if signal.getsignal(sig) != signal.SIG_IGN:
+                signal.signal(sig, signal.SIG_IGN)
+
+
+def work_finished():
+    """The command's outputs are complete and in place: from now on SIGINT, SIGTERM and SIGHUP
+    are ignored, and the command ends with its own exit code after saying its warnings and
+    closing its helpers (a stop request then has nothing left to stop: reporting
+    "interrupted", or dying by the signal, would deny outputs that exist). Does nothing unless
+    :func:`own_the_process` was called (a program calling ``main(argv)``, a test).
+
+    Returns
+    -------
+    None
+    """
+    if _OWN["process"]:
+        _ignore_stop_signals()

@@ -30,6 +30,7 @@ def add_arguments(p):
 def run(args):
     kw = analysis_kwargs(args)
     settings = settings_from_args(args)
+    from pipelines.cli.signals import work_finished
     from pipelines.output.figure_process import figure_drawer
     from roadscan.io.atomic import atomic_output_dir, check_output_dir
 
@@ -42,6 +43,7 @@ def run(args):
         many = len(scans) > 1
         with atomic_output_dir(out, inputs=args.files) as tmp:  # all outputs or none
             rows = _analyse_all(args, scans, tmp, out, many, settings, kw, drawer)
+        work_finished()  # every output in place: a stop request now has nothing left to stop
     for _, said in scans:  # said once the outputs that carry them are in place
         said.print_all()
     if many:
