@@ -11,8 +11,12 @@ Conventions (docs: Theory)
   The thesis's eq 3.7, ``E(omega, T) = E(omega aT(T), T0)`` ("literal" form), is available to the
   friction engine through :func:`log10_shift`.
 
+The shift factors themselves, :class:`WLF` and :class:`ShiftTable`, live in
+``friction._shift_factors`` and are re-exported here.
+
 References: B.N.J. Persson, J. Chem. Phys. 115 (2001) 3840; the thesis (seeds/000), eqs 2.4, 3.7.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -21,100 +25,30 @@ from typing import Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["WLF", "ShiftTable", "Thermal", "StandardLinearSolid", "Prony", "MasterCurve",
-           "thesis_rubber", "log10_shift", "EXTRAPOLATE"]
+from ._shift_factors import WLF, ShiftTable
+
+__all__ = [
+    "WLF",
+    "ShiftTable",
+    "Thermal",
+    "StandardLinearSolid",
+    "Prony",
+    "MasterCurve",
+    "thesis_rubber",
+    "log10_shift",
+    "EXTRAPOLATE",
+]
 
 EXTRAPOLATE = ("powerlaw", "hold")  # MasterCurve beyond its measured frequencies
 
 
-# --------------------------------------------------------------------------- shift factors
-@dataclass(frozen=True)
-class WLF:
-    """Williams-Landel-Ferry shift factor.
-
-    Standard form (``T_g_C=None``): ``log10 aT = -C1 (T - T_s) / (C2 + T - T_s)``.
-    Thesis form (``T_g_C`` given): ``log10 aT = -C1 (T - T_s) / (C2 + T - T_g)``; the thesis uses
-    ``log10 aT = -8.86 (T - Tg - 50) / (51.5 + T - Tg)`` with Tg = -30 C, T_s = Tg + 50 = 20 C, so
-    that aT(60 C) = 10^-2.504. This equals a standard WLF with ``C2 + T_s - T_g`` (101.5 K) in
-    place of C2. :meth:`thesis` builds it. Where the denominator vanishes (far below T_s) it is
-    clipped at 1e-3 K.
-
-    Parameters
-    ----------
-    C1 : float
-        Dimensionless constant.
-    C2_K : float
-        Constant [K].
-    T_s_C : float
-        Temperature where aT = 1 [C].
-    T_g_C : float, optional
-        Glass temperature of the thesis form [C].
-
-    References
-    ----------
-    M.L. Williams, R.F. Landel, J.D. Ferry, J. Am. Chem. Soc. 77, 3701 (1955),
-    doi:10.1021/ja01619a008.
-    """
-
-    C1: float = 8.86
-    C2_K: float = 51.5
-    T_s_C: float = 20.0
-    T_g_C: float | None = None
-
-    @classmethod
-    def thesis(cls, T_g_C: float = -30.0) -> WLF:
-        """The thesis's WLF: C1 = 8.86, C2 = 51.5 K, T_s = Tg + 50, denominator at Tg."""
-        return cls(8.86, 51.5, T_g_C + 50.0, T_g_C)
-
-    def log10_aT(self, T_C: ArrayLike) -> NDArray[np.float64]:
-        """log10 aT(T) = -C1 (T - T_s) / (C2 + T - T_d), T_d = T_g if given else T_s [T in C]."""
-        T = np.asarray(T_C, dtype=float)
-        Td = self.T_s_C if self.T_g_C is None else self.T_g_C
-        return -self.C1 * (T - self.T_s_C) / np.maximum(self.C2_K + T - Td, 1e-3)
-
-
-@dataclass(frozen=True, eq=False)
-class ShiftTable:
-    """Tabulated shift factors ``log10 aT(T)``: linear interpolation in T, linear
-    extrapolation from the end segments.
-
-    Parameters
-    ----------
-    T_C : (n,) array
-        Temperatures [C] (any order; sorted internally, must be distinct).
-    log10_aT_values : (n,) array
-        Decimal logarithm of the shift factor at each temperature.
-    """
-
-    T_C: np.ndarray
-    log10_aT_values: np.ndarray
-
-    def __post_init__(self):
-        T = np.asarray(self.T_C, dtype=float)
-        a = np.asarray(self.log10_aT_values, dtype=float)
-        if T.ndim != 1 or T.shape != a.shape or T.size < 2:
-            raise ValueError("ShiftTable needs two 1D arrays of equal length >= 2")
-        if not (np.all(np.isfinite(T)) and np.all(np.isfinite(a))):
-            raise ValueError("ShiftTable values must be finite")
-        o = np.argsort(T)
-        if np.any(np.diff(T[o]) <= 0):
-            raise ValueError("ShiftTable temperatures must be distinct")
-        object.__setattr__(self, "T_C", T[o])
-        object.__setattr__(self, "log10_aT_values", a[o])
-
-    def log10_aT(self, T_C: ArrayLike) -> NDArray[np.float64]:
-        """log10 aT at T [C]: linear interpolation of the table, linear continuation outside."""
-        T = np.asarray(T_C, dtype=float)
-        Tt, at = self.T_C, self.log10_aT_values
-        s0 = (at[1] - at[0]) / (Tt[1] - Tt[0])
-        s1 = (at[-1] - at[-2]) / (Tt[-1] - Tt[-2])
-        y = np.interp(T, Tt, at)
-        y = np.where(T < Tt[0], at[0] + s0 * (T - Tt[0]), y)
-        return np.where(T > Tt[-1], at[-1] + s1 * (T - Tt[-1]), y)
-
-
-def log10_shift(rubber: Rubber, T_C: ArrayLike, wlf_form: Literal["relative", "literal"] = "relative",
-                T0_C: float | None = None) -> NDArray[np.float64]:
+# --------------------------------------------------------------------------- shift of a rubber
+def log10_shift(
+    rubber: Rubber,
+    T_C: ArrayLike,
+    wlf_form: Literal["relative", "literal"] = "relative",
+    T0_C: float | None = None,
+) -> NDArray[np.float64]:
     """Decimal log of the factor multiplying omega in ``E(omega, T) = E_ref(omega * factor)``.
 
     ``relative``: ``log10 aT(T) - log10 aT(T_ref)`` (docs: Theory, default).
@@ -325,8 +259,14 @@ class StandardLinearSolid(Rubber):
     def as_prony(self) -> Prony:
         """The same modulus as a one-term Prony series."""
         b = 1.0 + self.a1
-        return Prony(self.E1_Pa / b, np.array([self.E1_Pa * self.a1 / b]), np.array([self.tau_s / b]),
-                     self.T_ref_C, self.shift, self.thermal)
+        return Prony(
+            self.E1_Pa / b,
+            np.array([self.E1_Pa * self.a1 / b]),
+            np.array([self.tau_s / b]),
+            self.T_ref_C,
+            self.shift,
+            self.thermal,
+        )
 
 
 @dataclass(frozen=True, eq=False)
@@ -410,8 +350,11 @@ class MasterCurve(Rubber):
         l2 = np.interp(xc, lf, np.log(self.E_loss_Pa))
         s_lo, s_hi = self._slopes
         with np.errstate(invalid="ignore"):
-            l2 = (l2 + np.where(x < lf[0], s_lo * (x - lf[0]), 0.0)
-                  + np.where(x > lf[-1], s_hi * (x - lf[-1]), 0.0))
+            l2 = (
+                l2
+                + np.where(x < lf[0], s_lo * (x - lf[0]), 0.0)
+                + np.where(x > lf[-1], s_hi * (x - lf[-1]), 0.0)
+            )
         with np.errstate(over="ignore", invalid="ignore"):
             El = np.where(w > 0, np.exp(l2), 0.0)
         return Es + 1j * El
