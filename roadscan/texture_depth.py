@@ -162,13 +162,13 @@ def short_segment_depth(obj, **settings):
 
 
 def _valid_counts(obj, alpha, settings):
-    from . import roughness
+    from . import _mean_profile_depth as iso13473
 
     cfg = dict(settings, spike_alpha=alpha)
     if isinstance(obj, HeightMap):
-        res = roughness._segment_depths_by_bands(obj, cfg)
+        res = iso13473._segment_depths_by_bands(obj, cfg)
     else:
-        res = roughness.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **cfg)
+        res = iso13473.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **cfg)
     return int(res["valid"].sum()), int(res["valid"].size)
 
 
@@ -321,18 +321,18 @@ def mpd_segments(obj, **settings):
     **settings
         Overrides of the ISO 13473-1 settings.
     """
-    from . import roughness
+    from . import _mean_profile_depth as iso13473
 
     try:
         if isinstance(obj, HeightMap):
-            res = roughness._segment_depths_by_bands(obj, settings)
+            res = iso13473._segment_depths_by_bands(obj, settings)
             what, length = f"{obj.ny} rows", obj.nx * obj.dx_m
         else:
-            res = roughness.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **settings)
+            res = iso13473.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **settings)
             what, length = "a profile", obj.length_m
     except ValueError:
         return None
-    _, note = roughness._summarise(res, what)
+    _, note = iso13473._summarise(res, what)
     return MpdSegments(res, note, length)
 
 
@@ -361,22 +361,22 @@ def mpd_and_segments(obj, **settings):
     ----------
     ISO 13473-1:2019.
     """
-    from . import roughness
+    from . import _mean_profile_depth as iso13473
 
     is_map = isinstance(obj, HeightMap)
     if not is_map and not isinstance(obj, Profile):
         raise TypeError(f"expected HeightMap or Profile, got {type(obj).__name__}")
     try:
         if is_map:
-            res = roughness._segment_depths_by_bands(obj, settings)
+            res = iso13473._segment_depths_by_bands(obj, settings)
         else:
-            res = roughness.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **settings)
+            res = iso13473.segment_depths(obj.heights_m, obj.dx_m, obj.unmeasured, **settings)
         err = None
     except ValueError as e:
         res, err = None, e
     if is_map:
         L = obj.nx * obj.dx_m
-        seg = settings.get("segment_m", roughness.MPD_SETTINGS["segment_m"])
+        seg = settings.get("segment_m", iso13473.MPD_SETTINGS["segment_m"])
         what, length = f"{obj.ny} rows", L
         if L < seg * (1 - 1e-9):
             mpd, note = (
@@ -389,13 +389,13 @@ def mpd_and_segments(obj, **settings):
         elif res is None:
             mpd, note = None, f"no MPD: {err}"
         else:
-            mpd, note = roughness._summarise(res, f"{obj.ny} rows of {roughness._size(L)}")
+            mpd, note = iso13473._summarise(res, f"{obj.ny} rows of {iso13473._size(L)}")
     else:
         what, length = "a profile", obj.length_m
         if res is None:
             mpd, note = None, f"no MPD: {err}"
         else:
-            mpd, note = roughness._summarise(res, f"a {roughness._size(obj.length_m)} profile")
+            mpd, note = iso13473._summarise(res, f"a {iso13473._size(obj.length_m)} profile")
     if res is None:
         return mpd, note, None
-    return mpd, note, MpdSegments(res, roughness._summarise(res, what)[1], length)
+    return mpd, note, MpdSegments(res, iso13473._summarise(res, what)[1], length)
