@@ -24,7 +24,11 @@ errors, and refuses to replace a file the running command has read
 (:mod:`roadscan.io.overwrite_guard`). Two runs writing the same target at once both finish:
 each locks its own temporary folder (``flock``), so the other's clean-up leaves it alone, and
 the target ends up holding one complete set, the last one swapped in.
+
+The one-file level (:func:`atomic_path` and its writers, :func:`through_link`,
+:func:`final_name`) lives in ``roadscan.io._atomic_file`` and is re-exported here.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -33,222 +37,52 @@ import os
 import random
 import shutil
 import string
-import tempfile
 import time
 from pathlib import Path
 
 from ..errors import InputError
+from ._atomic_file import (
+    _dir_mode,
+    _named,
+    atomic_path,
+    atomic_save_npy,
+    atomic_write_bytes,
+    atomic_write_text,
+    file_mode,
+    final_name,
+    through_link,
+)
 from .folder_swap import OLD_TAG, TMP_TAG, _hold, _in_use, _leftovers, _swap_in, recover_output_dir
 from .output_folder import OUTPUT_MARKERS, OUTPUT_SUFFIXES, check_output_dir  # noqa: F401 (re-exported)
 from .overwrite_guard import check_not_read
 
-__all__ = ["atomic_path", "atomic_write_text", "atomic_write_bytes", "atomic_save_npy",
-           "atomic_output_dir", "atomic_file_set", "check_output_dir", "file_mode", "TMP_TAG", "OLD_TAG",
-           "through_link", "final_name"]
-
-
-def through_link(path):
-    """The path a write to ``path`` should replace: where a symbolic link points (followed to
-    the end, a dangling link's target included), else ``path`` itself. A link loop is refused
-    (:class:`InputError`): writing "through" it has no meaning.
-
-    Parameters
-    ----------
-    path : str or Path
-        The output path.
-
-    Returns
-    -------
-    Path
-        The path that will be replaced.
-    """
-    path = Path(path)
-    if not os.path.islink(path):
-        return path
-    try:
-        return Path(path.resolve(strict=False))
-    except (RuntimeError, OSError):       # Python 3.11: RuntimeError on a loop
-        raise InputError(path, "is a symbolic link loop; name another output") from None
-
-
-def final_name(path):
-    """Where a file being written inside a temporary output folder ends up
-    (``.out.roadscan-tmp-ab12/psd.csv`` -> ``out/psd.csv``), for messages.
-
-    Parameters
-    ----------
-    path : str or Path
-        A path inside a temporary output folder.
-
-    Returns
-    -------
-    Path
-        Its final name.
-    """
-    parts = list(Path(path).parts)
-    for i, part in enumerate(parts):
-        if part.startswith(".") and TMP_TAG in part:
-            parts[i] = part[1:].split(TMP_TAG, 1)[0]
-    return Path(*parts) if parts else Path(path)
-
-
-def _in_tmp_folder(path):
-    return any(part.startswith(".") and TMP_TAG in part for part in Path(path).parent.parts)
-
-
-def _named(exc, path):
-    """``exc`` as an OSError naming ``path`` when it names no file (a full disk, a quota, an
-    I/O error raised by ``write``): "No space left on device" then says where."""
-    if getattr(exc, "filename", None) or not isinstance(exc, OSError) or exc.errno is None:
-        return exc
-    named = OSError(exc.errno, exc.strerror or str(exc), str(path))
-    named.__cause__ = exc
-    return named
-
-
-def file_mode():
-    """Permission bits of a newly created file under the current umask (``0o666 & ~umask``).
-
-    Parameters
-    ----------
-    None
-
-    Returns
-    -------
-    int
-        Permission bits.
-    """
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o666 & ~mask
-
-
-def _dir_mode():
-    mask = os.umask(0)
-    os.umask(mask)
-    return 0o777 & ~mask
-
-
-@contextlib.contextmanager
-def atomic_path(path, suffix=None):
-    """Yield a temporary path beside ``path``; rename it onto ``path`` on success.
-
-    The temporary file keeps the final suffix (writers that pick a format from the
-    extension still work) and gets mode ``0o666 & ~umask``. On an exception it is removed.
-
-    Parameters
-    ----------
-    path : str or Path
-        The final file.
-    suffix : str, optional
-        Suffix of the temporary file (default: that of ``path``).
-
-    Yields
-    ------
-    Path
-        The temporary path to write.
-
-    Returns
-    -------
-    contextlib.AbstractContextManager
-        Use with ``with``; the block receives the temporary path.
-    """
-    shown = Path(path)
-    path = through_link(shown)
-    if path.is_dir():
-        raise InputError(shown, "is a directory, cannot write a file there")
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        # the stem cut to 100 characters: a legal 255-character name keeps a legal temporary one
-        fd, tmp = tempfile.mkstemp(prefix=f".{path.stem[:100]}.", suffix=suffix or path.suffix,
-                                   dir=path.parent)
-    except OSError as exc:          # the name the user gave, not the hidden temporary one
-        raise OSError(exc.errno, exc.strerror or str(exc), str(final_name(shown))) from None
-    try:
-        os.fchmod(fd, file_mode())
-    finally:
-        os.close(fd)
-    try:
-        yield Path(tmp)
-        if not _in_tmp_folder(path):
-            check_not_read([path], option=None, exclude=tmp)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
-        if isinstance(exc, OSError) and not isinstance(exc, InputError):
-            raise _named(exc, final_name(shown)) from None
-        raise
-
-
-def atomic_write_text(path, text, encoding="utf-8"):
-    """Write ``text`` to ``path`` through a temporary file renamed into place.
-
-    Parameters
-    ----------
-    path : str or Path
-        Output file.
-    text : str
-        Its content.
-    encoding : str, optional
-        Text encoding.
-
-    Returns
-    -------
-    None
-    """
-    with atomic_path(path) as tmp:
-        tmp.write_text(text, encoding=encoding)
-
-
-def atomic_write_bytes(path, data):
-    """Write ``data`` to ``path`` through a temporary file renamed into place.
-
-    Parameters
-    ----------
-    path : str or Path
-        Output file.
-    data : bytes
-        Its content.
-
-    Returns
-    -------
-    None
-    """
-    with atomic_path(path) as tmp:
-        tmp.write_bytes(data)
-
-
-def atomic_save_npy(path, array):
-    """``numpy.save`` through a temporary file (float64 heights in metres, NaN kept).
-
-    Parameters
-    ----------
-    path : str or Path
-        Output ``.npy`` file.
-    array : ndarray
-        The array.
-
-    Returns
-    -------
-    None
-    """
-    import numpy as np
-
-    with atomic_path(path) as tmp:
-        with open(tmp, "wb") as fh:
-            np.save(fh, np.asarray(array, dtype=np.float64))
+__all__ = [
+    "atomic_path",
+    "atomic_write_text",
+    "atomic_write_bytes",
+    "atomic_save_npy",
+    "atomic_output_dir",
+    "atomic_file_set",
+    "check_output_dir",
+    "file_mode",
+    "TMP_TAG",
+    "OLD_TAG",
+    "through_link",
+    "final_name",
+]
 
 
 # ---------------------------------------------------------------------------- output folders
+
 
 def _make_folder(folder, target, option):
     """Create ``folder`` (the output's parent) or raise a one-line InputError naming ``target``."""
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(None, f"{{{option}}} {target}: cannot create the folder "
-                               f"({exc.strerror or exc})", option) from None
+        raise InputError(
+            None, f"{{{option}}} {target}: cannot create the folder ({exc.strerror or exc})", option
+        ) from None
 
 
 class _Temporary:
@@ -270,15 +104,16 @@ class _Temporary:
         for _ in range(100):
             self.path = Path(folder) / f".{target.name}{TMP_TAG}{''.join(random.choices(letters, k=8))}"
             try:
-                self._made = True         # before the folder exists: see the class docstring
+                self._made = True  # before the folder exists: see the class docstring
                 os.mkdir(self.path, 0o700)
-            except FileExistsError:       # another run's: never ours to remove
+            except FileExistsError:  # another run's: never ours to remove
                 self._made = False
                 continue
             except OSError as exc:
                 self._made = False
-                raise InputError(None, f"{{{option}}} {target}: cannot write there "
-                                 f"({exc.strerror or exc})", option) from None
+                raise InputError(
+                    None, f"{{{option}}} {target}: cannot write there ({exc.strerror or exc})", option
+                ) from None
             self.lock = _hold(self.path)
             return self.path
         raise InputError(None, f"{{{option}}} {target}: cannot make a temporary folder there", option)
@@ -331,7 +166,7 @@ def atomic_output_dir(target, option="out", inputs=()):
     contextlib.AbstractContextManager
         Use with ``with``; the block receives the temporary folder.
     """
-    target = through_link(Path(target))     # a link to a folder: the folder it points to
+    target = through_link(Path(target))  # a link to a folder: the folder it points to
     check_output_dir(target, option, inputs)
     parent = target.parent
     _make_folder(parent, target, option)
@@ -387,8 +222,9 @@ def atomic_file_set(target, option="out"):
         raise InputError(None, f"{{{option}}} {target}: is a folder, need a file name", option)
     for parent in [folder, *folder.parents]:
         if parent.exists() and not parent.is_dir():
-            raise InputError(None, f"{{{option}}} {target}: is below the file {parent}, need a folder",
-                             option)
+            raise InputError(
+                None, f"{{{option}}} {target}: is below the file {parent}, need a folder", option
+            )
     created = [p for p in [folder, *folder.parents] if not p.exists()]
     _make_folder(folder, target, option)
     for old in _leftovers(target, TMP_TAG):
@@ -401,18 +237,19 @@ def atomic_file_set(target, option="out"):
         os.chmod(tmp, _dir_mode())
         yield tmp
         files = sorted(tmp.iterdir())
-        dests = [through_link(folder / p.name) for p in files]   # a link: where it points
+        dests = [through_link(folder / p.name) for p in files]  # a link: where it points
         busy = [d for d in dests if d.is_dir()]
         if busy:
-            raise InputError(None, f"{{{option}}} {target}: {busy[0]} is a folder, cannot write the "
-                                 f"file", option)
+            raise InputError(
+                None, f"{{{option}}} {target}: {busy[0]} is a folder, cannot write the file", option
+            )
         check_not_read(dests, option=option, exclude=tmp)
         for p, dest in zip(files, dests):
             _place(p, dest)
         os.rmdir(tmp)
     except BaseException as exc:
         held.remove(lambda path: shutil.rmtree(path, ignore_errors=True))
-        for d in created:                       # deepest first
+        for d in created:  # deepest first
             with contextlib.suppress(OSError):
                 d.rmdir()
         if isinstance(exc, OSError) and not isinstance(exc, InputError):
