@@ -142,9 +142,9 @@ def test_spacing_and_units_options(formats_dir, maps):
 
 
 def test_size_limit_refuses_before_reading(formats_dir, monkeypatch):
-    from roadscan.io import _common, vendor_channel
+    from roadscan.io import _size_limits, vendor_channel
 
-    monkeypatch.setattr(_common, "_MAX_PIXELS", 1000)
+    monkeypatch.setattr(_size_limits, "_MAX_PIXELS", 1000)
     called = []
     monkeypatch.setattr(vendor_channel, "_check_values", lambda *a: called.append(a))
     with pytest.raises(InputError, match=r"declares 576 x 768 = .*'max_pixels'") as ei:

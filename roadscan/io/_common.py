@@ -11,7 +11,11 @@ Conventions (all readers)
   checked by :mod:`roadscan.io.text_units`.
 - ``spacing`` is ``None``, a number DX (then DY = DX), a pair (DX, DY), or the CLI string
   ``"DX"`` / ``"DX,DY"``, always in metres.
+
+The size limits (largest scan, zip-bomb guard) live in ``roadscan.io._size_limits`` and are
+re-exported here.
 """
+
 from __future__ import annotations
 
 import os
@@ -21,17 +25,41 @@ import numpy as np
 
 from ..errors import InputError, OptionNote
 from ..heightmap import HeightMap, Profile
+from ._size_limits import (
+    check_compression_ratio,
+    check_declared_size,
+    default_max_pixels,
+    get_max_pixels,
+    set_max_pixels,
+)
 
 __all__ = [
-    "UNIT_FACTORS", "parse_units", "unit_factor", "parse_spacing", "resolve_spacing",
-    "check_file", "make_heightmap", "make_profile", "regular_axis", "NO_SPACING",
-    "default_max_pixels", "get_max_pixels", "set_max_pixels", "check_declared_size",
+    "UNIT_FACTORS",
+    "parse_units",
+    "unit_factor",
+    "parse_spacing",
+    "resolve_spacing",
+    "check_file",
+    "make_heightmap",
+    "make_profile",
+    "regular_axis",
+    "NO_SPACING",
+    "default_max_pixels",
+    "get_max_pixels",
+    "set_max_pixels",
+    "check_declared_size",
     "check_compression_ratio",
 ]
 
 #: metres per unit of the heights
 UNIT_FACTORS = {
-    "m": 1.0, "mm": 1e-3, "um": 1e-6, "µm": 1e-6, "μm": 1e-6, "micron": 1e-6, "nm": 1e-9,
+    "m": 1.0,
+    "mm": 1e-3,
+    "um": 1e-6,
+    "µm": 1e-6,
+    "μm": 1e-6,
+    "micron": 1e-6,
+    "nm": 1e-9,
 }
 
 NO_SPACING = OptionNote("no spacing: pass {spacing} DX[,DY] in metres", "spacing")
@@ -83,139 +111,6 @@ def unit_factor(units, path=None, default="m"):
         Metres per unit.
     """
     return parse_units(default if units is None else units, path)
-
-
-# ------------------------------------------------------------------------------ size limits
-#: peak memory of an analysis in float64 copies of the scan (at most 6x; margin 8x)
-PEAK_COPIES = 8
-_MAX_PIXELS = None  # None -> default_max_pixels()
-
-
-def _available_bytes():
-    """Available memory [bytes]: ``MemAvailable`` of /proc/meminfo, else physical pages."""
-    try:
-        with open("/proc/meminfo") as fh:
-            for line in fh:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        return 8 * 1024**3
-
-
-def default_max_pixels():
-    """Largest scan [points] read by default: the available memory over the peak of an analysis,
-    ``MemAvailable / (8 bytes x PEAK_COPIES)`` (about 380 Mpx on a machine with 24 GiB free),
-    never below 4 Mpx.
-
-    Parameters
-    ----------
-    None
-
-    Returns
-    -------
-    int
-        Points.
-    """
-    return max(int(_available_bytes() // (8 * PEAK_COPIES)), 4 * 1024**2)
-
-
-def get_max_pixels():
-    """The current limit [points] (set by ``--max-pixels``; ``None`` means the default).
-
-    Parameters
-    ----------
-    None
-
-    Returns
-    -------
-    int or None
-        Points, or None for the memory-based default.
-    """
-    return _MAX_PIXELS
-
-
-def set_max_pixels(n):
-    """Set the reader size limit [points]; ``None`` restores the memory-based default.
-
-    Parameters
-    ----------
-    n : int or None
-        Largest number of points a reader accepts.
-
-    Returns
-    -------
-    None
-    """
-    global _MAX_PIXELS
-    _MAX_PIXELS = None if n is None else int(n)
-
-
-def check_declared_size(path, shape, itemsize=8):
-    """Refuse, before allocating, a file whose declared size exceeds the limit.
-
-    Parameters
-    ----------
-    shape : tuple of int or int
-        The array shape (or number of points) the file's header declares.
-    itemsize : int
-        Bytes per point as stored (for the message only).
-
-    Raises
-    ------
-    InputError
-        Negative dimensions, or more points than :func:`get_max_pixels` (default
-        :func:`default_max_pixels`), naming the file, the shape and ``--max-pixels``.
-
-    Returns
-    -------
-    int
-        The number of points declared.
-    """
-    dims = tuple(int(d) for d in np.atleast_1d(shape))
-    if any(d < 0 for d in dims):
-        raise InputError(path, f"declares a negative size {dims}")
-    n = 1
-    for d in dims:
-        n *= d
-    limit = _MAX_PIXELS if _MAX_PIXELS is not None else default_max_pixels()
-    if n > limit:
-        shape_txt = " x ".join(str(d) for d in dims)
-        raise InputError(path, f"declares {shape_txt} = {n:.3g} points ({n * itemsize / 1e9:.3g} GB), "
-                               f"above the limit of {limit:.3g} points; raise it with {{max_pixels}} N "
-                               f"if the machine has the memory", "max_pixels")
-    return n
-
-
-def check_compression_ratio(path, declared_bytes, stored_bytes, max_ratio=200.0):
-    """Zip-bomb guard: refuse data that claim ``declared_bytes`` uncompressed from only
-    ``stored_bytes`` on disk, beyond ``max_ratio`` (real height data compress 2-10x; a scan of
-    constant zeros compresses ~1000x), unless the declared size is small (< 64 MiB).
-
-    Parameters
-    ----------
-    path : str or Path
-        File named in the error.
-    declared_bytes : int
-        Uncompressed size the file declares.
-    stored_bytes : int
-        Size on disk.
-    max_ratio : float, optional
-        Largest accepted ratio.
-
-    Returns
-    -------
-    None
-        Raises :class:`roadscan.InputError` beyond the ratio.
-    """
-    if declared_bytes > 64 * 1024**2 and declared_bytes > max_ratio * max(int(stored_bytes), 1):
-        ratio = declared_bytes / max(stored_bytes, 1)
-        raise InputError(path, f"declares {declared_bytes / 1e6:.4g} MB of data stored in "
-                               f"{stored_bytes / 1e6:.3g} MB (ratio {ratio:.0f}): "
-                               f"refused as a likely zip bomb")
 
 
 def _positive(value, path, what):
@@ -341,8 +236,14 @@ def make_heightmap(path, heights_m, dx_m, dy_m, unmeasured=None, meta=None):
     if h.size and bad.all():
         raise InputError(path, "no measured points (all heights NaN or masked)")
     try:
-        return HeightMap(h, dx_m, dy_m, unmeasured=unmeasured, name=Path(path).stem,
-                         meta={"source": str(path), **(meta or {})})
+        return HeightMap(
+            h,
+            dx_m,
+            dy_m,
+            unmeasured=unmeasured,
+            name=Path(path).stem,
+            meta={"source": str(path), **(meta or {})},
+        )
     except ValueError as exc:
         raise InputError(path, str(exc)) from None
 
@@ -374,8 +275,9 @@ def make_profile(path, heights_m, dx_m, unmeasured=None, meta=None):
     if h.size and bad.all():
         raise InputError(path, "no measured points (all heights NaN)")
     try:
-        return Profile(h, dx_m, unmeasured=unmeasured, name=Path(path).stem,
-                       meta={"source": str(path), **(meta or {})})
+        return Profile(
+            h, dx_m, unmeasured=unmeasured, name=Path(path).stem, meta={"source": str(path), **(meta or {})}
+        )
     except ValueError as exc:
         raise InputError(path, str(exc)) from None
 
@@ -424,13 +326,17 @@ def regular_axis(x, path=None, what="x", tol=0.25):
             raise InputError(path, f"{what} coordinates are not on a regular grid")
         index = np.concatenate([[0], np.cumsum(steps)])
         if index[-1] + 1 > 2 * x.size:
-            raise InputError(path, f"{what} coordinates are not on a regular grid "
-                                   f"({x.size} values would fill under half of {index[-1] + 1} nodes)")
+            raise InputError(
+                path,
+                f"{what} coordinates are not on a regular grid "
+                f"({x.size} values would fill under half of {index[-1] + 1} nodes)",
+            )
         dx, x0 = np.polyfit(index.astype(np.float64), x, 1)
         if not dx > 0:
             raise InputError(path, f"{what} coordinates are not on a regular grid")
     resid = np.abs(x - (x0 + dx * index))
     if resid.max() > tol * dx:
-        raise InputError(path, f"{what} coordinates are not on a regular grid "
-                               f"(off by {resid.max() / dx:.2f} steps)")
+        raise InputError(
+            path, f"{what} coordinates are not on a regular grid (off by {resid.max() / dx:.2f} steps)"
+        )
     return float(x0), float(dx), index
