@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pipelines.output.report import _plain_log_label, display_image
+from pipelines.output._figure_tools import _plain_log_label
+from pipelines.output.report import display_image
 
 ROOT = Path(__file__).resolve().parents[1]
 
