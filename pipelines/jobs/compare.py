@@ -3,6 +3,7 @@
 All spectra and all mu(v) on common axes, and for each scan against the first (the
 reference): at which wave vectors and speeds they differ, and by how much.
 """
+
 from __future__ import annotations
 
 import os
@@ -11,8 +12,9 @@ from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 
+from pipelines.jobs._compare_report import draw_figures, write_report
 from pipelines.jobs.analyse.job import summarise
-from pipelines.jobs.dry_vs_wet import mu_by_speed, speed_table
+from pipelines.jobs.dry_vs_wet import mu_by_speed
 from pipelines.output import report
 from pipelines.output.job_result import returns_job_result
 from pipelines.settings.friction import FrictionSettings
@@ -54,8 +56,12 @@ def spectrum_difference(spec_ref, spec, band=None, why_no_band=None):
     lo = max(spec_ref.q_per_m[0], spec.q_per_m[0])
     hi = min(spec_ref.q_per_m[-1], spec.q_per_m[-1])
     if not lo < hi:
-        return {"common_band_per_m": None, "note": "no common band of wave vectors",
-                "largest_psd_ratio": None, "largest_psd_ratio_note": "no common band of wave vectors"}
+        return {
+            "common_band_per_m": None,
+            "note": "no common band of wave vectors",
+            "largest_psd_ratio": None,
+            "largest_psd_ratio_note": "no common band of wave vectors",
+        }
     out = {"common_band_per_m": [float(lo), float(hi)]}
     if band is None and why_no_band is None:
         band = (float(lo), float(hi))
@@ -65,11 +71,19 @@ def spectrum_difference(spec_ref, spec, band=None, why_no_band=None):
     out["largest_psd_ratio"] = big
     if big is None:
         out["largest_psd_ratio_note"] = why_no_band or (
-            "fewer than two wave vectors of the reference inside the band both spectra are trusted on")
+            "fewer than two wave vectors of the reference inside the band both spectra are trusted on"
+        )
         return out
     i = int(np.argmax(np.abs(lr)))
-    out.update({"q_per_m": q, "log10_ratio": lr, "psd_ratio_median": float(10 ** np.median(lr)),
-                "psd_ratio_at_max": float(10 ** lr[i]), "q_at_max_ratio_per_m": float(q[i])})
+    out.update(
+        {
+            "q_per_m": q,
+            "log10_ratio": lr,
+            "psd_ratio_median": float(10 ** np.median(lr)),
+            "psd_ratio_at_max": float(10 ** lr[i]),
+            "q_at_max_ratio_per_m": float(q[i]),
+        }
+    )
     return out
 
 
@@ -85,10 +99,12 @@ def _bands(pairs, names):
         why = None
         if band is None:
             lone = [n for n, b in ((names[0], own[0]), (names[k], own[k])) if b is None]
-            why = (f"no trusted band: the reliable band and the fit band of {', '.join(lone)} do "
-                   f"not overlap" if lone else
-                   f"the bands {names[0]} and {names[k]} are trusted on do not overlap (each "
-                   f"scan's reliable band within its fit band)")
+            why = (
+                f"no trusted band: the reliable band and the fit band of {', '.join(lone)} do not overlap"
+                if lone
+                else f"the bands {names[0]} and {names[k]} are trusted on do not overlap (each "
+                f"scan's reliable band within its fit band)"
+            )
         shared.append((band, why))
     return shared
 
@@ -103,8 +119,11 @@ def _why_missing(entry, friction_on):
     if entry.get("mpd_m") is None:
         why["mpd_m"] = entry.get("mpd_note") or "no MPD"
     if entry.get("mu_peak") is None:
-        why["mu_peak"] = (entry.get("friction_refused") or "friction not computed") if friction_on \
+        why["mu_peak"] = (
+            (entry.get("friction_refused") or "friction not computed")
+            if friction_on
             else "friction not computed (--no-friction)"
+        )
     d = entry.get("difference_from_reference") or {}
     if d and d.get("largest_psd_ratio") is None:
         why["largest_psd_ratio"] = d.get("largest_psd_ratio_note") or "no ratio judged"
@@ -129,36 +148,41 @@ def friction_difference(v, mu_ref, mu):
     i = int(np.argmax(np.abs(d)))
     rel = np.divide(mu, mu_ref, out=np.full_like(mu, np.nan), where=mu_ref > 0)
     j = int(np.nanargmax(np.abs(np.log(rel)))) if np.isfinite(rel).any() else i
-    return {"max_difference_v_m_per_s": float(v[i]), "max_difference_mu": float(d[i]),
-            "max_ratio_v_m_per_s": float(v[j]), "mu_ratio_at_max": float(rel[j]),
-            "mu_peak_ratio": float(mu.max() / mu_ref.max())}
+    return {
+        "max_difference_v_m_per_s": float(v[i]),
+        "max_difference_mu": float(d[i]),
+        "max_ratio_v_m_per_s": float(v[j]),
+        "mu_ratio_at_max": float(rel[j]),
+        "mu_peak_ratio": float(mu.max() / mu_ref.max()),
+    }
 
 
 @returns_job_result("compare")
 @document_options()
 def compare(
-        sources: Any, out: str | os.PathLike[str],
-        *,
-        spacing: float | str | tuple[float, float] | None = None,
-        units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        x_units: Literal['m', 'mm', 'um', 'nm'] | None = None,
-        override_calibration: bool = False,
-        channel: int | str | None = None,
-        window_alpha: float = 0.25,
-        fit_band: tuple[float, float] | str | None = None,
-        despike: bool = False,
-        resolution: float | None = None,
-        rubber: str | os.PathLike[str] | Rubber | None = None,
-        sigma0: float | str = 200000.0,
-        temperature: float | None = None,
-        flash: bool = False,
-        velocities: ArrayLike | str | None = None,
-        q0: float | None = None,
-        q1: float | None = None,
-        contact_gamma: float | None = None,
-        nu: float = 0.5,
-        extrapolate: Literal['powerlaw', 'hold'] = 'powerlaw',
-        no_friction: bool = False,
+    sources: Any,
+    out: str | os.PathLike[str],
+    *,
+    spacing: float | str | tuple[float, float] | None = None,
+    units: Literal["m", "mm", "um", "nm"] | None = None,
+    x_units: Literal["m", "mm", "um", "nm"] | None = None,
+    override_calibration: bool = False,
+    channel: int | str | None = None,
+    window_alpha: float = 0.25,
+    fit_band: tuple[float, float] | str | None = None,
+    despike: bool = False,
+    resolution: float | None = None,
+    rubber: str | os.PathLike[str] | Rubber | None = None,
+    sigma0: float | str = 200000.0,
+    temperature: float | None = None,
+    flash: bool = False,
+    velocities: ArrayLike | str | None = None,
+    q0: float | None = None,
+    q1: float | None = None,
+    contact_gamma: float | None = None,
+    nu: float = 0.5,
+    extrapolate: Literal["powerlaw", "hold"] = "powerlaw",
+    no_friction: bool = False,
 ) -> dict[str, Any]:
     """``roadscan compare`` as one call: the sources (paths or HeightMaps/Profiles, the first is
     the reference) compared and written into ``out`` (all or none) -> the comparison.json dict.
@@ -200,15 +224,15 @@ def compare(
         settings = settings_from_args(args)
         sk = spectrum_kwargs(args)
         scans = [scan_of(s, args) for s in sources]
-        names = unique_stems([s if isinstance(s, (str, os.PathLike)) else f"{s.name}.x"
-                              for s in sources])
+        names = unique_stems([s if isinstance(s, (str, os.PathLike)) else f"{s.name}.x" for s in sources])
         check_output_dir(out, inputs=paths)
         with atomic_output_dir(out, inputs=paths) as tmp:
             return run_compare(scans, names, tmp, settings, **sk)
 
 
-def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolution_m=None,
-                fit_band=None, despike=False):
+def run_compare(
+    scans, names, out_dir, settings=None, window_alpha=0.25, resolution_m=None, fit_band=None, despike=False
+):
     """Compare scans (HeightMaps or Profiles); write PNGs, report.html and comparison.json.
 
     Each scan goes through the one chain (:mod:`pipelines.chain.steps`): its reliable band (lateral
@@ -243,8 +267,10 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
     settings = settings or FrictionSettings()
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    pairs = [measure(s, window_alpha=window_alpha, fit_band=fit_band, despike=despike,
-                     resolution_m=resolution_m) for s in scans]
+    pairs = [
+        measure(s, window_alpha=window_alpha, fit_band=fit_band, despike=despike, resolution_m=resolution_m)
+        for s in scans
+    ]
     analyses = [an for an, _ in pairs]
     outcomes = []
     if settings.enabled:
@@ -255,24 +281,43 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
                 v = o.result.v_m_per_s
             outcomes.append(o)
     curves = [o.result for o in outcomes]
-    done = [c for c in curves if c is not None]
     result = {}
     ref = analyses[0]
     # the ratios are judged where both scans are trusted (pipelines.chain.judged)
-    sds = [None] + [spectrum_difference(ref.spectrum, a.spectrum, band, why)
-                    for a, (band, why) in zip(analyses[1:], _bands(pairs, names))]
+    sds = [None] + [
+        spectrum_difference(ref.spectrum, a.spectrum, band, why)
+        for a, (band, why) in zip(analyses[1:], _bands(pairs, names))
+    ]
     for k, (name, an) in enumerate(zip(names, analyses)):
         s = summarise(an, curves[k] if curves else None, window_alpha=window_alpha)
-        entry = {key: s[key] for key in ("hurst", "hurst_stderr", "hurst_fit", "hurst_fit_stderr",
-                                         "hurst_note", "rms_height_m", "band_rms_m", "h0_m",
-                                         "q_min_per_m", "q_max_per_m", "fit_band_per_m", "q_roll_per_m",
-                                         "roughness", "mpd_m", "mpd_note", "filled_fraction", "kind")}
+        entry = {
+            key: s[key]
+            for key in (
+                "hurst",
+                "hurst_stderr",
+                "hurst_fit",
+                "hurst_fit_stderr",
+                "hurst_note",
+                "rms_height_m",
+                "band_rms_m",
+                "h0_m",
+                "q_min_per_m",
+                "q_max_per_m",
+                "fit_band_per_m",
+                "q_roll_per_m",
+                "roughness",
+                "mpd_m",
+                "mpd_note",
+                "filled_fraction",
+                "kind",
+            )
+        }
         c = curves[k] if curves else None
         entry["mu"] = mu_by_speed(c.v_m_per_s, c.mu) if c is not None else None
         if c is not None:
             from pipelines.output.headline import peak_keys
 
-            entry.update(peak_keys(c.v_m_per_s, c.mu))   # mu_peak, v_peak_m_per_s, peak_at_edge, peak_note
+            entry.update(peak_keys(c.v_m_per_s, c.mu))  # mu_peak, v_peak_m_per_s, peak_at_edge, peak_note
             from pipelines.chain.provenance import rubber_label
 
             entry["rubber"] = rubber_label(settings.rubber, settings.sigma0_Pa, c.meta.get("T0_C"))
@@ -284,104 +329,27 @@ def run_compare(scans, names, out_dir, settings=None, window_alpha=0.25, resolut
             if curves and curves[0] is not None and curves[k] is not None:
                 diff.update(friction_difference(curves[0].v_m_per_s, curves[0].mu, curves[k].mu))
             entry["difference_from_reference"] = diff
-        entry["why_missing"] = _why_missing(entry, settings.enabled)   # every null figure's reason
+        entry["why_missing"] = _why_missing(entry, settings.enabled)  # every null figure's reason
         result[name] = entry
 
-    figs = [report.plot_psd([(n, a.spectrum.q_per_m, a.spectrum.C_m4) for n, a in zip(names, analyses)],
-                            out_dir / "psd_all.png", title="PSD of all surfaces")]
-    ratio_curves = []
-    for n, sd in zip(names[1:], sds[1:]):
-        if "q_per_m" in sd:
-            ratio_curves.append((f"{n} / {names[0]}", sd["q_per_m"], 10 ** sd["log10_ratio"]))
-    if ratio_curves:
-        import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(figsize=report.FIGSIZE)
-        for i, (lab, q, r) in enumerate(ratio_curves):
-            ax.loglog(q, r, color=f"C{i + 1}", label=lab)
-        ax.axhline(1, color="0.5", lw=0.8)
-        ax.set_xlabel("wave vector q [1/m]")
-        ax.set_ylabel("PSD ratio C / C$_{ref}$ [-]")
-        report.wavelength_axis(ax)
-        report.set_title(ax, "where the spectra differ (where both are trusted)")
-        ax.grid(which="both", alpha=0.25)
-        ax.legend(fontsize=8)
-        figs.append(report.save_figure(fig, out_dir / "psd_ratio.png",
-                                       report.fixed_margins(ax, top=report.WAVELENGTH_AXIS_TOP)))
-    if done:
-        from pipelines.chain.provenance import rubber_label
-
-        figs.append(report.plot_mu([(n, c.v_m_per_s, c.mu) for n, c in zip(names, curves) if c is not None],
-                                   out_dir / "mu_all.png", title="μ(v) of all surfaces, " + rubber_label(
-                                       settings.rubber, settings.sigma0_Pa, done[0].meta.get("T0_C"))))
-        if len(done) > 1 and curves[0] is not None:
-            figs.append(report.plot_mu([(f"{n} / {names[0]}", c.v_m_per_s, c.mu / curves[0].mu)
-                                        for n, c in zip(names[1:], curves[1:]) if c is not None],
-                                       out_dir / "mu_ratio.png", title="where the friction differs",
-                                       ylabel="μ / μ$_{ref}$ [-]"))
+    figs = draw_figures(out_dir, names, analyses, sds, curves, settings)
     from pipelines.checks import validate
 
-    said = validate.warnings_list()          # what this run printed (readers, seams)
+    said = validate.warnings_list()  # what this run printed (readers, seams)
     srcs = [(str(sc.meta.get("source", "\0")), f"{sc.name}:") for sc in scans]
-    for (src, own), entry in zip(srcs, result.values()):   # each scan's own, and those naming none
-        mine = [w for w in said if w.startswith((src, own))
-                or not any(w.startswith(t) for pair in srcs for t in pair)]
+    for (src, own), entry in zip(srcs, result.values()):  # each scan's own, and those naming none
+        mine = [
+            w
+            for w in said
+            if w.startswith((src, own)) or not any(w.startswith(t) for pair in srcs for t in pair)
+        ]
         if mine and isinstance(entry, dict):
             entry["warnings"] = mine
     from pipelines.settings.scan_input import read_record
 
-    for sc, entry in zip(scans, result.values()):   # how each file was read
+    for sc, entry in zip(scans, result.values()):  # how each file was read
         if isinstance(entry, dict):
             entry.update(read_record(sc))
     report.write_json(out_dir / "comparison.json", result)
-    _write_report(out_dir, names, result, figs, curves)
+    write_report(out_dir, names, result, figs, curves)
     return result
-
-
-def _write_report(out_dir, names, result, figs, curves):
-    from pipelines.output.units import length, quantity
-
-    header = ["surface", "H", "rms height", "h0", "MPD (ISO 13473-1)", "peak μ", "v at peak [m/s]"]
-    from pipelines.output.headline import hurst_text, peak_text
-
-    def cell(r, key, text):               # a missing figure says why (why_missing)
-        why = (r.get("why_missing") or {}).get(key)
-        return f"— ({why})" if why else text
-
-    rows = [[n, cell(r, "hurst", hurst_text(r)), length(r["rms_height_m"]),
-             cell(r, "h0_m", length(r["h0_m"])), cell(r, "mpd_m", length(r["mpd_m"])),
-             cell(r, "mu_peak", r.get("mu_peak") if not r.get("peak_at_edge") else peak_text(**{
-                 k: r[k] for k in ("mu_peak", "v_peak_m_per_s", "peak_at_edge", "peak_note")})),
-             r.get("v_peak_m_per_s")] for n, r in result.items()]
-    sections = [("Surfaces", report.table_html(rows, header))]
-    drows = []
-    for n, r in result.items():
-        d = r.get("difference_from_reference")
-        if d:
-            big = d.get("largest_psd_ratio")
-            band = (quantity("q_per_m", big["band_per_m"][0]) + " to " +
-                    quantity("q_per_m", big["band_per_m"][1])) if big else \
-                f"— ({d.get('largest_psd_ratio_note')})"
-            drows.append([n, d["reference"], band, d.get("psd_ratio_median"),
-                          quantity("q_per_m", big["q_per_m"]) if big else "—",
-                          big["ratio"] if big else "—", d.get("max_difference_v_m_per_s"),
-                          d.get("max_difference_mu")])
-    if drows:
-        sections.append(("Where and by how much they differ", report.table_html(
-            drows, ["surface", "reference", "band both are trusted on", "median PSD ratio",
-                    "q of largest PSD ratio", "largest PSD ratio", "v of largest μ difference [m/s]",
-                    "largest μ difference"])))
-    done = [(n, c) for n, c in zip(names, curves) if c is not None]
-    if done:
-        v = done[0][1].v_m_per_s
-        idx = speed_table(v)
-        rub = next((r["rubber"] for r in result.values() if isinstance(r, dict) and r.get("rubber")), "")
-        title = f"μ at whole decades of speed, {rub}" if rub else "μ at whole decades of speed"
-        sections.append((title, report.table_html(
-            [[f"{v[i]:g}"] + [float(c.mu[i]) for _, c in done] for i in idx],
-            ["v [m/s]"] + [n for n, _ in done])))
-    warned = [[n, w] for n, r in result.items() if isinstance(r, dict) for w in r.get("warnings", [])]
-    if warned:                            # every warning in the report too
-        sections.insert(1, ("Warnings", report.table_html(warned, ["surface", "warning"])))
-    sections.append(("Figures", [list(figs)]))
-    report.write_html(out_dir / "report.html", "roadscan compare: " + " vs ".join(names), sections)
