@@ -296,7 +296,7 @@ def test_area_window_low_end_is_unbiased_and_lower_than_analyses():
 def test_leaky_start_is_trimmed_and_a_roll_off_is_not():
     from dataclasses import replace
 
-    from pipelines.jobs.combine.sources import _trim_leaky_start
+    from pipelines.jobs.combine._band_corrections import _trim_leaky_start
     from roadscan.reliable_band import ReliableBand
 
     q = 10 ** ((np.arange(60, 100) + 0.5) / 20)  # 1e3 .. 1e5, 20 per decade
