@@ -24,8 +24,6 @@ _SQPI = np.sqrt(np.pi)
 #: the call's size only, never on what the process did before, so the same input gives the same
 #: bits in every command and every process (the two differ in the last ulp for 10 % of values).
 _SCIPY_FROM = 200_000
-_MATH_ERF = np.frompyfunc(math.erf, 1, 1)
-_MATH_ERFC = np.frompyfunc(math.erfc, 1, 1)
 
 
 def _erf_pair(x, complement):
@@ -40,8 +38,8 @@ def _erf_pair(x, complement):
         from scipy import special
 
         return special.erfc(x) if complement else special.erf(x)
-    f = _MATH_ERFC if complement else _MATH_ERF
-    return np.asarray(f(x), dtype=float).reshape(x.shape)
+    f = math.erfc if complement else math.erf  # over a list: a quarter faster than np.frompyfunc
+    return np.fromiter(map(f, x.ravel().tolist()), dtype=float, count=x.size).reshape(x.shape)
 
 
 def erf(x: ArrayLike) -> NDArray[np.float64]:
@@ -135,22 +133,19 @@ def contact_S(P: ArrayLike, gamma: float | None = None) -> NDArray[np.float64] |
     return gamma + (1.0 - gamma) * np.asarray(P) ** 2
 
 
-def _F(G):
-    """Antiderivative of P over G, minus its G=0 limit 1/2: ``int_0^G P dG'``."""
+def _FK(G):
+    """Antiderivatives of P and of G P over G, minus their G=0 limits, at once (one erf and
+    one erfc of the same argument): ``F = int_0^G P dG'`` and ``K = int_0^G G' P dG'``. Also
+    returns P itself, ``erf(1 / (2 sqrt G))`` (1 at G = 0)."""
+    G = np.asarray(G, dtype=float)
     sg = np.sqrt(G)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         u = np.where(G > 0, 0.5 / np.where(G > 0, sg, 1.0), np.inf)
         e = np.exp(-u * u)
-        return G * erf(u) + (sg * e / _SQPI - 0.5 * erfc(u))
-
-
-def _K(G):
-    """Antiderivative of G P over G, minus its G=0 limit: ``int_0^G G' P dG'``."""
-    sg = np.sqrt(G)
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        u = np.where(G > 0, 0.5 / np.where(G > 0, sg, 1.0), np.inf)
-        e = np.exp(-u * u)
-        return 0.5 * G * G * erf(u) + e * (2 * G * sg - sg) / (12 * _SQPI) + erfc(u) / 24.0
+        E, Ec = erf(u), erfc(u)
+        F = G * E + (sg * e / _SQPI - 0.5 * Ec)
+        K = 0.5 * G * G * E + e * (2 * G * sg - sg) / (12 * _SQPI) + Ec / 24.0
+    return F, K, np.where(G > 0, E, 1.0)
 
 
 def p_weights(G: ArrayLike, h: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -180,17 +175,19 @@ def p_weights(G: ArrayLike, h: ArrayLike) -> tuple[NDArray[np.float64], NDArray[
     h = np.asarray(h, dtype=float)
     Ga, Gb = G[..., :-1], G[..., 1:]
     dG = Gb - Ga
-    P = contact_P(G)
+    # F, K and P at the nodes from one erf and one erfc of the nodes' argument (the interval
+    # ends share them), P at the midpoints from one more erf
+    F, K, P = _FK(G)
     Pa, Pb = P[..., :-1], P[..., 1:]
     Pm = contact_P(0.5 * (Ga + Gb))
     A0 = (Pa + 4 * Pm + Pb) / 6.0
     A1 = (2 * Pm + Pb) / 6.0
     exact = dG > 0.05 * Ga
     if np.any(exact):
-        ga, gb, dg = Ga[exact], Gb[exact], dG[exact]
-        Fa, Fb = _F(ga), _F(gb)
+        ga, dg = Ga[exact], dG[exact]
+        Fa, Fb = F[..., :-1][exact], F[..., 1:][exact]
         a0 = (Fb - Fa) / dg
-        a1 = ((_K(gb) - _K(ga)) - ga * (Fb - Fa)) / (dg * dg)
+        a1 = ((K[..., 1:][exact] - K[..., :-1][exact]) - ga * (Fb - Fa)) / (dg * dg)
         A0[exact], A1[exact] = a0, a1
     w = np.zeros(G.shape)
     w[..., :-1] += h * (A0 - A1)
