@@ -31,9 +31,12 @@ the other half shared by the single effects tried). The rule is the few-point on
   no effect when the baseline is among them. The same holds when the held-out verdict named
   nothing (held-out rivals the evidence separates), except with ``--uncertain`` ranges, where the
   calibration's verdicts and :func:`.search_few.second_opinion` stand.
-- with only q1's default range uncertain (no ``--uncertain``), the nominal fits are compared
-  (an effect fitted with q1 calibrated is that effect plus fine roughness, :mod:`.same_physics`).
-  Candidates of one label (e.g. an effect fitted twice) add their posteriors.
+- with only q1's default range uncertain (no ``--uncertain``), the nominal fits are compared,
+  and on a scan the effects fitted with q1 calibrated between the reliable band's end and the
+  measured spectrum's (the input's uncertainty; "no effect" is then the nominal model or that
+  calibration alone); q1 calibrated beyond the measured spectrum is fine roughness, so an effect
+  fitted with it is a pair (:func:`.same_physics.band_end_pool`). Candidates of one label (an
+  effect at the nominal inputs and with the calibration) add their posteriors.
 - a named pair gives way to its better single effect unless its evidence is larger by
   ``LOG_STRONG`` = ln 20 (Kass & Raftery's "strong", 2 ln B > 6): the few-point regime names no
   pair.

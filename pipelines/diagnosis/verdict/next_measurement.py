@@ -13,6 +13,11 @@ on the unit cube: the parameters' uncertainty after the data; Laplace approximat
 :mod:`.evidence`). The proposal: the point of largest z and the next best at least half a decade
 away at the same temperature (the optimal design of a discrimination experiment; Box & Hill 1967,
 Technometrics 9, 57).
+
+A water film acts on wet rows only: when every measured row is wet and one of the two
+explanations is ``water``, the grid holds dry rows too (same speeds and temperatures), so a dry
+measurement is proposed where it separates the two best (``condition`` "dry"), e.g. water from a
+contact correction, which lower mu alike over the measured speeds but not on a dry road.
 """
 
 from __future__ import annotations
@@ -29,7 +34,9 @@ MIN_APART_DECADES = 0.5
 MAX_REPEATS = 10
 
 
-def _grid(ctx):
+def _grid(ctx, dry=False):
+    """The grid context (speeds x temperatures, and a dry copy of it when ``dry``); returns
+    (context, speeds, [(temperature, wet)], whether the rubber has a shift table)."""
     from pipelines.diagnosis.model import FrictionContext
 
     v0, v1 = float(ctx.v_m_per_s.min()), float(ctx.v_m_per_s.max())
@@ -43,15 +50,16 @@ def _grid(ctx):
         temps = sorted(
             set(np.round(np.linspace(float(np.min(table)), float(np.max(table)), N_TEMPS), 1)) | {T_meas}
         )
-    vv = np.tile(v, len(temps))
-    TT = np.repeat(np.asarray(temps, float), v.size)
-    n = vv.size
     wet = bool(np.all(ctx.wet)) and ctx.n > 0
+    conds = [(T, wet) for T in temps] + ([(T, False) for T in temps] if dry and wet else [])
+    vv = np.tile(v, len(conds))
+    TT = np.repeat(np.asarray([T for T, _ in conds], float), v.size)
+    n = vv.size
     g = FrictionContext(
         vv,
         TT,
         np.full(n, float(np.median(ctx.sigma0_Pa))),
-        np.full(n, wet),
+        np.repeat(np.asarray([w for _, w in conds], bool), v.size),
         ctx.base,
         ctx.scan,
         ctx.spectrum,
@@ -59,7 +67,12 @@ def _grid(ctx):
         ctx.inputs,
         ctx.cache,
     )
-    return g, v, temps, has_table
+    return g, v, conds, has_table
+
+
+def _has_water(expl):
+    c = expl.get("candidate")
+    return c is not None and "water" in c.effect_names
 
 
 def _predict(gctx, expl):
@@ -120,14 +133,15 @@ def next_measurement(ctx, a, b, noise):
     """
     from pipelines.diagnosis.fit.evidence import noise_scale
 
-    g, v, temps, has_table = _grid(ctx)
+    alts = list(b) if isinstance(b, (list, tuple)) else [b]
+    g, v, temps, has_table = _grid(ctx, dry=_has_water(a) or any(_has_water(x) for x in alts))
     s = noise_scale(noise)
     try:
         ma, va = _predict(g, a)
     except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
         return None
     best = None
-    for cand in b if isinstance(b, (list, tuple)) else [b]:
+    for cand in alts:
         try:
             mb, vb = _predict(g, cand)
         except (ValueError, ArithmeticError, RuntimeError, np.linalg.LinAlgError):
@@ -149,8 +163,10 @@ def next_measurement(ctx, a, b, noise):
     sep = [float(z[it, i]) for i in idx]
     comb = float(np.sqrt(np.sum(np.square(sep))))
     reps = int(min(MAX_REPEATS, max(1, np.ceil(9.0 / max(comb**2, 1e-12)))))
-    T = float(temps[it]) if has_table else None
+    T = float(temps[it][0]) if has_table else None
+    dry = not temps[it][1] and bool(np.all(ctx.wet))
     where = " and ".join(f"{x:.3g}" for x in speeds) + " m/s" + (f" at {T:.3g} C" if T is not None else "")
+    where += " on a dry road (no water)" if dry else ""
     times = "" if reps == 1 else f" ({reps} times each)"
     sentence = (
         f"measure at {where}{times}: {a['name']} and {b['name']} differ there by "
@@ -169,11 +185,13 @@ def next_measurement(ctx, a, b, noise):
         between=[a["name"], b["name"]],
         speeds_m_per_s=speeds,
         temperature_C=T,
+        condition="dry" if dry else None,
         separation_sigma=sep,
         separation_sigma_combined=comb,
         repeats=reps,
         sentence=sentence,
         method="largest expected separation of the two most probable explanations in noise sigmas "
-        "(model uncertainty included), over speeds and the shift table's temperatures; repeats "
+        "(model uncertainty included), over speeds and the shift table's temperatures (and a dry "
+        "road when water is one of them and every measured row is wet); repeats "
         "for a combined separation of 3 sigmas (at most 10)",
     )

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["SAME_PHYSICS", "same_physics", "equivalent_input", "distinct"]
+__all__ = ["SAME_PHYSICS", "same_physics", "equivalent_input", "distinct", "measured_end", "band_end_pool"]
 
 #: effect -> the uncertain input (``--uncertain`` key) that is the same physics
 SAME_PHYSICS = {"fine_roughness": "q1", "load": "sigma0", "temperature_offset": "temperature"}
@@ -132,3 +132,86 @@ def distinct(a, b):
         if x in SAME_PHYSICS and y in plain:
             return False
     return a != b
+
+
+def measured_end(ctx):
+    """The finest wave vector the surface input measured [1/m]: the upper edge of the last bin of
+    the scan's spectrum (a binned average: its log-spaced bins reach half a bin beyond their
+    centres, q_n sqrt(q_n / q_(n-1))), or the last wave vector of a tabulated ``--psd`` (point
+    values of C(q)), else the model's q1.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context (``spectrum``: the scan's measured spectrum, None for ``--psd``).
+
+    Returns
+    -------
+    float
+    """
+    q = np.sort(np.asarray(getattr(ctx.spectrum, "q_per_m", []), float).ravel())
+    if q.size >= 2 and q[-2] > 0:
+        return float(q[-1] * np.sqrt(q[-1] / q[-2]))
+    q = getattr(ctx.base.psd, "q_per_m", None)
+    if q is not None and np.size(q):
+        return float(np.max(q))
+    return float(ctx.base.psd.q1_per_m)
+
+
+def band_end_pool(ctx, singles, pairs, cal, calpairs, n, noise, z_nom):
+    """The explanations the evidence over every point compares when only q1's default range is
+    uncertain, and the log evidence of "no effect".
+
+    A scan's reliable band ends below the last wave vector it measured (the spectrum's finest,
+    :func:`measured_end`). Where q1 is calibrated between the two, the calibration only says how
+    much of the measured but unreliable top of the spectrum the contact feels, an uncertainty of
+    the input: "no effect" is then the nominal model or the calibration alone (each half of its
+    prior, so their evidences average), and an effect fitted with that calibration is the effect
+    itself (its label, one parameter more in the Schwarz penalty), e.g. a water film on a scan
+    whose reliable band ends below the roughness the contact feels. Where the calibration takes
+    q1 beyond the measured spectrum it is roughness the scan did not measure, the same physics
+    as ``fine_roughness`` (whose nominal fit is compared already), and below the reliable band
+    it is a claim that measured roughness is not felt: the calibration alone is then no
+    baseline and an effect fitted with it is that effect plus another, a pair, not compared. With
+    a tabulated ``--psd`` the two ends coincide and the nominal fits alone are compared.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    singles, pairs : list of Candidate
+        Fits at the nominal inputs.
+    cal : Candidate or None
+        The calibration of q1 alone.
+    calpairs : list of Candidate
+        Each effect fitted with the calibration.
+    n : int
+        Measured points.
+    noise : float
+        Rms log10 noise.
+    z_nom : float
+        Log evidence of the nominal model over every point.
+
+    Returns
+    -------
+    pool : list of Candidate
+    z_base : float
+        Log evidence of "no effect".
+    """
+    from pipelines.diagnosis.verdict.evidence_check import all_points_evidence
+
+    pool = list(singles) + list(pairs)
+    if cal is None:
+        return pool, z_nom
+    lo, end = float(ctx.base.psd.q1_per_m), measured_end(ctx)
+
+    def within(c):
+        q1 = c.params[0].get("q1_per_m") if c.effects[0].name == "calibration" else None
+        return q1 is not None and lo < end and lo * (1 - 1e-9) <= q1 <= end
+
+    z_base = z_nom
+    z_cal = all_points_evidence(cal, n, noise)
+    if within(cal) and np.isfinite(z_cal):
+        z_base = float(np.logaddexp(z_nom, z_cal) - np.log(2.0))
+    pool += [c for c in calpairs if len(c.effect_names) == 1 and within(c)]
+    return pool, z_base

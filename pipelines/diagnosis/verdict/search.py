@@ -29,7 +29,7 @@ from pipelines.diagnosis.fit.cv import evaluate, heldout_mask, holdout
 from pipelines.diagnosis.fit.fitting import Candidate, at_bound, fit_candidate, predict, too_many_parameters
 from pipelines.diagnosis.verdict.explain import pick_pair
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, PAIR_GAIN, decide, rivals
-from pipelines.diagnosis.verdict.same_physics import distinct, equivalent_input, same_physics
+from pipelines.diagnosis.verdict.same_physics import band_end_pool, distinct, equivalent_input, same_physics
 
 __all__ = ["Candidate", "Diagnosis", "heldout_mask", "fit_candidate", "diagnose_friction", "predict",
            "at_bound", "MIN_SHRINK", "PAIR_GAIN", "rivals"]
@@ -195,7 +195,7 @@ def _one_explanation(verdict, best, equiv, train):
     return None
 
 
-def _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho, default_only,
+def _evidence_rule(ctx, verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho, default_only,
                    intervals):
     """The held-out verdict under the evidence over every point (:mod:`.evidence_check`); with
     ``--uncertain`` ranges the calibration and the effects fitted with it, else the nominal fits."""
@@ -209,11 +209,10 @@ def _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g
         z_cal = all_points_evidence(cal, n, noise)
         return check_named(verdict, best, calpairs, n, noise, z_cal, g_ref=g_ho, base_name="calibration",
                            intervals=intervals)
-    # q1's default range alone: the inputs as given are believed first (:func:`.many.decide`); an
-    # effect fitted with q1 calibrated is that effect plus fine roughness (:mod:`.same_physics`), a
-    # pair, so the nominal fits are compared
-    pool = list(singles) + list(pair_list)
-    return check_named(verdict, best, pool, n, noise, z_nom, g_ref=g_ho, rescue=True, intervals=intervals)
+    # q1's default range alone: the nominal fits, and the effects fitted with q1 calibrated within
+    # the measured spectrum (:func:`.same_physics.band_end_pool`; beyond it, fine roughness)
+    pool, z_base = band_end_pool(ctx, singles, pair_list, cal, calpairs, n, noise, z_nom)
+    return check_named(verdict, best, pool, n, noise, z_base, g_ref=g_ho, rescue=True, intervals=intervals)
 
 
 def _as_explanation(ctx, real_mu, c, s):
@@ -414,7 +413,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     equiv = (lambda c, rows=None: equivalence(ctx, real_mu, c, ranges, free, noise, rows=rows)) if free else None
     verdict, best = decide(singles, pair_list, cal, calpairs, st, intervals=icals)
     if significant and verdict.get("effect") != "calibration":
-        best = _evidence_rule(verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho,
+        best = _evidence_rule(ctx, verdict, best, singles, pair_list, cal, calpairs, n, noise, g_all, g_ho,
                               st["default_only"], icals)
     best = _one_explanation(verdict, best, equiv, ho.train)
     expl = None
