@@ -35,11 +35,24 @@ from scipy import stats as sps
 
 from pipelines.diagnosis.fit.stats import jacobian
 
-__all__ = ["NU", "NOISE_FLOOR", "METHOD", "REFERENCE", "loglik", "log_occam", "model_evidence", "posteriors"]
+__all__ = [
+    "NU",
+    "NOISE_FLOOR",
+    "METHOD",
+    "REFERENCE",
+    "P_NAME",
+    "loglik",
+    "log_occam",
+    "model_evidence",
+    "posteriors",
+]
 
 NU = 4.0
 NOISE_FLOOR = 0.004
 PRIOR_NULL = 0.5
+#: the posterior probability at which an explanation is named (the verdicts of few points and of
+#: the evidence over every point)
+P_NAME = 0.9
 METHOD = (
     "Bayesian model comparison: evidence of each explanation by Laplace approximation at its best "
     "fit (uniform priors on the uncertain inputs' ranges and each effect's range; Student-t "

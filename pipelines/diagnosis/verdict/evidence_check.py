@@ -52,8 +52,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pipelines.diagnosis.fit.evidence import loglik, noise_scale
-from pipelines.diagnosis.verdict.few import P_NAME
+from pipelines.diagnosis.fit.evidence import P_NAME, loglik, noise_scale
 
 __all__ = ["LOG_STRONG", "all_points_evidence", "check_named", "evidence_posteriors"]
 

@@ -24,13 +24,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from pipelines.diagnosis.fit.evidence import METHOD, PRIOR_NULL, REFERENCE, model_evidence, posteriors
+from pipelines.diagnosis.fit.evidence import METHOD, P_NAME, PRIOR_NULL, REFERENCE, model_evidence, posteriors
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, _empty, _refuse
 from pipelines.diagnosis.verdict.same_physics import same_physics
 
 __all__ = ["decide_few", "P_NAME"]
-
-P_NAME = 0.9
 
 
 def _conf(p, c):
