@@ -10,7 +10,7 @@ Imports are on demand: ``import friction`` loads nothing heavy; each public name
 its submodule when first used (``fit_prony``/``fit_wlf`` bring in ``scipy.optimize`` only then).
 """
 
-from importlib import import_module
+import lazy_loader
 
 __all__ = [
     "SelfAffinePSD",
@@ -30,32 +30,27 @@ __all__ = [
     "rubber_from_dict",
 ]
 
-_LAZY = {
-    "fit_prony": ".fitting",
-    "fit_wlf": ".fitting",
-    "mu_flash": ".flash",
-    "mu_isothermal": ".isothermal",
-    "SelfAffinePSD": ".psd",
-    "TabulatedPSD": ".psd",
-    "FrictionResult": ".result",
-    "WLF": ".rubber",
-    "MasterCurve": ".rubber",
-    "Prony": ".rubber",
-    "ShiftTable": ".rubber",
-    "StandardLinearSolid": ".rubber",
-    "Thermal": ".rubber",
-    "thesis_rubber": ".rubber",
-    "rubber_from_dict": ".rubber_dict",
+#: public name -> the submodule that defines it, loaded on first use (``lazy_loader``, the
+#: mechanism scikit-image uses; PEP 562)
+_HOMES = {
+    "fitting": ["fit_prony", "fit_wlf"],
+    "flash": ["mu_flash"],
+    "isothermal": ["mu_isothermal"],
+    "psd": ["SelfAffinePSD", "TabulatedPSD"],
+    "result": ["FrictionResult"],
+    "rubber": [
+        "WLF",
+        "MasterCurve",
+        "Prony",
+        "ShiftTable",
+        "StandardLinearSolid",
+        "Thermal",
+        "thesis_rubber",
+    ],
+    "rubber_dict": ["rubber_from_dict"],
 }
-
-
-def __getattr__(name):
-    if name in _LAZY:
-        value = getattr(import_module(_LAZY[name], __name__), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+__getattr__, _, _ = lazy_loader.attach(__name__, submod_attrs=_HOMES)
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_LAZY))
+    return sorted(set(globals()) | set(__all__))

@@ -15,8 +15,11 @@ command), ``campaign/`` (batch on Dask), ``diagnosis/`` (the sim-to-real gap dia
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
+
+import lazy_loader
+
+from roadscan.errors import RoadscanWarning
 
 __all__ = [
     "analyse",
@@ -33,20 +36,21 @@ __all__ = [
     "RoadscanWarning",
 ]
 
-# public name -> module that defines it (imported on first attribute access)
-_LAZY = {
-    "analyse": "pipelines.jobs.analyse.call",
-    "analyse_scan": "pipelines.jobs.analyse.job",
-    "AnalysisResult": "pipelines.jobs.analyse.result",
-    "compare": "pipelines.jobs.compare",
-    "dry_vs_wet": "pipelines.jobs.dry_vs_wet",
-    "rain_fill": "pipelines.jobs.rain_fill",
-    "friction": "pipelines.jobs.friction_call",
-    "combine": "pipelines.jobs.combine.job",
-    "diagnose": "pipelines.diagnosis.job",
-    "batch": "pipelines.campaign.api",
-    "RoadscanWarning": "roadscan.errors",
+#: public name -> the submodule that defines it, imported on first use (``lazy_loader``, the
+#: mechanism scikit-image uses, as in ``roadscan`` and ``friction``)
+_HOMES = {
+    "jobs.analyse.call": ["analyse"],
+    "jobs.analyse.job": ["analyse_scan"],
+    "jobs.analyse.result": ["AnalysisResult"],
+    "jobs.compare": ["compare"],
+    "jobs.dry_vs_wet": ["dry_vs_wet"],
+    "jobs.rain_fill": ["rain_fill"],
+    "jobs.friction_call": ["friction"],
+    "jobs.combine.job": ["combine"],
+    "diagnosis.job": ["diagnose"],
+    "campaign.api": ["batch"],
 }
+__getattr__, _, _ = lazy_loader.attach(__name__, submodules=["chain"], submod_attrs=_HOMES)
 
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and editors only
     from pipelines import chain
@@ -60,17 +64,6 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and editors only
     from pipelines.jobs.dry_vs_wet import dry_vs_wet
     from pipelines.jobs.friction_call import friction
     from pipelines.jobs.rain_fill import rain_fill
-    from roadscan.errors import RoadscanWarning
-
-
-def __getattr__(name: str) -> Any:
-    if name == "chain":
-        return importlib.import_module("pipelines.chain")
-    if name in _LAZY:
-        value = getattr(importlib.import_module(_LAZY[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:

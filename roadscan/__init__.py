@@ -9,29 +9,22 @@ numpy and the parts of scipy they need; none imports matplotlib, ``scipy.optimiz
 ``scipy.signal`` at import time (guarded by ``tests/test_imports.py``).
 """
 
-from importlib import import_module
+import lazy_loader
 
 from .errors import InputError, RoadscanWarning
 
 __all__ = ["InputError", "RoadscanWarning", "HeightMap", "Profile", "Spectrum", "Spectrum2D", "psd_area"]
 __version__ = "0.1.0"
 
-#: public name -> the submodule that defines it, loaded on first use (PEP 562)
+#: public name -> the submodule that defines it, loaded on first use (``lazy_loader``, the
+#: mechanism scikit-image uses; PEP 562)
 _HOMES = {
-    ".heightmap": ("HeightMap", "Profile"),
-    ".spectrum_types": ("Spectrum", "Spectrum2D"),
-    ".spectrum": ("psd_area",),
+    "heightmap": ["HeightMap", "Profile"],
+    "spectrum_types": ["Spectrum", "Spectrum2D"],
+    "spectrum": ["psd_area"],
 }
-_LAZY = {name: home for home, names in _HOMES.items() for name in names}
-
-
-def __getattr__(name):
-    home = _LAZY.get(name)
-    if home is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    globals()[name] = value = getattr(import_module(home, __name__), name)  # once only
-    return value
+__getattr__, _, _ = lazy_loader.attach(__name__, submod_attrs=_HOMES)
 
 
 def __dir__():
-    return sorted([*globals(), *_LAZY])
+    return sorted(set(globals()) | set(__all__))
