@@ -27,9 +27,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._shift_factors import WLF, ShiftTable
 
+# WLF and ShiftTable are documented once, as friction.WLF and friction.ShiftTable
 __all__ = [
-    "WLF",
-    "ShiftTable",
     "Thermal",
     "StandardLinearSolid",
     "Prony",
