@@ -235,12 +235,19 @@ def exit_early_on_signals(prog="roadscan"):
             sys.stderr.flush()
         os._exit(128 + signum)
 
+    _handle_stop_signals(_early)
+
+
+def _handle_stop_signals(handler):
+    """SIGINT, SIGTERM and SIGHUP to ``handler`` (a function, or SIG_IGN), from the main thread
+    only (Python allows handlers only there); a signal the parent set to be ignored (``nohup``)
+    stays ignored."""
     if threading.current_thread() is not threading.main_thread():
         return
     for sig in CAUGHT + (signal.SIGINT,):
         with contextlib.suppress(OSError, ValueError):
             if signal.getsignal(sig) != signal.SIG_IGN:
-                signal.signal(sig, _early)
+                signal.signal(sig, handler)
 
 
 #: whether this process is the ``roadscan`` command itself (set by its ``main`` when it reads
@@ -267,12 +274,7 @@ def own_the_process():
 
 
 def _ignore_stop_signals():
-    if threading.current_thread() is not threading.main_thread():
-        return
-    for sig in CAUGHT + (signal.SIGINT,):
-        with contextlib.suppress(OSError, ValueError):
-            if signal.getsignal(sig) != signal.SIG_IGN:
-                signal.signal(sig, signal.SIG_IGN)
+    _handle_stop_signals(signal.SIG_IGN)
 
 
 def work_finished():
