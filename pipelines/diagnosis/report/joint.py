@@ -160,7 +160,7 @@ def write_joint_report(out_dir, data, results):
                 report_curves(d.ctx, d),
                 title=f"{row.label}: measured, simulated, corrected μ(v)",
             )
-            png = rep.save_figure(fig, Path(t) / f"mu_{i}.png")
+            png = rep.save_figure(fig, Path(t) / f"mu_{i}.png", rep.fixed_margins(ax))
             m = data["measurements"][row.label]
             nxt = m.get("next_measurement")
             sections.append(

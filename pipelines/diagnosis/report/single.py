@@ -175,7 +175,7 @@ def _plots_friction(tmp, curve, d, where, bm_curves, validate, dense):
     figs = []
     fig, ax = plt.subplots(figsize=rep.FIGSIZE)
     mu_axes(ax, curve, d, dense, validate)
-    figs.append(rep.save_figure(fig, tmp / "mu.png"))
+    figs.append(rep.save_figure(fig, tmp / "mu.png", rep.fixed_margins(ax)))
 
     fig, ax = plt.subplots(figsize=rep.FIGSIZE)
     r0 = np.log10(mu / d.baseline_mu)
@@ -188,7 +188,7 @@ def _plots_friction(tmp, curve, d, where, bm_curves, validate, dense):
                   colors="C1" if w["significant"] else "C7", lw=2)
     ax.axhline(0, color="k", lw=0.5)
     _finish(ax, "sliding speed v [m/s]", "log10 ratio [-]", "gap against speed (bars: band rms; orange = significant)")
-    figs.append(rep.save_figure(fig, tmp / "gap.png"))
+    figs.append(rep.save_figure(fig, tmp / "gap.png", rep.fixed_margins(ax)))
 
     q, f, vc = bm_curves
     fig, ax = plt.subplots(figsize=rep.FIGSIZE)
@@ -198,7 +198,7 @@ def _plots_friction(tmp, curve, d, where, bm_curves, validate, dense):
                     label=f"v = {vc[i]:.2g} m/s")
     _finish(ax, "wave vector q [1/m]  (length scale 2π/q)", "share of μ per ln q [-]",
             "band map: which q carries μ in each speed band", fontsize=7)
-    figs.append(rep.save_figure(fig, tmp / "bandmap.png"))
+    figs.append(rep.save_figure(fig, tmp / "bandmap.png", rep.fixed_margins(ax)))
     return figs
 
 

@@ -438,7 +438,7 @@ def run_surface(obj, out_dir, log=None, seed=0):
         ax.set_ylabel("probability density [1/mm]")
         ax.set_title(f"heights: skew {stats.skew(h):.2f}, excess kurtosis {stats.kurtosis(h):.2f}")
         ax.legend(fontsize=8)
-        figs.append(rep.save_figure(fig, t / "hist.png"))
+        figs.append(rep.save_figure(fig, t / "hist.png", rep.fixed_margins(ax)))
         figs.append(rep.plot_mu([("measured spectrum", v, mu_real), ("self-affine power law", v, mu_twin)],
                                 t / "mu.png", title="μ(v) each spectrum produces (isothermal)"))
         write_surface_report(out_dir, obj.name, data, figs)
