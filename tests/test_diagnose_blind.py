@@ -4,6 +4,11 @@ The cases come from ``benchmarks/bench_diagnose_blind.py`` (its own effect imple
 friction engine's public API; ``pipelines/diagnose`` is not imported). The diagnosis is run as a
 subprocess and only ``diagnosis.json`` is read. All diagnoses of this file run once, two at a
 time, in a module fixture.
+
+The cases kept here are a few representatives: one per effect kind the assertions need, one null
+and the input-handling cases. Accuracy over whole seeded sets (the issue's >= 90 % named right,
+null false positives, every effect kind) is the job of ``benchmarks/bench_diagnose_blind.py``
+(friction level, ``--level friction``; surface level, ``--level surface``), not of this test.
 """
 
 from __future__ import annotations
@@ -29,19 +34,24 @@ B = importlib.util.module_from_spec(_spec)
 sys.modules.setdefault("bench_diagnose_blind", B)
 _spec.loader.exec_module(B)
 
-# seeded effect cases (psd.csv surfaces, default speed draw); chosen as the first seeds whose case
-# passes the benchmark's own identifiability filter, never by the diagnosis' answer
-ACCURACY_CASES = [
-    (31, "temperature_offset"),
-    (12, "adhesion"),
-    (13, "fine_roughness"),
-    (14, "contact_correction"),
-    (15, "relaxation_spectrum"),
-]
-NULL_SEEDS = [21, 22, 23]
 # a temperature offset (dT = -21.4 C, speeds 3.8e-3..26 m/s, psd.csv) on which the diagnosis
-# crashed with a traceback (exit 1: its flash fit's mu_flash did not converge) when written
+# crashed with a traceback (exit 1: its flash fit's mu_flash did not converge) when written; it
+# passes the benchmark's identifiability filter, so it is also this file's temperature-offset case
 CRASH_CASE = (1011, "temperature_offset")
+# seeded effect cases (psd.csv surfaces, default speed draw); chosen as the first seeds whose case
+# passes the benchmark's own identifiability filter, never by the diagnosis' answer. Three kinds:
+# the temperature offset (the contract test's case), adhesion (the --noise test's case) and the
+# contact correction; fine roughness, relaxation spectrum, flash, load and water are named in
+# tests/test_diagnose.py::test_proof_small_blind_cases_meet_the_goals, every kind over whole seed
+# sets in benchmarks/bench_diagnose_blind.py.
+ACCURACY_CASES = [
+    CRASH_CASE,
+    (12, "adhesion"),
+    (14, "contact_correction"),
+]
+# one null case, a scan (``small``: 128-192 points a side), the only scan among this file's
+# friction-level cases; null false-positive rates are the benchmark's
+NULL_SEEDS = [22]
 
 
 def _cli(args):
@@ -75,9 +85,8 @@ def runs(tmp_path_factory):
         c = _first_identifiable(seed, eff, tmp)
         cases[eff] = c
         jobs[eff] = lambda c=c: B.run_diagnose(c)[0]
-    c = B.make_case(*CRASH_CASE, tmp / "crash", kind="psd")
-    cases["crash"] = c
-    jobs["crash"] = lambda c=c: B.run_diagnose(c, validate=False)[0]
+    # the crash case is the temperature-offset case (run with its validation measurement)
+    cases["crash"] = cases[CRASH_CASE[1]]
     for s in NULL_SEEDS:
         c = B.make_case(s, None, tmp / f"null_{s}", kind="psd" if s % 2 else "scan", small=True)
         cases[f"null{s}"] = c
@@ -116,6 +125,7 @@ def runs(tmp_path_factory):
     with ThreadPoolExecutor(max_workers=2) as ex:
         futs = {k: ex.submit(f) for k, f in jobs.items()}
         res = {k: f.result() for k, f in futs.items()}
+    res["crash"] = res[CRASH_CASE[1]]
     res["_cases"] = cases
     res["_tmp"] = tmp
     return res
@@ -172,6 +182,9 @@ def test_contract_keys_and_types(runs):
 
 
 def test_accuracy_on_seeded_blind_cases(runs):
+    """Each kept case is named right (strictly: the hidden effect alone). A fraction over three
+    cases says nothing of the issue's 90 % goal, which benchmarks/bench_diagnose_blind.py
+    measures over whole seed sets; so every case kept here must be right."""
     hits_strict, hits_lenient, lines = 0, 0, []
     for _, eff in ACCURACY_CASES:
         diag = runs[eff]
@@ -179,12 +192,11 @@ def test_accuracy_on_seeded_blind_cases(runs):
         hits_strict += strict
         hits_lenient += lenient
         lines.append(f"{eff} -> {called}")
-    # a small sample (the issue's 90 % goal is measured by the benchmark): when written,
-    # contact_correction with gamma = 0.26 (below the fit's range then) and a bell-shaped adhesion
-    # were missed and the relaxation case came back as a pair; since the fixes all five are hit
+    # when written, contact_correction with gamma = 0.26 (below the fit's range then) and a
+    # bell-shaped adhesion were missed; since the fixes both are hit
     n = len(ACCURACY_CASES)
-    assert hits_lenient >= n - 1, lines
-    assert hits_strict >= n - 1, lines
+    assert hits_lenient == n, lines
+    assert hits_strict == n, lines
 
 
 def test_shrink_and_validate_when_right(runs):
@@ -203,12 +215,14 @@ def test_shrink_and_validate_when_right(runs):
 
 
 def test_null_cases_name_no_effect(runs):
+    """The kept null case names no effect (the false-positive rate over many nulls is
+    benchmarks/bench_diagnose_blind.py's)."""
     # "calibration" and inconclusive are not named effects (issue 19)
     fps = [k for k in runs if k.startswith("null") and B.named(B._label(runs[k], B.verdict_names(runs[k])))]
-    assert len(fps) <= 1, [(k, runs[k]["verdict"]) for k in fps]
+    assert not fps, [(k, runs[k]["verdict"]) for k in fps]
     for s in NULL_SEEDS:
         d = runs[f"null{s}"]
-        assert d["verdict"]["effect"] in (None, "calibration") or f"null{s}" in fps
+        assert d["verdict"]["effect"] in (None, "calibration")
         if d["verdict"]["effect"] is None:
             assert d["verdict"]["gap_validate"] is None
 
