@@ -297,12 +297,21 @@ def test_surface_level_null_on_a_pure_self_affine_scan(tmp_path):
     assert d["verdict"]["effect"] is None
 
 
+#: the effect kinds of the proof test: those tests/test_diagnose_blind.py does not name (it keeps
+#: temperature offset, adhesion and contact correction); load and water are left out, their
+#: draws mostly fail the identifiability filter (4 of 4 tries each from this seed)
+PROOF_KINDS = ("fine_roughness", "flash_temperature", "relaxation_spectrum")
+
+
 def test_proof_small_blind_cases_meet_the_goals():
     """A small version of benchmarks/bench_diagnose.py: seeded cases with one hidden effect
-    (identifiable ones only) and null cases, diagnosed blind."""
+    (identifiable ones only, one per kind of PROOF_KINDS) and a null case, diagnosed blind.
+    Every case kept must be right; the rates over whole seed sets (>= 85-90 % named right, null
+    false positives) are measured by benchmarks/bench_diagnose.py and bench_diagnose_blind.py."""
     from pipelines.diagnosis.cases import draw_cases
 
-    cases, _ = draw_cases(8, 4, seed0=424242, max_tries=4)
+    effs = [e for e in all_effects("friction") if e.name in PROOF_KINDS]
+    cases, _ = draw_cases(len(PROOF_KINDS), 1, seed0=424242, effects=effs, max_tries=4)
     hits, shrink, fp, n_null = 0, [], 0, 0
     for c in cases:
         d = diagnose_friction(c.context(), c.curve.mu)
@@ -319,10 +328,11 @@ def test_proof_small_blind_cases_meet_the_goals():
             )
             shrink.append(d.verdict["shrink"] or 0.0)
     n_eff = len(cases) - n_null
-    assert n_eff == 8 and n_null == 4
-    assert hits / n_eff >= 0.85
+    assert n_eff == len(PROOF_KINDS) and n_null == 1
+    assert sorted(c.effect for c in cases if c.effect) == sorted(PROOF_KINDS)
+    assert hits == n_eff
     assert np.median(shrink) >= 0.7
-    assert fp <= 1
+    assert fp == 0
 
 
 # ----------------------------------------------------------------------------- surface level, issue 11
