@@ -83,7 +83,7 @@ def run_case(case):
         verdict=(diag.get("verdict") or {}).get("effect"),
         next=nxt,
     )
-    if not nxt:
+    if not nxt or not nxt.get("speeds_m_per_s"):  # no speed separates them: another quantity is proposed
         return row
     a, b = nxt["between"]
     rng = np.random.default_rng(case.seed + 7)

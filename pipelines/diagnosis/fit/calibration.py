@@ -191,10 +191,14 @@ def cutoff_sensitivity(ctx, n_max=8, step=1.25):
     return float(np.max(np.log(a / b) / np.log(step)))
 
 
-def default_q1(ctx, ranges, carried=None):
-    """Add the default q1 range (a decade either side) when mu is carried by the cut-off
-    (``carried``: the band map's verdict; None: d ln mu / d ln q1 above the band map's flag at a
-    measured speed) and q1 was not declared known. Returns (ranges, sensitivity or None).
+def default_q1(ctx, ranges, carried=None, noise=None):
+    """Add the default q1 range (a decade either side) when q1 was not declared known and the
+    measured mu depends on it: mu is carried by the cut-off (``carried``: the band map's verdict;
+    None: d ln mu / d ln q1 above the band map's flag at a measured speed), or, with ``noise``
+    given, a decade of q1 moves log10 mu at a measured speed by more than the noise
+    (d log10 mu / d log10 q1 = d ln mu / d ln q1 > noise / ``DEFAULT_Q1_DECADES``): the data can
+    then feel where the roughness ends, an input the spectrum only assumes (its last wave vector).
+    Returns (ranges, sensitivity or None).
 
     Parameters
     ----------
@@ -204,6 +208,8 @@ def default_q1(ctx, ranges, carried=None):
         Uncertain ranges so far.
     carried : bool, optional
         Band map's verdict.
+    noise : float, optional
+        Rms log10 noise of the measured mu (None: the cut-off flag alone decides).
 
     Returns
     -------
@@ -215,9 +221,10 @@ def default_q1(ctx, ranges, carried=None):
     if "q1" in ranges:
         return ranges, None
     sens = None
-    if carried is None:
+    if carried is None or (not carried and noise is not None):
         sens = cutoff_sensitivity(ctx)
-        carried = sens > CUTOFF_FLAG
+        felt = noise is not None and sens * DEFAULT_Q1_DECADES > float(noise)
+        carried = (sens > CUTOFF_FLAG if carried is None else bool(carried)) or felt
     if carried:
         q1 = float(ctx.base.psd.q1_per_m)
         f = 10.0**DEFAULT_Q1_DECADES

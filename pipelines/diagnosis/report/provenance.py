@@ -97,7 +97,8 @@ def inputs_json(ctx, d, given=None):
         unc[k] = dict(range=[float(u.lo), float(u.hi)], source=u.source)
         if u.source == "default" and k == "q1":
             notes.append(
-                f"mu is carried by the spectrum's cut-off and q1 was not declared known: q1 is uncertain "
+                f"q1 was not declared known and mu depends on it (carried by the spectrum's cut-off, or "
+                f"a decade of q1 moves mu by more than the noise): q1 is uncertain "
                 f"over a decade either side ({u.lo:.3g}..{u.hi:.3g} 1/m) by default"
             )
     if "temperature_C" in assumed:

@@ -110,7 +110,11 @@ def top_two(ctx, real_mu, noise, verdict, best, expl, singles, pairs, cal, calpa
         if first is None:
             return None
         names = set(first.effect_names)
-        other = next((c for c in pool if c is not first and not set(c.effect_names) & names), None)
+        # an alternative at its effect's no-effect point is the calibration itself, not another one
+        other = next(
+            (c for c in pool if c is not first and not set(c.effect_names) & names and not _at_null(ctx, c)),
+            None,
+        )
         if other is None:
             return None
         cands = [first, other]

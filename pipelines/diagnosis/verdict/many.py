@@ -15,7 +15,9 @@ fit at the nominal inputs is clearly the best is preferred (the nominal values a
 within their ranges), else the verdict is inconclusive. Otherwise, when the calibration alone shrinks the
 baseline's held-out gap by ``MIN_SHRINK``, the verdict is ``"calibration"`` (``calibrated``: the
 fitted inputs with approximate 95 % intervals), or inconclusive when an effect alone explains
-the held-out points as well (``inconclusive`` then names it and ``"calibration"``). When only
+the held-out points as well (``inconclusive`` then names it and ``"calibration"``); with ranges
+the user gave, the calibration is weighed against the effects fitted with it by the evidence over
+every point instead (:mod:`.calibration_rule`, the few-point rule). When only
 the default q1 range is uncertain (no ``--uncertain``), the inputs as given are believed first:
 the verdict at them (as without uncertain inputs) stands when it names an effect, with confidence
 low when calibrating q1 alone explains the held-out points as well; otherwise the calibrated
@@ -308,6 +310,12 @@ def _calibrated(v, singles, cal, calpairs, st, every, intervals):
             )
             return v, best
         prefix = _refuse(v, best)
+    if cal.shrink >= MIN_SHRINK and not cal.implausible and not st.get("default_only", True):
+        # ranges the user gave: the calibration against the effects fitted with it, by the
+        # evidence over every point (the few-point rule, :mod:`.calibration_rule`)
+        from pipelines.diagnosis.verdict.calibration_rule import calibration_by_evidence
+
+        return calibration_by_evidence(v, cal, calpairs, st, intervals, g_ho, MIN_SHRINK, prefix=prefix)
     if cal.shrink >= MIN_SHRINK and not cal.implausible:
         # an effect that is one of the calibrated inputs (fine_roughness for q1, ...) is no rival
         same = {"q1_per_m": "fine_roughness", "sigma0_Pa": "load", "temperature_C": "temperature_offset"}

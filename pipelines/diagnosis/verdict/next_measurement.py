@@ -14,6 +14,11 @@ on the unit cube: the parameters' uncertainty after the data; Laplace approximat
 away at the same temperature (the optimal design of a discrimination experiment; Box & Hill 1967,
 Technometrics 9, 57).
 
+When no speed or temperature separates them (or no explanation of different physics is left),
+:func:`unseparated` says so and names the other quantity that would (``OTHER_QUANTITY``: a dry
+road, a finer scan, the rubber's temperature, the contact pressure ...), so that every
+inconclusive or low-confidence verdict says what to measure next.
+
 A water film acts on wet rows only: when every measured row is wet and one of the two
 explanations is ``water``, the grid holds dry rows too (same speeds and temperatures), so a dry
 measurement is proposed where it separates the two best (``condition`` "dry"), e.g. water from a
@@ -24,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["next_measurement", "N_SPEEDS"]
+__all__ = ["next_measurement", "propose", "no_pair", "unseparated", "OTHER_QUANTITY", "N_SPEEDS"]
 
 N_SPEEDS = 13
 N_TEMPS = 3
@@ -183,6 +188,7 @@ def next_measurement(ctx, a, b, noise):
         )
     return dict(
         between=[a["name"], b["name"]],
+        separable=True,
         speeds_m_per_s=speeds,
         temperature_C=T,
         condition="dry" if dry else None,
@@ -195,3 +201,164 @@ def next_measurement(ctx, a, b, noise):
         "road when water is one of them and every measured row is wet); repeats "
         "for a combined separation of 3 sigmas (at most 10)",
     )
+
+
+#: the measurement of another quantity that tells an explanation (or an uncertain input) apart
+#: where mu(v) cannot: what each one changes besides mu at the measured speeds
+OTHER_QUANTITY = {
+    "q1": "a finer scan of the road (roughness beyond the spectrum's last wave vector)",
+    "fine_roughness": "a finer scan of the road (roughness beyond the spectrum's last wave vector)",
+    "psd_scale": "a repeated or longer scan of the road (the spectrum's level)",
+    "sigma0": "the nominal contact pressure (load over the apparent contact area)",
+    "load": "a run at another nominal pressure",
+    "temperature": "the rubber's temperature during the test",
+    "temperature_offset": "the rubber's temperature during the test, or a run at another temperature",
+    "flash_temperature": "the contact's temperature rise (a thermal camera at the trailing edge)",
+    "water": "a run on a dry road",
+    "contact_correction": "a run at another nominal pressure (the contact area's growth with load)",
+    "adhesion": "a run on a lubricated road (the adhesive contribution removed)",
+    "relaxation_spectrum": "a DMA sweep of the rubber at the frequencies the contact excites",
+}
+
+
+def _needs(name, inputs=()):
+    """The other quantities that bear on explanation ``name`` ("+"-joined effects, "calibration":
+    its ``inputs``)."""
+    keys = list(inputs) if name == "calibration" else name.split("+")
+    return [OTHER_QUANTITY[k] for k in keys if k in OTHER_QUANTITY]
+
+
+def unseparated(a, alts, ctx, inputs=(), why=None):
+    """``next_measurement`` when no speed or temperature of the grid tells explanation ``a`` from
+    the alternatives ``alts`` (:func:`next_measurement` returned None: even ``MAX_REPEATS``
+    repeats at the two best speeds stay below a combined 3 noise sigmas, the same noise and
+    parameter uncertainty as the evidence), or when no alternative of different physics is left:
+    which other quantity would separate them, and why the speeds this rig measures do not.
+
+    Parameters
+    ----------
+    a : str
+        The most probable explanation's name.
+    alts : list of str
+        The alternatives tried (empty: none of different physics).
+    ctx : FrictionContext
+        Model context (the measured speeds).
+    inputs : iterable of str, optional
+        The ``--uncertain`` keys the calibration fits.
+    why : str, optional
+        Why the verdict is of low confidence (an input on a bound of its range ...).
+
+    Returns
+    -------
+    dict
+        ``between``, ``separable`` (False), ``speeds_m_per_s`` (empty), ``measure`` (the other
+        quantities), ``sentence`` and ``method``; the keys of :func:`next_measurement` are kept.
+    """
+    v0, v1 = float(ctx.v_m_per_s.min()), float(ctx.v_m_per_s.max())
+    lo, hi = max(v0 / 10**0.5, 1e-7), min(v1 * 10**0.5, 30.0)
+    needs = []
+    for n in [a, *alts]:
+        needs += [x for x in _needs(n, inputs) if x not in needs]
+    if alts:
+        head = (
+            f"no speed from {lo:.3g} to {hi:.3g} m/s (nor a temperature of the shift table) separates "
+            f"{a} from {' or '.join(alts)} by 3 noise sigmas, even with {MAX_REPEATS} repeats: they "
+            "predict the same mu wherever mu(v) is measured"
+        )
+    else:
+        head = (
+            f"no explanation of other physics than {a} fits: measuring mu at other speeds would only "
+            "narrow its fitted values"
+        )
+    if why:
+        head += f" ({why})"
+    tail = "; to tell them apart measure " if alts else "; to firm it up measure "
+    sentence = head + (
+        tail + ", or ".join(needs) if needs else "; no other measurement is known to separate them"
+    )
+    return dict(
+        between=[a, *alts],
+        separable=False,
+        speeds_m_per_s=[],
+        temperature_C=None,
+        condition=None,
+        separation_sigma=[],
+        separation_sigma_combined=None,
+        repeats=None,
+        measure=needs,
+        sentence=sentence,
+        method="no point of the grid of speeds (and temperatures) separates the explanations by a combined "
+        f"3 noise sigmas with {MAX_REPEATS} repeats (model uncertainty included); the other quantity "
+        "each explanation changes is proposed instead",
+    )
+
+
+def _low_why(verdict):
+    """Why a verdict is of low confidence, in words (None when it is not said by a bound)."""
+    b = verdict.get("at_bound") or []
+    if b:
+        return f"{', '.join(b)} at the end of {'its range' if len(b) == 1 else 'their ranges'}"
+    return None
+
+
+def propose(ctx, a, alts, s, verdict, inputs=()):
+    """next_measurement between ``a`` and the first of ``alts`` that is different physics
+    (:func:`.same_physics.distinct`, given the calibrated ``inputs``); when no measurement on the
+    grid separates them, or none is different physics, the other quantity that would
+    (:func:`unseparated`), the verdict's reason saying so.
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    a : dict
+        The most probable explanation (name, candidate, H).
+    alts : list of dict
+        The alternatives, ranked.
+    s : float
+        Noise [rms log10].
+    verdict : dict
+        The verdict (its reason is extended; its ``at_bound`` says why confidence is low).
+    inputs : iterable of str, optional
+        The ``--uncertain`` keys the calibration fits.
+
+    Returns
+    -------
+    dict
+        :func:`next_measurement` or :func:`unseparated`.
+    """
+    from pipelines.diagnosis.verdict.same_physics import distinct
+
+    alts = [b for b in alts if distinct(a["name"], b["name"], inputs)]
+    if not alts:
+        return unseparated(a["name"], [], ctx, inputs, _low_why(verdict))
+    nxt = next_measurement(ctx, a, alts, s)
+    if nxt is None:
+        names = [b["name"] for b in alts[:3]]
+        verdict["reason"] += (f"; no speed or temperature separates {a['name']} from "
+                              f"{' or '.join(names)} by 3 noise sigmas, even with repeated points")
+        return unseparated(a["name"], names, ctx, inputs, _low_why(verdict))
+    return nxt
+
+
+def no_pair(ctx, verdict, inputs):
+    """next_measurement of a low or inconclusive verdict with no pair of fitted explanations to
+    compare (:func:`unseparated` of its named or first inconclusive explanation).
+
+    Parameters
+    ----------
+    ctx : FrictionContext
+        Model context.
+    verdict : dict
+        The verdict.
+    inputs : iterable of str
+        The ``--uncertain`` keys the calibration fits.
+
+    Returns
+    -------
+    dict
+    """
+    inc = list(verdict.get("inconclusive") or [])
+    a = inc[0] if inc else (verdict.get("effect") or "calibration")
+    a = a if isinstance(a, str) else "+".join(a)
+    return unseparated(a, inc[1:], ctx, inputs, _low_why(verdict))

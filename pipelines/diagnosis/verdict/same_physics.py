@@ -112,24 +112,31 @@ def equivalent_input(ctx, cand):
     )
 
 
-def distinct(a, b):
+def distinct(a, b, calibrated=None):
     """Whether explanations named ``a`` and ``b`` (``"+"``-joined effect names, ``"calibration"``
     or ``"nominal"``) are different physics, so that a measurement separating them says which
-    one holds: not when one is a same-physics effect and the other only the calibrated inputs
-    (a measurement would then only pin the input's value, not choose an explanation).
+    one holds: not when one is a same-physics effect and the other the nominal model or a
+    calibration of that effect's own input (a measurement would then only pin the input's value,
+    not choose an explanation). A temperature offset against a calibration of q1, sigma0 and the
+    spectrum's level is different physics.
 
     Parameters
     ----------
     a, b : str
         The explanations' names.
+    calibrated : iterable of str, optional
+        The ``--uncertain`` keys the calibration fits (None: any calibration counts as the
+        effect's own input).
 
     Returns
     -------
     bool
     """
-    plain = ("calibration", "nominal")
+    keys = None if calibrated is None else set(calibrated)
     for x, y in ((a, b), (b, a)):
-        if x in SAME_PHYSICS and y in plain:
+        if x in SAME_PHYSICS and (
+            y == "nominal" or (y == "calibration" and (keys is None or SAME_PHYSICS[x] in keys))
+        ):
             return False
     return a != b
 

@@ -29,7 +29,8 @@ from pipelines.diagnosis.fit.cv import evaluate, heldout_mask, holdout
 from pipelines.diagnosis.fit.fitting import Candidate, at_bound, fit_candidate, predict, too_many_parameters
 from pipelines.diagnosis.verdict.explain import pick_pair
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, PAIR_GAIN, decide, rivals
-from pipelines.diagnosis.verdict.same_physics import band_end_pool, distinct, equivalent_input, same_physics
+from pipelines.diagnosis.verdict.next_measurement import no_pair, propose
+from pipelines.diagnosis.verdict.same_physics import band_end_pool, equivalent_input, same_physics
 
 __all__ = ["Candidate", "Diagnosis", "heldout_mask", "fit_candidate", "diagnose_friction", "predict",
            "at_bound", "MIN_SHRINK", "PAIR_GAIN", "rivals"]
@@ -224,23 +225,6 @@ def _as_explanation(ctx, real_mu, c, s):
                 H=model_evidence(ctx, real_mu, c, s)["H"])
 
 
-def _propose(ctx, a, alts, s, verdict):
-    """next_measurement between ``a`` and the first of ``alts`` that is different physics
-    (:func:`same_physics.distinct`); None, with the reason saying so, when no measurement on the
-    grid separates them (:func:`next_measurement.next_measurement`)."""
-    from pipelines.diagnosis.verdict.next_measurement import next_measurement
-
-    alts = [b for b in alts if distinct(a["name"], b["name"])]
-    if not alts:
-        return None
-    nxt = next_measurement(ctx, a, alts, s)
-    if nxt is None:
-        verdict["reason"] += (f"; no speed or temperature separates {a['name']} from "
-                              f"{' or '.join(b['name'] for b in alts[:3])} by 3 noise sigmas, even with "
-                              f"repeated points")
-    return nxt
-
-
 def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skipped, ranges, free,
          base, g, t0, sens):
     """The diagnosis on fewer than 20 points: Bayesian comparison (:mod:`.verdict_few`)."""
@@ -269,8 +253,7 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skip
         pick = pick_pair(ctx, expl, s) or ((expl[0], expl[1:4]) if len(expl) > 1 else None)
         if eq_fit is not None:
             pick = (expl[0], [_as_explanation(ctx, real_mu, eq_fit, s)])
-        if pick is not None:
-            nxt = _propose(ctx, pick[0], pick[1], s, verdict)
+        nxt = propose(ctx, pick[0], pick[1], s, verdict, free) if pick is not None else no_pair(ctx, verdict, free)
     verdict["next_measurement"] = nxt
     ranked = sorted(cands + ([cal] if cal else []), key=lambda c: -c.evidence["log_z"])
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
@@ -302,8 +285,8 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     uncertain : dict, optional
         Key -> :class:`pipelines.diagnosis.fit.calibration.Uncertain` (``--uncertain``).
     default_q1 : bool, optional
-        Make q1 uncertain over a decade either side where mu is carried by the cut-off and q1 was
-        not declared known.
+        Make q1 uncertain over a decade either side where q1 was not declared known and mu is
+        carried by the cut-off or a decade of q1 moves it by more than the noise.
     carried : bool, optional
         Whether mu is carried by the cut-off (the band map's flag); None: judged here.
 
@@ -326,14 +309,14 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     ranges = dict(uncertain or {})
     ctx.base = apply_known(ctx, ranges)
     sens = None
+    noise_given = noise is not None
+    noise = float(noise) if noise_given else gapmod.estimate_noise(ctx.v_m_per_s, real_mu)
     if default_q1:
-        ranges, sens = add_q1(ctx, ranges, carried)
+        ranges, sens = add_q1(ctx, ranges, carried, noise=noise)
     free = free_ranges(ctx, ranges)
     cal_e = calibration_effect(ctx, ranges)
     ho = holdout(n)
     base = simulate(ctx.base, ctx)
-    noise_given = noise is not None
-    noise = float(noise) if noise_given else gapmod.estimate_noise(ctx.v_m_per_s, real_mu)
     r0 = gapmod.log_ratio(real_mu, base)
     g_all = float(np.sqrt(np.mean(r0 ** 2)))
     g_tr = float(np.sqrt(np.mean(r0[ho.train] ** 2)))
@@ -436,8 +419,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         pair = top_two(ctx, real_mu, noise, verdict, best, expl, singles, pair_list, cal, calpairs)
         if eq_fit is not None and eq_fit[0] is not None:
             pair = (_as_explanation(ctx, real_mu, eq_fit[0], noise), _as_explanation(ctx, real_mu, eq_fit[1], noise))
-        if pair is not None:
-            nxt = _propose(ctx, pair[0], [pair[1]], noise, verdict)
+        nxt = propose(ctx, pair[0], [pair[1]], noise, verdict, free) if pair is not None else no_pair(ctx, verdict, free)
     verdict["next_measurement"] = nxt
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
     return Diagnosis(base, g_all, g_tr, g_ho, noise, noise_given, significant, p, ho.train, ranked,
