@@ -206,16 +206,16 @@ def next_measurement(ctx, a, b, noise):
 #: the measurement of another quantity that tells an explanation (or an uncertain input) apart
 #: where mu(v) cannot: what each one changes besides mu at the measured speeds
 OTHER_QUANTITY = {
-    "q1": "a finer scan of the road (roughness beyond the spectrum's last wave vector)",
-    "fine_roughness": "a finer scan of the road (roughness beyond the spectrum's last wave vector)",
-    "psd_scale": "a repeated or longer scan of the road (the spectrum's level)",
+    "q1": "a finer scan of the road (roughness beyond the last wave vector of the spectrum)",
+    "fine_roughness": "a finer scan of the road (roughness beyond the last wave vector of the spectrum)",
+    "psd_scale": "a repeated or longer scan of the road (the level of the spectrum)",
     "sigma0": "the nominal contact pressure (load over the apparent contact area)",
     "load": "a run at another nominal pressure",
-    "temperature": "the rubber's temperature during the test",
-    "temperature_offset": "the rubber's temperature during the test, or a run at another temperature",
-    "flash_temperature": "the contact's temperature rise (a thermal camera at the trailing edge)",
+    "temperature": "the temperature of the rubber during the test",
+    "temperature_offset": "the temperature of the rubber during the test, or a run at another temperature",
+    "flash_temperature": "the temperature rise of the contact (a thermal camera at the trailing edge)",
     "water": "a run on a dry road",
-    "contact_correction": "a run at another nominal pressure (the contact area's growth with load)",
+    "contact_correction": "a run at another nominal pressure (how the contact area grows with load)",
     "adhesion": "a run on a lubricated road (the adhesive contribution removed)",
     "relaxation_spectrum": "a DMA sweep of the rubber at the frequencies the contact excites",
 }
@@ -335,8 +335,10 @@ def propose(ctx, a, alts, s, verdict, inputs=()):
     nxt = next_measurement(ctx, a, alts, s)
     if nxt is None:
         names = [b["name"] for b in alts[:3]]
-        verdict["reason"] += (f"; no speed or temperature separates {a['name']} from "
-                              f"{' or '.join(names)} by 3 noise sigmas, even with repeated points")
+        verdict["reason"] += (
+            f"; no speed or temperature separates {a['name']} from "
+            f"{' or '.join(names)} by 3 noise sigmas, even with repeated points"
+        )
         return unseparated(a["name"], names, ctx, inputs, _low_why(verdict))
     return nxt
 
