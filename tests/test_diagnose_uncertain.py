@@ -198,16 +198,29 @@ def test_uncertain_errors_exit_2_in_one_line(tmp_path, capsys, spec):
 
 
 def test_calibration_verdict_on_a_world_with_only_a_q1_offset():
+    """A world whose only difference is q1 (2.5 x the stated one, inside the uncertain range):
+    over five noise draws (2 % in ln mu) the verdict is "calibration" with q1 found, at least
+    four times, and never a named effect. The evidence rule (:mod:`.verdict.calibration_rule`)
+    may abstain on a draw where an extra parameter fits the noise: draw 7 gives load fitted with
+    the calibration a Bayes factor of about 4 in-sample while the held-out points find nothing,
+    and the verdict is inconclusive with the calibration among the explanations."""
     v = np.logspace(-4, 0.5, 24)
     ctx = build_context(_curve(v), PSD)
     truth = simulate(ctx.base.with_(psd=PSD.with_q1(2.5 * PSD.q1_per_m)), ctx)
-    mu = truth * np.exp(0.02 * np.random.default_rng(7).standard_normal(v.size))
     effects = [get(n) for n in ("temperature_offset", "contact_correction", "load")]
-    d = diagnose_friction(ctx, mu, effects=effects, uncertain=parse_uncertain("q1=5e4:2e6"))
-    assert d.verdict["effect"] == "calibration", d.verdict["reason"]
-    q1 = d.verdict["calibrated"]["q1_per_m"]
-    assert q1["value"] == pytest.approx(5e5, rel=0.25)
-    assert q1["interval"][0] <= q1["value"] <= q1["interval"][1]
+    named = 0
+    for seed in (3, 4, 5, 6, 7):
+        mu = truth * np.exp(0.02 * np.random.default_rng(seed).standard_normal(v.size))
+        d = diagnose_friction(ctx, mu, effects=effects, uncertain=parse_uncertain("q1=5e4:2e6"))
+        if d.verdict["effect"] is None:
+            assert "calibration" in d.verdict["inconclusive"], (seed, d.verdict["reason"])
+            continue
+        assert d.verdict["effect"] == "calibration", (seed, d.verdict["reason"])
+        named += 1
+        q1 = d.verdict["calibrated"]["q1_per_m"]
+        assert q1["value"] == pytest.approx(5e5, rel=0.25), seed
+        assert q1["interval"][0] <= q1["value"] <= q1["interval"][1]
+    assert named >= 4
 
 
 def test_calibration_effect_moves_each_input():
