@@ -160,6 +160,17 @@ def test_friction_inputs_refused(files, capsys, tmp_path, argv, needle):
     assert list(tmp_path.iterdir()) == []
 
 
+@pytest.mark.parametrize("speeds", ["1e-300:1e300:3", "1,2e7"])
+def test_speeds_beyond_any_sliding_rubber_are_refused(capsys, tmp_path, speeds):
+    """1e300 m/s once ran and overflowed the log speed axis (long fuzz run): a speed above
+    1e6 m/s is refused in one line naming it, and nothing is written."""
+    out = tmp_path / "mu.csv"
+    argv = ["friction", "--self-affine", "H=0.8,h0=1e-4,q0=1e3,q1=1e6", "--velocities", speeds, "--out", out]
+    line = _refused(capsys, argv, "--velocities", "no sliding speed")
+    assert "e+06 m/s" in line
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_bad_choice_is_one_line(capsys, files, tmp_path):
     capsys.readouterr()
     with pytest.raises(SystemExit) as ei:

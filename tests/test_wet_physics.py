@@ -39,6 +39,18 @@ def test_flow_factor_two_phase_bruggeman():
     assert flow_factor(c) == pytest.approx(se)
 
 
+def test_full_contact_squeezes_without_a_floating_point_warning():
+    """A very smooth band is in full contact at p0 (u(p0) = 0, contact fraction 1): the film
+    squeezes to the dry separation without a divide-by-zero (found by the long fuzz run)."""
+    u_tab, p_tab = np.array([1e-3, 1e-5, 0.0]), np.array([1e3, 1e5, 1e6])
+    with np.errstate(all="raise"):
+        assert flow_factor(1.0) == 0.0
+        u = squeeze_film(
+            1e-4, 1e-3, p0_Pa=2e5, eta_Pa_s=1e-3, R_m=0.014, u_table=u_tab, p_table=p_tab, contact_area=1.0
+        )
+    assert 0.0 <= float(u) < 1e-4
+
+
 def test_J_small_argument_slope_is_gamma():
     y = np.array([1e-9, 1e-8])
     J = J_function(y, 0.4)

@@ -53,7 +53,8 @@ def flow_factor(contact_fraction):
     B.N.J. Persson, J. Phys.: Condens. Matter 22, 265004 (2010), doi:10.1088/0953-8984/22/26/265004.
     """
     c = np.clip(np.asarray(contact_fraction, dtype=float), 0.0, 1.0)
-    return np.where(c < 0.5, (1.0 - 2.0 * c) / np.maximum(1.0 - c, 1e-300) ** 3, 0.0)
+    # the floor 0.5 only touches the branch not taken (c >= 0.5), where 1 - c can be 0
+    return np.where(c < 0.5, (1.0 - 2.0 * c) / np.maximum(1.0 - c, 0.5) ** 3, 0.0)
 
 
 def stefan_time(h_m, h0_m, p_Pa, eta_Pa_s, R_m):
@@ -172,7 +173,10 @@ def _time_table(p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area, nodes):
     from .gap import contact_pressure
 
     rigid = u_table is None
-    u_dry = 0.0 if rigid else float(np.exp(np.interp(np.log(p0_Pa), np.log(p_table), np.log(u_table))))
+    # u(p) interpolated in (ln p, ln u); a separation of 0 (full contact of a very smooth band)
+    # stands as 1e-300 m, which the exponential returns as 0 to within that
+    lu = np.log(np.maximum(np.asarray(u_table, dtype=float), 1e-300)) if not rigid else None
+    u_dry = 0.0 if rigid else float(np.exp(np.interp(np.log(p0_Pa), np.log(p_table), lu)))
     # one node set for every u0 (so that more water never squeezes to less film): from 1 m
     # above u_dry down to a floor, T(x) = time to get from 1 m down to u_dry + x
     floor = 1e-10 * max(u_dry, 1e-6)

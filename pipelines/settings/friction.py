@@ -154,9 +154,27 @@ def parse_pressure(text, flag="--sigma0"):
     return val * _PRESSURE_UNITS.get(unit, 1.0)
 
 
+#: the fastest sliding speed accepted [m/s]: far above any tyre, aircraft or rig (and above the
+#: speed of sound in rubber, ~1.5e3 m/s); beyond it a log speed axis overflows float64 margins
+MAX_SPEED_M_PER_S = 1e6
+
+
+def _speed_cap(v, text):
+    """``v`` when no speed exceeds :data:`MAX_SPEED_M_PER_S`; else an InputError naming it."""
+    if v.max() > MAX_SPEED_M_PER_S:
+        given = "" if text is None else f" {text!r}"
+        raise InputError(
+            None,
+            f"--velocities{given}: {v.max():.3g} m/s is no sliding speed of rubber "
+            f"(the fastest accepted is {MAX_SPEED_M_PER_S:.0e} m/s)",
+        )
+    return v
+
+
 def parse_velocities(text):
     """``"LO:HI:N"`` -> N log-spaced speeds [m/s] from LO to HI; ``"V1,V2,..."`` -> those speeds
-    (a tabulated grid, e.g. another program's), sorted. InputError when malformed.
+    (a tabulated grid, e.g. another program's), sorted. InputError when malformed or faster than
+    :data:`MAX_SPEED_M_PER_S`.
 
     Parameters
     ----------
@@ -177,7 +195,7 @@ def parse_velocities(text):
             raise InputError(None, f"--velocities {text!r}: expected speeds in m/s") from None
         if v.size == 0 or not np.all(np.isfinite(v) & (v > 0)):
             raise InputError(None, "--velocities: speeds must be positive numbers [m/s]")
-        return v
+        return _speed_cap(v, None)
     if "," in text or ":" not in text:
         try:
             v = np.array([float(t) for t in text.split(",") if t.strip()])
@@ -187,8 +205,7 @@ def parse_velocities(text):
             ) from None
         if v.size == 0 or not np.all(np.isfinite(v) & (v > 0)):
             raise InputError(None, f"--velocities {text!r}: speeds must be positive numbers [m/s]")
-        v = np.unique(v)
-        return v
+        return _speed_cap(np.unique(v), text)
     try:
         lo, hi, n = text.split(":")
         lo, hi, n = float(lo), float(hi), int(n)
@@ -198,7 +215,7 @@ def parse_velocities(text):
         ) from None
     if not (0 < lo < hi < np.inf) or n < 2:
         raise InputError(None, f"--velocities {text!r}: need 0 < LO < HI and N >= 2")
-    return np.logspace(np.log10(lo), np.log10(hi), n)
+    return _speed_cap(np.logspace(np.log10(lo), np.log10(hi), n), text)
 
 
 def add_contact_options(g, q1_help=None, nu=True):
