@@ -49,9 +49,11 @@ ACCURACY_CASES = [
     (12, "adhesion"),
     (14, "contact_correction"),
 ]
-# one null case, a scan (``small``: 128-192 points a side), the only scan among this file's
-# friction-level cases; null false-positive rates are the benchmark's
-NULL_SEEDS = [22]
+# one null case, a psd.csv one (seed 23: of the former three nulls 21, 22 and 23 the shortest
+# run; the scan null 22 took three times as long, and friction-level diagnoses from a scan are
+# run by test_diagnose_scan_read.py and test_diagnose_band_end.py); null false-positive rates
+# are the benchmark's
+NULL_SEEDS = [23]
 
 
 def _cli(args):
