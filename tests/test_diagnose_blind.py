@@ -41,9 +41,9 @@ CRASH_CASE = (1011, "temperature_offset")
 # seeded effect cases (psd.csv surfaces, default speed draw); chosen as the first seeds whose case
 # passes the benchmark's own identifiability filter, never by the diagnosis' answer. Three kinds:
 # the temperature offset (the contract test's case), adhesion (the --noise test's case) and the
-# contact correction; fine roughness, relaxation spectrum, flash, load and water are named in
-# tests/test_diagnose.py::test_proof_small_blind_cases_meet_the_goals, every kind over whole seed
-# sets in benchmarks/bench_diagnose_blind.py.
+# contact correction; fine roughness, relaxation spectrum and flash temperature are named in
+# tests/test_diagnose.py::test_proof_small_blind_cases_meet_the_goals; load, water and every
+# kind over whole seed sets in benchmarks/bench_diagnose_blind.py.
 ACCURACY_CASES = [
     CRASH_CASE,
     (12, "adhesion"),
