@@ -137,6 +137,7 @@ def _finish(ax, xlabel, ylabel, title, fontsize=8):
     ax.set_title(title)
     ax.grid(which="both", alpha=0.25)
     ax.legend(fontsize=fontsize)
+    rep.plain_log_ticks(ax)  # Unicode exponents: no mathtext parser (0.3 s and more a process)
 
 
 def mu_axes(ax, curve, d, dense, validate=None, title="measured, simulated and corrected μ(v)"):
