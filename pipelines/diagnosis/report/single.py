@@ -197,9 +197,10 @@ def _plots_friction(tmp, curve, d, where, bm_curves, validate, dense):
         tot = np.trapezoid(np.maximum(f[i], 0), np.log(q)) or 1.0
         ax.semilogx(q, f[i] / tot, color=plt.cm.viridis(i / max(f.shape[0] - 1, 1)),
                     label=f"v = {vc[i]:.2g} m/s")
-    _finish(ax, "wave vector q [1/m]  (length scale 2π/q)", "share of μ per ln q [-]",
+    _finish(ax, "wave vector q [1/m]", "share of μ per ln q [-]",
             "band map: which q carries μ in each speed band", fontsize=7)
-    figs.append(rep.save_figure(fig, tmp / "bandmap.png", rep.fixed_margins(ax)))
+    rep.wavelength_axis(ax)  # λ = 2π/q in mm on top, as every spectrum plot
+    figs.append(rep.save_figure(fig, tmp / "bandmap.png", rep.fixed_margins(ax, top=rep.WAVELENGTH_AXIS_TOP)))
     return figs
 
 
