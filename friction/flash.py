@@ -37,12 +37,14 @@ from .isothermal import _breakpoints, _check, contact_state
 from .result import FrictionResult
 from .rubber import log10_shift
 
-__all__ = ["mu_flash", "heat_kernel", "FlashConvergenceError", "T_RISE_MAX_K"]
+__all__ = ["mu_flash", "heat_kernel", "FlashConvergenceError", "T_RISE_MAX_K", "ZETA_M"]
 
 #: Flash temperature rises T_q - T0 [K] the viscoelastic tables are built for; the iterates are
 #: kept in [T0, T0 + 1e4 K]. A solve that fails after reaching rises above this is reported as
 #: runaway heating (rubber is destroyed long before), not as a numerical failure.
 T_RISE_MAX_K = 2000.0
+#: default macro-asperity magnification of :func:`mu_flash`, q_m = ZETA_M q0 (2 < zeta_m < 5)
+ZETA_M = 3.0
 #: default (a, b, c) of the hot spots' radius R = (a + b P(q_m)^c) / q_m [m]: (0, 2 sqrt(pi), 1/2)
 ASPERITY_ABC = (0.0, 2 * float(np.sqrt(np.pi)), 0.5)
 
@@ -287,7 +289,7 @@ def mu_flash(
     sigma0_Pa=0.2e6,
     nu=0.5,
     T0_C=None,
-    zeta_m=3.0,
+    zeta_m=ZETA_M,
     asperity_abc=ASPERITY_ABC,
     tol=1e-3,
     wlf_form="relative",

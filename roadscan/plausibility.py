@@ -83,10 +83,12 @@ def detrended_rms(obj: HeightMap | Profile) -> float:
         ok = np.isfinite(z)
         cols = [np.ones(int(ok.sum())), xx[ok], yy[ok]]
     zo = z[ok]
+    scale = _power_of_two_scale(zo)
+    zo = zo / scale
     if zo.size < len(cols) + 1:
         if step > 1:  # the subsample missed the measured points: take them all
             return _all_points_rms(h)
-        return float(np.std(zo)) if zo.size else float("nan")
+        return scale * float(np.std(zo)) if zo.size else float("nan")
     lo, hi = percentiles(zo, [1.0, 99.0])  # np.percentile's values
     keep = (zo >= lo) & (zo <= hi)  # a few spikes neither tilt the plane nor the rms
     if keep.sum() < len(cols) + 1:
@@ -96,13 +98,26 @@ def detrended_rms(obj: HeightMap | Profile) -> float:
     a = np.column_stack([c[keep] for c in cols])
     coef, *_ = np.linalg.lstsq(a, zk, rcond=None)
     r = zk - a @ coef
-    return float(np.sqrt(np.mean(r * r)))
+    return scale * float(np.sqrt(np.mean(r * r)))
 
 
 def _all_points_rms(h):
     """rms about the mean of every measured point (no plane: too few for one)."""
     v = h[np.isfinite(h)]
-    return float(np.std(v)) if v.size > 1 else float("nan")
+    if v.size < 2:
+        return float("nan")
+    scale = _power_of_two_scale(v)
+    return scale * float(np.std(v / scale))
+
+
+def _power_of_two_scale(z):
+    """1.0, or a power of two near max |z| when that exceeds 2^500: heights near the float64
+    limit (a units slip in a file) are scaled exactly (a power of two) before they are squared,
+    so their rms comes out instead of an overflow; ordinary heights keep every bit."""
+    m = float(np.max(np.abs(z))) if z.size else 0.0
+    if not (np.isfinite(m) and m > 2.0**500):
+        return 1.0
+    return float(np.ldexp(1.0, int(np.frexp(m)[1]) - 1))  # 2^(e-1) <= m < 2^e: |z| / scale < 2
 
 
 def _span(obj):

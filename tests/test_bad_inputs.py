@@ -407,3 +407,35 @@ def test_check_heights_flat_and_spike_rules_without_copying():
     n, lo, hi = _measured_range(h, m, chunk_bytes=8 * 200 * 7)  # bands of 7 rows
     ref = h[np.isfinite(h) & ~m]
     assert (n, lo, hi) == (ref.size, ref.min(), ref.max())
+
+
+def test_heights_near_the_float64_limit_give_their_rms_without_overflow():
+    """Fuzz finding (convert of an x3p scaled to ~1e300): the plausibility rms squared the
+    heights and overflowed. Heights above 2^500 are scaled by a power of two first (exact), so
+    the rms comes out; ordinary heights give the plain formula's bits."""
+    from roadscan.heightmap import HeightMap
+    from roadscan.plausibility import detrended_rms
+
+    rng = np.random.default_rng(5)
+    plain = rng.normal(0, 1e-4, (40, 40))
+    with np.errstate(all="raise"):
+        huge = detrended_rms(HeightMap(plain * 1e304, 5e-5, 5e-5))
+        small = detrended_rms(HeightMap(plain, 5e-5, 5e-5))
+    assert huge == pytest.approx(small * 1e304, rel=1e-9)
+    z = plain.ravel()  # the plain formula on the same grid (every point kept, 40^2 < the cap)
+    keep = (z >= np.percentile(z, 1)) & (z <= np.percentile(z, 99))
+    yy, xx = np.indices(plain.shape, dtype=float)
+    a = np.column_stack([np.ones(keep.sum()), xx.ravel()[keep], yy.ravel()[keep]])
+    zk = z[keep] - np.median(z[keep])
+    r = zk - a @ np.linalg.lstsq(a, zk, rcond=None)[0]
+    assert small == pytest.approx(float(np.sqrt(np.mean(r * r))), rel=1e-12)
+
+
+def test_flash_on_a_band_shorter_than_its_macro_asperity_factor_is_refused(capsys, tmp_path):
+    """Fuzz finding: --flash on a band whose end q1 lies below zeta_m q0 (the macro-asperity
+    wave vector, zeta_m = 3) was an internal error (exit 1); now one line naming the band's end
+    and the options."""
+    argv = ["friction", "--self-affine", "H=0.8,h0=1e-4,q0=1e4,q1=2e4", "--flash", "--velocities", "1e-3:1:3"]
+    line = _refused(capsys, [*argv, "--out", tmp_path / "mu.csv"], "--q1", "--flash")
+    assert "macro-asperity" in line and "3e+04" in line
+    assert list(tmp_path.iterdir()) == []

@@ -367,6 +367,8 @@ def friction_curve(
     from friction.flash import FlashConvergenceError
     from roadscan.errors import InputError
 
+    if flash:
+        _flash_band_reaches_q_m(psd)
     try:
         with np.errstate(all="ignore"):
             if flash:
@@ -377,3 +379,21 @@ def friction_curve(
         raise InputError(None, f"friction: {exc}") from None
     check_mu(res.mu, warn_high=warn_high)
     return res
+
+
+def _flash_band_reaches_q_m(psd):
+    """InputError when the flash model's macro-asperity wave vector q_m = zeta_m q0
+    (:func:`friction.mu_flash`'s default zeta_m) lies beyond the friction band's end q1: a scan
+    or band shorter than zeta_m in q has no macro-asperities to heat."""
+    from friction.flash import ZETA_M as zeta
+    from roadscan.errors import InputError
+
+    q_m = zeta * psd.q0_per_m
+    if not (psd.q_min_per_m <= q_m <= psd.q1_per_m):
+        raise InputError(
+            None,
+            f"friction: the flash-temperature model needs the band to reach the macro-asperity "
+            f"wave vector q_m = {zeta:g} q0 = {q_m:.3g} 1/m, but it ends at q1 = {psd.q1_per_m:.3g} "
+            "1/m (a band shorter than its factor in q): widen the band ({q1}) or leave out {flash}",
+            hint_option=("q1", "flash"),
+        )
