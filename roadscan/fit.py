@@ -249,6 +249,8 @@ def fit_self_affine(
     if band is None:
         band = detect_band(spectrum, window_decades=window_decades, min_count=min_count)
     lo, hi = float(band[0]), float(band[1])
+    if q.size and max(lo, q.min()) < min(hi, q.max()):  # a band wider than the spectrum: what is fitted
+        lo, hi = max(lo, float(q.min())), min(hi, float(q.max()))
     # rings are weighted by sqrt(lattice points): inverse-variance weights (the count) would be
     # right for a perfect power law but let the top decade, where noise floors and instrument
     # cut-offs bend the spectrum, dominate; sqrt(count) halves the scatter of the low rings'

@@ -89,3 +89,18 @@ def test_extension_continues_the_power_law():
     assert slope == pytest.approx(-2 * (fit.hurst + 1), rel=1e-9)
     assert np.all(ext.count[n:] == 0)
     assert 18 <= q_new.size / np.log10(6e5 / s.q_max_per_m) <= 22
+
+
+def test_a_fit_band_wider_than_the_spectrum_is_the_spectrum_range():
+    """Fuzz finding: --fit-band=1e-300,1e4 was recorded as given and the fitted line drawn from
+    1e-300 1/m overflowed; the band fitted (and reported) is the part the spectrum covers, and
+    the fit equals the one over exactly that range."""
+    q = np.logspace(3, 5, 41)
+    C = 1e-18 * (q / 1e3) ** (-2 * (1 + 0.8))
+    sp = Spectrum(q, C)
+    wide = fit_self_affine(sp, band=(1e-300, 1e300))
+    exact = fit_self_affine(sp, band=(q[0], q[-1]))
+    assert wide.fit_band_per_m == pytest.approx((q[0], q[-1]))
+    assert wide.hurst == exact.hurst and wide.h0_m == exact.h0_m
+    with np.errstate(all="raise"):
+        wide.model_C(np.array(wide.fit_band_per_m))
