@@ -37,7 +37,7 @@ from .isothermal import _breakpoints, _check, contact_state
 from .result import FrictionResult
 from .rubber import log10_shift
 
-__all__ = ["mu_flash", "heat_kernel", "FlashConvergenceError", "T_RISE_MAX_K", "ZETA_M"]
+__all__ = ["mu_flash", "heat_kernel", "FlashConvergenceError", "FlashBandError", "T_RISE_MAX_K", "ZETA_M"]
 
 #: Flash temperature rises T_q - T0 [K] the viscoelastic tables are built for; the iterates are
 #: kept in [T0, T0 + 1e4 K]. A solve that fails after reaching rises above this is reported as
@@ -107,6 +107,26 @@ class FlashConvergenceError(RuntimeError):
     message : str
         One line: the speeds that did not converge and the residual [K].
     """
+
+
+class FlashBandError(ValueError):
+    """The macro-asperity wave vector q_m = zeta_m q0 lies outside the spectrum's band
+    [q_min, q1]: a band shorter than zeta_m in q has no macro-asperities to heat.
+
+    Attributes
+    ----------
+    q_m_per_m, q1_per_m : float
+        q_m and the band's end [1/m].
+    zeta_m : float
+        The magnification used.
+    """
+
+    def __init__(self, q_m_per_m, q1_per_m, zeta_m):
+        super().__init__(
+            f"q_m = zeta_m q0 = {q_m_per_m:.3g} 1/m (zeta_m = {zeta_m:g}) must lie inside the "
+            f"spectrum's band, which ends at q1 = {q1_per_m:.3g} 1/m"
+        )
+        self.q_m_per_m, self.q1_per_m, self.zeta_m = float(q_m_per_m), float(q1_per_m), float(zeta_m)
 
 
 def _anderson_step(X, R, T, r, beta, reg=1e-10):
@@ -349,6 +369,8 @@ def mu_flash(
 
     Raises
     ------
+    FlashBandError
+        A ValueError, when ``zeta_m q0`` lies outside the spectrum's band.
     FlashConvergenceError
         A RuntimeError, when the fixed point is not reached within ``max_iter`` evaluations; its
         one-line message names the speeds ("runs away" when the iterates rose more than
@@ -383,7 +405,7 @@ def mu_flash(
     rc = th.heat_capacity_J_m3K
     q_m = zeta_m * psd.q0_per_m
     if not (psd.q_min_per_m <= q_m <= psd.q1_per_m):
-        raise ValueError("q_m = zeta_m q0 must lie inside the spectrum's band")
+        raise FlashBandError(q_m, psd.q1_per_m, zeta_m)
     q, h = q_grid(_breakpoints(psd, [q_m]), q_nodes_per_decade(tol))
     im = int(np.argmin(np.abs(np.log(q / q_m))))
     C = psd.C(q)

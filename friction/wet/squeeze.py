@@ -173,10 +173,12 @@ def _time_table(p0_Pa, eta_Pa_s, R_m, u_table, p_table, contact_area, nodes):
     from .gap import contact_pressure
 
     rigid = u_table is None
-    # u(p) interpolated in (ln p, ln u); a separation of 0 (full contact of a very smooth band)
-    # stands as 1e-300 m, which the exponential returns as 0 to within that
-    lu = np.log(np.maximum(np.asarray(u_table, dtype=float), 1e-300)) if not rigid else None
-    u_dry = 0.0 if rigid else float(np.exp(np.interp(np.log(p0_Pa), np.log(p_table), lu)))
+    u_dry = 0.0
+    if not rigid:
+        # u(p) interpolated in (ln p, ln u); a separation of 0 (full contact of a very smooth
+        # band) stands as 1e-300 m, which the exponential returns as 0 to within that
+        lu = np.log(np.maximum(np.asarray(u_table, dtype=float), 1e-300))
+        u_dry = float(np.exp(np.interp(np.log(p0_Pa), np.log(p_table), lu)))
     # one node set for every u0 (so that more water never squeezes to less film): from 1 m
     # above u_dry down to a floor, T(x) = time to get from 1 m down to u_dry + x
     floor = 1e-10 * max(u_dry, 1e-6)

@@ -364,11 +364,9 @@ def friction_curve(
     kw = dict(sigma0_Pa=sigma0_Pa, T0_C=T0_C, nu=nu, contact_gamma=contact_gamma)
     if tol is not None:
         kw["tol"] = tol
-    from friction.flash import FlashConvergenceError
+    from friction.flash import FlashBandError, FlashConvergenceError
     from roadscan.errors import InputError
 
-    if flash:
-        _flash_band_reaches_q_m(psd)
     try:
         with np.errstate(all="ignore"):
             if flash:
@@ -377,23 +375,14 @@ def friction_curve(
                 res = friction.mu_isothermal(psd, rubber, v, **kw)
     except FlashConvergenceError as exc:  # one line naming the speeds (as `friction` says)
         raise InputError(None, f"friction: {exc}") from None
-    check_mu(res.mu, warn_high=warn_high)
-    return res
-
-
-def _flash_band_reaches_q_m(psd):
-    """InputError when the flash model's macro-asperity wave vector q_m = zeta_m q0
-    (:func:`friction.mu_flash`'s default zeta_m) lies beyond the friction band's end q1: a scan
-    or band shorter than zeta_m in q has no macro-asperities to heat."""
-    from friction.flash import ZETA_M as zeta
-    from roadscan.errors import InputError
-
-    q_m = zeta * psd.q0_per_m
-    if not (psd.q_min_per_m <= q_m <= psd.q1_per_m):
+    except FlashBandError as exc:  # the band is an input (the scan's, or --q1)
         raise InputError(
             None,
             f"friction: the flash-temperature model needs the band to reach the macro-asperity "
-            f"wave vector q_m = {zeta:g} q0 = {q_m:.3g} 1/m, but it ends at q1 = {psd.q1_per_m:.3g} "
-            "1/m (a band shorter than its factor in q): widen the band ({q1}) or leave out {flash}",
+            f"wave vector q_m = {exc.zeta_m:g} q0 = {exc.q_m_per_m:.3g} 1/m, but it ends at "
+            f"q1 = {exc.q1_per_m:.3g} 1/m (a band shorter than its factor in q): widen the band "
+            "({q1}) or leave out {flash}",
             hint_option=("q1", "flash"),
-        )
+        ) from None
+    check_mu(res.mu, warn_high=warn_high)
+    return res
