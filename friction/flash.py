@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ._flash_errors import FlashBandError, FlashConvergenceError
 from .contact import contact_S
 from .grids import phi_table, q_grid, q_nodes_per_decade
 from .isothermal import _breakpoints, _check, contact_state
@@ -96,37 +97,6 @@ def heat_kernel(q_per_m, qp_per_m, D_m2_s, t0_s, per_decade=8):
     A = 4 * qp[None, :] / (k[:, None] ** 2 + 4 * qp[None, :] ** 2)
     B = 4 * q[None, :] ** 2 / (k[:, None] ** 2 + 4 * q[None, :] ** 2)
     return (B * (wk * F)[:, None]).T @ A
-
-
-class FlashConvergenceError(RuntimeError):
-    """The self-consistent flash temperature was not found (the message is one line, naming the
-    speeds and the residual).
-
-    Parameters
-    ----------
-    message : str
-        One line: the speeds that did not converge and the residual [K].
-    """
-
-
-class FlashBandError(ValueError):
-    """The macro-asperity wave vector q_m = zeta_m q0 lies outside the spectrum's band
-    [q_min, q1]: a band shorter than zeta_m in q has no macro-asperities to heat.
-
-    Attributes
-    ----------
-    q_m_per_m, q1_per_m : float
-        q_m and the band's end [1/m].
-    zeta_m : float
-        The magnification used.
-    """
-
-    def __init__(self, q_m_per_m, q1_per_m, zeta_m):
-        super().__init__(
-            f"q_m = zeta_m q0 = {q_m_per_m:.3g} 1/m (zeta_m = {zeta_m:g}) must lie inside the "
-            f"spectrum's band, which ends at q1 = {q1_per_m:.3g} 1/m"
-        )
-        self.q_m_per_m, self.q1_per_m, self.zeta_m = float(q_m_per_m), float(q1_per_m), float(zeta_m)
 
 
 def _anderson_step(X, R, T, r, beta, reg=1e-10):
