@@ -264,11 +264,19 @@ class PhiTable:
         return out[0], out[1]
 
 
-_CACHE: weakref.WeakKeyDictionary[Rubber, dict[int, PhiTable]] = weakref.WeakKeyDictionary()
+#: per rubber: tables by (nodes per decade, first node, last node), at most _KEEP of them
+_CACHE: weakref.WeakKeyDictionary[Rubber, dict[tuple[int, int, int], PhiTable]] = weakref.WeakKeyDictionary()
+_KEEP = 16
 
 
 def phi_table(rubber: Rubber, x_min: float, x_max: float, per_decade: int = 24) -> PhiTable:
     """A cached :class:`PhiTable` for ``rubber`` covering ``[x_min, x_max]`` (with margin).
+
+    The table's nodes are a fixed lattice (``per_decade`` a decade) and its ends are the
+    requested range widened by three nodes and then out to whole decades, so the table, and
+    every value read from it, is a function of the request alone: the same call gives the same
+    bits whatever the process computed before (a spline through a range grown by earlier calls
+    would not; its not-a-knot ends reach a few nodes in).
 
     Parameters
     ----------
@@ -295,13 +303,14 @@ def phi_table(rubber: Rubber, x_min: float, x_max: float, per_decade: int = 24) 
             f"reduced frequencies q v aT out of range ({x_min:.3g}..{x_max:.3g} rad/s): "
             "is the temperature far outside the rubber's shift table?"
         )
-    k_lo = int(np.floor(np.log(x_min) / d)) - 3
-    k_hi = int(np.ceil(np.log(x_max) / d)) + 3
+    k_lo = (int(np.floor(np.log(x_min) / d)) - 3) // per_decade * per_decade
+    k_hi = -((-(int(np.ceil(np.log(x_max) / d)) + 3)) // per_decade) * per_decade
     tabs = _CACHE.setdefault(rubber, {})
-    t = tabs.get(per_decade)
-    if t is None or not t.covers(k_lo, k_hi):
-        if t is not None:
-            k_lo, k_hi = min(k_lo, t.k_lo), max(k_hi, t.k_hi)
+    key = (per_decade, k_lo, k_hi)
+    t = tabs.pop(key, None)
+    if t is None:
         t = PhiTable(rubber, k_lo, k_hi, per_decade)
-        tabs[per_decade] = t
+        while len(tabs) >= _KEEP:
+            del tabs[next(iter(tabs))]
+    tabs[key] = t  # the most recent last
     return t
