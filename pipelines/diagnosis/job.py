@@ -88,6 +88,14 @@ def add_diagnose_options(p):
         help="several measurements at once: CSV measured,rubber,label[,temperature_C,sigma0_Pa] "
         "(paths relative to M.csv); q1, psd_scale and sigma0 shared",
     )
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=None,
+        metavar="N",
+        help="processes fitting the candidates side by side (default: one per core; 1: none); "
+        "the verdict is the same to the last digit, only the wall time changes",
+    )
     add_scan_options(p)
     p.set_defaults(sigma0=None)  # None: not given (the default 0.2MPa is then listed as assumed)
 
@@ -130,6 +138,7 @@ def diagnose(
     x_units: Literal["m", "mm", "um", "nm"] | None = None,
     override_calibration: bool = False,
     channel: int | str | None = None,
+    workers: int | None = None,
 ) -> dict[str, Any]:
     """``roadscan diagnose`` as one call: the sim-to-real gap (where model and measurement
     disagree, which unmodelled effect explains it, how much adding it closes the gap), written
@@ -192,6 +201,16 @@ def run_diagnosis(args, say=_say):
     dict
         The ``diagnosis.json`` content.
     """
+    from pipelines.diagnosis.fit.parallel import use_workers
+
+    workers = getattr(args, "workers", None)
+    if workers is not None and workers < 1:
+        raise InputError(None, f"--workers {workers}: give at least 1 process")
+    with use_workers(workers):
+        return _run_diagnosis(args, say)
+
+
+def _run_diagnosis(args, say):
     import numpy as np
 
     if args.noise is not None and not (np.isfinite(args.noise) and args.noise > 0):

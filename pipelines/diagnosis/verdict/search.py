@@ -27,6 +27,7 @@ from pipelines.diagnosis import gap as gapmod
 from pipelines.diagnosis.effects import all_effects
 from pipelines.diagnosis.fit.cv import evaluate, heldout_mask, holdout
 from pipelines.diagnosis.fit.fitting import Candidate, at_bound, fit_candidate, predict, too_many_parameters
+from pipelines.diagnosis.fit.parallel import fit_map, portable, restore
 from pipelines.diagnosis.verdict.explain import pick_pair
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, PAIR_GAIN, decide, rivals
 from pipelines.diagnosis.verdict.next_measurement import no_pair, propose
@@ -332,60 +333,69 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     usable = _usable(ctx, effects if effects is not None else all_effects("friction"), free, ranges, skipped)
     timings = {}
 
-    def run(effs, **kw):
+    def fit(task):
+        effs, kw = task
         t1 = time.perf_counter()
-        k = sum(len(e.params) for e in effs)
-        name = "+".join(e.name for e in effs)
-        if too_many_parameters(k, ho.n_train):
-            skipped.append(dict(name=name, reason=f"{k} free parameters on {ho.n_train} training points "
-                                                  f"(at most half as many parameters as points)"))
-            return None
-        cache = {}
-        c = fit_candidate(ctx, real_mu, effs, ho.train, cache=cache, **kw)
+        c = fit_candidate(ctx, real_mu, effs, ho.train, cache={}, **kw)
         c = evaluate(c, ctx, real_mu, ho, r0_held)
         if c.implausible:
             c = _physical_refit(c, ctx, real_mu, ho, r0_held)
         c.seconds = time.perf_counter() - t1
-        timings[c.name] = c.seconds
-        say(f"  {c.name}: train {c.gap_train:.4f} held-out {c.gap_heldout:.4f} ({c.seconds:.1f} s)")
-        return c
+        return portable(c, effs)
+
+    def run(tasks):
+        """The fits of one stage (independent of one another: on several cores), None where a
+        model has too many parameters for its training points (listed under ``skipped``)."""
+        ok = []
+        for effs, _ in tasks:
+            k = sum(len(e.params) for e in effs)
+            ok.append(not too_many_parameters(k, ho.n_train))
+            if not ok[-1]:
+                skipped.append(dict(name="+".join(e.name for e in effs), reason=f"{k} free parameters on "
+                                    f"{ho.n_train} training points (at most half as many parameters as points)"))
+        fitted = iter(fit_map(fit, [t for t, keep in zip(tasks, ok) if keep],
+                              cost=lambda t: max(e.cost for e in t[0])))
+        out = []
+        for (effs, _), keep in zip(tasks, ok):
+            c = restore(next(fitted), effs) if keep else None
+            if c is not None:
+                timings[c.name] = c.seconds
+                say(f"  {c.name}: train {c.gap_train:.4f} held-out {c.gap_heldout:.4f} ({c.seconds:.1f} s)")
+            out.append(c)
+        return out
 
     if ho.cv:
         return _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skipped,
                     ranges, free, base, dict(g_all=g_all, g_tr=g_tr, g_ho=g_ho, p=p, n=n), t0, sens)
-    singles = []
-    for e in usable:
-        c = run((e,))
-        if c is not None:
-            singles.append(c)
+    stage = run([((e,), {}) for e in usable] + ([((cal_e,), {})] if cal_e is not None else []))
+    singles = [c for c in stage[:len(usable)] if c is not None]
     singles.sort(key=lambda c: c.score)
     pair_list, cal, calpairs = [], None, []
     if cal_e is not None:
-        cal = run((cal_e,))
+        cal = stage[-1]
         if cal is not None and significant:
             by_name = {c.effects[0].name: c for c in singles}
+            tasks = []
             for e in usable:
                 starts = [cal.params + [e.null_params(ctx) or {p.name: p.init for p in e.params}]]
                 if e.name in by_name:
                     starts.append(cal.params + by_name[e.name].params)
                 budget = 8 if e.cost > 1 else 20 + 4 * (len(e.params) + len(cal_e.params))
-                c = run((cal_e, e), extra_starts=starts, budget=budget)
-                if c is not None:
-                    calpairs.append(c)
+                tasks.append(((cal_e, e), dict(extra_starts=starts, budget=budget)))
+            calpairs = [c for c in run(tasks) if c is not None]
     elif pairs and singles and significant:
         first = singles[0]
-        for other in singles[1:]:
-            c = run(first.effects + other.effects, start=first.params + other.params,
-                    budget=12 if max(first.effects[0].cost, other.effects[0].cost) > 1 else 40)
-            if c is not None:
-                pair_list.append(c)
+        pair_list = [c for c in run([
+            (first.effects + other.effects, dict(start=first.params + other.params,
+                                                 budget=12 if max(first.effects[0].cost, other.effects[0].cost) > 1
+                                                 else 40))
+            for other in singles[1:]]) if c is not None]
         if pair_list:
             # the best single restarted from its parameters in the best pair: a pair started from
             # the single may only have continued a fit the single's budget stopped (kept when it
             # fits the training points better, never chosen by the held-out points)
             bp = min(pair_list, key=lambda c: c.gap_train)
-            c = run(first.effects, start=bp.params[:1],
-                    budget=12 if first.effects[0].cost > 1 else 40)
+            (c,) = run([(first.effects, dict(start=bp.params[:1], budget=12 if first.effects[0].cost > 1 else 40))])
             if c is not None and c.gap_train < first.gap_train:
                 singles[0] = c
                 singles.sort(key=lambda c: c.score)

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from pipelines.diagnosis.fit.cv import boot_shrink
+from pipelines.diagnosis.fit.parallel import fit_map, portable, restore
 
 __all__ = [
     "few_candidates",
@@ -140,6 +141,9 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
         c.evidence = model_evidence(ctx, real_mu, c, s, nu)
         _press(c, c.evidence, y, s, r0, ho.boot, n)
         c.seconds = time.perf_counter() - t1
+        return c
+
+    def told(c):
         timings[c.name] = c.seconds
         say(f"  {c.name}: rms {c.gap_all:.4f} ln Z {c.evidence['log_z']:.2f} ({c.seconds:.1f} s)")
         return c
@@ -148,46 +152,52 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
     t1 = time.perf_counter()
     s, nu = noise_prior(noise, noise_given)
     if cal_e is not None:
-        cal = finish(fit_candidate(ctx, real_mu, (cal_e,), every, cache={}), t1, s, nu)
-    cands = []
+        cal = told(finish(fit_candidate(ctx, real_mu, (cal_e,), every, cache={}), t1, s, nu))
     significant = gapmod.is_significant(float(np.sqrt(np.mean(r0**2))), s, n)
     if not significant:
-        return cal, cands, s, nu, significant
-    for e in usable:
+        return cal, [], s, nu, significant
+
+    def fit(e):
         t1 = time.perf_counter()
         own = e.null_params(ctx) or {p.name: p.init for p in e.params}
+        effs = (cal_e, e) if cal is not None else (e,)
         if cal is not None:
-            effs = (cal_e, e)
             starts = [cal.params + [own]]
             budget = 8 if e.cost > 1 else 20 + 4 * (len(e.params) + len(cal_e.params))
             c = fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=starts, budget=budget)
         else:
-            c = fit_candidate(ctx, real_mu, (e,), every, cache={})
-        c = finish(c, t1, s, nu)
-        if c.implausible and e.physical is not None:
-            c = _physical(ctx, real_mu, c, every, finish, s, nu)
-        cands.append(c)
+            c = fit_candidate(ctx, real_mu, effs, every, cache={})
+        shown = [finish(c, t1, s, nu)]
+        if shown[0].implausible and e.physical is not None:
+            shown += _physical(ctx, real_mu, shown[0], every, finish, s, nu)
+        return [portable(c, effs) for c in shown], int(len(shown) > 1 and not shown[-1].implausible)
+
+    cands = []
+    for e, (shown, kept) in zip(usable, fit_map(fit, usable, cost=lambda e: e.cost)):
+        shown = [restore(c, (cal_e, e) if cal is not None else (e,)) for c in shown]
+        for c in shown:  # an implausible fit is reported before its refit within the physical ranges
+            told(c)
+        cands.append(shown[-1] if kept else shown[0])
     return cal, cands, s, nu, significant
 
 
 def _physical(ctx, real_mu, c, every, finish, s, nu):
-    """An implausible fit refitted within its effects' physical ranges (kept when physical)."""
+    """An implausible fit refitted within its effects' physical ranges: ``[refit]``, or ``[]``
+    where an effect declares no such range (the caller keeps the refit when it is physical)."""
     import time
 
     from pipelines.diagnosis.fit.fitting import fit_candidate
 
     effs = tuple(e if e.name == "calibration" else e.restricted(ctx, real_mu) for e in c.effects)
     if any(e is None for e in effs):
-        return c
+        return []
     t1 = time.perf_counter()
     start = [
         {p.name: float(np.clip(q[p.name], p.lo, p.hi)) for p in e.params} for e, q in zip(effs, c.params)
     ]
     budget = 8 if max(e.cost for e in effs) > 1 else None
-    r = finish(
-        fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=[start], budget=budget), t1, s, nu
-    )
-    return r if not r.implausible else c
+    r = fit_candidate(ctx, real_mu, effs, every, cache={}, extra_starts=[start], budget=budget)
+    return [finish(r, t1, s, nu)]
 
 
 def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, best, timings):

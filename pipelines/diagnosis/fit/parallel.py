@@ -1,0 +1,154 @@
+"""Independent candidate fits on several cores.
+
+The diagnosis fits its candidates in stages (every effect alone, the calibration, every effect
+with the calibration...); within a stage the fits share nothing: each starts from its own starts
+and a fresh evaluation cache. :func:`fit_map` runs one stage's fits in worker processes forked
+from this one (copy-on-write: the context, the measured curve and the effects are not copied or
+pickled; only each fitted candidate comes back). The most expensive fits are handed out first
+(longest processing time first, Graham 1969, doi:10.1137/0117039), and the results are returned
+in the order of the items, so the diagnosis is the same to the last bit as the serial loop; only
+the wall time changes. Python warnings a fit raises in a worker are raised again in this process,
+in item order.
+
+A fitted candidate travels without its effects (their model functions are closures that do not
+pickle): :func:`portable` replaces each by its position among the effects the fit was given, and
+for an effect narrowed to its physical ranges (:meth:`effects.Effect.restricted`) also its new
+bounds; :func:`restore` puts the same effects back from this process's own copies.
+
+How many workers: :func:`workers` (a scope set by the job, ``roadscan diagnose --workers N``);
+by default one per core available to the process. One worker, a single item, a daemon process
+(a worker of some other pool, which may not have children) or a platform without ``fork`` runs
+the loop in this process.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import contextvars
+import multiprocessing
+import os
+import warnings
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import ProcessPoolExecutor
+from typing import Any
+
+__all__ = ["default_workers", "fit_map", "workers", "use_workers", "portable", "restore"]
+
+_WORKERS: contextvars.ContextVar[int | None] = contextvars.ContextVar("diagnosis_workers", default=None)
+#: the stage a forked worker runs: (function, items); set only while a pool is open
+_STAGE: tuple[Callable[[Any], Any], Sequence[Any]] | None = None
+
+
+def default_workers() -> int:
+    """One worker per core available to this process (its CPU affinity where the OS says)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def workers() -> int:
+    """The number of worker processes a stage may use in the current scope (>= 1)."""
+    n = _WORKERS.get()
+    return default_workers() if n is None else n
+
+
+@contextlib.contextmanager
+def use_workers(n: int | None) -> Iterator[None]:
+    """Fit with ``n`` worker processes inside the ``with`` block (None: one per core; 1: in this
+    process). ``n`` below 1 is refused (ValueError)."""
+    if n is not None and int(n) < 1:
+        raise ValueError(f"workers must be at least 1, got {n}")
+    token = _WORKERS.set(None if n is None else int(n))
+    try:
+        yield
+    finally:
+        _WORKERS.reset(token)
+
+
+def _run(i: int) -> tuple[Any, list[tuple[str, type[Warning], str, int]]]:
+    """Worker side: item ``i`` of the stage, with the warnings it raised (under the filters this
+    process had when it was forked, so a warning configured to raise still raises)."""
+    assert _STAGE is not None
+    fn, items = _STAGE
+    with warnings.catch_warnings(record=True) as caught:
+        out = fn(items[i])
+    return out, [(str(w.message), w.category, w.filename, w.lineno) for w in caught]
+
+
+def fit_map(
+    fn: Callable[[Any], Any], items: Sequence[Any], *, cost: Callable[[Any], float] | None = None
+) -> list[Any]:
+    """``[fn(x) for x in items]`` on :func:`workers` processes, the results in item order.
+
+    Parameters
+    ----------
+    fn : callable
+        One fit: a deterministic function of its item (closures are fine: the workers are forks).
+        Its result must pickle.
+    items : sequence
+        The stage's items.
+    cost : callable, optional
+        Relative cost of an item; the costliest are started first (default: item order).
+
+    Returns
+    -------
+    list
+        ``fn(item)`` for every item, in the order of ``items``. An exception in a fit is raised
+        here, as the serial loop would.
+    """
+    global _STAGE
+    items = list(items)
+    n = min(workers(), len(items))
+    if (
+        n <= 1
+        or _STAGE is not None  # already a worker
+        or multiprocessing.current_process().daemon  # a daemon (a pool's worker) has no children
+        or "fork" not in multiprocessing.get_all_start_methods()
+    ):
+        return [fn(x) for x in items]
+    order = sorted(range(len(items)), key=lambda i: -cost(items[i])) if cost else list(range(len(items)))
+    _STAGE = (fn, items)
+    try:
+        with ProcessPoolExecutor(n, mp_context=multiprocessing.get_context("fork")) as ex:
+            futures = {i: ex.submit(_run, i) for i in order}
+            done = [futures[i].result() for i in range(len(items))]
+    finally:
+        _STAGE = None
+    out = []
+    for result, caught in done:
+        for message, category, filename, lineno in caught:
+            warnings.warn_explicit(message, category, filename, lineno)
+        out.append(result)
+    return out
+
+
+def portable(c: Any, effects: Sequence[Any]) -> Any:
+    """Worker side: candidate ``c`` (a :class:`fitting.Candidate` fitted with ``effects``, or
+    with some of them narrowed) with each effect replaced by a picklable token."""
+    import copy
+
+    tokens: list[tuple[Any, ...]] = []
+    for i, e in enumerate(c.effects):
+        given = effects[i]
+        if e is given:
+            tokens.append((i,))
+        else:  # a narrowed copy: dataclasses.replace(given, params=..., null=...)
+            tokens.append((i, e.params, e.null is given.null))
+    out = copy.copy(c)  # keeps what the fit set besides the dataclass fields (evidence, ...)
+    out.effects = tuple(tokens)
+    return out
+
+
+def restore(c: Any, effects: Sequence[Any]) -> Any:
+    """This side: the candidate :func:`portable` sent, with its effects put back."""
+    import copy
+    from dataclasses import replace
+
+    out = []
+    for t in c.effects:
+        given = effects[t[0]]
+        out.append(given if len(t) == 1 else replace(given, params=t[1], null=given.null if t[2] else None))
+    c = copy.copy(c)
+    c.effects = tuple(out)
+    return c
