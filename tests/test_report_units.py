@@ -1,7 +1,8 @@
 """Reports speak the reader's units (issue 21): every HTML report and console line written by
 ``analyse`` (area, profile, several scans), ``batch`` (sections of a profile), ``compare``,
-``dry-vs-wet`` and ``combine`` is scanned for raw SI ("0.0003974", "1.849e-05 um",
-"2.53e+03 um"), the ASCII "um" and heights of a thousand micrometres and more.
+``dry-vs-wet``, ``combine`` and ``diagnose`` (friction level) is scanned for raw SI
+("0.0003974", "1.849e-05 um", "2.53e+03 um"), the ASCII "um" and heights of a thousand
+micrometres and more.
 
 The checker itself is tested first on the strings the issue quotes, so that it can fail.
 """
@@ -16,6 +17,7 @@ from conftest import fourier_surface
 
 from pipelines.cli.app import main
 
+SAMPLES = Path(__file__).resolve().parents[1] / "sample_scans"
 DX = 5e-5  # area scans: 50 µm
 DXP = 5e-4  # profiles: 0.5 mm, a texture laser's interval
 
@@ -84,6 +86,13 @@ def test_checker_passes_reader_units(text):
     assert raw_si(text) == []
 
 
+def _measured(d):
+    """Eight speeds of the shipped measured curve (a friction-level diagnosis in seconds)."""
+    rows = (SAMPLES / "measured_mu_example.csv").read_text().splitlines()
+    (d / "mu.csv").write_text("\n".join([rows[0], *rows[1::4]][:9]) + "\n")
+    return ["diagnose", "--measured", str(d / "mu.csv"), "--psd", str(SAMPLES / "asphalt_psd.csv")]
+
+
 def _profile(n, seed):
     """mm-scale texture: running-mean white noise plus a slow wave, heights about 2.3 mm rms."""
     rng = np.random.default_rng(seed)
@@ -135,6 +144,7 @@ def runs(tmp_path_factory):
         "compare": (["compare", a, b, "--spacing", str(DX)] + v, "compare"),
         "dry-vs-wet": (["dry-vs-wet", a, "--spacing", str(DX)] + v, "wet"),
         "combine": (["combine", str(d / "instruments.csv"), "--no-figures"], "combine"),
+        "diagnose": (_measured(d), "diag"),
     }
     out = {}
     for name, (argv, sub) in commands.items():
@@ -157,6 +167,7 @@ NAMES = [
     "compare",
     "dry-vs-wet",
     "combine",
+    "diagnose",
 ]
 
 
@@ -194,8 +205,8 @@ def test_profile_report_speaks_mm(runs):
 
 @pytest.fixture(scope="module")
 def spectrum_figures(tmp_path_factory):
-    """Every figure ``analyse`` (area and profile), ``compare``, ``dry-vs-wet`` and ``combine``
-    save, drawn in this process -> [(command, figure file name, axes)]."""
+    """Every figure ``analyse`` (area and profile), ``compare``, ``dry-vs-wet``, ``combine`` and
+    ``diagnose`` (friction level) save, drawn in this process -> [(command, figure file name, axes)]."""
     import pipelines.output.report as report
 
     d = tmp_path_factory.mktemp("figs")
@@ -228,6 +239,7 @@ def spectrum_figures(tmp_path_factory):
             ("compare", ["compare", a, b, "--spacing", str(DX)] + v),
             ("dry-vs-wet", ["dry-vs-wet", a, "--spacing", str(DX)] + v),
             ("combine", ["combine", str(d / "two.csv")]),
+            ("diagnose", _measured(d)),
         ):
             assert main(argv + ["--out", str(d / command.replace(" ", "_"))]) == 0, command
     return seen
@@ -241,7 +253,7 @@ def test_every_spectrum_plot_has_a_wavelength_axis_in_mm(spectrum_figures):
         if ax.get_xlabel().startswith("wave vector q") and ax.get_xscale() == "log"
     ]
     drawn = {c for c, _, _ in spectra}
-    assert drawn == {"analyse", "analyse profile", "compare", "dry-vs-wet", "combine"}, drawn
+    assert drawn == {"analyse", "analyse profile", "compare", "dry-vs-wet", "combine", "diagnose"}, drawn
     for command, name, ax in spectra:
         tops = [c for c in ax.child_axes if "wavelength" in c.get_xlabel()]
         assert tops, f"{command}: {name} has no wavelength axis"
