@@ -103,6 +103,11 @@ def add_diagnose_options(p):
 #: what this job's options mean where it narrows the shared text
 _OPTION_TEXT = {
     "psd": ("``--psd``: spectrum CSV q_per_m,C_m4 (instead of --scan)."),
+    "workers": (
+        "``--workers``: processes fitting the candidates of one stage side by side, forked from "
+        "this one (default: one per core available; 1: in this process). The diagnosis is the "
+        "same to the last digit whatever the number; only the wall time changes."
+    ),
     "q1": (
         "``--q1``: upper end (cut-off) of the friction integrals [1/m]; above the spectrum's last "
         "point C(q) continues as its fitted power law (default: the last point)."
