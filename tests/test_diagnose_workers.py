@@ -121,3 +121,53 @@ def test_workers_flag_refuses_zero_in_one_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert code == 2 and "--workers 0" in err and len(err.splitlines()) == 1
     assert not (tmp_path / "d").exists()
+
+
+def test_a_stop_request_during_a_stage_ends_at_once_and_leaves_no_worker(tmp_path):
+    """SIGTERM while the workers fit: one line, exit 143 within seconds (not after the stage's
+    fits), no output folder, and every worker gone (killed; on Linux they also die with the
+    command, prctl(PR_SET_PDEATHSIG))."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "d"
+    argv = [
+        sys.executable,
+        "-m",
+        "pipelines.cli",
+        "diagnose",
+        "--measured",
+        str(SAMPLES / "measured_mu_example.csv"),
+    ]
+    argv += [
+        "--psd",
+        str(SAMPLES / "asphalt_psd.csv"),
+        "--out",
+        str(out),
+        "--uncertain",
+        "sigma0=0.15MPa:0.3MPa",
+    ]
+    proc = subprocess.Popen(argv, stderr=subprocess.PIPE, text=True, cwd=SAMPLES.parent)
+    children, t_end = [], time.monotonic() + 60
+    while not children and proc.poll() is None and time.monotonic() < t_end:  # a stage fitting
+        time.sleep(0.05)
+        for task in Path(f"/proc/{proc.pid}/task").glob("*/children"):
+            children += [int(p) for p in task.read_text().split()]
+    assert children, "no worker process while a stage fits"
+    t0 = time.monotonic()
+    proc.send_signal(signal.SIGTERM)
+    rest = proc.stderr.read()
+    code = proc.wait(timeout=30)
+    assert code == 143 and time.monotonic() - t0 < 5.0
+    assert rest.strip().splitlines()[-1] == "roadscan diagnose: interrupted (SIGTERM)"
+    assert "Traceback" not in rest and not out.exists()
+    time.sleep(0.2)
+    alive = [
+        p
+        for p in children
+        if Path(f"/proc/{p}").exists() and "Z" not in Path(f"/proc/{p}/stat").read_text().split()[2]
+    ]
+    assert alive == [], f"workers left running: {alive} ({os.getpid()})"

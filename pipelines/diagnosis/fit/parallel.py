@@ -27,6 +27,7 @@ import contextlib
 import contextvars
 import multiprocessing
 import os
+import sys
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
@@ -64,6 +65,43 @@ def use_workers(n: int | None) -> Iterator[None]:
         yield
     finally:
         _WORKERS.reset(token)
+
+
+def _worker_init(parent_pid: int) -> None:
+    """A worker ignores Ctrl-C (the terminal sends it to the whole group; stopping is the
+    parent's business, :func:`_kill`), takes SIGTERM and SIGHUP at their defaults, and on Linux
+    ends with its parent however that ends (``prctl(PR_SET_PDEATHSIG)``, see prctl(2))."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name in ("SIGTERM", "SIGHUP"):
+        if hasattr(signal, name):
+            signal.signal(getattr(signal, name), signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            ctypes.CDLL(None).prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG = 1
+        except (OSError, AttributeError):
+            pass
+        if os.getppid() != parent_pid:  # the parent ended before the request took effect
+            os._exit(0)
+
+
+def _kill(ex: ProcessPoolExecutor) -> None:
+    """Stop a pool at once: queued fits cancelled, running ones killed (concurrent.futures has
+    no public call for that before Python 3.14), its manager thread joined so that it never
+    closes its wake-up pipe while the interpreter's exit hook writes to it."""
+    import threading
+
+    procs = list((getattr(ex, "_processes", None) or {}).values())
+    manager = getattr(ex, "_executor_manager_thread", None)
+    ex.shutdown(wait=False, cancel_futures=True)
+    for p in procs:
+        if p.is_alive():
+            p.kill()
+    if manager is not None and manager is not threading.current_thread():
+        manager.join(timeout=5.0)
 
 
 def _run(i: int) -> tuple[Any, list[tuple[str, type[Warning], str, int]]]:
@@ -110,9 +148,19 @@ def fit_map(
     order = sorted(range(len(items)), key=lambda i: -cost(items[i])) if cost else list(range(len(items)))
     _STAGE = (fn, items)
     try:
-        with ProcessPoolExecutor(n, mp_context=multiprocessing.get_context("fork")) as ex:
+        ex = ProcessPoolExecutor(
+            n,
+            mp_context=multiprocessing.get_context("fork"),
+            initializer=_worker_init,
+            initargs=(os.getpid(),),
+        )
+        try:
             futures = {i: ex.submit(_run, i) for i in order}
             done = [futures[i].result() for i in range(len(items))]
+        except BaseException:  # a stop request (Ctrl-C, SIGTERM) or a failed fit: no fit left running
+            _kill(ex)
+            raise
+        ex.shutdown(wait=True)
     finally:
         _STAGE = None
     out = []
