@@ -57,11 +57,12 @@ class Uncertain:
     Attributes
     ----------
     key : str
-        Input name.
+        One of ``"q1"``, ``"sigma0"``, ``"psd_scale"``, ``"temperature"``.
     lo, hi : float
         Range (SI; temperature in C).
     source : str
-        ``"given"`` or ``"default"``.
+        ``"given"`` (``--uncertain``), ``"default"`` (the default q1 range) or ``"known"``
+        (``q1=known``, lo and hi NaN).
     """
 
     key: str
@@ -96,7 +97,8 @@ def parse_uncertain(text):
     Returns
     -------
     dict
-        Key -> Uncertain.
+        Input name -> :class:`Uncertain`, bounds in SI (sigma0 in Pa, q1 in 1/m, temperature in C);
+        empty for None or an empty string.
     """
     from pipelines.settings.friction import parse_pressure
 
@@ -151,11 +153,12 @@ def scale_psd(psd, s):
     psd : spectrum
         TabulatedPSD or SelfAffinePSD.
     s : float
-        Factor on C.
+        Dimensionless factor on C(q); 1 returns ``psd`` itself.
 
     Returns
     -------
     spectrum
+        A TabulatedPSD with C_m4 times ``s``, or the self-affine law with h0_m times sqrt(s).
     """
     from dataclasses import replace
 
@@ -203,18 +206,20 @@ def default_q1(ctx, ranges, carried=None, noise=None):
     Parameters
     ----------
     ctx : FrictionContext
-        The model context.
+        The measured rows and the baseline spec (its spectrum gives the nominal q1 [1/m]).
     ranges : dict
-        Uncertain ranges so far.
+        Input name -> :class:`Uncertain` so far; a ``"q1"`` entry (known or not) is kept as is.
     carried : bool, optional
-        Band map's verdict.
+        The band map's verdict that mu is carried by the cut-off; None: computed here.
     noise : float, optional
         Rms log10 noise of the measured mu (None: the cut-off flag alone decides).
 
     Returns
     -------
     ranges : dict
+        ``ranges``, with q1 over [q1 / 10, 10 q1] (source ``"default"``) added when mu depends on it.
     sensitivity : float or None
+        max d ln mu / d ln q1 over up to 8 measured speeds; None when not computed.
     """
     from pipelines.diagnosis.report.bandmap import CUTOFF_FLAG
 
@@ -262,13 +267,15 @@ def calibration_effect(ctx, ranges):
     Parameters
     ----------
     ctx : FrictionContext
-        The model context.
+        The measured rows and the baseline spec (its nominal inputs start the fit).
     ranges : dict
-        Uncertain ranges.
+        Input name -> :class:`Uncertain`; known ones are left out of the fit.
 
     Returns
     -------
     Effect or None
+        One parameter per free input (``q1_per_m``, ``sigma0_Pa``, ``psd_scale`` log scale;
+        ``temperature_C`` linear), its no-effect point the nominal inputs clipped into the ranges.
     """
     free = free_ranges(ctx, ranges)
     if not free:
@@ -326,21 +333,22 @@ def intervals(c, ctx, real_mu, train, noise, z=1.96):
     Parameters
     ----------
     c : Candidate
-        The fitted candidate.
+        A fitted candidate; without a ``calibration`` effect the result is empty.
     ctx : FrictionContext
-        Model context.
-    real_mu : ndarray
-        Measured mu.
-    train : ndarray of bool
-        Training points.
+        The context it was fitted on.
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row.
+    train : ndarray of bool, shape (n,)
+        The rows it was fitted on (J and the residuals are taken there).
     noise : float
-        Noise [log10].
+        rms of log10(measured / simulated mu) expected from the measurement: the floor of s.
     z : float, optional
-        Normal quantile.
+        Standard-normal quantile: 1.96 gives 95 %.
 
     Returns
     -------
     dict
+        Parameter name -> dict(value, interval=[lo, hi], range=[lo, hi]) in the parameter's unit.
     """
     from pipelines.diagnosis.fit.fitting import pack, predict
 

@@ -34,13 +34,14 @@ def heldout_mask(n, every=HELDOUT_EVERY):
     Parameters
     ----------
     n : int
-        Points.
+        Number of measured points (in speed order).
     every : int, optional
-        Step.
+        Index step between held-out points (default 3: a third held out).
 
     Returns
     -------
-    ndarray of bool
+    ndarray of bool, shape (n,)
+        True at the held-out indices 1, 1 + every, ... below n - 1.
     """
     m = np.zeros(n, bool)
     m[1 : n - 1 : every] = True
@@ -59,9 +60,10 @@ class Holdout:
     train, held : ndarray of bool
         Training and held-out points.
     n_train : int
-        Training points.
-    boot : ndarray
-        Bootstrap resamples.
+        Number of training points of one fit (n when ``cv``).
+    boot : ndarray of int, shape (1000, n_held)
+        Bootstrap resamples: indices into the held-out residuals, drawn with seed 0 (the same for
+        every candidate, so shrink intervals are paired).
     """
 
     cv: bool
@@ -83,11 +85,12 @@ def holdout(n):
     Parameters
     ----------
     n : int
-        Measured points.
+        Number of measured points.
 
     Returns
     -------
     Holdout
+        Below ``CV_BELOW`` (20) points ``cv`` is True and every point both trains and is scored.
     """
     if n < CV_BELOW:
         train = np.ones(n, bool)
@@ -108,12 +111,13 @@ def boot_shrink(r_num, r_den, boot):
     ----------
     r_num, r_den : ndarray
         Residuals with and without the effect.
-    boot : ndarray
-        Resample indices.
+    boot : ndarray of int, shape (n_boot, n_held)
+        Resample indices into both residual arrays (e.g. :attr:`Holdout.boot`).
 
     Returns
     -------
     tuple of float
+        (5th, 95th percentile) of the shrink; (nan, nan) when no resample has a nonzero baseline.
     """
     num = np.sqrt(np.mean(r_num[boot] ** 2, axis=1))
     den = np.sqrt(np.mean(r_den[boot] ** 2, axis=1))
@@ -131,19 +135,20 @@ def evaluate(c, ctx, real_mu, ho, r0_held):
     Parameters
     ----------
     c : Candidate
-        The candidate.
+        Fitted on ``ho.train``; filled in place.
     ctx : FrictionContext
-        Context.
-    real_mu : ndarray
-        Measured mu.
+        The context it was fitted on (bounds, no-effect values and plausibility checks).
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row.
     ho : Holdout
-        Hold-out scheme.
+        The hold-out scheme; a few-points one (``ho.cv``) raises ValueError.
     r0_held : ndarray
-        Baseline held-out residuals.
+        The baseline's log10(measured / simulated mu) at the held-out rows.
 
     Returns
     -------
     Candidate
+        ``c`` itself.
     """
     if ho.cv:
         raise ValueError("fewer than 20 points are compared by evidence (search_few), not held out")

@@ -64,23 +64,25 @@ def equivalence(ctx, real_mu, cand, ranges, free, noise, rows=None):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
-    real_mu : ndarray
-        Measured mu.
+        The context ``cand`` was fitted on.
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row.
     cand : Candidate
-        The effect's fit.
+        The effect's fit (with or without the calibration); its calibrated inputs start the fit.
     ranges : dict
-        Key -> Uncertain.
+        Input name -> :class:`calibration.Uncertain`.
     free : dict
-        Key -> (lo, hi).
+        Input name -> (lo, hi), the fitted ranges in SI (temperature in C); empty: returns None.
     noise : float
-        Noise [log10].
-    rows : ndarray, optional
-        Rows compared.
+        rms of log10(measured / simulated mu) of the measurement (at least the evidence's floor).
+    rows : ndarray of bool, shape (n,), optional
+        Rows fitted and compared; None: every row.
 
     Returns
     -------
     dict or None
+        equivalent (bool), dloglik [nats], inputs (names moved beyond their ranges), calibrated
+        (input name -> fitted value) and fit (the extended calibration's Candidate).
     """
     from pipelines.diagnosis.fit.calibration import PARAM, calibration_effect
     from pipelines.diagnosis.fit.evidence import loglik, noise_scale

@@ -75,17 +75,18 @@ def loglik(rss, n, s, nu=NU):
     Parameters
     ----------
     rss : float
-        Residual sum of squares [log10^2].
+        Residual sum of squares of log10(measured / model mu) [log10^2].
     n : int
-        Points.
+        Number of points the residuals come from.
     s : float
-        Noise scale.
+        Noise estimate, rms log10 (callers floor it at :data:`NOISE_FLOOR`).
     nu : float, optional
-        Student-t degrees of freedom.
+        Degrees of freedom the estimate ``s`` is worth (default :data:`NU` = 4).
 
     Returns
     -------
     float
+        -(nu + n) / 2 ln(1 + rss / (nu s^2)) [nats].
     """
     return -0.5 * (nu + n) * float(np.log1p(rss / (nu * s * s)))
 
@@ -120,7 +121,7 @@ def log_occam(H, u):
     Returns
     -------
     occam : float
-        ln of the Occam factor.
+        ln of the Occam factor (<= 0: the prior volume the data rule out).
     cov : ndarray, shape (k, k)
         Posterior covariance pinv(H).
 
@@ -150,19 +151,21 @@ def model_evidence(ctx, real_mu, cand, noise, nu=NU):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
-    real_mu : ndarray
-        Measured mu.
+        The measured rows and the baseline spec (the nominal model when ``cand`` is None).
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row.
     cand : Candidate or None
         Fitted candidate (None: nominal model).
     noise : float
-        Noise scale.
+        Noise estimate, rms of log10(measured / simulated mu); at least :data:`NOISE_FLOOR` is used.
     nu : float, optional
-        Student-t degrees of freedom.
+        Degrees of freedom the noise estimate is worth (default :data:`NU` = 4).
 
     Returns
     -------
     dict
+        name, k, rss [log10^2], loglik, occam and log_z = loglik + occam [nats]; cov, H (k, k) and
+        J (n, k), None for the nominal model.
 
     References
     ----------
@@ -201,14 +204,16 @@ def posteriors(ev0, evs):
     Parameters
     ----------
     ev0 : dict
-        Evidence of the null explanation.
+        :func:`model_evidence` of the null explanation (no effect beyond the uncertain inputs).
     evs : list of dict
-        Evidence of the others.
+        :func:`model_evidence` of each effect tried; they share the prior 1/2 equally.
 
     Returns
     -------
     p0 : float
+        Posterior probability of the null explanation (1 when ``evs`` is empty).
     p : list of float
+        Posterior probability of each of ``evs``, in order; with ``p0`` they sum to 1.
     """
     m = len(evs)
     logs = [np.log(PRIOR_NULL if m else 1.0) + ev0["log_z"]]

@@ -40,13 +40,14 @@ def too_many_parameters(k, n_train):
     Parameters
     ----------
     k : int
-        Free parameters.
+        Number of free parameters of the candidate (summed over its effects).
     n_train : int
-        Training rows.
+        Number of training rows the fit would see.
 
     Returns
     -------
     bool
+        True when 2 k > n_train: the candidate is not fitted.
     """
     return 2 * int(k) > int(n_train)
 
@@ -60,27 +61,30 @@ class Candidate:
     effects : tuple of Effect
         The effects fitted together.
     params : list of dict
-        Their parameters.
+        One dict per effect: parameter name (which carries its unit) -> fitted value.
     pred : ndarray
         Predicted mu at every row.
     gap_train, gap_heldout, gap_all : float
-        Gaps [rms log10].
+        rms of log10(measured / predicted mu) over the training, held-out and all rows (NaN
+        when no row is held out).
     shrink : float
-        Held-out shrink.
+        1 - gap_heldout / the baseline's gap_heldout, set when the candidate is scored (NaN until then).
     score : float
-        Ranking score.
+        gap_heldout (1 + k / n_train), times 1.08^k with a hold-out (:func:`cv.evaluate`); lower
+        ranks first.
     nfev : int
-        Model evaluations.
+        Model evaluations this fit added to its cache (points already cached are free).
     seconds : float
-        Fit time [s].
-    r_held : ndarray
-        Held-out residuals.
+        Wall-clock time of the fit [s].
+    r_held : ndarray or None
+        log10(measured / predicted mu) at the held-out rows (few points: at every point); None
+        until evaluated.
     shrink_interval : tuple of float
         5-95 % bootstrap interval.
     at_bound, implausible, implausible_why : list
         Parameters on a bound, outside the physical range, and why.
     n_train : int
-        Training rows.
+        Number of rows the fit was trained on.
     """
 
     effects: tuple
@@ -140,13 +144,15 @@ def unpack(effects, u):
     Parameters
     ----------
     effects : tuple of Effect
-        The effects.
-    u : ndarray
-        Unit-cube vector.
+        The effects, in order: their parameters take consecutive entries of ``u``.
+    u : ndarray, shape (k,)
+        Point of the unit cube, k the total number of parameters; each entry is clipped to [0, 1]
+        and mapped onto its parameter's bounds (log or linear, :class:`effects.Param`).
 
     Returns
     -------
     list of dict
+        One dict per effect: parameter name -> value in the parameter's unit.
     """
     out, i = [], 0
     for e in effects:
@@ -161,13 +167,14 @@ def pack(effects, params):
     Parameters
     ----------
     effects : tuple of Effect
-        The effects.
+        The effects, in order.
     params : list of dict
-        Their parameters.
+        One dict per effect: parameter name -> value in the parameter's unit.
 
     Returns
     -------
-    ndarray
+    ndarray, shape (k,)
+        Unit-cube coordinates, not clipped (a value outside its bounds lies outside [0, 1]).
     """
     return np.array([p.to_unit(d[p.name]) for e, d in zip(effects, params) for p in e.params], float)
 
@@ -178,16 +185,17 @@ def predict(ctx, effects, params):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The measured rows (speed, temperature, pressure, wet) and the baseline spec ``ctx.base``.
     effects : tuple of Effect
-        The effects.
+        Applied in order to ``ctx.base``; a single effect with its own ``apply_fn`` computes mu
+        directly.
     params : list of dict
-        Their parameters.
+        One dict per effect: parameter name -> value.
 
     Returns
     -------
-    ndarray
-        mu at every row.
+    ndarray, shape (n,)
+        Simulated mu (dimensionless) at every row of ``ctx``.
     """
     from pipelines.diagnosis.model import simulate
 
@@ -213,17 +221,18 @@ def at_bound(ctx, effects, params, tol=1e-3):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The context the fit was made on (it gives each effect's no-effect parameters).
     effects : tuple of Effect
-        The effects.
+        The fitted effects.
     params : list of dict
-        Their fitted parameters.
+        Their fitted parameters, one dict per effect.
     tol : float, optional
-        Distance to a bound in the unit cube.
+        Distance to a bound in the unit cube that counts as on it.
 
     Returns
     -------
     list of str
+        Parameter names (``effect.param`` for more than one effect) within ``tol`` of 0 or 1.
     """
     out = []
     for e, p in zip(effects, params):
@@ -267,27 +276,30 @@ def fit_candidate(
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
-    real_mu : ndarray
-        Measured mu.
+        The measured rows and the baseline spec.
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row of ``ctx`` (positive: the residuals are log10(real / sim)).
     effects : tuple of Effect
-        The effects.
-    train : ndarray of bool
-        Training rows.
+        The effects fitted together.
+    train : ndarray of bool, shape (n,)
+        Rows whose residuals the fit minimises.
     start : list of dict, optional
-        Starting parameters.
+        One parameter dict per effect, the only start; None: cold (or ``extra_starts``) starts.
     budget : int, optional
-        Model evaluations allowed.
+        ``max_nfev`` of each local fit; None: 8 for an expensive effect (cost > 1), else 30 + 10 k.
     cache : dict, optional
-        Model cache.
-    extra_starts : sequence, optional
-        Further starts.
+        Unit-cube point -> log10 mu at every row, shared by fits of the same effects on the same
+        context; None: a new one.
+    extra_starts : sequence of list of dict, optional
+        Fits on the same training rows, tried with the initial values instead of the cold grid.
     max_starts : int, optional
-        Cold starts at most.
+        Most local fits; None: 3 for k <= 2, else 2, 1 for an expensive effect (+1 with
+        ``extra_starts``).
 
     Returns
     -------
     Candidate
+        params, pred, the three gaps, nfev, seconds and n_train set; :func:`cv.evaluate` does the rest.
     """
     from pipelines.diagnosis.fit.stats import jacobian, multistart_lsq
 

@@ -125,7 +125,8 @@ def fit_map(
         One fit: a deterministic function of its item (closures are fine: the workers are forks).
         Its result must pickle.
     items : sequence
-        The stage's items.
+        One argument of ``fn`` per fit (e.g. the stage's effects); the forked workers inherit them
+        and receive only an index, so they need not pickle.
     cost : callable, optional
         Relative cost of an item; the costliest are started first (default: item order).
 

@@ -28,16 +28,17 @@ def jacobian(f, u, f0=None, step=STEP):
     ----------
     f : callable
         Vector function of the unit cube.
-    u : ndarray
-        Point.
-    f0 : ndarray, optional
-        f(u).
+    u : ndarray, shape (k,)
+        Unit-cube point the derivatives are taken at.
+    f0 : ndarray, shape (m,), optional
+        ``f(u)`` when already known (saves one evaluation); None: evaluated here.
     step : float, optional
-        Step.
+        Forward step in the unit cube (default 0.02), backwards where u + step > 1.
 
     Returns
     -------
     ndarray, shape (m, k)
+        d f / d u, one column per parameter.
     """
     u = np.asarray(u, float)
     f0 = np.asarray(f(u) if f0 is None else f0, float)
@@ -57,15 +58,16 @@ def gauss_newton_cov(J, r, floor):
     Parameters
     ----------
     J : ndarray, shape (n, k)
-        Jacobian.
-    r : ndarray
-        Residuals.
+        Jacobian d r / d u of the residuals at the fit, u the unit-cube parameters.
+    r : ndarray, shape (n,)
+        Residuals at the fit (the diagnosis passes log10(measured / simulated mu)).
     floor : float
-        Noise floor.
+        Smallest residual standard deviation s used, in the units of ``r`` (the noise, rms log10).
 
     Returns
     -------
     ndarray, shape (k, k)
+        Covariance of the unit-cube parameters (pseudo-inverse: a flat direction gets no variance).
     """
     n, k = J.shape
     dof = max(n - k, 1)
@@ -81,13 +83,14 @@ def unit_interval(u, sd, z=1.96):
     u : float
         Parameter in the unit cube.
     sd : float
-        Its standard deviation.
+        Standard deviation of ``u`` (unit cube), e.g. from :func:`gauss_newton_cov`.
     z : float, optional
-        Normal quantile.
+        Standard-normal quantile: 1.96 gives a two-sided 95 % interval.
 
     Returns
     -------
     tuple of float
+        (u - z sd, u + z sd), not clipped to [0, 1].
     """
     return float(u - z * sd), float(u + z * sd)
 
@@ -105,20 +108,20 @@ def multistart_lsq(resid, starts, u_best=None, c_best=np.inf, cost=None, **kw):
     Returns
     -------
     u : ndarray
-        The best point.
+        The unit-cube point of lowest cost among ``u_best``, the starts and the local optima.
     cost : float
-        Its cost.
+        Its ``cost`` (default: sum of squared residuals).
 
     Parameters
     ----------
     resid : callable
         Residual vector of a unit-cube point.
     starts : sequence of ndarray
-        Starting points.
+        Unit-cube points each local fit starts from.
     u_best : ndarray, optional
-        Best point so far.
+        A point already known to compete (e.g. "no effect"); None: the first start's.
     c_best : float, optional
-        Its cost.
+        The cost of ``u_best`` (default inf: not yet known).
     cost : callable, optional
         Cost of a residual vector (default sum of squares).
     **kw
