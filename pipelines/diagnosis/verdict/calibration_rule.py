@@ -75,6 +75,8 @@ def calibration_by_evidence(v, cal, calpairs, st, intervals, g_ho, min_shrink, p
     Returns
     -------
     verdict : dict
+        ``v`` itself: reason and all_points set, and either effect "calibration" with its confidence
+        and calibrated inputs, or inconclusive names.
     named : Candidate or None
         ``cal`` when the verdict is ``"calibration"``, else None (inconclusive).
     """

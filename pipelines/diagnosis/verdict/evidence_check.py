@@ -68,7 +68,7 @@ def all_points_evidence(c, n, noise):
     c : Candidate
         A fitted candidate; ``c.gap_all`` is its rms log10 residual over all ``n`` points.
     n : int
-        Measured points.
+        Number of measured points, the n of the likelihood and of the penalty k / 2 ln n.
     noise : float
         Rms log10 noise; the likelihood's scale is at least
         :data:`pipelines.diagnosis.fit.evidence.NOISE_FLOOR`.
@@ -99,9 +99,9 @@ def evidence_posteriors(pool, z_base, n, noise, extra=None):
     z_base : float
         The baseline's log evidence (:func:`all_points_evidence`; the nominal model has k = 0).
     n : int
-        Measured points.
+        Number of measured points, passed to :func:`all_points_evidence`.
     noise : float
-        Rms log10 noise.
+        rms of log10(measured / simulated mu) of the measurement, the likelihood's scale.
     extra : Candidate, optional
         A pair to rank with the singles (a named pair).
 
@@ -201,9 +201,9 @@ def check_named(
         The explanations compared (effects at the nominal inputs, and each with the calibration
         of the uncertain inputs when they are compared too).
     n : int
-        Measured points.
+        Number of measured points, passed to :func:`all_points_evidence`.
     noise : float
-        Rms log10 noise.
+        rms of log10(measured / simulated mu) of the measurement, the likelihood's scale.
     z_base : float
         The baseline's log evidence over every point (:func:`all_points_evidence`).
     g_ref : float, optional

@@ -19,19 +19,21 @@ def heldout_evidence(ho, g_ho, ranked, best, top=6):
     Parameters
     ----------
     ho : Holdout
-        Hold-out scheme.
+        The hold-out scheme; its description opens ``method``.
     g_ho : float
-        Baseline held-out gap.
+        The baseline's held-out gap, rms of log10(measured / simulated mu) at the held-out rows.
     ranked : list of Candidate
         Candidates, best first.
     best : Candidate or None
-        The named one.
+        The candidate the verdict names; None: ``named`` is None.
     top : int, optional
-        How many are listed.
+        Number of best-ranked candidates listed (default 6).
 
     Returns
     -------
     dict
+        method, reference, baseline_gap_heldout, named and candidates (name, k, gap_heldout,
+        shrink, shrink_interval, score; non-finite numbers as None).
     """
     rows = [
         dict(
@@ -78,23 +80,25 @@ def top_two(ctx, real_mu, noise, verdict, best, expl, singles, pairs, cal, calpa
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
-    real_mu : ndarray
-        Measured mu.
+        The context the candidates were fitted on.
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row.
     noise : float
-        Noise.
+        rms log10 noise: the scale of the evidence whose Hessian H is returned.
     verdict : dict
-        The verdict.
+        The verdict so far (its ``inconclusive`` names, if any, are the pair).
     best : Candidate or None
-        Named candidate.
+        The candidate the verdict names; None: the best-scored one leads.
     expl : list or None
         Explanations ranked by posterior (few points).
     singles, pairs, cal, calpairs : list or Candidate
-        The candidates.
+        The held-out search's fits: single effects, greedy pairs, the calibration alone (or None)
+        and each effect with the calibration.
 
     Returns
     -------
     tuple of dict or None
+        Two dicts (name, candidate, H: the Gauss-Newton Hessian in the unit cube); None without two.
     """
     from pipelines.diagnosis.fit.evidence import model_evidence
 
@@ -148,11 +152,11 @@ def pick_pair(ctx, expl, s, n_alt=3):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The context the explanations were fitted on (their no-effect points).
     expl : list of dict
         Explanations ranked by posterior.
     s : float
-        Noise scale.
+        Noise scale of the evidence, rms log10 (not used by the choice itself).
     n_alt : int, optional
         Alternatives kept at most.
 

@@ -91,19 +91,19 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
-    real_mu : ndarray
-        Measured mu.
+        The measured rows and the baseline spec (the nominal model's evidence is computed on it).
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row.
     cal : Candidate or None
-        Calibration alone.
+        The calibration fitted alone on every point; None: no uncertain input (null: nominal).
     cands : list of Candidate
         Effects fitted on every point.
     st : dict
-        Statistics.
-    equiv : dict, optional
-        Equivalence test.
-    intervals : dict, optional
-        Calibration intervals.
+        g_all (baseline gap, rms log10), noise, n, significant, p (chi-square p-value), s and nu.
+    equiv : callable, optional
+        ``equiv(c)`` -> :func:`equivalence.equivalence` of candidate c; None: not tested.
+    intervals : callable, optional
+        ``intervals(c)`` -> calibrated inputs of c with their 95 % intervals; None: none reported.
 
     Returns
     -------

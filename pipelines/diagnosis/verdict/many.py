@@ -51,21 +51,22 @@ def rivals(best, pool, noise, names=None, margin=0.1, tie=0.0):
     Parameters
     ----------
     best : Candidate
-        Best candidate.
+        The best-scored candidate, with held-out residuals ``r_held``.
     pool : list of Candidate
-        Others.
+        Candidates to compare; those shrinking the held-out gap by less than ``MIN_SHRINK`` are skipped.
     noise : float
-        Noise.
+        rms log10 noise of the measurement, the unit of ``margin`` and ``tie``.
     names : iterable of str, optional
-        Names considered.
+        Effect names a rival must not share; None: the effects of ``best``.
     margin : float, optional
-        Share of the standard error.
+        Largest excess of a rival's held-out gap over the best's, in units of the noise.
     tie : float, optional
-        Gap tie in noise units.
+        Held-out gaps within ``tie`` x noise count as equal whatever the standard error (0: off).
 
     Returns
     -------
     list of Candidate
+        The rivals, in the order of ``pool``.
     """
     out = []
     names = set(best.effect_names) if names is None else names
@@ -197,18 +198,20 @@ def decide(singles, pairs, cal, calpairs, st, intervals=None):
     singles, pairs : list of Candidate
         Effects at the nominal inputs.
     cal : Candidate or None
-        Calibration alone.
+        The calibration of the uncertain inputs fitted alone; None: no input uncertain.
     calpairs : list of Candidate
-        Calibration + effect.
+        Each effect fitted together with the calibration.
     st : dict
-        Statistics.
-    intervals : dict, optional
-        Calibration intervals.
+        g_all, g_ho (baseline gaps, rms log10), noise, n, significant, p, boot; default_only (bool).
+    intervals : callable, optional
+        ``intervals(c)`` -> calibrated inputs of c with their 95 % intervals; None: none reported.
 
     Returns
     -------
     verdict : dict
+        effect, confidence, reason, shrink and the other fields of ``diagnosis.json``'s verdict.
     named : Candidate or None
+        The candidate named; None when the gap is within the noise or nothing explains it.
     """
     v = _empty()
     every = list(singles) + list(pairs) + ([cal] if cal else []) + list(calpairs)

@@ -123,13 +123,14 @@ def next_measurement(ctx, a, b, noise):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The measured rows: their speed range, temperature, pressure and rubber set the grid of
+        candidate measurements.
     a : dict
         The most probable explanation.
     b : dict or list of dict
         The alternative(s), ranked by probability.
     noise : float
-        Noise [rms log10].
+        rms of log10(measured / simulated mu) of one measurement: a sigma of the separation.
 
     Returns
     -------
@@ -310,13 +311,13 @@ def propose(ctx, a, alts, s, verdict, inputs=()):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The measured rows (their speeds, temperature and pressure set the grid searched).
     a : dict
         The most probable explanation (name, candidate, H).
     alts : list of dict
         The alternatives, ranked.
     s : float
-        Noise [rms log10].
+        Noise scale of the evidence, rms log10: one sigma of the separation.
     verdict : dict
         The verdict (its reason is extended; its ``at_bound`` says why confidence is low).
     inputs : iterable of str, optional
@@ -350,15 +351,16 @@ def no_pair(ctx, verdict, inputs):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The measured rows (their speed range and temperature are named in the proposal).
     verdict : dict
-        The verdict.
+        The verdict: its named or first inconclusive explanation, and ``at_bound`` for the why.
     inputs : iterable of str
         The ``--uncertain`` keys the calibration fits.
 
     Returns
     -------
     dict
+        :func:`unseparated`: the other quantity to measure, ``separable`` False.
     """
     inc = list(verdict.get("inconclusive") or [])
     a = inc[0] if inc else (verdict.get("effect") or "calibration")

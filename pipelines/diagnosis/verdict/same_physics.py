@@ -35,6 +35,7 @@ def same_physics(names, moved):
     Returns
     -------
     bool
+        True for one effect of :data:`SAME_PHYSICS` whose moved inputs are at most its own input.
     """
     if len(names) != 1 or names[0] not in SAME_PHYSICS:
         return False
@@ -123,7 +124,7 @@ def distinct(a, b, calibrated=None):
     Parameters
     ----------
     a, b : str
-        The explanations' names.
+        The explanations' names: ``"+"``-joined effect names, ``"calibration"`` or ``"nominal"``.
     calibrated : iterable of str, optional
         The ``--uncertain`` keys the calibration fits (None: any calibration counts as the
         effect's own input).
@@ -131,6 +132,7 @@ def distinct(a, b, calibrated=None):
     Returns
     -------
     bool
+        False for equal names or a same-physics effect against its own input; True otherwise.
     """
     keys = None if calibrated is None else set(calibrated)
     for x, y in ((a, b), (b, a)):
@@ -155,6 +157,7 @@ def measured_end(ctx):
     Returns
     -------
     float
+        The finest measured wave vector q [1/m].
     """
     q = np.sort(np.asarray(getattr(ctx.spectrum, "q_per_m", []), float).ravel())
     if q.size >= 2 and q[-2] > 0:
@@ -185,7 +188,7 @@ def band_end_pool(ctx, singles, pairs, cal, calpairs, n, noise, z_nom):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The context fitted: its nominal q1 and the measured spectrum's end bound the calibration.
     singles, pairs : list of Candidate
         Fits at the nominal inputs.
     cal : Candidate or None
@@ -193,15 +196,16 @@ def band_end_pool(ctx, singles, pairs, cal, calpairs, n, noise, z_nom):
     calpairs : list of Candidate
         Each effect fitted with the calibration.
     n : int
-        Measured points.
+        Number of measured points (every one counts in the evidence).
     noise : float
-        Rms log10 noise.
+        rms of log10(measured / simulated mu) of the measurement: the evidence's noise scale.
     z_nom : float
         Log evidence of the nominal model over every point.
 
     Returns
     -------
     pool : list of Candidate
+        ``singles`` and ``pairs``, plus the single effects fitted with a q1 within the measured band.
     z_base : float
         Log evidence of "no effect".
     """

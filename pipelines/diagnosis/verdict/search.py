@@ -43,42 +43,42 @@ class Diagnosis:
 
     Attributes
     ----------
-    baseline_mu : ndarray
-        Baseline model's mu.
+    baseline_mu : ndarray, shape (n,)
+        mu of the nominal model (known inputs set, nothing calibrated) at every row.
     baseline_gap, baseline_gap_train, baseline_gap_heldout : float
-        Gaps [rms log10].
+        rms of log10(measured / baseline mu) over all, the training and the held-out rows.
     noise : float
-        Noise.
+        rms log10 scatter of the measurement: as given, else estimated (:func:`gap.estimate_noise`).
     noise_given : bool
-        Given or estimated.
+        True when ``noise`` was given (``--noise``), False when estimated from the data.
     significant : bool
-        Gap beyond the noise.
+        Whether the baseline gap exceeds the noise (:func:`gap.is_significant`).
     p_value : float
-        Its p-value.
-    train : ndarray of bool
-        Training rows.
+        Chi-square p-value of the baseline gap under the noise alone (:func:`gap.chi2_pvalue`).
+    train : ndarray of bool, shape (n,)
+        Rows the reported fits were trained on (every row below 20 points).
     candidates : list of Candidate
-        Every fit, best first.
+        Every fit, best first: by held-out score, or by evidence below 20 points.
     skipped : list
         Effects not tried and why.
     verdict : dict
-        The verdict.
+        The verdict as ``diagnosis.json`` carries it (effect, confidence, reason, evidence, ...).
     best : Candidate or None
-        Named candidate.
+        The candidate the verdict names; None when it names none.
     seconds : float
-        Run time [s].
+        Wall-clock time of the whole diagnosis [s].
     timings : dict
-        Per candidate.
+        Candidate name -> wall-clock time of its fit [s].
     heldout : str
-        Hold-out scheme.
+        One-line description of how points were held out, as the report prints it.
     uncertain : dict
-        Uncertain ranges.
+        Input name -> :class:`calibration.Uncertain` over its fitted range; empty: none uncertain.
     calibration : Candidate or None
-        Calibration alone.
+        The calibration of the uncertain inputs fitted alone; None when no input is uncertain.
     cutoff_sensitivity : float or None
-        d ln mu / d ln q1.
+        max over measured speeds of d ln mu / d ln q1; None when not computed.
     ctx : FrictionContext
-        Model context.
+        The context diagnosed (known inputs set in its baseline spec).
     """
 
     baseline_mu: np.ndarray
@@ -282,7 +282,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     pairs : bool, optional
         Try greedy pairs (best single + each other) when no input is uncertain.
     log : callable, optional
-        Progress lines.
+        Called with one progress line (str) per step and fit; None: silent.
     uncertain : dict, optional
         Key -> :class:`pipelines.diagnosis.fit.calibration.Uncertain` (``--uncertain``).
     default_q1 : bool, optional
@@ -294,6 +294,7 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
     Returns
     -------
     Diagnosis
+        The fits, the verdict and its evidence; ``ctx.base`` is left with the known inputs set.
     """
     from dataclasses import replace
 

@@ -55,9 +55,10 @@ def noise_prior(noise, given):
     Returns
     -------
     s : float
-        Noise scale (rms log10).
+        Noise scale of the likelihood, rms log10: the given noise (at least the evidence's floor
+        0.004), or the estimate clipped into ``NOISE_RANGE``.
     nu : float
-        Its degrees of freedom.
+        Degrees of freedom it is worth: 30 given, 4 estimated.
     """
     from pipelines.diagnosis.fit.evidence import NOISE_FLOOR
 
@@ -92,23 +93,23 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
-    real_mu : ndarray
-        Measured mu.
+        The measured rows and the baseline spec.
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row.
     usable : list of Effect
-        Effects tried.
+        Effects to fit (each with the calibration when ``cal_e`` is given).
     cal_e : Effect or None
-        Calibration effect.
+        The calibration pseudo-effect of the uncertain inputs; None: nothing uncertain.
     ho : Holdout
-        Hold-out scheme.
+        Its bootstrap resamples ``ho.boot`` give the shrink intervals (every point trains).
     noise : float
-        Noise.
+        rms log10 noise, given or estimated; :func:`noise_prior` turns it into the scale s.
     noise_given : bool
         Whether the noise was given (``--noise``).
     timings : dict
-        Filled with times.
+        Updated in place: candidate name -> wall-clock time of its fit [s].
     say : callable
-        Progress.
+        Called with one progress line (str) per fit.
 
     Returns
     -------
@@ -211,23 +212,23 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
-    real_mu : ndarray
-        Measured mu.
+        The measured rows and the baseline spec.
+    real_mu : ndarray, shape (n,)
+        Measured mu at every row.
     usable : list of Effect
-        Effects tried.
-    cal_e : Effect or None
-        Calibration effect.
+        Effects the held-out search tried; each is refitted with the calibration on every point.
+    cal_e : Effect
+        The calibration pseudo-effect of the given uncertain inputs.
     noise : float
-        Noise.
+        rms log10 noise, given or estimated.
     noise_given : bool
-        Given by the user.
+        Whether the noise was given (``--noise``): it then weighs 30 degrees of freedom, not 4.
     verdict : dict
         The held-out verdict (updated).
-    best : Candidate or None
-        The named candidate.
+    best : Candidate
+        The candidate the held-out verdict names.
     timings : dict
-        Filled with times.
+        Not used: these refits are not timed into the diagnosis' timings.
 
     Returns
     -------
