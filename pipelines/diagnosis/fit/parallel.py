@@ -36,6 +36,9 @@ from typing import Any
 __all__ = ["default_workers", "fit_map", "workers", "use_workers", "portable", "restore"]
 
 _WORKERS: contextvars.ContextVar[int | None] = contextvars.ContextVar("diagnosis_workers", default=None)
+#: the warnings re-raised here so far (warnings.warn_explicit's registry: the "default" action
+#: shows one per text and line, as the serial loop's own registry would)
+_SHOWN: dict[Any, Any] = {}
 #: the stage a forked worker runs: (function, items); set only while a pool is open
 _STAGE: tuple[Callable[[Any], Any], Sequence[Any]] | None = None
 
@@ -167,7 +170,7 @@ def fit_map(
     out = []
     for result, caught in done:
         for message, category, filename, lineno in caught:
-            warnings.warn_explicit(message, category, filename, lineno)
+            warnings.warn_explicit(message, category, filename, lineno, registry=_SHOWN)
         out.append(result)
     return out
 
