@@ -63,21 +63,21 @@ class Case:
     Attributes
     ----------
     seed : int
-        Seed.
+        Seed of the case's random generator: the same seed gives the same case.
     effect : str or None
-        Hidden effect.
+        Registered name of the hidden effect; None for a null case (baseline plus noise).
     params : dict
-        Its parameters.
+        The hidden effect's parameters drawn from :data:`RANGES`; empty for a null case.
     noise_rel : float
-        Relative noise.
+        Relative (multiplicative) noise: mu = truth (1 + noise_rel N(0, 1)), drawn in [0.02, 0.05].
     curve : MeasuredCurve
-        The "measured" curve.
+        The "measured" curve: 20 to 40 speeds over 3 to 7 decades, 0.2 MPa, T0 the rubber's T_ref.
     psd, scan, spectrum, fit : object
-        Blind inputs.
+        Blind inputs: the spectrum; the synthetic scan, its Spectrum and fit (None without a scan).
     truth_mu, base_mu : ndarray
         Noiseless truth and baseline.
     info : dict
-        Notes.
+        :func:`identifiable`'s notes (effect_rms, noise_log10, others, why); empty for null cases.
     """
 
     seed: int
@@ -138,15 +138,17 @@ def make_case(seed, effect=None, scan=None):
     Parameters
     ----------
     seed : int
-        Seed.
+        Seed of ``numpy.random.default_rng``: the same seed gives the same case.
     effect : str, optional
-        Hidden effect.
-    scan : HeightMap, optional
-        Scan for the water effect.
+        Registered name of the hidden effect; None: a null case.
+    scan : bool, optional
+        Whether to synthesise a 256 x 256 scan (used only for its truth value); None: with
+        probability 1/4. The water effect always gets one.
 
     Returns
     -------
     Case
+        The blind inputs, the noisy curve and the hidden truth (``info`` still empty).
     """
     rng = np.random.default_rng(seed)
     want_scan = (effect == "water") or (scan if scan is not None else rng.random() < 0.25)
@@ -189,16 +191,18 @@ def identifiable(case, move=2.0, effects=None):
     Parameters
     ----------
     case : Case
-        The case.
+        A case of :func:`make_case`; a null case is always identifiable.
     move : float, optional
         Signal threshold in noise units.
-    effects : list, optional
-        Effects tried.
+    effects : list of Effect, optional
+        Rival effects fitted to the noiseless curve; None: every friction-level effect.
 
     Returns
     -------
     ok : bool
+        Whether the case passes the filter.
     info : dict
+        effect_rms and noise_log10 (rms log10), others (rival name -> its gap) and why (if not ok).
     """
     from pipelines.diagnosis.verdict.search import fit_candidate
 
@@ -239,20 +243,22 @@ def draw_cases(n_effect, n_null, seed0=0, effects=None, max_tries=6, log=None):
     Parameters
     ----------
     n_effect, n_null : int
-        Cases wanted.
+        Number of identifiable effect cases and of null cases wanted.
     seed0 : int, optional
-        First seed.
-    effects : list, optional
-        Effects cycled.
+        Seeds used are seed0 + 1, seed0 + 2, ... (default 0).
+    effects : list of Effect, optional
+        Hidden effects cycled through (the filter's rivals stay every friction effect); None: all.
     max_tries : int, optional
-        Tries per effect.
+        Draws an effect gets per turn before giving it to the next (default 6).
     log : callable, optional
-        Progress.
+        Called with one line (str) per rejected draw; None: silent.
 
     Returns
     -------
     cases : list of Case
-    rejected : list
+        The effect cases (fewer when 20 n_effect turns do not find them), then the null cases.
+    rejected : int
+        Number of draws the filter rejected.
     """
     say = log or (lambda *_: None)
     names = [e.name for e in (effects or all_effects("friction"))]

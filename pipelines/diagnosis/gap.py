@@ -33,11 +33,12 @@ def log_ratio(real, sim):
     Parameters
     ----------
     real, sim : array_like
-        Measured and simulated mu.
+        Measured and simulated mu, positive, of broadcastable shapes.
 
     Returns
     -------
     ndarray
+        Decimal log of the ratio (0.0212: the measurement about 5 % above the simulation).
     """
     return np.log10(np.asarray(real, float)) - np.log10(np.asarray(sim, float))
 
@@ -48,11 +49,12 @@ def gap(real, sim):
     Parameters
     ----------
     real, sim : array_like
-        Measured and simulated mu.
+        Measured and simulated mu, positive, of broadcastable shapes.
 
     Returns
     -------
     float
+        sqrt(mean(log10(real / sim)^2)); NaN for no points.
     """
     r = log_ratio(real, sim)
     return float(np.sqrt(np.mean(r**2))) if r.size else float("nan")
@@ -68,15 +70,16 @@ def estimate_noise(v_m_per_s, mu, floor=1e-4):
 
     Parameters
     ----------
-    v_m_per_s, mu : array_like
-        Measured curve.
+    v_m_per_s, mu : array_like, shape (n,)
+        The measured curve: sliding speeds [m/s] and friction coefficients (both positive).
     floor : float, optional
-        Smallest noise returned.
+        Smallest noise returned, rms log10 (default 1e-4).
 
     Returns
     -------
     float
-        Rms log10 noise.
+        rms of log10 of the multiplicative noise; below 5 distinct speeds the plain standard
+        deviation of log10 mu.
 
     References
     ----------
@@ -134,15 +137,16 @@ def chi2_pvalue(gap_value, noise, n):
     Parameters
     ----------
     gap_value : float
-        Gap.
+        The gap, rms of log10(measured / simulated mu) over the n points.
     noise : float
-        Noise.
+        rms log10 noise the gap is judged against.
     n : int
-        Points.
+        Number of points (the chi-square's degrees of freedom).
 
     Returns
     -------
     float
+        Probability of a gap at least this large from the noise alone; NaN for noise <= 0 or n < 1.
     """
     if not (noise > 0) or n < 1:
         return float("nan")
@@ -155,17 +159,19 @@ def is_significant(gap_value, noise, n, alpha=1e-3, min_ratio=1.3):
     Parameters
     ----------
     gap_value, noise : float
-        Gap and noise.
+        The gap and the noise, both rms log10 over the n points.
     n : int
-        Points.
+        Number of points (the chi-square's degrees of freedom).
     alpha : float, optional
-        Significance level.
+        Largest chi-square p-value that counts (default 1e-3).
     min_ratio : float, optional
-        Smallest gap / noise.
+        Smallest gap / noise that counts (default 1.3), so that many points do not make a tiny
+        gap significant.
 
     Returns
     -------
     bool
+        True when p < alpha and gap > min_ratio x noise.
     """
     return bool(chi2_pvalue(gap_value, noise, n) < alpha and gap_value > min_ratio * noise)
 
@@ -177,16 +183,17 @@ def decade_bands(v_m_per_s, width_decades=1.0, min_points=3):
 
     Parameters
     ----------
-    v_m_per_s : array_like
-        Speeds [m/s].
+    v_m_per_s : array_like, shape (n,)
+        Measured speeds [m/s], positive.
     width_decades : float, optional
-        Band width.
+        Band width in decades of speed (default 1: 0.01-0.1, 0.1-1 m/s, ...).
     min_points : int, optional
-        Fewest points per band.
+        Fewest points a band keeps alone (default 3); fewer are merged into a neighbour.
 
     Returns
     -------
     list of tuple
+        (v_lo [m/s], v_hi [m/s], mask: ndarray of bool, shape (n,)) per band, slowest first.
     """
     lv = np.log10(np.asarray(v_m_per_s, float))
     lo = np.floor(lv.min() / width_decades) * width_decades
@@ -222,13 +229,14 @@ def gap_by_band(v_m_per_s, real, sim, noise, width_decades=1.0):
     v_m_per_s, real, sim : array_like
         Speeds [m/s], measured and simulated mu.
     noise : float
-        Noise [rms log10].
+        rms log10 noise of the measurement each band's gap is judged against.
     width_decades : float, optional
-        Band width.
+        Band width in decades of speed (see :func:`decade_bands`).
 
     Returns
     -------
     list of dict
+        One per band, slowest first, with the keys above (gap and mean_log_ratio in log10).
     """
     r = log_ratio(real, sim)
     out = []

@@ -20,13 +20,14 @@ def write_psd_csv(path, q_per_m, C_m4):
     Parameters
     ----------
     path : str or Path
-        Output CSV.
-    q_per_m, C_m4 : array_like
-        The spectrum.
+        The CSV file to write (header ``q_per_m,C_m4``).
+    q_per_m, C_m4 : array_like, shape (m,)
+        Wave vectors q [1/m] and the isotropic PSD C(q) [m^4] at them.
 
     Returns
     -------
     Path
+        The file written.
     """
     from pipelines.output.report import write_csv
 
@@ -39,7 +40,7 @@ def surface_from_scan(obj):
     Parameters
     ----------
     obj : HeightMap or Profile
-        The scan.
+        The road scan, heights in m (as read by ``roadscan``).
 
     Returns
     -------
@@ -63,11 +64,11 @@ def scan_surface(obj, q0_per_m=None, q1_per_m=None, resolution_m=None):
     Parameters
     ----------
     obj : HeightMap or Profile
-        The scan.
+        The road scan, heights in m (as read by ``roadscan``).
     q0_per_m, q1_per_m : float, optional
-        Band ends [1/m].
+        Ends of the friction band [1/m] (``--q0``/``--q1``); None: the scan's reliable band.
     resolution_m : float, optional
-        Lateral resolution [m].
+        The instrument's lateral resolution [m]; None: the scan file's metadata.
 
     Returns
     -------
@@ -93,21 +94,22 @@ def build_context(curve, psd, rubber=None, scan=None, spectrum=None, fit=None, e
     Parameters
     ----------
     curve : MeasuredCurve
-        The measurement.
+        The measured rows: speeds [m/s], temperatures [C], pressures [Pa], wet flags.
     psd : spectrum
-        Road spectrum.
+        The road's C(q) [m^4] the baseline integrates (TabulatedPSD or SelfAffinePSD).
     rubber : rubber model, optional
         Default the thesis rubber.
     scan : HeightMap, optional
-        For the water effect.
+        The levelled, filled scan; a HeightMap makes ``"scan"`` available (the water effect).
     spectrum, fit : optional
-        The scan's spectrum and fit.
+        The scan's measured Spectrum and its self-affine fit; None with a ``--psd`` file.
     extra_inputs : iterable of str, optional
-        Further inputs available.
+        Input names added to ``{"psd", "rubber"}`` (e.g. ``"master_curve"``).
 
     Returns
     -------
     FrictionContext
+        The rows of ``curve`` with ``SimSpec(psd, rubber)`` (engine defaults) as baseline.
     """
     import friction
     from roadscan.heightmap import HeightMap

@@ -44,6 +44,7 @@ def add_diagnose_options(p):
     Returns
     -------
     None
+        The options are added to ``p`` in place.
     """
     from pipelines.settings.friction import add_friction_options
     from pipelines.settings.scan_input import add_scan_options

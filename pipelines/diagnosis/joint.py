@@ -39,15 +39,15 @@ class Row:
     Attributes
     ----------
     label : str
-        Its label.
+        The row's ``label`` cell, unique in M.csv; names the row in reports.
     curve : MeasuredCurve
-        The measurement.
+        The measured mu(v) of the row's ``measured`` file, with the row's T0 and sigma0 defaults.
     rubber : rubber model
-        Its rubber.
+        The rubber loaded from the row's ``rubber`` file.
     measured_path, rubber_path : Path
-        Its files.
+        The two files, resolved against M.csv's folder.
     line : int
-        Line in M.csv.
+        Line number of the row in M.csv (the header is line 1).
     """
 
     label: str
@@ -65,15 +65,16 @@ def read_measurements(path, sigma0_Pa=0.2e6, T0_C=None):
     Parameters
     ----------
     path : str or Path
-        M.csv.
+        M.csv: columns measured, rubber, label[, temperature_C, sigma0_Pa]; files relative to it.
     sigma0_Pa : float, optional
-        Default pressure [Pa].
+        Nominal pressure [Pa] where neither the row nor its measured file gives one (default 0.2 MPa).
     T0_C : float, optional
-        Default temperature [C].
+        Background temperature [C] where neither the row nor its file gives one; None: T_ref.
 
     Returns
     -------
     list of Row
+        One per data line, in file order.
     """
     from pipelines.diagnosis.measured import read_measured
     from pipelines.output.csv_files import read_csv_rows
@@ -136,22 +137,25 @@ def joint_calibration(ctxs, mus, trains, ranges, noise, log=None):
     Parameters
     ----------
     ctxs : list of FrictionContext
-        One per row.
+        One per measurement (row of M.csv).
     mus : list of ndarray
-        Measured mu.
+        Measured mu of each measurement, one value per row of its context.
     trains : list of ndarray
-        Training rows.
+        Boolean mask per measurement of the points the joint fit uses.
     ranges : dict
-        Uncertain ranges.
+        Input name -> :class:`Uncertain` of the shared inputs (q1, psd_scale, sigma0).
     noise : float
-        Noise.
+        rms log10 noise: the floor of the residual scale in the Gauss-Newton intervals.
     log : callable, optional
-        Progress.
+        Called with one line (str) giving the calibrated values; None: silent.
 
     Returns
     -------
     calibrated : dict
+        Parameter name -> dict(value, interval (95 %, sd at least 0.025 in the unit cube), range);
+        empty when no shared input is free.
     effects : list or None
+        The calibration effect of each context; None when no shared input is free.
     """
     from pipelines.diagnosis.fit.fitting import pack, unpack
     from pipelines.diagnosis.fit.stats import gauss_newton_cov, jacobian, multistart_lsq
@@ -231,20 +235,22 @@ def run_joint(rows, ctxs, noise=None, uncertain=None, log=None):
     Parameters
     ----------
     rows : list of Row
-        Measurements.
+        The measurements of M.csv.
     ctxs : list of FrictionContext
-        Their contexts.
+        One per row, in the same order.
     noise : float, optional
-        Noise.
+        rms log10 noise of every row; None: each row's own estimate (the joint fit: their median).
     uncertain : dict, optional
-        Uncertain ranges.
+        Input name -> :class:`Uncertain` (``--uncertain``); None: only q1's default range, if any.
     log : callable, optional
-        Progress.
+        Called with one progress line (str) per step; None: silent.
 
     Returns
     -------
     joint : dict
+        shared_inputs, calibrated, uncertain, effects (name, rows naming it), noise and method.
     results : list of tuple
+        (row, Diagnosis, where, bm, bm_curves) per row, as :func:`run.diagnose_curve` returns.
     """
     from pipelines.diagnosis.fit.cv import holdout
     from pipelines.diagnosis.run import diagnose_curve

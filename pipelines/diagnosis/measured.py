@@ -36,6 +36,7 @@ class MeasuredCurve:
     has_condition : bool
         Whether the file said dry/wet at all (otherwise every row may be wet or dry).
     name : str
+        The curve's name in reports: the CSV's file name without its suffix.
     """
 
     v_m_per_s: np.ndarray
@@ -84,19 +85,20 @@ def read_measured(path, sigma0_Pa=0.2e6, T0_C=None, min_points=5, min_speeds=4):
     Parameters
     ----------
     path : str or Path
-        The CSV.
+        The measured-curve CSV (columns as in the module docstring).
     sigma0_Pa : float, optional
-        Default pressure [Pa].
+        Nominal pressure [Pa] of rows without a ``sigma0_Pa`` cell (default 0.2 MPa).
     T0_C : float, optional
-        Default temperature [C].
+        Background temperature [C] of rows without a ``T0_C`` cell; None: the rubber's T_ref (NaN).
     min_points : int, optional
-        Fewest rows.
+        Fewest data rows accepted (default 5).
     min_speeds : int, optional
-        Fewest distinct speeds.
+        Fewest distinct speeds accepted (default 4).
 
     Returns
     -------
     MeasuredCurve
+        The rows sorted by speed (stable), named after the file.
     """
     path = Path(path)
     header, body = read_csv_rows(path, "a header v_m_per_s,mu")

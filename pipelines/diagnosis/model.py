@@ -21,13 +21,10 @@ __all__ = ["SimSpec", "FrictionContext", "simulate", "engine"]
 def engine():
     """The friction engine's public names (``friction`` package).
 
-    Parameters
-    ----------
-    None
-
     Returns
     -------
     module
+        The ``friction`` package, imported on first use (so that this module loads without it).
     """
     import friction
 
@@ -89,7 +86,7 @@ class FrictionContext:
     wet : ndarray of bool, shape (n,)
         Rows the water effect applies to (all rows when the data give no condition column).
     base : SimSpec
-        The baseline model.
+        The baseline model effects modify (engine defaults, known inputs set).
     scan : HeightMap or None
         The levelled and filled scan the surface came from.
     inputs : set of str
@@ -151,15 +148,16 @@ def simulate(spec, ctx, full=False):
     Parameters
     ----------
     spec : SimSpec
-        Model spec.
+        What the simulation assumes (spectrum, rubber, shifts, flash, additive terms).
     ctx : FrictionContext
-        Rows.
+        The rows simulated: speed [m/s], T0 [C] (NaN: the rubber's T_ref), sigma0 [Pa], wet.
     full : bool, optional
         Also return the engine results.
 
     Returns
     -------
     ndarray or tuple
+        mu, shape (n,), floored at 1e-12; with ``full`` (mu, [(row indices, FrictionResult)]).
     """
     fr = engine()
     mu = np.empty(ctx.n)

@@ -33,15 +33,17 @@ def validate(ctx, d, other_curve):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The diagnosed context: its baseline spec, scan, spectrum and inputs are reused.
     d : Diagnosis
-        The diagnosis.
+        The diagnosis whose named candidate (``d.best``, with its fitted parameters) predicts.
     other_curve : MeasuredCurve
         The separate measurement.
 
     Returns
     -------
     dict
+        gap_before, gap_after (rms log10 of measured / baseline and / corrected mu), v [m/s], mu,
+        pred (the corrected model's mu at the other curve's rows).
     """
     vctx = FrictionContext.from_measured(
         other_curve, ctx.base, scan=ctx.scan, spectrum=ctx.spectrum, fit=ctx.fit, inputs=ctx.inputs
@@ -65,19 +67,26 @@ def diagnose_curve(curve, ctx, noise=None, log=None, uncertain=None):
     Parameters
     ----------
     curve : MeasuredCurve
-        The measurement.
+        The measured mu(v) with each row's T0 [C] and sigma0 [Pa].
     ctx : FrictionContext
-        Model context.
+        The rows of ``curve`` with the baseline spec (``build_context``).
     noise : float, optional
         Noise [rms log10] (estimated when None).
     log : callable, optional
-        Progress.
+        Called with one progress line (str) per step; None: silent.
     uncertain : dict, optional
-        Uncertain ranges.
+        Input name -> :class:`fit.calibration.Uncertain` (``--uncertain``); None: nothing given.
 
     Returns
     -------
-    Diagnosis, where, bm, bm_curves : tuple
+    d : Diagnosis
+        The diagnosis.
+    where : list of dict
+        :func:`gap.gap_by_band` of the baseline per decade of speed.
+    bm : list of dict
+        :func:`report.bandmap.band_map` rows: the wave vectors carrying mu in each band.
+    bm_curves : tuple
+        (q [1/m], dmu/dln q per band, band-centre speeds [m/s]) for the band-map figure.
     """
     bands = [(a, b) for a, b, _ in gapmod.decade_bands(curve.v_m_per_s)]
     T0 = ctx.T0_C[np.isfinite(ctx.T0_C)]
@@ -118,30 +127,30 @@ def run_friction(
     Parameters
     ----------
     curve : MeasuredCurve
-        The measurement.
+        The measured mu(v) with each row's T0 [C] and sigma0 [Pa].
     ctx : FrictionContext
-        Model context.
+        The rows of ``curve`` with the baseline spec (``build_context``).
     out_dir : str or Path
-        Output folder.
+        Folder written (created if missing): diagnosis.json and, with ``report``, report.html.
     noise : float, optional
-        Noise.
+        rms log10 noise of the measurement (``--noise``); None: estimated from the curve.
     other : MeasuredCurve, optional
         ``--validate`` measurement.
     log : callable, optional
-        Progress.
+        Called with one progress line (str) per step; None: silent.
     report : bool, optional
-        Write report.html.
+        Whether to write report.html and its figures too (default True).
     extra : dict, optional
         Run settings for the JSON.
     uncertain : dict, optional
-        Uncertain ranges.
+        Input name -> :class:`fit.calibration.Uncertain` (``--uncertain``); None: nothing given.
     inputs : dict, optional
-        Provenance.
+        Provenance hints (:func:`run_command.provenance_hints`); None: judged from the data alone.
 
     Returns
     -------
     dict
-        ``diagnosis.json``.
+        The content written to ``diagnosis.json``.
     """
     from pipelines.diagnosis.report.single import friction_json, write_friction_report
     from pipelines.output import report as rep

@@ -16,15 +16,16 @@ def provenance_hints(args, uncertain, measured=True):
     Parameters
     ----------
     args : argparse.Namespace
-        Parsed flags.
+        The parsed ``roadscan diagnose`` flags (file paths, ``--q0``, ``--q1``, ``--temperature``).
     uncertain : dict
-        Uncertain ranges.
+        Parsed ``--uncertain``; a ``psd_scale`` key marks the spectrum's level as given.
     measured : bool, optional
-        A ``--measured`` run.
+        A ``--measured`` run (False: the ``--measured`` path is not listed among the files).
 
     Returns
     -------
     dict
+        files, given and, when the scan was read, scan_read (channel and calibration).
     """
     files = [
         ("measured", getattr(args, "measured", None) if measured else None),
@@ -59,14 +60,14 @@ def load_surface(args, say):
     Parameters
     ----------
     args : argparse.Namespace
-        Parsed flags.
+        The parsed flags; for ``--scan`` it gains ``scan_read`` (how the file was read).
     say : callable
-        Prints one line.
+        Prints one progress or note line (str), e.g. the band ``--q0``/``--q1`` cut.
 
     Returns
     -------
     tuple
-        (psd, band, scan, spectrum, fit).
+        (psd, band, scan, spectrum, fit); scan, spectrum and fit are None for ``--psd``.
     """
     from pipelines.diagnosis.inputs import read_psd_csv, scan_surface
     from pipelines.settings.friction import apply_band
@@ -95,13 +96,13 @@ def run_measurements(args, uncertain, settings_fn, say):
     Parameters
     ----------
     args : argparse.Namespace
-        Parsed flags.
+        The parsed ``roadscan diagnose`` flags.
     uncertain : dict
-        Uncertain ranges.
+        Input name -> :class:`fit.calibration.Uncertain` (``--uncertain``), shared by every row.
     settings_fn : callable
         The engine settings of one measurement.
     say : callable
-        Prints one line.
+        Prints one progress or note line (str), e.g. the band ``--q0``/``--q1`` cut.
 
     Returns
     -------
