@@ -32,23 +32,24 @@ def integrand(result, psd, rubber, sigma0_Pa, T0_C=None, nu=0.5, n_phi=48):
     Parameters
     ----------
     result : friction.FrictionResult
-        The engine's result.
+        An engine result: its speeds v [m/s], wave vectors q [1/m] and contact area P(q) are used.
     psd : spectrum
-        Its spectrum.
+        The spectrum C(q) [m^4] the result was computed with.
     rubber : rubber model
-        The rubber.
+        The rubber the result was computed with (its loss modulus Im E [Pa]).
     sigma0_Pa : float
         Nominal pressure [Pa].
     T0_C : float, optional
-        Temperature [C].
+        Background temperature [C] of the modulus; None: passed as None to ``rubber.modulus``.
     nu : float, optional
-        Poisson's ratio.
+        Poisson's ratio (default 0.5, incompressible), in (1 - nu^2) sigma0.
     n_phi : int, optional
-        Angular nodes.
+        Gauss-Legendre nodes of the angular integral over [0, pi/2] (default 48).
 
     Returns
     -------
     ndarray, shape (nv, nq)
+        dmu/dln q at each speed and wave vector [-]; its integral over ln q is mu (no S(q) factor).
     """
     q = result.q_per_m
     v = result.v_m_per_s
@@ -70,20 +71,24 @@ def band_map(spec, bands, sigma0_Pa=0.2e6, T0_C=None, share=0.8):
     Parameters
     ----------
     spec : SimSpec
-        The model.
+        The model mapped: its spectrum, rubber, nu, tol and contact correction (isothermal; its
+        flash, T0 shift and sigma0 scale are not applied).
     bands : list of tuple
         Speed bands (v_min, v_max, n) [m/s].
     sigma0_Pa : float, optional
         Nominal pressure [Pa].
     T0_C : float, optional
-        Temperature [C].
+        Background temperature [C]; None: the rubber's ``T_ref_C``.
     share : float, optional
         Share of mu the q range carries.
 
     Returns
     -------
     rows : list of dict
+        Per band: q_min/q_max/q_peak [1/m], lengths [m], omegas [rad/s], mu_at_centre,
+        dlnmu_dlnq1 and carried_by_cutoff (d ln mu / d ln q1 > 0.3 or the peak at the last q).
     curves : tuple
+        (q [1/m], dmu/dln q with shape (n_bands, nq), band-centre speeds [m/s]).
     """
     import friction
 

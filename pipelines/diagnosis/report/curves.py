@@ -25,13 +25,14 @@ def dense_context(ctx, n=N_DENSE):
     Parameters
     ----------
     ctx : FrictionContext
-        Context.
+        The measured context: its speed range, baseline spec, inputs and cache are reused.
     n : int, optional
-        Speeds.
+        Number of speeds (default 40).
 
     Returns
     -------
     FrictionContext
+        Rows at the median T0 [C] (NaN: T_ref) and median sigma0 [Pa]; wet only if every row is.
     """
     v = np.geomspace(float(ctx.v_m_per_s.min()), float(ctx.v_m_per_s.max()), n)
     T = ctx.T0_C[np.isfinite(ctx.T0_C)]
@@ -66,15 +67,18 @@ def report_curves(ctx, d, n=N_DENSE):
     Parameters
     ----------
     ctx : FrictionContext
-        Context.
+        The diagnosed context (``d.ctx``); :func:`dense_context` spreads it over ``n`` speeds.
     d : Diagnosis
-        The diagnosis.
+        The diagnosis: its named candidate gives the corrected curve, its ranges the band.
     n : int, optional
-        Speeds.
+        Number of speeds (default 40).
 
     Returns
     -------
     dict
+        v [m/s] and mu arrays of shape (n,): base, corrected (None without a named candidate or
+        on a failed evaluation), band_lo/band_hi (envelope of the baseline over the ends of the
+        uncertain ranges; None without them).
     """
     from pipelines.diagnosis.fit.calibration import calibration_effect
     from pipelines.diagnosis.fit.fitting import predict

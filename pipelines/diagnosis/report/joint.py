@@ -19,19 +19,21 @@ def joint_json(joint, results, settings, given, psd_files):
     Parameters
     ----------
     joint : dict
-        Joint calibration.
+        The ``joint`` dict of :func:`joint.run_joint` (shared inputs, calibration, effects).
     results : list of tuple
-        Per row results.
+        (row, Diagnosis, where, bm, bm_curves) per measurement, from :func:`joint.run_joint`.
     settings : dict
         Engine settings per label.
     given : dict
-        Provenance hints.
+        ``given``: names of the inputs the user set (:func:`run_command.provenance_hints`).
     psd_files : list of tuple
         (role, path) of the surface.
 
     Returns
     -------
     dict
+        level, mode ("measurements"), joint (with each row's verdict), measurements (label ->
+        that row's friction diagnosis.json), inputs (the first row's, every file) and seconds.
     """
     from pipelines.diagnosis.report.provenance import inputs_json
     from pipelines.diagnosis.report.single import friction_json
@@ -76,15 +78,16 @@ def write_joint_report(out_dir, data, results):
     Parameters
     ----------
     out_dir : str or Path
-        Output folder.
+        Existing folder that receives report.html and its figures.
     data : dict
-        ``diagnosis.json``.
+        The dict :func:`joint_json` made (the content of ``diagnosis.json``).
     results : list of tuple
-        Per row results.
+        (row, Diagnosis, where, bm, bm_curves) per measurement, for the μ(v) figures.
 
     Returns
     -------
     None
+        The report is written to ``out_dir``.
     """
     import matplotlib.pyplot as plt
 

@@ -27,11 +27,12 @@ def sha256(path):
     Parameters
     ----------
     path : str or Path
-        The file.
+        The file to hash.
 
     Returns
     -------
     str
+        64 lowercase hex digits.
     """
     h = hashlib.sha256()
     with open(path, "rb") as f:
@@ -46,11 +47,12 @@ def file_entries(files):
     Parameters
     ----------
     files : iterable of tuple
-        (role, path).
+        (role, path) pairs, e.g. ("psd", "psd.csv"); an empty path or a missing file is left out.
 
     Returns
     -------
     list of dict
+        dict(role, path, sha256) per existing file, in the given order.
     """
     out = []
     for role, path in files:
@@ -66,15 +68,16 @@ def inputs_json(ctx, d, given=None):
     Parameters
     ----------
     ctx : FrictionContext
-        Model context.
+        The diagnosed context: its nominal inputs and spectrum band are reported.
     d : Diagnosis
-        The diagnosis.
+        The diagnosis: its fitted uncertain ranges and cut-off sensitivity are reported.
     given : dict, optional
         Files and keys the user set.
 
     Returns
     -------
     dict
+        The ``inputs`` entry of ``diagnosis.json`` (keys in the module docstring).
     """
     from pipelines.diagnosis.fit.calibration import nominal
 

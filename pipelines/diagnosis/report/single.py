@@ -23,17 +23,18 @@ def friction_json(d, where, bandmap, validate=None):
     Parameters
     ----------
     d : Diagnosis
-        The diagnosis.
+        The friction-level diagnosis (gaps, noise, candidates, verdict).
     where : list of dict
-        Gap per band.
+        :func:`gap.gap_by_band` of the baseline, one dict per speed band.
     bandmap : list of dict
-        Band map.
+        :func:`report.bandmap.band_map` rows: the wave vectors [1/m] carrying mu per speed band.
     validate : dict, optional
-        ``--validate`` result.
+        :func:`run.validate` of ``--validate``; None: gap_validate and its baseline are None.
 
     Returns
     -------
     dict
+        The ``diagnosis.json`` content (gaps in rms log10, rounded to 6 decimals).
     """
     return dict(
         level="friction",
@@ -238,23 +239,24 @@ def write_friction_report(out_dir, curve, d, data, where, bm_curves, validate=No
     Parameters
     ----------
     out_dir : str or Path
-        Output folder.
+        Existing folder that receives report.html and its figures.
     curve : MeasuredCurve
-        The measurement.
+        The measured mu(v) plotted.
     d : Diagnosis
-        The diagnosis.
+        The friction-level diagnosis (``d.ctx`` gives the dense model curves).
     data : dict
-        ``diagnosis.json``.
+        The :func:`friction_json` dict (with inputs), as written to ``diagnosis.json``.
     where : list of dict
-        Gap per band.
+        :func:`gap.gap_by_band` of the baseline, one dict per speed band.
     bm_curves : tuple
-        Band-map curves.
+        (q [1/m], dmu/dln q per band, band-centre speeds [m/s]) of :func:`report.bandmap.band_map`.
     validate : dict, optional
-        ``--validate`` result.
+        :func:`run.validate` of ``--validate``; None: no validation figure.
 
     Returns
     -------
     None
+        The report is written to ``out_dir``.
     """
     from pipelines.diagnosis.report.curves import report_curves
 
@@ -361,17 +363,18 @@ def write_surface_report(out_dir, name, data, figs):
     Parameters
     ----------
     out_dir : str or Path
-        Output folder.
+        Existing folder that receives report.html (the figures are already in it).
     name : str
-        Scan name.
+        The scan's name, in the report's title.
     data : dict
-        ``diagnosis.json``.
-    figs : dict
-        Figures.
+        The surface-level ``diagnosis.json`` content.
+    figs : list of Path
+        Saved figures: the block spectra first, then the height histogram and mu(v) figures.
 
     Returns
     -------
     None
+        The report is written to ``out_dir``.
     """
     v = data["verdict"]
     verdict = _verdict_html(v)
