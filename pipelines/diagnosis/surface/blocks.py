@@ -1,53 +1,47 @@
 """Descriptor families of one block of a scan (the surface level's "held out in space").
 
-A scan is split into equal blocks (tiles of an area: a grid of ``nb x nb``; sections of a
-profile); each block, after removing its own mean plane (line), gives one value per entry of
-five descriptor families:
+A scan is split into equal blocks (tiles of an area: a grid of ``nb x nb``; sections of a profile); each
+block, after removing its own mean plane (line), gives one value per entry of five descriptor families:
 
 ``spectrum``
-    the shape of the spectrum: log10 of the ring-averaged 2D PSD (Persson's normalisation, Tukey window
-    alpha = 0.25, :func:`roadscan.spectrum.psd_2d`) in log-spaced rings (``RINGS_PER_DECADE``) from
-    2 pi / L_block to the Nyquist wave vector, *excluding the two lattice axes* (qx = 0 or
-    qy = 0, where seams put their power, :func:`near_axes`); averaged into bands of ``RINGS_PER_BAND`` rings,
-    minus the mean over the bands (a block's overall level is no diagnostic: the shape is).
-    Profiles: log10 of the 1D PSD C1 of the section in the same rings.
+    the shape of the spectrum: log10 of the ring-averaged 2D PSD (Persson's normalisation, Tukey window alpha
+    = 0.25, :func:`roadscan.spectrum.psd_2d`) in log-spaced rings (``RINGS_PER_DECADE``) from 2 pi / L_block
+    to the Nyquist wave vector, *excluding the two lattice axes* (qx = 0 or qy = 0, where seams put their
+    power, :func:`near_axes`); averaged into bands of ``RINGS_PER_BAND`` rings, minus the mean over the bands
+    (a block's overall level is no diagnostic: the shape is). Profiles: log10 of the 1D PSD C1 of the section
+    in the same rings.
 ``height``
-    the L-skewness tau3 and L-kurtosis tau4 of the block's heights (Hosking 1990, J. R. Stat.
-    Soc. B 52, 105: ratios of L-moments, linear in the order statistics; robust where the
-    moment skewness and kurtosis of a block are dominated by a few deep valleys; Gaussian
-    heights: tau3 = 0, tau4 = 0.1226), and the L-skewness of the block's curvature, the
-    Laplacian at a lag of ``CURV_LAG`` points (second difference for a profile). Any linear
-    filter of a Gaussian field is Gaussian, so this is 0 for the twin whatever its spectrum,
-    direction, smoothing or white noise; a non-Gaussian height law h -> g(h) gives
-    Lap g = g' Lap h + g'' |grad h|^2, whose skewness has the sign of g'' (sharp peaks and
-    broad valleys, or worn plateaus). The curvature is short-correlated, so unlike the
-    skewness of a block's heights, which a few long waves dominate, it is precise on a small
-    block and much the same in every block.
+    the L-skewness tau3 and L-kurtosis tau4 of the block's heights (Hosking 1990, J. R. Stat. Soc. B 52, 105:
+    ratios of L-moments, linear in the order statistics; robust where the moment skewness and kurtosis of a
+    block are dominated by a few deep valleys; Gaussian heights: tau3 = 0, tau4 = 0.1226), and the L-skewness
+    of the block's curvature, the Laplacian at a lag of ``CURV_LAG`` points (second difference for a profile).
+    Any linear filter of a Gaussian field is Gaussian, so this is 0 for the twin whatever its spectrum,
+    direction, smoothing or white noise; a non-Gaussian height law h -> g(h) gives Lap g = g' Lap h +
+    g'' |grad h|^2, whose skewness has the sign of g'' (sharp peaks and broad valleys, or worn plateaus). The
+    curvature is short-correlated, so unlike the skewness of a block's heights, which a few long waves
+    dominate, it is precise on a small block and much the same in every block.
 ``anisotropy`` (areas)
-    the signed components (a, b) = (M_xx - M_yy, 2 M_xy) / (M_xx + M_yy) of the direction tensor
-    M = sum w q^ q^T, w = C / (ring mean of C), over the lattice points off the axes (more than
-    ``AXIS_EXCLUDE`` steps from them) and from ``ANISO_MIN_K`` lattice steps up, of the
-    prewhitened block (5-point Laplacian before a Tukey window, alpha = 0.5): the Laplacian takes
-    the steep self-affine fall-off out of the spectrum, so window leakage from the long waves
-    (strong along the axes) cannot fake a direction. Index = hypot(a, b), direction
-    = atan2(b, a) / 2 from the x axis. Both are 0 for an isotropic texture (no positive bias,
-    unlike the index).
+    the signed components (a, b) = (M_xx - M_yy, 2 M_xy) / (M_xx + M_yy) of the direction tensor M = sum w
+    q^ q^T, w = C / (ring mean of C), over the lattice points off the axes (more than ``AXIS_EXCLUDE`` steps
+    from them) and from ``ANISO_MIN_K`` lattice steps up, of the prewhitened block (5-point Laplacian before a
+    Tukey window, alpha = 0.5): the Laplacian takes the steep self-affine fall-off out of the spectrum, so
+    window leakage from the long waves (strong along the axes) cannot fake a direction. Index = hypot(a, b),
+    direction = atan2(b, a) / 2 from the x axis. Both are 0 for an isotropic texture (no positive bias, unlike
+    the index).
 ``seams`` (areas)
-    straight discontinuities along the lattice axes (stitching seams, steps, tilt residue): the
-    second difference across each line of the block (K_j = h_{j+1} - 2 h_j + h_{j-1}, rows and
-    columns in turn) is cut into ``SEAM_SEGMENTS`` segments along the line; t = mean / (std /
-    sqrt(n)) of a segment is large where the whole segment jumps together, and a line's score is
-    the median over its segments of t^2. The entry is log10(max score / median score) over the
-    lines, the larger of rows and columns: about 0.9 for a seamless block (the maximum of ~100
-    scores), 2 to 4 for a step of a fraction of the rms height. Self-normalised per segment, it
-    does not move with the texture's direction, height law, smoothing or noise level.
+    straight discontinuities along the lattice axes (stitching seams, steps, tilt residue): the second
+    difference across each line of the block (K_j = h_{j+1} - 2 h_j + h_{j-1}, rows and columns in turn) is
+    cut into ``SEAM_SEGMENTS`` segments along the line; t = mean / (std / sqrt(n)) of a segment is large where
+    the whole segment jumps together, and a line's score is the median over its segments of t^2. The entry is
+    log10(max score / median score) over the lines, the larger of rows and columns: about 0.9 for a seamless
+    block (the maximum of ~100 scores), 2 to 4 for a step of a fraction of the rms height. Self-normalised per
+    segment, it does not move with the texture's direction, height law, smoothing or noise level.
 ``rain`` (areas)
-    the rain-fill response (:func:`roadscan.rain.rain_fill`, 4-connected): the mean log10
-    wet/dry ring spectrum in three equal log-q thirds of the block's band, and the wetted
-    fraction.
+    the rain-fill response (:func:`roadscan.rain.rain_fill`, 4-connected): the mean log10 wet/dry ring
+    spectrum in three equal log-q thirds of the block's band, and the wetted fraction.
 
-The ring-level log10 spectrum is kept too (``spec_rings``): surface effects act on it before
-it is averaged into bands (:class:`Geometry.band_matrix`).
+The ring-level log10 spectrum is kept too (``spec_rings``): surface effects act on it before it is averaged
+into bands (:class:`Geometry.band_matrix`).
 """
 
 from __future__ import annotations
@@ -76,10 +70,15 @@ class Geometry:
     Attributes
     ----------
     is_profile : bool
+        True for a line profile (blocks are sections), False for an area scan (blocks are tiles).
     shape : tuple of int
+        Shape of every block in points: (ny, nx) tiles, or (n,) sections.
     dx_m, dy_m : float
+        Point spacings [m] along x and y (dy_m = dx_m for a profile).
     starts : list of tuple of slice
+        Index slices of each block in the scan's height array, one tuple per block.
     rain : bool
+        Whether the rain-fill family is described (areas only).
     """
 
     is_profile: bool
@@ -191,24 +190,24 @@ def _lattice_q(shape, dx_m, dy_m):
 
 
 def near_axes(KX, KY):
-    """Lattice points (integer indices) on the axes (kx = 0 or ky = 0), where straight steps and
-    seams put their power. (Sectors beside the axes, where the window spreads part of it, were
-    tried too: a texture stretched by interpolation has no power at high q across its direction,
-    and leaving sectors out then bends its ring-averaged spectrum.)"""
+    """Lattice points (integer indices) on the axes (kx = 0 or ky = 0), where straight steps and seams put
+    their power. (Sectors beside the axes, where the window spreads part of it, were tried too: a texture
+    stretched by interpolation has no power at high q across its direction, and leaving sectors out then
+    bends its ring-averaged spectrum.)"""
     return (KX == 0) | (KY == 0)
 
 
 def geometry(obj, n_blocks=None, rain=True):
-    """Block layout of a levelled HeightMap or Profile.
-
-    Areas: ``nb x nb`` equal tiles, nb = 2 below 600 points a side, else 3. Profiles: sections of at least 256
-    points, 4 to 8 of them.
+    """Block layout of a levelled HeightMap or Profile (ValueError when a block would be too small).
 
     Parameters
     ----------
     obj : HeightMap or Profile
+        The levelled scan: its shape and spacings [m]; an area needs tiles of 24 points a side or more.
     n_blocks : int, optional
+        Tiles a side (None: 2, from 600 points a side 3) or profile sections (None: n // 256 in 2..8).
     rain : bool, optional
+        Whether the rain-fill family is described (areas; a profile has none).
 
     Returns
     -------
@@ -239,12 +238,14 @@ def geometry(obj, n_blocks=None, rain=True):
 
 
 def split(heights, geo):
-    """The blocks of a height array: (block with its own mean plane / line removed, block as cut).
+    """The blocks of a height array in ``geo.starts`` order: (block less its mean plane / line, block as cut).
 
     Parameters
     ----------
     heights : ndarray
+        Heights [m] of the scan the layout was made for (same shape).
     geo : Geometry
+        The block layout (:func:`geometry`).
 
     Returns
     -------
@@ -301,8 +302,7 @@ def _ring_log(P, geo, exclude_axis=True):
 
 
 def _laplacian(h):
-    """5-point discrete Laplacian of the interior of a 2D array (no spacing factor: it only
-    prewhitens)."""
+    """5-point discrete Laplacian of the interior of a 2D array (no spacing factor: it only prewhitens)."""
     return h[1:-1, 2:] + h[1:-1, :-2] + h[2:, 1:-1] + h[:-2, 1:-1] - 4.0 * h[1:-1, 1:-1]
 
 
@@ -326,10 +326,9 @@ def anisotropy_components(h, geo):
 
 
 def line_score(a):
-    """log10(max / median) over the lines (rows) of ``a`` of the line score: the second
-    difference across each line, cut into ``SEAM_SEGMENTS`` segments, t = mean / (std / sqrt(n))
-    per segment, median of t^2 over the segments (see the module docstring, ``seams``).
-    None when ``a`` is too small."""
+    """log10(max / median) over the lines (rows) of ``a`` of the line score: the second difference across
+    each line, cut into ``SEAM_SEGMENTS`` segments, t = mean / (std / sqrt(n)) per segment, median of t^2
+    over the segments (see the module docstring, ``seams``). None when ``a`` is too small."""
     if a.shape[0] < 8:
         return None
     K = a[2:] - 2.0 * a[1:-1] + a[:-2]
@@ -346,8 +345,7 @@ def line_score(a):
 
 
 def seam_score(h):
-    """The larger line score (:func:`line_score`) of the rows and of the columns of a detrended
-    block."""
+    """The larger line score (:func:`line_score`) of the rows and of the columns of a detrended block."""
     out = [x for x in (line_score(h), line_score(h.T)) if x is not None]
     return max(out) if out else 0.0
 
@@ -409,21 +407,23 @@ def spectrum_shape(band_log):
 
 
 def block_descriptors(h, geo, rain=True, raw=None):
-    """The descriptor families of one detrended block ``h`` -> dict family -> 1D array, plus
-    ``spec_rings`` (the ring-level log10 spectrum the spectrum family averages). The height
-    family uses ``raw`` (the block as cut from the levelled scan, default ``h``): removing each
-    block's own plane would remove much of the long-wavelength height distribution.
+    """The descriptor families of one detrended block ``h`` (see the module docstring).
 
     Parameters
     ----------
     h : ndarray
+        The block's heights [m] less its own mean plane (line), shape ``geo.shape``.
     geo : Geometry
+        The layout the block was cut with (its rings, bands and spacings).
     rain : bool, optional
+        Also the rain family (areas with ``geo.rain`` only; default True).
     raw : ndarray, optional
+        The block as cut, for the height family (None: ``h``): its own plane would hide the long waves.
 
     Returns
     -------
     dict
+        Family -> 1D array, plus ``spec_rings`` (ring-level log10 spectrum), ``bands`` and ``moments``.
     """
     P = _psd_map(h, geo)
     rings = _ring_log(P, geo)

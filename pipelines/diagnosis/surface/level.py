@@ -48,27 +48,28 @@ class SurfaceContext:
     Attributes
     ----------
     geo : Geometry
-        Block layout.
+        Block layout: equal tiles of the area scan or sections of the profile.
     families : tuple of str
-        Descriptor families.
+        Descriptor families compared: spectrum, height, and on areas anisotropy, seams, rain.
     meas, twin_mean, sigma : dict
         Measured descriptors, twins' mean and noise per family.
     twin_rings, twin_bands, ring_q : ndarray
         Twins' ring spectra, bands and ring wave vectors.
     fit : SelfAffineFit
-        The scan's fit.
+        The scan's self-affine fit (Hurst exponent, C at q0) the Gaussian twins are drawn from.
     is_profile : bool
-        Line profile.
+        True for a line profile (no anisotropy, seams or rain families).
     inputs : set of str
-        Inputs available.
+        ``{"spectrum"}``, plus ``"area"`` for an area scan: effects needing others are skipped.
     skew_table, moments, noise_inflation : dict
-        Lookup tables.
+        Skewed twins' descriptors per skewness; measured and twin moments; family -> factor >= 1
+        on the twins' variance to match the measured blocks' robust scatter.
     whole_twins : ndarray
         Twins' whole-scan spectra.
     whole_height : dict
         Whole-scan height statistics.
     cache : dict
-        Cache.
+        Shared by effects for precomputed results.
     """
 
     geo: object                 # blocks.Geometry
@@ -104,17 +105,18 @@ def descriptors(an, seed=0, log=None, n_twins=N_TWINS):
     Parameters
     ----------
     an : SurfaceAnalysis
-        The analysed scan.
+        The analysed scan: its filled heights [m] are split into blocks, its fit makes the twins.
     seed : int, optional
-        Seed of the twins.
+        Twin i is drawn with seed + 1000 i (default 0): the same seed gives the same context.
     log : callable, optional
-        Progress.
+        Called with one progress line (str) per stage; None: silent.
     n_twins : int, optional
-        Twins.
+        Number of Gaussian self-affine twins drawn (default 8).
 
     Returns
     -------
     SurfaceContext
+        Measured block descriptors, the twins' prediction and per-block noise, and the effects' tables.
     """
     from pipelines.diagnosis.surface import blocks as bl
     from pipelines.diagnosis.surface.twin import skewed_set, twin_heights
@@ -276,18 +278,18 @@ def run_surface(obj, out_dir, log=None, seed=0):
     Parameters
     ----------
     obj : HeightMap or Profile
-        The scan.
+        The road scan, heights in m.
     out_dir : str or Path
-        Output folder.
+        Folder written: diagnosis.json, report.html and its figures.
     log : callable, optional
-        Progress.
+        Called with one progress line (str) per stage; None: silent.
     seed : int, optional
-        Seed.
+        Seed of the twins (see :func:`descriptors`): the same seed gives the same diagnosis.
 
     Returns
     -------
     dict
-        ``diagnosis.json``.
+        The content written to ``diagnosis.json``.
     """
     import tempfile
 

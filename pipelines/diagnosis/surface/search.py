@@ -138,13 +138,15 @@ def surface_search(ctx, rng_seed=0):
     Parameters
     ----------
     ctx : SurfaceContext
-        Context.
+        The blocks' measured descriptors, the twins' prediction and noise (:func:`level.descriptors`).
     rng_seed : int, optional
-        Seed.
+        Seed of the 400 bootstrap resamples of the blocks behind the shrink intervals (default 0).
 
     Returns
     -------
     dict
+        baseline_gap (held-out, in noise units), families, candidates (best first), skipped,
+        verdict, best (the named candidate's dict or None) and significant.
     """
     from pipelines.diagnosis.effects import all_effects
 

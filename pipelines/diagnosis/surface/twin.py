@@ -27,15 +27,16 @@ def twin_heights(levelled, fit, seed):
     Parameters
     ----------
     levelled : HeightMap or Profile
-        Levelled scan.
+        The levelled scan: only its shape and spacings [m] are used.
     fit : SelfAffineFit
-        Its fit.
+        Its self-affine fit: the twin's C(q) = C(q0) (q / q0)^(-2 (H + 1)) [m^4].
     seed : int
-        Seed.
+        Seed of ``numpy.random.default_rng``: the same seed gives the same twin.
 
     Returns
     -------
     ndarray
+        Gaussian heights [m] of the scan's shape, its mean plane (line) removed.
     """
     from roadscan.heightmap import Profile
 
@@ -87,13 +88,14 @@ def skewed(h, skewness):
     Parameters
     ----------
     h : ndarray
-        Heights.
+        Heights [m], any shape.
     skewness : float
-        Target skewness.
+        Moment skewness of the target law (0: normal).
 
     Returns
     -------
     ndarray
+        Heights [m] of the shape of ``h``, with its mean and standard deviation.
     """
     from scipy import stats
 
@@ -132,13 +134,14 @@ def skewed_set(heights, grid):
     Parameters
     ----------
     heights : list of ndarray
-        Height arrays.
+        Height arrays [m] (e.g. twins), any shapes.
     grid : iterable of float
-        Skewnesses.
+        Moment skewnesses of the target laws (0: normal).
 
     Returns
     -------
     dict
+        Skewness -> list of skewed arrays, one per entry of ``heights``, each of its shape.
     """
     flat = [np.asarray(h, float).ravel() for h in heights]
     order = [np.argsort(f, kind="stable") for f in flat]

@@ -59,19 +59,21 @@ LOG10E = math.log10(math.e)
 
 def whole_spectrum_check(an, twins=None):
     """Fit the spectral effects to the whole scan's spectrum; ``twins``: (n, n_rings) log10 C of
-    the twins' whole-scan spectra on the scan's rings (:func:`.surface.twin_whole_spectra`).
+    the twins' whole-scan spectra on the scan's rings (:func:`.level.twin_whole_spectra`).
     Returns a dict (gap, noise, significant, candidates best first with held-out shrink).
 
     Parameters
     ----------
     an : SurfaceAnalysis
-        The analysed scan.
+        The analysed scan: its whole-scan spectrum and self-affine fit.
     twins : ndarray, optional
         Twins' log10 spectra on its rings.
 
     Returns
     -------
     dict
+        gap and noise (rms log10 C), gap_noise_units, significant, reference ("twins" with 3 or
+        more, else "power law"), baseline_heldout_noise_units, heldout, candidates.
     """
     from scipy import stats
 
@@ -165,11 +167,12 @@ def whole_height_stats(h):
     Parameters
     ----------
     h : ndarray
-        Levelled heights.
+        Levelled heights [m] of the whole scan (2D map or 1D profile).
 
     Returns
     -------
-    ndarray
+    ndarray, shape (5,)
+        L-skewness of the heights, then of the curvature at lags 1, 2, 4 and 8 points.
     """
     from pipelines.diagnosis.surface.blocks import curvature_l_skewness, l_moment_ratios
 
@@ -193,18 +196,20 @@ def whole_height_check(measured, twins, skew_s, skew_tab):
 
     Parameters
     ----------
-    measured : ndarray
-        The scan's statistics.
-    twins : ndarray
-        The twins' statistics.
+    measured : ndarray, shape (5,)
+        :func:`whole_height_stats` of the scan.
+    twins : ndarray, shape (n_twins, 5)
+        :func:`whole_height_stats` of each Gaussian twin (n_twins >= 2).
     skew_s : ndarray
-        Skewness grid.
-    skew_tab : ndarray
+        Increasing grid of moment skewnesses of the skewed twins (its ends bound the fit).
+    skew_tab : ndarray, shape (n_grid, 5)
         Statistics of skewed twins.
 
     Returns
     -------
     dict
+        statistics, measured, twin_mean, twin_noise, z, held_out, skewness, chi2_drop, p_value,
+        gap_heldout_before/after (rms z), shrink, significant.
     """
     from scipy import optimize, stats
 
@@ -253,12 +258,13 @@ def whole_seam_stats(h):
 
     Parameters
     ----------
-    h : ndarray
-        Levelled heights.
+    h : ndarray, shape (ny, nx)
+        Levelled heights [m] of the whole area scan.
 
     Returns
     -------
-    ndarray
+    ndarray, shape (4,)
+        :func:`.blocks.line_score` of rows (left, right half), columns (top, bottom); 0 for a tiny half.
     """
     from pipelines.diagnosis.surface.blocks import line_score
 
@@ -282,14 +288,16 @@ def whole_seams_check(measured, twins):
 
     Parameters
     ----------
-    measured : ndarray
-        The scan's line scores.
-    twins : ndarray
-        The twins' line scores.
+    measured : ndarray, shape (4,)
+        :func:`whole_seam_stats` of the scan.
+    twins : ndarray, shape (n_twins, 4)
+        :func:`whole_seam_stats` of each Gaussian twin (n_twins >= 2).
 
     Returns
     -------
     dict
+        statistics, measured, twin_mean, twin_noise, z, excess_log10 (rows, columns),
+        gap_heldout_before/after (rms z), shrink, p_value, significant (also needs rms z > 1.5).
     """
     from scipy import stats
 
