@@ -44,13 +44,13 @@ class Param:
     Attributes
     ----------
     name : str
-        Name with units.
+        Name as reported; a dimensional one ends in its unit (``"dT_C"``, ``"v_c_m_per_s"``).
     lo, hi : float
-        Bounds.
+        Range the fit may explore, in the parameter's unit (lo > 0 for a log scale).
     init : float
-        Initial value.
+        Value in [lo, hi] that every cold start set of the fit includes.
     scale : str
-        ``"log"`` or ``"lin"``.
+        How the unit interval maps onto [lo, hi]: ``"log"`` (geometric, the default) or ``"lin"``.
     """
 
     name: str
@@ -78,11 +78,11 @@ class Effect:
     Attributes
     ----------
     name : str
-        Effect name.
+        Registry name, as the verdict and the reports print it (``"+"`` joins a pair's names).
     level : str
         ``"friction"`` or ``"surface"``.
     params : tuple of Param
-        Its parameters.
+        The fitted parameters, in the order of the unit-cube vector.
     modify : callable, optional
         Changes the model spec (friction level).
     apply_fn : callable, optional
@@ -90,15 +90,16 @@ class Effect:
     requires : frozenset of str
         Inputs it needs (``"scan"``...).
     prepare : callable, optional
-        One-off preparation.
+        ``prepare(context) -> str or None`` precomputes once; a returned string skips the effect.
     cost : float
-        Relative cost.
+        Model evaluation cost relative to the baseline's; above 1 the fits spend fewer evaluations.
     description : str
-        One line.
+        One-line description for the report's list of effects.
     null : callable, optional
         Its no-effect parameters.
     plausible, physical : callable, optional
-        Physical range checks.
+        ``plausible(context, params, real_mu) -> [(name, why)]`` of fitted parameters outside their
+        physical range; ``physical(context, real_mu) -> {name: (lo, hi)}``, that range itself.
     """
 
     name: str
@@ -167,11 +168,12 @@ def temperature_extrapolated(context, T_C):
     context : FrictionContext
         Model context (its rubber).
     T_C : float
-        Temperature [C].
+        Background temperature [C] the fit puts the rubber at.
 
     Returns
     -------
     str or None
+        The reason, naming the table's range in C; None inside it or without a table.
     """
     shift = getattr(context.base.rubber, "shift", None)
     T = getattr(shift, "T_C", None)
@@ -192,11 +194,12 @@ def register(effect):
     Parameters
     ----------
     effect : Effect
-        The effect.
+        The effect to register; its level must be ``"friction"`` or ``"surface"`` (else ValueError).
 
     Returns
     -------
     Effect
+        ``effect`` itself, so that a module can write ``EFFECT = register(Effect(...))``.
     """
     if effect.level not in ("friction", "surface"):
         raise ValueError(f"effect {effect.name}: level must be friction or surface")
@@ -221,6 +224,7 @@ def all_effects(level=None):
     Returns
     -------
     list of Effect
+        Sorted by name; importing every module of the package first registers them all.
     """
     _load_all()
     return [e for _, e in sorted(_REGISTRY.items()) if level is None or e.level == level]
@@ -232,11 +236,12 @@ def get(name):
     Parameters
     ----------
     name : str
-        Effect name.
+        Registry name, e.g. ``"flash_temperature"`` or ``"water"``.
 
     Returns
     -------
     Effect
+        The registered effect with that name.
     """
     _load_all()
     return _REGISTRY[name]
