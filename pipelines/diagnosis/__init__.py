@@ -12,7 +12,7 @@ adding that effect closes the gap. One idea per module:
 - :mod:`.search`     the candidates (singles, greedy pairs, calibration + each effect), ranked
 - :mod:`.fitting`    one bounded least-squares fit (cold or warm starts, shared cache, refusal)
 - :mod:`.cv`         the held-out third (20 points or more); shrink, interval, score
-- :mod:`.search_few`, :mod:`.verdict_few`, :mod:`.evidence`  fewer than 20 points: Bayesian
+- :mod:`.search_few`, :mod:`.few`, :mod:`.evidence`  fewer than 20 points: Bayesian
                      model comparison (Laplace evidence), PRESS residuals
 - :mod:`.equivalence` an effect the uncertain inputs beyond their ranges reproduce is them
 - :mod:`.same_physics` an effect that is an input continued (fine roughness and q1, load and

@@ -3,7 +3,7 @@
 With ``CV_BELOW`` (20) or more points, every third point (indices 1, 4, 7, ...) is held out and
 never used in a fit. With fewer, held-out errors of four or five training points cannot carry a
 verdict: the diagnosis compares the explanations by their Bayesian evidence instead
-(:mod:`.search_few`, :mod:`.verdict_few`); :func:`holdout` then marks the points ``cv`` (few)
+(:mod:`.search_few`, :mod:`.few`); :func:`holdout` then marks the points ``cv`` (few)
 and trains on all of them.
 
 Shrink: 1 - gap_heldout / baseline gap_heldout, with a 5-95 % bootstrap interval over the

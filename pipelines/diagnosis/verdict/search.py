@@ -14,7 +14,7 @@ is :func:`verdict.decide`, then re-checked for equivalence with the uncertain in
 beyond their ranges (:mod:`.equivalence`), after the evidence over every point has ruled on it
 (:mod:`.evidence_check`: the few-point rule, posterior >= 0.9, with the held-out verdict as its
 check; the module says why two forms of the evidence remain). Below 20 points the candidates are fitted on every point and compared by their evidence instead
-(:mod:`.search_few`, :mod:`.verdict_few`).
+(:mod:`.search_few`, :mod:`.few`).
 """
 from __future__ import annotations
 
@@ -228,7 +228,7 @@ def _as_explanation(ctx, real_mu, c, s):
 
 def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skipped, ranges, free,
          base, g, t0, sens):
-    """The diagnosis on fewer than 20 points: Bayesian comparison (:mod:`.verdict_few`)."""
+    """The diagnosis on fewer than 20 points: Bayesian comparison (:mod:`.few`)."""
     from dataclasses import replace
 
     from pipelines.diagnosis.fit.calibration import intervals

@@ -1,4 +1,4 @@
-"""The candidates of a diagnosis on few measured speeds (fewer than 20, see :mod:`.verdict_few`).
+"""The candidates of a diagnosis on few measured speeds (fewer than 20, see :mod:`.few`).
 
 The baseline (the calibration of the uncertain inputs, or the nominal model when nothing is
 uncertain) is fitted first, on every point; the noise scale of the likelihood follows
@@ -204,7 +204,7 @@ def _physical(ctx, real_mu, c, every, finish, s, nu):
 def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, best, timings):
     """With uncertain inputs given, an effect named by the held-out third (20 points or more)
     must also be the most probable explanation by the evidence, at posterior 0.9 or more (every
-    model fitted on every point, :mod:`.verdict_few`); otherwise the verdict becomes inconclusive
+    model fitted on every point, :mod:`.few`); otherwise the verdict becomes inconclusive
     between it and the most probable other.
     Adds ``bayes`` (the evidence's models and posteriors) to ``verdict``. Returns the named
     candidate or None.
