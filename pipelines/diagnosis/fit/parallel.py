@@ -7,8 +7,12 @@ from this one (copy-on-write: the context, the measured curve and the effects ar
 pickled; only each fitted candidate comes back). The most expensive fits are handed out first
 (longest processing time first, Graham 1969, doi:10.1137/0117039), and the results are returned
 in the order of the items, so the diagnosis is the same to the last bit as the serial loop; only
-the wall time changes. Python warnings a fit raises in a worker are raised again in this process,
-in item order.
+the wall time changes. That holds because every model evaluation is a function of its inputs
+alone, whatever the process computed before (the friction engine's interpolation tables
+included, :func:`friction.grids.phi_table`). Python warnings a fit raises in a worker are raised
+again in this process, in item order. A stop request (Ctrl-C, SIGTERM) or a failed fit cancels
+the queued fits and kills the running ones; the workers ignore Ctrl-C and, on Linux, die with
+this process.
 
 A fitted candidate travels without its effects (their model functions are closures that do not
 pickle): :func:`portable` replaces each by its position among the effects the fit was given, and
