@@ -209,5 +209,6 @@ def write_report(out_dir, names, result, figs, curves):
     warned = [[n, w] for n, r in result.items() if isinstance(r, dict) for w in r.get("warnings", [])]
     if warned:  # every warning in the report too
         sections.insert(1, ("Warnings", report.table_html(warned, ["surface", "warning"])))
-    sections.append(("Figures", [list(figs)]))
+    if figs:
+        sections.append(("Figures", [list(figs)]))
     report.write_html(out_dir / "report.html", "roadscan compare: " + " vs ".join(names), sections)

@@ -183,6 +183,7 @@ def compare(
     nu: float = 0.5,
     extrapolate: Literal["powerlaw", "hold"] = "powerlaw",
     no_friction: bool = False,
+    no_figures: bool = False,
 ) -> dict[str, Any]:
     """``roadscan compare`` as one call: the sources (paths or HeightMaps/Profiles, the first is
     the reference) compared and written into ``out`` (all or none) -> the comparison.json dict.
@@ -227,11 +228,19 @@ def compare(
         names = unique_stems([s if isinstance(s, (str, os.PathLike)) else f"{s.name}.x" for s in sources])
         check_output_dir(out, inputs=paths)
         with atomic_output_dir(out, inputs=paths) as tmp:
-            return run_compare(scans, names, tmp, settings, **sk)
+            return run_compare(scans, names, tmp, settings, figures=not args.no_figures, **sk)
 
 
 def run_compare(
-    scans, names, out_dir, settings=None, window_alpha=0.25, resolution_m=None, fit_band=None, despike=False
+    scans,
+    names,
+    out_dir,
+    settings=None,
+    window_alpha=0.25,
+    resolution_m=None,
+    fit_band=None,
+    despike=False,
+    figures=True,
 ):
     """Compare scans (HeightMaps or Profiles); write PNGs, report.html and comparison.json.
 
@@ -256,6 +265,8 @@ def run_compare(
         Tukey window.
     resolution_m : float, optional
         Lateral resolution [m].
+    figures : bool, optional
+        Draw the PNGs (``--no-figures``: False; every number in comparison.json is the same).
 
     Returns
     -------
@@ -332,7 +343,7 @@ def run_compare(
         entry["why_missing"] = _why_missing(entry, settings.enabled)  # every null figure's reason
         result[name] = entry
 
-    figs = draw_figures(out_dir, names, analyses, sds, curves, settings)
+    figs = draw_figures(out_dir, names, analyses, sds, curves, settings) if figures else []
     from pipelines.checks import validate
 
     said = validate.warnings_list()  # what this run printed (readers, seams)

@@ -66,6 +66,7 @@ def dry_vs_wet(
     nu: float = 0.5,
     extrapolate: Literal["powerlaw", "hold"] = "powerlaw",
     no_friction: bool = False,
+    no_figures: bool = False,
 ) -> dict[str, Any]:
     """``roadscan dry-vs-wet`` as one call: the scan rain-filled, and its spectrum and mu(v)
     dry and wet compared (:func:`run_dry_vs_wet`), written into ``out`` (all or none).
@@ -141,6 +142,7 @@ def dry_vs_wet(
                     water_film_m=args.water_film,
                     wet_model=args.wet_model,
                     wet_conditions=conditions,
+                    figures=not args.no_figures,
                     **sk,
                 )
         except InputError as exc:
@@ -194,6 +196,7 @@ def run_dry_vs_wet(
     despike=False,
     wet_model="persson",
     wet_conditions=None,
+    figures=True,
 ):
     """Compute and write the dry-vs-wet comparison; returns the ``comparison.json`` dict.
 
@@ -224,6 +227,9 @@ def run_dry_vs_wet(
         or, as the thesis, on the rain-filled surface.
     wet_conditions : friction.wet.WetConditions, optional
         Water and tyre of the persson model (defaults with their sources).
+    figures : bool, optional
+        Draw the PNGs and the 3D view (``--no-figures``: False; every number is the same, and
+        ``renderer_3d`` is None with the ``render_note`` saying why).
 
     Returns
     -------
@@ -284,38 +290,14 @@ def run_dry_vs_wet(
     psd_ratio = C_wet_on_dry / an_dry.spectrum.C_m4
     result["psd_ratio_wet_to_dry_median"] = float(np.median(psd_ratio))
 
-    figs = [
-        report.plot_heightmap(dry, out_dir / "dry_heightmap.png", title=f"{scan.name}: dry (levelled)"),
-        report.plot_heightmap(
-            dry,
-            out_dir / "water_depth.png",
-            depth_m=rain.depth_m,
-            title=f"{scan.name}: water depth ({connectivity}-connected fill)",
-        ),
-    ]
-    figs.append(
-        report.plot_psd(
-            [
-                ("dry", q, an_dry.spectrum.C_m4),
-                ("wet (rain-filled)", an_wet.spectrum.q_per_m, an_wet.spectrum.C_m4),
-            ],
-            out_dir / "psd_dry_wet.png",
-            title=f"{scan.name}: PSD dry and wet",
-        )
-    )
     from pipelines.checks import validate
-    from pipelines.jobs.render3d import render_3d_view
 
-    view = render_3d_view(
-        dry, rain.depth_m, out_dir / "surface_3d.png", title=f"{scan.name}: surface and water"
-    )
-    result["renderer_3d"] = view.renderer  # pyvista | matplotlib | None (not drawn)
-    if view.path is not None:
-        figs.append(view.path)
-    if view.note:
-        result["render_note"] = view.note
-    if view.warning:
-        validate.warn(view.warning)
+    if figures:
+        figs = _maps_and_view(scan.name, dry, rain, an_dry, an_wet, out_dir, connectivity, result)
+    else:
+        figs = []
+        result["renderer_3d"] = None
+        result["render_note"] = "figures and 3D view not drawn (--no-figures)"
 
     od = ow = None
     if settings.enabled:
@@ -376,7 +358,8 @@ def run_dry_vs_wet(
         result["fall_20_100_kmh"] = fall_split(v, mu_d, mu_w)
         result["rubber"] = rubber_label(settings.rubber, settings.sigma0_Pa, od.result.meta.get("T0_C"))
         report.write_csv(out_dir / "mu.csv", ["v_m_per_s", "mu_dry", "mu_wet"], [v, mu_d, mu_w])
-        figs.extend(dry_wet_figures(out_dir, scan.name, result, v, mu_d, mu_w, wf))
+        if figures:
+            figs.extend(dry_wet_figures(out_dir, scan.name, result, v, mu_d, mu_w, wf))
     else:
         result["mu_dry"] = result["mu_wet"] = None
         result["max_difference_v_m_per_s"] = None
@@ -388,3 +371,38 @@ def run_dry_vs_wet(
     report.write_json(out_dir / "comparison.json", result)
     write_dry_wet_report(out_dir, result, figs)
     return result
+
+
+def _maps_and_view(name, dry, rain, an_dry, an_wet, out_dir, connectivity, result):
+    """The dry height map, the water depth map, the PSD dry and wet and the 3D view, as PNGs in
+    ``out_dir``; records the renderer (and why a view was not drawn) in ``result``. Returns the
+    figures' paths in the report's order."""
+    from pipelines.checks import validate
+    from pipelines.jobs.render3d import render_3d_view
+
+    figs = [
+        report.plot_heightmap(dry, out_dir / "dry_heightmap.png", title=f"{name}: dry (levelled)"),
+        report.plot_heightmap(
+            dry,
+            out_dir / "water_depth.png",
+            depth_m=rain.depth_m,
+            title=f"{name}: water depth ({connectivity}-connected fill)",
+        ),
+        report.plot_psd(
+            [
+                ("dry", an_dry.spectrum.q_per_m, an_dry.spectrum.C_m4),
+                ("wet (rain-filled)", an_wet.spectrum.q_per_m, an_wet.spectrum.C_m4),
+            ],
+            out_dir / "psd_dry_wet.png",
+            title=f"{name}: PSD dry and wet",
+        ),
+    ]
+    view = render_3d_view(dry, rain.depth_m, out_dir / "surface_3d.png", title=f"{name}: surface and water")
+    result["renderer_3d"] = view.renderer  # pyvista | matplotlib | None (not drawn)
+    if view.path is not None:
+        figs.append(view.path)
+    if view.note:
+        result["render_note"] = view.note
+    if view.warning:
+        validate.warn(view.warning)
+    return figs

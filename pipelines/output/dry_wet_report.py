@@ -384,7 +384,8 @@ def write_dry_wet_report(out_dir, r, figs):
         sections.append(("What the wet model covers", report.paragraph_html(_WET_MODEL_SCOPE, note=True)))
     elif r.get("wet_model"):
         sections.append(("What the wet model covers", wet_model_html()))
-    sections.append(("Figures", [list(figs)]))
+    if figs:
+        sections.append(("Figures", [list(figs)]))
     if persson:
         intro = (
             "The wet curve follows Persson's picture of a tyre on a wet road: the water sealed in the "

@@ -241,6 +241,11 @@ def add_compare_options(p):
     add_scan_options(p)
     add_spectrum_options(p)  # --window-alpha, --fit-band, --despike, --resolution
     add_friction_options(p)
+    p.add_argument(
+        "--no-figures",
+        action="store_true",
+        help="skip the PNG figures (every CSV/JSON number is the same; report.html keeps its tables)",
+    )
 
 
 def unique_stems(paths):

@@ -142,6 +142,12 @@ def add_dry_vs_wet_options(p):
     add_wet_model_options(p)
     add_spectrum_options(p)  # --window-alpha, --fit-band, --despike, --resolution
     add_friction_options(p)
+    p.add_argument(
+        "--no-figures",
+        action="store_true",
+        help="skip the PNG figures and the 3D view (every CSV/JSON number is the same; report.html "
+        "keeps its tables)",
+    )
 
 
 def add_wet_model_options(p):

@@ -39,7 +39,7 @@ def run(args):
     scans = [load_scan(f, args) for f in args.scans]
     names = unique_stems(args.scans)
     with atomic_output_dir(args.out, inputs=args.scans) as tmp:
-        r = run_compare(scans, names, tmp, settings, **sk)
+        r = run_compare(scans, names, tmp, settings, figures=not args.no_figures, **sk)
     from pipelines.output.headline import hurst_text, peak_text
     from pipelines.output.units import length
 
