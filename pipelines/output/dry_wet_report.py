@@ -390,8 +390,10 @@ def write_dry_wet_report(out_dir, r, figs):
         intro = (
             "The wet curve follows Persson's picture of a tyre on a wet road: the water sealed in the "
             "pools the contact closes, the film squeezed out under a tread block during the time it "
-            "takes to pass, and the adhesion water removes; the maps below also show the thesis's "
-            "rain-filled surface (every basin full), which is what the PSD comparison uses."
+            "takes to pass, and the adhesion water removes; "
+            + ("the maps below also show" if figs else "the PSD comparison uses")
+            + " the thesis's rain-filled surface (every basin full)"
+            + (", which is what the PSD comparison uses." if figs else ".")
         )
     else:
         intro = (
