@@ -37,6 +37,8 @@ import types
 import warnings
 from typing import Any
 
+from pipelines.output.child_process import as_fresh_child, block_stop_signals, restore_mask, stop_pool
+
 __all__ = ["InProcess", "FigureProcess", "figure_drawer"]
 
 ENV_SWITCH = "ROADSCAN_FIGURE_PROCESS"
@@ -105,14 +107,13 @@ class FigureProcess(InProcess):
             # the spawned worker would import the caller's script again (as __mp_main__): a
             # script without an ``if __name__ == "__main__"`` guard would run a second time
             sys.modules["__main__"] = types.ModuleType("__main__")
-            blocked = _block() if method == "fork" else None
+            blocked = block_stop_signals() if method == "fork" else None
             try:
                 self._pool.submit(os.getpid)  # starts the worker now (it imports matplotlib)
                 self._proc = next(iter(getattr(self._pool, "_processes", {}).values()), None)
             finally:
                 sys.modules["__main__"] = main
-                if blocked is not None:
-                    _unblock(blocked)
+                restore_mask(blocked)
         except (OSError, RuntimeError, ValueError, ImportError):
             self._stop()
         except BaseException:  # a stop signal (delivered once unblocked): no helper left
@@ -170,16 +171,10 @@ class FigureProcess(InProcess):
         proc, self._proc = self._proc, None
         if pool is None:
             return
-        manager = getattr(pool, "_executor_manager_thread", None)
-        pool.shutdown(wait=False, cancel_futures=True)
-        if proc is not None and proc.is_alive():  # idle or importing: not waited for at exit
-            proc.kill()
-        # the pool's manager thread ends now that its worker is gone; joined here, it never
-        # closes its wake-up pipe while the interpreter's exit hook of concurrent.futures
-        # writes to it (a race that printed "OSError: [Errno 9] Bad file descriptor" after the
-        # one-line error of a command that failed early, about once in 60 fuzz runs)
-        if manager is not None and manager is not threading.current_thread():
-            manager.join(timeout=5.0)
+        # the worker, idle or importing, is killed (not waited for at exit) and the manager
+        # thread joined: the race this avoided printed "OSError: [Errno 9] Bad file descriptor"
+        # after the one-line error of a command that failed early, about once in 60 fuzz runs
+        stop_pool(pool, [proc])
 
     def close(self):
         self._pending = []
@@ -220,10 +215,6 @@ def figure_drawer(figures=True):
     return InProcess()
 
 
-#: signals the command turns into an interruption (:mod:`pipelines.cli.signals`)
-_STOP_SIGNALS = ("SIGINT", "SIGTERM", "SIGHUP")
-
-
 def _start_method():
     """``"fork"`` on Linux when this process runs no other Python thread, else ``"spawn"``."""
 
@@ -237,52 +228,13 @@ def _start_method():
     return "spawn"
 
 
-def _stop_signals():
-    return [getattr(signal, n) for n in _STOP_SIGNALS if hasattr(signal, n)]
-
-
-def _block():
-    """Block the stop signals; returns the previous mask."""
-    return signal.pthread_sigmask(signal.SIG_BLOCK, _stop_signals())
-
-
-def _unblock(previous):
-    signal.pthread_sigmask(signal.SIG_SETMASK, previous)
-
-
-def _die_with_parent(parent_pid):
-    """The helper ends when the command does, however it ends (SIGKILL, the OOM killer): on
-    Linux the kernel sends it SIGKILL when its parent dies (``prctl(PR_SET_PDEATHSIG)``, see
-    prctl(2)); a parent already gone ends it now. Without this, a forked helper holds the
-    write end of its own task queue and waits for work forever once the parent is killed."""
-    if not sys.platform.startswith("linux"):
-        return
-    try:
-        import ctypes
-
-        ctypes.CDLL(None).prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG = 1
-    except (OSError, AttributeError):
-        pass
-    if os.getppid() != parent_pid:  # died before the request took effect
-        os._exit(0)
-
-
 def _warm_up(parent_pid=None):
     """The helper's initializer: matplotlib imported while the parent computes; warnings off.
 
-    It ends with its parent (:func:`_die_with_parent`). The stop signals get a fresh
-    interpreter's dispositions (a forked helper inherits the command's handlers, and the signals
-    blocked) and are then unblocked."""
-
-    if parent_pid is not None:
-        _die_with_parent(parent_pid)
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C reaches the group: the parent stops us
-    for sig in _stop_signals():
-        if sig != signal.SIGINT:
-            signal.signal(sig, signal.SIG_DFL)
-    if hasattr(signal, "pthread_sigmask"):
-        signal.pthread_sigmask(signal.SIG_UNBLOCK, _stop_signals())
+    It ends with its parent, and the stop signals get a fresh interpreter's dispositions (a
+    forked helper inherits the command's handlers, and the signals blocked) before they are
+    unblocked (:func:`pipelines.output.child_process.as_fresh_child`)."""
+    as_fresh_child(parent_pid)
     warnings.simplefilter("ignore")
     sys.stdout = sys.stderr  # a stray print never mixes into the command's output
     # no 3D projection here (0.03-0.04 s of matplotlib's import, the analyse figures are 2D):

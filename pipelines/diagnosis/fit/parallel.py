@@ -11,8 +11,9 @@ the wall time changes. That holds because every model evaluation is a function o
 alone, whatever the process computed before (the friction engine's interpolation tables
 included, :func:`friction.grids.phi_table`). Python warnings a fit raises in a worker are raised
 again in this process, in item order. A stop request (Ctrl-C, SIGTERM) or a failed fit cancels
-the queued fits and kills the running ones; the workers ignore Ctrl-C and, on Linux, die with
-this process.
+the queued fits and kills the running ones; the workers are set up as the figure helper's are
+(:mod:`pipelines.output.child_process`: the stop signals blocked across the fork, Ctrl-C
+ignored in them, and on Linux they die with this process).
 
 A fitted candidate travels without its effects (their model functions are closures that do not
 pickle): :func:`portable` replaces each by its position among the effects the fit was given, and
@@ -31,11 +32,12 @@ import contextlib
 import contextvars
 import multiprocessing
 import os
-import sys
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from typing import Any
+
+from pipelines.output.child_process import as_fresh_child, block_stop_signals, restore_mask, stop_pool
 
 __all__ = ["default_workers", "fit_map", "workers", "use_workers", "portable", "restore"]
 
@@ -72,43 +74,6 @@ def use_workers(n: int | None) -> Iterator[None]:
         yield
     finally:
         _WORKERS.reset(token)
-
-
-def _worker_init(parent_pid: int) -> None:
-    """A worker ignores Ctrl-C (the terminal sends it to the whole group; stopping is the
-    parent's business, :func:`_kill`), takes SIGTERM and SIGHUP at their defaults, and on Linux
-    ends with its parent however that ends (``prctl(PR_SET_PDEATHSIG)``, see prctl(2))."""
-    import signal
-
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    for name in ("SIGTERM", "SIGHUP"):
-        if hasattr(signal, name):
-            signal.signal(getattr(signal, name), signal.SIG_DFL)
-    if sys.platform.startswith("linux"):
-        try:
-            import ctypes
-
-            ctypes.CDLL(None).prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG = 1
-        except (OSError, AttributeError):
-            pass
-        if os.getppid() != parent_pid:  # the parent ended before the request took effect
-            os._exit(0)
-
-
-def _kill(ex: ProcessPoolExecutor) -> None:
-    """Stop a pool at once: queued fits cancelled, running ones killed (concurrent.futures has
-    no public call for that before Python 3.14), its manager thread joined so that it never
-    closes its wake-up pipe while the interpreter's exit hook writes to it."""
-    import threading
-
-    procs = list((getattr(ex, "_processes", None) or {}).values())
-    manager = getattr(ex, "_executor_manager_thread", None)
-    ex.shutdown(wait=False, cancel_futures=True)
-    for p in procs:
-        if p.is_alive():
-            p.kill()
-    if manager is not None and manager is not threading.current_thread():
-        manager.join(timeout=5.0)
 
 
 def _run(i: int) -> tuple[Any, list[tuple[str, type[Warning], str, int]]]:
@@ -159,14 +124,18 @@ def fit_map(
         ex = ProcessPoolExecutor(
             n,
             mp_context=multiprocessing.get_context("fork"),
-            initializer=_worker_init,
+            initializer=as_fresh_child,
             initargs=(os.getpid(),),
         )
         try:
-            futures = {i: ex.submit(_run, i) for i in order}
+            blocked = block_stop_signals()  # the first submit forks every worker
+            try:
+                futures = {i: ex.submit(_run, i) for i in order}
+            finally:
+                restore_mask(blocked)
             done = [futures[i].result() for i in range(len(items))]
         except BaseException:  # a stop request (Ctrl-C, SIGTERM) or a failed fit: no fit left running
-            _kill(ex)
+            stop_pool(ex)
             raise
         ex.shutdown(wait=True)
     finally:
