@@ -209,10 +209,9 @@ def run_diagnosis(args, say=_say):
     """
     from pipelines.diagnosis.fit.parallel import use_workers
 
-    workers = getattr(args, "workers", None)
-    if workers is not None and workers < 1:
-        raise InputError(None, f"--workers {workers}: give at least 1 process")
-    with use_workers(workers):
+    if args.workers is not None and args.workers < 1:
+        raise InputError(None, f"--workers {args.workers}: give at least 1 process")
+    with use_workers(args.workers):
         return _run_diagnosis(args, say)
 
 

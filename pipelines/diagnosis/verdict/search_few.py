@@ -158,10 +158,13 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
     if not significant:
         return cal, [], s, nu, significant
 
+    def fitted_with(e):
+        return (cal_e, e) if cal is not None else (e,)
+
     def fit(e):
         t1 = time.perf_counter()
         own = e.null_params(ctx) or {p.name: p.init for p in e.params}
-        effs = (cal_e, e) if cal is not None else (e,)
+        effs = fitted_with(e)
         if cal is not None:
             starts = [cal.params + [own]]
             budget = 8 if e.cost > 1 else 20 + 4 * (len(e.params) + len(cal_e.params))
@@ -171,14 +174,14 @@ def few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
         shown = [finish(c, t1, s, nu)]
         if shown[0].implausible and e.physical is not None:
             shown += _physical(ctx, real_mu, shown[0], every, finish, s, nu)
-        return [portable(c, effs) for c in shown], int(len(shown) > 1 and not shown[-1].implausible)
+        return [portable(c, effs) for c in shown], len(shown) > 1 and not shown[-1].implausible
 
     cands = []
-    for e, (shown, kept) in zip(usable, fit_map(fit, usable, cost=lambda e: e.cost)):
-        shown = [restore(c, (cal_e, e) if cal is not None else (e,)) for c in shown]
+    for e, (shown, refit_kept) in zip(usable, fit_map(fit, usable, cost=lambda e: e.cost)):
+        shown = [restore(c, fitted_with(e)) for c in shown]
         for c in shown:  # an implausible fit is reported before its refit within the physical ranges
             told(c)
-        cands.append(shown[-1] if kept else shown[0])
+        cands.append(shown[-1] if refit_kept else shown[0])
     return cal, cands, s, nu, significant
 
 
