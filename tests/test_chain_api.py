@@ -164,69 +164,16 @@ CHANGES = [
 
 
 def _mu_of(cmd, scan, out, extra):
+    speeds = ["--velocities", "1e-3:10:5", *extra]
     if cmd == "friction":
-        _run(
-            [
-                "friction",
-                "--psd",
-                out.parent / "base_a" / "psd.csv",
-                "--out",
-                out / "mu.csv",
-                "--velocities",
-                "1e-3:10:5",
-                *extra,
-            ]
-        )
+        _run(["friction", "--psd", out.parent / "base_a" / "psd.csv", "--out", out / "mu.csv", *speeds])
         return _mu_csv(out / "mu.csv")
-    if cmd == "analyse":
-        _run(
-            [
-                "analyse",
-                scan,
-                "--spacing",
-                DX,
-                "--no-figures",
-                "--out",
-                out,
-                "--velocities",
-                "1e-3:10:5",
-                *extra,
-            ]
-        )
-        return _mu_csv(out / "mu.csv")
+    scans = [scan, scan] if cmd == "compare" else [scan]  # analyse, compare, dry-vs-wet
+    _run([cmd, *scans, "--spacing", DX, "--no-figures", "--out", out, *speeds])
     if cmd == "compare":
-        _run(
-            [
-                "compare",
-                scan,
-                scan,
-                "--spacing",
-                DX,
-                "--no-figures",
-                "--out",
-                out,
-                "--velocities",
-                "1e-3:10:5",
-                *extra,
-            ]
-        )
         return np.array(
             list(next(iter(json.loads((out / "comparison.json").read_text()).values()))["mu"].values())
         )
-    _run(
-        [
-            "dry-vs-wet",
-            scan,
-            "--spacing",
-            DX,
-            "--no-figures",
-            "--out",
-            out,
-            "--velocities",
-            "1e-3:10:5",
-            *extra,
-        ]
-    )
     return _mu_csv(out / "mu.csv")
 
 

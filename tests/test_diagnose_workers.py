@@ -127,7 +127,6 @@ def test_a_stop_request_during_a_stage_ends_at_once_and_leaves_no_worker(tmp_pat
     """SIGTERM while the workers fit: one line, exit 143 within seconds (not after the stage's
     fits), no output folder, and every worker gone (killed; on Linux they also die with the
     command, prctl(PR_SET_PDEATHSIG))."""
-    import os
     import signal
     import subprocess
     import sys
@@ -170,4 +169,4 @@ def test_a_stop_request_during_a_stage_ends_at_once_and_leaves_no_worker(tmp_pat
         for p in children
         if Path(f"/proc/{p}").exists() and "Z" not in Path(f"/proc/{p}/stat").read_text().split()[2]
     ]
-    assert alive == [], f"workers left running: {alive} ({os.getpid()})"
+    assert alive == [], f"workers left running: {alive}"
