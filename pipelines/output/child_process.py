@@ -33,20 +33,38 @@ STOP_SIGNALS = ("SIGINT", "SIGTERM", "SIGHUP")
 
 
 def stop_signals() -> list[signal.Signals]:
-    """The stop signals this platform has."""
+    """The stop signals this platform has.
+
+    Returns
+    -------
+    list of signal.Signals
+        Those of :data:`STOP_SIGNALS` the platform defines (SIGHUP is missing on Windows).
+    """
     return [getattr(signal, n) for n in STOP_SIGNALS if hasattr(signal, n)]
 
 
 def block_stop_signals() -> Any:
-    """Block the stop signals in this thread (around a fork); returns the previous mask for
-    :func:`restore_mask`, or None where the platform cannot block signals."""
+    """Block the stop signals in this thread, around a fork.
+
+    Returns
+    -------
+    set of signal.Signals or None
+        The previous mask, for :func:`restore_mask`; None where the platform cannot block
+        signals (no ``pthread_sigmask``).
+    """
     if not hasattr(signal, "pthread_sigmask"):
         return None
     return signal.pthread_sigmask(signal.SIG_BLOCK, stop_signals())
 
 
 def restore_mask(previous: Any) -> None:
-    """Put back the signal mask :func:`block_stop_signals` returned (None: nothing to do)."""
+    """Put back the signal mask :func:`block_stop_signals` returned.
+
+    Parameters
+    ----------
+    previous : set of signal.Signals or None
+        The mask to restore; None: nothing was blocked, nothing to do.
+    """
     if previous is not None:
         signal.pthread_sigmask(signal.SIG_SETMASK, previous)
 
@@ -69,8 +87,15 @@ def _die_with_parent(parent_pid: int) -> None:
 
 
 def as_fresh_child(parent_pid: int | None) -> None:
-    """A child's first step: end with ``parent_pid`` (None: not asked), SIGINT ignored, SIGTERM
-    and SIGHUP at their defaults, then the stop signals unblocked (see the module docstring)."""
+    """A child's first step (a pool's ``initializer``): see the module docstring.
+
+    Parameters
+    ----------
+    parent_pid : int or None
+        The process the child ends with (on Linux, prctl PR_SET_PDEATHSIG; a parent already
+        gone ends the child at once); None: not asked. SIGINT is then ignored, SIGTERM and
+        SIGHUP take their defaults, and the stop signals are unblocked.
+    """
     if parent_pid is not None:
         _die_with_parent(parent_pid)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
@@ -82,12 +107,21 @@ def as_fresh_child(parent_pid: int | None) -> None:
 
 
 def stop_pool(pool: Any, processes: list[Any] | None = None) -> None:
-    """Stop a :class:`concurrent.futures.ProcessPoolExecutor` at once: queued work cancelled, its
-    ``processes`` (default: every worker the pool has) killed where alive (concurrent.futures
-    has no public call for that before Python 3.14), and its manager thread joined, so that the
-    thread never closes its wake-up pipe while the interpreter's exit hook of concurrent.futures
-    writes to it (a race that printed "OSError: [Errno 9] Bad file descriptor" after a command's
-    one-line error)."""
+    """Stop a :class:`concurrent.futures.ProcessPoolExecutor` at once.
+
+    Queued work is cancelled, the workers are killed where alive (concurrent.futures has no
+    public call for that before Python 3.14), and the pool's manager thread is joined (at most
+    5 s), so that it never closes its wake-up pipe while the interpreter's exit hook of
+    concurrent.futures writes to it (a race that printed "OSError: [Errno 9] Bad file
+    descriptor" after a command's one-line error).
+
+    Parameters
+    ----------
+    pool : concurrent.futures.ProcessPoolExecutor
+        The pool.
+    processes : list of multiprocessing.Process, optional
+        The workers to kill (None entries skipped); default: every worker the pool has.
+    """
     if processes is None:
         processes = list((getattr(pool, "_processes", None) or {}).values())
     manager = getattr(pool, "_executor_manager_thread", None)

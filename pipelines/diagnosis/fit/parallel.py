@@ -50,7 +50,13 @@ _STAGE: tuple[Callable[[Any], Any], Sequence[Any]] | None = None
 
 
 def default_workers() -> int:
-    """One worker per core available to this process (its CPU affinity where the OS says)."""
+    """One worker per core available to this process.
+
+    Returns
+    -------
+    int
+        The cores of this process's CPU affinity (Linux), else the machine's, at least 1.
+    """
     try:
         return max(1, len(os.sched_getaffinity(0)))
     except AttributeError:  # pragma: no cover - not Linux
@@ -58,15 +64,37 @@ def default_workers() -> int:
 
 
 def workers() -> int:
-    """The number of worker processes a stage may use in the current scope (>= 1)."""
+    """The number of worker processes a stage may use in the current scope.
+
+    Returns
+    -------
+    int
+        The number :func:`use_workers` set, else :func:`default_workers` (at least 1 either way;
+        1 fits in this process).
+    """
     n = _WORKERS.get()
     return default_workers() if n is None else n
 
 
 @contextlib.contextmanager
 def use_workers(n: int | None) -> Iterator[None]:
-    """Fit with ``n`` worker processes inside the ``with`` block (None: one per core; 1: in this
-    process). ``n`` below 1 is refused (ValueError)."""
+    """Fit with ``n`` worker processes inside the ``with`` block.
+
+    Parameters
+    ----------
+    n : int or None
+        Worker processes; None: one per core (:func:`default_workers`); 1: in this process.
+
+    Yields
+    ------
+    None
+        The scope; the previous number is back when it ends.
+
+    Raises
+    ------
+    ValueError
+        ``n`` below 1.
+    """
     if n is not None and int(n) < 1:
         raise ValueError(f"workers must be at least 1, got {n}")
     token = _WORKERS.set(None if n is None else int(n))
@@ -149,8 +177,22 @@ def fit_map(
 
 
 def portable(c: Any, effects: Sequence[Any]) -> Any:
-    """Worker side: candidate ``c`` (a :class:`fitting.Candidate` fitted with ``effects``, or
-    with some of them narrowed) with each effect replaced by a picklable token."""
+    """Worker side: a fitted candidate made picklable (see the module docstring).
+
+    Parameters
+    ----------
+    c : fitting.Candidate
+        A candidate fitted with ``effects`` in order, some of them possibly narrowed to their
+        physical ranges (:meth:`effects.Effect.restricted`).
+    effects : sequence of Effect
+        The effects the fit was given.
+
+    Returns
+    -------
+    fitting.Candidate
+        A shallow copy whose ``effects`` are tokens: ``(i,)`` for ``effects[i]`` itself,
+        ``(i, params, null_kept)`` for its narrowed copy; every other attribute as in ``c``.
+    """
     import copy
 
     tokens: list[tuple[Any, ...]] = []
@@ -166,7 +208,21 @@ def portable(c: Any, effects: Sequence[Any]) -> Any:
 
 
 def restore(c: Any, effects: Sequence[Any]) -> Any:
-    """This side: the candidate :func:`portable` sent, with its effects put back."""
+    """This side: the candidate :func:`portable` sent, with its effects put back.
+
+    Parameters
+    ----------
+    c : fitting.Candidate
+        As :func:`portable` returned it.
+    effects : sequence of Effect
+        This process's copies of the effects the fit was given (the same order).
+
+    Returns
+    -------
+    fitting.Candidate
+        A shallow copy with ``effects[i]`` for each ``(i,)`` and a narrowed copy of it
+        (``dataclasses.replace`` with the sent bounds and null point) for each longer token.
+    """
     import copy
     from dataclasses import replace
 
