@@ -244,6 +244,15 @@ def compounds_row(rows):
     )
 
 
+def _keep(root, name):
+    """The folder under ``root`` that keeps one row's case files (None: a temporary folder)."""
+    if root is None:
+        return None
+    d = Path(root) / name
+    d.mkdir(parents=True, exist_ok=True)
+    return str(d)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--seeds", default="1000", help="seed sets of the generated rows (default 1000)")
@@ -253,6 +262,7 @@ def main(argv=None):
     ap.add_argument("--only", default="withheld,uncertain,sparse,surface,compounds", help="rows to run")
     ap.add_argument("--quick", action="store_true", help="a third of every generated set")
     ap.add_argument("--json", default=None, help="write every case's result here")
+    ap.add_argument("--keep", default=None, help="keep every case's files (diagnosis.json) under this folder")
     a = ap.parse_args(argv)
     seeds = [int(s) for s in a.seeds.split(",") if s.strip()]
     only = set(a.only.split(","))
@@ -262,7 +272,8 @@ def main(argv=None):
     if "withheld" in only:
         rows = []
         for s in seeds:
-            rows += run_friction_level(s, 45 // k, 10 // k, a.jobs)[0]
+            keep = _keep(a.keep, f"withheld_{s}")
+            rows += run_friction_level(s, 45 // k, 10 // k, a.jobs, keep=keep)[0]
             for r in rows:
                 r.setdefault("seed_set", s)
         raw["withheld"] = rows
@@ -279,7 +290,8 @@ def main(argv=None):
         if key in only:
             rows = []
             for s in seeds:
-                rows += run_offset_level(s, n_eff // k, n_null // k, a.jobs, few=few)
+                keep = _keep(a.keep, f"{key}_{s}")
+                rows += run_offset_level(s, n_eff // k, n_null // k, a.jobs, keep=keep, few=few)
             raw[key] = rows
             table.append(offsets_row(rows, few))
             for r in rows:
@@ -292,11 +304,11 @@ def main(argv=None):
     if "surface" in only:
         rows = []
         for s in seeds:
-            rows += run_surface_level(s, max(1, 3 // k), a.jobs)
+            rows += run_surface_level(s, max(1, 3 // k), a.jobs, keep=_keep(a.keep, f"surface_{s}"))
         raw["surface"] = rows
         table.append(surface_row(rows))
     if "compounds" in only:
-        root = Path(tempfile.mkdtemp(prefix="diag_compounds_"))
+        root = Path(_keep(a.keep, "compounds") or tempfile.mkdtemp(prefix="diag_compounds_"))
         rows = [run_compound(lab, csv, rub, st, root) for lab, csv, rub in COMPOUNDS for st in SETTINGS]
         raw["compounds"] = rows
         table.append(compounds_row(rows))
