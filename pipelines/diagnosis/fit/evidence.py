@@ -26,6 +26,15 @@ repeatability of a friction rig, about 1 %).
 Prior odds: "no effect beyond the uncertain inputs" has prior 1/2, the other half is shared
 equally by the effects tried (a multiple-comparison correction: the more effects are tried, the
 stronger the evidence one of them needs). Posterior probability of M: prior x Z_M normalised.
+
+Decided (:func:`decisive`): the most probable explanation is named when it is at least 3 times as
+probable as every other explanation, one by one (posterior odds of 3: Kass & Raftery 1995 call a
+factor below 3 "not worth more than a bare mention"). The prior's multiple-comparison correction
+stays in those odds: against the baseline an effect needs a Bayes factor of 3 m (m effects
+tried), against another effect 3. Posterior 0.9 (``P_NAME``) implies odds of 9 against every
+rival; the pairwise rule also names a clear winner when the rest of the probability is spread
+over several rivals, and leaves inconclusive only explanations that are about as probable as it.
+Its posterior still sets its confidence (low below 0.95).
 """
 
 from __future__ import annotations
@@ -41,6 +50,8 @@ __all__ = [
     "METHOD",
     "REFERENCE",
     "P_NAME",
+    "LOG_POSITIVE",
+    "decisive",
     "loglik",
     "log_occam",
     "model_evidence",
@@ -53,6 +64,8 @@ PRIOR_NULL = 0.5
 #: the posterior probability at which an explanation is named (the verdicts of few points and of
 #: the evidence over every point)
 P_NAME = 0.9
+#: ln of the odds from which evidence counts as positive (Kass & Raftery 1995: 3)
+LOG_POSITIVE = float(np.log(3.0))
 METHOD = (
     "Bayesian model comparison: evidence of each explanation by Laplace approximation at its best "
     "fit (uniform priors on the uncertain inputs' ranges and each effect's range; Student-t "
@@ -62,6 +75,26 @@ REFERENCE = (
     "MacKay 1992, Neural Computation 4, 415; Kass & Raftery 1995, J. Am. Stat. Assoc. 90, 773, "
     "doi:10.1080/01621459.1995.10476572"
 )
+
+
+def decisive(posterior, rivals):
+    """Whether the most probable explanation is decided (see the module docstring).
+
+    Parameters
+    ----------
+    posterior : float
+        Its posterior probability.
+    rivals : sequence of float
+        The posterior probability of every other explanation compared (the baseline included).
+
+    Returns
+    -------
+    bool
+        True when ``posterior`` is at least ``exp(LOG_POSITIVE)`` = 3 times every rival's.
+    """
+    return bool(posterior > 0) and all(
+        np.log(posterior) - np.log(max(p, 1e-300)) >= LOG_POSITIVE for p in rivals
+    )
 
 
 def noise_scale(noise):

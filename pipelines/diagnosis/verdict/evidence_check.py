@@ -22,9 +22,11 @@ score). Posterior probabilities as in :func:`pipelines.diagnosis.fit.evidence.po
 (prior 1/2 on the baseline: the nominal model, or the calibration of the uncertain inputs;
 the other half shared by the single effects tried). The rule is the few-point one (:mod:`.few`):
 
-- an effect is named when its posterior is at least ``P_NAME`` (0.9); the held-out error is the
-  check: the name of the held-out verdict (:func:`.many.decide`) stands at posterior ``P_NAME``;
-  otherwise the evidence's most probable explanation is named when it reaches ``P_NAME``, is
+- an effect is named when it is decided: at least 3 times as probable as every other explanation
+  (the baseline included; posterior ``P_NAME`` = 0.9 implies it; below 0.9 confidence low;
+  :func:`pipelines.diagnosis.fit.evidence.decisive`); the held-out error is the
+  check: the name of the held-out verdict (:func:`.many.decide`) stands when it is decided;
+  otherwise the evidence's most probable explanation is named when it is decided, is
   physical, shrinks the held-out gap by ``MIN_SHRINK`` and the held-out points find it no worse
   than their best (within a tenth of the noise); otherwise the held-out name is withdrawn:
   inconclusive between the most probable explanations (together ``P_NAME``, at most three), or
@@ -175,13 +177,23 @@ def _record(verdict, p0, ranked, base_name, named):
 def _merged(ranked):
     """Posterior per explanation: an effect fitted at the nominal inputs and with the calibration
     of a default q1 range is one explanation (their posteriors add). Returns [(label, p, the
-    candidate of higher evidence)], most probable first."""
+    candidate of higher evidence, its log evidence)], most probable first."""
     out = {}
     for c, z, p in ranked:
         lab = _label(c)
         q, top, zt = out.get(lab, (0.0, c, z))
         out[lab] = (q + p, top if zt >= z else c, max(zt, z))
-    return sorted(((lab, q, c) for lab, (q, c, _) in out.items()), key=lambda t: -t[1])
+    return sorted(((lab, q, c, z) for lab, (q, c, z) in out.items()), key=lambda t: -t[1])
+
+
+def _decided(merged, p0):
+    """Whether the first of ``merged`` is decided against the baseline (posterior ``p0``) and every
+    other explanation: 3 times as probable as each (:func:`.evidence.decisive`)."""
+    from pipelines.diagnosis.fit.evidence import decisive
+
+    if not merged:
+        return False
+    return decisive(merged[0][1], [p0] + [m[1] for m in merged[1:]])
 
 
 def check_named(
@@ -232,14 +244,21 @@ def check_named(
     _record(verdict, p0, ranked, base_name, None if best is None else best.name)
     merged = _merged(ranked)
     name0 = None if best is None else _label(best)
-    p_best = next((q for lab, q, _ in merged if lab == name0), 0.0)
-    if best is not None and p_best >= P_NAME:
+    p_best = next((q for lab, q, _, _ in merged if lab == name0), 0.0)
+    decided = _decided(merged, p0)
+    if best is not None and (p_best >= P_NAME or (decided and merged[0][0] == name0)):
+        if p_best < P_NAME:
+            verdict["confidence"] = "low"
+            verdict["reason"] += (
+                f"; over every point its posterior is {p_best:.2f}, below {P_NAME:g}, but at least 3 "
+                f"times that of every other explanation"
+            )
         return best
     # the evidence's own choice, checked by the held-out points: it shrinks the held-out gap by
     # MIN_SHRINK and the held-out points find it no worse than the best of them (within 0.1 noise)
     held = [c.gap_heldout for c in pool if np.isfinite(c.gap_heldout)]
-    if merged and g_ref is not None and (best is not None or rescue) and merged[0][1] >= P_NAME and held:
-        lab, p, c = merged[0]
+    if merged and g_ref is not None and (best is not None or rescue) and decided and held:
+        lab, p, c, _ = merged[0]
         if c.shrink >= MIN_SHRINK and c.gap_heldout <= min(held) + 0.1 * noise:
             verdict.update(inconclusive=[], implausible=[], implausible_why=[])
             cal = "calibration" in c.effects[0].name
@@ -249,19 +268,20 @@ def check_named(
                 + (f"; the held-out score preferred {name0}, posterior {p_best:.2f}" if name0 else "")
                 + ")"
             )
+            if p < P_NAME:
+                verdict["confidence"] = "low"
+                verdict["reason"] += "; at least 3 times as probable as every other explanation"
             return c
     if best is None:
         return None
     acc, names = 0.0, []
-    for lab, q in sorted([(base_name, p0)] + [(lab, q) for lab, q, _ in merged], key=lambda t: -t[1]):
+    order = sorted([(base_name, p0)] + [(m[0], m[1]) for m in merged], key=lambda t: -t[1])
+    for lab, q in order:
         if len(names) >= 3 or acc >= P_NAME:
             break
         names.append(lab)
         acc += q
-    listed = ", ".join(
-        f"{lab} {q:.2f}"
-        for lab, q in sorted([(base_name, p0)] + [(lab, q) for lab, q, _ in merged], key=lambda t: -t[1])[:3]
-    )
+    listed = ", ".join(f"{lab} {q:.2f}" for lab, q in order[:3])
     verdict.update(
         effect=None,
         confidence=None,

@@ -8,7 +8,9 @@ model fitted on every point. The cross-validated held-out errors are still repor
 
 Verdict, once the baseline gap is significant against the noise (as :mod:`.verdict`):
 
-- an effect is named when its posterior probability is at least ``P_NAME`` (0.9) and its fit is
+- an effect is named when it is the most probable explanation and decided: at least 3 times as
+  probable as every other explanation (:func:`.evidence.decisive`; posterior ``P_NAME`` = 0.9
+  implies it) and its fit is
   physical and not equivalent to the uncertain inputs continued beyond their ranges
   (:mod:`.equivalence`; else the verdict is inconclusive naming the effect and
   ``"calibration"``, unless those inputs are the effect's own physics, :mod:`.same_physics`). Confidence: high
@@ -24,7 +26,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from pipelines.diagnosis.fit.evidence import METHOD, P_NAME, PRIOR_NULL, REFERENCE, model_evidence, posteriors
+from pipelines.diagnosis.fit.evidence import (
+    METHOD,
+    P_NAME,
+    PRIOR_NULL,
+    REFERENCE,
+    decisive,
+    model_evidence,
+    posteriors,
+)
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, _empty, _refuse
 from pipelines.diagnosis.verdict.same_physics import same_physics
 
@@ -131,8 +141,11 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
     p0, ps = posteriors(ev0, evs)
     v = _empty()
     v["evidence"] = _evidence_json(s, nu, ev_nom, ev0, evs, p0, ps, null_name)
-    expl = [dict(name=null_name, candidate=cal, H=ev0.get("H"), posterior=p0)]
-    expl += [dict(name=e["label"], candidate=c, H=e.get("H"), posterior=p) for e, c, p in zip(evs, cands, ps)]
+    expl = [dict(name=null_name, candidate=cal, H=ev0.get("H"), posterior=p0, log_z=ev0["log_z"])]
+    expl += [
+        dict(name=e["label"], candidate=c, H=e.get("H"), posterior=p, log_z=e["log_z"])
+        for e, c, p in zip(evs, cands, ps)
+    ]
     expl.sort(key=lambda x: -x["posterior"])
     if not st["significant"]:
         v["reason"] = (
@@ -142,7 +155,8 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
         return v, None, expl
     top = expl[0]
     prefix = ""
-    if top["candidate"] is not None and top["name"] != null_name and top["posterior"] >= P_NAME:
+    decided = decisive(top["posterior"], [x["posterior"] for x in expl[1:]])
+    if top["candidate"] is not None and top["name"] != null_name and decided:
         c = top["candidate"]
         if c.implausible:
             prefix = _refuse(v, c)
@@ -178,6 +192,12 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
                 f"(next: {expl[1]['name']} {expl[1]['posterior']:.3f}); gap over all points "
                 f"{st['g_all']:.4f} -> {c.gap_all:.4f}"
             )
+            if top["posterior"] < P_NAME:
+                odds = top["posterior"] / max(expl[1]["posterior"], 1e-300)
+                v["reason"] += (
+                    f"; below {P_NAME:g}, but {odds:.1f} times as probable as the next explanation "
+                    f"and more than every other (decided at 3)"
+                )
             if one:
                 v["reason"] += (
                     f"; {', '.join(eq['inputs']) or 'the uncertain inputs'} continued beyond the "

@@ -206,9 +206,10 @@ def _physical(ctx, real_mu, c, every, finish, s, nu):
 
 def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, best, timings):
     """With uncertain inputs given, an effect named by the held-out third (20 points or more)
-    must also be the most probable explanation by the evidence, at posterior 0.9 or more (every
-    model fitted on every point, :mod:`.few`); otherwise the verdict becomes inconclusive
-    between it and the most probable other.
+    must also be the most probable explanation by the evidence, and decided (3 times as probable
+    as every other, :func:`.evidence.decisive`; every model fitted on every point, :mod:`.few`);
+    otherwise the verdict becomes inconclusive between it and the most
+    probable other. Confidence is low below posterior 0.9, at most medium below 0.99.
     Adds ``bayes`` (the evidence's models and posteriors) to ``verdict``. Returns the named
     candidate or None.
 
@@ -239,7 +240,8 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
         The candidate the verdict keeps.
     """
     from pipelines.diagnosis.fit.cv import Holdout
-    from pipelines.diagnosis.verdict.few import P_NAME, decide_few
+    from pipelines.diagnosis.fit.evidence import P_NAME, decisive
+    from pipelines.diagnosis.verdict.few import decide_few
 
     n = np.asarray(real_mu).size
     every = np.ones(n, bool)
@@ -260,8 +262,10 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
     verdict["bayes"] = v2["evidence"]
     name = "+".join(best.effect_names)
     top = expl[0]
-    if top["name"] == name and top["posterior"] >= P_NAME:
-        if top["posterior"] < 0.99 and verdict.get("confidence") == "high":
+    if top["name"] == name and decisive(top["posterior"], [x["posterior"] for x in expl[1:]]):
+        if top["posterior"] < P_NAME:
+            verdict["confidence"] = "low"
+        elif top["posterior"] < 0.99 and verdict.get("confidence") == "high":
             verdict["confidence"] = "medium"
         return best
     other = top["name"] if top["name"] != name else expl[1]["name"]
