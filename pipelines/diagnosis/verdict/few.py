@@ -196,7 +196,7 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
                 odds = top["posterior"] / max(expl[1]["posterior"], 1e-300)
                 v["reason"] += (
                     f"; below {P_NAME:g}, but {odds:.1f} times as probable as the next explanation "
-                    f"and more than every other (decided at 3)"
+                    f"(an explanation is named at 3 times every other)"
                 )
             if one:
                 v["reason"] += (
