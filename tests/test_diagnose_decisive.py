@@ -109,3 +109,17 @@ def test_decide_few_names_the_clear_winner_with_low_confidence_or_abstains(top_g
     else:
         assert v["effect"] is None and c is None
         assert (v["inconclusive"][:2] == names[:2]) if second_gap < 1 else (not v["inconclusive"])
+
+
+def test_a_gap_within_the_clipped_noise_says_where_the_noise_scale_came_from():
+    """Few points: the likelihood's noise scale is the data's estimate clipped into 0.005-0.03;
+    diagnosis.json's ``noise`` keeps the estimate, so the reason names both."""
+    ctx = _ctx()
+    real = simulate(ctx.base, ctx) * 1.05
+    st = dict(_st(ctx.n), significant=False, noise=0.03, s=0.03, noise_estimate=0.124)
+    v, c, _ = decide_few(ctx, real, None, [], st)
+    assert c is None and v["effect"] is None
+    assert "within the noise 0.0300" in v["reason"]
+    assert "estimate 0.1240 from 7 points, clipped" in v["reason"]
+    v2, _, _ = decide_few(ctx, real, None, [], dict(st, noise_estimate=0.03))
+    assert "clipped" not in v2["reason"]

@@ -109,7 +109,8 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
     cands : list of Candidate
         Effects fitted on every point.
     st : dict
-        g_all (baseline gap, rms log10), noise, n, significant, p (chi-square p-value), s and nu.
+        g_all (baseline gap, rms log10), noise, n, significant, p (chi-square p-value), s and nu;
+        optional noise_estimate (the data's own estimate, reported when it differs from ``noise``).
     equiv : callable, optional
         ``equiv(c)`` -> :func:`equivalence.equivalence` of candidate c; None: not tested.
     intervals : callable, optional
@@ -152,6 +153,12 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
             f"baseline gap {st['g_all']:.4f} is within the noise {st['noise']:.4f} "
             f"(chi-square p = {st['p']:.3g})"
         )
+        est = st.get("noise_estimate")
+        if est is not None and abs(est - st["noise"]) > 1e-12:
+            v["reason"] += (
+                f"; the noise scale is the data's estimate {est:.4f} from {n} points, clipped into "
+                f"the range of a friction test's repeatability"
+            )
         return v, None, expl
     top = expl[0]
     prefix = ""

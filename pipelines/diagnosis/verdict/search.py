@@ -239,7 +239,8 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skip
     cal, cands, s, nu, significant = few_candidates(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings,
                                                     say)
     p = gapmod.chi2_pvalue(g["g_all"], s, g["n"])
-    st = dict(g_all=g["g_all"], noise=s, n=g["n"], significant=significant, p=p, s=s, nu=nu)
+    st = dict(g_all=g["g_all"], noise=s, n=g["n"], significant=significant, p=p, s=s, nu=nu,
+              noise_estimate=None if noise_given else noise)
     equiv = (lambda c: equivalence(ctx, real_mu, c, ranges, free, s)) if free else None
     verdict, best, expl = decide_few(ctx, real_mu, cal, cands, st, equiv=equiv,
                                      intervals=lambda c: intervals(c, ctx, real_mu, ho.train, noise))
