@@ -123,3 +123,28 @@ def test_a_gap_within_the_clipped_noise_says_where_the_noise_scale_came_from():
     assert "estimate 0.1240 from 7 points, clipped" in v["reason"]
     v2, _, _ = decide_few(ctx, real, None, [], dict(st, noise_estimate=0.03))
     assert "clipped" not in v2["reason"]
+
+
+@pytest.mark.parametrize(
+    "separable, flagged, withdrawn", [(False, True, True), (True, True, False), (False, False, False)]
+)
+def test_a_name_below_0_9_that_no_measurement_separates_from_its_runner_up_is_withdrawn(
+    separable, flagged, withdrawn
+):
+    """Uncertain world 52001 of seed set 2000 (a relaxation spread): temperature_offset at 0.75
+    against relaxation_spectrum's 0.25, and no speed or temperature separates the two by 3 noise
+    sigmas: inconclusive. A separable pair, or a name at posterior 0.9 (no flag), stands."""
+    from pipelines.diagnosis.verdict.next_measurement import withdraw_unseparated
+
+    v = dict(effect="temperature_offset", confidence="low", shrink=0.7, inconclusive=[], reason="r")
+    if flagged:
+        v["_below_p_name"] = True
+    nxt = dict(between=["temperature_offset", "relaxation_spectrum"], separable=separable)
+    assert withdraw_unseparated(v, nxt) is withdrawn
+    assert "_below_p_name" not in v
+    if withdrawn:
+        assert v["effect"] is None and v["confidence"] is None
+        assert v["inconclusive"] == ["temperature_offset", "relaxation_spectrum"]
+        assert "predict the same mu" in v["reason"]
+    else:
+        assert v["effect"] == "temperature_offset" and v["reason"] == "r"

@@ -249,6 +249,7 @@ def check_named(
     if best is not None and (p_best >= P_NAME or (decided and merged[0][0] == name0)):
         if p_best < P_NAME:
             verdict["confidence"] = "low"
+            verdict["_below_p_name"] = True  # next_measurement.withdraw_unseparated reads it
             verdict["reason"] += (
                 f"; over every point its posterior is {p_best:.2f}, below {P_NAME:g}, but at least 3 "
                 f"times that of every other explanation"
@@ -270,6 +271,7 @@ def check_named(
             )
             if p < P_NAME:
                 verdict["confidence"] = "low"
+                verdict["_below_p_name"] = True
                 verdict["reason"] += "; at least 3 times as probable as every other explanation"
             return c
     if best is None:

@@ -200,6 +200,7 @@ def decide_few(ctx, real_mu, cal, cands, st, equiv=None, intervals=None):
                 f"{st['g_all']:.4f} -> {c.gap_all:.4f}"
             )
             if top["posterior"] < P_NAME:
+                v["_below_p_name"] = True  # next_measurement.withdraw_unseparated reads it
                 odds = top["posterior"] / max(expl[1]["posterior"], 1e-300)
                 v["reason"] += (
                     f"; below {P_NAME:g}, but {odds:.1f} times as probable as the next explanation "

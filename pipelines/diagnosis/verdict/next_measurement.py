@@ -29,7 +29,15 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["next_measurement", "propose", "no_pair", "unseparated", "OTHER_QUANTITY", "N_SPEEDS"]
+__all__ = [
+    "next_measurement",
+    "propose",
+    "no_pair",
+    "unseparated",
+    "withdraw_unseparated",
+    "OTHER_QUANTITY",
+    "N_SPEEDS",
+]
 
 N_SPEEDS = 13
 N_TEMPS = 3
@@ -342,6 +350,56 @@ def propose(ctx, a, alts, s, verdict, inputs=()):
         )
         return unseparated(a["name"], names, ctx, inputs, _low_why(verdict))
     return nxt
+
+
+def withdraw_unseparated(verdict, nxt):
+    """Withdraw a name decided below posterior 0.9 that no measurement can tell from its runner-up.
+
+    Below posterior :data:`~pipelines.diagnosis.fit.evidence.P_NAME` an explanation is named at 3
+    times the probability of every other (:func:`~pipelines.diagnosis.fit.evidence.decisive`;
+    the verdict carries ``_below_p_name``). When ``nxt`` finds no speed or temperature where it and
+    its runner-up differ by 3 noise sigmas, even with repeats, the two predict the same mu
+    wherever mu(v) can be measured: they fit equally well, and odds of 3 between them rest on the
+    noise of these points. The verdict becomes inconclusive between the two; ``nxt`` (the other
+    quantity to measure) stays. The same model uncertainty decides separation here and in
+    :func:`next_measurement`.
+
+    Parameters
+    ----------
+    verdict : dict
+        The verdict (changed in place; its ``_below_p_name`` flag is removed in every case).
+    nxt : dict or None
+        Its next_measurement (:func:`propose` or :func:`no_pair`).
+
+    Returns
+    -------
+    bool
+        True when the name was withdrawn.
+    """
+    if not verdict.pop("_below_p_name", False) or nxt is None or nxt.get("separable", True):
+        return False
+    pair = list(nxt.get("between") or [])
+    name = verdict.get("effect")
+    name = name if isinstance(name, str) or name is None else "+".join(name)
+    if len(pair) < 2 or pair[0] != name:
+        return False
+    verdict.update(
+        effect=None,
+        confidence=None,
+        shrink=None,
+        shrink_interval=None,
+        calibrated={},
+        at_bound=[],
+        equivalent_input=None,
+        inconclusive=pair[:2],
+        reason=(
+            f"inconclusive: {pair[0]} is the most probable explanation below posterior 0.9, but no "
+            f"speed or temperature separates it from {pair[1]} by 3 noise sigmas, even with repeated "
+            "points: the two predict the same mu wherever mu(v) can be measured, so the odds between "
+            "them on these points rest on their noise"
+        ),
+    )
+    return True
 
 
 def no_pair(ctx, verdict, inputs):

@@ -30,7 +30,7 @@ from pipelines.diagnosis.fit.fitting import Candidate, at_bound, fit_candidate, 
 from pipelines.diagnosis.fit.parallel import fit_map, portable, restore
 from pipelines.diagnosis.verdict.explain import pick_pair
 from pipelines.diagnosis.verdict.many import MIN_SHRINK, PAIR_GAIN, decide, rivals
-from pipelines.diagnosis.verdict.next_measurement import no_pair, propose
+from pipelines.diagnosis.verdict.next_measurement import no_pair, propose, withdraw_unseparated
 from pipelines.diagnosis.verdict.same_physics import band_end_pool, equivalent_input, same_physics
 
 __all__ = ["Candidate", "Diagnosis", "heldout_mask", "fit_candidate", "diagnose_friction", "predict",
@@ -256,6 +256,8 @@ def _few(ctx, real_mu, usable, cal_e, ho, noise, noise_given, timings, say, skip
         if eq_fit is not None:
             pick = (expl[0], [_as_explanation(ctx, real_mu, eq_fit, s)])
         nxt = propose(ctx, pick[0], pick[1], s, verdict, free) if pick is not None else no_pair(ctx, verdict, free)
+    if withdraw_unseparated(verdict, nxt):
+        best = None
     verdict["next_measurement"] = nxt
     ranked = sorted(cands + ([cal] if cal else []), key=lambda c: -c.evidence["log_z"])
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
@@ -432,6 +434,8 @@ def diagnose_friction(ctx, real_mu, noise=None, effects=None, pairs=True, log=No
         if eq_fit is not None and eq_fit[0] is not None:
             pair = (_as_explanation(ctx, real_mu, eq_fit[0], noise), _as_explanation(ctx, real_mu, eq_fit[1], noise))
         nxt = propose(ctx, pair[0], [pair[1]], noise, verdict, free) if pair is not None else no_pair(ctx, verdict, free)
+    if withdraw_unseparated(verdict, nxt):
+        best = None
     verdict["next_measurement"] = nxt
     fitted = {k: replace(ranges[k], lo=a, hi=b) for k, (a, b) in free.items()}
     return Diagnosis(base, g_all, g_tr, g_ho, noise, noise_given, significant, p, ho.train, ranked,

@@ -265,6 +265,7 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
     if top["name"] == name and decisive(top["posterior"], [x["posterior"] for x in expl[1:]]):
         if top["posterior"] < P_NAME:
             verdict["confidence"] = "low"
+            verdict["_below_p_name"] = True  # next_measurement.withdraw_unseparated reads it
         elif top["posterior"] < 0.99 and verdict.get("confidence") == "high":
             verdict["confidence"] = "medium"
         return best
