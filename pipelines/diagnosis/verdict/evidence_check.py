@@ -233,7 +233,7 @@ def check_named(
     Candidate or None
         The named candidate after the check, or None.
     """
-    from pipelines.diagnosis.verdict.many import MIN_SHRINK, _name
+    from pipelines.diagnosis.verdict.many import MIN_SHRINK, _name, unname
 
     if best is not None and not best.effect_names:
         return best
@@ -284,15 +284,7 @@ def check_named(
         names.append(lab)
         acc += q
     listed = ", ".join(f"{lab} {q:.2f}" for lab, q in order[:3])
-    verdict.update(
-        effect=None,
-        confidence=None,
-        shrink=None,
-        shrink_interval=None,
-        calibrated={},
-        at_bound=[],
-        inconclusive=[],
-    )
+    unname(verdict, [])
     if base_name in names or len(names) < 2:
         verdict["reason"] = (
             f"no effect named: {name0} wins the held-out points but its posterior over "

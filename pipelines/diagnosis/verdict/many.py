@@ -101,6 +101,24 @@ def _empty():
     )
 
 
+def unname(v, inconclusive, reason=None):
+    """Withdraw the name of verdict ``v`` in place: no effect, confidence, shrink, calibrated
+    inputs, bounds or equivalent input; ``inconclusive`` the explanations left (empty: none) and
+    ``reason`` the new reason (None: the caller sets it)."""
+    v.update(
+        effect=None,
+        confidence=None,
+        shrink=None,
+        shrink_interval=None,
+        calibrated={},
+        at_bound=[],
+        equivalent_input=None,
+        inconclusive=list(inconclusive),
+    )
+    if reason is not None:
+        v["reason"] = reason
+
+
 def _tried(cands):
     names = sorted({c.name for c in cands})
     return f"{len(names)} candidates ({', '.join(names)})" if names else "no candidate"

@@ -383,21 +383,15 @@ def withdraw_unseparated(verdict, nxt):
     name = name if isinstance(name, str) or name is None else "+".join(name)
     if len(pair) < 2 or pair[0] != name:
         return False
-    verdict.update(
-        effect=None,
-        confidence=None,
-        shrink=None,
-        shrink_interval=None,
-        calibrated={},
-        at_bound=[],
-        equivalent_input=None,
-        inconclusive=pair[:2],
-        reason=(
-            f"inconclusive: {pair[0]} is the most probable explanation below posterior 0.9, but no "
-            f"speed or temperature separates it from {pair[1]} by 3 noise sigmas, even with repeated "
-            "points: the two predict the same mu wherever mu(v) can be measured, so the odds between "
-            "them on these points rest on their noise"
-        ),
+    from pipelines.diagnosis.verdict.many import unname
+
+    unname(
+        verdict,
+        pair[:2],
+        f"inconclusive: {pair[0]} is the most probable explanation below posterior 0.9, but no "
+        f"speed or temperature separates it from {pair[1]} by 3 noise sigmas, even with repeated "
+        "points: the two predict the same mu wherever mu(v) can be measured, so the odds between "
+        "them on these points rest on their noise",
     )
     return True
 

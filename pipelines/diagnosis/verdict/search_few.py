@@ -242,6 +242,7 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
     from pipelines.diagnosis.fit.cv import Holdout
     from pipelines.diagnosis.fit.evidence import P_NAME, decisive
     from pipelines.diagnosis.verdict.few import decide_few
+    from pipelines.diagnosis.verdict.many import unname
 
     n = np.asarray(real_mu).size
     every = np.ones(n, bool)
@@ -270,18 +271,11 @@ def second_opinion(ctx, real_mu, usable, cal_e, noise, noise_given, verdict, bes
             verdict["confidence"] = "medium"
         return best
     other = top["name"] if top["name"] != name else expl[1]["name"]
-    verdict.update(
-        effect=None,
-        confidence=None,
-        shrink=None,
-        shrink_interval=None,
-        calibrated={},
-        at_bound=[],
-        inconclusive=[name, other],
-        reason=(
-            f"inconclusive: {name} shrinks the held-out gap, but the evidence of every point does "
-            f"not single it out ({top['name']} posterior {top['posterior']:.2f}, "
-            f"{expl[1]['name']} {expl[1]['posterior']:.2f})"
-        ),
+    unname(
+        verdict,
+        [name, other],
+        f"inconclusive: {name} shrinks the held-out gap, but the evidence of every point does "
+        f"not single it out ({top['name']} posterior {top['posterior']:.2f}, "
+        f"{expl[1]['name']} {expl[1]['posterior']:.2f})",
     )
     return None
